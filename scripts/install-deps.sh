@@ -8,19 +8,13 @@ debian_packages=(
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libtbb-dev libtinyobjloader-dev libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev
-  redis-server golang-go
+  redis-server
 )
 
 missing=()
 for pkg in "${debian_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
 done
-# A Go toolchain already on PATH (newer than Debian's) is used as is.
-if command -v go >/dev/null 2>&1; then
-  filtered=()
-  for pkg in "${missing[@]}"; do [ "$pkg" = golang-go ] || filtered+=("$pkg"); done
-  missing=("${filtered[@]+"${filtered[@]}"}")
-fi
 
 if [ ${#missing[@]} -gt 0 ]; then
   echo "install-deps: installing ${missing[*]}"
@@ -29,4 +23,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# Go is the machine's toolchain (Debian's golang-go is too old for gRPC-Go); go.mod names
+# the minimum version.
+need_go=$(awk '/^go /{print $2}' "$(dirname "$0")/../go.mod")
+if ! command -v go >/dev/null 2>&1; then
+  echo "install-deps: no Go toolchain on PATH; install Go $need_go or newer" >&2
+  exit 1
+fi
+have_go=$(go env GOVERSION | sed 's/^go//')
+if [ "$(printf '%s\n%s\n' "$need_go" "$have_go" | sort -V | head -n1)" != "$need_go" ]; then
+  echo "install-deps: Go $have_go is older than the $need_go that go.mod needs" >&2
+  exit 1
 fi

@@ -1,0 +1,43 @@
+# The two commands users and CI type: `make demo` and `make test`. Each installs what is
+# missing (scripts/install-deps.sh), builds, and runs.
+BUILD_DIR ?= build
+BIN := $(BUILD_DIR)/bin
+JOBS ?= $(shell nproc)
+SCENE ?= scenes/cornell-box.json
+# Go's usual install folder, for shells whose PATH lacks it.
+export PATH := $(PATH):/usr/local/go/bin
+
+.PHONY: demo test build deps cpp go check-proto test-cpp test-go bench clean
+
+demo: build
+	$(BIN)/farm render $(SCENE) -o out/ --workers 2
+
+test: build check-proto test-cpp test-go
+
+deps:
+	@scripts/install-deps.sh
+
+build: deps cpp go
+
+cpp:
+	@cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+go:
+	go build -o $(BIN)/farm ./cmd/farm
+
+check-proto:
+	@scripts/gen-proto.sh --check
+
+test-cpp: cpp
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+# Integration tests under tests/ find the binaries through FARM_BIN_DIR.
+test-go: go
+	@unformatted=$$(gofmt -l $$(git ls-files '*.go')); \
+	  if [ -n "$$unformatted" ]; then echo "gofmt needed: $$unformatted"; exit 1; fi
+	go vet ./...
+	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -timeout 20m ./...
+
+clean:
+	rm -rf $(BUILD_DIR) out
