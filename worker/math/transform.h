@@ -1,0 +1,67 @@
+#pragma once
+
+// Affine transforms of points, built once per mesh in double precision and applied to its
+// vertices before they go to Embree as floats.
+
+#include <cmath>
+#include <string>
+
+#include "math/math.h"
+#include "math/vec3.h"
+
+namespace farm {
+
+struct Affine3d {
+  // Row-major linear part; p' = m * p + t.
+  double m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Vec3d t;
+
+  Vec3d Apply(const Vec3d& p) const {
+    return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + t.x,
+            m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + t.y,
+            m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + t.z};
+  }
+
+  double Determinant() const {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  }
+
+  // Scale per axis, then rotate by `degrees` about `axis` (through the origin, right-hand
+  // rule), then translate: the order of renderfarm.v1.Transform. `axis` need not be unit
+  // length but must not be zero when degrees is not.
+  static Affine3d ScaleRotateTranslate(const Vec3d& scale, const Vec3d& axis, double degrees,
+                                       const Vec3d& translation) {
+    double r[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if (degrees != 0) {
+      // Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T.
+      const Vec3d k = Normalize(axis);
+      const double c = std::cos(Radians(degrees)), s = std::sin(Radians(degrees)), C = 1 - c;
+      r[0][0] = c + k.x * k.x * C;
+      r[0][1] = k.x * k.y * C - k.z * s;
+      r[0][2] = k.x * k.z * C + k.y * s;
+      r[1][0] = k.y * k.x * C + k.z * s;
+      r[1][1] = c + k.y * k.y * C;
+      r[1][2] = k.y * k.z * C - k.x * s;
+      r[2][0] = k.z * k.x * C - k.y * s;
+      r[2][1] = k.z * k.y * C + k.x * s;
+      r[2][2] = c + k.z * k.z * C;
+    }
+    Affine3d a;
+    const double sc[3] = {scale.x, scale.y, scale.z};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) a.m[i][j] = r[i][j] * sc[j];  // R * diag(scale)
+    a.t = translation;
+    return a;
+  }
+};
+
+inline std::string ToString(const Affine3d& a) {
+  std::string s = "Affine3d{m=[";
+  for (int i = 0; i < 3; ++i)
+    s += ToString(Vec3d(a.m[i][0], a.m[i][1], a.m[i][2])) + (i < 2 ? ", " : "");
+  return s + "], t=" + ToString(a.t) + "}";
+}
+
+}  // namespace farm

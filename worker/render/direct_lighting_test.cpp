@@ -1,0 +1,107 @@
+// End-to-end checks of direct lighting against closed forms: one-pixel images of a Lambert
+// plane seen through a very narrow camera, so the pixel is one point of the plane.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "render/tile_renderer.h"
+#include "scene/test_scenes.h"
+
+namespace farm {
+namespace {
+
+using namespace farm::testing;
+
+constexpr double kPiD = std::numbers::pi;
+constexpr float kRho = 0.5f;
+
+// A 200 x 200 Lambert floor at z = 0 (front +z), seen at the origin from (10, 0, 1) by a
+// 1x1 camera with a 0.02 degree field of view.
+pb::Scene FloorScene(uint32_t spp) {
+  pb::Scene s = MakeScene(1, 1, {10, 0, 1}, {0, 0, 0}, {0, 0, 1}, 0.02, spp, 7);
+  AddLambert(s, "floor", Rgb(kRho));
+  AddEmissive(s, "lamp", Rgb(2));
+  AddQuad(s, "floor", {-100, -100, 0}, {200, 0, 0}, {0, 200, 0});
+  return s;
+}
+
+Rgb RenderOnePixel(const pb::Scene& s) {
+  const Scene scene = Scene::Build(s, NoBlobs());
+  const Image image = RenderTile(scene, {0, 0, 1, 1});
+  const float* p = image.pixel(0, 0);
+  EXPECT_EQ(p[3], 1.0f);
+  return {p[0], p[1], p[2]};
+}
+
+double CornerFormFactor(double a, double b, double c) {
+  const double x = a / c, y = b / c;
+  const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+  return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * kPiD);
+}
+
+TEST(DirectLighting, LambertUnderSphereLightIsRhoOverPiTimesIrradiance) {
+  // Sphere light of radiance L = 2, radius R = 1, centre 4 above the shaded point:
+  // E = pi L (R/d)^2, outgoing radiance rho / pi * E = rho * L / 16.
+  pb::Scene s = FloorScene(256);
+  AddSphere(s, "lamp", {0, 0, 4}, 1);
+  const double expected = kRho / kPiD * (kPiD * 2 * (1.0 / 16));
+  const Rgb L = RenderOnePixel(s);
+  EXPECT_NEAR(L.g, expected, 5e-3 * expected) << L;
+  EXPECT_EQ(L.r, L.g);
+}
+
+TEST(DirectLighting, LambertUnderQuadLightMatchesTheFormFactor) {
+  // A 2 x 2 quad light 1.5 above the point, facing down (cross(edge_u, edge_v) = -z).
+  pb::Scene s = FloorScene(4096);
+  AddQuad(s, "lamp", {-1, -1, 1.5}, {0, 2, 0}, {2, 0, 0});
+  const double E = kPiD * 2 * 4 * CornerFormFactor(1, 1, 1.5);
+  const double expected = kRho / kPiD * E;
+  const Rgb L = RenderOnePixel(s);
+  EXPECT_NEAR(L.g, expected, 1e-2 * expected) << L;
+}
+
+TEST(DirectLighting, QuadLightFacingAwayGivesNoLight) {
+  pb::Scene s = FloorScene(16);
+  AddQuad(s, "lamp", {-1, -1, 1.5}, {2, 0, 0}, {0, 2, 0});  // front +z: emits upwards
+  EXPECT_EQ(RenderOnePixel(s), Rgb());
+}
+
+TEST(DirectLighting, BlockerCastsAFullShadow) {
+  pb::Scene s = FloorScene(64);
+  AddSphere(s, "lamp", {0, 0, 4}, 1);
+  AddQuad(s, "floor", {-3, -3, 2}, {6, 0, 0}, {0, 6, 0});  // between floor point and light
+  // The camera ray passes under the blocker (it hits the floor at grazing angle).
+  EXPECT_EQ(RenderOnePixel(s), Rgb());
+}
+
+TEST(DirectLighting, CameraSeesEmitterRadianceOnItsFrontAndNothingOnItsBack) {
+  pb::Scene s = MakeScene(3, 3, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 10, 4, 1);
+  AddEmissive(s, "lamp", Rgb(1, 2, 3));
+  AddQuad(s, "lamp", {-5, -5, 10}, {0, 10, 0}, {10, 0, 0});  // front -z: towards the camera
+  const Image front = RenderTile(Scene::Build(s, NoBlobs()), {0, 0, 3, 3});
+  EXPECT_EQ(front.pixel(1, 1)[0], 1.0f);
+  EXPECT_EQ(front.pixel(1, 1)[1], 2.0f);
+  EXPECT_EQ(front.pixel(1, 1)[2], 3.0f);
+  EXPECT_EQ(front.pixel(1, 1)[3], 1.0f);
+
+  s.mutable_shapes(0)->mutable_quad()->mutable_edge_u()->set_y(0);
+  s.mutable_shapes(0)->mutable_quad()->mutable_edge_u()->set_x(10);
+  s.mutable_shapes(0)->mutable_quad()->mutable_edge_v()->set_x(0);
+  s.mutable_shapes(0)->mutable_quad()->mutable_edge_v()->set_y(10);  // front +z: away
+  const Image back = RenderTile(Scene::Build(s, NoBlobs()), {0, 0, 3, 3});
+  EXPECT_EQ(back.pixel(1, 1)[0], 0.0f);
+  EXPECT_EQ(back.pixel(1, 1)[3], 1.0f);  // still a hit
+}
+
+TEST(DirectLighting, MissIsBlackWithZeroAlpha) {
+  pb::Scene s = MakeScene(2, 2, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 10, 4, 1);
+  AddLambert(s, "grey", Rgb(0.5f));
+  AddSphere(s, "grey", {0, 0, -10}, 1);  // behind the camera
+  const Image image = RenderTile(Scene::Build(s, NoBlobs()), {0, 0, 2, 2});
+  for (float v : image.data()) EXPECT_EQ(v, 0.0f);
+}
+
+}  // namespace
+}  // namespace farm

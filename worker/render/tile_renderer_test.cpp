@@ -1,0 +1,108 @@
+#include "render/tile_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "scene/test_scenes.h"
+
+namespace farm {
+namespace {
+
+using namespace farm::testing;
+
+// A small Cornell-like box: floor, back wall, a red and a green wall, a Lambert sphere, an
+// OBJ block and a quad light under the ceiling, seen from the front.
+pb::Scene BoxScene(uint64_t seed, int width = 24, int height = 16) {
+  pb::Scene s = MakeScene(width, height, {278, 273, -800}, {278, 273, 0}, {0, 1, 0}, 39.3, 4, seed);
+  AddLambert(s, "white", Rgb(0.75f));
+  AddLambert(s, "red", Rgb(0.6f, 0.05f, 0.05f));
+  AddLambert(s, "green", Rgb(0.1f, 0.5f, 0.1f));
+  AddEmissive(s, "lamp", Rgb(17, 12, 4));
+  AddQuad(s, "white", {0, 0, 0}, {0, 0, 559}, {556, 0, 0});         // floor, front +y
+  AddQuad(s, "white", {0, 0, 559}, {0, 548, 0}, {556, 0, 0});       // back wall
+  AddQuad(s, "red", {556, 0, 0}, {0, 0, 559}, {0, 548, 0});         // x = 556: left in image
+  AddQuad(s, "green", {0, 0, 0}, {0, 548, 0}, {0, 0, 559});         // x = 0: right
+  AddQuad(s, "lamp", {213, 547, 227}, {130, 0, 0}, {0, 0, 105});   // faces down
+  AddSphere(s, "white", {380, 100, 300}, 100);
+  AddMeshFile(s, "white", "sha256:block");
+  return s;
+}
+
+const std::string kBlockObj =
+    "v 100 0 200\nv 200 0 200\nv 200 150 200\nv 100 150 200\n"
+    "f 1 2 3 4\n";
+
+Scene BuildBox(uint64_t seed, int width = 24, int height = 16) {
+  return Scene::Build(BoxScene(seed, width, height), MapLoader({{"sha256:block", kBlockObj}}));
+}
+
+// Pixel values of `part` equal, bit for bit, those of `whole` at the same image pixels.
+void ExpectSamePixels(const Image& whole, const Image& part) {
+  const PixelRect r = part.rect();
+  for (int y = r.y; y < r.y_end(); ++y)
+    for (int x = r.x; x < r.x_end(); ++x)
+      ASSERT_EQ(std::memcmp(whole.pixel(x, y), part.pixel(x, y), 4 * sizeof(float)), 0)
+          << "pixel " << x << ", " << y;
+}
+
+TEST(RenderTile, FourTilesEqualTheWholeImageBitForBit) {
+  const Scene scene = BuildBox(42);
+  const Image whole = RenderTile(scene, {0, 0, 24, 16});
+  for (const PixelRect& tile : {PixelRect{0, 0, 13, 7}, PixelRect{13, 0, 11, 7},
+                                PixelRect{0, 7, 13, 9}, PixelRect{13, 7, 11, 9}}) {
+    const Image part = RenderTile(scene, tile);
+    EXPECT_EQ(part.rect(), tile);
+    EXPECT_EQ(part.channels(), RgbaChannels());
+    ExpectSamePixels(whole, part);
+  }
+}
+
+TEST(RenderTile, SameSeedSameBytesDifferentSeedDifferentBytes) {
+  const Image a = RenderTile(BuildBox(42), {0, 0, 24, 16});
+  const Image b = RenderTile(BuildBox(42), {0, 0, 24, 16});  // a separately built scene
+  const Image c = RenderTile(BuildBox(43), {0, 0, 24, 16});
+  ASSERT_EQ(a.data().size(), b.data().size());
+  EXPECT_EQ(std::memcmp(a.data().data(), b.data().data(), a.data().size_bytes()), 0);
+  EXPECT_NE(std::memcmp(a.data().data(), c.data().data(), a.data().size_bytes()), 0);
+}
+
+TEST(RenderTile, ImageIsFiniteLitAndCovered) {
+  const Image image = RenderTile(BuildBox(1), {0, 0, 24, 16});
+  double sum = 0;
+  for (float v : image.data()) {
+    ASSERT_TRUE(std::isfinite(v));
+    ASSERT_GE(v, 0);
+    sum += v;
+  }
+  EXPECT_GT(sum, 0);
+  // The box fills the view's centre.
+  EXPECT_EQ(image.pixel(12, 8)[3], 1.0f);
+}
+
+TEST(RenderTile, RedWallAtLargeXIsOnTheLeft) {
+  const Image image = RenderTile(BuildBox(1, 16, 16), {0, 0, 16, 16});
+  // Middle row: the leftmost pixel sees the red wall (x = 556), the rightmost the green.
+  const float* left = image.pixel(0, 8);
+  const float* right = image.pixel(15, 8);
+  EXPECT_GT(left[0], 2 * left[1]) << "left pixel is not red";
+  EXPECT_GT(right[1], 2 * right[0]) << "right pixel is not green";
+}
+
+TEST(RenderTile, StopsWhenAsked) {
+  const Scene scene = BuildBox(1);
+  std::stop_source source;
+  source.request_stop();
+  const Image image = RenderTile(scene, {0, 0, 24, 16}, source.get_token());
+  // Nothing rendered: every row checks the token first.
+  for (float v : image.data()) EXPECT_EQ(v, 0.0f);
+}
+
+TEST(RenderTile, RefusesARectOutsideTheImage) {
+  const Scene scene = BuildBox(1);
+  EXPECT_THROW(RenderTile(scene, {20, 0, 8, 8}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace farm

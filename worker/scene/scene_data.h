@@ -1,0 +1,76 @@
+#pragma once
+
+// What a built Scene holds, shared read-only by all render threads: film and sampling
+// settings with defaults applied, camera, materials, shapes (geometry ID = index), lights,
+// and the Embree BVH, plus the ray queries the integrators use.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "math/ray.h"
+#include "math/vec3.h"
+#include "sampling/distribution.h"
+#include "scene/accelerator.h"
+#include "scene/camera.h"
+#include "scene/lights.h"
+#include "scene/materials.h"
+#include "scene/shapes.h"
+
+namespace farm {
+
+inline constexpr int kDefaultTileSize = 32;
+inline constexpr uint32_t kDefaultSamplesPerPixel = 16;
+
+struct ShapeRecord {
+  std::string label;  // "shapes[3]", or "shapes[3] (\"floor\")" when named: for messages
+  ShapeGeometry geometry;
+  int material = 0;  // index into SceneData::materials
+  int light = -1;    // index into SceneData::lights if the shape emits
+};
+
+// A ray's closest hit, refined: p lies on the surface (projected back onto it, which is
+// what makes small ray offsets safe) and n is the unit geometric normal of the front side.
+struct SurfaceHit {
+  Vec3 p;
+  Vec3 n;
+  float t = 0;
+  int shape = 0;
+  uint32_t primitive = 0;
+};
+
+std::string ToString(const SurfaceHit& hit);
+
+struct SceneData {
+  int width = 0;
+  int height = 0;
+  int tile_size = kDefaultTileSize;
+  uint32_t samples_per_pixel = kDefaultSamplesPerPixel;
+  uint64_t seed = 0;
+
+  Camera camera;
+  std::vector<Material> materials;
+  std::vector<std::string> material_names;
+  std::vector<ShapeRecord> shapes;
+  std::vector<Light> lights;
+  DiscreteDistribution light_power;  // picks a light in proportion to its power
+
+  // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
+  float ray_epsilon = 0;
+  Accelerator accelerator;
+
+  std::optional<SurfaceHit> Intersect(const Ray& ray) const;
+
+  // Whether nothing blocks the segment between two surface points, each with its
+  // geometric normal; the ends are offset off their surfaces toward each other.
+  bool Visible(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const;
+
+  const Material& material_of(const SurfaceHit& hit) const {
+    return materials[shapes[hit.shape].material];
+  }
+
+  std::string ToString() const;
+};
+
+}  // namespace farm

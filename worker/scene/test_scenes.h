@@ -1,0 +1,97 @@
+#pragma once
+
+// Helpers for tests (not linked into the worker): build renderfarm.v1.Scene messages in a
+// line or two, and a blob loader over an in-memory map.
+
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "math/rgb.h"
+#include "math/vec3.h"
+#include "renderfarm/v1/scene.pb.h"
+#include "scene/scene.h"
+
+namespace farm::testing {
+
+namespace pb = renderfarm::v1;
+
+inline void Set(pb::Vec3* out, const Vec3d& v) {
+  out->set_x(v.x);
+  out->set_y(v.y);
+  out->set_z(v.z);
+}
+
+inline void Set(pb::Color* out, const Rgb& c) {
+  out->set_r(c.r);
+  out->set_g(c.g);
+  out->set_b(c.b);
+}
+
+// A scene with film, camera and sampling set and no materials or shapes.
+inline pb::Scene MakeScene(int width, int height, const Vec3d& position, const Vec3d& look_at,
+                           const Vec3d& up, double fov_degrees, uint32_t spp = 4,
+                           uint64_t seed = 1) {
+  pb::Scene s;
+  s.mutable_film()->set_width(width);
+  s.mutable_film()->set_height(height);
+  Set(s.mutable_camera()->mutable_position(), position);
+  Set(s.mutable_camera()->mutable_look_at(), look_at);
+  Set(s.mutable_camera()->mutable_up(), up);
+  s.mutable_camera()->set_vertical_fov_degrees(fov_degrees);
+  s.mutable_sampling()->set_samples_per_pixel(spp);
+  s.mutable_sampling()->set_seed(seed);
+  return s;
+}
+
+inline void AddLambert(pb::Scene& s, const std::string& name, const Rgb& reflectance) {
+  pb::Material* m = s.add_materials();
+  m->set_name(name);
+  Set(m->mutable_lambert()->mutable_reflectance(), reflectance);
+}
+
+inline void AddEmissive(pb::Scene& s, const std::string& name, const Rgb& radiance) {
+  pb::Material* m = s.add_materials();
+  m->set_name(name);
+  Set(m->mutable_emissive()->mutable_radiance(), radiance);
+}
+
+inline pb::Shape* AddSphere(pb::Scene& s, const std::string& material, const Vec3d& center,
+                            double radius) {
+  pb::Shape* shape = s.add_shapes();
+  shape->set_material(material);
+  Set(shape->mutable_sphere()->mutable_center(), center);
+  shape->mutable_sphere()->set_radius(radius);
+  return shape;
+}
+
+inline pb::Shape* AddQuad(pb::Scene& s, const std::string& material, const Vec3d& origin,
+                          const Vec3d& edge_u, const Vec3d& edge_v) {
+  pb::Shape* shape = s.add_shapes();
+  shape->set_material(material);
+  Set(shape->mutable_quad()->mutable_origin(), origin);
+  Set(shape->mutable_quad()->mutable_edge_u(), edge_u);
+  Set(shape->mutable_quad()->mutable_edge_v(), edge_v);
+  return shape;
+}
+
+inline pb::Shape* AddMeshFile(pb::Scene& s, const std::string& material,
+                              const std::string& digest) {
+  pb::Shape* shape = s.add_shapes();
+  shape->set_material(material);
+  shape->mutable_mesh()->set_digest(digest);
+  return shape;
+}
+
+// Serves blobs from a map; throws for unknown digests, as the daemon's loader does.
+inline BlobLoader MapLoader(std::map<std::string, std::string> blobs) {
+  return [blobs = std::move(blobs)](const std::string& digest) {
+    const auto it = blobs.find(digest);
+    if (it == blobs.end()) throw std::runtime_error("no blob " + digest);
+    return it->second;
+  };
+}
+
+inline BlobLoader NoBlobs() { return MapLoader({}); }
+
+}  // namespace farm::testing
