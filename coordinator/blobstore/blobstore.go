@@ -1,0 +1,214 @@
+// Package blobstore is a content-addressed store of immutable blobs on the filesystem.
+//
+// A blob is named by its digest, "sha256:" and 64 lowercase hex digits, and lives at
+// root/sha256/<first two hex digits>/<hex>. Writes go to a temporary file under root/tmp,
+// are hashed on the way in, checked against the declared size and digest, synced, and
+// renamed into place, so a blob is either absent or complete.
+package blobstore
+
+import (
+	"context"
+	"crypto/sha256"
+	"encoding/hex"
+	"errors"
+	"fmt"
+	"hash"
+	"io"
+	"io/fs"
+	"os"
+	"path/filepath"
+	"regexp"
+
+	"photonfarm/coordinator/errs"
+)
+
+// DefaultMaxSize is the default size limit of one blob: 1 GiB (docs/limits.md).
+const DefaultMaxSize int64 = 1 << 30
+
+var digestRE = regexp.MustCompile(`^sha256:[0-9a-f]{64}$`)
+
+// ValidDigest reports whether d has the form "sha256:<64 lowercase hex>".
+func ValidDigest(d string) bool { return digestRE.MatchString(d) }
+
+// Digest returns the digest of b.
+func Digest(b []byte) string {
+	sum := sha256.Sum256(b)
+	return "sha256:" + hex.EncodeToString(sum[:])
+}
+
+// Info describes a stored blob.
+type Info struct {
+	Digest string
+	Size   int64
+}
+
+// Store is a filesystem blob store. Create it with New.
+type Store struct {
+	root    string
+	maxSize int64
+}
+
+// New opens (creating if needed) a blob store under root. maxSize <= 0 selects
+// DefaultMaxSize.
+func New(root string, maxSize int64) (*Store, error) {
+	if maxSize <= 0 {
+		maxSize = DefaultMaxSize
+	}
+	for _, d := range []string{filepath.Join(root, "sha256"), filepath.Join(root, "tmp")} {
+		if err := os.MkdirAll(d, 0o755); err != nil {
+			return nil, fmt.Errorf("blobstore: %w", err)
+		}
+	}
+	return &Store{root: root, maxSize: maxSize}, nil
+}
+
+// MaxSize is the largest blob the store accepts.
+func (s *Store) MaxSize() int64 { return s.maxSize }
+
+func (s *Store) path(digest string) string {
+	hexd := digest[len("sha256:"):]
+	return filepath.Join(s.root, "sha256", hexd[:2], hexd)
+}
+
+func checkDigest(field, d string) error {
+	if !ValidDigest(d) {
+		return errs.Field(field, "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
+	}
+	return nil
+}
+
+// Stat returns errs.NotFound if the blob does not exist.
+func (s *Store) Stat(ctx context.Context, digest string) (Info, error) {
+	if err := checkDigest("digest", digest); err != nil {
+		return Info{}, err
+	}
+	fi, err := os.Stat(s.path(digest))
+	if errors.Is(err, fs.ErrNotExist) {
+		return Info{}, &errs.Error{Kind: errs.NotFound, Field: "digest", Message: "no blob " + digest}
+	}
+	if err != nil {
+		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	return Info{Digest: digest, Size: fi.Size()}, nil
+}
+
+// Open opens a blob for reading; the caller closes it.
+func (s *Store) Open(ctx context.Context, digest string) (io.ReadCloser, Info, error) {
+	info, err := s.Stat(ctx, digest)
+	if err != nil {
+		return nil, Info{}, err
+	}
+	f, err := os.Open(s.path(digest))
+	if err != nil {
+		return nil, Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	return f, info, nil
+}
+
+// Put stores everything r yields. size and digest, when not negative and not empty, are
+// what the content must match.
+func (s *Store) Put(ctx context.Context, r io.Reader, size int64, digest string) (Info, error) {
+	w, err := s.Create(size, digest)
+	if err != nil {
+		return Info{}, err
+	}
+	defer w.Abort()
+	if _, err := io.Copy(w, r); err != nil {
+		return Info{}, err
+	}
+	return w.Commit()
+}
+
+// Writer receives a blob's bytes. Call Commit to store it or Abort to drop it (Abort after
+// Commit does nothing, so `defer w.Abort()` is safe).
+type Writer struct {
+	s      *Store
+	f      *os.File
+	h      hash.Hash
+	n      int64
+	size   int64
+	digest string
+	done   bool
+}
+
+// Create starts a blob of the declared size (negative: unknown) and, if not empty, digest.
+func (s *Store) Create(size int64, digest string) (*Writer, error) {
+	if digest != "" {
+		if err := checkDigest("digest", digest); err != nil {
+			return nil, err
+		}
+	}
+	if size > s.maxSize {
+		return nil, &errs.Error{Kind: errs.ResourceExhausted, Field: "size_bytes",
+			Message: fmt.Sprintf("blob of %d bytes exceeds the limit of %d bytes", size, s.maxSize)}
+	}
+	f, err := os.CreateTemp(filepath.Join(s.root, "tmp"), "upload-*")
+	if err != nil {
+		return nil, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	return &Writer{s: s, f: f, h: sha256.New(), size: size, digest: digest}, nil
+}
+
+// Write appends p, refusing to grow past the declared size or the store's limit.
+func (w *Writer) Write(p []byte) (int, error) {
+	if w.done {
+		return 0, errs.E(errs.Internal, "blobstore: write after commit or abort")
+	}
+	n := w.n + int64(len(p))
+	if w.size >= 0 && n > w.size {
+		return 0, &errs.Error{Kind: errs.InvalidArgument, Field: "size_bytes",
+			Message: fmt.Sprintf("received more than the declared %d bytes", w.size)}
+	}
+	if n > w.s.maxSize {
+		return 0, &errs.Error{Kind: errs.ResourceExhausted, Field: "size_bytes",
+			Message: fmt.Sprintf("blob exceeds the limit of %d bytes", w.s.maxSize)}
+	}
+	if _, err := w.f.Write(p); err != nil {
+		return 0, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	w.h.Write(p)
+	w.n = n
+	return len(p), nil
+}
+
+// Commit verifies the size and digest and moves the blob into place.
+func (w *Writer) Commit() (Info, error) {
+	if w.done {
+		return Info{}, errs.E(errs.Internal, "blobstore: commit after commit or abort")
+	}
+	defer w.Abort()
+	if w.size >= 0 && w.n != w.size {
+		return Info{}, &errs.Error{Kind: errs.InvalidArgument, Field: "size_bytes",
+			Message: fmt.Sprintf("declared %d bytes, received %d", w.size, w.n)}
+	}
+	got := "sha256:" + hex.EncodeToString(w.h.Sum(nil))
+	if w.digest != "" && got != w.digest {
+		return Info{}, &errs.Error{Kind: errs.InvalidArgument, Field: "digest",
+			Message: fmt.Sprintf("content has digest %s, not the declared %s", got, w.digest)}
+	}
+	if err := w.f.Sync(); err != nil {
+		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	if err := w.f.Close(); err != nil {
+		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	dst := w.s.path(got)
+	if err := os.MkdirAll(filepath.Dir(dst), 0o755); err != nil {
+		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	// Identical content may already be there; renaming over it is harmless.
+	if err := os.Rename(w.f.Name(), dst); err != nil {
+		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	return Info{Digest: got, Size: w.n}, nil
+}
+
+// Abort drops the partial blob.
+func (w *Writer) Abort() {
+	if w.done {
+		return
+	}
+	w.done = true
+	w.f.Close()
+	os.Remove(w.f.Name()) // fails harmlessly after a successful rename
+}

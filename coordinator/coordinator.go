@@ -1,0 +1,168 @@
+// Package coordinator assembles the farm's coordinator: the gRPC services over a store, a
+// content-addressed blob store and an event broker, plus the loop that requeues expired
+// leases. cmd/farm calls New and Serve.
+package coordinator
+
+import (
+	"context"
+	"errors"
+	"fmt"
+	"log/slog"
+	"net"
+	"path/filepath"
+	"time"
+
+	"google.golang.org/grpc"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/clock"
+	"photonfarm/coordinator/events"
+	"photonfarm/coordinator/service"
+	"photonfarm/coordinator/store"
+	"photonfarm/coordinator/store/memstore"
+)
+
+// Defaults for Config.
+const (
+	DefaultLeaseDuration = store.DefaultLeaseDuration
+	// StopTimeout is how long Serve waits for RPCs in flight after ctx is cancelled
+	// before closing connections.
+	StopTimeout = 10 * time.Second
+)
+
+// Config configures a Coordinator.
+type Config struct {
+	// DataDir holds the blob store (DataDir/blobs). Required.
+	DataDir string
+	// LeaseDuration is how long a task lease lasts without a heartbeat (default 15s).
+	LeaseDuration time.Duration
+	// HeartbeatInterval is how often workers are told to heartbeat (default
+	// LeaseDuration/4).
+	HeartbeatInterval time.Duration
+	// Clock defaults to the system clock.
+	Clock clock.Clock
+	// Logger defaults to slog.Default().
+	Logger *slog.Logger
+}
+
+// Coordinator is the assembled coordinator. Create it with New and run it with Serve.
+type Coordinator struct {
+	cfg   Config
+	log   *slog.Logger
+	store store.Store
+	svc   *service.Service
+}
+
+// New checks cfg, opens the blob store under DataDir and builds the services. State other
+// than blobs lives in memory (memstore) for now.
+func New(cfg Config) (*Coordinator, error) {
+	if cfg.DataDir == "" {
+		return nil, errors.New("coordinator: Config.DataDir is required")
+	}
+	if cfg.LeaseDuration < 0 || cfg.HeartbeatInterval < 0 {
+		return nil, errors.New("coordinator: durations must not be negative")
+	}
+	if cfg.LeaseDuration == 0 {
+		cfg.LeaseDuration = DefaultLeaseDuration
+	}
+	if cfg.HeartbeatInterval == 0 {
+		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
+	}
+	if cfg.HeartbeatInterval >= cfg.LeaseDuration {
+		return nil, fmt.Errorf("coordinator: HeartbeatInterval %v must be shorter than LeaseDuration %v", cfg.HeartbeatInterval, cfg.LeaseDuration)
+	}
+	if cfg.Clock == nil {
+		cfg.Clock = clock.Real{}
+	}
+	if cfg.Logger == nil {
+		cfg.Logger = slog.Default()
+	}
+	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), blobstore.DefaultMaxSize)
+	if err != nil {
+		return nil, fmt.Errorf("coordinator: %w", err)
+	}
+	st := memstore.New(store.Options{Clock: cfg.Clock, LeaseDuration: cfg.LeaseDuration})
+	svc := service.New(service.Config{
+		Store:             st,
+		Blobs:             blobs,
+		Events:            events.NewBroker(0),
+		Clock:             cfg.Clock,
+		Logger:            cfg.Logger,
+		LeaseDuration:     cfg.LeaseDuration,
+		HeartbeatInterval: cfg.HeartbeatInterval,
+	})
+	return &Coordinator{cfg: cfg, log: cfg.Logger, store: st, svc: svc}, nil
+}
+
+// Serve serves JobService, WorkerService and BlobService on lis and sweeps expired leases
+// until ctx is cancelled; it then stops gracefully, closing connections after
+// StopTimeout. It returns nil after a stop caused by ctx.
+func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
+	srv := c.svc.NewGRPCServer()
+	ctx, cancel := context.WithCancel(ctx)
+	defer cancel()
+
+	sweepDone := make(chan struct{})
+	go func() {
+		defer close(sweepDone)
+		c.sweep(ctx)
+	}()
+
+	served := make(chan error, 1)
+	go func() { served <- srv.Serve(lis) }()
+	c.log.Info("coordinator serving", "addr", lis.Addr().String(), "data_dir", c.cfg.DataDir,
+		"lease_duration", c.cfg.LeaseDuration, "heartbeat_interval", c.cfg.HeartbeatInterval)
+
+	var err error
+	select {
+	case err = <-served: // the listener failed
+		cancel()
+	case <-ctx.Done():
+		c.log.Info("coordinator stopping")
+		c.svc.Shutdown()
+		stopGracefully(srv, StopTimeout)
+		err = <-served
+		if errors.Is(err, grpc.ErrServerStopped) {
+			err = nil
+		}
+	}
+	<-sweepDone
+	if err != nil {
+		return fmt.Errorf("coordinator: %w", err)
+	}
+	c.log.Info("coordinator stopped")
+	return nil
+}
+
+func stopGracefully(srv *grpc.Server, timeout time.Duration) {
+	done := make(chan struct{})
+	go func() {
+		srv.GracefulStop()
+		close(done)
+	}()
+	t := time.NewTimer(timeout)
+	defer t.Stop()
+	select {
+	case <-done:
+	case <-t.C:
+		srv.Stop()
+		<-done
+	}
+}
+
+// sweep requeues expired leases a few times per lease duration.
+func (c *Coordinator) sweep(ctx context.Context) {
+	every := min(max(c.cfg.LeaseDuration/10, 10*time.Millisecond), time.Second)
+	t := time.NewTicker(every)
+	defer t.Stop()
+	for {
+		select {
+		case <-ctx.Done():
+			return
+		case <-t.C:
+			if err := c.svc.ExpireLeases(ctx); err != nil && ctx.Err() == nil {
+				c.log.Error("expiring leases", "err", err)
+			}
+		}
+	}
+}

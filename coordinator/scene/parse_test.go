@@ -1,0 +1,53 @@
+package scene_test
+
+import (
+	"strings"
+	"testing"
+
+	"photonfarm/coordinator/scene"
+)
+
+func TestParseJSON(t *testing.T) {
+	valid := `{
+  "name": "t",
+  "camera": {"position": {"x": 0, "y": 1, "z": 5}, "lookAt": {"y": 1}, "up": {"y": 1}, "vertical_fov_degrees": 40},
+  "film": {"width": 8, "height": 8},
+  "materials": [{"name": "l", "emissive": {"radiance": {"r": 1, "g": 1, "b": 1}}}],
+  "shapes": [{"material": "l", "sphere": {"center": {}, "radius": 1}}]
+}`
+	tests := []struct {
+		name    string
+		in      string
+		wantErr []string // substrings; none means success
+	}{
+		{"valid, both field spellings", valid, nil},
+		{"unknown field", `{"shapes": [{"sphere": {"radus": 1}}]}`, []string{"scene: ", `unknown field "radus"`}},
+		{"bad JSON", "{\n  \"name\": \"x\",\n  \"film\": {\"width\": 8,,}\n}", []string{"scene: ", "line 3:"}},
+		{"wrong type", `{"film": {"width": "wide"}}`, []string{"scene: ", "width"}},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			s, err := scene.ParseJSON([]byte(tt.in))
+			if tt.wantErr == nil {
+				if err != nil {
+					t.Fatalf("ParseJSON: %v", err)
+				}
+				if err := scene.Validate(s); err != nil {
+					t.Fatalf("Validate: %v", err)
+				}
+				return
+			}
+			if err == nil {
+				t.Fatal("ParseJSON succeeded, want an error")
+			}
+			for _, w := range tt.wantErr {
+				if !strings.Contains(err.Error(), w) {
+					t.Errorf("error %q does not contain %q", err, w)
+				}
+			}
+			if strings.Contains(err.Error(), "proto:") {
+				t.Errorf("error %q leaks protojson's prefix", err)
+			}
+		})
+	}
+}

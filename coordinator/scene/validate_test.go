@@ -1,0 +1,143 @@
+package scene_test
+
+import (
+	"errors"
+	"math"
+	"strings"
+	"testing"
+
+	"photonfarm/coordinator/scene"
+	"photonfarm/coordinator/scene/scenetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+const goodDigest = "sha256:0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef"
+
+func meshShape(m *pb.MeshFile) *pb.Shape {
+	return &pb.Shape{Material: "white", Geometry: &pb.Shape_Mesh{Mesh: m}}
+}
+
+func TestValidateAcceptsValidScenes(t *testing.T) {
+	tests := []struct {
+		name   string
+		mutate func(*pb.Scene)
+	}{
+		{"as built", func(*pb.Scene) {}},
+		{"explicit tile size and spp", func(s *pb.Scene) { s.Film.TileSize = 8; s.Sampling.SamplesPerPixel = scene.MaxSamplesPerPixel }},
+		{"no sampling message", func(s *pb.Scene) { s.Sampling = nil }},
+		{"max film", func(s *pb.Scene) { s.Film.Width, s.Film.Height = scene.MaxFilmSide, 1 }},
+		{"triangles", func(s *pb.Scene) {
+			s.Shapes = append(s.Shapes, &pb.Shape{Material: "white", Geometry: &pb.Shape_Triangles{Triangles: &pb.TriangleMesh{
+				Positions: []*pb.Vec3{scenetest.V(0, 0, 0), scenetest.V(1, 0, 0), scenetest.V(0, 1, 0)}, Indices: []uint32{0, 1, 2}}}})
+		}},
+		{"mesh with digest and transform", func(s *pb.Scene) {
+			s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Path: "bunny.obj", Digest: goodDigest,
+				Transform: &pb.Transform{Scale: scenetest.V(2, 2, -2), RotationAxis: scenetest.V(0, 1, 0), RotationDegrees: 90}}))
+		}},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			s := scenetest.Valid(64, 48)
+			tt.mutate(s)
+			if err := scene.Validate(s); err != nil {
+				t.Fatalf("Validate: %v", err)
+			}
+		})
+	}
+}
+
+func TestValidateRefusesNamingTheField(t *testing.T) {
+	nan, inf := math.NaN(), math.Inf(1)
+	tests := []struct {
+		name    string
+		mutate  func(*pb.Scene)
+		field   string
+		message string // substring
+	}{
+		{"no camera", func(s *pb.Scene) { s.Camera = nil }, "camera", "missing"},
+		{"no look_at", func(s *pb.Scene) { s.Camera.LookAt = nil }, "camera.look_at", "missing"},
+		{"NaN position", func(s *pb.Scene) { s.Camera.Position.Y = nan }, "camera.position.y", "finite"},
+		{"Inf up", func(s *pb.Scene) { s.Camera.Up.Z = inf }, "camera.up.z", "finite"},
+		{"look_at == position", func(s *pb.Scene) { s.Camera.LookAt = scenetest.V(0, 1, 5) }, "camera.look_at", "must differ"},
+		{"up parallel to view", func(s *pb.Scene) { s.Camera.Up = scenetest.V(0, 0, -3) }, "camera.up", "parallel"},
+		{"zero up", func(s *pb.Scene) { s.Camera.Up = scenetest.V(0, 0, 0) }, "camera.up", "non-zero"},
+		{"fov 0", func(s *pb.Scene) { s.Camera.VerticalFovDegrees = 0 }, "camera.vertical_fov_degrees", "(0, 180), got 0"},
+		{"fov 180", func(s *pb.Scene) { s.Camera.VerticalFovDegrees = 180 }, "camera.vertical_fov_degrees", "got 180"},
+		{"fov NaN", func(s *pb.Scene) { s.Camera.VerticalFovDegrees = nan }, "camera.vertical_fov_degrees", "finite"},
+		{"no film", func(s *pb.Scene) { s.Film = nil }, "film", "missing"},
+		{"width 0", func(s *pb.Scene) { s.Film.Width = 0 }, "film.width", "[1, 16384], got 0"},
+		{"height too big", func(s *pb.Scene) { s.Film.Height = 16385 }, "film.height", "got 16385"},
+		{"tile too small", func(s *pb.Scene) { s.Film.TileSize = 4 }, "film.tile_size", "got 4"},
+		{"tile too big", func(s *pb.Scene) { s.Film.TileSize = 257 }, "film.tile_size", "got 257"},
+		{"spp too many", func(s *pb.Scene) { s.Sampling.SamplesPerPixel = 65537 }, "sampling.samples_per_pixel", "<= 65536"},
+		{"material no name", func(s *pb.Scene) { s.Materials[0].Name = "" }, "materials[0].name", "non-empty"},
+		{"material duplicate", func(s *pb.Scene) { s.Materials[1].Name = "white" }, "materials[1].name", "duplicate"},
+		{"material no kind", func(s *pb.Scene) { s.Materials[0].Kind = nil }, "materials[0]", "exactly one kind"},
+		{"reflectance > 1", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.G = 1.5 }, "materials[0].lambert.reflectance.g", "<= 1, got 1.5"},
+		{"reflectance < 0", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.R = -0.1 }, "materials[0].lambert.reflectance.r", ">= 0"},
+		{"reflectance missing", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance = nil }, "materials[0].lambert.reflectance", "missing"},
+		{"radiance negative", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance.B = -1 }, "materials[1].emissive.radiance.b", ">= 0"},
+		{"radiance Inf", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance.R = inf }, "materials[1].emissive.radiance.r", "finite"},
+		{"unknown material", func(s *pb.Scene) { s.Shapes[1].Material = "chrome" }, "shapes[1].material", `"chrome"`},
+		{"empty material", func(s *pb.Scene) { s.Shapes[1].Material = "" }, "shapes[1].material", "must name"},
+		{"no geometry", func(s *pb.Scene) { s.Shapes[0].Geometry = nil }, "shapes[0]", "exactly one geometry"},
+		{"negative radius", func(s *pb.Scene) { s.Shapes[0].GetSphere().Radius = -1 }, "shapes[0].sphere.radius", "must be > 0, got -1"},
+		{"NaN center", func(s *pb.Scene) { s.Shapes[0].GetSphere().Center.X = nan }, "shapes[0].sphere.center.x", "finite"},
+		{"zero quad edge", func(s *pb.Scene) { s.Shapes[1].GetQuad().EdgeU = scenetest.V(0, 0, 0) }, "shapes[1].quad.edge_u", "non-zero"},
+		{"parallel quad edges", func(s *pb.Scene) { s.Shapes[1].GetQuad().EdgeV = scenetest.V(-2, 0, 0) }, "shapes[1].quad.edge_v", "parallel"},
+		{"indices not multiple of 3", func(s *pb.Scene) {
+			s.Shapes[0].Geometry = &pb.Shape_Triangles{Triangles: &pb.TriangleMesh{
+				Positions: []*pb.Vec3{scenetest.V(0, 0, 0), scenetest.V(1, 0, 0), scenetest.V(0, 1, 0)}, Indices: []uint32{0, 1}}}
+		}, "shapes[0].triangles.indices", "multiple of 3"},
+		{"index out of range", func(s *pb.Scene) {
+			s.Shapes[0].Geometry = &pb.Shape_Triangles{Triangles: &pb.TriangleMesh{
+				Positions: []*pb.Vec3{scenetest.V(0, 0, 0), scenetest.V(1, 0, 0), scenetest.V(0, 1, 0)}, Indices: []uint32{0, 1, 3}}}
+		}, "shapes[0].triangles.indices[2]", "must be < 3"},
+		{"too many positions", func(s *pb.Scene) {
+			s.Shapes[0].Geometry = &pb.Shape_Triangles{Triangles: &pb.TriangleMesh{
+				Positions: make([]*pb.Vec3, scene.MaxMeshPositions+1), Indices: []uint32{0, 1, 2}}}
+		}, "shapes[0].triangles.positions", "at most 1000000"},
+		{"mesh path without digest", func(s *pb.Scene) { s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Path: "bunny.obj"})) },
+			"shapes[3].mesh.digest", "missing; clients upload the file named by path and set its digest"},
+		{"mesh bad digest", func(s *pb.Scene) { s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Digest: "sha256:ABC"})) },
+			"shapes[3].mesh.digest", "64 lowercase hex"},
+		{"mesh zero scale", func(s *pb.Scene) {
+			s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Digest: goodDigest, Transform: &pb.Transform{Scale: scenetest.V(1, 0, 1)}}))
+		}, "shapes[3].mesh.transform.scale.y", "non-zero"},
+		{"no light", func(s *pb.Scene) { s.Shapes = s.Shapes[:2] }, "shapes", "emissive"},
+		{"black light", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance = &pb.Color{} }, "shapes", "emissive"},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			s := scenetest.Valid(64, 48)
+			tt.mutate(s)
+			err := scene.Validate(s)
+			var fe *scene.FieldError
+			if !errors.As(err, &fe) {
+				t.Fatalf("Validate = %v, want a *FieldError", err)
+			}
+			if fe.Field != tt.field || !strings.Contains(fe.Message, tt.message) {
+				t.Errorf("Validate = %q; want field %q and a message containing %q", err, tt.field, tt.message)
+			}
+			if !strings.HasPrefix(err.Error(), tt.field+": ") {
+				t.Errorf("Error() = %q, want it to start with the field", err)
+			}
+		})
+	}
+}
+
+func TestDefaults(t *testing.T) {
+	s := scenetest.Valid(10, 10)
+	s.Sampling = nil
+	d := scene.Defaults(s)
+	if d.Film.TileSize != 32 || d.Sampling.SamplesPerPixel != 16 {
+		t.Errorf("Defaults: tile %d spp %d, want 32 and 16", d.Film.TileSize, d.Sampling.SamplesPerPixel)
+	}
+	if s.Sampling != nil || s.Film.TileSize != 0 {
+		t.Error("Defaults modified its argument")
+	}
+	s.Film.TileSize = 64
+	if got := scene.Defaults(s).Film.TileSize; got != 64 {
+		t.Errorf("Defaults overrode an explicit tile size: %d", got)
+	}
+}

@@ -1,0 +1,132 @@
+package service
+
+import (
+	"context"
+	"errors"
+	"io"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/errs"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+type blobServer struct {
+	pb.UnimplementedBlobServiceServer
+	s *Service
+}
+
+var _ pb.BlobServiceServer = (*blobServer)(nil)
+
+func checkDigest(d string) error {
+	if d == "" {
+		return errs.Field("digest", "must be non-empty")
+	}
+	if !blobstore.ValidDigest(d) {
+		return errs.Field("digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
+	}
+	return nil
+}
+
+// UploadBlob receives a header then chunks, verifying size and digest before the blob
+// becomes visible.
+func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
+	first, err := stream.Recv()
+	if err != nil {
+		return err
+	}
+	h := first.GetHeader()
+	if h == nil {
+		return errs.Field("header", "the first message must be the header")
+	}
+	if h.GetSizeBytes() < 0 {
+		return errs.Field("header.size_bytes", "must be >= 0, got %d", h.GetSizeBytes())
+	}
+	if d := h.GetDigest(); d != "" && !blobstore.ValidDigest(d) {
+		return errs.Field("header.digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
+	}
+	w, err := b.s.cfg.Blobs.Create(h.GetSizeBytes(), h.GetDigest())
+	if err != nil {
+		return inHeader(err)
+	}
+	defer w.Abort()
+	for {
+		msg, err := stream.Recv()
+		if errors.Is(err, io.EOF) {
+			break
+		}
+		if err != nil {
+			return err
+		}
+		if msg.GetHeader() != nil {
+			return errs.Field("header", "sent twice; only the first message is a header")
+		}
+		if len(msg.GetChunk()) > MaxUploadChunk {
+			return errs.Field("chunk", "%d bytes exceeds the %d byte chunk limit", len(msg.GetChunk()), MaxUploadChunk)
+		}
+		if _, err := w.Write(msg.GetChunk()); err != nil {
+			return inHeader(err)
+		}
+	}
+	info, err := w.Commit()
+	if err != nil {
+		return inHeader(err)
+	}
+	b.s.log.Debug("blob stored", "digest", info.Digest, "size", info.Size)
+	return stream.SendAndClose(&pb.UploadBlobResponse{Digest: info.Digest, SizeBytes: info.Size})
+}
+
+// DownloadBlob streams a blob in chunks of at most DownloadChunk bytes.
+func (b *blobServer) DownloadBlob(req *pb.DownloadBlobRequest, stream pb.BlobService_DownloadBlobServer) error {
+	if err := checkDigest(req.GetDigest()); err != nil {
+		return err
+	}
+	r, info, err := b.s.cfg.Blobs.Open(stream.Context(), req.GetDigest())
+	if err != nil {
+		return err
+	}
+	defer r.Close()
+	buf := make([]byte, DownloadChunk)
+	first := true
+	for {
+		n, err := io.ReadFull(r, buf)
+		if n > 0 || first {
+			msg := &pb.DownloadBlobResponse{Chunk: buf[:n]}
+			if first {
+				msg.SizeBytes = info.Size
+				first = false
+			}
+			if serr := stream.Send(msg); serr != nil {
+				return serr
+			}
+		}
+		if errors.Is(err, io.EOF) || errors.Is(err, io.ErrUnexpectedEOF) {
+			return nil
+		}
+		if err != nil {
+			return errs.Wrap(errs.Internal, err, "read blob")
+		}
+	}
+}
+
+func (b *blobServer) GetBlobInfo(ctx context.Context, req *pb.GetBlobInfoRequest) (*pb.GetBlobInfoResponse, error) {
+	if err := checkDigest(req.GetDigest()); err != nil {
+		return nil, err
+	}
+	info, err := b.s.cfg.Blobs.Stat(ctx, req.GetDigest())
+	if err != nil {
+		return nil, err
+	}
+	return &pb.GetBlobInfoResponse{Digest: info.Digest, SizeBytes: info.Size}, nil
+}
+
+// inHeader names the blob store's complaints about size and digest as the header fields
+// of the upload request.
+func inHeader(err error) error {
+	var e *errs.Error
+	if errors.As(err, &e) && (e.Field == "size_bytes" || e.Field == "digest") {
+		c := *e
+		c.Field = "header." + e.Field
+		return &c
+	}
+	return err
+}

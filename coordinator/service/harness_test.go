@@ -1,0 +1,201 @@
+package service_test
+
+import (
+	"bytes"
+	"context"
+	"errors"
+	"io"
+	"net"
+	"os"
+	"path/filepath"
+	"strings"
+	"testing"
+	"time"
+
+	"google.golang.org/genproto/googleapis/rpc/errdetails"
+	"google.golang.org/grpc"
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/credentials/insecure"
+	"google.golang.org/grpc/status"
+	"google.golang.org/protobuf/types/known/durationpb"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/clock"
+	"photonfarm/coordinator/events"
+	"photonfarm/coordinator/service"
+	"photonfarm/coordinator/store"
+	"photonfarm/coordinator/store/memstore"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+const leaseDuration = 10 * time.Second
+
+// farm is a real gRPC server on a loopback port with real clients.
+type farm struct {
+	t       *testing.T
+	ctx     context.Context
+	clock   *clock.Fake
+	svc     *service.Service
+	blobDir string
+	jobs    pb.JobServiceClient
+	workers pb.WorkerServiceClient
+	blobs   pb.BlobServiceClient
+}
+
+func newFarm(t *testing.T) *farm {
+	t.Helper()
+	clk := clock.NewFake(time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC))
+	dir := t.TempDir()
+	bs, err := blobstore.New(dir, 0)
+	if err != nil {
+		t.Fatal(err)
+	}
+	svc := service.New(service.Config{
+		Store:         memstore.New(store.Options{Clock: clk, LeaseDuration: leaseDuration}),
+		Blobs:         bs,
+		Events:        events.NewBroker(0),
+		Clock:         clk,
+		LeaseDuration: leaseDuration,
+	})
+	srv := svc.NewGRPCServer()
+	lis, err := net.Listen("tcp", "127.0.0.1:0")
+	if err != nil {
+		t.Fatal(err)
+	}
+	go srv.Serve(lis)
+	conn, err := grpc.NewClient(lis.Addr().String(),
+		grpc.WithTransportCredentials(insecure.NewCredentials()),
+		grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(service.MaxMessageSize)))
+	if err != nil {
+		t.Fatal(err)
+	}
+	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
+	t.Cleanup(func() {
+		cancel()
+		conn.Close()
+		svc.Shutdown()
+		srv.Stop()
+	})
+	return &farm{t: t, ctx: ctx, clock: clk, svc: svc, blobDir: dir,
+		jobs: pb.NewJobServiceClient(conn), workers: pb.NewWorkerServiceClient(conn), blobs: pb.NewBlobServiceClient(conn)}
+}
+
+func (f *farm) submit(s *pb.Scene) *pb.Job {
+	f.t.Helper()
+	resp, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: s})
+	if err != nil {
+		f.t.Fatalf("SubmitJob: %v", err)
+	}
+	return resp.Job
+}
+
+func (f *farm) register() string {
+	f.t.Helper()
+	resp, err := f.workers.RegisterWorker(f.ctx, &pb.RegisterWorkerRequest{Hostname: "test", Cores: 2, Version: "test"})
+	if err != nil {
+		f.t.Fatalf("RegisterWorker: %v", err)
+	}
+	return resp.WorkerId
+}
+
+func (f *farm) lease(worker string) *pb.LeaseTaskResponse {
+	f.t.Helper()
+	resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: worker})
+	if err != nil {
+		f.t.Fatalf("LeaseTask: %v", err)
+	}
+	if resp.Lease == nil {
+		f.t.Fatal("LeaseTask: nothing to do, want a task")
+	}
+	return resp
+}
+
+func (f *farm) upload(data []byte) *pb.Artifact {
+	f.t.Helper()
+	d, err := f.uploadChunks(&pb.BlobHeader{SizeBytes: int64(len(data))}, chunks(data, 1<<20)...)
+	if err != nil {
+		f.t.Fatalf("UploadBlob: %v", err)
+	}
+	return &pb.Artifact{Digest: d.Digest, SizeBytes: d.SizeBytes}
+}
+
+func (f *farm) uploadChunks(h *pb.BlobHeader, cs ...[]byte) (*pb.UploadBlobResponse, error) {
+	stream, err := f.blobs.UploadBlob(f.ctx)
+	if err != nil {
+		return nil, err
+	}
+	if err := stream.Send(&pb.UploadBlobRequest{Part: &pb.UploadBlobRequest_Header{Header: h}}); err != nil {
+		return nil, err
+	}
+	for _, c := range cs {
+		if err := stream.Send(&pb.UploadBlobRequest{Part: &pb.UploadBlobRequest_Chunk{Chunk: c}}); err != nil {
+			break // the server refused; CloseAndRecv reports why
+		}
+	}
+	return stream.CloseAndRecv()
+}
+
+func (f *farm) download(digest string) ([]byte, []int, error) {
+	stream, err := f.blobs.DownloadBlob(f.ctx, &pb.DownloadBlobRequest{Digest: digest})
+	if err != nil {
+		return nil, nil, err
+	}
+	var buf bytes.Buffer
+	var sizes []int
+	for {
+		msg, err := stream.Recv()
+		if errors.Is(err, io.EOF) {
+			return buf.Bytes(), sizes, nil
+		}
+		if err != nil {
+			return nil, nil, err
+		}
+		buf.Write(msg.Chunk)
+		sizes = append(sizes, len(msg.Chunk))
+	}
+}
+
+func chunks(b []byte, n int) [][]byte {
+	var out [][]byte
+	for len(b) > n {
+		out = append(out, b[:n])
+		b = b[n:]
+	}
+	return append(out, b)
+}
+
+func wait(d time.Duration) *durationpb.Duration { return durationpb.New(d) }
+
+// wantCode checks err's code and, when field is set, that the message starts with the
+// field and a BadRequest detail names it.
+func wantCode(t *testing.T, what string, err error, code codes.Code, field string) {
+	t.Helper()
+	st, _ := status.FromError(err)
+	if st.Code() != code {
+		t.Fatalf("%s: %v, want %v", what, err, code)
+	}
+	if field == "" {
+		return
+	}
+	if !strings.HasPrefix(st.Message(), field+": ") {
+		t.Errorf("%s: message %q does not start with %q", what, st.Message(), field+": ")
+	}
+	for _, d := range st.Details() {
+		if br, ok := d.(*errdetails.BadRequest); ok && len(br.FieldViolations) == 1 && br.FieldViolations[0].Field == field {
+			return
+		}
+	}
+	t.Errorf("%s: details %v do not name field %q", what, st.Details(), field)
+}
+
+// blobCount counts the blobs stored.
+func (f *farm) blobCount() int {
+	n := 0
+	filepath.WalkDir(filepath.Join(f.blobDir, "sha256"), func(_ string, d os.DirEntry, err error) error {
+		if err == nil && !d.IsDir() {
+			n++
+		}
+		return nil
+	})
+	return n
+}

@@ -1,0 +1,194 @@
+package service
+
+import (
+	"bytes"
+	"context"
+
+	"google.golang.org/protobuf/proto"
+	"google.golang.org/protobuf/types/known/timestamppb"
+
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/planner"
+	"photonfarm/coordinator/scene"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Page sizes of the list RPCs (job.proto).
+const (
+	DefaultJobsPage  = 50
+	MaxJobsPage      = 1000
+	DefaultTasksPage = 500
+	MaxTasksPage     = 10000
+)
+
+type jobServer struct {
+	pb.UnimplementedJobServiceServer
+	s *Service
+}
+
+var _ pb.JobServiceServer = (*jobServer)(nil)
+
+func required(field, v string) error {
+	if v == "" {
+		return errs.Field(field, "must be non-empty")
+	}
+	return nil
+}
+
+func pageSize(field string, n int32, def, max int) (int, error) {
+	switch {
+	case n < 0:
+		return 0, errs.Field(field, "must be >= 0, got %d", n)
+	case n == 0:
+		return def, nil
+	case int(n) > max:
+		return max, nil
+	}
+	return int(n), nil
+}
+
+// SubmitJob validates the scene, checks its meshes exist, stores the scene (defaults
+// filled in) as a blob, plans it and creates the job. Nothing is stored for a bad scene.
+func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*pb.SubmitJobResponse, error) {
+	s := j.s
+	sc := req.GetScene()
+	if sc == nil {
+		return nil, errs.Field("scene", "missing")
+	}
+	if err := scene.Validate(sc); err != nil {
+		return nil, err
+	}
+	for _, ref := range scene.MeshRefs(sc) {
+		if _, err := s.cfg.Blobs.Stat(ctx, ref.Digest); err != nil {
+			if errs.Is(err, errs.NotFound) {
+				return nil, errs.Field(ref.Field, "no blob %s in the blob store; upload the mesh file first", ref.Digest)
+			}
+			return nil, err
+		}
+	}
+	sc = scene.Defaults(sc)
+	data, err := proto.MarshalOptions{Deterministic: true}.Marshal(sc)
+	if err != nil {
+		return nil, errs.Wrap(errs.Internal, err, "marshal scene")
+	}
+	info, err := s.cfg.Blobs.Put(ctx, bytes.NewReader(data), int64(len(data)), "")
+	if err != nil {
+		return nil, err
+	}
+	tasks := planner.Plan(sc)
+	job, err := s.cfg.Store.CreateJob(ctx, store.NewJob{
+		DisplayName: sc.GetName(),
+		SceneDigest: info.Digest,
+		Width:       sc.GetFilm().GetWidth(),
+		Height:      sc.GetFilm().GetHeight(),
+		Tasks:       tasks,
+	})
+	if err != nil {
+		return nil, err
+	}
+	s.log.Info("job submitted", "job", job.GetId(), "name", job.GetDisplayName(),
+		"width", job.GetWidth(), "height", job.GetHeight(), "tasks", len(tasks), "scene", info.Digest)
+	s.queued.broadcast()
+	return &pb.SubmitJobResponse{Job: job}, nil
+}
+
+func (j *jobServer) GetJob(ctx context.Context, req *pb.GetJobRequest) (*pb.GetJobResponse, error) {
+	if err := required("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	job, err := j.s.cfg.Store.GetJob(ctx, req.GetJobId())
+	if err != nil {
+		return nil, err
+	}
+	return &pb.GetJobResponse{Job: job}, nil
+}
+
+func (j *jobServer) ListJobs(ctx context.Context, req *pb.ListJobsRequest) (*pb.ListJobsResponse, error) {
+	n, err := pageSize("page_size", req.GetPageSize(), DefaultJobsPage, MaxJobsPage)
+	if err != nil {
+		return nil, err
+	}
+	jobs, next, err := j.s.cfg.Store.ListJobs(ctx, n, req.GetPageToken())
+	if err != nil {
+		return nil, err
+	}
+	return &pb.ListJobsResponse{Jobs: jobs, NextPageToken: next}, nil
+}
+
+func (j *jobServer) ListTasks(ctx context.Context, req *pb.ListTasksRequest) (*pb.ListTasksResponse, error) {
+	if err := required("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	n, err := pageSize("page_size", req.GetPageSize(), DefaultTasksPage, MaxTasksPage)
+	if err != nil {
+		return nil, err
+	}
+	tasks, next, err := j.s.cfg.Store.ListTasks(ctx, req.GetJobId(), n, req.GetPageToken())
+	if err != nil {
+		return nil, err
+	}
+	return &pb.ListTasksResponse{Tasks: tasks, NextPageToken: next}, nil
+}
+
+func (j *jobServer) CancelJob(ctx context.Context, req *pb.CancelJobRequest) (*pb.CancelJobResponse, error) {
+	if err := required("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	c, err := j.s.cfg.Store.CancelJob(ctx, req.GetJobId())
+	if err != nil {
+		return nil, err
+	}
+	j.s.publish(c)
+	return &pb.CancelJobResponse{Job: c.Job}, nil
+}
+
+// WatchJob sends a snapshot, then every event of the job, and returns after the event
+// that carries its final state.
+func (j *jobServer) WatchJob(req *pb.WatchJobRequest, stream pb.JobService_WatchJobServer) error {
+	s := j.s
+	ctx := stream.Context()
+	if err := required("job_id", req.GetJobId()); err != nil {
+		return err
+	}
+	// Subscribe before reading the snapshot so that no change falls in between.
+	w := s.cfg.Events.Watch(req.GetJobId())
+	defer w.Close()
+	job, err := s.cfg.Store.GetJob(ctx, req.GetJobId())
+	if err != nil {
+		return err
+	}
+	snap := &pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_SNAPSHOT, Time: timestamppb.New(s.cfg.Clock.Now()), Job: job}
+	if err := stream.Send(snap); err != nil {
+		return err
+	}
+	if store.Ended(job.GetState()) {
+		return nil
+	}
+	ctx, cancel := context.WithCancel(ctx)
+	defer cancel()
+	go func() {
+		select {
+		case <-s.done:
+			cancel()
+		case <-ctx.Done():
+		}
+	}()
+	for {
+		ev, err := w.Next(ctx)
+		if err != nil {
+			select {
+			case <-s.done:
+				return errs.E(errs.Unavailable, "coordinator shutting down")
+			default:
+				return err
+			}
+		}
+		if err := stream.Send(ev); err != nil {
+			return err
+		}
+		if ev.GetKind() == pb.JobEventKind_JOB_EVENT_KIND_STATE_CHANGED && store.Ended(ev.GetJob().GetState()) {
+			return nil
+		}
+	}
+}

@@ -1,0 +1,174 @@
+// Package service implements the gRPC services of renderfarm.v1 (JobService,
+// WorkerService, BlobService) over a store.Store, a blob store and an events broker.
+//
+// Handlers return the coordinator's internal errors (errs.Error, scene.FieldError); the
+// interceptors installed by NewGRPCServer turn them into gRPC statuses in one place
+// (status.go).
+package service
+
+import (
+	"context"
+	"io"
+	"log/slog"
+	"sync"
+	"time"
+
+	"google.golang.org/grpc"
+	"google.golang.org/protobuf/types/known/timestamppb"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/clock"
+	"photonfarm/coordinator/events"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Blobs is what the service needs of a blob store.
+type Blobs interface {
+	Stat(ctx context.Context, digest string) (blobstore.Info, error)
+	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
+	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
+	Create(size int64, digest string) (*blobstore.Writer, error)
+}
+
+var _ Blobs = (*blobstore.Store)(nil)
+
+// Events is what the service needs of an event broker.
+type Events interface {
+	Publish(ev *pb.WatchJobResponse)
+	Watch(jobID string) *events.Watcher
+}
+
+var _ Events = (*events.Broker)(nil)
+
+// Limits of the RPCs (docs/limits.md).
+const (
+	// MaxUploadChunk is the largest chunk UploadBlob accepts.
+	MaxUploadChunk = 4 << 20
+	// DownloadChunk is the chunk size DownloadBlob sends.
+	DownloadChunk = 1 << 20
+	// MaxMessageSize is the gRPC message size limit: a 4 MiB chunk plus framing, and
+	// scenes with large inline meshes.
+	MaxMessageSize = 64 << 20
+	// MaxLeaseWait bounds LeaseTaskRequest.wait_timeout.
+	MaxLeaseWait = 30 * time.Second
+	// MaxErrorMessage is where FailTask truncates a worker's error message, in bytes.
+	MaxErrorMessage = 4096
+)
+
+// Config wires a Service.
+type Config struct {
+	Store  store.Store
+	Blobs  Blobs
+	Events Events
+	Clock  clock.Clock
+	Logger *slog.Logger
+	// LeaseDuration and HeartbeatInterval are told to workers when they register; the
+	// store enforces the lease duration.
+	LeaseDuration     time.Duration
+	HeartbeatInterval time.Duration
+}
+
+// Service holds the state shared by the three gRPC services.
+type Service struct {
+	cfg     Config
+	log     *slog.Logger
+	queued  notifier
+	workers registry
+	done    chan struct{}
+	once    sync.Once
+}
+
+// New returns a Service; Store, Blobs and Events are required.
+func New(cfg Config) *Service {
+	if cfg.Clock == nil {
+		cfg.Clock = clock.Real{}
+	}
+	if cfg.Logger == nil {
+		cfg.Logger = slog.New(slog.DiscardHandler)
+	}
+	if cfg.LeaseDuration <= 0 {
+		cfg.LeaseDuration = store.DefaultLeaseDuration
+	}
+	if cfg.HeartbeatInterval <= 0 {
+		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
+	}
+	return &Service{
+		cfg:     cfg,
+		log:     cfg.Logger,
+		queued:  newNotifier(),
+		workers: registry{m: make(map[string]*worker)},
+		done:    make(chan struct{}),
+	}
+}
+
+// NewGRPCServer returns a gRPC server with the three services registered, the error
+// mapping interceptors installed and message limits set; opts are appended.
+func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
+	base := []grpc.ServerOption{
+		grpc.MaxRecvMsgSize(MaxMessageSize),
+		grpc.MaxSendMsgSize(MaxMessageSize),
+		grpc.ChainUnaryInterceptor(s.unaryErrors),
+		grpc.ChainStreamInterceptor(s.streamErrors),
+	}
+	srv := grpc.NewServer(append(base, opts...)...)
+	pb.RegisterJobServiceServer(srv, &jobServer{s: s})
+	pb.RegisterWorkerServiceServer(srv, &workerServer{s: s})
+	pb.RegisterBlobServiceServer(srv, &blobServer{s: s})
+	return srv
+}
+
+// Shutdown ends long polls (LeaseTask returns nothing) and watches (WatchJob returns
+// UNAVAILABLE) so that a graceful stop does not wait for them.
+func (s *Service) Shutdown() { s.once.Do(func() { close(s.done) }) }
+
+// ExpireLeases requeues tasks whose leases have expired and publishes the changes. The
+// coordinator calls it periodically.
+func (s *Service) ExpireLeases(ctx context.Context) error {
+	changes, err := s.cfg.Store.ExpireLeases(ctx)
+	for _, c := range changes {
+		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts())
+		s.publish(c)
+	}
+	return err
+}
+
+// publish turns a store change into events and wakes waiting workers.
+func (s *Service) publish(c store.Change) {
+	if c.Job == nil {
+		return
+	}
+	now := timestamppb.New(s.cfg.Clock.Now())
+	if c.Task != nil {
+		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_TASK_UPDATED, Time: now, Job: c.Job, Task: c.Task})
+	}
+	if c.JobStateChanged {
+		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_STATE_CHANGED, Time: now, Job: c.Job})
+		s.log.Info("job state changed", "job", c.Job.GetId(), "state", c.Job.GetState().String(), "error", c.Job.GetError())
+	}
+	if c.Queued {
+		s.queued.broadcast()
+	}
+}
+
+// notifier wakes every goroutine waiting on the current channel; waiters take the
+// channel before checking the queue, so a wake-up between check and wait is not lost.
+type notifier struct {
+	mu sync.Mutex
+	ch chan struct{}
+}
+
+func newNotifier() notifier { return notifier{ch: make(chan struct{})} }
+
+func (n *notifier) wait() <-chan struct{} {
+	n.mu.Lock()
+	defer n.mu.Unlock()
+	return n.ch
+}
+
+func (n *notifier) broadcast() {
+	n.mu.Lock()
+	defer n.mu.Unlock()
+	close(n.ch)
+	n.ch = make(chan struct{})
+}

@@ -1,0 +1,236 @@
+package service_test
+
+import (
+	"context"
+	"strings"
+	"testing"
+	"time"
+
+	"google.golang.org/grpc/codes"
+
+	"photonfarm/coordinator/scene/scenetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+func TestRegisterTellsTimings(t *testing.T) {
+	f := newFarm(t)
+	resp, err := f.workers.RegisterWorker(f.ctx, &pb.RegisterWorkerRequest{Hostname: "h"})
+	if err != nil || !strings.HasPrefix(resp.WorkerId, "w-") {
+		t.Fatalf("RegisterWorker = %v, %v", resp, err)
+	}
+	if resp.LeaseDuration.AsDuration() != leaseDuration || resp.HeartbeatInterval.AsDuration() != leaseDuration/4 {
+		t.Errorf("timings = %v / %v", resp.LeaseDuration.AsDuration(), resp.HeartbeatInterval.AsDuration())
+	}
+	if other := f.register(); other == resp.WorkerId {
+		t.Error("two workers got the same id")
+	}
+}
+
+func TestFailedTaskIsRetriedThenFailsTheJob(t *testing.T) {
+	f := newFarm(t)
+	job := f.submit(scenetest.Valid(8, 8))
+	w := f.register()
+	for attempt := 1; attempt <= 3; attempt++ {
+		l := f.lease(w)
+		if l.Task.Attempts != uint32(attempt) {
+			t.Fatalf("attempt %d: task %v", attempt, l.Task)
+		}
+		if _, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Error: "embree exploded"}); err != nil {
+			t.Fatalf("FailTask: %v", err)
+		}
+	}
+	got, _ := f.jobs.GetJob(f.ctx, &pb.GetJobRequest{JobId: job.Id})
+	if got.Job.State != pb.JobState_JOB_STATE_FAILED || !strings.Contains(got.Job.Error, "embree exploded") || got.Job.EndTime == nil {
+		t.Errorf("job = %v, want FAILED with the task's error", got.Job)
+	}
+}
+
+func TestStaleEpochIsRefused(t *testing.T) {
+	f := newFarm(t)
+	f.submit(scenetest.Valid(8, 8))
+	w1, w2 := f.register(), f.register()
+	old := f.lease(w1)
+	f.clock.Advance(leaseDuration + time.Second)
+	if err := f.svc.ExpireLeases(f.ctx); err != nil {
+		t.Fatal(err)
+	}
+	cur := f.lease(w2)
+	if cur.Lease.TaskId != old.Lease.TaskId || cur.Lease.Epoch <= old.Lease.Epoch {
+		t.Fatalf("re-lease %v after %v", cur.Lease, old.Lease)
+	}
+	tile := f.upload([]byte("tile"))
+	tile.Name = "tile.exr"
+	_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w1, TaskId: old.Lease.TaskId, Epoch: old.Lease.Epoch, Outputs: []*pb.Artifact{tile}})
+	wantCode(t, "complete under the expired epoch", err, codes.FailedPrecondition, "")
+	_, err = f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w1, TaskId: cur.Lease.TaskId, Epoch: cur.Lease.Epoch, Outputs: []*pb.Artifact{tile}})
+	wantCode(t, "complete by the wrong worker", err, codes.FailedPrecondition, "")
+	hb, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: w1, Leases: []*pb.HeldLease{{TaskId: old.Lease.TaskId, Epoch: old.Lease.Epoch}}})
+	if err != nil || len(hb.Revoked) != 1 {
+		t.Errorf("old holder's heartbeat = %v, %v; want its lease revoked", hb, err)
+	}
+	hb, err = f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: w2, Leases: []*pb.HeldLease{{TaskId: cur.Lease.TaskId, Epoch: cur.Lease.Epoch}}})
+	if err != nil || len(hb.Leases) != 1 || !hb.Leases[0].ExpireTime.AsTime().Equal(f.clock.Now().Add(leaseDuration)) {
+		t.Errorf("holder's heartbeat = %v, %v; want the lease extended", hb, err)
+	}
+	if _, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w2, TaskId: cur.Lease.TaskId, Epoch: cur.Lease.Epoch, Outputs: []*pb.Artifact{tile}}); err != nil {
+		t.Errorf("complete by the holder: %v", err)
+	}
+}
+
+func TestCompleteRefusesOutputsNotUploaded(t *testing.T) {
+	f := newFarm(t)
+	f.submit(scenetest.Valid(8, 8))
+	w := f.register()
+	l := f.lease(w)
+	real := f.upload([]byte("tile"))
+	tests := []struct {
+		name  string
+		out   *pb.Artifact
+		field string
+	}{
+		{"no name", &pb.Artifact{Digest: real.Digest, SizeBytes: real.SizeBytes}, "outputs[0].name"},
+		{"bad digest", &pb.Artifact{Name: "tile.exr", Digest: "sha256:xyz"}, "outputs[0].digest"},
+		{"not uploaded", &pb.Artifact{Name: "tile.exr", Digest: "sha256:" + strings.Repeat("ab", 32), SizeBytes: 4}, "outputs[0].digest"},
+		{"wrong size", &pb.Artifact{Name: "tile.exr", Digest: real.Digest, SizeBytes: 5}, "outputs[0].size_bytes"},
+	}
+	for _, tt := range tests {
+		_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Outputs: []*pb.Artifact{tt.out}})
+		wantCode(t, tt.name, err, codes.InvalidArgument, tt.field)
+	}
+}
+
+func TestLeaseLongPollWakesWhenWorkIsQueued(t *testing.T) {
+	f := newFarm(t)
+	w := f.register()
+	start := time.Now()
+	resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(100 * time.Millisecond)})
+	if err != nil || resp.Lease != nil || time.Since(start) < 100*time.Millisecond {
+		t.Fatalf("empty long poll = %v, %v after %v", resp, err, time.Since(start))
+	}
+	got := make(chan *pb.LeaseTaskResponse, 1)
+	go func() {
+		resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(20 * time.Second)})
+		if err != nil {
+			t.Error(err)
+		}
+		got <- resp
+	}()
+	time.Sleep(50 * time.Millisecond)
+	start = time.Now()
+	f.submit(scenetest.Valid(8, 8))
+	select {
+	case resp := <-got:
+		if resp.GetLease() == nil {
+			t.Fatalf("long poll returned %v, want a lease", resp)
+		}
+	case <-time.After(5 * time.Second):
+		t.Fatal("long poll not woken by a submit")
+	}
+	// A poll also wakes when a task goes back to the queue.
+	go func() {
+		resp, _ := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(20 * time.Second)})
+		got <- resp
+	}()
+	time.Sleep(50 * time.Millisecond)
+	if _, err := f.workers.UnregisterWorker(f.ctx, &pb.UnregisterWorkerRequest{WorkerId: w}); err != nil {
+		t.Fatal(err)
+	}
+	select {
+	case resp := <-got:
+		if resp.GetLease() == nil || resp.Lease.Epoch != 2 {
+			t.Errorf("after unregister, long poll = %v; want the released task under epoch 2", resp)
+		}
+	case <-time.After(5 * time.Second):
+		t.Fatal("long poll not woken by a release")
+	}
+}
+
+func TestLeaseRespectsCallerCancellation(t *testing.T) {
+	f := newFarm(t)
+	w := f.register()
+	ctx, cancel := context.WithTimeout(f.ctx, 100*time.Millisecond)
+	defer cancel()
+	start := time.Now()
+	_, err := f.workers.LeaseTask(ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(30 * time.Second)})
+	wantCode(t, "cancelled long poll", err, codes.DeadlineExceeded, "")
+	if time.Since(start) > 5*time.Second {
+		t.Errorf("long poll outlived its caller by %v", time.Since(start))
+	}
+}
+
+func TestReleaseRequeuesWithoutFailure(t *testing.T) {
+	f := newFarm(t)
+	job := f.submit(scenetest.Valid(8, 8))
+	w := f.register()
+	for i := 0; i < 5; i++ {
+		l := f.lease(w)
+		if _, err := f.workers.ReleaseTask(f.ctx, &pb.ReleaseTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch}); err != nil {
+			t.Fatal(err)
+		}
+	}
+	got, _ := f.jobs.GetJob(f.ctx, &pb.GetJobRequest{JobId: job.Id})
+	if got.Job.State != pb.JobState_JOB_STATE_RUNNING {
+		t.Errorf("job = %v after releases", got.Job.State)
+	}
+}
+
+func TestWorkerRPCsValidateFields(t *testing.T) {
+	f := newFarm(t)
+	w := f.register()
+	cases := []struct {
+		name  string
+		call  func() error
+		code  codes.Code
+		field string
+	}{
+		{"heartbeat no id", func() error { _, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{}); return err }, codes.InvalidArgument, "worker_id"},
+		{"heartbeat unknown", func() error {
+			_, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: "w-nope"})
+			return err
+		}, codes.NotFound, "worker_id"},
+		{"heartbeat lease without task", func() error {
+			_, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: w, Leases: []*pb.HeldLease{{Epoch: 1}}})
+			return err
+		}, codes.InvalidArgument, "leases[0].task_id"},
+		{"lease no id", func() error { _, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{}); return err }, codes.InvalidArgument, "worker_id"},
+		{"lease unknown", func() error {
+			_, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: "w-nope"})
+			return err
+		}, codes.NotFound, "worker_id"},
+		{"lease negative wait", func() error {
+			_, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(-time.Second)})
+			return err
+		}, codes.InvalidArgument, "wait_timeout"},
+		{"complete no task", func() error {
+			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, Epoch: 1})
+			return err
+		}, codes.InvalidArgument, "task_id"},
+		{"complete no epoch", func() error {
+			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0"})
+			return err
+		}, codes.InvalidArgument, "epoch"},
+		{"complete unknown task", func() error {
+			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1})
+			return err
+		}, codes.NotFound, "task_id"},
+		{"fail no worker", func() error {
+			_, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{TaskId: "j.0", Epoch: 1, Error: "x"})
+			return err
+		}, codes.InvalidArgument, "worker_id"},
+		{"fail no message", func() error {
+			_, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1})
+			return err
+		}, codes.InvalidArgument, "error"},
+		{"release no epoch", func() error {
+			_, err := f.workers.ReleaseTask(f.ctx, &pb.ReleaseTaskRequest{WorkerId: w, TaskId: "j.0"})
+			return err
+		}, codes.InvalidArgument, "epoch"},
+		{"unregister no id", func() error {
+			_, err := f.workers.UnregisterWorker(f.ctx, &pb.UnregisterWorkerRequest{})
+			return err
+		}, codes.InvalidArgument, "worker_id"},
+	}
+	for _, c := range cases {
+		t.Run(c.name, func(t *testing.T) { wantCode(t, c.name, c.call(), c.code, c.field) })
+	}
+}

@@ -1,0 +1,233 @@
+// Package memstore is the in-process store.Store: all state in maps behind one mutex, so
+// every method is trivially atomic. It is the embedded default (one-machine farms, unit
+// tests); state is lost when the process exits.
+package memstore
+
+import (
+	"context"
+	"crypto/rand"
+	"encoding/base64"
+	"encoding/hex"
+	"fmt"
+	"strconv"
+	"sync"
+	"time"
+
+	"google.golang.org/protobuf/proto"
+	"google.golang.org/protobuf/types/known/timestamppb"
+
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Store is an in-memory store.Store. Create it with New.
+type Store struct {
+	opts store.Options
+
+	mu      sync.Mutex
+	seq     uint64
+	jobs    map[string]*job
+	ordered []*job // creation order; the queue's job order
+	tasks   map[string]*task
+}
+
+var _ store.Store = (*Store)(nil)
+
+type job struct {
+	seq   uint64
+	pb    *pb.Job // without phases: computed on read
+	tasks []*task
+}
+
+type task struct {
+	job      *job
+	pb       *pb.Task
+	epoch    uint64
+	expire   time.Time
+	failures int
+}
+
+// New returns an empty store.
+func New(opts store.Options) *Store {
+	return &Store{
+		opts:  opts.WithDefaults(),
+		jobs:  make(map[string]*job),
+		tasks: make(map[string]*task),
+	}
+}
+
+func (s *Store) now() time.Time { return s.opts.Clock.Now() }
+
+func newJobID() string {
+	var b [8]byte
+	_, _ = rand.Read(b[:])
+	return "j-" + hex.EncodeToString(b[:])
+}
+
+// CreateJob implements store.Store.
+func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
+	if len(nj.Tasks) == 0 {
+		return nil, errs.E(errs.InvalidArgument, "a job needs at least one task")
+	}
+	for i, t := range nj.Tasks {
+		if t.GetIndex() != uint32(i) {
+			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
+		}
+		if i > 0 && t.GetPhase() < nj.Tasks[i-1].GetPhase() {
+			return nil, errs.E(errs.Internal, "task %d: phases out of order", i)
+		}
+	}
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	now := timestamppb.New(s.now())
+	s.seq++
+	id := newJobID()
+	for s.jobs[id] != nil {
+		id = newJobID()
+	}
+	j := &job{seq: s.seq, pb: &pb.Job{
+		Id:          id,
+		DisplayName: nj.DisplayName,
+		State:       pb.JobState_JOB_STATE_QUEUED,
+		CreateTime:  now,
+		UpdateTime:  now,
+		SceneDigest: nj.SceneDigest,
+		Width:       nj.Width,
+		Height:      nj.Height,
+	}}
+	first := nj.Tasks[0].GetPhase()
+	for _, t := range nj.Tasks {
+		pt := proto.Clone(t).(*pb.Task)
+		pt.Id = store.TaskID(id, t.GetIndex())
+		pt.JobId = id
+		pt.State = pb.TaskState_TASK_STATE_WAITING
+		if pt.Phase == first {
+			pt.State = pb.TaskState_TASK_STATE_QUEUED
+		}
+		tk := &task{job: j, pb: pt}
+		j.tasks = append(j.tasks, tk)
+		s.tasks[pt.Id] = tk
+	}
+	s.jobs[id] = j
+	s.ordered = append(s.ordered, j)
+	return j.snapshot(), nil
+}
+
+// snapshot returns a copy of the job with its phase progress.
+func (j *job) snapshot() *pb.Job {
+	out := proto.Clone(j.pb).(*pb.Job)
+	for _, t := range j.tasks {
+		n := len(out.Phases)
+		if n == 0 || out.Phases[n-1].Phase != t.pb.Phase {
+			out.Phases = append(out.Phases, &pb.PhaseProgress{Phase: t.pb.Phase})
+			n++
+		}
+		out.Phases[n-1].TasksTotal++
+		if t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED {
+			out.Phases[n-1].TasksSucceeded++
+		}
+	}
+	return out
+}
+
+func (t *task) snapshot() *pb.Task { return proto.Clone(t.pb).(*pb.Task) }
+
+func (s *Store) change(t *task, stateChanged, queued bool) store.Change {
+	return store.Change{Job: t.job.snapshot(), Task: t.snapshot(), JobStateChanged: stateChanged, Queued: queued}
+}
+
+// GetJob implements store.Store.
+func (s *Store) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return nil, err
+	}
+	return j.snapshot(), nil
+}
+
+func (s *Store) job(id string) (*job, error) {
+	j := s.jobs[id]
+	if j == nil {
+		return nil, &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
+	}
+	return j, nil
+}
+
+// Page tokens are opaque to clients: base64 of "j<seq>" (jobs older than seq) or
+// "t<index>" (tasks from index on).
+func encodeToken(prefix byte, n uint64) string {
+	return base64.RawURLEncoding.EncodeToString([]byte(string(prefix) + strconv.FormatUint(n, 10)))
+}
+
+func decodeToken(prefix byte, tok string) (uint64, error) {
+	b, err := base64.RawURLEncoding.DecodeString(tok)
+	if err == nil && len(b) > 1 && b[0] == prefix {
+		if n, err := strconv.ParseUint(string(b[1:]), 10, 64); err == nil {
+			return n, nil
+		}
+	}
+	return 0, errs.Field("page_token", "malformed page token %q", tok)
+}
+
+// ListJobs implements store.Store.
+func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([]*pb.Job, string, error) {
+	if pageSize <= 0 {
+		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
+	}
+	before := uint64(1<<63 - 1)
+	if pageToken != "" {
+		n, err := decodeToken('j', pageToken)
+		if err != nil {
+			return nil, "", err
+		}
+		before = n
+	}
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	var out []*pb.Job
+	var last uint64
+	for i := len(s.ordered) - 1; i >= 0; i-- {
+		j := s.ordered[i]
+		if j.seq >= before {
+			continue
+		}
+		if len(out) == pageSize {
+			return out, encodeToken('j', last), nil
+		}
+		out = append(out, j.snapshot())
+		last = j.seq
+	}
+	return out, "", nil
+}
+
+// ListTasks implements store.Store.
+func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageToken string) ([]*pb.Task, string, error) {
+	if pageSize <= 0 {
+		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
+	}
+	var from uint64
+	if pageToken != "" {
+		n, err := decodeToken('t', pageToken)
+		if err != nil {
+			return nil, "", err
+		}
+		from = n
+	}
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return nil, "", err
+	}
+	var out []*pb.Task
+	for i := from; i < uint64(len(j.tasks)); i++ {
+		if len(out) == pageSize {
+			return out, encodeToken('t', i), nil
+		}
+		out = append(out, j.tasks[i].snapshot())
+	}
+	return out, "", nil
+}
