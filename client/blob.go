@@ -1,0 +1,164 @@
+package client
+
+import (
+	"bytes"
+	"context"
+	"crypto/sha256"
+	"encoding/hex"
+	"errors"
+	"fmt"
+	"hash"
+	"io"
+	"os"
+
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/status"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// UploadChunkSize is the size of the chunks blobs are uploaded in (the contract allows up
+// to 4 MiB).
+const UploadChunkSize = 1 << 20
+
+// Digest returns the content digest of data: "sha256:" and 64 lowercase hex digits.
+func Digest(data []byte) string {
+	sum := sha256.Sum256(data)
+	return "sha256:" + hex.EncodeToString(sum[:])
+}
+
+func digestOf(h hash.Hash) string { return "sha256:" + hex.EncodeToString(h.Sum(nil)) }
+
+// fileDigest returns the digest and size of the file at path.
+func fileDigest(path string) (digest string, size int64, err error) {
+	f, err := os.Open(path)
+	if err != nil {
+		return "", 0, err
+	}
+	defer f.Close()
+	h := sha256.New()
+	size, err = io.Copy(h, f)
+	if err != nil {
+		return "", 0, err
+	}
+	return digestOf(h), size, nil
+}
+
+// BlobExists reports whether the blob store holds digest.
+func (c *Client) BlobExists(ctx context.Context, digest string) (bool, error) {
+	_, err := c.blobs.GetBlobInfo(ctx, &pb.GetBlobInfoRequest{Digest: digest})
+	switch status.Code(err) {
+	case codes.OK:
+		return true, nil
+	case codes.NotFound:
+		return false, nil
+	}
+	return false, fromRPC("blob info", err)
+}
+
+// UploadBytes stores data in the blob store, unless it is there already, and returns its
+// digest.
+func (c *Client) UploadBytes(ctx context.Context, data []byte) (string, error) {
+	digest := Digest(data)
+	return digest, c.upload(ctx, bytes.NewReader(data), int64(len(data)), digest)
+}
+
+// UploadFile stores the file at path in the blob store, unless it is there already, and
+// returns its digest. The file is read twice (to hash it, then to send it), never held in
+// memory whole.
+func (c *Client) UploadFile(ctx context.Context, path string) (string, error) {
+	digest, size, err := fileDigest(path)
+	if err != nil {
+		return "", err
+	}
+	f, err := os.Open(path)
+	if err != nil {
+		return "", err
+	}
+	defer f.Close()
+	return digest, c.upload(ctx, f, size, digest)
+}
+
+// upload streams size bytes from r as the blob digest: a header, then chunks. It skips the
+// transfer if the store already has the blob. The server checks size and digest.
+func (c *Client) upload(ctx context.Context, r io.Reader, size int64, digest string) error {
+	if ok, err := c.BlobExists(ctx, digest); err != nil || ok {
+		return err
+	}
+	stream, err := c.blobs.UploadBlob(ctx)
+	if err != nil {
+		return fromRPC("upload blob", err)
+	}
+	hdr := &pb.UploadBlobRequest{Part: &pb.UploadBlobRequest_Header{
+		Header: &pb.BlobHeader{SizeBytes: size, Digest: digest}}}
+	if err := stream.Send(hdr); err != nil {
+		_, err = stream.CloseAndRecv() // the server's reason, if it hung up
+		return fromRPC("upload blob", err)
+	}
+	buf := make([]byte, c.chunkLen)
+	var sent int64
+	for sent < size {
+		n, rerr := io.ReadFull(r, buf[:min(int64(len(buf)), size-sent)])
+		if n > 0 {
+			chunk := &pb.UploadBlobRequest{Part: &pb.UploadBlobRequest_Chunk{Chunk: buf[:n]}}
+			if err := stream.Send(chunk); err != nil {
+				_, err = stream.CloseAndRecv()
+				return fromRPC("upload blob", err)
+			}
+			sent += int64(n)
+		}
+		if rerr != nil && sent < size {
+			stream.CloseSend()
+			return fmt.Errorf("upload blob %s: read: %w", digest, rerr)
+		}
+	}
+	resp, err := stream.CloseAndRecv()
+	if err != nil {
+		return fromRPC("upload blob", err)
+	}
+	if resp.GetDigest() != digest {
+		return fmt.Errorf("upload blob: the coordinator stored %s, expected %s", resp.GetDigest(), digest)
+	}
+	return nil
+}
+
+// Download streams the blob digest into w and checks, while streaming, that the bytes
+// have that digest and the announced size. w may have received bytes when this fails, so
+// callers writing files write to a temporary one and rename it on success.
+func (c *Client) Download(ctx context.Context, digest string, w io.Writer) (int64, error) {
+	ctx, cancel := context.WithCancel(ctx)
+	defer cancel()
+	stream, err := c.blobs.DownloadBlob(ctx, &pb.DownloadBlobRequest{Digest: digest})
+	if err != nil {
+		return 0, fromRPC("download blob", err)
+	}
+	h := sha256.New()
+	out := io.MultiWriter(h, w)
+	var n, want int64 = 0, -1
+	for {
+		msg, err := stream.Recv()
+		if errors.Is(err, io.EOF) {
+			break
+		}
+		if err != nil {
+			return n, fromRPC("download blob "+digest, err)
+		}
+		if want < 0 {
+			want = msg.GetSizeBytes()
+		}
+		if _, err := out.Write(msg.GetChunk()); err != nil {
+			return n, err
+		}
+		n += int64(len(msg.GetChunk()))
+		if want >= 0 && n > want {
+			return n, fmt.Errorf("download blob %s: more than the announced %d bytes", digest, want)
+		}
+	}
+	if want >= 0 && n != want {
+		return n, fmt.Errorf("download blob %s: got %d bytes, announced %d", digest, n, want)
+	}
+	if got := digestOf(h); got != digest {
+		return n, fmt.Errorf("download blob %s: content has digest %s", digest, got)
+	}
+	return n, nil
+}

@@ -1,0 +1,233 @@
+package client
+
+import (
+	"context"
+	"errors"
+	"fmt"
+	"io"
+	"os"
+	"path/filepath"
+	"strings"
+
+	"google.golang.org/grpc/codes"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Submit queues scene as a new job. The scene's meshes must be in the blob store already
+// (LoadSceneFile does that). A malformed scene gives an *Error with code InvalidArgument
+// naming the field.
+func (c *Client) Submit(ctx context.Context, sc *pb.Scene) (*pb.Job, error) {
+	resp, err := c.jobs.SubmitJob(ctx, &pb.SubmitJobRequest{Scene: sc})
+	if err != nil {
+		return nil, fromRPC("submit job", err)
+	}
+	return resp.GetJob(), nil
+}
+
+// GetJob returns the job jobID.
+func (c *Client) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
+	resp, err := c.jobs.GetJob(ctx, &pb.GetJobRequest{JobId: jobID})
+	if err != nil {
+		return nil, fromRPC("get job", err)
+	}
+	return resp.GetJob(), nil
+}
+
+// ListJobs returns every job, newest first, following the pages.
+func (c *Client) ListJobs(ctx context.Context) ([]*pb.Job, error) {
+	var jobs []*pb.Job
+	token := ""
+	for {
+		resp, err := c.jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: 1000, PageToken: token})
+		if err != nil {
+			return nil, fromRPC("list jobs", err)
+		}
+		jobs = append(jobs, resp.GetJobs()...)
+		if token = resp.GetNextPageToken(); token == "" {
+			return jobs, nil
+		}
+	}
+}
+
+// ListTasks returns every task of the job, in plan order, following the pages.
+func (c *Client) ListTasks(ctx context.Context, jobID string) ([]*pb.Task, error) {
+	var tasks []*pb.Task
+	token := ""
+	for {
+		resp, err := c.jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: 10000, PageToken: token})
+		if err != nil {
+			return nil, fromRPC("list tasks", err)
+		}
+		tasks = append(tasks, resp.GetTasks()...)
+		if token = resp.GetNextPageToken(); token == "" {
+			return tasks, nil
+		}
+	}
+}
+
+// Cancel cancels the job.
+func (c *Client) Cancel(ctx context.Context, jobID string) (*pb.Job, error) {
+	resp, err := c.jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: jobID})
+	if err != nil {
+		return nil, fromRPC("cancel job", err)
+	}
+	return resp.GetJob(), nil
+}
+
+// JobEnded reports whether a job in state s has ended.
+func JobEnded(s pb.JobState) bool {
+	return s == pb.JobState_JOB_STATE_SUCCEEDED || s == pb.JobState_JOB_STATE_FAILED ||
+		s == pb.JobState_JOB_STATE_CANCELLED
+}
+
+// Watch follows the job's events until it ends, calling fn (if not nil) for each event,
+// the initial snapshot included, and returns the job as it ended. It returns an error if
+// ctx ends first or the stream breaks before the job has ended.
+func (c *Client) Watch(ctx context.Context, jobID string, fn func(*pb.WatchJobResponse)) (*pb.Job, error) {
+	ctx, cancel := context.WithCancel(ctx)
+	defer cancel()
+	stream, err := c.jobs.WatchJob(ctx, &pb.WatchJobRequest{JobId: jobID})
+	if err != nil {
+		return nil, fromRPC("watch job", err)
+	}
+	var last *pb.Job
+	for {
+		ev, err := stream.Recv()
+		if errors.Is(err, io.EOF) {
+			if last == nil || !JobEnded(last.GetState()) {
+				return last, &Error{Code: codes.Unavailable, Message: "watch job " + jobID + ": the event stream ended before the job did"}
+			}
+			return last, nil
+		}
+		if err != nil {
+			return last, fromRPC("watch job", err)
+		}
+		if ev.GetJob() != nil {
+			last = ev.GetJob()
+		}
+		if fn != nil {
+			fn(ev)
+		}
+		if last != nil && JobEnded(last.GetState()) {
+			return last, nil
+		}
+	}
+}
+
+// Output file names. Fetch writes a job's artifacts as BASE.exr (the final "image.exr")
+// and BASE.png (the "preview.png"); any other artifact NAME as BASE.NAME. FetchAs takes
+// BASE from its caller (farm render uses the scene file's name, so scenes/cornell-box.json
+// gives out/cornell-box.exr); Fetch uses the job's display name (the scene's name field)
+// made safe for a file name, or the job id if that is empty.
+func outputFileName(base, artifact string) string {
+	switch artifact {
+	case "image.exr":
+		return base + ".exr"
+	case "preview.png":
+		return base + ".png"
+	}
+	return base + "." + SafeFileName(artifact)
+}
+
+// SafeFileName turns free text (a scene name) into a file name: letters, digits, '.', '-'
+// and '_' are kept, runs of anything else become one '-'. It returns "" if nothing usable
+// is left.
+func SafeFileName(s string) string {
+	var b strings.Builder
+	dash := false
+	for _, r := range s {
+		ok := r == '.' || r == '-' || r == '_' || (r >= 'a' && r <= 'z') || (r >= 'A' && r <= 'Z') || (r >= '0' && r <= '9')
+		if ok {
+			b.WriteRune(r)
+			dash = false
+		} else if !dash {
+			b.WriteByte('-')
+			dash = true
+		}
+	}
+	out := strings.Trim(b.String(), "-.")
+	if len(out) > 128 {
+		out = out[:128]
+	}
+	return out
+}
+
+// Fetch downloads the outputs of a succeeded job into outDir (created if missing), named
+// after the job's display name (see outputFileName), and returns the paths written.
+func (c *Client) Fetch(ctx context.Context, jobID, outDir string) ([]string, error) {
+	return c.FetchAs(ctx, jobID, outDir, "")
+}
+
+// FetchAs is Fetch with the base name of the files chosen by the caller; "" means the
+// job's display name, or its id.
+func (c *Client) FetchAs(ctx context.Context, jobID, outDir, base string) ([]string, error) {
+	job, err := c.GetJob(ctx, jobID)
+	if err != nil {
+		return nil, err
+	}
+	if job.GetState() != pb.JobState_JOB_STATE_SUCCEEDED {
+		return nil, &Error{Code: codes.FailedPrecondition,
+			Message: fmt.Sprintf("job %s has no outputs: it is %s", jobID, StateName(job.GetState()))}
+	}
+	if base == "" {
+		base = SafeFileName(job.GetDisplayName())
+	}
+	if base == "" {
+		base = SafeFileName(job.GetId())
+	}
+	if len(job.GetOutputs()) == 0 {
+		return nil, fmt.Errorf("job %s succeeded without outputs", jobID)
+	}
+	if err := os.MkdirAll(outDir, 0o755); err != nil {
+		return nil, err
+	}
+	var paths []string
+	for _, a := range job.GetOutputs() {
+		path := filepath.Join(outDir, outputFileName(base, a.GetName()))
+		if err := c.downloadFile(ctx, a, path); err != nil {
+			return paths, err
+		}
+		paths = append(paths, path)
+	}
+	return paths, nil
+}
+
+// downloadFile writes artifact a to path, through a temporary file in the same folder
+// that replaces path only once the bytes are complete and verified.
+func (c *Client) downloadFile(ctx context.Context, a *pb.Artifact, path string) error {
+	tmp, err := os.CreateTemp(filepath.Dir(path), "."+filepath.Base(path)+".*.part")
+	if err != nil {
+		return err
+	}
+	defer os.Remove(tmp.Name()) // no-op after the rename
+	n, err := c.Download(ctx, a.GetDigest(), tmp)
+	if cerr := tmp.Close(); err == nil {
+		err = cerr
+	}
+	if err == nil && a.GetSizeBytes() != 0 && n != a.GetSizeBytes() {
+		err = fmt.Errorf("download %s: got %d bytes, the job says %d", a.GetName(), n, a.GetSizeBytes())
+	}
+	if err != nil {
+		return fmt.Errorf("fetch %s: %w", a.GetName(), err)
+	}
+	if err := os.Chmod(tmp.Name(), 0o644); err != nil {
+		return err
+	}
+	return os.Rename(tmp.Name(), path)
+}
+
+// StateName is a job state for people: "succeeded", "running".
+func StateName(s pb.JobState) string {
+	return strings.ToLower(strings.TrimPrefix(s.String(), "JOB_STATE_"))
+}
+
+// TaskStateName is a task state for people: "leased", "succeeded".
+func TaskStateName(s pb.TaskState) string {
+	return strings.ToLower(strings.TrimPrefix(s.String(), "TASK_STATE_"))
+}
+
+// PhaseName is a phase for people: "render", "composite".
+func PhaseName(p pb.Phase) string {
+	return strings.ToLower(strings.TrimPrefix(p.String(), "PHASE_"))
+}

@@ -1,0 +1,261 @@
+package main
+
+import (
+	"context"
+	"errors"
+	"flag"
+	"fmt"
+	"io"
+	"os"
+	"strings"
+
+	"photonfarm/client"
+)
+
+// Exit codes.
+const (
+	exitOK          = 0
+	exitFailure     = 1   // the farm failed, the job failed, the coordinator is unreachable
+	exitUsage       = 2   // bad command line or invalid input (a malformed scene)
+	exitInterrupted = 130 // Ctrl-C
+)
+
+// env is what a verb may touch of the process, so that tests can run verbs in-process.
+type env struct {
+	stdout, stderr io.Writer
+	getenv         func(string) string
+}
+
+// A verb is one subcommand: `farm NAME ARGS...`.
+type verb struct {
+	name    string
+	args    string // synopsis after the name
+	summary string
+	run     func(ctx context.Context, e *env, args []string) error
+}
+
+// verbs in the order `farm help` lists them.
+var verbs []*verb
+
+func init() {
+	verbs = []*verb{
+		renderVerb, coordinatorVerb, submitVerb, watchVerb, fetchVerb,
+		statusVerb, listVerb, tasksVerb, cancelVerb,
+	}
+}
+
+const usageHeader = `farm is the photon-mapping render farm's command-line tool.
+
+usage: farm VERB [ARGS] [FLAGS]    (flags may come before or after the arguments)
+
+verbs:
+`
+
+const usageFooter = `
+Client verbs talk to the coordinator at --coordinator, else $FARM_COORDINATOR, else
+localhost:7070. Exit status: 0 success; 1 failure (job failed, coordinator unreachable);
+2 bad usage or invalid input (the message names the scene field); 130 interrupted.
+Run 'farm VERB -h' for a verb's flags.
+`
+
+func printUsage(w io.Writer) {
+	fmt.Fprint(w, usageHeader)
+	for _, v := range verbs {
+		synopsis, _, _ := strings.Cut(v.args, "[")
+		fmt.Fprintf(w, "  %-30s %s\n", strings.TrimSpace(v.name+" "+synopsis), v.summary)
+	}
+	fmt.Fprintf(w, "  %-30s %s\n", "help [VERB]", "show this help, or a verb's")
+	fmt.Fprint(w, usageFooter)
+}
+
+func findVerb(name string) *verb {
+	for _, v := range verbs {
+		if v.name == name {
+			return v
+		}
+	}
+	return nil
+}
+
+// run executes the command line args (without the program name) and returns the exit code.
+func run(ctx context.Context, args []string, e *env) int {
+	if len(args) == 0 {
+		printUsage(e.stderr)
+		return exitUsage
+	}
+	name, rest := args[0], args[1:]
+	switch name {
+	case "help", "-h", "-help", "--help":
+		if len(rest) > 0 {
+			if v := findVerb(rest[0]); v != nil {
+				return run(ctx, []string{v.name, "-h"}, e)
+			}
+			fmt.Fprintf(e.stderr, "farm: unknown verb %q (see 'farm help')\n", rest[0])
+			return exitUsage
+		}
+		printUsage(e.stdout)
+		return exitOK
+	}
+	v := findVerb(name)
+	if v == nil {
+		fmt.Fprintf(e.stderr, "farm: unknown verb %q (see 'farm help')\n", name)
+		return exitUsage
+	}
+	err := v.run(ctx, e, rest)
+	if err == nil {
+		return exitOK
+	}
+	if errors.Is(err, flag.ErrHelp) {
+		return exitOK
+	}
+	var ex *exitError
+	if errors.As(err, &ex) && ex.silent {
+		return ex.code
+	}
+	code := exitCode(ctx, err)
+	msg := oneLine(err.Error())
+	if code == exitInterrupted && errors.Is(err, context.Canceled) {
+		msg = "interrupted"
+	}
+	fmt.Fprintf(e.stderr, "farm: %s\n", msg)
+	return code
+}
+
+func exitCode(ctx context.Context, err error) int {
+	var ex *exitError
+	switch {
+	case errors.As(err, &ex):
+		return ex.code
+	case errors.Is(err, context.Canceled) && ctx.Err() != nil:
+		return exitInterrupted
+	case client.IsInvalidInput(err):
+		return exitUsage
+	}
+	return exitFailure
+}
+
+// exitError carries an exit code; silent ones have been reported already.
+type exitError struct {
+	code   int
+	err    error
+	silent bool
+}
+
+func (e *exitError) Error() string { return e.err.Error() }
+func (e *exitError) Unwrap() error { return e.err }
+
+func usageErrorf(format string, args ...any) error {
+	return &exitError{code: exitUsage, err: fmt.Errorf(format, args...)}
+}
+
+func oneLine(s string) string {
+	return strings.Join(strings.Fields(strings.ReplaceAll(s, "\n", " ")), " ")
+}
+
+// flagSet is a verb's flags and how to print its usage.
+type flagSet struct {
+	*flag.FlagSet
+	usage func()
+}
+
+// newFlags returns the flags of the verb named name; its -h prints the verb's usage on
+// stdout.
+func newFlags(name string, e *env) *flagSet {
+	v := findVerb(name)
+	fs := &flagSet{FlagSet: flag.NewFlagSet("farm "+v.name, flag.ContinueOnError)}
+	fs.SetOutput(io.Discard)
+	fs.FlagSet.Usage = func() {} // the flag package calls it on errors too; parse decides
+	fs.usage = func() {
+		w := e.stdout
+		fmt.Fprintf(w, "usage: farm %s %s\n\n%s\n", v.name, v.args, v.summary)
+		if doc := verbDocs[v.name]; doc != "" {
+			fmt.Fprintf(w, "\n%s", doc)
+		}
+		hasFlags := false
+		fs.VisitAll(func(*flag.Flag) { hasFlags = true })
+		if hasFlags {
+			fmt.Fprintln(w, "\nflags:")
+			fs.SetOutput(w)
+			fs.PrintDefaults()
+			fs.SetOutput(io.Discard)
+		}
+	}
+	return fs
+}
+
+// parse parses flags and positional arguments in any order and checks that there are
+// between minArgs and maxArgs positional arguments (maxArgs < 0: no limit).
+func parse(fs *flagSet, args []string, minArgs, maxArgs int) ([]string, error) {
+	var pos []string
+	for {
+		if err := fs.Parse(args); err != nil {
+			if errors.Is(err, flag.ErrHelp) {
+				fs.usage()
+				return nil, err
+			}
+			return nil, usageErrorf("%s: %v (see '%s -h')", strings.TrimPrefix(fs.Name(), "farm "), err, fs.Name())
+		}
+		args = fs.Args()
+		if len(args) == 0 {
+			break
+		}
+		pos = append(pos, args[0])
+		args = args[1:]
+	}
+	if len(pos) < minArgs || (maxArgs >= 0 && len(pos) > maxArgs) {
+		return nil, usageErrorf("%s: wrong number of arguments (see '%s -h')", strings.TrimPrefix(fs.Name(), "farm "), fs.Name())
+	}
+	return pos, nil
+}
+
+// coordinatorFlag adds --coordinator to fs; the returned func gives the address to use.
+func coordinatorFlag(fs *flagSet, e *env) func() string {
+	addr := fs.String("coordinator", "", "coordinator address HOST:PORT (default $FARM_COORDINATOR, else "+client.DefaultAddress+")")
+	return func() string {
+		if *addr != "" {
+			return *addr
+		}
+		if a := e.getenv("FARM_COORDINATOR"); a != "" {
+			return a
+		}
+		return client.DefaultAddress
+	}
+}
+
+func dial(addr string) (*client.Client, error) {
+	return client.Dial(addr)
+}
+
+// isTerminal reports whether w is a character device (a terminal).
+func isTerminal(w io.Writer) bool {
+	f, ok := w.(*os.File)
+	if !ok {
+		return false
+	}
+	fi, err := f.Stat()
+	return err == nil && fi.Mode()&os.ModeCharDevice != 0
+}
+
+// verbDocs holds the longer help of verbs that need it.
+var verbDocs = map[string]string{
+	"render": `Runs a whole farm on this machine: an in-process coordinator on a free loopback port
+with a temporary data folder, N farm-worker processes, then submits SCENE, shows
+progress, and writes OUTDIR/NAME.exr and OUTDIR/NAME.png, NAME being the scene file's
+name without .json (scenes/cornell-box.json gives OUTDIR/cornell-box.exr). Workers are
+stopped (SIGTERM) and the temporary folder removed at the end, on failure and on Ctrl-C.
+farm-worker is found through --worker-bin, else next to the farm executable, else $PATH.
+`,
+	"coordinator": `Serves JobService, WorkerService and BlobService until SIGINT or SIGTERM, then stops
+gracefully. Prints "coordinator listening on HOST:PORT" on stderr once it accepts
+connections (with --listen 127.0.0.1:0 the port is chosen by the system).
+`,
+	"fetch": `Downloads the outputs of a succeeded job as DIR/NAME.exr (the final image) and
+DIR/NAME.png (the preview), NAME being --name, else the job's display name (the scene's
+name field, made file-safe), else the job id. Each download is checked against its
+sha256 digest before it replaces a file.
+`,
+	"submit": `Reads SCENE (JSON), uploads the mesh files it names (paths relative to the scene file),
+submits it and prints the job id on stdout. A malformed scene is refused with the field
+at fault and exit status 2.
+`,
+}

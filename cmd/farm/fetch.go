@@ -1,0 +1,37 @@
+package main
+
+import (
+	"context"
+	"fmt"
+)
+
+var fetchVerb = &verb{
+	name:    "fetch",
+	args:    "JOB -o DIR [--name NAME] [--coordinator ADDR]",
+	summary: "download a succeeded job's EXR and PNG preview",
+	run:     runFetch,
+}
+
+func runFetch(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("fetch", e)
+	addr := coordinatorFlag(fs, e)
+	out := fs.String("o", ".", "output `folder` (created if missing)")
+	name := fs.String("name", "", "base `name` of the files (default: the job's display name)")
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	paths, err := c.FetchAs(ctx, pos[0], *out, *name)
+	if err != nil {
+		return err
+	}
+	for _, p := range paths {
+		fmt.Fprintln(e.stdout, p)
+	}
+	return nil
+}

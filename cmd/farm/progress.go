@@ -1,0 +1,250 @@
+package main
+
+import (
+	"fmt"
+	"io"
+	"strings"
+	"sync"
+	"time"
+
+	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// progress shows a job's progress: on a terminal, one line redrawn in place
+//
+//	render     [#########-----------]  21/48 tiles   43%  elapsed 0:04  ETA 0:05
+//
+// and elsewhere (a log, a pipe) a plain line at most every plainEvery, when something
+// changed:
+//
+//	job 7: render 21/48 tiles (43%), elapsed 4s, ETA 5s
+type progress struct {
+	w   io.Writer
+	tty bool
+	now func() time.Time
+
+	mu         sync.Mutex
+	job        *pb.Job
+	began      time.Time // when we started watching
+	phase      string    // the phase shown, to measure its rate
+	phaseSince time.Time
+	phaseFrom  uint32 // tasks done when the phase was first seen
+	lastPlain  time.Time
+	plainText  string // last plain line printed, elapsed and ETA left out
+	width      int    // of the last terminal line drawn
+}
+
+const (
+	barWidth   = 24
+	redrawTTY  = 200 * time.Millisecond
+	plainEvery = 2 * time.Second
+)
+
+func newProgress(w io.Writer, tty bool, now func() time.Time) *progress {
+	return &progress{w: w, tty: tty, now: now, began: now()}
+}
+
+// start begins periodic redrawing; the returned func stops it and prints the job's final
+// state (job may be nil if watching failed).
+func (p *progress) start() (stop func(job *pb.Job)) {
+	done := make(chan struct{})
+	var wg sync.WaitGroup
+	wg.Add(1)
+	go func() {
+		defer wg.Done()
+		tick := time.NewTicker(redrawTTY)
+		defer tick.Stop()
+		for {
+			select {
+			case <-done:
+				return
+			case <-tick.C:
+				p.mu.Lock()
+				p.draw(false)
+				p.mu.Unlock()
+			}
+		}
+	}()
+	return func(job *pb.Job) {
+		close(done)
+		wg.Wait()
+		p.mu.Lock()
+		defer p.mu.Unlock()
+		if job != nil {
+			p.observe(job)
+		}
+		p.draw(true)
+		if p.tty && p.width > 0 {
+			fmt.Fprintln(p.w)
+		}
+	}
+}
+
+// update records the job as it now stands.
+func (p *progress) update(job *pb.Job) {
+	if job == nil {
+		return
+	}
+	p.mu.Lock()
+	defer p.mu.Unlock()
+	p.observe(job)
+	p.draw(false)
+}
+
+func (p *progress) observe(job *pb.Job) {
+	p.job = job
+	name, done, _ := current(job)
+	if name != p.phase {
+		p.phase, p.phaseSince, p.phaseFrom = name, p.now(), done
+	}
+}
+
+// current returns the phase to show and its tasks done and total: the first phase not
+// complete, or the last one.
+func current(job *pb.Job) (name string, done, total uint32) {
+	phases := job.GetPhases()
+	if len(phases) == 0 {
+		return client.StateName(job.GetState()), 0, 0
+	}
+	ph := phases[len(phases)-1]
+	for _, x := range phases {
+		if x.GetTasksSucceeded() < x.GetTasksTotal() {
+			ph = x
+			break
+		}
+	}
+	return client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
+}
+
+func unit(phase string) string {
+	if phase == "render" {
+		return "tiles"
+	}
+	return "tasks"
+}
+
+// elapsed is the time since the job was created (or since watching began, if the job
+// has no creation time or the clocks disagree); for an ended job, its run time.
+func (p *progress) elapsed() time.Duration {
+	now := p.now()
+	start := p.began
+	if t := p.job.GetCreateTime(); t != nil && t.AsTime().Before(now) {
+		start = t.AsTime()
+	}
+	if t := p.job.GetEndTime(); t != nil && client.JobEnded(p.job.GetState()) && t.AsTime().After(start) {
+		return t.AsTime().Sub(start)
+	}
+	return now.Sub(start)
+}
+
+// eta estimates the time left in the current phase from its rate so far; ok is false
+// while there is nothing to go on.
+func (p *progress) eta(done, total uint32) (time.Duration, bool) {
+	gained := done - p.phaseFrom
+	spent := p.now().Sub(p.phaseSince)
+	if done < p.phaseFrom || gained == 0 || spent <= 0 {
+		return 0, false
+	}
+	perTask := spent / time.Duration(gained)
+	return perTask * time.Duration(total-done), true
+}
+
+func clock(d time.Duration) string {
+	s := int(d.Round(time.Second) / time.Second)
+	if s >= 3600 {
+		return fmt.Sprintf("%d:%02d:%02d", s/3600, s/60%60, s%60)
+	}
+	return fmt.Sprintf("%d:%02d", s/60, s%60)
+}
+
+func percent(done, total uint32) int {
+	if total == 0 {
+		return 0
+	}
+	return int(100 * uint64(done) / uint64(total))
+}
+
+// draw prints the progress; final forces the plain line out.
+func (p *progress) draw(final bool) {
+	if p.job == nil {
+		return
+	}
+	if p.tty {
+		p.drawTTY(final)
+	} else {
+		p.drawPlain(final)
+	}
+}
+
+func (p *progress) drawTTY(final bool) {
+	phase, done, total := current(p.job)
+	state := p.job.GetState()
+	if ph := p.job.GetPhases(); state == pb.JobState_JOB_STATE_SUCCEEDED && len(ph) > 0 {
+		// Done: show the tiles rendered, not the one composite task.
+		phase, done, total = client.PhaseName(ph[0].GetPhase()), ph[0].GetTasksSucceeded(), ph[0].GetTasksTotal()
+	}
+	name := phase
+	switch {
+	case state == pb.JobState_JOB_STATE_QUEUED:
+		name = "queued"
+	case client.JobEnded(state):
+		name = client.StateName(state)
+	}
+	var b strings.Builder
+	filled := 0
+	if total > 0 {
+		filled = int(uint64(barWidth) * uint64(done) / uint64(total))
+	}
+	fmt.Fprintf(&b, "%-10s [%s%s] %4d/%-4d %s %3d%%  elapsed %s", name,
+		strings.Repeat("#", filled), strings.Repeat("-", barWidth-filled),
+		done, total, unit(phase), percent(done, total), clock(p.elapsed()))
+	if !client.JobEnded(state) {
+		if eta, ok := p.eta(done, total); ok {
+			fmt.Fprintf(&b, "  ETA %s", clock(eta))
+		} else {
+			b.WriteString("  ETA --:--")
+		}
+	}
+	line := b.String()
+	pad := ""
+	if n := len(line); n < p.width {
+		pad = strings.Repeat(" ", p.width-n)
+	}
+	p.width = len(line)
+	fmt.Fprintf(p.w, "\r%s%s", line, pad)
+	_ = final
+}
+
+func (p *progress) drawPlain(final bool) {
+	job := p.job
+	name, done, total := current(job)
+	var text string
+	switch state := job.GetState(); {
+	case client.JobEnded(state):
+		text = fmt.Sprintf("job %s: %s", job.GetId(), client.StateName(state))
+		if s := phaseSummary(job); s != "" {
+			text += " (" + s + ")"
+		}
+	case state == pb.JobState_JOB_STATE_QUEUED:
+		text = fmt.Sprintf("job %s: queued", job.GetId())
+	default:
+		text = fmt.Sprintf("job %s: %s %d/%d %s (%d%%)", job.GetId(), name, done, total, unit(name), percent(done, total))
+	}
+	now := p.now()
+	changed := text != p.plainText
+	phaseChanged := !strings.HasPrefix(p.plainText, fmt.Sprintf("job %s: %s ", job.GetId(), name))
+	if !changed || (!final && !phaseChanged && now.Sub(p.lastPlain) < plainEvery) {
+		return
+	}
+	p.plainText, p.lastPlain = text, now
+	if client.JobEnded(job.GetState()) {
+		fmt.Fprintf(p.w, "%s, took %s\n", text, p.elapsed().Round(time.Millisecond))
+		return
+	}
+	line := fmt.Sprintf("%s, elapsed %s", text, p.elapsed().Round(time.Second))
+	if eta, ok := p.eta(done, total); ok {
+		line += fmt.Sprintf(", ETA %s", eta.Round(time.Second))
+	}
+	fmt.Fprintln(p.w, line)
+}

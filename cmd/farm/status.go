@@ -1,0 +1,173 @@
+package main
+
+import (
+	"context"
+	"fmt"
+	"io"
+	"strings"
+	"text/tabwriter"
+	"time"
+
+	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+var statusVerb = &verb{
+	name:    "status",
+	args:    "JOB [--coordinator ADDR]",
+	summary: "show a job: state, phases, outputs, error",
+	run:     runStatus,
+}
+
+var listVerb = &verb{
+	name:    "list",
+	args:    "[--coordinator ADDR]",
+	summary: "list jobs, newest first",
+	run:     runList,
+}
+
+var tasksVerb = &verb{
+	name:    "tasks",
+	args:    "JOB [--coordinator ADDR]",
+	summary: "list a job's tasks: state, attempts, worker",
+	run:     runTasks,
+}
+
+var cancelVerb = &verb{
+	name:    "cancel",
+	args:    "JOB [--coordinator ADDR]",
+	summary: "cancel a job that has not ended",
+	run:     runCancel,
+}
+
+func runStatus(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("status", e)
+	addr := coordinatorFlag(fs, e)
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	job, err := c.GetJob(ctx, pos[0])
+	if err != nil {
+		return err
+	}
+	printJob(e.stdout, job, time.Now())
+	return nil
+}
+
+func printJob(w io.Writer, job *pb.Job, now time.Time) {
+	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', 0)
+	fmt.Fprintf(tw, "job\t%s\n", job.GetId())
+	fmt.Fprintf(tw, "name\t%s\n", job.GetDisplayName())
+	fmt.Fprintf(tw, "state\t%s\n", client.StateName(job.GetState()))
+	fmt.Fprintf(tw, "image\t%dx%d\n", job.GetWidth(), job.GetHeight())
+	if t := job.GetCreateTime(); t != nil {
+		fmt.Fprintf(tw, "created\t%s\n", t.AsTime().Local().Format(time.DateTime))
+	}
+	if t := job.GetEndTime(); t != nil && job.GetCreateTime() != nil {
+		fmt.Fprintf(tw, "took\t%s\n", t.AsTime().Sub(job.GetCreateTime().AsTime()).Round(time.Millisecond))
+	} else if t := job.GetCreateTime(); t != nil {
+		fmt.Fprintf(tw, "age\t%s\n", now.Sub(t.AsTime()).Round(time.Second))
+	}
+	for _, ph := range job.GetPhases() {
+		fmt.Fprintf(tw, "phase %s\t%d/%d tasks\n", client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal())
+	}
+	for _, a := range job.GetOutputs() {
+		fmt.Fprintf(tw, "output %s\t%s (%d bytes)\n", a.GetName(), a.GetDigest(), a.GetSizeBytes())
+	}
+	if job.GetError() != "" {
+		fmt.Fprintf(tw, "error\t%s\n", job.GetError())
+	}
+	tw.Flush()
+}
+
+func runList(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("list", e)
+	addr := coordinatorFlag(fs, e)
+	if _, err := parse(fs, args, 0, 0); err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	jobs, err := c.ListJobs(ctx)
+	if err != nil {
+		return err
+	}
+	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
+	fmt.Fprintln(tw, "JOB\tNAME\tSTATE\tPROGRESS\tSIZE\tCREATED")
+	for _, j := range jobs {
+		created := ""
+		if t := j.GetCreateTime(); t != nil {
+			created = t.AsTime().Local().Format(time.DateTime)
+		}
+		fmt.Fprintf(tw, "%s\t%s\t%s\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
+			client.StateName(j.GetState()), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
+	}
+	return tw.Flush()
+}
+
+// phaseSummary is "render 12/48, composite 0/1".
+func phaseSummary(j *pb.Job) string {
+	var parts []string
+	for _, ph := range j.GetPhases() {
+		parts = append(parts, fmt.Sprintf("%s %d/%d", client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()))
+	}
+	return strings.Join(parts, ", ")
+}
+
+func runTasks(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("tasks", e)
+	addr := coordinatorFlag(fs, e)
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	tasks, err := c.ListTasks(ctx, pos[0])
+	if err != nil {
+		return err
+	}
+	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
+	fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tRECT\tERROR")
+	for _, t := range tasks {
+		rect := ""
+		if r := t.GetRenderTile().GetRect(); r != nil {
+			rect = fmt.Sprintf("%dx%d+%d+%d", r.GetWidth(), r.GetHeight(), r.GetX(), r.GetY())
+		}
+		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), client.PhaseName(t.GetPhase()),
+			client.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), rect, oneLine(t.GetError()))
+	}
+	return tw.Flush()
+}
+
+func runCancel(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("cancel", e)
+	addr := coordinatorFlag(fs, e)
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	job, err := c.Cancel(ctx, pos[0])
+	if err != nil {
+		return err
+	}
+	fmt.Fprintf(e.stdout, "job %s %s\n", job.GetId(), client.StateName(job.GetState()))
+	return nil
+}

@@ -1,0 +1,41 @@
+package main
+
+import (
+	"context"
+	"fmt"
+)
+
+var submitVerb = &verb{
+	name:    "submit",
+	args:    "SCENE [--coordinator ADDR] [--watch]",
+	summary: "submit a scene file; prints the job id",
+	run:     runSubmit,
+}
+
+func runSubmit(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("submit", e)
+	addr := coordinatorFlag(fs, e)
+	watch := fs.Bool("watch", false, "after submitting, show progress until the job ends (like farm watch)")
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	sc, err := c.LoadSceneFile(ctx, pos[0])
+	if err != nil {
+		return err
+	}
+	job, err := c.Submit(ctx, sc)
+	if err != nil {
+		return err
+	}
+	fmt.Fprintln(e.stdout, job.GetId())
+	if *watch {
+		return watchJob(ctx, e, c, job.GetId())
+	}
+	return nil
+}

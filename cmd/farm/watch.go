@@ -1,0 +1,56 @@
+package main
+
+import (
+	"context"
+	"fmt"
+	"time"
+
+	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+var watchVerb = &verb{
+	name:    "watch",
+	args:    "JOB [--coordinator ADDR]",
+	summary: "show a job's progress until it ends; exit 0 only if it succeeded",
+	run:     runWatch,
+}
+
+func runWatch(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("watch", e)
+	addr := coordinatorFlag(fs, e)
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	c, err := dial(addr())
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	return watchJob(ctx, e, c, pos[0])
+}
+
+// watchJob shows the job's progress on stdout until it ends and returns nil only if it
+// succeeded.
+func watchJob(ctx context.Context, e *env, c *client.Client, jobID string) error {
+	p := newProgress(e.stdout, isTerminal(e.stdout), time.Now)
+	stop := p.start()
+	job, err := c.Watch(ctx, jobID, func(ev *pb.WatchJobResponse) { p.update(ev.GetJob()) })
+	stop(job)
+	if err != nil {
+		return err
+	}
+	return jobOutcome(job)
+}
+
+// jobOutcome is nil for a succeeded job and an error saying how it ended otherwise.
+func jobOutcome(job *pb.Job) error {
+	switch job.GetState() {
+	case pb.JobState_JOB_STATE_SUCCEEDED:
+		return nil
+	case pb.JobState_JOB_STATE_FAILED:
+		return &exitError{code: exitFailure, err: fmt.Errorf("job %s failed: %s", job.GetId(), job.GetError())}
+	}
+	return &exitError{code: exitFailure, err: fmt.Errorf("job %s ended %s", job.GetId(), client.StateName(job.GetState()))}
+}

@@ -1,0 +1,297 @@
+package integration
+
+import (
+	"context"
+	"encoding/json"
+	"os"
+	"os/exec"
+	"path/filepath"
+	"strings"
+	"sync"
+	"syscall"
+	"testing"
+	"time"
+
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/status"
+
+	"photonfarm/client"
+	"photonfarm/coordinator/scene"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// smallSceneJSON returns scenes/test-small.json as a generic JSON tree, its mesh path
+// made absolute so that the scene works from any folder.
+func smallSceneJSON(t *testing.T) map[string]any {
+	t.Helper()
+	root := repoRoot(t)
+	b, err := os.ReadFile(filepath.Join(root, "scenes", "test-small.json"))
+	if err != nil {
+		t.Fatal(err)
+	}
+	var m map[string]any
+	if err := json.Unmarshal(b, &m); err != nil {
+		t.Fatal(err)
+	}
+	mesh := m["shapes"].([]any)[3].(map[string]any)["mesh"].(map[string]any)
+	mesh["path"] = filepath.Join(root, "scenes", mesh["path"].(string))
+	return m
+}
+
+func shape(m map[string]any, i int) map[string]any {
+	return m["shapes"].([]any)[i].(map[string]any)
+}
+
+func TestMalformedScenesRefused(t *testing.T) {
+	f := startFarm(t)
+	dir := t.TempDir()
+
+	for _, tc := range []struct {
+		name string
+		// Either raw text or a change to the valid scene.
+		raw    string
+		change func(m map[string]any)
+		// What the one line on stderr must contain.
+		want string
+		// Whether the scene parses, so that it can be sent with a raw SubmitJob too.
+		rpc bool
+	}{
+		{name: "bad JSON", raw: `{"name": "broken",, "film": {}}`, want: "scene: line 1:19: unexpected token"},
+		{name: "unknown field", change: func(m map[string]any) {
+			sphere := shape(m, 1)["sphere"].(map[string]any)
+			sphere["radus"] = sphere["radius"]
+			delete(sphere, "radius")
+		}, want: `unknown field "radus"`},
+		{name: "negative radius", change: func(m map[string]any) {
+			shape(m, 2)["sphere"].(map[string]any)["radius"] = -1
+		}, want: "shapes[2].sphere.radius: ", rpc: true},
+		{name: "NaN coordinate", change: func(m map[string]any) {
+			shape(m, 1)["sphere"].(map[string]any)["center"].(map[string]any)["y"] = "NaN"
+		}, want: "shapes[1].sphere.center.y: ", rpc: true},
+		{name: "missing mesh file", change: func(m map[string]any) {
+			shape(m, 3)["mesh"].(map[string]any)["path"] = "meshes/absent.obj"
+		}, want: "shapes[3].mesh.path: open meshes/absent.obj: no such file or directory"},
+		{name: "zero resolution", change: func(m map[string]any) {
+			m["film"].(map[string]any)["width"] = 0
+		}, want: "film.width: ", rpc: true},
+	} {
+		t.Run(tc.name, func(t *testing.T) {
+			text := []byte(tc.raw)
+			if tc.change != nil {
+				m := smallSceneJSON(t)
+				tc.change(m)
+				var err error
+				if text, err = json.MarshalIndent(m, "", "  "); err != nil {
+					t.Fatal(err)
+				}
+			}
+			path := filepath.Join(dir, strings.ReplaceAll(tc.name, " ", "-")+".json")
+			if err := os.WriteFile(path, text, 0o644); err != nil {
+				t.Fatal(err)
+			}
+
+			// The CLI: exit status 2, one line on stderr naming the field, no job id.
+			code, stdout, stderr := runFarm(t, 30*time.Second, nil, "submit", path, "--coordinator", f.addr)
+			lines := strings.Split(strings.TrimRight(stderr, "\n"), "\n")
+			if code != 2 {
+				t.Errorf("farm submit: exit status %d, want 2", code)
+			}
+			if len(lines) != 1 || !strings.HasPrefix(lines[0], "farm: ") || !strings.Contains(lines[0], tc.want) {
+				t.Errorf("farm submit: stderr %q, want one line `farm: ...%s...`", stderr, tc.want)
+			}
+			if stdout != "" {
+				t.Errorf("farm submit: stdout %q, want nothing", stdout)
+			}
+
+			// A raw SubmitJob of the parsed scene: INVALID_ARGUMENT naming the field.
+			if !tc.rpc {
+				return
+			}
+			sc, err := scene.ParseJSON(text)
+			if err != nil {
+				t.Fatalf("the scene does not parse: %v", err)
+			}
+			sf, err := client.ReadSceneFile(path) // mesh path -> digest, as a client would
+			if err != nil {
+				t.Fatal(err)
+			}
+			if err := f.c.Upload(context.Background(), sf); err != nil {
+				t.Fatal(err)
+			}
+			sc = sf.Scene
+			_, err = f.c.Jobs().SubmitJob(context.Background(), &pb.SubmitJobRequest{Scene: sc})
+			if st, _ := status.FromError(err); st.Code() != codes.InvalidArgument || !strings.Contains(st.Message(), tc.want) {
+				t.Errorf("SubmitJob: %v; want InvalidArgument containing %q", err, tc.want)
+			}
+		})
+	}
+
+	jobs, err := f.c.ListJobs(context.Background())
+	if err != nil || len(jobs) != 0 {
+		t.Fatalf("after refused submissions ListJobs = %v, %v; want no jobs", jobs, err)
+	}
+
+	// The valid scene goes through the same path: one job, its id on stdout.
+	text, _ := json.Marshal(smallSceneJSON(t))
+	path := filepath.Join(dir, "valid.json")
+	os.WriteFile(path, text, 0o644)
+	code, stdout, stderr := runFarm(t, 30*time.Second, []string{"FARM_COORDINATOR=" + f.addr}, "submit", path)
+	if code != 0 {
+		t.Fatalf("farm submit of a valid scene: exit status %d, stderr %q", code, stderr)
+	}
+	jobs, err = f.c.ListJobs(context.Background())
+	if err != nil || len(jobs) != 1 || jobs[0].GetId() != strings.TrimSpace(stdout) {
+		t.Errorf("after a valid submit: stdout %q, ListJobs = %v, %v; want that one job", stdout, jobs, err)
+	}
+}
+
+// farmRender runs `farm render` as a process of its own with TMPDIR set to a folder of
+// the test's, so the test can check that the temporary farm folder is removed.
+func farmRender(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *syncBuffer, tmp string) {
+	t.Helper()
+	tmp = t.TempDir()
+	cmd = exec.Command(filepath.Join(binDir(t), "farm"), append([]string{"render"}, args...)...)
+	cmd.Env = append(os.Environ(), "TMPDIR="+tmp)
+	stdout, stderr = &syncBuffer{}, &syncBuffer{}
+	cmd.Stdout, cmd.Stderr = stdout, stderr
+	cmd.SysProcAttr = &syscall.SysProcAttr{Setpgid: true}
+	if err := cmd.Start(); err != nil {
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { syscall.Kill(-cmd.Process.Pid, syscall.SIGKILL) })
+	return cmd, stdout, stderr, tmp
+}
+
+func waitTimeout(t *testing.T, cmd *exec.Cmd, d time.Duration) int {
+	t.Helper()
+	done := make(chan error, 1)
+	go func() { done <- cmd.Wait() }()
+	select {
+	case err := <-done:
+		if ee, ok := err.(*exec.ExitError); ok {
+			return ee.ExitCode()
+		} else if err != nil {
+			t.Fatal(err)
+		}
+		return 0
+	case <-time.After(d):
+		syscall.Kill(-cmd.Process.Pid, syscall.SIGKILL)
+		t.Fatalf("farm %s did not finish within %s", strings.Join(cmd.Args[1:], " "), d)
+		return -1
+	}
+}
+
+// syncBuffer is a strings.Builder that may be read while a process writes to it.
+type syncBuffer struct {
+	mu sync.Mutex
+	b  strings.Builder
+}
+
+func (s *syncBuffer) Write(p []byte) (int, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	return s.b.Write(p)
+}
+
+func (s *syncBuffer) String() string {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	return s.b.String()
+}
+
+// processesMentioning lists the running processes whose command line contains s.
+func processesMentioning(s string) []string {
+	var found []string
+	dirs, _ := filepath.Glob("/proc/[0-9]*/cmdline")
+	for _, d := range dirs {
+		b, err := os.ReadFile(d)
+		if err == nil && strings.Contains(string(b), s) {
+			found = append(found, strings.ReplaceAll(string(b), "\x00", " "))
+		}
+	}
+	return found
+}
+
+// leftovers lists what the farm left in its TMPDIR.
+func leftovers(t *testing.T, tmp string) []string {
+	entries, err := os.ReadDir(tmp)
+	if err != nil {
+		t.Fatal(err)
+	}
+	var names []string
+	for _, e := range entries {
+		names = append(names, e.Name())
+	}
+	return names
+}
+
+func TestFarmRenderWritesEXRAndPNG(t *testing.T) {
+	out := filepath.Join(t.TempDir(), "out")
+	scenePath := filepath.Join(repoRoot(t), "scenes", "test-small.json")
+	// No --worker-bin: farm finds farm-worker next to itself.
+	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2")
+	if code := waitTimeout(t, cmd, 90*time.Second); code != 0 {
+		t.Fatalf("farm render: exit status %d\nstdout: %s\nstderr: %s", code, stdout, stderr)
+	}
+	exr, err := os.ReadFile(filepath.Join(out, "test-small.exr"))
+	if err != nil {
+		t.Fatal(err)
+	}
+	if err := checkFinalEXR(exr, 64, 48, 16); err != nil {
+		t.Error(err)
+	}
+	png, err := os.ReadFile(filepath.Join(out, "test-small.png"))
+	if err != nil {
+		t.Fatal(err)
+	}
+	if w, h, err := pngSize(png); err != nil || w != 64 || h != 48 {
+		t.Errorf("test-small.png: %dx%d, %v; want 64x48", w, h, err)
+	}
+	if left := leftovers(t, tmp); len(left) != 0 {
+		t.Errorf("farm render left %v in its temporary folder", left)
+	}
+	if procs := processesMentioning(tmp); len(procs) != 0 {
+		t.Errorf("still running after farm render exited: %q", procs)
+	}
+	if !strings.Contains(stdout.String(), filepath.Join(out, "test-small.exr")) {
+		t.Errorf("stdout does not name the EXR: %q", stdout)
+	}
+}
+
+func TestFarmRenderInterruptedStopsTheFarm(t *testing.T) {
+	out := filepath.Join(t.TempDir(), "out")
+	// A scene too slow to finish before the interrupt.
+	m := smallSceneJSON(t)
+	m["film"] = map[string]any{"width": 256, "height": 192, "tileSize": 32}
+	m["sampling"].(map[string]any)["samplesPerPixel"] = 1024
+	text, _ := json.Marshal(m)
+	scenePath := filepath.Join(t.TempDir(), "slow.json")
+	os.WriteFile(scenePath, text, 0o644)
+
+	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2")
+	// Interrupt once the job is under way (its id has been printed).
+	deadline := time.Now().Add(30 * time.Second)
+	for !strings.Contains(stdout.String(), "as job") {
+		if time.Now().After(deadline) {
+			t.Fatalf("farm render did not start the job within 30s\nstdout: %s\nstderr: %s", stdout, stderr)
+		}
+		time.Sleep(20 * time.Millisecond)
+	}
+	time.Sleep(300 * time.Millisecond)
+	syscall.Kill(cmd.Process.Pid, syscall.SIGINT)
+	code := waitTimeout(t, cmd, 60*time.Second)
+	if code != 130 {
+		t.Errorf("farm render after SIGINT: exit status %d, want 130\nstderr: %s", code, stderr)
+	}
+	if left := leftovers(t, tmp); len(left) != 0 {
+		t.Errorf("farm render left %v in its temporary folder", left)
+	}
+	// No worker survives (their cache folders are under TMPDIR, so their command lines
+	// name it).
+	if procs := processesMentioning(tmp); len(procs) != 0 {
+		t.Errorf("still running after farm render exited: %q", procs)
+	}
+	if _, err := os.Stat(filepath.Join(out, "slow.exr")); err == nil {
+		t.Errorf("an interrupted render wrote an image")
+	}
+}

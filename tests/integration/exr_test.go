@@ -1,0 +1,237 @@
+package integration
+
+import (
+	"bytes"
+	"encoding/binary"
+	"errors"
+	"fmt"
+	"slices"
+	"testing"
+)
+
+// exrHeader is what the tests check of an OpenEXR file: the attributes of its (first)
+// header, read by hand from the bytes so that no image library is needed.
+type exrHeader struct {
+	Tiled, MultiPart bool
+	DataWindow       [4]int32 // xMin, yMin, xMax, yMax
+	DisplayWindow    [4]int32
+	Channels         []exrChannel // in file order (sorted by name)
+	TileW, TileH     uint32       // from the "tiles" attribute
+	TileMode         byte         // level mode in the low nibble: 0 ONE_LEVEL
+	Compression      byte         // 3 ZIP
+	Attributes       map[string]string
+}
+
+type exrChannel struct {
+	Name      string
+	PixelType int32 // 0 UINT, 1 HALF, 2 FLOAT
+	XSampling int32
+	YSampling int32
+}
+
+const (
+	exrMagic        = 20000630
+	exrFlagTiled    = 0x200
+	exrFlagNonImage = 0x800
+	exrFlagMulti    = 0x1000
+	exrPixelFloat   = 2
+)
+
+// parseEXRHeader reads the magic number, version field and first header of an OpenEXR
+// file (https://openexr.com/en/latest/OpenEXRFileLayout.html).
+func parseEXRHeader(b []byte) (*exrHeader, error) {
+	if len(b) < 8 || binary.LittleEndian.Uint32(b) != exrMagic {
+		return nil, errors.New("not an OpenEXR file (bad magic number)")
+	}
+	version := binary.LittleEndian.Uint32(b[4:])
+	if version&0xff != 2 {
+		return nil, fmt.Errorf("OpenEXR version %d, want 2", version&0xff)
+	}
+	if version&exrFlagNonImage != 0 {
+		return nil, errors.New("deep (non-image) OpenEXR")
+	}
+	h := &exrHeader{
+		Tiled:      version&exrFlagTiled != 0,
+		MultiPart:  version&exrFlagMulti != 0,
+		Attributes: map[string]string{},
+	}
+	r := b[8:]
+	cstr := func() (string, error) {
+		i := bytes.IndexByte(r, 0)
+		if i < 0 {
+			return "", errors.New("truncated header")
+		}
+		s := string(r[:i])
+		r = r[i+1:]
+		return s, nil
+	}
+	for {
+		name, err := cstr()
+		if err != nil {
+			return nil, err
+		}
+		if name == "" {
+			break // end of header
+		}
+		typ, err := cstr()
+		if err != nil {
+			return nil, err
+		}
+		if len(r) < 4 {
+			return nil, errors.New("truncated header")
+		}
+		size := int(binary.LittleEndian.Uint32(r))
+		r = r[4:]
+		if size < 0 || size > len(r) {
+			return nil, fmt.Errorf("attribute %s: size %d past the end", name, size)
+		}
+		v := r[:size]
+		r = r[size:]
+		h.Attributes[name] = typ
+		switch {
+		case name == "channels" && typ == "chlist":
+			for len(v) > 0 && v[0] != 0 {
+				i := bytes.IndexByte(v, 0)
+				if i < 0 || len(v) < i+1+16 {
+					return nil, errors.New("channels: truncated")
+				}
+				c := exrChannel{Name: string(v[:i])}
+				v = v[i+1:]
+				c.PixelType = int32(binary.LittleEndian.Uint32(v))
+				c.XSampling = int32(binary.LittleEndian.Uint32(v[8:]))
+				c.YSampling = int32(binary.LittleEndian.Uint32(v[12:]))
+				v = v[16:]
+				h.Channels = append(h.Channels, c)
+			}
+		case (name == "dataWindow" || name == "displayWindow") && typ == "box2i" && size == 16:
+			var box [4]int32
+			for i := range box {
+				box[i] = int32(binary.LittleEndian.Uint32(v[4*i:]))
+			}
+			if name == "dataWindow" {
+				h.DataWindow = box
+			} else {
+				h.DisplayWindow = box
+			}
+		case name == "tiles" && typ == "tiledesc" && size == 9:
+			h.TileW = binary.LittleEndian.Uint32(v)
+			h.TileH = binary.LittleEndian.Uint32(v[4:])
+			h.TileMode = v[8]
+		case name == "compression" && typ == "compression" && size == 1:
+			h.Compression = v[0]
+		}
+	}
+	return h, nil
+}
+
+// checkFinalEXR says what is wrong, if anything, with b as the final image of a width x
+// height render with square tiles of side tile: a single-part tiled OpenEXR with FLOAT
+// channels R, G, B, A (and possibly more), data window = display window = the image.
+func checkFinalEXR(b []byte, width, height, tile int) error {
+	h, err := parseEXRHeader(b)
+	if err != nil {
+		return err
+	}
+	var problems []string
+	if !h.Tiled && !h.MultiPart {
+		problems = append(problems, "not tiled")
+	}
+	want := [4]int32{0, 0, int32(width - 1), int32(height - 1)}
+	if h.DataWindow != want {
+		problems = append(problems, fmt.Sprintf("dataWindow %v, want %v", h.DataWindow, want))
+	}
+	if h.DisplayWindow != want {
+		problems = append(problems, fmt.Sprintf("displayWindow %v, want %v", h.DisplayWindow, want))
+	}
+	if h.TileW != uint32(tile) || h.TileH != uint32(tile) || h.TileMode&0xf != 0 {
+		problems = append(problems, fmt.Sprintf("tiles %dx%d mode %d, want %dx%d ONE_LEVEL", h.TileW, h.TileH, h.TileMode, tile, tile))
+	}
+	var names []string
+	for _, c := range h.Channels {
+		names = append(names, c.Name)
+		if c.PixelType != exrPixelFloat || c.XSampling != 1 || c.YSampling != 1 {
+			problems = append(problems, fmt.Sprintf("channel %s: type %d sampling %dx%d, want FLOAT 1x1", c.Name, c.PixelType, c.XSampling, c.YSampling))
+		}
+	}
+	for _, n := range []string{"R", "G", "B", "A"} {
+		if !slices.Contains(names, n) {
+			problems = append(problems, fmt.Sprintf("no %s channel (channels %v)", n, names))
+		}
+	}
+	if len(problems) > 0 {
+		return fmt.Errorf("final EXR: %v", problems)
+	}
+	return nil
+}
+
+// pngSize returns the width and height in a PNG's IHDR chunk.
+func pngSize(b []byte) (int, int, error) {
+	if len(b) < 24 || !bytes.Equal(b[:8], []byte("\x89PNG\r\n\x1a\n")) || string(b[12:16]) != "IHDR" {
+		return 0, 0, errors.New("not a PNG file")
+	}
+	return int(binary.BigEndian.Uint32(b[16:])), int(binary.BigEndian.Uint32(b[20:])), nil
+}
+
+// exrAttr appends one header attribute to b, for building test headers.
+func exrAttr(b []byte, name, typ string, value []byte) []byte {
+	b = append(b, name...)
+	b = append(b, 0)
+	b = append(b, typ...)
+	b = append(b, 0)
+	b = binary.LittleEndian.AppendUint32(b, uint32(len(value)))
+	return append(b, value...)
+}
+
+func testEXR(tiled bool, pixelType int32, w, h, tile int) []byte {
+	b := binary.LittleEndian.AppendUint32(nil, exrMagic)
+	version := uint32(2)
+	if tiled {
+		version |= exrFlagTiled
+	}
+	b = binary.LittleEndian.AppendUint32(b, version)
+	var ch []byte
+	for _, n := range []string{"A", "B", "G", "R"} {
+		ch = append(ch, n...)
+		ch = append(ch, 0)
+		ch = binary.LittleEndian.AppendUint32(ch, uint32(pixelType))
+		ch = append(ch, 0, 0, 0, 0)
+		ch = binary.LittleEndian.AppendUint32(ch, 1)
+		ch = binary.LittleEndian.AppendUint32(ch, 1)
+	}
+	ch = append(ch, 0)
+	b = exrAttr(b, "channels", "chlist", ch)
+	b = exrAttr(b, "compression", "compression", []byte{3})
+	var box []byte
+	for _, v := range []int32{0, 0, int32(w - 1), int32(h - 1)} {
+		box = binary.LittleEndian.AppendUint32(box, uint32(v))
+	}
+	b = exrAttr(b, "dataWindow", "box2i", box)
+	b = exrAttr(b, "displayWindow", "box2i", box)
+	if tiled {
+		td := binary.LittleEndian.AppendUint32(nil, uint32(tile))
+		td = binary.LittleEndian.AppendUint32(td, uint32(tile))
+		b = exrAttr(b, "tiles", "tiledesc", append(td, 0))
+	}
+	return append(b, 0)
+}
+
+func TestEXRHeaderCheckAcceptsTiledFloatRGBA(t *testing.T) {
+	if err := checkFinalEXR(testEXR(true, exrPixelFloat, 64, 48, 16), 64, 48, 16); err != nil {
+		t.Fatal(err)
+	}
+}
+
+func TestEXRHeaderCheckRefusesWhatIsWrong(t *testing.T) {
+	for name, b := range map[string][]byte{
+		"scanline":   testEXR(false, exrPixelFloat, 64, 48, 16),
+		"half":       testEXR(true, 1, 64, 48, 16),
+		"wrong size": testEXR(true, exrPixelFloat, 64, 47, 16),
+		"wrong tile": testEXR(true, exrPixelFloat, 64, 48, 32),
+		"png":        []byte("\x89PNG\r\n\x1a\n0000IHDR00000000"),
+		"truncated":  testEXR(true, exrPixelFloat, 64, 48, 16)[:60],
+	} {
+		if err := checkFinalEXR(b, 64, 48, 16); err == nil {
+			t.Errorf("%s: accepted", name)
+		}
+	}
+}
