@@ -1,0 +1,129 @@
+#include "daemon/blob_client.h"
+
+#include <grpcpp/client_context.h>
+
+#include <algorithm>
+#include <stop_token>
+
+#include "daemon/retry.h"
+#include "daemon/sha256.h"
+
+namespace farm {
+namespace {
+
+namespace pb = renderfarm::v1;
+
+constexpr std::size_t kUploadChunk = 1 << 20;
+// A transfer that has not finished in this long is stuck; big images still fit.
+constexpr auto kTransferDeadline = std::chrono::minutes(10);
+// How long a blob operation keeps retrying an unreachable store before the task fails.
+constexpr auto kGiveUpAfter = std::chrono::seconds(120);
+// Blobs larger than this are refused before anything is allocated for them.
+constexpr std::int64_t kMaxBlobBytes = std::int64_t{4} << 30;
+
+void PrepareContext(grpc::ClientContext& ctx) {
+  ctx.set_deadline(std::chrono::system_clock::now() + kTransferDeadline);
+}
+
+}  // namespace
+
+BlobClient::BlobClient(std::shared_ptr<grpc::Channel> channel, const BlobCache* cache)
+    : stub_(pb::BlobService::NewStub(std::move(channel))), cache_(cache) {}
+
+std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop) {
+  if (cache_) {
+    if (auto cached = cache_->Get(digest)) return std::move(*cached);
+  }
+  std::string bytes = Download(digest, stop);
+  if (cache_) {
+    try {
+      cache_->Put(digest, bytes);
+    } catch (const std::exception&) {
+      // A full or read-only disk costs a download next time, not the task.
+    }
+  }
+  return bytes;
+}
+
+std::string BlobClient::Download(const std::string& digest, std::stop_token stop) {
+  if (!IsValidDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
+  std::string bytes;
+  std::string problem;  // Set when the bytes arrived but were wrong.
+  const grpc::Status status = RetryTransient("download " + digest, stop, kGiveUpAfter, [&] {
+    bytes.clear();
+    problem.clear();
+    grpc::ClientContext ctx;
+    PrepareContext(ctx);
+    std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
+    pb::DownloadBlobRequest request;
+    request.set_digest(digest);
+    auto reader = stub_->DownloadBlob(&ctx, request);
+    pb::DownloadBlobResponse chunk;
+    std::int64_t expected = -1;
+    Sha256 hash;
+    while (reader->Read(&chunk)) {
+      if (expected < 0) {
+        expected = chunk.size_bytes();
+        if (expected < 0 || expected > kMaxBlobBytes) {
+          problem = "declared size " + std::to_string(expected) + " is out of range";
+          ctx.TryCancel();
+          break;
+        }
+        // Reserve what is declared, up to a point: the rest grows as bytes really arrive.
+        bytes.reserve(static_cast<std::size_t>(std::min<std::int64_t>(expected, 64 << 20)));
+      }
+      if (static_cast<std::int64_t>(bytes.size() + chunk.chunk().size()) > expected) {
+        problem = "more bytes than the declared " + std::to_string(expected);
+        ctx.TryCancel();
+        break;
+      }
+      hash.Update(chunk.chunk());
+      bytes += chunk.chunk();
+    }
+    grpc::Status s = reader->Finish();
+    if (!problem.empty()) return grpc::Status::OK;  // Not retried: the store sent bad bytes.
+    if (!s.ok()) return s;
+    if (expected < 0) expected = 0;  // An empty blob may come as no message at all.
+    if (static_cast<std::int64_t>(bytes.size()) != expected) {
+      problem = "got " + std::to_string(bytes.size()) + " bytes of the declared " +
+                std::to_string(expected);
+    } else if (hash.Finish() != digest) {
+      problem = "content does not match its digest";
+    }
+    return grpc::Status::OK;
+  });
+  if (!status.ok()) {
+    throw BlobError("cannot download blob " + digest + ": " + status.error_message());
+  }
+  if (!problem.empty()) throw BlobError("blob " + digest + " from the store is corrupt: " + problem);
+  return bytes;
+}
+
+std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop) {
+  const std::string digest = Sha256Digest(bytes);
+  pb::UploadBlobResponse response;
+  const grpc::Status status = RetryTransient("upload " + digest, stop, kGiveUpAfter, [&] {
+    grpc::ClientContext ctx;
+    PrepareContext(ctx);
+    std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
+    auto writer = stub_->UploadBlob(&ctx, &response);
+    pb::UploadBlobRequest part;
+    part.mutable_header()->set_size_bytes(static_cast<std::int64_t>(bytes.size()));
+    part.mutable_header()->set_digest(digest);
+    bool ok = writer->Write(part);
+    for (std::size_t at = 0; ok && at < bytes.size(); at += kUploadChunk) {
+      part.set_chunk(std::string(bytes.substr(at, kUploadChunk)));
+      ok = writer->Write(part);
+    }
+    // A failed Write means the call is over; Finish tells why.
+    writer->WritesDone();
+    return writer->Finish();
+  });
+  if (!status.ok()) throw BlobError("cannot upload blob " + digest + ": " + status.error_message());
+  if (response.digest() != digest) {
+    throw BlobError("blob store stored " + response.digest() + " for upload " + digest);
+  }
+  return digest;
+}
+
+}  // namespace farm

@@ -1,0 +1,48 @@
+#pragma once
+
+// Moving blobs between the worker and the coordinator's blob store, in chunks, with every
+// download checked against its digest. Internal to daemon/.
+
+#include <grpcpp/channel.h>
+
+#include <chrono>
+#include <memory>
+#include <stdexcept>
+#include <stop_token>
+#include <string>
+#include <string_view>
+
+#include "daemon/blob_cache.h"
+#include "renderfarm/v1/blob.grpc.pb.h"
+
+namespace farm {
+
+// A blob could not be fetched or stored: not found, corrupt, or the store stayed
+// unreachable. The message names the digest.
+class BlobError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class BlobClient {
+ public:
+  // `cache` may be null (nothing is cached).
+  BlobClient(std::shared_ptr<grpc::Channel> channel, const BlobCache* cache);
+
+  // The blob's bytes, from the cache if there, else downloaded, verified and cached. Use for
+  // blobs many tasks need (scenes, meshes).
+  std::string Fetch(const std::string& digest, std::stop_token stop);
+
+  // Downloads and verifies without caching. Use for blobs read once (tile EXRs).
+  std::string Download(const std::string& digest, std::stop_token stop);
+
+  // Uploads `bytes` (a header with size and digest, then chunks of at most 1 MiB) and
+  // returns the digest. Uploading a blob the store already has is cheap.
+  std::string Upload(std::string_view bytes, std::stop_token stop);
+
+ private:
+  std::unique_ptr<renderfarm::v1::BlobService::Stub> stub_;
+  const BlobCache* cache_;
+};
+
+}  // namespace farm

@@ -1,0 +1,119 @@
+#include "daemon/flags.h"
+
+#include <charconv>
+#include <optional>
+#include <string_view>
+
+namespace farm {
+
+const char kWorkerUsage[] =
+    "usage: farm-worker --coordinator HOST:PORT [--cache-dir DIR] [--threads N] [--name NAME]\n"
+    "\n"
+    "Leases render and composite tasks from a photonfarm coordinator until stopped.\n"
+    "SIGTERM or SIGINT: finish the current task, report it and exit; a second one abandons\n"
+    "the task (it goes back to the queue).\n"
+    "\n"
+    "  --coordinator HOST:PORT  the coordinator's gRPC address (required)\n"
+    "  --cache-dir DIR          where fetched scenes and meshes are kept\n"
+    "                           (default: $XDG_CACHE_HOME/photonfarm/worker,\n"
+    "                           else ~/.cache/photonfarm/worker)\n"
+    "  --threads N              render threads (default: all cores)\n"
+    "  --name NAME              the name the farm shows for this worker (default: hostname)\n"
+    "  --help                   show this help\n";
+
+namespace {
+
+constexpr int kMaxThreads = 4096;
+
+std::optional<int> ParseInt(std::string_view s) {
+  int v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+// HOST:PORT with a non-empty host (a name, an IPv4 address or a bracketed IPv6 address)
+// and a port in 1..65535.
+bool IsHostPort(std::string_view s) {
+  const auto colon = s.rfind(':');
+  if (colon == std::string_view::npos || colon == 0) return false;
+  const std::string_view host = s.substr(0, colon);
+  if (host.front() == '[' ? host.back() != ']' || host.size() < 3
+                          : host.find_first_of(":/ ") != std::string_view::npos) {
+    return false;
+  }
+  const auto port = ParseInt(s.substr(colon + 1));
+  return port && *port >= 1 && *port <= 65535;
+}
+
+}  // namespace
+
+ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
+                             const std::function<const char*(const char*)>& getenv) {
+  ParsedFlags out;
+  auto fail = [&out](std::string message) {
+    out.error = std::move(message);
+    return out;
+  };
+  bool have_coordinator = false;
+  bool have_cache_dir = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string_view arg = args[i];
+    if (arg == "--help" || arg == "-h") {
+      out.help = true;
+      return out;
+    }
+    if (!arg.starts_with("--")) return fail("unexpected argument \"" + std::string(arg) + "\"");
+    std::string_view name = arg;
+    std::optional<std::string> value;
+    if (const auto eq = arg.find('='); eq != std::string_view::npos) {
+      name = arg.substr(0, eq);
+      value = std::string(arg.substr(eq + 1));
+    }
+    if (name != "--coordinator" && name != "--cache-dir" && name != "--threads" &&
+        name != "--name") {
+      return fail("unknown flag " + std::string(name));
+    }
+    if (!value) {
+      if (i + 1 >= args.size()) return fail(std::string(name) + " needs a value");
+      value = args[++i];
+    }
+    if (name == "--coordinator") {
+      if (!IsHostPort(*value)) {
+        return fail("--coordinator \"" + *value + "\" is not HOST:PORT (e.g. localhost:50051)");
+      }
+      out.options.coordinator = *value;
+      have_coordinator = true;
+    } else if (name == "--cache-dir") {
+      if (value->empty()) return fail("--cache-dir is empty");
+      out.options.cache_dir = *value;
+      have_cache_dir = true;
+    } else if (name == "--threads") {
+      const auto n = ParseInt(*value);
+      if (!n || *n < 1 || *n > kMaxThreads) {
+        return fail("--threads \"" + *value + "\" is not a whole number from 1 to " +
+                    std::to_string(kMaxThreads));
+      }
+      out.options.threads = *n;
+    } else {
+      if (value->empty()) return fail("--name is empty");
+      out.options.name = *value;
+    }
+  }
+  if (!have_coordinator) return fail("--coordinator HOST:PORT is required");
+  if (!have_cache_dir) {
+    const char* xdg = getenv("XDG_CACHE_HOME");
+    const char* home = getenv("HOME");
+    // The XDG spec says a relative XDG_CACHE_HOME is invalid and must be ignored.
+    if (xdg && xdg[0] == '/') {
+      out.options.cache_dir = std::filesystem::path(xdg) / "photonfarm" / "worker";
+    } else if (home && home[0] != '\0') {
+      out.options.cache_dir = std::filesystem::path(home) / ".cache" / "photonfarm" / "worker";
+    } else {
+      return fail("neither XDG_CACHE_HOME nor HOME is set; pass --cache-dir DIR");
+    }
+  }
+  return out;
+}
+
+}  // namespace farm

@@ -1,0 +1,83 @@
+#include "daemon/flags.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+namespace farm {
+namespace {
+
+struct FakeEnv {
+  std::map<std::string, std::string> vars;
+  const char* operator()(const char* name) const {
+    const auto it = vars.find(name);
+    return it == vars.end() ? nullptr : it->second.c_str();
+  }
+};
+
+ParsedFlags Parse(std::vector<std::string> args, FakeEnv env = {{{"HOME", "/home/u"}}}) {
+  return ParseWorkerFlags(args, env);
+}
+
+TEST(WorkerFlags, AllFlagsInBothForms) {
+  const ParsedFlags f = Parse({"--coordinator", "farm.example:50051", "--cache-dir=/tmp/c",
+                               "--threads", "3", "--name=render-07"});
+  ASSERT_EQ(f.error, "");
+  EXPECT_FALSE(f.help);
+  EXPECT_EQ(f.options.coordinator, "farm.example:50051");
+  EXPECT_EQ(f.options.cache_dir, "/tmp/c");
+  EXPECT_EQ(f.options.threads, 3);
+  EXPECT_EQ(f.options.name, "render-07");
+}
+
+TEST(WorkerFlags, Defaults) {
+  ParsedFlags f = Parse({"--coordinator=localhost:50051"});
+  ASSERT_EQ(f.error, "");
+  EXPECT_EQ(f.options.cache_dir, "/home/u/.cache/photonfarm/worker");
+  EXPECT_EQ(f.options.threads, 0);
+  EXPECT_EQ(f.options.name, "");
+  f = Parse({"--coordinator=localhost:50051"}, {{{"HOME", "/home/u"}, {"XDG_CACHE_HOME", "/xdg"}}});
+  EXPECT_EQ(f.options.cache_dir, "/xdg/photonfarm/worker");
+  f = Parse({"--coordinator=localhost:50051"}, {{{"HOME", "/home/u"}, {"XDG_CACHE_HOME", "rel"}}});
+  EXPECT_EQ(f.options.cache_dir, "/home/u/.cache/photonfarm/worker");
+  f = Parse({"--coordinator=localhost:50051"}, FakeEnv{});
+  EXPECT_NE(f.error.find("--cache-dir"), std::string::npos) << f.error;
+}
+
+TEST(WorkerFlags, Help) {
+  EXPECT_TRUE(Parse({"--help"}).help);
+  EXPECT_TRUE(Parse({"--coordinator=h:1", "-h"}).help);
+  EXPECT_TRUE(Parse({"--help"}, FakeEnv{}).help);  // Help needs no cache directory.
+}
+
+TEST(WorkerFlags, AcceptsHostPortForms) {
+  for (const char* ok : {"localhost:1", "10.0.0.7:50051", "[::1]:50051", "a-b.c:65535"}) {
+    EXPECT_EQ(Parse({"--coordinator", ok}).error, "") << ok;
+  }
+}
+
+TEST(WorkerFlags, ClearErrors) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{}, "--coordinator HOST:PORT is required"},
+      {{"--coordinator"}, "--coordinator needs a value"},
+      {{"--coordinator", "localhost"}, "is not HOST:PORT"},
+      {{"--coordinator", "localhost:0"}, "is not HOST:PORT"},
+      {{"--coordinator", "localhost:99999"}, "is not HOST:PORT"},
+      {{"--coordinator", ":50051"}, "is not HOST:PORT"},
+      {{"--coordinator", "::1:50051"}, "is not HOST:PORT"},
+      {{"--coordinator=h:1", "--threads", "0"}, "--threads \"0\""},
+      {{"--coordinator=h:1", "--threads", "2x"}, "--threads \"2x\""},
+      {{"--coordinator=h:1", "--threads=-1"}, "--threads \"-1\""},
+      {{"--coordinator=h:1", "--name="}, "--name is empty"},
+      {{"--coordinator=h:1", "--cache-dir="}, "--cache-dir is empty"},
+      {{"--coordinator=h:1", "--verbose"}, "unknown flag --verbose"},
+      {{"--coordinator=h:1", "stray"}, "unexpected argument \"stray\""},
+  };
+  for (const auto& [args, want] : cases) {
+    const ParsedFlags f = Parse(args);
+    EXPECT_NE(f.error.find(want), std::string::npos) << "got \"" << f.error << "\", want \"" << want << "\"";
+  }
+}
+
+}  // namespace
+}  // namespace farm

@@ -1,0 +1,16 @@
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace farm {
+
+// How a farm-worker process is configured (from its command line).
+struct WorkerOptions {
+  std::string coordinator;           // HOST:PORT of the coordinator's gRPC endpoint.
+  std::filesystem::path cache_dir;   // Where fetched scenes and meshes are kept.
+  int threads = 0;                   // Render threads; 0 means all cores.
+  std::string name;                  // Shown as the worker's hostname; empty: the host's.
+};
+
+}  // namespace farm

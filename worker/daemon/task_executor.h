@@ -1,0 +1,58 @@
+#pragma once
+
+// What the worker does with a leased task: render a tile or composite the image, with the
+// blobs and the scene that takes. Knows nothing of leases and reports (worker.cpp does).
+// Internal to daemon/.
+
+#include <memory>
+#include <stdexcept>
+#include <stop_token>
+#include <string>
+#include <vector>
+
+#include "daemon/blob_client.h"
+#include "renderfarm/v1/worker.pb.h"
+
+namespace farm {
+
+class Scene;
+
+// The task was stopped before it finished (shutdown or a revoked lease); it has no result.
+class TaskCancelled : public std::runtime_error {
+ public:
+  TaskCancelled() : std::runtime_error("task cancelled") {}
+};
+
+// A short description for logs: "render_tile (x 0, y 32, 32x32)", "composite (12 tiles)".
+std::string DescribeTask(const renderfarm::v1::Task& task);
+
+class TaskExecutor {
+ public:
+  explicit TaskExecutor(BlobClient& blobs);
+  ~TaskExecutor();
+
+  // Performs the task and returns the artifacts to report (already uploaded). Throws
+  // TaskCancelled if `stop` was requested, any other exception (whose message is the
+  // reason to report) if the task failed.
+  std::vector<renderfarm::v1::Artifact> Execute(const renderfarm::v1::LeaseTaskResponse& leased,
+                                                std::stop_token stop);
+
+ private:
+  // The job's scene description, fetched by digest; the last one is kept.
+  const renderfarm::v1::Scene& Description(const std::string& digest, std::stop_token stop);
+  // The renderable scene, built once per scene digest; the last one is kept.
+  const Scene& Built(const std::string& digest, std::stop_token stop);
+
+  std::vector<renderfarm::v1::Artifact> RenderTile(const renderfarm::v1::LeaseTaskResponse& leased,
+                                                   std::stop_token stop);
+  std::vector<renderfarm::v1::Artifact> Composite(const renderfarm::v1::LeaseTaskResponse& leased,
+                                                  std::stop_token stop);
+
+  BlobClient& blobs_;
+  std::string description_digest_;
+  std::unique_ptr<renderfarm::v1::Scene> description_;
+  std::string built_digest_;
+  std::unique_ptr<Scene> built_;
+};
+
+}  // namespace farm

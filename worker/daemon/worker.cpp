@@ -1,0 +1,417 @@
+#include "daemon/worker.h"
+
+#include <grpcpp/create_channel.h>
+#include <grpcpp/security/credentials.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <optional>
+#include <stop_token>
+#include <thread>
+
+#include "daemon/blob_cache.h"
+#include "daemon/blob_client.h"
+#include "daemon/log.h"
+#include "daemon/retry.h"
+#include "daemon/task_executor.h"
+#include "renderfarm/v1/worker.grpc.pb.h"
+
+namespace farm {
+namespace {
+
+namespace pb = renderfarm::v1;
+using std::chrono::seconds;
+
+constexpr char kVersion[] = "farm-worker 0.1.0";
+// How long one LeaseTask call waits for work (the contract allows up to 30 s).
+constexpr seconds kLeaseWait{10};
+// Deadline of short RPCs (everything but LeaseTask and blob transfers).
+constexpr seconds kCallDeadline{30};
+// How long shutdown keeps trying to release a lease or say goodbye.
+constexpr seconds kGoodbyeGiveUp{5};
+// The coordinator stores the failure message; a render error never needs more.
+constexpr std::size_t kMaxErrorBytes = 4096;
+
+std::string HostName() {
+  char name[256] = "";
+  if (gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "unknown-host";
+  return name;
+}
+
+Millis ToMillis(const google::protobuf::Duration& d, Millis fallback) {
+  const auto ms = Millis(d.seconds() * 1000 + d.nanos() / 1'000'000);
+  return ms.count() > 0 ? ms : fallback;
+}
+
+void SetDeadline(grpc::ClientContext& ctx, std::chrono::system_clock::duration d) {
+  ctx.set_deadline(std::chrono::system_clock::now() + d);
+}
+
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
+  grpc::ChannelArguments args;
+  // Blob chunks are up to 4 MiB, and a composite task lists every tile.
+  args.SetMaxReceiveMessageSize(64 << 20);
+  // Notice a restarted coordinator within seconds (gRPC's default backoff grows to 2 min).
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 5000);
+  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+}
+
+std::string Seconds(std::chrono::steady_clock::duration d) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f s", std::chrono::duration<double>(d).count());
+  return buf;
+}
+
+}  // namespace
+
+class Worker::Impl {
+ public:
+  Impl(const WorkerOptions& options, unsigned cores)
+      : coordinator_(options.coordinator),
+        hostname_(options.name.empty() ? HostName() : options.name),
+        cores_(cores),
+        cache_(options.cache_dir),
+        channel_(MakeChannel(options.coordinator)),
+        stub_(pb::WorkerService::NewStub(channel_)),
+        blobs_(channel_, &cache_),
+        executor_(blobs_) {}
+
+  int Run();
+
+  void Drain() {
+    if (!drain_.stop_requested()) LogLine("shutting down after the current task");
+    drain_.request_stop();
+  }
+
+  void Abort() {
+    if (!abort_.stop_requested()) LogLine("abandoning the current task and shutting down");
+    drain_.request_stop();
+    abort_.request_stop();  // Stops the current task through the callback in RunTask.
+  }
+
+ private:
+  // The task being worked on; shared with the heartbeat thread.
+  struct CurrentTask {
+    std::string task_id;
+    std::uint64_t epoch = 0;
+    std::stop_source stop;
+    std::string lost;  // Why the lease was lost, if it was: the result must be dropped.
+  };
+
+  bool Register();
+  void HeartbeatLoop(std::stop_token stop);
+  void LoseLease(const std::string& reason);  // Needs mu_ held.
+  grpc::Status LeaseOnce(pb::LeaseTaskResponse& leased);
+  void RunTask(const pb::LeaseTaskResponse& leased);
+  std::string ReportComplete(const pb::Lease& lease, const std::vector<pb::Artifact>& outputs);
+  std::string ReportFailure(const pb::Lease& lease, const std::string& error);
+  void Release(const pb::Lease& lease);
+  void Unregister();
+  std::string WorkerId() {
+    std::lock_guard lock(mu_);
+    return worker_id_;
+  }
+
+  const std::string coordinator_;
+  const std::string hostname_;
+  const unsigned cores_;
+  BlobCache cache_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<pb::WorkerService::Stub> stub_;
+  BlobClient blobs_;
+  TaskExecutor executor_;
+
+  std::stop_source drain_;  // No more leasing.
+  std::stop_source abort_;  // Abandon the current task too.
+  std::atomic<bool> reregister_{false};
+
+  std::mutex mu_;  // Guards what follows.
+  std::string worker_id_;
+  Millis heartbeat_interval_{5000};
+  std::optional<CurrentTask> current_;
+};
+
+
+bool Worker::Impl::Register() {
+  pb::RegisterWorkerRequest request;
+  request.set_hostname(hostname_);
+  request.set_cores(cores_);
+  request.set_version(kVersion);
+  pb::RegisterWorkerResponse response;
+  LogLine("registering with " + coordinator_ + " as " + hostname_);
+  // A worker may start before its coordinator: wait for it as long as it takes.
+  const grpc::Status status =
+      RetryTransient("RegisterWorker with " + coordinator_, drain_.get_token(), seconds(0), [&] {
+        grpc::ClientContext ctx;
+        SetDeadline(ctx, kCallDeadline);
+        ctx.set_wait_for_ready(true);  // Connect as soon as the coordinator is up.
+        std::stop_callback cancel(drain_.get_token(), [&ctx] { ctx.TryCancel(); });
+        return stub_->RegisterWorker(&ctx, request, &response);
+      });
+  if (!status.ok()) {
+    if (!drain_.stop_requested()) {
+      LogLine("coordinator " + coordinator_ + " refused registration: " + status.error_message());
+    }
+    return false;
+  }
+  std::lock_guard lock(mu_);
+  worker_id_ = response.worker_id();
+  heartbeat_interval_ = std::max(Millis(100), ToMillis(response.heartbeat_interval(), Millis(5000)));
+  LogLine("registered with " + coordinator_ + " as " + worker_id_ + " (" + hostname_ + ", " +
+          std::to_string(cores_) + " cores, heartbeat every " +
+          std::to_string(heartbeat_interval_.count()) + " ms, lease " +
+          std::to_string(ToMillis(response.lease_duration(), Millis(0)).count()) + " ms)");
+  return true;
+}
+
+void Worker::Impl::LoseLease(const std::string& reason) {
+  if (!current_ || !current_->lost.empty()) return;
+  current_->lost = reason;
+  current_->stop.request_stop();
+}
+
+void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
+  bool heartbeat_failing = false;
+  while (true) {
+    Millis interval;
+    pb::HeartbeatRequest request;
+    {
+      std::lock_guard lock(mu_);
+      interval = heartbeat_interval_;
+    }
+    if (!SleepUnlessStopped(interval, stop)) return;
+    {
+      std::lock_guard lock(mu_);
+      if (worker_id_.empty()) continue;
+      request.set_worker_id(worker_id_);
+      if (current_ && current_->lost.empty()) {
+        pb::HeldLease* held = request.add_leases();
+        held->set_task_id(current_->task_id);
+        held->set_epoch(current_->epoch);
+      }
+    }
+    pb::HeartbeatResponse response;
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, std::max<std::chrono::system_clock::duration>(interval, seconds(5)));
+    std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
+    const grpc::Status status = stub_->Heartbeat(&ctx, request, &response);
+    std::lock_guard lock(mu_);
+    if (status.ok()) {
+      for (const pb::HeldLease& revoked : response.revoked()) {
+        if (current_ && revoked.task_id() == current_->task_id &&
+            revoked.epoch() == current_->epoch) {
+          LoseLease("revoked by the coordinator");
+        }
+      }
+    } else if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
+      // The coordinator forgot us (restarted without state, or we were presumed dead):
+      // whatever we hold is no longer ours. Register again before the next lease.
+      LogLine("coordinator does not know worker " + worker_id_ + "; registering again");
+      LoseLease("the coordinator no longer knows this worker");
+      reregister_ = true;
+    } else if (!stop.stop_requested() && !heartbeat_failing) {
+      // Once per outage, not every interval.
+      LogLine("heartbeat failed: " + status.error_message() + " (will keep trying)");
+    }
+    if (status.ok() && heartbeat_failing) LogLine("heartbeat works again");
+    heartbeat_failing = !status.ok();
+  }
+}
+
+grpc::Status Worker::Impl::LeaseOnce(pb::LeaseTaskResponse& leased) {
+  pb::LeaseTaskRequest request;
+  request.set_worker_id(WorkerId());
+  request.mutable_wait_timeout()->set_seconds(kLeaseWait.count());
+  grpc::ClientContext ctx;
+  SetDeadline(ctx, kLeaseWait + kCallDeadline);
+  // While the coordinator is away, wait for the connection instead of failing at once:
+  // the lease is asked for the moment it is back.
+  ctx.set_wait_for_ready(true);
+  // The first signal ends the long poll at once instead of up to kLeaseWait later.
+  std::stop_callback cancel(drain_.get_token(), [&ctx] { ctx.TryCancel(); });
+  return stub_->LeaseTask(&ctx, request, &leased);
+}
+
+int Worker::Impl::Run() {
+  if (!Register()) return drain_.stop_requested() ? 0 : 1;
+  int exit_code = 0;
+  {
+    std::jthread heartbeat([this](std::stop_token stop) { HeartbeatLoop(stop); });
+    Backoff backoff;
+    bool lease_failing = false;
+    while (!drain_.stop_requested()) {
+      if (reregister_.exchange(false) && !Register()) {
+        exit_code = drain_.stop_requested() ? 0 : 1;
+        break;
+      }
+      pb::LeaseTaskResponse leased;
+      const grpc::Status status = LeaseOnce(leased);
+      if (status.ok() && leased.has_lease() && drain_.stop_requested()) {
+        Release(leased.lease());  // Granted as we were told to stop: hand it straight back.
+        break;
+      }
+      if (!status.ok()) {
+        if (drain_.stop_requested()) break;
+        if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
+          reregister_ = true;
+        } else {
+          if (!lease_failing) {  // Once per outage, not every attempt.
+            LogLine("LeaseTask failed: " + status.error_message() + " (code " +
+                    std::to_string(status.error_code()) + "); will keep trying");
+          }
+          lease_failing = true;
+          SleepUnlessStopped(backoff.Next(), drain_.get_token());
+        }
+        continue;
+      }
+      if (lease_failing) LogLine("LeaseTask works again");
+      lease_failing = false;
+      backoff.Reset();
+      if (leased.has_lease()) RunTask(leased);
+    }
+  }  // Joins the heartbeat thread: no lease is held any more.
+  Unregister();
+  return exit_code;
+}
+
+void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
+  const pb::Lease& lease = leased.lease();
+  const auto start = std::chrono::steady_clock::now();
+  std::stop_source task_stop;
+  {
+    std::lock_guard lock(mu_);
+    current_ = CurrentTask{lease.task_id(), lease.epoch(), task_stop, ""};
+  }
+  std::stop_callback on_abort(abort_.get_token(), [task_stop]() mutable {
+    task_stop.request_stop();
+  });
+
+  std::vector<pb::Artifact> outputs;
+  std::string error;
+  try {
+    outputs = executor_.Execute(leased, task_stop.get_token());
+  } catch (const TaskCancelled&) {
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+
+  std::string lost;
+  {
+    std::lock_guard lock(mu_);
+    lost = current_->lost;
+  }
+  std::string outcome;
+  if (!lost.empty()) {
+    outcome = "dropped (lease lost: " + lost + ")";
+  } else if (task_stop.stop_requested()) {
+    Release(lease);
+    outcome = "released unfinished";
+  } else if (!error.empty()) {
+    outcome = ReportFailure(lease, error);
+  } else {
+    outcome = ReportComplete(lease, outputs);
+  }
+  {
+    std::lock_guard lock(mu_);
+    current_.reset();
+  }
+  LogLine("task " + lease.task_id() + " " + DescribeTask(leased.task()) + " " + outcome +
+          " in " + Seconds(std::chrono::steady_clock::now() - start));
+}
+
+std::string Worker::Impl::ReportComplete(const pb::Lease& lease,
+                                         const std::vector<pb::Artifact>& outputs) {
+  pb::CompleteTaskRequest request;
+  request.set_worker_id(WorkerId());
+  request.set_task_id(lease.task_id());
+  request.set_epoch(lease.epoch());
+  for (const auto& a : outputs) *request.add_outputs() = a;
+  // Completion is idempotent on the coordinator: repeat until it is acknowledged.
+  const grpc::Status status =
+      RetryTransient("CompleteTask " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
+        pb::CompleteTaskResponse response;
+        grpc::ClientContext ctx;
+        SetDeadline(ctx, kCallDeadline);
+        return stub_->CompleteTask(&ctx, request, &response);
+      });
+  if (status.ok()) return "completed";
+  if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
+    return "result dropped (lease lost: " + status.error_message() + ")";
+  }
+  if (abort_.stop_requested()) {
+    Release(lease);
+    return "abandoned while reporting completion";
+  }
+  return "completion refused: " + status.error_message();
+}
+
+std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::string& error) {
+  pb::FailTaskRequest request;
+  request.set_worker_id(WorkerId());
+  request.set_task_id(lease.task_id());
+  request.set_epoch(lease.epoch());
+  request.set_error(error.substr(0, kMaxErrorBytes));
+  const grpc::Status status =
+      RetryTransient("FailTask " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
+        pb::FailTaskResponse response;
+        grpc::ClientContext ctx;
+        SetDeadline(ctx, kCallDeadline);
+        return stub_->FailTask(&ctx, request, &response);
+      });
+  const std::string reported = "failed: " + error;
+  if (status.ok()) return reported;
+  if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
+    return reported + " (not reported, lease lost: " + status.error_message() + ")";
+  }
+  if (abort_.stop_requested()) {
+    Release(lease);
+    return reported + " (abandoned while reporting)";
+  }
+  return reported + " (report refused: " + status.error_message() + ")";
+}
+
+void Worker::Impl::Release(const pb::Lease& lease) {
+  pb::ReleaseTaskRequest request;
+  request.set_worker_id(WorkerId());
+  request.set_task_id(lease.task_id());
+  request.set_epoch(lease.epoch());
+  const grpc::Status status =
+      RetryTransient("ReleaseTask " + lease.task_id(), {}, kGoodbyeGiveUp, [&] {
+        pb::ReleaseTaskResponse response;
+        grpc::ClientContext ctx;
+        SetDeadline(ctx, seconds(5));
+        return stub_->ReleaseTask(&ctx, request, &response);
+      });
+  // If this fails the lease simply expires and the task is queued again.
+  if (!status.ok() && status.error_code() != grpc::StatusCode::FAILED_PRECONDITION) {
+    LogLine("cannot release task " + lease.task_id() + ": " + status.error_message());
+  }
+}
+
+void Worker::Impl::Unregister() {
+  pb::UnregisterWorkerRequest request;
+  request.set_worker_id(WorkerId());
+  const grpc::Status status = RetryTransient("UnregisterWorker", {}, kGoodbyeGiveUp, [&] {
+    pb::UnregisterWorkerResponse response;
+    grpc::ClientContext ctx;
+    SetDeadline(ctx, seconds(5));
+    return stub_->UnregisterWorker(&ctx, request, &response);
+  });
+  if (status.ok()) {
+    LogLine("unregistered " + request.worker_id());
+  } else {
+    LogLine("cannot unregister " + request.worker_id() + ": " + status.error_message());
+  }
+}
+
+Worker::Worker(const WorkerOptions& options, unsigned cores)
+    : impl_(std::make_unique<Impl>(options, cores)) {}
+Worker::~Worker() = default;
+int Worker::Run() { return impl_->Run(); }
+void Worker::Drain() { impl_->Drain(); }
+void Worker::Abort() { impl_->Abort(); }
+
+}  // namespace farm

@@ -1,0 +1,30 @@
+#pragma once
+
+// The 8-bit sRGB PNG preview of a render: what a browser or file viewer shows at a glance.
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "image/image.h"
+
+namespace farm {
+
+// Linear value -> 8-bit sRGB code value: clamped to [0, 1] (NaN counts as 0), the sRGB
+// transfer function (IEC 61966-2-1), rounded to nearest.
+std::uint8_t LinearToSrgb8(float linear);
+
+// Alpha in [0, 1] -> 8 bits, rounded to nearest; no transfer function.
+std::uint8_t AlphaTo8(float alpha);
+
+// Writes the R, G, B, A channels of `tile` into `rgba8`, the whole image's interleaved
+// 8-bit RGBA buffer (row-major, width * height * 4 bytes). The tile's colour is
+// premultiplied by alpha, as in OpenEXR; PNG stores straight alpha, so colour is divided by
+// alpha first (where alpha > 0). Throws ImageError if the tile lacks one of R, G, B, A or
+// lies outside the image.
+void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::uint8_t> rgba8);
+
+// Encodes a straight-alpha sRGB RGBA8 buffer as PNG bytes. Deterministic.
+std::string EncodePngRgba8(ImageSize size, std::span<const std::uint8_t> rgba8);
+
+}  // namespace farm
