@@ -222,8 +222,19 @@ func coordinatorFlag(fs *flagSet, e *env) func() string {
 	}
 }
 
-func dial(addr string) (*client.Client, error) {
-	return client.Dial(addr)
+// connect adds --coordinator to fs, parses args (see parse) and dials the coordinator;
+// client verbs start with it once they have declared their own flags.
+func connect(fs *flagSet, e *env, args []string, minArgs, maxArgs int) (*client.Client, []string, error) {
+	addr := coordinatorFlag(fs, e)
+	pos, err := parse(fs, args, minArgs, maxArgs)
+	if err != nil {
+		return nil, nil, err
+	}
+	c, err := client.Dial(addr())
+	if err != nil {
+		return nil, nil, err
+	}
+	return c, pos, nil
 }
 
 // isTerminal reports whether w is a character device (a terminal).

@@ -14,14 +14,9 @@ var fetchVerb = &verb{
 
 func runFetch(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("fetch", e)
-	addr := coordinatorFlag(fs, e)
 	out := fs.String("o", ".", "output `folder` (created if missing)")
 	name := fs.String("name", "", "base `name` of the files (default: the job's display name)")
-	pos, err := parse(fs, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}

@@ -42,12 +42,7 @@ var cancelVerb = &verb{
 
 func runStatus(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("status", e)
-	addr := coordinatorFlag(fs, e)
-	pos, err := parse(fs, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}
@@ -88,11 +83,7 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 
 func runList(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("list", e)
-	addr := coordinatorFlag(fs, e)
-	if _, err := parse(fs, args, 0, 0); err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, _, err := connect(fs, e, args, 0, 0)
 	if err != nil {
 		return err
 	}
@@ -125,12 +116,7 @@ func phaseSummary(j *pb.Job) string {
 
 func runTasks(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("tasks", e)
-	addr := coordinatorFlag(fs, e)
-	pos, err := parse(fs, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}
@@ -154,12 +140,7 @@ func runTasks(ctx context.Context, e *env, args []string) error {
 
 func runCancel(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("cancel", e)
-	addr := coordinatorFlag(fs, e)
-	pos, err := parse(fs, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}

@@ -14,13 +14,8 @@ var submitVerb = &verb{
 
 func runSubmit(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("submit", e)
-	addr := coordinatorFlag(fs, e)
 	watch := fs.Bool("watch", false, "after submitting, show progress until the job ends (like farm watch)")
-	pos, err := parse(fs, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}

@@ -18,12 +18,7 @@ var watchVerb = &verb{
 
 func runWatch(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("watch", e)
-	addr := coordinatorFlag(fs, e)
-	pos, err := parse(fs, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	c, err := dial(addr())
+	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}
