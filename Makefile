@@ -39,5 +39,10 @@ test-go: go
 	go vet ./...
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -timeout 20m ./...
 
+# Prints figures (photons traced per second, kd-tree build time, nearest-k queries per
+# second against nanoflann in the same run); never part of make test.
+bench: build
+	bench/run.sh $(BUILD_DIR)
+
 clean:
 	rm -rf $(BUILD_DIR) out

@@ -1,17 +1,27 @@
 #pragma once
 
 #include <stop_token>
+#include <string>
+#include <vector>
 
 #include "image/image.h"
+#include "photonmap/photon_snapshot.h"
 #include "scene/scene.h"
 
 namespace farm {
 
-// Renders one rectangle of the scene's image into channels R, G, B, A (linear radiance,
-// alpha 1 where a camera ray hit geometry). Uses all threads TBB allows. A pixel's value
-// depends only on the scene (its seed included) and the pixel, never on the rectangle it
+// The channels RenderTile produces: the beauty (R, G, B, A), then the AOV layers
+// direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, albedo.{R,G,B}, normal.{X,Y,Z} and
+// depth.Z, so that passes can be recombined after the render.
+std::vector<std::string> RenderChannels();
+
+// Renders one rectangle of the scene's image into RenderChannels(): linear radiance, alpha
+// the fraction of camera rays that hit geometry. photons holds the job's photon maps, or is
+// null for a job without any. Uses all threads TBB allows. A pixel's value depends only on
+// the scene (its seed included), the photon maps and the pixel, never on the rectangle it
 // was rendered in, so tiles rendered anywhere stitch into a bit-identical image. If stop is
 // requested the render ends early and the returned image must be discarded.
-Image RenderTile(const Scene& scene, const PixelRect& rect, std::stop_token stop = {});
+Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
+                 std::stop_token stop = {});
 
 }  // namespace farm

@@ -87,23 +87,31 @@ type Phase int32
 
 const (
 	Phase_PHASE_UNSPECIFIED Phase = 0
+	// Photon emission shards (photon index ranges), traced on workers.
+	Phase_PHASE_EMIT Phase = 1
+	// The coordinator merges the shards, in shard order, into a kd-tree snapshot.
+	Phase_PHASE_BUILD Phase = 2
 	// Image tiles: trace, shade, upload each as a tile EXR.
-	Phase_PHASE_RENDER Phase = 1
+	Phase_PHASE_RENDER Phase = 3
 	// Tile EXRs stitched into the final tiled EXR and a PNG preview.
-	Phase_PHASE_COMPOSITE Phase = 2
+	Phase_PHASE_COMPOSITE Phase = 4
 )
 
 // Enum value maps for Phase.
 var (
 	Phase_name = map[int32]string{
 		0: "PHASE_UNSPECIFIED",
-		1: "PHASE_RENDER",
-		2: "PHASE_COMPOSITE",
+		1: "PHASE_EMIT",
+		2: "PHASE_BUILD",
+		3: "PHASE_RENDER",
+		4: "PHASE_COMPOSITE",
 	}
 	Phase_value = map[string]int32{
 		"PHASE_UNSPECIFIED": 0,
-		"PHASE_RENDER":      1,
-		"PHASE_COMPOSITE":   2,
+		"PHASE_EMIT":        1,
+		"PHASE_BUILD":       2,
+		"PHASE_RENDER":      3,
+		"PHASE_COMPOSITE":   4,
 	}
 )
 
@@ -196,6 +204,57 @@ func (TaskState) EnumDescriptor() ([]byte, []int) {
 	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{2}
 }
 
+type PhotonMapKind int32
+
+const (
+	PhotonMapKind_PHOTON_MAP_KIND_UNSPECIFIED PhotonMapKind = 0
+	// Photons that reached a diffuse surface after at least one diffuse bounce.
+	PhotonMapKind_PHOTON_MAP_KIND_GLOBAL PhotonMapKind = 1
+	// Photons that reached a diffuse surface through specular bounces only.
+	PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC PhotonMapKind = 2
+)
+
+// Enum value maps for PhotonMapKind.
+var (
+	PhotonMapKind_name = map[int32]string{
+		0: "PHOTON_MAP_KIND_UNSPECIFIED",
+		1: "PHOTON_MAP_KIND_GLOBAL",
+		2: "PHOTON_MAP_KIND_CAUSTIC",
+	}
+	PhotonMapKind_value = map[string]int32{
+		"PHOTON_MAP_KIND_UNSPECIFIED": 0,
+		"PHOTON_MAP_KIND_GLOBAL":      1,
+		"PHOTON_MAP_KIND_CAUSTIC":     2,
+	}
+)
+
+func (x PhotonMapKind) Enum() *PhotonMapKind {
+	p := new(PhotonMapKind)
+	*p = x
+	return p
+}
+
+func (x PhotonMapKind) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (PhotonMapKind) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_job_proto_enumTypes[3].Descriptor()
+}
+
+func (PhotonMapKind) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_job_proto_enumTypes[3]
+}
+
+func (x PhotonMapKind) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use PhotonMapKind.Descriptor instead.
+func (PhotonMapKind) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
+}
+
 type JobEventKind int32
 
 const (
@@ -235,11 +294,11 @@ func (x JobEventKind) String() string {
 }
 
 func (JobEventKind) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_job_proto_enumTypes[3].Descriptor()
+	return file_renderfarm_v1_job_proto_enumTypes[4].Descriptor()
 }
 
 func (JobEventKind) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_job_proto_enumTypes[3]
+	return &file_renderfarm_v1_job_proto_enumTypes[4]
 }
 
 func (x JobEventKind) Number() protoreflect.EnumNumber {
@@ -248,7 +307,7 @@ func (x JobEventKind) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use JobEventKind.Descriptor instead.
 func (JobEventKind) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
 }
 
 type Job struct {
@@ -600,6 +659,8 @@ type Task struct {
 	//
 	//	*Task_RenderTile
 	//	*Task_Composite
+	//	*Task_EmitPhotons
+	//	*Task_BuildPhotonMap
 	Spec isTask_Spec `protobuf_oneof:"spec"`
 	// What the task produced once it succeeded.
 	Outputs       []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
@@ -718,6 +779,24 @@ func (x *Task) GetComposite() *CompositeSpec {
 	return nil
 }
 
+func (x *Task) GetEmitPhotons() *EmitPhotonsSpec {
+	if x != nil {
+		if x, ok := x.Spec.(*Task_EmitPhotons); ok {
+			return x.EmitPhotons
+		}
+	}
+	return nil
+}
+
+func (x *Task) GetBuildPhotonMap() *BuildPhotonMapSpec {
+	if x != nil {
+		if x, ok := x.Spec.(*Task_BuildPhotonMap); ok {
+			return x.BuildPhotonMap
+		}
+	}
+	return nil
+}
+
 func (x *Task) GetOutputs() []*Artifact {
 	if x != nil {
 		return x.Outputs
@@ -737,16 +816,31 @@ type Task_Composite struct {
 	Composite *CompositeSpec `protobuf:"bytes,11,opt,name=composite,proto3,oneof"`
 }
 
+type Task_EmitPhotons struct {
+	EmitPhotons *EmitPhotonsSpec `protobuf:"bytes,13,opt,name=emit_photons,json=emitPhotons,proto3,oneof"`
+}
+
+type Task_BuildPhotonMap struct {
+	BuildPhotonMap *BuildPhotonMapSpec `protobuf:"bytes,14,opt,name=build_photon_map,json=buildPhotonMap,proto3,oneof"`
+}
+
 func (*Task_RenderTile) isTask_Spec() {}
 
 func (*Task_Composite) isTask_Spec() {}
 
+func (*Task_EmitPhotons) isTask_Spec() {}
+
+func (*Task_BuildPhotonMap) isTask_Spec() {}
+
 // Render one tile of the image.
 type RenderTileSpec struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	Rect          *PixelRect             `protobuf:"bytes,1,opt,name=rect,proto3" json:"rect,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Rect  *PixelRect             `protobuf:"bytes,1,opt,name=rect,proto3" json:"rect,omitempty"`
+	// Filled in when the task is leased, if the job has photon maps: the kd-tree snapshot
+	// ("photons.snapshot", format in docs/photon-snapshot.md).
+	PhotonSnapshot *Artifact `protobuf:"bytes,2,opt,name=photon_snapshot,json=photonSnapshot,proto3" json:"photon_snapshot,omitempty"`
+	unknownFields  protoimpl.UnknownFields
+	sizeCache      protoimpl.SizeCache
 }
 
 func (x *RenderTileSpec) Reset() {
@@ -786,6 +880,183 @@ func (x *RenderTileSpec) GetRect() *PixelRect {
 	return nil
 }
 
+func (x *RenderTileSpec) GetPhotonSnapshot() *Artifact {
+	if x != nil {
+		return x.PhotonSnapshot
+	}
+	return nil
+}
+
+// Trace photon paths [first_photon, first_photon + photon_count) of one map and upload
+// what they store as a shard ("photons.shard", format in docs/photon-snapshot.md).
+type EmitPhotonsSpec struct {
+	state       protoimpl.MessageState `protogen:"open.v1"`
+	Map         PhotonMapKind          `protobuf:"varint,1,opt,name=map,proto3,enum=renderfarm.v1.PhotonMapKind" json:"map,omitempty"`
+	FirstPhoton uint64                 `protobuf:"varint,2,opt,name=first_photon,json=firstPhoton,proto3" json:"first_photon,omitempty"`
+	PhotonCount uint64                 `protobuf:"varint,3,opt,name=photon_count,json=photonCount,proto3" json:"photon_count,omitempty"`
+	// Photon paths emitted for this map over all shards (normalises photon power).
+	TotalPhotons  uint64 `protobuf:"varint,4,opt,name=total_photons,json=totalPhotons,proto3" json:"total_photons,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *EmitPhotonsSpec) Reset() {
+	*x = EmitPhotonsSpec{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *EmitPhotonsSpec) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*EmitPhotonsSpec) ProtoMessage() {}
+
+func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use EmitPhotonsSpec.ProtoReflect.Descriptor instead.
+func (*EmitPhotonsSpec) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
+}
+
+func (x *EmitPhotonsSpec) GetMap() PhotonMapKind {
+	if x != nil {
+		return x.Map
+	}
+	return PhotonMapKind_PHOTON_MAP_KIND_UNSPECIFIED
+}
+
+func (x *EmitPhotonsSpec) GetFirstPhoton() uint64 {
+	if x != nil {
+		return x.FirstPhoton
+	}
+	return 0
+}
+
+func (x *EmitPhotonsSpec) GetPhotonCount() uint64 {
+	if x != nil {
+		return x.PhotonCount
+	}
+	return 0
+}
+
+func (x *EmitPhotonsSpec) GetTotalPhotons() uint64 {
+	if x != nil {
+		return x.TotalPhotons
+	}
+	return 0
+}
+
+// Merge the emission shards, in shard order, into one kd-tree snapshot. Done by the
+// coordinator itself; workers never lease it.
+type BuildPhotonMapSpec struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Filled in when the task is leased: every emission shard in plan order.
+	Shards        []*EmittedShard `protobuf:"bytes,1,rep,name=shards,proto3" json:"shards,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *BuildPhotonMapSpec) Reset() {
+	*x = BuildPhotonMapSpec{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *BuildPhotonMapSpec) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*BuildPhotonMapSpec) ProtoMessage() {}
+
+func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use BuildPhotonMapSpec.ProtoReflect.Descriptor instead.
+func (*BuildPhotonMapSpec) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
+}
+
+func (x *BuildPhotonMapSpec) GetShards() []*EmittedShard {
+	if x != nil {
+		return x.Shards
+	}
+	return nil
+}
+
+type EmittedShard struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Spec          *EmitPhotonsSpec       `protobuf:"bytes,1,opt,name=spec,proto3" json:"spec,omitempty"`
+	Shard         *Artifact              `protobuf:"bytes,2,opt,name=shard,proto3" json:"shard,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *EmittedShard) Reset() {
+	*x = EmittedShard{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *EmittedShard) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*EmittedShard) ProtoMessage() {}
+
+func (x *EmittedShard) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use EmittedShard.ProtoReflect.Descriptor instead.
+func (*EmittedShard) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
+}
+
+func (x *EmittedShard) GetSpec() *EmitPhotonsSpec {
+	if x != nil {
+		return x.Spec
+	}
+	return nil
+}
+
+func (x *EmittedShard) GetShard() *Artifact {
+	if x != nil {
+		return x.Shard
+	}
+	return nil
+}
+
 // Stitch every tile of the render phase into the final image.
 type CompositeSpec struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
@@ -797,7 +1068,7 @@ type CompositeSpec struct {
 
 func (x *CompositeSpec) Reset() {
 	*x = CompositeSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -809,7 +1080,7 @@ func (x *CompositeSpec) String() string {
 func (*CompositeSpec) ProtoMessage() {}
 
 func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -822,7 +1093,7 @@ func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CompositeSpec.ProtoReflect.Descriptor instead.
 func (*CompositeSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
 }
 
 func (x *CompositeSpec) GetTiles() []*TileInput {
@@ -842,7 +1113,7 @@ type TileInput struct {
 
 func (x *TileInput) Reset() {
 	*x = TileInput{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -854,7 +1125,7 @@ func (x *TileInput) String() string {
 func (*TileInput) ProtoMessage() {}
 
 func (x *TileInput) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -867,7 +1138,7 @@ func (x *TileInput) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TileInput.ProtoReflect.Descriptor instead.
 func (*TileInput) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *TileInput) GetRect() *PixelRect {
@@ -893,7 +1164,7 @@ type SubmitJobRequest struct {
 
 func (x *SubmitJobRequest) Reset() {
 	*x = SubmitJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -905,7 +1176,7 @@ func (x *SubmitJobRequest) String() string {
 func (*SubmitJobRequest) ProtoMessage() {}
 
 func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -918,7 +1189,7 @@ func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobRequest.ProtoReflect.Descriptor instead.
 func (*SubmitJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *SubmitJobRequest) GetScene() *Scene {
@@ -937,7 +1208,7 @@ type SubmitJobResponse struct {
 
 func (x *SubmitJobResponse) Reset() {
 	*x = SubmitJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -949,7 +1220,7 @@ func (x *SubmitJobResponse) String() string {
 func (*SubmitJobResponse) ProtoMessage() {}
 
 func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -962,7 +1233,7 @@ func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobResponse.ProtoReflect.Descriptor instead.
 func (*SubmitJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *SubmitJobResponse) GetJob() *Job {
@@ -981,7 +1252,7 @@ type GetJobRequest struct {
 
 func (x *GetJobRequest) Reset() {
 	*x = GetJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -993,7 +1264,7 @@ func (x *GetJobRequest) String() string {
 func (*GetJobRequest) ProtoMessage() {}
 
 func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1006,7 +1277,7 @@ func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobRequest.ProtoReflect.Descriptor instead.
 func (*GetJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *GetJobRequest) GetJobId() string {
@@ -1025,7 +1296,7 @@ type GetJobResponse struct {
 
 func (x *GetJobResponse) Reset() {
 	*x = GetJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1037,7 +1308,7 @@ func (x *GetJobResponse) String() string {
 func (*GetJobResponse) ProtoMessage() {}
 
 func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1050,7 +1321,7 @@ func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobResponse.ProtoReflect.Descriptor instead.
 func (*GetJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *GetJobResponse) GetJob() *Job {
@@ -1072,7 +1343,7 @@ type ListJobsRequest struct {
 
 func (x *ListJobsRequest) Reset() {
 	*x = ListJobsRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1084,7 +1355,7 @@ func (x *ListJobsRequest) String() string {
 func (*ListJobsRequest) ProtoMessage() {}
 
 func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1097,7 +1368,7 @@ func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsRequest.ProtoReflect.Descriptor instead.
 func (*ListJobsRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *ListJobsRequest) GetPageSize() int32 {
@@ -1125,7 +1396,7 @@ type ListJobsResponse struct {
 
 func (x *ListJobsResponse) Reset() {
 	*x = ListJobsResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1137,7 +1408,7 @@ func (x *ListJobsResponse) String() string {
 func (*ListJobsResponse) ProtoMessage() {}
 
 func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1150,7 +1421,7 @@ func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsResponse.ProtoReflect.Descriptor instead.
 func (*ListJobsResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *ListJobsResponse) GetJobs() []*Job {
@@ -1179,7 +1450,7 @@ type ListTasksRequest struct {
 
 func (x *ListTasksRequest) Reset() {
 	*x = ListTasksRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1191,7 +1462,7 @@ func (x *ListTasksRequest) String() string {
 func (*ListTasksRequest) ProtoMessage() {}
 
 func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1204,7 +1475,7 @@ func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksRequest.ProtoReflect.Descriptor instead.
 func (*ListTasksRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *ListTasksRequest) GetJobId() string {
@@ -1238,7 +1509,7 @@ type ListTasksResponse struct {
 
 func (x *ListTasksResponse) Reset() {
 	*x = ListTasksResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1250,7 +1521,7 @@ func (x *ListTasksResponse) String() string {
 func (*ListTasksResponse) ProtoMessage() {}
 
 func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1263,7 +1534,7 @@ func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksResponse.ProtoReflect.Descriptor instead.
 func (*ListTasksResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *ListTasksResponse) GetTasks() []*Task {
@@ -1289,7 +1560,7 @@ type CancelJobRequest struct {
 
 func (x *CancelJobRequest) Reset() {
 	*x = CancelJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1301,7 +1572,7 @@ func (x *CancelJobRequest) String() string {
 func (*CancelJobRequest) ProtoMessage() {}
 
 func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1314,7 +1585,7 @@ func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobRequest.ProtoReflect.Descriptor instead.
 func (*CancelJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
 }
 
 func (x *CancelJobRequest) GetJobId() string {
@@ -1333,7 +1604,7 @@ type CancelJobResponse struct {
 
 func (x *CancelJobResponse) Reset() {
 	*x = CancelJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1345,7 +1616,7 @@ func (x *CancelJobResponse) String() string {
 func (*CancelJobResponse) ProtoMessage() {}
 
 func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1358,7 +1629,7 @@ func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobResponse.ProtoReflect.Descriptor instead.
 func (*CancelJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *CancelJobResponse) GetJob() *Job {
@@ -1377,7 +1648,7 @@ type WatchJobRequest struct {
 
 func (x *WatchJobRequest) Reset() {
 	*x = WatchJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1389,7 +1660,7 @@ func (x *WatchJobRequest) String() string {
 func (*WatchJobRequest) ProtoMessage() {}
 
 func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1402,7 +1673,7 @@ func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobRequest.ProtoReflect.Descriptor instead.
 func (*WatchJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *WatchJobRequest) GetJobId() string {
@@ -1426,7 +1697,7 @@ type WatchJobResponse struct {
 
 func (x *WatchJobResponse) Reset() {
 	*x = WatchJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1438,7 +1709,7 @@ func (x *WatchJobResponse) String() string {
 func (*WatchJobResponse) ProtoMessage() {}
 
 func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1451,7 +1722,7 @@ func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobResponse.ProtoReflect.Descriptor instead.
 func (*WatchJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *WatchJobResponse) GetKind() JobEventKind {
@@ -1517,7 +1788,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x01x\x18\x01 \x01(\rR\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\rR\x01y\x12\x14\n" +
 	"\x05width\x18\x03 \x01(\rR\x05width\x12\x16\n" +
-	"\x06height\x18\x04 \x01(\rR\x06height\"\xa9\x03\n" +
+	"\x06height\x18\x04 \x01(\rR\x06height\"\xbd\x04\n" +
 	"\x04Task\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12\x15\n" +
 	"\x06job_id\x18\x02 \x01(\tR\x05jobId\x12\x14\n" +
@@ -1530,11 +1801,24 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\vrender_tile\x18\n" +
 	" \x01(\v2\x1d.renderfarm.v1.RenderTileSpecH\x00R\n" +
 	"renderTile\x12<\n" +
-	"\tcomposite\x18\v \x01(\v2\x1c.renderfarm.v1.CompositeSpecH\x00R\tcomposite\x121\n" +
+	"\tcomposite\x18\v \x01(\v2\x1c.renderfarm.v1.CompositeSpecH\x00R\tcomposite\x12C\n" +
+	"\femit_photons\x18\r \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecH\x00R\vemitPhotons\x12M\n" +
+	"\x10build_photon_map\x18\x0e \x01(\v2!.renderfarm.v1.BuildPhotonMapSpecH\x00R\x0ebuildPhotonMap\x121\n" +
 	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputsB\x06\n" +
-	"\x04spec\">\n" +
+	"\x04spec\"\x80\x01\n" +
 	"\x0eRenderTileSpec\x12,\n" +
-	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\"?\n" +
+	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12@\n" +
+	"\x0fphoton_snapshot\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\"\xac\x01\n" +
+	"\x0fEmitPhotonsSpec\x12.\n" +
+	"\x03map\x18\x01 \x01(\x0e2\x1c.renderfarm.v1.PhotonMapKindR\x03map\x12!\n" +
+	"\ffirst_photon\x18\x02 \x01(\x04R\vfirstPhoton\x12!\n" +
+	"\fphoton_count\x18\x03 \x01(\x04R\vphotonCount\x12#\n" +
+	"\rtotal_photons\x18\x04 \x01(\x04R\ftotalPhotons\"I\n" +
+	"\x12BuildPhotonMapSpec\x123\n" +
+	"\x06shards\x18\x01 \x03(\v2\x1b.renderfarm.v1.EmittedShardR\x06shards\"q\n" +
+	"\fEmittedShard\x122\n" +
+	"\x04spec\x18\x01 \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecR\x04spec\x12-\n" +
+	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"?\n" +
 	"\rCompositeSpec\x12.\n" +
 	"\x05tiles\x18\x01 \x03(\v2\x18.renderfarm.v1.TileInputR\x05tiles\"f\n" +
 	"\tTileInput\x12,\n" +
@@ -1580,11 +1864,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11JOB_STATE_RUNNING\x10\x02\x12\x17\n" +
 	"\x13JOB_STATE_SUCCEEDED\x10\x03\x12\x14\n" +
 	"\x10JOB_STATE_FAILED\x10\x04\x12\x17\n" +
-	"\x13JOB_STATE_CANCELLED\x10\x05*E\n" +
+	"\x13JOB_STATE_CANCELLED\x10\x05*f\n" +
 	"\x05Phase\x12\x15\n" +
-	"\x11PHASE_UNSPECIFIED\x10\x00\x12\x10\n" +
-	"\fPHASE_RENDER\x10\x01\x12\x13\n" +
-	"\x0fPHASE_COMPOSITE\x10\x02*\xb8\x01\n" +
+	"\x11PHASE_UNSPECIFIED\x10\x00\x12\x0e\n" +
+	"\n" +
+	"PHASE_EMIT\x10\x01\x12\x0f\n" +
+	"\vPHASE_BUILD\x10\x02\x12\x10\n" +
+	"\fPHASE_RENDER\x10\x03\x12\x13\n" +
+	"\x0fPHASE_COMPOSITE\x10\x04*\xb8\x01\n" +
 	"\tTaskState\x12\x1a\n" +
 	"\x16TASK_STATE_UNSPECIFIED\x10\x00\x12\x16\n" +
 	"\x12TASK_STATE_WAITING\x10\x01\x12\x15\n" +
@@ -1592,7 +1879,11 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11TASK_STATE_LEASED\x10\x03\x12\x18\n" +
 	"\x14TASK_STATE_SUCCEEDED\x10\x04\x12\x15\n" +
 	"\x11TASK_STATE_FAILED\x10\x05\x12\x18\n" +
-	"\x14TASK_STATE_CANCELLED\x10\x06*\x8e\x01\n" +
+	"\x14TASK_STATE_CANCELLED\x10\x06*i\n" +
+	"\rPhotonMapKind\x12\x1f\n" +
+	"\x1bPHOTON_MAP_KIND_UNSPECIFIED\x10\x00\x12\x1a\n" +
+	"\x16PHOTON_MAP_KIND_GLOBAL\x10\x01\x12\x1b\n" +
+	"\x17PHOTON_MAP_KIND_CAUSTIC\x10\x02*\x8e\x01\n" +
 	"\fJobEventKind\x12\x1e\n" +
 	"\x1aJOB_EVENT_KIND_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17JOB_EVENT_KIND_SNAPSHOT\x10\x01\x12 \n" +
@@ -1619,80 +1910,91 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_job_proto_rawDescData
 }
 
-var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 4)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 20)
+var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 23)
 var file_renderfarm_v1_job_proto_goTypes = []any{
 	(JobState)(0),                 // 0: renderfarm.v1.JobState
 	(Phase)(0),                    // 1: renderfarm.v1.Phase
 	(TaskState)(0),                // 2: renderfarm.v1.TaskState
-	(JobEventKind)(0),             // 3: renderfarm.v1.JobEventKind
-	(*Job)(nil),                   // 4: renderfarm.v1.Job
-	(*PhaseProgress)(nil),         // 5: renderfarm.v1.PhaseProgress
-	(*Artifact)(nil),              // 6: renderfarm.v1.Artifact
-	(*PixelRect)(nil),             // 7: renderfarm.v1.PixelRect
-	(*Task)(nil),                  // 8: renderfarm.v1.Task
-	(*RenderTileSpec)(nil),        // 9: renderfarm.v1.RenderTileSpec
-	(*CompositeSpec)(nil),         // 10: renderfarm.v1.CompositeSpec
-	(*TileInput)(nil),             // 11: renderfarm.v1.TileInput
-	(*SubmitJobRequest)(nil),      // 12: renderfarm.v1.SubmitJobRequest
-	(*SubmitJobResponse)(nil),     // 13: renderfarm.v1.SubmitJobResponse
-	(*GetJobRequest)(nil),         // 14: renderfarm.v1.GetJobRequest
-	(*GetJobResponse)(nil),        // 15: renderfarm.v1.GetJobResponse
-	(*ListJobsRequest)(nil),       // 16: renderfarm.v1.ListJobsRequest
-	(*ListJobsResponse)(nil),      // 17: renderfarm.v1.ListJobsResponse
-	(*ListTasksRequest)(nil),      // 18: renderfarm.v1.ListTasksRequest
-	(*ListTasksResponse)(nil),     // 19: renderfarm.v1.ListTasksResponse
-	(*CancelJobRequest)(nil),      // 20: renderfarm.v1.CancelJobRequest
-	(*CancelJobResponse)(nil),     // 21: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),       // 22: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),      // 23: renderfarm.v1.WatchJobResponse
-	(*timestamppb.Timestamp)(nil), // 24: google.protobuf.Timestamp
-	(*Scene)(nil),                 // 25: renderfarm.v1.Scene
+	(PhotonMapKind)(0),            // 3: renderfarm.v1.PhotonMapKind
+	(JobEventKind)(0),             // 4: renderfarm.v1.JobEventKind
+	(*Job)(nil),                   // 5: renderfarm.v1.Job
+	(*PhaseProgress)(nil),         // 6: renderfarm.v1.PhaseProgress
+	(*Artifact)(nil),              // 7: renderfarm.v1.Artifact
+	(*PixelRect)(nil),             // 8: renderfarm.v1.PixelRect
+	(*Task)(nil),                  // 9: renderfarm.v1.Task
+	(*RenderTileSpec)(nil),        // 10: renderfarm.v1.RenderTileSpec
+	(*EmitPhotonsSpec)(nil),       // 11: renderfarm.v1.EmitPhotonsSpec
+	(*BuildPhotonMapSpec)(nil),    // 12: renderfarm.v1.BuildPhotonMapSpec
+	(*EmittedShard)(nil),          // 13: renderfarm.v1.EmittedShard
+	(*CompositeSpec)(nil),         // 14: renderfarm.v1.CompositeSpec
+	(*TileInput)(nil),             // 15: renderfarm.v1.TileInput
+	(*SubmitJobRequest)(nil),      // 16: renderfarm.v1.SubmitJobRequest
+	(*SubmitJobResponse)(nil),     // 17: renderfarm.v1.SubmitJobResponse
+	(*GetJobRequest)(nil),         // 18: renderfarm.v1.GetJobRequest
+	(*GetJobResponse)(nil),        // 19: renderfarm.v1.GetJobResponse
+	(*ListJobsRequest)(nil),       // 20: renderfarm.v1.ListJobsRequest
+	(*ListJobsResponse)(nil),      // 21: renderfarm.v1.ListJobsResponse
+	(*ListTasksRequest)(nil),      // 22: renderfarm.v1.ListTasksRequest
+	(*ListTasksResponse)(nil),     // 23: renderfarm.v1.ListTasksResponse
+	(*CancelJobRequest)(nil),      // 24: renderfarm.v1.CancelJobRequest
+	(*CancelJobResponse)(nil),     // 25: renderfarm.v1.CancelJobResponse
+	(*WatchJobRequest)(nil),       // 26: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),      // 27: renderfarm.v1.WatchJobResponse
+	(*timestamppb.Timestamp)(nil), // 28: google.protobuf.Timestamp
+	(*Scene)(nil),                 // 29: renderfarm.v1.Scene
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	24, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	24, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	24, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
-	5,  // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	6,  // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
+	28, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	28, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	28, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	6,  // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
+	7,  // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
 	1,  // 6: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
 	1,  // 7: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
 	2,  // 8: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	9,  // 9: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	10, // 10: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	6,  // 11: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	7,  // 12: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	11, // 13: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	7,  // 14: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	6,  // 15: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	25, // 16: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	4,  // 17: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	4,  // 18: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	4,  // 19: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	8,  // 20: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	4,  // 21: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	3,  // 22: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	24, // 23: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	4,  // 24: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	8,  // 25: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	12, // 26: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	14, // 27: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	16, // 28: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	18, // 29: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	20, // 30: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	22, // 31: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	13, // 32: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	15, // 33: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	17, // 34: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	19, // 35: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	21, // 36: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	23, // 37: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	32, // [32:38] is the sub-list for method output_type
-	26, // [26:32] is the sub-list for method input_type
-	26, // [26:26] is the sub-list for extension type_name
-	26, // [26:26] is the sub-list for extension extendee
-	0,  // [0:26] is the sub-list for field type_name
+	10, // 9: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	14, // 10: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	11, // 11: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	12, // 12: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	7,  // 13: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	8,  // 14: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	7,  // 15: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	3,  // 16: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	13, // 17: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	11, // 18: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	7,  // 19: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	15, // 20: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	8,  // 21: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	7,  // 22: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	29, // 23: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	5,  // 24: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 25: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 26: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	9,  // 27: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	5,  // 28: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	4,  // 29: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	28, // 30: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	5,  // 31: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	9,  // 32: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	16, // 33: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	18, // 34: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	20, // 35: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	22, // 36: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	24, // 37: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	26, // 38: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	17, // 39: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	19, // 40: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	21, // 41: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	23, // 42: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	25, // 43: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	27, // 44: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	39, // [39:45] is the sub-list for method output_type
+	33, // [33:39] is the sub-list for method input_type
+	33, // [33:33] is the sub-list for extension type_name
+	33, // [33:33] is the sub-list for extension extendee
+	0,  // [0:33] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -1704,14 +2006,16 @@ func file_renderfarm_v1_job_proto_init() {
 	file_renderfarm_v1_job_proto_msgTypes[4].OneofWrappers = []any{
 		(*Task_RenderTile)(nil),
 		(*Task_Composite)(nil),
+		(*Task_EmitPhotons)(nil),
+		(*Task_BuildPhotonMap)(nil),
 	}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
-			NumEnums:      4,
-			NumMessages:   20,
+			NumEnums:      5,
+			NumMessages:   23,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

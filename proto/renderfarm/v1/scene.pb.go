@@ -21,6 +21,61 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type Filter int32
+
+const (
+	Filter_FILTER_UNSPECIFIED Filter = 0
+	// Every photon within the radius weighs the same.
+	Filter_FILTER_BOX Filter = 1
+	// Weight falls linearly with distance (Jensen's cone filter).
+	Filter_FILTER_CONE Filter = 2
+	// Weight falls as a Gaussian of distance (Jensen's normalised Gaussian filter).
+	Filter_FILTER_GAUSSIAN Filter = 3
+)
+
+// Enum value maps for Filter.
+var (
+	Filter_name = map[int32]string{
+		0: "FILTER_UNSPECIFIED",
+		1: "FILTER_BOX",
+		2: "FILTER_CONE",
+		3: "FILTER_GAUSSIAN",
+	}
+	Filter_value = map[string]int32{
+		"FILTER_UNSPECIFIED": 0,
+		"FILTER_BOX":         1,
+		"FILTER_CONE":        2,
+		"FILTER_GAUSSIAN":    3,
+	}
+)
+
+func (x Filter) Enum() *Filter {
+	p := new(Filter)
+	*p = x
+	return p
+}
+
+func (x Filter) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (Filter) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (Filter) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x Filter) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use Filter.Descriptor instead.
+func (Filter) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
 // canonical JSON mapping (lowerCamelCase or the original field names are both accepted),
 // so one definition serves files and the wire. Lengths are in the scene's own unit (the
@@ -35,8 +90,12 @@ type Scene struct {
 	Film     *Film     `protobuf:"bytes,3,opt,name=film,proto3" json:"film,omitempty"`
 	Sampling *Sampling `protobuf:"bytes,4,opt,name=sampling,proto3" json:"sampling,omitempty"`
 	// Materials referred to by name from shapes.
-	Materials     []*Material `protobuf:"bytes,5,rep,name=materials,proto3" json:"materials,omitempty"`
-	Shapes        []*Shape    `protobuf:"bytes,6,rep,name=shapes,proto3" json:"shapes,omitempty"`
+	Materials []*Material `protobuf:"bytes,5,rep,name=materials,proto3" json:"materials,omitempty"`
+	Shapes    []*Shape    `protobuf:"bytes,6,rep,name=shapes,proto3" json:"shapes,omitempty"`
+	// Lights without geometry. Area lights are shapes with an emissive material.
+	Lights []*Light `protobuf:"bytes,7,rep,name=lights,proto3" json:"lights,omitempty"`
+	// Photon mapping settings; unset fields take the defaults documented on each field.
+	Photons       *PhotonMapping `protobuf:"bytes,8,opt,name=photons,proto3" json:"photons,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -109,6 +168,20 @@ func (x *Scene) GetMaterials() []*Material {
 func (x *Scene) GetShapes() []*Shape {
 	if x != nil {
 		return x.Shapes
+	}
+	return nil
+}
+
+func (x *Scene) GetLights() []*Light {
+	if x != nil {
+		return x.Lights
+	}
+	return nil
+}
+
+func (x *Scene) GetPhotons() *PhotonMapping {
+	if x != nil {
+		return x.Photons
 	}
 	return nil
 }
@@ -431,6 +504,10 @@ type Material struct {
 	//
 	//	*Material_Lambert
 	//	*Material_Emissive
+	//	*Material_Glossy
+	//	*Material_Mirror
+	//	*Material_Dielectric
+	//	*Material_Conductor
 	Kind          isMaterial_Kind `protobuf_oneof:"kind"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -498,6 +575,42 @@ func (x *Material) GetEmissive() *Emissive {
 	return nil
 }
 
+func (x *Material) GetGlossy() *Glossy {
+	if x != nil {
+		if x, ok := x.Kind.(*Material_Glossy); ok {
+			return x.Glossy
+		}
+	}
+	return nil
+}
+
+func (x *Material) GetMirror() *Mirror {
+	if x != nil {
+		if x, ok := x.Kind.(*Material_Mirror); ok {
+			return x.Mirror
+		}
+	}
+	return nil
+}
+
+func (x *Material) GetDielectric() *Dielectric {
+	if x != nil {
+		if x, ok := x.Kind.(*Material_Dielectric); ok {
+			return x.Dielectric
+		}
+	}
+	return nil
+}
+
+func (x *Material) GetConductor() *Conductor {
+	if x != nil {
+		if x, ok := x.Kind.(*Material_Conductor); ok {
+			return x.Conductor
+		}
+	}
+	return nil
+}
+
 type isMaterial_Kind interface {
 	isMaterial_Kind()
 }
@@ -510,9 +623,33 @@ type Material_Emissive struct {
 	Emissive *Emissive `protobuf:"bytes,3,opt,name=emissive,proto3,oneof"`
 }
 
+type Material_Glossy struct {
+	Glossy *Glossy `protobuf:"bytes,4,opt,name=glossy,proto3,oneof"`
+}
+
+type Material_Mirror struct {
+	Mirror *Mirror `protobuf:"bytes,5,opt,name=mirror,proto3,oneof"`
+}
+
+type Material_Dielectric struct {
+	Dielectric *Dielectric `protobuf:"bytes,6,opt,name=dielectric,proto3,oneof"`
+}
+
+type Material_Conductor struct {
+	Conductor *Conductor `protobuf:"bytes,7,opt,name=conductor,proto3,oneof"`
+}
+
 func (*Material_Lambert) isMaterial_Kind() {}
 
 func (*Material_Emissive) isMaterial_Kind() {}
+
+func (*Material_Glossy) isMaterial_Kind() {}
+
+func (*Material_Mirror) isMaterial_Kind() {}
+
+func (*Material_Dielectric) isMaterial_Kind() {}
+
+func (*Material_Conductor) isMaterial_Kind() {}
 
 // An ideal diffuse reflector.
 type Lambert struct {
@@ -605,6 +742,581 @@ func (x *Emissive) GetRadiance() *Color {
 	return nil
 }
 
+// Blinn-Phong: a diffuse lobe plus an energy-normalised glossy lobe about the mirror
+// direction. diffuse + specular must not exceed 1 in any channel.
+type Glossy struct {
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	Diffuse  *Color                 `protobuf:"bytes,1,opt,name=diffuse,proto3" json:"diffuse,omitempty"`
+	Specular *Color                 `protobuf:"bytes,2,opt,name=specular,proto3" json:"specular,omitempty"`
+	// Phong exponent, in [1, 100000]; larger is shinier.
+	Exponent      float64 `protobuf:"fixed64,3,opt,name=exponent,proto3" json:"exponent,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Glossy) Reset() {
+	*x = Glossy{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Glossy) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Glossy) ProtoMessage() {}
+
+func (x *Glossy) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Glossy.ProtoReflect.Descriptor instead.
+func (*Glossy) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
+}
+
+func (x *Glossy) GetDiffuse() *Color {
+	if x != nil {
+		return x.Diffuse
+	}
+	return nil
+}
+
+func (x *Glossy) GetSpecular() *Color {
+	if x != nil {
+		return x.Specular
+	}
+	return nil
+}
+
+func (x *Glossy) GetExponent() float64 {
+	if x != nil {
+		return x.Exponent
+	}
+	return 0
+}
+
+// A perfect mirror.
+type Mirror struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Reflectance   *Color                 `protobuf:"bytes,1,opt,name=reflectance,proto3" json:"reflectance,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Mirror) Reset() {
+	*x = Mirror{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Mirror) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Mirror) ProtoMessage() {}
+
+func (x *Mirror) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Mirror.ProtoReflect.Descriptor instead.
+func (*Mirror) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
+}
+
+func (x *Mirror) GetReflectance() *Color {
+	if x != nil {
+		return x.Reflectance
+	}
+	return nil
+}
+
+// Smooth glass: reflects and transmits by Fresnel's equations, with total internal
+// reflection past the critical angle. Light goes in through the front side.
+type Dielectric struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Index of refraction inside relative to outside, in [1, 10]; glass is about 1.5.
+	Ior float64 `protobuf:"fixed64,1,opt,name=ior,proto3" json:"ior,omitempty"`
+	// Colour filter applied on transmission; unset means (1, 1, 1).
+	Transmittance *Color `protobuf:"bytes,2,opt,name=transmittance,proto3" json:"transmittance,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Dielectric) Reset() {
+	*x = Dielectric{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Dielectric) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Dielectric) ProtoMessage() {}
+
+func (x *Dielectric) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Dielectric.ProtoReflect.Descriptor instead.
+func (*Dielectric) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
+}
+
+func (x *Dielectric) GetIor() float64 {
+	if x != nil {
+		return x.Ior
+	}
+	return 0
+}
+
+func (x *Dielectric) GetTransmittance() *Color {
+	if x != nil {
+		return x.Transmittance
+	}
+	return nil
+}
+
+// A smooth metal with a complex index of refraction per channel (eta + i k), e.g. gold:
+// eta (0.143, 0.374, 1.442), k (3.983, 2.385, 1.603).
+type Conductor struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Eta           *Color                 `protobuf:"bytes,1,opt,name=eta,proto3" json:"eta,omitempty"`
+	K             *Color                 `protobuf:"bytes,2,opt,name=k,proto3" json:"k,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Conductor) Reset() {
+	*x = Conductor{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Conductor) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Conductor) ProtoMessage() {}
+
+func (x *Conductor) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Conductor.ProtoReflect.Descriptor instead.
+func (*Conductor) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
+}
+
+func (x *Conductor) GetEta() *Color {
+	if x != nil {
+		return x.Eta
+	}
+	return nil
+}
+
+func (x *Conductor) GetK() *Color {
+	if x != nil {
+		return x.K
+	}
+	return nil
+}
+
+// A light without geometry; exactly one kind is set.
+type Light struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Name  string                 `protobuf:"bytes,1,opt,name=name,proto3" json:"name,omitempty"`
+	// Types that are valid to be assigned to Kind:
+	//
+	//	*Light_Point
+	//	*Light_Sun
+	Kind          isLight_Kind `protobuf_oneof:"kind"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Light) Reset() {
+	*x = Light{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Light) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Light) ProtoMessage() {}
+
+func (x *Light) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Light.ProtoReflect.Descriptor instead.
+func (*Light) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
+}
+
+func (x *Light) GetName() string {
+	if x != nil {
+		return x.Name
+	}
+	return ""
+}
+
+func (x *Light) GetKind() isLight_Kind {
+	if x != nil {
+		return x.Kind
+	}
+	return nil
+}
+
+func (x *Light) GetPoint() *PointLight {
+	if x != nil {
+		if x, ok := x.Kind.(*Light_Point); ok {
+			return x.Point
+		}
+	}
+	return nil
+}
+
+func (x *Light) GetSun() *SunLight {
+	if x != nil {
+		if x, ok := x.Kind.(*Light_Sun); ok {
+			return x.Sun
+		}
+	}
+	return nil
+}
+
+type isLight_Kind interface {
+	isLight_Kind()
+}
+
+type Light_Point struct {
+	Point *PointLight `protobuf:"bytes,2,opt,name=point,proto3,oneof"`
+}
+
+type Light_Sun struct {
+	Sun *SunLight `protobuf:"bytes,3,opt,name=sun,proto3,oneof"`
+}
+
+func (*Light_Point) isLight_Kind() {}
+
+func (*Light_Sun) isLight_Kind() {}
+
+// Emits equally in all directions.
+type PointLight struct {
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	Position *Vec3                  `protobuf:"bytes,1,opt,name=position,proto3" json:"position,omitempty"`
+	// Radiant intensity (power per steradian) per channel, >= 0.
+	Intensity     *Color `protobuf:"bytes,2,opt,name=intensity,proto3" json:"intensity,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *PointLight) Reset() {
+	*x = PointLight{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PointLight) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PointLight) ProtoMessage() {}
+
+func (x *PointLight) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PointLight.ProtoReflect.Descriptor instead.
+func (*PointLight) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
+}
+
+func (x *PointLight) GetPosition() *Vec3 {
+	if x != nil {
+		return x.Position
+	}
+	return nil
+}
+
+func (x *PointLight) GetIntensity() *Color {
+	if x != nil {
+		return x.Intensity
+	}
+	return nil
+}
+
+// A directional light from infinitely far away.
+type SunLight struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// The direction the light travels in (from the sun towards the scene).
+	Direction *Vec3 `protobuf:"bytes,1,opt,name=direction,proto3" json:"direction,omitempty"`
+	// Irradiance on a surface facing the sun, per channel, >= 0.
+	Irradiance    *Color `protobuf:"bytes,2,opt,name=irradiance,proto3" json:"irradiance,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *SunLight) Reset() {
+	*x = SunLight{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *SunLight) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*SunLight) ProtoMessage() {}
+
+func (x *SunLight) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use SunLight.ProtoReflect.Descriptor instead.
+func (*SunLight) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
+}
+
+func (x *SunLight) GetDirection() *Vec3 {
+	if x != nil {
+		return x.Direction
+	}
+	return nil
+}
+
+func (x *SunLight) GetIrradiance() *Color {
+	if x != nil {
+		return x.Irradiance
+	}
+	return nil
+}
+
+// How photons are traced and how radiance is estimated from them. Photon counts are the
+// numbers of photon paths emitted from the lights; a photon's random numbers depend only on
+// (seed, map, photon index), so emission shards may run anywhere, in any order.
+type PhotonMapping struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Photon paths for the global map (indirect diffuse light); 0 selects 200,000.
+	GlobalPhotons uint64 `protobuf:"varint,1,opt,name=global_photons,json=globalPhotons,proto3" json:"global_photons,omitempty"`
+	// Photon paths aimed at specular surfaces for the caustic map; 0 selects 200,000.
+	// Scenes without specular surfaces get no caustic map.
+	CausticPhotons uint64 `protobuf:"varint,2,opt,name=caustic_photons,json=causticPhotons,proto3" json:"caustic_photons,omitempty"`
+	// Photon paths per emission task; 0 selects 100,000.
+	PhotonsPerShard uint64            `protobuf:"varint,3,opt,name=photons_per_shard,json=photonsPerShard,proto3" json:"photons_per_shard,omitempty"`
+	GlobalEstimate  *RadianceEstimate `protobuf:"bytes,4,opt,name=global_estimate,json=globalEstimate,proto3" json:"global_estimate,omitempty"`
+	CausticEstimate *RadianceEstimate `protobuf:"bytes,5,opt,name=caustic_estimate,json=causticEstimate,proto3" json:"caustic_estimate,omitempty"`
+	unknownFields   protoimpl.UnknownFields
+	sizeCache       protoimpl.SizeCache
+}
+
+func (x *PhotonMapping) Reset() {
+	*x = PhotonMapping{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PhotonMapping) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PhotonMapping) ProtoMessage() {}
+
+func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PhotonMapping.ProtoReflect.Descriptor instead.
+func (*PhotonMapping) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
+}
+
+func (x *PhotonMapping) GetGlobalPhotons() uint64 {
+	if x != nil {
+		return x.GlobalPhotons
+	}
+	return 0
+}
+
+func (x *PhotonMapping) GetCausticPhotons() uint64 {
+	if x != nil {
+		return x.CausticPhotons
+	}
+	return 0
+}
+
+func (x *PhotonMapping) GetPhotonsPerShard() uint64 {
+	if x != nil {
+		return x.PhotonsPerShard
+	}
+	return 0
+}
+
+func (x *PhotonMapping) GetGlobalEstimate() *RadianceEstimate {
+	if x != nil {
+		return x.GlobalEstimate
+	}
+	return nil
+}
+
+func (x *PhotonMapping) GetCausticEstimate() *RadianceEstimate {
+	if x != nil {
+		return x.CausticEstimate
+	}
+	return nil
+}
+
+// A radiance estimate from the k nearest photons within a maximum radius.
+type RadianceEstimate struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// k; 0 selects 100 for the global map and 50 for the caustic map.
+	Neighbours uint32 `protobuf:"varint,1,opt,name=neighbours,proto3" json:"neighbours,omitempty"`
+	// Search radius bound in scene units; 0 selects 1/20 (global) or 1/100 (caustic) of the
+	// scene's bounding box diagonal.
+	MaxRadius float64 `protobuf:"fixed64,2,opt,name=max_radius,json=maxRadius,proto3" json:"max_radius,omitempty"`
+	// Default: cone for caustics, none for the global map.
+	Filter Filter `protobuf:"varint,3,opt,name=filter,proto3,enum=renderfarm.v1.Filter" json:"filter,omitempty"`
+	// The cone filter's k (>= 1); 0 selects 1.1.
+	ConeK         float64 `protobuf:"fixed64,4,opt,name=cone_k,json=coneK,proto3" json:"cone_k,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RadianceEstimate) Reset() {
+	*x = RadianceEstimate{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RadianceEstimate) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RadianceEstimate) ProtoMessage() {}
+
+func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RadianceEstimate.ProtoReflect.Descriptor instead.
+func (*RadianceEstimate) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
+}
+
+func (x *RadianceEstimate) GetNeighbours() uint32 {
+	if x != nil {
+		return x.Neighbours
+	}
+	return 0
+}
+
+func (x *RadianceEstimate) GetMaxRadius() float64 {
+	if x != nil {
+		return x.MaxRadius
+	}
+	return 0
+}
+
+func (x *RadianceEstimate) GetFilter() Filter {
+	if x != nil {
+		return x.Filter
+	}
+	return Filter_FILTER_UNSPECIFIED
+}
+
+func (x *RadianceEstimate) GetConeK() float64 {
+	if x != nil {
+		return x.ConeK
+	}
+	return 0
+}
+
 // A piece of geometry with a material; exactly one geometry is set.
 type Shape struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
@@ -625,7 +1337,7 @@ type Shape struct {
 
 func (x *Shape) Reset() {
 	*x = Shape{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -637,7 +1349,7 @@ func (x *Shape) String() string {
 func (*Shape) ProtoMessage() {}
 
 func (x *Shape) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -650,7 +1362,7 @@ func (x *Shape) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Shape.ProtoReflect.Descriptor instead.
 func (*Shape) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *Shape) GetName() string {
@@ -749,7 +1461,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -761,7 +1473,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -774,7 +1486,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -804,7 +1516,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -816,7 +1528,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -829,7 +1541,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -865,7 +1577,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -877,7 +1589,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -890,7 +1602,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -922,7 +1634,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -934,7 +1646,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -947,7 +1659,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -985,7 +1697,7 @@ type Transform struct {
 
 func (x *Transform) Reset() {
 	*x = Transform{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -997,7 +1709,7 @@ func (x *Transform) String() string {
 func (*Transform) ProtoMessage() {}
 
 func (x *Transform) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1010,7 +1722,7 @@ func (x *Transform) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Transform.ProtoReflect.Descriptor instead.
 func (*Transform) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *Transform) GetTranslation() *Vec3 {
@@ -1045,14 +1757,16 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\"\x8d\x02\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\"\xf3\x02\n" +
 	"\x05Scene\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12-\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraR\x06camera\x12'\n" +
 	"\x04film\x18\x03 \x01(\v2\x13.renderfarm.v1.FilmR\x04film\x123\n" +
 	"\bsampling\x18\x04 \x01(\v2\x17.renderfarm.v1.SamplingR\bsampling\x125\n" +
 	"\tmaterials\x18\x05 \x03(\v2\x17.renderfarm.v1.MaterialR\tmaterials\x12,\n" +
-	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeR\x06shapes\"0\n" +
+	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeR\x06shapes\x12,\n" +
+	"\x06lights\x18\a \x03(\v2\x14.renderfarm.v1.LightR\x06lights\x126\n" +
+	"\aphotons\x18\b \x01(\v2\x1c.renderfarm.v1.PhotonMappingR\aphotons\"0\n" +
 	"\x04Vec3\x12\f\n" +
 	"\x01x\x18\x01 \x01(\x01R\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\x01R\x01y\x12\f\n" +
@@ -1072,16 +1786,63 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\ttile_size\x18\x03 \x01(\rR\btileSize\"J\n" +
 	"\bSampling\x12*\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rR\x0fsamplesPerPixel\x12\x12\n" +
-	"\x04seed\x18\x02 \x01(\x04R\x04seed\"\x91\x01\n" +
+	"\x04seed\x18\x02 \x01(\x04R\x04seed\"\xea\x02\n" +
 	"\bMaterial\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x122\n" +
 	"\alambert\x18\x02 \x01(\v2\x16.renderfarm.v1.LambertH\x00R\alambert\x125\n" +
-	"\bemissive\x18\x03 \x01(\v2\x17.renderfarm.v1.EmissiveH\x00R\bemissiveB\x06\n" +
+	"\bemissive\x18\x03 \x01(\v2\x17.renderfarm.v1.EmissiveH\x00R\bemissive\x12/\n" +
+	"\x06glossy\x18\x04 \x01(\v2\x15.renderfarm.v1.GlossyH\x00R\x06glossy\x12/\n" +
+	"\x06mirror\x18\x05 \x01(\v2\x15.renderfarm.v1.MirrorH\x00R\x06mirror\x12;\n" +
+	"\n" +
+	"dielectric\x18\x06 \x01(\v2\x19.renderfarm.v1.DielectricH\x00R\n" +
+	"dielectric\x128\n" +
+	"\tconductor\x18\a \x01(\v2\x18.renderfarm.v1.ConductorH\x00R\tconductorB\x06\n" +
 	"\x04kind\"A\n" +
 	"\aLambert\x126\n" +
 	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\vreflectance\"<\n" +
 	"\bEmissive\x120\n" +
-	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\bradiance\"\x8b\x02\n" +
+	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\bradiance\"\x86\x01\n" +
+	"\x06Glossy\x12.\n" +
+	"\adiffuse\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\adiffuse\x120\n" +
+	"\bspecular\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\bspecular\x12\x1a\n" +
+	"\bexponent\x18\x03 \x01(\x01R\bexponent\"@\n" +
+	"\x06Mirror\x126\n" +
+	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\vreflectance\"Z\n" +
+	"\n" +
+	"Dielectric\x12\x10\n" +
+	"\x03ior\x18\x01 \x01(\x01R\x03ior\x12:\n" +
+	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\rtransmittance\"W\n" +
+	"\tConductor\x12&\n" +
+	"\x03eta\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\x03eta\x12\"\n" +
+	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\x01k\"\x83\x01\n" +
+	"\x05Light\x12\x12\n" +
+	"\x04name\x18\x01 \x01(\tR\x04name\x121\n" +
+	"\x05point\x18\x02 \x01(\v2\x19.renderfarm.v1.PointLightH\x00R\x05point\x12+\n" +
+	"\x03sun\x18\x03 \x01(\v2\x17.renderfarm.v1.SunLightH\x00R\x03sunB\x06\n" +
+	"\x04kind\"q\n" +
+	"\n" +
+	"PointLight\x12/\n" +
+	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\bposition\x122\n" +
+	"\tintensity\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\tintensity\"s\n" +
+	"\bSunLight\x121\n" +
+	"\tdirection\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\tdirection\x124\n" +
+	"\n" +
+	"irradiance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\n" +
+	"irradiance\"\xa1\x02\n" +
+	"\rPhotonMapping\x12%\n" +
+	"\x0eglobal_photons\x18\x01 \x01(\x04R\rglobalPhotons\x12'\n" +
+	"\x0fcaustic_photons\x18\x02 \x01(\x04R\x0ecausticPhotons\x12*\n" +
+	"\x11photons_per_shard\x18\x03 \x01(\x04R\x0fphotonsPerShard\x12H\n" +
+	"\x0fglobal_estimate\x18\x04 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0eglobalEstimate\x12J\n" +
+	"\x10caustic_estimate\x18\x05 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0fcausticEstimate\"\x97\x01\n" +
+	"\x10RadianceEstimate\x12\x1e\n" +
+	"\n" +
+	"neighbours\x18\x01 \x01(\rR\n" +
+	"neighbours\x12\x1d\n" +
+	"\n" +
+	"max_radius\x18\x02 \x01(\x01R\tmaxRadius\x12-\n" +
+	"\x06filter\x18\x03 \x01(\x0e2\x15.renderfarm.v1.FilterR\x06filter\x12\x15\n" +
+	"\x06cone_k\x18\x04 \x01(\x01R\x05coneK\"\x8b\x02\n" +
 	"\x05Shape\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12\x1a\n" +
 	"\bmaterial\x18\x02 \x01(\tR\bmaterial\x12/\n" +
@@ -1109,7 +1870,13 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\vtranslation\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\vtranslation\x12)\n" +
 	"\x05scale\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3R\x05scale\x128\n" +
 	"\rrotation_axis\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3R\frotationAxis\x12)\n" +
-	"\x10rotation_degrees\x18\x04 \x01(\x01R\x0frotationDegreesB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\x10rotation_degrees\x18\x04 \x01(\x01R\x0frotationDegrees*V\n" +
+	"\x06Filter\x12\x16\n" +
+	"\x12FILTER_UNSPECIFIED\x10\x00\x12\x0e\n" +
+	"\n" +
+	"FILTER_BOX\x10\x01\x12\x0f\n" +
+	"\vFILTER_CONE\x10\x02\x12\x13\n" +
+	"\x0fFILTER_GAUSSIAN\x10\x03B-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_scene_proto_rawDescOnce sync.Once
@@ -1123,55 +1890,87 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 15)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 1)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 24)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(*Scene)(nil),        // 0: renderfarm.v1.Scene
-	(*Vec3)(nil),         // 1: renderfarm.v1.Vec3
-	(*Color)(nil),        // 2: renderfarm.v1.Color
-	(*Camera)(nil),       // 3: renderfarm.v1.Camera
-	(*Film)(nil),         // 4: renderfarm.v1.Film
-	(*Sampling)(nil),     // 5: renderfarm.v1.Sampling
-	(*Material)(nil),     // 6: renderfarm.v1.Material
-	(*Lambert)(nil),      // 7: renderfarm.v1.Lambert
-	(*Emissive)(nil),     // 8: renderfarm.v1.Emissive
-	(*Shape)(nil),        // 9: renderfarm.v1.Shape
-	(*Sphere)(nil),       // 10: renderfarm.v1.Sphere
-	(*Quad)(nil),         // 11: renderfarm.v1.Quad
-	(*TriangleMesh)(nil), // 12: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),     // 13: renderfarm.v1.MeshFile
-	(*Transform)(nil),    // 14: renderfarm.v1.Transform
+	(Filter)(0),              // 0: renderfarm.v1.Filter
+	(*Scene)(nil),            // 1: renderfarm.v1.Scene
+	(*Vec3)(nil),             // 2: renderfarm.v1.Vec3
+	(*Color)(nil),            // 3: renderfarm.v1.Color
+	(*Camera)(nil),           // 4: renderfarm.v1.Camera
+	(*Film)(nil),             // 5: renderfarm.v1.Film
+	(*Sampling)(nil),         // 6: renderfarm.v1.Sampling
+	(*Material)(nil),         // 7: renderfarm.v1.Material
+	(*Lambert)(nil),          // 8: renderfarm.v1.Lambert
+	(*Emissive)(nil),         // 9: renderfarm.v1.Emissive
+	(*Glossy)(nil),           // 10: renderfarm.v1.Glossy
+	(*Mirror)(nil),           // 11: renderfarm.v1.Mirror
+	(*Dielectric)(nil),       // 12: renderfarm.v1.Dielectric
+	(*Conductor)(nil),        // 13: renderfarm.v1.Conductor
+	(*Light)(nil),            // 14: renderfarm.v1.Light
+	(*PointLight)(nil),       // 15: renderfarm.v1.PointLight
+	(*SunLight)(nil),         // 16: renderfarm.v1.SunLight
+	(*PhotonMapping)(nil),    // 17: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil), // 18: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),            // 19: renderfarm.v1.Shape
+	(*Sphere)(nil),           // 20: renderfarm.v1.Sphere
+	(*Quad)(nil),             // 21: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),     // 22: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),         // 23: renderfarm.v1.MeshFile
+	(*Transform)(nil),        // 24: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	3,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	4,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	5,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	6,  // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	9,  // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	1,  // 5: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	1,  // 6: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	1,  // 7: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	7,  // 8: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	8,  // 9: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	2,  // 10: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	2,  // 11: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	10, // 12: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	11, // 13: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	12, // 14: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	13, // 15: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	1,  // 16: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	1,  // 17: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	1,  // 18: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	1,  // 19: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	1,  // 20: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	14, // 21: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	1,  // 22: renderfarm.v1.Transform.translation:type_name -> renderfarm.v1.Vec3
-	1,  // 23: renderfarm.v1.Transform.scale:type_name -> renderfarm.v1.Vec3
-	1,  // 24: renderfarm.v1.Transform.rotation_axis:type_name -> renderfarm.v1.Vec3
-	25, // [25:25] is the sub-list for method output_type
-	25, // [25:25] is the sub-list for method input_type
-	25, // [25:25] is the sub-list for extension type_name
-	25, // [25:25] is the sub-list for extension extendee
-	0,  // [0:25] is the sub-list for field type_name
+	4,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	5,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	6,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	7,  // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	19, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	14, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	17, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	2,  // 7: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	2,  // 8: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	2,  // 9: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	8,  // 10: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	9,  // 11: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	10, // 12: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	11, // 13: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	12, // 14: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	13, // 15: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	3,  // 16: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	3,  // 17: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	3,  // 18: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	3,  // 19: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	3,  // 20: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	3,  // 21: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	3,  // 22: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	3,  // 23: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	15, // 24: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	16, // 25: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	2,  // 26: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	3,  // 27: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	2,  // 28: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	3,  // 29: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	18, // 30: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	18, // 31: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	0,  // 32: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	20, // 33: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	21, // 34: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	22, // 35: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	23, // 36: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	2,  // 37: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	2,  // 38: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	2,  // 39: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	2,  // 40: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	2,  // 41: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	24, // 42: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	2,  // 43: renderfarm.v1.Transform.translation:type_name -> renderfarm.v1.Vec3
+	2,  // 44: renderfarm.v1.Transform.scale:type_name -> renderfarm.v1.Vec3
+	2,  // 45: renderfarm.v1.Transform.rotation_axis:type_name -> renderfarm.v1.Vec3
+	46, // [46:46] is the sub-list for method output_type
+	46, // [46:46] is the sub-list for method input_type
+	46, // [46:46] is the sub-list for extension type_name
+	46, // [46:46] is the sub-list for extension extendee
+	0,  // [0:46] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -1182,8 +1981,16 @@ func file_renderfarm_v1_scene_proto_init() {
 	file_renderfarm_v1_scene_proto_msgTypes[6].OneofWrappers = []any{
 		(*Material_Lambert)(nil),
 		(*Material_Emissive)(nil),
+		(*Material_Glossy)(nil),
+		(*Material_Mirror)(nil),
+		(*Material_Dielectric)(nil),
+		(*Material_Conductor)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[9].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[13].OneofWrappers = []any{
+		(*Light_Point)(nil),
+		(*Light_Sun)(nil),
+	}
+	file_renderfarm_v1_scene_proto_msgTypes[18].OneofWrappers = []any{
 		(*Shape_Sphere)(nil),
 		(*Shape_Quad)(nil),
 		(*Shape_Triangles)(nil),
@@ -1194,13 +2001,14 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      0,
-			NumMessages:   15,
+			NumEnums:      1,
+			NumMessages:   24,
 			NumExtensions: 0,
 			NumServices:   0,
 		},
 		GoTypes:           file_renderfarm_v1_scene_proto_goTypes,
 		DependencyIndexes: file_renderfarm_v1_scene_proto_depIdxs,
+		EnumInfos:         file_renderfarm_v1_scene_proto_enumTypes,
 		MessageInfos:      file_renderfarm_v1_scene_proto_msgTypes,
 	}.Build()
 	File_renderfarm_v1_scene_proto = out.File

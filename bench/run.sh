@@ -1,0 +1,26 @@
+#!/bin/sh
+# Runs every photon-map benchmark and prints the figures (`make bench`).
+#   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
+# Needs farm_bench_knn built in BUILD_DIR. Snapshots go to a temporary folder, removed at exit.
+set -eu
+build=${1:-build}
+sizes=${2:-"1000000 10000000"}
+root=$(cd "$(dirname "$0")/.." && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT INT TERM
+cd "$root"
+echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+echo "== worker photon tracing (C++, scenes/cornell-caustics.json)"
+"$build/bin/farm_bench_photons"
+echo "== coordinator kd-tree build (Go, coordinator/photonmap.Build)"
+go build -o "$tmp/mksnapshot" ./bench/cmd/mksnapshot
+snaps=""
+for dist in uniform surfaces; do
+  for n in $sizes; do
+    "$tmp/mksnapshot" -n "$n" -dist "$dist" -o "$tmp/$dist-$n.snap"
+    snaps="$snaps $tmp/$dist-$n.snap"
+  done
+done
+echo "== worker nearest-k (C++, the Go-built snapshot mapped) vs nanoflann, same points and queries"
+# shellcheck disable=SC2086
+"$build/bin/farm_bench_knn" $snaps

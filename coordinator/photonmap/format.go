@@ -1,0 +1,45 @@
+// Package photonmap builds photon kd-tree snapshots from the emission shards that workers
+// upload (both formats are specified in docs/photon-snapshot.md). Build is the product;
+// Decode and EncodeShard exist for tests, test vectors and benchmarks.
+package photonmap
+
+import "fmt"
+
+// Kind is a photon map's kind, as numbered in both formats.
+type Kind uint32
+
+const (
+	Global  Kind = 1
+	Caustic Kind = 2
+)
+
+func (k Kind) String() string {
+	switch k {
+	case Global:
+		return "global"
+	case Caustic:
+		return "caustic"
+	}
+	return fmt.Sprintf("kind(%d)", uint32(k))
+}
+
+// Layout constants of the two formats.
+const (
+	shardMagic      = "PFSHARD1"
+	shardVersion    = 1
+	shardHeaderSize = 40
+	shardRecordSize = 28
+
+	snapshotMagic    = "PFPHOTON"
+	snapshotVersion  = 1
+	headerSize       = 64
+	dirEntrySize     = 64
+	recordSize       = 20
+	mapAlignment     = 64
+	axisLeaf         = 3
+	normalAxisMask   = 3
+	maxMapPhotons    = 1<<31 - 1
+	rgb9e5Bias       = 15
+	rgb9e5MantBits   = 9
+	rgb9e5MantLevels = 1 << rgb9e5MantBits
+)

@@ -1,0 +1,117 @@
+package photonmap
+
+import (
+	"encoding/binary"
+	"fmt"
+	"math"
+
+	"photonfarm/coordinator/errs"
+)
+
+// Shard is one emission task's result in the SHARD format, as uploaded by a worker.
+type Shard struct {
+	Data []byte
+}
+
+// ShardPhoton is one record of a shard with its directions still oct-encoded.
+type ShardPhoton struct {
+	Position [3]float32
+	Power    [3]float32
+	Wi       uint16 // oct8
+	Normal   uint16 // oct7 in bits 2-15, bits 0-1 zero
+}
+
+// shardHeader is a validated shard header; records start at shardHeaderSize.
+type shardHeader struct {
+	kind        Kind
+	firstPhoton uint64
+	photonCount uint64
+	records     int
+}
+
+var le = binary.LittleEndian
+
+func shardErr(i int, format string, args ...any) error {
+	return errs.Field(fmt.Sprintf("shards[%d]", i), format, args...)
+}
+
+// parseShard validates shard i (untrusted) completely, header and every record, so that
+// the build afterwards cannot fail half-way.
+func parseShard(i int, data []byte) (shardHeader, error) {
+	if len(data) < shardHeaderSize {
+		return shardHeader{}, shardErr(i, "%d bytes is shorter than the %d-byte header", len(data), shardHeaderSize)
+	}
+	if string(data[:8]) != shardMagic {
+		return shardHeader{}, shardErr(i, "bad magic %q, want %q", data[:8], shardMagic)
+	}
+	if v := le.Uint32(data[8:]); v != shardVersion {
+		return shardHeader{}, shardErr(i, "unsupported version %d, want %d", v, shardVersion)
+	}
+	h := shardHeader{
+		kind:        Kind(le.Uint32(data[12:])),
+		firstPhoton: le.Uint64(data[16:]),
+		photonCount: le.Uint64(data[24:]),
+	}
+	if h.kind != Global && h.kind != Caustic {
+		return shardHeader{}, shardErr(i, "unknown map kind %d", uint32(h.kind))
+	}
+	n := le.Uint64(data[32:])
+	body := uint64(len(data) - shardHeaderSize)
+	// Divide rather than multiply: a forged record_count cannot overflow the check.
+	if body%shardRecordSize != 0 || body/shardRecordSize != n {
+		return shardHeader{}, shardErr(i, "record_count %d does not match %d bytes", n, len(data))
+	}
+	h.records = int(n)
+	for r := 0; r < h.records; r++ {
+		rec := data[shardHeaderSize+r*shardRecordSize:]
+		for c := 0; c < 3; c++ {
+			p := math.Float32frombits(le.Uint32(rec[4*c:]))
+			if math.IsNaN(float64(p)) || math.IsInf(float64(p), 0) {
+				return shardHeader{}, shardErr(i, "record %d: position is not finite", r)
+			}
+			w := math.Float32frombits(le.Uint32(rec[12+4*c:]))
+			if !(w >= 0) || math.IsInf(float64(w), 0) {
+				return shardHeader{}, shardErr(i, "record %d: power must be finite and >= 0, got %g", r, w)
+			}
+		}
+		if le.Uint16(rec[26:])&normalAxisMask != 0 {
+			return shardHeader{}, shardErr(i, "record %d: normal bits 0-1 must be zero", r)
+		}
+	}
+	return h, nil
+}
+
+// shardPhoton reads record r of a validated shard.
+func shardPhoton(data []byte, r int) ShardPhoton {
+	rec := data[shardHeaderSize+r*shardRecordSize:]
+	var p ShardPhoton
+	for c := 0; c < 3; c++ {
+		p.Position[c] = math.Float32frombits(le.Uint32(rec[4*c:]))
+		p.Power[c] = math.Float32frombits(le.Uint32(rec[12+4*c:]))
+	}
+	p.Wi = le.Uint16(rec[24:])
+	p.Normal = le.Uint16(rec[26:])
+	return p
+}
+
+// EncodeShard writes photons as a shard; the worker's C++ EncodeShard is the product's
+// writer, this one serves tests, test vectors and benchmarks. It does not validate.
+func EncodeShard(kind Kind, firstPhoton, photonCount uint64, photons []ShardPhoton) []byte {
+	out := make([]byte, shardHeaderSize+shardRecordSize*len(photons))
+	copy(out, shardMagic)
+	le.PutUint32(out[8:], shardVersion)
+	le.PutUint32(out[12:], uint32(kind))
+	le.PutUint64(out[16:], firstPhoton)
+	le.PutUint64(out[24:], photonCount)
+	le.PutUint64(out[32:], uint64(len(photons)))
+	for i, p := range photons {
+		rec := out[shardHeaderSize+i*shardRecordSize:]
+		for c := 0; c < 3; c++ {
+			le.PutUint32(rec[4*c:], math.Float32bits(p.Position[c]))
+			le.PutUint32(rec[12+4*c:], math.Float32bits(p.Power[c]))
+		}
+		le.PutUint16(rec[24:], p.Wi)
+		le.PutUint16(rec[26:], p.Normal)
+	}
+	return out
+}

@@ -1,0 +1,91 @@
+package photonmap
+
+import (
+	"bytes"
+	"flag"
+	"fmt"
+	"os"
+	"path/filepath"
+	"slices"
+	"testing"
+)
+
+// The test vectors are shared with the C++ reader's tests (worker/photonmap): each case
+// folder holds shard-NNN.bin (the input, in plan order) and snapshot.bin (Build's output).
+// Regenerate after an intended format change with
+//
+//	go test ./coordinator/photonmap -run TestVectors -update
+var update = flag.Bool("update", false, "rewrite tests/vectors/photon-snapshot from testCases")
+
+const vectorDir = "../../tests/vectors/photon-snapshot"
+
+func TestVectors(t *testing.T) {
+	if *update {
+		writeVectors(t)
+	}
+	entries, err := os.ReadDir(vectorDir)
+	if err != nil {
+		t.Fatal(err)
+	}
+	cases := 0
+	for _, e := range entries {
+		if !e.IsDir() {
+			continue
+		}
+		cases++
+		t.Run(e.Name(), func(t *testing.T) {
+			dir := filepath.Join(vectorDir, e.Name())
+			names, err := filepath.Glob(filepath.Join(dir, "shard-*.bin"))
+			if err != nil {
+				t.Fatal(err)
+			}
+			slices.Sort(names)
+			var shards []Shard
+			for _, n := range names {
+				data, err := os.ReadFile(n)
+				if err != nil {
+					t.Fatal(err)
+				}
+				shards = append(shards, Shard{Data: data})
+			}
+			want, err := os.ReadFile(filepath.Join(dir, "snapshot.bin"))
+			if err != nil {
+				t.Fatal(err)
+			}
+			got, err := Build(shards)
+			if err != nil {
+				t.Fatal(err)
+			}
+			if !bytes.Equal(got, want) {
+				t.Fatalf("Build of %d shards differs from snapshot.bin (%d vs %d bytes)", len(shards), len(got), len(want))
+			}
+		})
+	}
+	if cases < 5 {
+		t.Fatalf("only %d vector cases in %s", cases, vectorDir)
+	}
+}
+
+func writeVectors(t *testing.T) {
+	for _, tc := range testCases() {
+		dir := filepath.Join(vectorDir, tc.name)
+		if err := os.RemoveAll(dir); err != nil {
+			t.Fatal(err)
+		}
+		if err := os.MkdirAll(dir, 0o755); err != nil {
+			t.Fatal(err)
+		}
+		for i, s := range tc.shards {
+			if err := os.WriteFile(filepath.Join(dir, fmt.Sprintf("shard-%03d.bin", i)), s.Data, 0o644); err != nil {
+				t.Fatal(err)
+			}
+		}
+		snap, err := Build(tc.shards)
+		if err != nil {
+			t.Fatal(err)
+		}
+		if err := os.WriteFile(filepath.Join(dir, "snapshot.bin"), snap, 0o644); err != nil {
+			t.Fatal(err)
+		}
+	}
+}
