@@ -29,7 +29,7 @@ pb::Scene FloorScene(uint32_t spp) {
 
 Rgb RenderOnePixel(const pb::Scene& s) {
   const Scene scene = Scene::Build(s, NoBlobs());
-  const Image image = RenderTile(scene, {0, 0, 1, 1});
+  const Image image = RenderTile(scene, nullptr, {0, 0, 1, 1});
   const float* p = image.pixel(0, 0);
   EXPECT_EQ(p[3], 1.0f);
   return {p[0], p[1], p[2]};
@@ -80,7 +80,7 @@ TEST(DirectLighting, CameraSeesEmitterRadianceOnItsFrontAndNothingOnItsBack) {
   pb::Scene s = MakeScene(3, 3, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 10, 4, 1);
   AddEmissive(s, "lamp", Rgb(1, 2, 3));
   AddQuad(s, "lamp", {-5, -5, 10}, {0, 10, 0}, {10, 0, 0});  // front -z: towards the camera
-  const Image front = RenderTile(Scene::Build(s, NoBlobs()), {0, 0, 3, 3});
+  const Image front = RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 3, 3});
   EXPECT_EQ(front.pixel(1, 1)[0], 1.0f);
   EXPECT_EQ(front.pixel(1, 1)[1], 2.0f);
   EXPECT_EQ(front.pixel(1, 1)[2], 3.0f);
@@ -90,7 +90,7 @@ TEST(DirectLighting, CameraSeesEmitterRadianceOnItsFrontAndNothingOnItsBack) {
   s.mutable_shapes(0)->mutable_quad()->mutable_edge_u()->set_x(10);
   s.mutable_shapes(0)->mutable_quad()->mutable_edge_v()->set_x(0);
   s.mutable_shapes(0)->mutable_quad()->mutable_edge_v()->set_y(10);  // front +z: away
-  const Image back = RenderTile(Scene::Build(s, NoBlobs()), {0, 0, 3, 3});
+  const Image back = RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 3, 3});
   EXPECT_EQ(back.pixel(1, 1)[0], 0.0f);
   EXPECT_EQ(back.pixel(1, 1)[3], 1.0f);  // still a hit
 }
@@ -99,7 +99,7 @@ TEST(DirectLighting, MissIsBlackWithZeroAlpha) {
   pb::Scene s = MakeScene(2, 2, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 10, 4, 1);
   AddLambert(s, "grey", Rgb(0.5f));
   AddSphere(s, "grey", {0, 0, -10}, 1);  // behind the camera
-  const Image image = RenderTile(Scene::Build(s, NoBlobs()), {0, 0, 2, 2});
+  const Image image = RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 2, 2});
   for (float v : image.data()) EXPECT_EQ(v, 0.0f);
 }
 

@@ -43,46 +43,51 @@ void ExpectSamePixels(const Image& whole, const Image& part) {
   const PixelRect r = part.rect();
   for (int y = r.y; y < r.y_end(); ++y)
     for (int x = r.x; x < r.x_end(); ++x)
-      ASSERT_EQ(std::memcmp(whole.pixel(x, y), part.pixel(x, y), 4 * sizeof(float)), 0)
+      ASSERT_EQ(std::memcmp(whole.pixel(x, y), part.pixel(x, y), whole.channel_count() * sizeof(float)), 0)
           << "pixel " << x << ", " << y;
 }
 
 TEST(RenderTile, FourTilesEqualTheWholeImageBitForBit) {
   const Scene scene = BuildBox(42);
-  const Image whole = RenderTile(scene, {0, 0, 24, 16});
+  const Image whole = RenderTile(scene, nullptr, {0, 0, 24, 16});
   for (const PixelRect& tile : {PixelRect{0, 0, 13, 7}, PixelRect{13, 0, 11, 7},
                                 PixelRect{0, 7, 13, 9}, PixelRect{13, 7, 11, 9}}) {
-    const Image part = RenderTile(scene, tile);
+    const Image part = RenderTile(scene, nullptr, tile);
     EXPECT_EQ(part.rect(), tile);
-    EXPECT_EQ(part.channels(), RgbaChannels());
+    EXPECT_EQ(part.channels(), RenderChannels());
     ExpectSamePixels(whole, part);
   }
 }
 
 TEST(RenderTile, SameSeedSameBytesDifferentSeedDifferentBytes) {
-  const Image a = RenderTile(BuildBox(42), {0, 0, 24, 16});
-  const Image b = RenderTile(BuildBox(42), {0, 0, 24, 16});  // a separately built scene
-  const Image c = RenderTile(BuildBox(43), {0, 0, 24, 16});
+  const Image a = RenderTile(BuildBox(42), nullptr, {0, 0, 24, 16});
+  const Image b = RenderTile(BuildBox(42), nullptr, {0, 0, 24, 16});  // a separately built scene
+  const Image c = RenderTile(BuildBox(43), nullptr, {0, 0, 24, 16});
   ASSERT_EQ(a.data().size(), b.data().size());
   EXPECT_EQ(std::memcmp(a.data().data(), b.data().data(), a.data().size_bytes()), 0);
   EXPECT_NE(std::memcmp(a.data().data(), c.data().data(), a.data().size_bytes()), 0);
 }
 
 TEST(RenderTile, ImageIsFiniteLitAndCovered) {
-  const Image image = RenderTile(BuildBox(1), {0, 0, 24, 16});
+  const Image image = RenderTile(BuildBox(1), nullptr, {0, 0, 24, 16});
   double sum = 0;
-  for (float v : image.data()) {
-    ASSERT_TRUE(std::isfinite(v));
-    ASSERT_GE(v, 0);
-    sum += v;
+  const std::span<const float> data = image.data();
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(data[i]));
+    const bool normal = i % 20 >= 16 && i % 20 < 19;  // normals may point any way
+    if (!normal) {
+      ASSERT_GE(data[i], 0);
+    }
+    sum += data[i];
   }
   EXPECT_GT(sum, 0);
-  // The box fills the view's centre.
+  // The box fills the view's centre, where the back wall faces the camera.
   EXPECT_EQ(image.pixel(12, 8)[3], 1.0f);
+  EXPECT_NEAR(image.pixel(12, 8)[18], -1.0f, 1e-3);
 }
 
 TEST(RenderTile, RedWallAtLargeXIsOnTheLeft) {
-  const Image image = RenderTile(BuildBox(1, 16, 16), {0, 0, 16, 16});
+  const Image image = RenderTile(BuildBox(1, 16, 16), nullptr, {0, 0, 16, 16});
   // Middle row: the leftmost pixel sees the red wall (x = 556), the rightmost the green.
   const float* left = image.pixel(0, 8);
   const float* right = image.pixel(15, 8);
@@ -90,18 +95,45 @@ TEST(RenderTile, RedWallAtLargeXIsOnTheLeft) {
   EXPECT_GT(right[1], 2 * right[0]) << "right pixel is not green";
 }
 
+TEST(RenderTile, PassesAddUpToTheBeautyAndGeometryLayersAreFilled) {
+  const Image image = RenderTile(BuildBox(3), nullptr, {0, 0, 24, 16});
+  const std::vector<std::string> channels = RenderChannels();
+  ASSERT_EQ(image.channels(), channels);
+  ASSERT_EQ(channels.size(), 20u);
+  EXPECT_EQ(channels[19], "depth.Z");
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 24; ++x) {
+      const float* p = image.pixel(x, y);
+      // No photon maps: no indirect or caustic light; emitted light (the lamp) is the
+      // difference between beauty and direct.
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(p[7 + c], 0.0f);
+        EXPECT_EQ(p[10 + c], 0.0f);
+        EXPECT_LE(p[4 + c], p[c] * (1 + 1e-5f) + 1e-6f);
+      }
+      if (p[3] == 1) {
+        const Vec3 n(p[16], p[17], p[18]);
+        // Averaged over the pixel: unit inside a face, shorter where faces meet.
+        EXPECT_LE(Length(n), 1 + 1e-5f) << x << ", " << y;
+        EXPECT_GT(Length(n), 0.0f) << x << ", " << y;
+        EXPECT_GT(p[19], 700);  // the box is at least 800 away, walls at an angle nearer
+        EXPECT_GT(p[13], 0);    // albedo of white, red or green walls
+      }
+    }
+}
+
 TEST(RenderTile, StopsWhenAsked) {
   const Scene scene = BuildBox(1);
   std::stop_source source;
   source.request_stop();
-  const Image image = RenderTile(scene, {0, 0, 24, 16}, source.get_token());
+  const Image image = RenderTile(scene, nullptr, {0, 0, 24, 16}, source.get_token());
   // Nothing rendered: every row checks the token first.
   for (float v : image.data()) EXPECT_EQ(v, 0.0f);
 }
 
 TEST(RenderTile, RefusesARectOutsideTheImage) {
   const Scene scene = BuildBox(1);
-  EXPECT_THROW(RenderTile(scene, {20, 0, 8, 8}), std::invalid_argument);
+  EXPECT_THROW(RenderTile(scene, nullptr, {20, 0, 8, 8}), std::invalid_argument);
 }
 
 }  // namespace

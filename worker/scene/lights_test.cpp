@@ -85,3 +85,66 @@ TEST(Lights, PowerIsPiTimesAreaTimesRadiance) {
 
 }  // namespace
 }  // namespace farm
+
+namespace farm {
+namespace {
+
+TEST(Lights, PointLightIrradianceIsIntensityOverDistanceSquared) {
+  const Light light = PointLight{{0, 0, 4}, Rgb(8)};
+  const auto s = SampleLi(light, {3, 0, 0}, {0.3f, 0.7f});
+  ASSERT_TRUE(s);
+  EXPECT_TRUE(s->delta);
+  EXPECT_FLOAT_EQ(s->distance, 5);
+  EXPECT_FLOAT_EQ(s->radiance.g, 8.0f / 25);
+  EXPECT_NEAR(Distance(s->wi, Vec3(-0.6f, 0, 0.8f)), 0, 1e-6);
+  EXPECT_NEAR(Power(light).r, 4 * kPiD * 8, 1e-4);
+}
+
+TEST(Lights, SunComesFromOneDirectionAndItsDiscCoversTheScene) {
+  const BoundingSphere scene{{1, 2, 3}, 10};
+  const Light light = SunLight::Make(Normalize(Vec3(0, -1, 0)), Rgb(2), scene);
+  SCOPED_TRACE(ToString(light));
+  const auto s = SampleLi(light, {5, 2, 3}, {0.1f, 0.9f});
+  ASSERT_TRUE(s);
+  EXPECT_TRUE(s->delta);
+  EXPECT_EQ(s->wi, Vec3(0, 1, 0));
+  EXPECT_EQ(s->radiance, Rgb(2));
+  EXPECT_GT(Distance(s->p, scene.center), scene.radius);  // the shadow ray leaves the scene
+  const SunLight& sun = std::get<SunLight>(light);
+  EXPECT_GE(sun.disc_radius, 10);
+  EXPECT_GE(sun.disc_center.y - scene.center.y, 10);
+  // Every photon starts outside the scene's sphere, travelling along the direction, and all
+  // photons together carry E * disc area.
+  for (int i = 0; i < 64; ++i) {
+    const auto e = SampleLe(light, {SobolSample(i, 0, 1), SobolSample(i, 1, 2)}, {0.5f, 0.5f});
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->w, sun.direction);
+    EXPECT_GE(e->p.y - scene.center.y, scene.radius);
+    EXPECT_NEAR(e->power.r, 2 * kPiD * sun.disc_radius * sun.disc_radius, 1e-2);
+  }
+}
+
+TEST(Lights, EveryPhotonOfALightCarriesItsPower) {
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->positions = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
+  mesh->indices = {0, 1, 2, 3, 4, 5};
+  const Light lights[] = {SphereLight{{{0, 0, 0}, 2}, Rgb(3)},
+                          QuadLight{QuadShape::Make({0, 0, 0}, {2, 0, 0}, {0, 3, 0}), Rgb(1)},
+                          TriangleMeshLight::Make(mesh, Rgb(2)), PointLight{{1, 1, 1}, Rgb(5)}};
+  for (const Light& light : lights) {
+    SCOPED_TRACE(ToString(light));
+    for (int i = 0; i < 256; ++i) {
+      const auto e = SampleLe(light, {SobolSample(i, 0, 1), SobolSample(i, 1, 2)},
+                              {SobolSample(i, 0, 3), SobolSample(i, 1, 4)});
+      ASSERT_TRUE(e);
+      EXPECT_NEAR(Length(e->w), 1, 1e-5);
+      EXPECT_NEAR(e->power.r, Power(light).r, 1e-3 * Power(light).r);
+      if (!IsDeltaLight(light)) {
+        EXPECT_GT(Dot(e->w, e->n), 0);  // leaves the front
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace farm

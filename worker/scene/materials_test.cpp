@@ -7,8 +7,10 @@
 #include "math/frame.h"
 #include "math/math.h"
 #include "renderfarm/v1/scene.pb.h"
+#include "sampling/hash.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
+#include "scene/fresnel.h"
 #include "scene/scene.h"
 
 namespace farm {
@@ -67,6 +69,140 @@ TEST(Materials, FromProtoValidatesAndNamesTheField) {
   }
   p.mutable_lambert()->mutable_reflectance()->set_r(0.5);
   EXPECT_EQ(ToString(MaterialFromProto(p, "x")), "Lambert{reflectance=rgb(0.5, 0, 0)}");
+}
+
+}  // namespace
+}  // namespace farm
+
+namespace farm {
+namespace {
+
+constexpr Vec3 kUp(0, 0, 1);
+
+Vec3 At(float theta_degrees) {
+  const float t = static_cast<float>(Radians(theta_degrees));
+  return {std::sin(t), 0, std::cos(t)};
+}
+
+TEST(Materials, SpecularKindsAreClassified) {
+  EXPECT_TRUE(IsSpecular(MirrorMaterial{Rgb(1)}));
+  EXPECT_TRUE(IsSpecular(DielectricMaterial{1.5f, Rgb(1)}));
+  EXPECT_TRUE(IsSpecular(ConductorMaterial{Rgb(0.2f), Rgb(3)}));
+  EXPECT_FALSE(IsSpecular(LambertMaterial{Rgb(0.5f)}));
+  EXPECT_FALSE(IsSpecular(GlossyMaterial{Rgb(0.3f), Rgb(0.3f), 20}));
+  EXPECT_FALSE(Reflects(MirrorMaterial{Rgb(1)}));
+  EXPECT_TRUE(Reflects(GlossyMaterial{Rgb(0.3f), Rgb(0.3f), 20}));
+  EXPECT_EQ(DiffuseFraction(LambertMaterial{Rgb(0.5f)}), 1.0f);
+  EXPECT_NEAR(DiffuseFraction(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20}), 0.25f, 1e-6);
+  EXPECT_TRUE(EvaluateBsdf(MirrorMaterial{Rgb(1)}, kUp, At(30), At(-30)).IsBlack());
+}
+
+TEST(Materials, MirrorReflectsAboutTheNormalOnBothSides) {
+  const Material m = MirrorMaterial{Rgb(0.9f, 0.8f, 0.7f)};
+  const auto s = SampleBsdf(m, kUp, At(30), 0.5f, {0.5f, 0.5f}, TransportMode::kRadiance);
+  ASSERT_TRUE(s);
+  EXPECT_TRUE(s->specular);
+  EXPECT_NEAR(Distance(s->wi, At(-30)), 0, 1e-6);
+  EXPECT_EQ(s->weight, Rgb(0.9f, 0.8f, 0.7f));
+  const auto back = SampleBsdf(m, kUp, -At(30), 0.5f, {0.5f, 0.5f}, TransportMode::kRadiance);
+  ASSERT_TRUE(back);
+  EXPECT_NEAR(Distance(back->wi, -At(-30)), 0, 1e-6);
+}
+
+TEST(Materials, ConductorWeightIsItsFresnelReflectance) {
+  const Material gold = ConductorMaterial{{0.143f, 0.374f, 1.442f}, {3.983f, 2.385f, 1.603f}};
+  const auto s = SampleBsdf(gold, kUp, At(0), 0.5f, {0.5f, 0.5f}, TransportMode::kImportance);
+  ASSERT_TRUE(s);
+  EXPECT_NEAR(s->weight.r, 0.9667f, 1e-3);
+  EXPECT_GT(s->weight.r, s->weight.b);  // gold is yellow
+  EXPECT_NEAR(Distance(s->wi, kUp), 0, 1e-6);
+}
+
+TEST(Materials, DielectricChoosesReflectionWithFresnelProbability) {
+  const Material glass = DielectricMaterial{1.5f, Rgb(1, 0.9f, 0.8f)};
+  for (float theta : {0.0f, 40.0f, 75.0f}) {
+    for (bool from_inside : {false, true}) {
+      const Vec3 wo = from_inside ? -At(theta) : At(theta);
+      const float eta = from_inside ? 1 / 1.5f : 1.5f;
+      const float R = FresnelDielectric(Dot(kUp, wo), 1.5f);
+      const int n = 4096;
+      int reflected = 0;
+      for (int i = 0; i < n; ++i) {
+        const float u = (i + 0.5f) / n;
+        const auto s = SampleBsdf(glass, kUp, wo, u, {0.5f, 0.5f}, TransportMode::kRadiance);
+        ASSERT_TRUE(s);
+        ASSERT_TRUE(s->specular);
+        if (Dot(s->wi, kUp) * Dot(wo, kUp) > 0) {
+          ++reflected;
+          EXPECT_EQ(s->weight, Rgb(1));
+        } else {
+          // Radiance scaled by 1/eta^2 and tinted; photons (importance) are only tinted.
+          EXPECT_NEAR(s->weight.g, 0.9f / (eta * eta), 1e-6);
+          const auto p = SampleBsdf(glass, kUp, wo, u, {0.5f, 0.5f}, TransportMode::kImportance);
+          EXPECT_EQ(p->weight, Rgb(1, 0.9f, 0.8f));
+        }
+      }
+      // TIR from inside past 41.8 degrees: always reflected.
+      EXPECT_NEAR(double(reflected) / n, R, 1.0 / n + 1e-6) << theta << " inside " << from_inside;
+    }
+  }
+  EXPECT_EQ(FresnelDielectric(-std::cos(float(Radians(75))), 1.5f), 1.0f);
+}
+
+TEST(Materials, GlossyWhiteFurnaceAndPdfConsistency) {
+  // kd + ks = 1: the albedo (mean sample weight) is at most 1, the sample weights agree with
+  // EvaluateBsdf * cos / BsdfPdf, and the pdf integrates to the share of accepted samples.
+  const Material m = GlossyMaterial{Rgb(0.4f), Rgb(0.6f), 30};
+  const Vec3 n = Normalize(Vec3(0.1f, 0.2f, 1));
+  for (float theta : {0.0f, 50.0f, 80.0f}) {
+    const Vec3 wo = Frame::FromZ(n).FromLocal(At(theta));
+    const int count = 1 << 18;
+    double mean_weight = 0, pdf_integral = 0;
+    int accepted = 0;
+    for (int i = 0; i < count; ++i) {
+      // Three independent numbers (two Sobol dimensions of one index would be correlated).
+      const float u_lobe = FractionToFloat(uint32_t(Hash(i, 1)));
+      const Vec2 u{FractionToFloat(uint32_t(Hash(i, 2))), FractionToFloat(uint32_t(Hash(i, 3)))};
+      if (const auto s = SampleBsdf(m, n, wo, u_lobe, u, TransportMode::kRadiance)) {
+        ++accepted;
+        mean_weight += s->weight.g;
+        const float pdf = BsdfPdf(m, n, wo, s->wi);
+        ASSERT_NEAR(pdf, s->pdf, 1e-4f * pdf);
+        const Rgb expected = EvaluateBsdf(m, n, wo, s->wi) * (Dot(n, s->wi) / pdf);
+        ASSERT_NEAR(s->weight.g, expected.g, 1e-4f);
+      }
+      const Vec3 w = SampleUniformSphere({SobolSample(i, 0, 5), SobolSample(i, 1, 6)});
+      pdf_integral += BsdfPdf(m, n, wo, w) / UniformSpherePdf();
+    }
+    mean_weight /= count;
+    pdf_integral /= count;
+    EXPECT_LE(mean_weight, 1.0) << theta;
+    EXPECT_GT(mean_weight, 0.5) << theta;
+    EXPECT_NEAR(pdf_integral, double(accepted) / count, 5e-3) << theta;
+  }
+}
+
+TEST(Materials, NewKindsFromProtoValidateRanges) {
+  renderfarm::v1::Material p;
+  p.mutable_dielectric()->set_ior(1.5);
+  const Material glass = MaterialFromProto(p, "m");
+  EXPECT_EQ(std::get<DielectricMaterial>(glass).transmittance, Rgb(1));  // unset means 1
+  p.mutable_dielectric()->set_ior(0.5);
+  EXPECT_THROW(MaterialFromProto(p, "m"), SceneError);
+  p.mutable_glossy()->mutable_diffuse()->set_r(0.7);
+  p.mutable_glossy()->mutable_specular()->set_r(0.7);
+  p.mutable_glossy()->set_exponent(10);
+  try {
+    MaterialFromProto(p, "materials[1]");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("materials[1].glossy"), std::string::npos) << e.what();
+  }
+  p.mutable_conductor()->mutable_eta()->set_r(0.2);
+  p.mutable_conductor()->mutable_eta()->set_g(0.2);
+  p.mutable_conductor()->mutable_eta()->set_b(0.2);
+  p.mutable_conductor()->mutable_k()->set_r(3);
+  EXPECT_EQ(ToString(MaterialFromProto(p, "m")).substr(0, 10), "Conductor{");
 }
 
 }  // namespace

@@ -201,6 +201,16 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
     d.shapes.push_back(std::move(record));
   }
 
+  for (const ShapeRecord& shape : d.shapes) {
+    d.bounds.Extend(BoundsOf(shape.geometry));
+    if (IsSpecular(d.materials[shape.material]))
+      d.specular_targets.push_back(BoundingSphereOf(shape.geometry));
+  }
+  for (int i = 0; i < description.lights_size(); ++i)
+    d.lights.push_back(LightFromProto(description.lights(i), BoundingSphere::Of(d.bounds),
+                                      "lights[" + std::to_string(i) + "]"));
+  d.photons = PhotonSettings::FromProto(description.photons(), d.bounds.Diagonal());
+
   std::vector<float> power;
   for (const Light& light : d.lights) power.push_back(Power(light).Luminance());
   d.light_power = DiscreteDistribution(power);

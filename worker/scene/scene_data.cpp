@@ -73,7 +73,10 @@ std::string SceneData::ToString() const {
   s += "], shapes=[";
   for (std::size_t i = 0; i < shapes.size(); ++i)
     s += (i ? ", " : "") + shapes[i].label + ": " + farm::ToString(shapes[i].geometry);
-  s += "], lights=" + std::to_string(lights.size()) + "}";
+  s += "], lights=[";
+  for (std::size_t i = 0; i < lights.size(); ++i) s += (i ? ", " : "") + farm::ToString(lights[i]);
+  s += "], " + bounds.ToString() + ", specular_targets=" + std::to_string(specular_targets.size()) +
+       ", " + photons.ToString() + "}";
   return s;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "math/bounds.h"
 #include "math/ray.h"
 #include "math/vec3.h"
 #include "sampling/distribution.h"
@@ -16,6 +17,7 @@
 #include "scene/camera.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
+#include "scene/photon_settings.h"
 #include "scene/shapes.h"
 
 namespace farm {
@@ -53,8 +55,14 @@ struct SceneData {
   std::vector<Material> materials;
   std::vector<std::string> material_names;
   std::vector<ShapeRecord> shapes;
-  std::vector<Light> lights;
+  std::vector<Light> lights;  // emissive shapes first, then Scene.lights in order
   DiscreteDistribution light_power;  // picks a light in proportion to its power
+
+  Bounds3 bounds;  // of all geometry
+  // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
+  // at them. Empty: the scene needs no caustic map.
+  std::vector<BoundingSphere> specular_targets;
+  PhotonSettings photons;
 
   // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
   float ray_epsilon = 0;

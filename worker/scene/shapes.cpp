@@ -59,4 +59,34 @@ std::string ToString(const ShapeGeometry& geometry) {
   return std::visit(Visitor{}, geometry);
 }
 
+Bounds3 BoundsOf(const ShapeGeometry& geometry) {
+  struct Visitor {
+    Bounds3 operator()(const SphereShape& s) const {
+      Bounds3 b;
+      b.Extend(s.center - Vec3(s.radius, s.radius, s.radius));
+      b.Extend(s.center + Vec3(s.radius, s.radius, s.radius));
+      return b;
+    }
+    Bounds3 operator()(const QuadShape& q) const {
+      Bounds3 b;
+      for (const Vec3& p : {q.origin, q.origin + q.edge_u, q.origin + q.edge_v,
+                            q.origin + q.edge_u + q.edge_v})
+        b.Extend(p);
+      return b;
+    }
+    Bounds3 operator()(const std::shared_ptr<const TriangleMesh>& m) const {
+      Bounds3 b;
+      if (m)
+        for (const Vec3& p : m->positions) b.Extend(p);
+      return b;
+    }
+  };
+  return std::visit(Visitor{}, geometry);
+}
+
+BoundingSphere BoundingSphereOf(const ShapeGeometry& geometry) {
+  if (const auto* s = std::get_if<SphereShape>(&geometry)) return {s->center, s->radius};
+  return BoundingSphere::Of(BoundsOf(geometry));
+}
+
 }  // namespace farm

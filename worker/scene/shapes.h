@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "math/bounds.h"
 #include "math/vec3.h"
 
 namespace farm {
@@ -57,5 +58,11 @@ struct TriangleMesh {
 using ShapeGeometry = std::variant<SphereShape, QuadShape, std::shared_ptr<const TriangleMesh>>;
 
 std::string ToString(const ShapeGeometry& geometry);
+
+// The smallest axis-aligned box around the geometry.
+Bounds3 BoundsOf(const ShapeGeometry& geometry);
+
+// A sphere around the geometry: the sphere itself for spheres, else the box's sphere.
+BoundingSphere BoundingSphereOf(const ShapeGeometry& geometry);
 
 }  // namespace farm

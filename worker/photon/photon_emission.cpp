@@ -1,0 +1,130 @@
+#include "photon/photon_emission.h"
+
+#include <cmath>
+#include <vector>
+
+#include "math/frame.h"
+#include "math/math.h"
+#include "sampling/warps.h"
+
+namespace farm {
+namespace {
+
+Ray RayFrom(const Vec3& p, const Vec3& n, const Vec3& w, float epsilon) {
+  const bool on_surface = LengthSquared(n) > 0;
+  return Ray{on_surface ? OffsetRayOrigin(p, n, w, epsilon) : p, w};
+}
+
+// Picks index j with probability weights[j] / sum from u; -1 if all weights are zero.
+int PickWeighted(const std::vector<float>& weights, float sum, float u) {
+  if (!(sum > 0)) return -1;
+  float target = u * sum, running = 0;
+  int last = -1;
+  for (std::size_t j = 0; j < weights.size(); ++j) {
+    if (!(weights[j] > 0)) continue;
+    last = static_cast<int>(j);
+    running += weights[j];
+    if (target < running) return last;
+  }
+  return last;  // rounding left u * sum at the very top
+}
+
+std::optional<PhotonRay> AimAtTargetsFromSun(const SceneData& scene, const SunLight& sun,
+                                             float u_target, Vec2 u_disc) {
+  const std::vector<BoundingSphere>& targets = scene.specular_targets;
+  const Frame frame = Frame::FromZ(sun.direction);
+  // Each target's shadow on the disc's plane: a disc of its radius around the projection of
+  // its centre. Chosen in proportion to area.
+  std::vector<float> weights;
+  weights.reserve(targets.size());
+  float sum = 0;
+  for (const BoundingSphere& t : targets) sum += weights.emplace_back(t.radius * t.radius);
+  const int j = PickWeighted(weights, sum, u_target);
+  if (j < 0) return std::nullopt;
+  auto project = [&](const Vec3& c) { return c - sun.direction * Dot(c - sun.disc_center, sun.direction); };
+  const Vec2 d = SampleUniformDiskConcentric(u_disc);
+  const Vec3 p =
+      project(targets[j].center) + (frame.x * d.x + frame.y * d.y) * targets[j].radius;
+  float pdf_area = 0;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    const float r = targets[k].radius;
+    if (LengthSquared(p - project(targets[k].center)) <= r * r)
+      pdf_area += (weights[k] / sum) / (kPi * r * r);
+  }
+  if (!(pdf_area > 0)) return std::nullopt;
+  return PhotonRay{Ray{p, sun.direction}, sun.irradiance / pdf_area};
+}
+
+std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,
+                                      float u_target, Vec2 u_direction) {
+  if (const auto* sun = std::get_if<SunLight>(&light))
+    return AimAtTargetsFromSun(scene, *sun, u_target, u_origin);
+  const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
+  if (!o || !(o->pdf_area > 0)) return std::nullopt;
+  const std::vector<BoundingSphere>& targets = scene.specular_targets;
+  std::vector<float> weights;
+  weights.reserve(targets.size());
+  float sum = 0;
+  for (const BoundingSphere& t : targets) {
+    const float dist2 = LengthSquared(t.center - o->p);
+    if (dist2 <= t.radius * t.radius) {
+      // Inside a target's sphere every direction may reach it: emit as the light does.
+      const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction);
+      if (!e) return std::nullopt;
+      return PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
+    }
+    // Solid angle of the cone, without cancellation for distant targets.
+    const float sin2 = t.radius * t.radius / dist2;
+    const float one_minus_cos = sin2 < 1e-3f ? sin2 / 2 : 1 - std::sqrt(1 - sin2);
+    sum += weights.emplace_back(2 * kPi * one_minus_cos);
+  }
+  const int j = PickWeighted(weights, sum, u_target);
+  if (j < 0) return std::nullopt;
+  const SphereSample s = SampleSphereFromPoint(targets[j].center, targets[j].radius, o->p, u_direction);
+  const Vec3 d = s.p - o->p;
+  if (!(LengthSquared(d) > 0)) return std::nullopt;
+  const Vec3 w = Normalize(d);
+  float pdf_direction = 0;
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    pdf_direction += (weights[k] / sum) * SphereFromPointPdf(targets[k].center, targets[k].radius, o->p, w);
+  if (!(pdf_direction > 0)) return std::nullopt;
+  Rgb power;
+  if (o->is_point) {
+    power = o->emission / pdf_direction;
+  } else {
+    const float cos_light = Dot(o->n, w);
+    if (!(cos_light > 0)) return std::nullopt;  // aimed through the back of the light
+    power = o->emission * (cos_light / (o->pdf_area * pdf_direction));
+  }
+  if (!power.IsFinite()) return std::nullopt;
+  return PhotonRay{RayFrom(o->p, o->n, w, scene.ray_epsilon), power};
+}
+
+}  // namespace
+
+std::optional<PhotonRay> EmitPhoton(const SceneData& scene, PhotonMapKind kind,
+                                    PhotonRandom& random) {
+  // A fixed number of draws whatever happens, so later draws of a path never shift.
+  const float u_light = random.Get1D();
+  const Vec2 u_origin = random.Get2D();
+  const float u_target = random.Get1D();
+  const Vec2 u_direction = random.Get2D();
+  if (scene.lights.empty() || !(scene.light_power.total() > 0)) return std::nullopt;
+  const auto pick = scene.light_power.Sample(u_light);
+  if (!(pick.pmf > 0)) return std::nullopt;
+  const Light& light = scene.lights[pick.index];
+
+  std::optional<PhotonRay> photon;
+  if (kind == PhotonMapKind::kCaustic) {
+    if (scene.specular_targets.empty()) return std::nullopt;
+    photon = AimAtTargets(scene, light, u_origin, u_target, u_direction);
+  } else if (const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction)) {
+    photon = PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
+  }
+  if (!photon) return std::nullopt;
+  photon->power = photon->power / pick.pmf;
+  if (!photon->power.IsFinite() || photon->power.IsBlack()) return std::nullopt;
+  return photon;
+}
+
+}  // namespace farm

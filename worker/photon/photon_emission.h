@@ -1,0 +1,34 @@
+#pragma once
+
+// Where photons start: a light picked in proportion to power, then a point and a direction
+// on it.
+//
+// Global photons leave each light as the light emits (lights.h SampleLe). Caustic photons
+// are aimed at the specular geometry, as Jensen's projection maps do, so that the few paths
+// that make caustics are not a small fraction of a large emission: from the sampled point of
+// the light, a bounding sphere of a specular shape is chosen in proportion to the solid
+// angle it subtends and a direction sampled uniformly in its cone; the photon's power is
+// divided by the density of the whole mixture of cones, so the estimate stays unbiased for
+// every path light -> specular. For the sun, the point on its disc is sampled within the
+// shadows that the specular bounding spheres cast on the disc, with the mixture density by
+// area. A light point inside a bounding sphere falls back to plain emission.
+
+#include <optional>
+
+#include "math/ray.h"
+#include "math/rgb.h"
+#include "photon/photon_random.h"
+#include "scene/scene_data.h"
+
+namespace farm {
+
+struct PhotonRay {
+  Ray ray;
+  Rgb power;  // flux of this one path, before dividing by the number of paths
+};
+
+// Nothing if the sample carries no light (the path still counts as emitted).
+std::optional<PhotonRay> EmitPhoton(const SceneData& scene, PhotonMapKind kind,
+                                    PhotonRandom& random);
+
+}  // namespace farm

@@ -1,0 +1,133 @@
+#include "photon/photon_tracer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "math/math.h"
+#include "photon/photon_emission.h"
+#include "photon/trace_photons.h"
+#include "scene/scene_data.h"
+
+namespace farm {
+namespace {
+
+// Bounces after which a path is cut even if Russian roulette keeps it (light trapped by
+// total internal reflection would otherwise circle for long).
+constexpr int kMaxBounces = 32;
+
+// Paths per parallel work item: big enough to amortise scheduling, small enough to balance
+// two cores and to notice a stop request quickly.
+constexpr uint64_t kChunkPaths = 2048;
+
+void CheckRequest(const PhotonShardRequest& r) {
+  if (r.map != PhotonMapKind::kGlobal && r.map != PhotonMapKind::kCaustic)
+    throw std::invalid_argument("TracePhotonShard: map kind " +
+                                std::to_string(static_cast<uint32_t>(r.map)) + " is unknown");
+  if (r.total_photons == 0)
+    throw std::invalid_argument("TracePhotonShard: total_photons must be positive");
+  if (r.first_photon > r.total_photons || r.photon_count > r.total_photons - r.first_photon)
+    throw std::invalid_argument("TracePhotonShard: paths [" + std::to_string(r.first_photon) +
+                                ", +" + std::to_string(r.photon_count) + ") exceed total_photons " +
+                                std::to_string(r.total_photons));
+}
+
+}  // namespace
+
+void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
+                     float power_scale, const PhotonTraceOptions& options,
+                     std::vector<ShardPhoton>& out) {
+  PhotonRandom random(scene.seed, kind, index);
+  const std::optional<PhotonRay> emitted = EmitPhoton(scene, kind, random);
+  if (!emitted) return;
+  Ray ray = emitted->ray;
+  Rgb power = emitted->power * power_scale;
+  int specular_bounces = 0, diffuse_bounces = 0;
+
+  for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
+    // Four draws per bounce whatever happens, so that bounce k's numbers never shift.
+    const float u_store = random.Get1D();
+    const float u_lobe = random.Get1D();
+    const Vec2 u_direction = random.Get2D();
+    const float u_survive = random.Get1D();
+
+    const std::optional<SurfaceHit> hit = scene.Intersect(ray);
+    if (!hit) return;
+    const Material& material = scene.material_of(*hit);
+    const Vec3 wi = -ray.direction;  // towards where the photon came from
+
+    if (!IsSpecular(material)) {
+      if (!Reflects(material)) return;  // emitters absorb
+      // Global: indirect light only (after a diffuse or glossy bounce). Caustic: L S+ D,
+      // stored at the first non-specular surface, where the path ends.
+      const bool wanted = kind == PhotonMapKind::kCaustic
+                              ? specular_bounces > 0
+                              : diffuse_bounces > 0 || options.store_direct;
+      if (wanted) {
+        // Glossy surfaces keep a photon only with the probability of their diffuse share;
+        // the kept ones carry proportionally more power, so the estimate stays unbiased.
+        const float keep = DiffuseFraction(material);
+        if (keep > 0 && u_store < keep)
+          out.push_back({hit->p, power / keep, wi, FaceForward(hit->n, wi)});
+      }
+      if (kind == PhotonMapKind::kCaustic) return;
+    }
+
+    const std::optional<BsdfSample> s =
+        SampleBsdf(material, hit->n, wi, u_lobe, u_direction, TransportMode::kImportance);
+    if (!s) return;
+    const Rgb next = power * s->weight;
+    // Russian roulette: survive with the ratio of the new to the old power (its largest
+    // channel), and divide by it, so that surviving photons keep roughly constant power.
+    const float survive = std::min(1.0f, MaxComponent(Vec3(next.r, next.g, next.b)) /
+                                             MaxComponent(Vec3(power.r, power.g, power.b)));
+    if (!(survive > 0) || u_survive >= survive) return;
+    power = next / survive;
+    if (!power.IsFinite()) return;
+    if (s->specular) {
+      ++specular_bounces;
+    } else {
+      ++diffuse_bounces;
+    }
+    ray = Ray{OffsetRayOrigin(hit->p, hit->n, s->wi, scene.ray_epsilon), s->wi};
+  }
+}
+
+std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardRequest& request,
+                                      const PhotonTraceOptions& options, std::stop_token stop) {
+  CheckRequest(request);
+  const SceneData& data = scene.data();
+  const float power_scale = static_cast<float>(1.0 / static_cast<double>(request.total_photons));
+  const uint64_t chunks = (request.photon_count + kChunkPaths - 1) / kChunkPaths;
+  std::vector<std::vector<ShardPhoton>> per_chunk(chunks);
+  // Each chunk fills its own vector; concatenating them in chunk order gives path-index
+  // order, whatever the number of threads or the order chunks finish in.
+  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, chunks, 1),
+                    [&](const tbb::blocked_range<uint64_t>& range) {
+                      for (uint64_t c = range.begin(); c < range.end(); ++c) {
+                        if (stop.stop_requested()) return;
+                        const uint64_t begin = request.first_photon + c * kChunkPaths;
+                        const uint64_t end = std::min(request.first_photon + request.photon_count,
+                                                      begin + kChunkPaths);
+                        for (uint64_t i = begin; i < end; ++i)
+                          TracePhotonPath(data, request.map, i, power_scale, options,
+                                          per_chunk[c]);
+                      }
+                    });
+  std::size_t total = 0;
+  for (const auto& c : per_chunk) total += c.size();
+  std::vector<ShardPhoton> photons;
+  photons.reserve(total);
+  for (const auto& c : per_chunk) photons.insert(photons.end(), c.begin(), c.end());
+  return photons;
+}
+
+std::string TracePhotonShard(const Scene& scene, const PhotonShardRequest& request,
+                             std::stop_token stop) {
+  const std::vector<ShardPhoton> photons = TracePhotons(scene, request, {}, stop);
+  return EncodeShard(request.map, request.first_photon, request.photon_count, photons);
+}
+
+}  // namespace farm

@@ -1,0 +1,35 @@
+#pragma once
+
+// The photon tracer behind TracePhotonShard, with the photons still decoded: for tests,
+// tools and the benchmark.
+
+#include <stop_token>
+#include <vector>
+
+#include "photon/photon_tracer.h"
+#include "photonmap/shard_format.h"
+#include "scene/scene_data.h"
+
+namespace farm {
+
+struct PhotonTraceOptions {
+  // Also store photons at the first non-specular hit of global paths (Jensen's original
+  // global map, with direct light). The farm never sets it: direct light comes from shadow
+  // rays. Tests use it to check emitted flux against closed forms of direct irradiance.
+  bool store_direct = false;
+};
+
+// Appends the photons path `index` of the map stores, in bounce order. power_scale is
+// 1 / (paths emitted for the map).
+void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
+                     float power_scale, const PhotonTraceOptions& options,
+                     std::vector<ShardPhoton>& out);
+
+// The photons of request's paths in path-index order, traced in parallel over chunks of
+// the range. Throws std::invalid_argument for a bad request; returns early (partial) if
+// stop is requested.
+std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardRequest& request,
+                                      const PhotonTraceOptions& options = {},
+                                      std::stop_token stop = {});
+
+}  // namespace farm
