@@ -1,6 +1,7 @@
 // Package coordinator assembles the farm's coordinator: the gRPC services over a store, a
 // content-addressed blob store and an event broker, plus the loop that requeues expired
-// leases. cmd/farm calls New and Serve.
+// leases and the builder that merges photon shards (the build phase). cmd/farm calls New
+// and Serve.
 package coordinator
 
 import (
@@ -15,6 +16,7 @@ import (
 	"google.golang.org/grpc"
 
 	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/builder"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/events"
 	"photonfarm/coordinator/service"
@@ -47,10 +49,11 @@ type Config struct {
 
 // Coordinator is the assembled coordinator. Create it with New and run it with Serve.
 type Coordinator struct {
-	cfg   Config
-	log   *slog.Logger
-	store store.Store
-	svc   *service.Service
+	cfg     Config
+	log     *slog.Logger
+	store   store.Store
+	svc     *service.Service
+	builder *builder.Builder
 }
 
 // New checks cfg, opens the blob store under DataDir and builds the services. State other
@@ -91,12 +94,18 @@ func New(cfg Config) (*Coordinator, error) {
 		LeaseDuration:     cfg.LeaseDuration,
 		HeartbeatInterval: cfg.HeartbeatInterval,
 	})
-	return &Coordinator{cfg: cfg, log: cfg.Logger, store: st, svc: svc}, nil
+	b := builder.New(builder.Config{
+		Tasks:             svc,
+		Blobs:             blobs,
+		HeartbeatInterval: cfg.HeartbeatInterval,
+		Logger:            cfg.Logger,
+	})
+	return &Coordinator{cfg: cfg, log: cfg.Logger, store: st, svc: svc, builder: b}, nil
 }
 
-// Serve serves JobService, WorkerService and BlobService on lis and sweeps expired leases
-// until ctx is cancelled; it then stops gracefully, closing connections after
-// StopTimeout. It returns nil after a stop caused by ctx.
+// Serve serves JobService, WorkerService and BlobService on lis, sweeps expired leases and
+// runs the photon map builder until ctx is cancelled; it then stops gracefully, closing
+// connections after StopTimeout. It returns nil after a stop caused by ctx.
 func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	srv := c.svc.NewGRPCServer()
 	ctx, cancel := context.WithCancel(ctx)
@@ -106,6 +115,11 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	go func() {
 		defer close(sweepDone)
 		c.sweep(ctx)
+	}()
+	buildDone := make(chan struct{})
+	go func() {
+		defer close(buildDone)
+		_ = c.builder.Run(ctx)
 	}()
 
 	served := make(chan error, 1)
@@ -127,6 +141,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 		}
 	}
 	<-sweepDone
+	<-buildDone
 	if err != nil {
 		return fmt.Errorf("coordinator: %w", err)
 	}

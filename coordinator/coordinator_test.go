@@ -56,7 +56,7 @@ func TestServeExpiresLeasesAndStopsGracefully(t *testing.T) {
 	rpc, cancel := context.WithTimeout(context.Background(), 20*time.Second)
 	defer cancel()
 	jobs, workers := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn)
-	if _, err := jobs.SubmitJob(rpc, &pb.SubmitJobRequest{Scene: scenetest.Valid(8, 8)}); err != nil {
+	if _, err := jobs.SubmitJob(rpc, &pb.SubmitJobRequest{Scene: scenetest.Unlit(8, 8)}); err != nil {
 		t.Fatal(err)
 	}
 	reg, err := workers.RegisterWorker(rpc, &pb.RegisterWorkerRequest{Hostname: "t"})

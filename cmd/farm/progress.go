@@ -11,14 +11,18 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// progress shows a job's progress: on a terminal, one line redrawn in place
+// progress shows a job's progress through its phases (emit, build, render, composite;
+// a job without photon maps has only the last two): on a terminal, one line redrawn in
+// place, the current phase's tasks done/total and the phase's place among the job's
 //
-//	render     [#########-----------]  21/48 tiles   43%  elapsed 0:04  ETA 0:05
+//	render 3/4 [#########-----------]  21/48 tiles   43%  elapsed 0:04  ETA 0:05
 //
-// and elsewhere (a log, a pipe) a plain line at most every plainEvery, when something
-// changed:
+// and elsewhere (a log, a pipe) a plain line at once when a phase begins and otherwise at
+// most every plainEvery, when something changed:
 //
+//	job 7: emit 2/4 shards (50%), elapsed 1s, ETA 1s
 //	job 7: render 21/48 tiles (43%), elapsed 4s, ETA 5s
+//	job 7: succeeded (emit 4/4, build 1/1, render 48/48, composite 1/1), took 9.2s
 type progress struct {
 	w   io.Writer
 	tty bool
@@ -103,22 +107,43 @@ func (p *progress) observe(job *pb.Job) {
 // current returns the phase to show and its tasks done and total: the first phase not
 // complete, or the last one.
 func current(job *pb.Job) (name string, done, total uint32) {
+	name, done, total, _ = currentAt(job)
+	return name, done, total
+}
+
+// currentAt is current with the phase's position (from 1) among the job's phases.
+func currentAt(job *pb.Job) (name string, done, total uint32, at int) {
 	phases := job.GetPhases()
 	if len(phases) == 0 {
-		return client.StateName(job.GetState()), 0, 0
+		return client.StateName(job.GetState()), 0, 0, 0
 	}
-	ph := phases[len(phases)-1]
-	for _, x := range phases {
+	at = len(phases) - 1
+	for i, x := range phases {
 		if x.GetTasksSucceeded() < x.GetTasksTotal() {
-			ph = x
+			at = i
 			break
 		}
 	}
-	return client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
+	ph := phases[at]
+	return client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal(), at + 1
 }
 
+// phaseOf returns the progress of phase p in job, if the job has that phase.
+func phaseOf(job *pb.Job, p pb.Phase) (*pb.PhaseProgress, bool) {
+	for _, ph := range job.GetPhases() {
+		if ph.GetPhase() == p {
+			return ph, true
+		}
+	}
+	return nil, false
+}
+
+// unit names what a phase's tasks are.
 func unit(phase string) string {
-	if phase == "render" {
+	switch phase {
+	case "emit":
+		return "shards"
+	case "render":
 		return "tiles"
 	}
 	return "tasks"
@@ -178,13 +203,16 @@ func (p *progress) draw(final bool) {
 }
 
 func (p *progress) drawTTY(final bool) {
-	phase, done, total := current(p.job)
+	phase, done, total, at := currentAt(p.job)
 	state := p.job.GetState()
-	if ph := p.job.GetPhases(); state == pb.JobState_JOB_STATE_SUCCEEDED && len(ph) > 0 {
+	if ph, ok := phaseOf(p.job, pb.Phase_PHASE_RENDER); ok && state == pb.JobState_JOB_STATE_SUCCEEDED {
 		// Done: show the tiles rendered, not the one composite task.
-		phase, done, total = client.PhaseName(ph[0].GetPhase()), ph[0].GetTasksSucceeded(), ph[0].GetTasksTotal()
+		phase, done, total = client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
 	}
 	name := phase
+	if n := len(p.job.GetPhases()); n > 0 {
+		name = fmt.Sprintf("%s %d/%d", phase, at, n)
+	}
 	switch {
 	case state == pb.JobState_JOB_STATE_QUEUED:
 		name = "queued"
@@ -196,7 +224,7 @@ func (p *progress) drawTTY(final bool) {
 	if total > 0 {
 		filled = int(uint64(barWidth) * uint64(done) / uint64(total))
 	}
-	fmt.Fprintf(&b, "%-10s [%s%s] %4d/%-4d %s %3d%%  elapsed %s", name,
+	fmt.Fprintf(&b, "%-14s [%s%s] %4d/%-4d %-6s %3d%%  elapsed %s", name,
 		strings.Repeat("#", filled), strings.Repeat("-", barWidth-filled),
 		done, total, unit(phase), percent(done, total), clock(p.elapsed()))
 	if !client.JobEnded(state) {

@@ -126,16 +126,25 @@ func runTasks(ctx context.Context, e *env, args []string) error {
 		return err
 	}
 	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
-	fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tRECT\tERROR")
+	fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tWORK\tERROR")
 	for _, t := range tasks {
-		rect := ""
-		if r := t.GetRenderTile().GetRect(); r != nil {
-			rect = fmt.Sprintf("%dx%d+%d+%d", r.GetWidth(), r.GetHeight(), r.GetX(), r.GetY())
-		}
 		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), client.PhaseName(t.GetPhase()),
-			client.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), rect, oneLine(t.GetError()))
+			client.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), taskWork(t), oneLine(t.GetError()))
 	}
 	return tw.Flush()
+}
+
+// taskWork says what a task covers: a tile's rectangle ("16x16+32+0") or an emission
+// shard's photon paths ("caustic 10000+10000/40000").
+func taskWork(t *pb.Task) string {
+	if r := t.GetRenderTile().GetRect(); r != nil {
+		return fmt.Sprintf("%dx%d+%d+%d", r.GetWidth(), r.GetHeight(), r.GetX(), r.GetY())
+	}
+	if e := t.GetEmitPhotons(); e != nil {
+		m := strings.ToLower(strings.TrimPrefix(e.GetMap().String(), "PHOTON_MAP_KIND_"))
+		return fmt.Sprintf("%s %d+%d/%d", m, e.GetFirstPhoton(), e.GetPhotonCount(), e.GetTotalPhotons())
+	}
+	return ""
 }
 
 func runCancel(ctx context.Context, e *env, args []string) error {

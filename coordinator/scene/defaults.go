@@ -34,7 +34,37 @@ func Defaults(s *pb.Scene) *pb.Scene {
 		out.Sampling = &pb.Sampling{}
 	}
 	out.Sampling.SamplesPerPixel = SamplesPerPixel(s)
+	if out.Photons == nil {
+		out.Photons = &pb.PhotonMapping{}
+	}
+	out.Photons.GlobalPhotons = GlobalPhotons(s)
+	out.Photons.CausticPhotons = CausticPhotons(s)
+	out.Photons.PhotonsPerShard = PhotonsPerShard(s)
 	return out
+}
+
+// GlobalPhotons returns the scene's effective number of global-map photon paths.
+func GlobalPhotons(s *pb.Scene) uint64 {
+	if n := s.GetPhotons().GetGlobalPhotons(); n != 0 {
+		return n
+	}
+	return DefaultGlobalPhotons
+}
+
+// CausticPhotons returns the scene's effective number of caustic-map photon paths.
+func CausticPhotons(s *pb.Scene) uint64 {
+	if n := s.GetPhotons().GetCausticPhotons(); n != 0 {
+		return n
+	}
+	return DefaultCausticPhotons
+}
+
+// PhotonsPerShard returns the scene's effective photon paths per emission task.
+func PhotonsPerShard(s *pb.Scene) uint64 {
+	if n := s.GetPhotons().GetPhotonsPerShard(); n != 0 {
+		return n
+	}
+	return DefaultPhotonsPerShard
 }
 
 // MeshRef is a mesh file a scene refers to by digest.

@@ -23,4 +23,28 @@ const (
 	MaxNameLength = 256
 	// MaxCoordinate bounds the magnitude of every coordinate, radius and scale.
 	MaxCoordinate = 1e12
+	// MaxLights bounds Scene.lights (point and sun lights).
+	MaxLights = 4096
+
+	// MinGlossyExponent and MaxGlossyExponent bound Glossy.exponent.
+	MinGlossyExponent = 1
+	MaxGlossyExponent = 1e5
+	// MinIOR and MaxIOR bound Dielectric.ior.
+	MinIOR = 1
+	MaxIOR = 10
+
+	// MaxPhotonsPerMap bounds PhotonMapping.global_photons and caustic_photons.
+	MaxPhotonsPerMap = 50_000_000
+	// DefaultGlobalPhotons and DefaultCausticPhotons are used when the counts are 0.
+	DefaultGlobalPhotons  = 200_000
+	DefaultCausticPhotons = 200_000
+	// MinPhotonsPerShard and MaxPhotonsPerShard bound PhotonMapping.photons_per_shard when
+	// it is not 0; DefaultPhotonsPerShard is used when it is.
+	MinPhotonsPerShard     = 1000
+	MaxPhotonsPerShard     = 10_000_000
+	DefaultPhotonsPerShard = 100_000
+	// MaxNeighbours bounds RadianceEstimate.neighbours.
+	MaxNeighbours = 10000
+	// MaxConeK bounds RadianceEstimate.cone_k (a cone filter's k >= 1; past this it is a box).
+	MaxConeK = 1e6
 )

@@ -44,7 +44,19 @@ func Validate(s *pb.Scene) error {
 	if err != nil {
 		return err
 	}
-	return validateShapes(s.GetShapes(), emissive)
+	lights, err := validateLights(s.GetLights())
+	if err != nil {
+		return err
+	}
+	areaLights, err := validateShapes(s.GetShapes(), emissive)
+	if err != nil {
+		return err
+	}
+	if lights+areaLights == 0 {
+		return fe("lights", "the scene needs a light: a point or sun light with a positive power, "+
+			"or a shape whose material is emissive with a positive radiance")
+	}
+	return validatePhotons(s.GetPhotons())
 }
 
 func fe(field, format string, args ...any) *FieldError {
@@ -184,8 +196,12 @@ func validateMaterials(ms []*pb.Material) (map[string]bool, error) {
 				return nil, err
 			}
 			emits = rad.GetR() > 0 || rad.GetG() > 0 || rad.GetB() > 0
+		case nil:
+			return nil, fe(p, "exactly one kind (lambert, emissive, glossy, mirror, dielectric, conductor) must be set")
 		default:
-			return nil, fe(p, "exactly one kind (lambert, emissive) must be set")
+			if err := validateSurface(p, m); err != nil {
+				return nil, err
+			}
 		}
 		emissive[m.GetName()] = emits
 	}
@@ -215,22 +231,23 @@ func checkColor(field string, c *pb.Color, max float64) error {
 	return nil
 }
 
-func validateShapes(shapes []*pb.Shape, emissive map[string]bool) error {
+// validateShapes returns the number of shapes that are area lights.
+func validateShapes(shapes []*pb.Shape, emissive map[string]bool) (int, error) {
 	if len(shapes) > MaxShapes {
-		return fe("shapes", "must have at most %d entries, got %d", MaxShapes, len(shapes))
+		return 0, fe("shapes", "must have at most %d entries, got %d", MaxShapes, len(shapes))
 	}
 	lights := 0
 	for i, s := range shapes {
 		p := idx("shapes", i)
 		if err := checkName(p+".name", s.GetName()); err != nil {
-			return err
+			return 0, err
 		}
 		if s.GetMaterial() == "" {
-			return fe(p+".material", "must name a material")
+			return 0, fe(p+".material", "must name a material")
 		}
 		emits, ok := emissive[s.GetMaterial()]
 		if !ok {
-			return fe(p+".material", "no material named %q", s.GetMaterial())
+			return 0, fe(p+".material", "no material named %q", s.GetMaterial())
 		}
 		if emits {
 			lights++
@@ -249,13 +266,10 @@ func validateShapes(shapes []*pb.Shape, emissive map[string]bool) error {
 			err = fe(p, "exactly one geometry (sphere, quad, triangles, mesh) must be set")
 		}
 		if err != nil {
-			return err
+			return 0, err
 		}
 	}
-	if lights == 0 {
-		return fe("shapes", "at least one shape must have an emissive material with a positive radiance")
-	}
-	return nil
+	return lights, nil
 }
 
 func validateSphere(p string, s *pb.Sphere) error {

@@ -104,8 +104,8 @@ func TestValidateRefusesNamingTheField(t *testing.T) {
 		{"mesh zero scale", func(s *pb.Scene) {
 			s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Digest: goodDigest, Transform: &pb.Transform{Scale: scenetest.V(1, 0, 1)}}))
 		}, "shapes[3].mesh.transform.scale.y", "non-zero"},
-		{"no light", func(s *pb.Scene) { s.Shapes = s.Shapes[:2] }, "shapes", "emissive"},
-		{"black light", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance = &pb.Color{} }, "shapes", "emissive"},
+		{"no light", func(s *pb.Scene) { s.Shapes = s.Shapes[:2] }, "lights", "emissive"},
+		{"black light", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance = &pb.Color{} }, "lights", "emissive"},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
@@ -133,11 +133,18 @@ func TestDefaults(t *testing.T) {
 	if d.Film.TileSize != 32 || d.Sampling.SamplesPerPixel != 16 {
 		t.Errorf("Defaults: tile %d spp %d, want 32 and 16", d.Film.TileSize, d.Sampling.SamplesPerPixel)
 	}
-	if s.Sampling != nil || s.Film.TileSize != 0 {
+	if ph := d.GetPhotons(); ph.GetGlobalPhotons() != 200000 || ph.GetCausticPhotons() != 200000 || ph.GetPhotonsPerShard() != 100000 {
+		t.Errorf("Defaults: photons %v, want 200000, 200000 and 100000 per shard", ph)
+	}
+	if s.Sampling != nil || s.Film.TileSize != 0 || s.Photons != nil {
 		t.Error("Defaults modified its argument")
 	}
 	s.Film.TileSize = 64
 	if got := scene.Defaults(s).Film.TileSize; got != 64 {
 		t.Errorf("Defaults overrode an explicit tile size: %d", got)
+	}
+	s.Photons = &pb.PhotonMapping{GlobalPhotons: 5000, PhotonsPerShard: 1000}
+	if ph := scene.Defaults(s).Photons; ph.GlobalPhotons != 5000 || ph.CausticPhotons != 200000 || ph.PhotonsPerShard != 1000 {
+		t.Errorf("Defaults with explicit photon counts: %v", ph)
 	}
 }

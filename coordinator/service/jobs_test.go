@@ -20,7 +20,7 @@ import (
 
 func TestSubmitRenderAndWatchToSuccess(t *testing.T) {
 	f := newFarm(t)
-	sc := scenetest.Valid(64, 40) // 2 x 2 tiles of 32, the bottom row partial
+	sc := scenetest.Unlit(64, 40) // 2 x 2 tiles of 32, the bottom row partial
 	job := f.submit(sc)
 	if job.Id == "" || job.State != pb.JobState_JOB_STATE_QUEUED || job.Width != 64 || job.Height != 40 || job.DisplayName != sc.Name {
 		t.Fatalf("submitted job = %v", job)
@@ -166,7 +166,7 @@ func TestSubmitRefusesMalformedScenes(t *testing.T) {
 		{"bad tile size", func(s *pb.Scene) { s.Film.TileSize = 7 }, "film.tile_size", ""},
 		{"unknown material", func(s *pb.Scene) { s.Shapes[2].Material = "nope" }, "shapes[2].material", ""},
 		{"reflectance above 1", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.R = 2 }, "materials[0].lambert.reflectance.r", ""},
-		{"no light", func(s *pb.Scene) { s.Shapes = s.Shapes[:2] }, "shapes", ""},
+		{"no light", func(s *pb.Scene) { s.Shapes = s.Shapes[:2] }, "lights", ""},
 		{"mesh path, no digest", mesh(&pb.MeshFile{Path: "bunny.obj"}), "shapes[3].mesh.digest",
 			"shapes[3].mesh.digest: missing; clients upload the file named by path and set its digest"},
 		{"mesh not uploaded", mesh(&pb.MeshFile{Digest: missing}), "shapes[3].mesh.digest", ""},
@@ -177,7 +177,7 @@ func TestSubmitRefusesMalformedScenes(t *testing.T) {
 		t.Run(tt.name, func(t *testing.T) {
 			var sc *pb.Scene
 			if tt.mutate != nil {
-				sc = scenetest.Valid(32, 32)
+				sc = scenetest.Unlit(32, 32)
 				tt.mutate(sc)
 			}
 			_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: sc})
@@ -199,7 +199,7 @@ func TestSubmitRefusesMalformedScenes(t *testing.T) {
 func TestSubmitAcceptsUploadedMesh(t *testing.T) {
 	f := newFarm(t)
 	a := f.upload([]byte("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"))
-	sc := scenetest.Valid(16, 16)
+	sc := scenetest.Unlit(16, 16)
 	sc.Shapes = append(sc.Shapes, &pb.Shape{Material: "white", Geometry: &pb.Shape_Mesh{Mesh: &pb.MeshFile{Path: "tri.obj", Digest: a.Digest}}})
 	if job := f.submit(sc); job.State != pb.JobState_JOB_STATE_QUEUED {
 		t.Errorf("job = %v", job)
@@ -236,7 +236,7 @@ func TestListJobsPages(t *testing.T) {
 	f := newFarm(t)
 	var ids []string
 	for i := 0; i < 5; i++ {
-		ids = append(ids, f.submit(scenetest.Valid(8, 8)).Id)
+		ids = append(ids, f.submit(scenetest.Unlit(8, 8)).Id)
 	}
 	var got []string
 	tok := ""
@@ -263,7 +263,7 @@ func TestListJobsPages(t *testing.T) {
 
 func TestCancelRevokesLeasesAndEndsWatch(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Valid(64, 64))
+	job := f.submit(scenetest.Unlit(64, 64))
 	w := f.register()
 	l := f.lease(w)
 	stream, err := f.jobs.WatchJob(f.ctx, &pb.WatchJobRequest{JobId: job.Id})

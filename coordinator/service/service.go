@@ -71,12 +71,13 @@ type Config struct {
 
 // Service holds the state shared by the three gRPC services.
 type Service struct {
-	cfg     Config
-	log     *slog.Logger
-	queued  notifier
-	workers registry
-	done    chan struct{}
-	once    sync.Once
+	cfg       Config
+	log       *slog.Logger
+	queued    notifier
+	workers   registry
+	snapshots snapshotCache
+	done      chan struct{}
+	once      sync.Once
 }
 
 // New returns a Service; Store, Blobs and Events are required.

@@ -28,7 +28,7 @@ func TestRegisterTellsTimings(t *testing.T) {
 
 func TestFailedTaskIsRetriedThenFailsTheJob(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Valid(8, 8))
+	job := f.submit(scenetest.Unlit(8, 8))
 	w := f.register()
 	for attempt := 1; attempt <= 3; attempt++ {
 		l := f.lease(w)
@@ -47,7 +47,7 @@ func TestFailedTaskIsRetriedThenFailsTheJob(t *testing.T) {
 
 func TestStaleEpochIsRefused(t *testing.T) {
 	f := newFarm(t)
-	f.submit(scenetest.Valid(8, 8))
+	f.submit(scenetest.Unlit(8, 8))
 	w1, w2 := f.register(), f.register()
 	old := f.lease(w1)
 	f.clock.Advance(leaseDuration + time.Second)
@@ -79,7 +79,7 @@ func TestStaleEpochIsRefused(t *testing.T) {
 
 func TestCompleteRefusesOutputsNotUploaded(t *testing.T) {
 	f := newFarm(t)
-	f.submit(scenetest.Valid(8, 8))
+	f.submit(scenetest.Unlit(8, 8))
 	w := f.register()
 	l := f.lease(w)
 	real := f.upload([]byte("tile"))
@@ -117,7 +117,7 @@ func TestLeaseLongPollWakesWhenWorkIsQueued(t *testing.T) {
 	}()
 	time.Sleep(50 * time.Millisecond)
 	start = time.Now()
-	f.submit(scenetest.Valid(8, 8))
+	f.submit(scenetest.Unlit(8, 8))
 	select {
 	case resp := <-got:
 		if resp.GetLease() == nil {
@@ -160,7 +160,7 @@ func TestLeaseRespectsCallerCancellation(t *testing.T) {
 
 func TestReleaseRequeuesWithoutFailure(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Valid(8, 8))
+	job := f.submit(scenetest.Unlit(8, 8))
 	w := f.register()
 	for i := 0; i < 5; i++ {
 		l := f.lease(w)

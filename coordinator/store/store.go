@@ -3,8 +3,9 @@
 // implementation over Redis can run each as a single Lua script:
 //
 //   - CreateJob writes a job with all its tasks and queues the first phase;
-//   - LeaseTask pops the next queued task (FIFO by job, then task index), grows its
-//     epoch, records the lease and moves the job QUEUED -> RUNNING;
+//   - LeaseTask pops the next queued task of the phases the caller takes (FIFO by job,
+//     then task index), grows its epoch, records the lease and moves the job
+//     QUEUED -> RUNNING;
 //   - ExtendLeases and ExpireLeases move lease deadlines and requeue expired tasks;
 //   - CompleteTask records outputs and, on the last task of a phase, queues the next
 //     phase, or on the last task of the job marks it SUCCEEDED with the final outputs;
@@ -39,9 +40,10 @@ type Store interface {
 	// ListTasks lists a job's tasks in plan order.
 	ListTasks(ctx context.Context, jobID string, pageSize int, pageToken string) (tasks []*pb.Task, next string, err error)
 
-	// LeaseTask leases the next queued task to workerID. It returns nil and no error when
-	// nothing is queued.
-	LeaseTask(ctx context.Context, workerID string) (*Leased, error)
+	// LeaseTask leases to workerID the next queued task of one of phases (WorkerPhases for
+	// workers, BuilderPhases for the coordinator's builder). It returns nil and no error
+	// when nothing of those phases is queued, and an error if phases is empty.
+	LeaseTask(ctx context.Context, workerID string, phases []pb.Phase) (*Leased, error)
 	// ExtendLeases extends the leases workerID still holds among held and returns the
 	// others as revoked (expired, re-leased, finished, or their job ended).
 	ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) (extended []*pb.Lease, revoked []*pb.HeldLease, err error)
@@ -74,6 +76,13 @@ type NewJob struct {
 	// run in ascending Phase order.
 	Tasks []*pb.Task
 }
+
+// The phases each kind of lessee takes: workers never lease BUILD, which the
+// coordinator's builder does itself.
+var (
+	WorkerPhases  = []pb.Phase{pb.Phase_PHASE_EMIT, pb.Phase_PHASE_RENDER, pb.Phase_PHASE_COMPOSITE}
+	BuilderPhases = []pb.Phase{pb.Phase_PHASE_BUILD}
+)
 
 // LeaseRef names the lease a report is made under.
 type LeaseRef struct {

@@ -6,6 +6,7 @@ import (
 	"errors"
 	"fmt"
 	"slices"
+	"strings"
 	"testing"
 )
 
@@ -124,10 +125,22 @@ func parseEXRHeader(b []byte) (*exrHeader, error) {
 	return h, nil
 }
 
+// aovChannels are the channels of a final image beyond the beauty R, G, B, A: the layers
+// direct, indirect, caustic, albedo, normal and depth (worker/render RenderChannels).
+var aovChannels = []string{
+	"direct.R", "direct.G", "direct.B",
+	"indirect.R", "indirect.G", "indirect.B",
+	"caustic.R", "caustic.G", "caustic.B",
+	"albedo.R", "albedo.G", "albedo.B",
+	"normal.X", "normal.Y", "normal.Z",
+	"depth.Z",
+}
+
 // checkFinalEXR says what is wrong, if anything, with b as the final image of a width x
 // height render with square tiles of side tile: a single-part tiled OpenEXR with FLOAT
-// channels R, G, B, A (and possibly more), data window = display window = the image.
-func checkFinalEXR(b []byte, width, height, tile int) error {
+// channels R, G, B, A and every one of extra (and possibly more), data window = display
+// window = the image.
+func checkFinalEXR(b []byte, width, height, tile int, extra ...string) error {
 	h, err := parseEXRHeader(b)
 	if err != nil {
 		return err
@@ -153,7 +166,7 @@ func checkFinalEXR(b []byte, width, height, tile int) error {
 			problems = append(problems, fmt.Sprintf("channel %s: type %d sampling %dx%d, want FLOAT 1x1", c.Name, c.PixelType, c.XSampling, c.YSampling))
 		}
 	}
-	for _, n := range []string{"R", "G", "B", "A"} {
+	for _, n := range append([]string{"R", "G", "B", "A"}, extra...) {
 		if !slices.Contains(names, n) {
 			problems = append(problems, fmt.Sprintf("no %s channel (channels %v)", n, names))
 		}
@@ -182,7 +195,7 @@ func exrAttr(b []byte, name, typ string, value []byte) []byte {
 	return append(b, value...)
 }
 
-func testEXR(tiled bool, pixelType int32, w, h, tile int) []byte {
+func testEXR(tiled bool, pixelType int32, w, h, tile int, extra ...string) []byte {
 	b := binary.LittleEndian.AppendUint32(nil, exrMagic)
 	version := uint32(2)
 	if tiled {
@@ -190,7 +203,9 @@ func testEXR(tiled bool, pixelType int32, w, h, tile int) []byte {
 	}
 	b = binary.LittleEndian.AppendUint32(b, version)
 	var ch []byte
-	for _, n := range []string{"A", "B", "G", "R"} {
+	names := append([]string{"A", "B", "G", "R"}, extra...)
+	slices.Sort(names) // OpenEXR stores channels sorted by name
+	for _, n := range names {
 		ch = append(ch, n...)
 		ch = append(ch, 0)
 		ch = binary.LittleEndian.AppendUint32(ch, uint32(pixelType))
@@ -218,6 +233,21 @@ func testEXR(tiled bool, pixelType int32, w, h, tile int) []byte {
 func TestEXRHeaderCheckAcceptsTiledFloatRGBA(t *testing.T) {
 	if err := checkFinalEXR(testEXR(true, exrPixelFloat, 64, 48, 16), 64, 48, 16); err != nil {
 		t.Fatal(err)
+	}
+}
+
+func TestEXRHeaderCheckFindsAOVChannelsByName(t *testing.T) {
+	b := testEXR(true, exrPixelFloat, 64, 48, 16, aovChannels...)
+	if err := checkFinalEXR(b, 64, 48, 16, aovChannels...); err != nil {
+		t.Fatal(err)
+	}
+	h, _ := parseEXRHeader(b)
+	if len(h.Channels) != 4+len(aovChannels) || h.Channels[0].Name != "A" || h.Channels[len(h.Channels)-1].Name != "normal.Z" {
+		t.Errorf("channels = %v", h.Channels)
+	}
+	missing := testEXR(true, exrPixelFloat, 64, 48, 16, slices.DeleteFunc(slices.Clone(aovChannels), func(n string) bool { return n == "caustic.G" })...)
+	if err := checkFinalEXR(missing, 64, 48, 16, aovChannels...); err == nil || !strings.Contains(err.Error(), "no caustic.G channel") {
+		t.Errorf("a file without caustic.G: %v", err)
 	}
 }
 

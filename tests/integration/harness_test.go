@@ -214,30 +214,47 @@ func startFarm(t *testing.T) *farm {
 // (the machines running these tests have two cores).
 func (f *farm) startWorker() *proc {
 	f.t.Helper()
+	return f.startWorkerWithCache(filepath.Join(f.t.TempDir(), "cache"))
+}
+
+// startWorkerWithCache runs a farm-worker with the given cache folder, which several
+// workers may share (as workers on one host do by default).
+func (f *farm) startWorkerWithCache(cache string) *proc {
+	f.t.Helper()
 	f.workers++
 	name := fmt.Sprintf("worker-%d", f.workers)
 	return start(f.t, name, filepath.Join(f.bin, "farm-worker"), []string{
 		"--coordinator", f.addr,
-		"--cache-dir", filepath.Join(f.t.TempDir(), "cache"),
+		"--cache-dir", cache,
 		"--threads", "1",
 		"--name", name,
 	}, nil)
 }
 
 // testScene loads scenes/test-small.json through the client (uploading its mesh) and
-// changes its film and sampling: width x height pixels in tiles of side tile, spp samples.
+// changes its film and sampling: width x height pixels in tiles of side tile, spp samples,
+// with a global photon map of 20,000 paths in two shards.
 func (f *farm) testScene(width, height, tile, spp uint32) *pb.Scene {
+	f.t.Helper()
+	sc := f.loadScene("test-small.json")
+	sc.Film = &pb.Film{Width: width, Height: height, TileSize: tile}
+	sc.Sampling.SamplesPerPixel = spp
+	// A small global map (the scene has no specular surface), so that these tests of
+	// tiles spend their time rendering.
+	sc.Photons = &pb.PhotonMapping{GlobalPhotons: 20000, PhotonsPerShard: 10000}
+	return sc
+}
+
+// loadScene loads scenes/NAME through the client, uploading its meshes.
+func (f *farm) loadScene(name string) *pb.Scene {
 	f.t.Helper()
 	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
 	defer cancel()
-	sc, err := f.c.LoadSceneFile(ctx, filepath.Join(repoRoot(f.t), "scenes", "test-small.json"))
+	sc, err := f.c.LoadSceneFile(ctx, filepath.Join(repoRoot(f.t), "scenes", name))
 	if err != nil {
 		f.t.Fatal(err)
 	}
-	sc = proto.Clone(sc).(*pb.Scene)
-	sc.Film = &pb.Film{Width: width, Height: height, TileSize: tile}
-	sc.Sampling.SamplesPerPixel = spp
-	return sc
+	return proto.Clone(sc).(*pb.Scene)
 }
 
 // render submits sc and waits for the job to end; it fails the test unless the job

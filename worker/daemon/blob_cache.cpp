@@ -37,6 +37,25 @@ std::optional<std::string> BlobCache::Get(std::string_view digest) const {
   return bytes;
 }
 
+std::optional<std::filesystem::path> BlobCache::Path(std::string_view digest) const {
+  if (!IsValidDigest(digest)) return std::nullopt;
+  auto path = PathOf(digest);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  Sha256 hash;
+  std::string chunk(1 << 20, '\0');
+  while (in) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    hash.Update(std::string_view(chunk.data(), static_cast<std::size_t>(in.gcount())));
+  }
+  if (in.bad() || hash.Finish() != digest) {
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);
+    return std::nullopt;
+  }
+  return path;
+}
+
 void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
   if (!IsValidDigest(digest)) {
     throw std::invalid_argument("malformed blob digest \"" + std::string(digest) + "\"");

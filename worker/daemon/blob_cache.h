@@ -20,6 +20,13 @@ class BlobCache {
   // digest is deleted and reported as absent.
   std::optional<std::string> Get(std::string_view digest) const;
 
+  // The path of the blob's file if cached and intact (its content is hashed, in chunks,
+  // to check), for blobs that are mapped into memory rather than read (photon snapshots).
+  // A cached file whose content does not match its digest is deleted and reported absent.
+  // Entries are only ever replaced by a rename of identical content, so a file mapped by
+  // one worker stays valid while others share the folder.
+  std::optional<std::filesystem::path> Path(std::string_view digest) const;
+
   // Stores `bytes` under `digest` (atomically: concurrent readers and other worker
   // processes sharing the folder never see a partial file). Throws std::invalid_argument if
   // the digest is malformed or does not match the bytes, std::runtime_error on I/O errors.

@@ -61,6 +61,32 @@ TEST_F(BlobCacheTest, IgnoresMalformedDigests) {
   BlobCache cache(dir_);
   EXPECT_FALSE(cache.Get("sha256:../x"));
   EXPECT_FALSE(cache.Get(""));
+  EXPECT_FALSE(cache.Path("sha256:../x"));
+}
+
+TEST_F(BlobCacheTest, PathOfAVerifiedEntryLargerThanOneChunk) {
+  BlobCache cache(dir_);
+  std::string bytes(3 * (1 << 20) + 17, '\0');
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 31 % 251);
+  const std::string digest = Sha256Digest(bytes);
+  EXPECT_FALSE(cache.Path(digest));
+  cache.Put(digest, bytes);
+  const auto path = cache.Path(digest);
+  ASSERT_TRUE(path);
+  EXPECT_EQ(std::filesystem::file_size(*path), bytes.size());
+  // Storing the same blob again (another worker sharing the folder) keeps it valid.
+  BlobCache(dir_).Put(digest, bytes);
+  EXPECT_EQ(cache.Path(digest), path);
+}
+
+TEST_F(BlobCacheTest, PathDropsCorruptEntries) {
+  BlobCache cache(dir_);
+  const std::string digest = Sha256Digest("snapshot");
+  cache.Put(digest, "snapshot");
+  const auto file = dir_ / "sha256" / digest.substr(7);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << "snapshoT";
+  EXPECT_FALSE(cache.Path(digest));
+  EXPECT_FALSE(std::filesystem::exists(file));
 }
 
 }  // namespace

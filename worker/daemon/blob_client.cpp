@@ -45,6 +45,21 @@ std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop) {
   return bytes;
 }
 
+std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop_token stop) {
+  if (!cache_) throw BlobError("no cache folder to keep blob " + digest + " in");
+  if (auto path = cache_->Path(digest)) return std::move(*path);
+  {
+    const std::string bytes = Download(digest, stop);
+    try {
+      cache_->Put(digest, bytes);  // Atomic: a temporary file renamed into place.
+    } catch (const std::exception& e) {
+      throw BlobError("cannot cache blob " + digest + ": " + e.what());
+    }
+  }  // The bytes are freed before the file is mapped.
+  if (auto path = cache_->Path(digest)) return std::move(*path);
+  throw BlobError("blob " + digest + " vanished from the cache right after it was stored");
+}
+
 std::string BlobClient::Download(const std::string& digest, std::stop_token stop) {
   if (!IsValidDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
   std::string bytes;

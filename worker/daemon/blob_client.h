@@ -6,6 +6,7 @@
 #include <grpcpp/channel.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <stop_token>
@@ -32,6 +33,11 @@ class BlobClient {
   // The blob's bytes, from the cache if there, else downloaded, verified and cached. Use for
   // blobs many tasks need (scenes, meshes).
   std::string Fetch(const std::string& digest, std::stop_token stop);
+
+  // The path of the blob's verified file in the cache, downloading it first if it is not
+  // there. Use for big blobs mapped into memory (photon snapshots). Throws BlobError if the
+  // blob cannot be fetched or the client has no cache to keep it in.
+  std::filesystem::path FetchFile(const std::string& digest, std::stop_token stop);
 
   // Downloads and verifies without caching. Use for blobs read once (tile EXRs).
   std::string Download(const std::string& digest, std::stop_token stop);

@@ -1,9 +1,12 @@
 #include "daemon/task_executor.h"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "image/composite.h"
 #include "image/tile_exr.h"
+#include "photon/photon_tracer.h"
+#include "photonmap/photon_snapshot.h"
 #include "render/tile_renderer.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "scene/scene.h"
@@ -62,10 +65,54 @@ void ThrowIfStopped(std::stop_token stop) {
   if (stop.stop_requested()) throw TaskCancelled();
 }
 
+const char* MapName(pb::PhotonMapKind kind) {
+  switch (kind) {
+    case pb::PHOTON_MAP_KIND_GLOBAL:
+      return "global";
+    case pb::PHOTON_MAP_KIND_CAUSTIC:
+      return "caustic";
+    default:
+      return "unknown";
+  }
+}
+
+// The tracer's request for an emission spec from the wire, checked.
+PhotonShardRequest ShardRequestOf(const pb::EmitPhotonsSpec& spec) {
+  PhotonShardRequest r;
+  switch (spec.map()) {
+    case pb::PHOTON_MAP_KIND_GLOBAL:
+      r.map = PhotonMapKind::kGlobal;
+      break;
+    case pb::PHOTON_MAP_KIND_CAUSTIC:
+      r.map = PhotonMapKind::kCaustic;
+      break;
+    default:
+      throw std::runtime_error("emit_photons.map " + std::to_string(spec.map()) + " is not a photon map");
+  }
+  if (spec.photon_count() == 0 || spec.total_photons() == 0 ||
+      spec.first_photon() > spec.total_photons() ||
+      spec.photon_count() > spec.total_photons() - spec.first_photon()) {
+    throw std::runtime_error("emit_photons: photons " + std::to_string(spec.first_photon()) + "+" +
+                             std::to_string(spec.photon_count()) + " are not a non-empty part of " +
+                             std::to_string(spec.total_photons()));
+  }
+  r.first_photon = spec.first_photon();
+  r.photon_count = spec.photon_count();
+  r.total_photons = spec.total_photons();
+  return r;
+}
+
 }  // namespace
 
 std::string DescribeTask(const pb::Task& task) {
   switch (task.spec_case()) {
+    case pb::Task::kEmitPhotons: {
+      const auto& e = task.emit_photons();
+      return std::string("emit_photons (") + MapName(e.map()) + " " + std::to_string(e.first_photon()) +
+             "+" + std::to_string(e.photon_count()) + " of " + std::to_string(e.total_photons()) + ")";
+    }
+    case pb::Task::kBuildPhotonMap:
+      return "build_photon_map (" + std::to_string(task.build_photon_map().shards_size()) + " shards)";
     case pb::Task::kRenderTile: {
       const auto& r = task.render_tile().rect();
       return "render_tile (x " + std::to_string(r.x()) + ", y " + std::to_string(r.y()) + ", " +
@@ -88,6 +135,8 @@ std::vector<pb::Artifact> TaskExecutor::Execute(const pb::LeaseTaskResponse& lea
       return RenderTile(leased, stop);
     case pb::Task::kComposite:
       return Composite(leased, stop);
+    case pb::Task::kEmitPhotons:
+      return EmitPhotons(leased, stop);
     default:
       throw std::runtime_error("task " + leased.task().id() +
                                " has a kind this worker does not know (is it out of date?)");
@@ -120,13 +169,42 @@ const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop
   return *built_;
 }
 
+const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop_token stop) {
+  if (!photons_ || photons_digest_ != digest) {
+    photons_.reset();  // Unmaps the previous job's snapshot first.
+    const std::filesystem::path file = blobs_.FetchFile(digest, stop);
+    ThrowIfStopped(stop);
+    try {
+      photons_ = std::make_unique<PhotonSnapshot>(PhotonSnapshot::Open(file));
+    } catch (const std::exception& e) {
+      throw std::runtime_error("photon snapshot " + digest + ": " + e.what());
+    }
+    photons_digest_ = digest;
+  }
+  return *photons_;
+}
+
+std::vector<pb::Artifact> TaskExecutor::EmitPhotons(const pb::LeaseTaskResponse& leased,
+                                                    std::stop_token stop) {
+  const PhotonShardRequest request = ShardRequestOf(leased.task().emit_photons());
+  const Scene& scene = Built(leased.scene_digest(), stop);
+  ThrowIfStopped(stop);
+  const std::string shard = TracePhotonShard(scene, request, stop);
+  ThrowIfStopped(stop);  // A stopped trace returns an unfinished shard.
+  const std::string digest = blobs_.Upload(shard, stop);
+  return {MakeArtifact("photons.shard", digest, shard.size())};
+}
+
 std::vector<pb::Artifact> TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased,
                                                    std::stop_token stop) {
   const Film film = FilmOf(Description(leased.scene_digest(), stop));
   const PixelRect rect = RectIn(leased.task().render_tile().rect(), film.size, "render_tile.rect");
   const Scene& scene = Built(leased.scene_digest(), stop);
+  const pb::RenderTileSpec& spec = leased.task().render_tile();
+  const PhotonSnapshot* photons = nullptr;
+  if (spec.has_photon_snapshot()) photons = &Photons(spec.photon_snapshot().digest(), stop);
   ThrowIfStopped(stop);
-  const Image tile = farm::RenderTile(scene, rect, stop);
+  const Image tile = farm::RenderTile(scene, photons, rect, stop);
   ThrowIfStopped(stop);  // A stopped render returns an unfinished image.
   if (tile.rect() != rect) throw std::runtime_error("renderer returned a tile of the wrong size");
   const std::string exr = EncodeTileExr(tile, film.size);

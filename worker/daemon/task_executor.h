@@ -1,7 +1,8 @@
 #pragma once
 
-// What the worker does with a leased task: render a tile or composite the image, with the
-// blobs and the scene that takes. Knows nothing of leases and reports (worker.cpp does).
+// What the worker does with a leased task: trace a photon emission shard, render a tile
+// (with the job's photon snapshot, if it has one) or composite the image, with the blobs
+// and the scene that takes. Knows nothing of leases and reports (worker.cpp does).
 // Internal to daemon/.
 
 #include <memory>
@@ -16,6 +17,7 @@
 namespace farm {
 
 class Scene;
+class PhotonSnapshot;
 
 // The task was stopped before it finished (shutdown or a revoked lease); it has no result.
 class TaskCancelled : public std::runtime_error {
@@ -23,7 +25,8 @@ class TaskCancelled : public std::runtime_error {
   TaskCancelled() : std::runtime_error("task cancelled") {}
 };
 
-// A short description for logs: "render_tile (x 0, y 32, 32x32)", "composite (12 tiles)".
+// A short description for logs: "emit_photons (global 0+100000 of 200000)",
+// "render_tile (x 0, y 32, 32x32)", "composite (12 tiles)".
 std::string DescribeTask(const renderfarm::v1::Task& task);
 
 class TaskExecutor {
@@ -42,7 +45,12 @@ class TaskExecutor {
   const renderfarm::v1::Scene& Description(const std::string& digest, std::stop_token stop);
   // The renderable scene, built once per scene digest; the last one is kept.
   const Scene& Built(const std::string& digest, std::stop_token stop);
+  // The photon snapshot, fetched into the on-disk cache and mapped into memory once per
+  // digest; the last one is kept.
+  const PhotonSnapshot& Photons(const std::string& digest, std::stop_token stop);
 
+  std::vector<renderfarm::v1::Artifact> EmitPhotons(const renderfarm::v1::LeaseTaskResponse& leased,
+                                                    std::stop_token stop);
   std::vector<renderfarm::v1::Artifact> RenderTile(const renderfarm::v1::LeaseTaskResponse& leased,
                                                    std::stop_token stop);
   std::vector<renderfarm::v1::Artifact> Composite(const renderfarm::v1::LeaseTaskResponse& leased,
@@ -53,6 +61,8 @@ class TaskExecutor {
   std::unique_ptr<renderfarm::v1::Scene> description_;
   std::string built_digest_;
   std::unique_ptr<Scene> built_;
+  std::string photons_digest_;
+  std::unique_ptr<PhotonSnapshot> photons_;
 };
 
 }  // namespace farm

@@ -30,3 +30,13 @@ func Valid(width, height uint32) *pb.Scene {
 		},
 	}
 }
+
+// Unlit returns Valid with the ball and the floor made of a black emissive material, so
+// that no surface reflects and the job needs no photon maps: its plan is render tiles and
+// a composite only.
+func Unlit(width, height uint32) *pb.Scene {
+	s := Valid(width, height)
+	s.Materials = append(s.Materials, &pb.Material{Name: "black", Kind: &pb.Material_Emissive{Emissive: &pb.Emissive{Radiance: &pb.Color{}}}})
+	s.Shapes[0].Material, s.Shapes[1].Material = "black", "black"
+	return s
+}

@@ -3,6 +3,7 @@ package memstore
 import (
 	"context"
 	"fmt"
+	"slices"
 
 	"google.golang.org/protobuf/types/known/timestamppb"
 
@@ -11,10 +12,14 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// LeaseTask implements store.Store: the first queued task of the oldest job with one.
-func (s *Store) LeaseTask(ctx context.Context, workerID string) (*store.Leased, error) {
+// LeaseTask implements store.Store: the first queued task of phases in the oldest job
+// with one.
+func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phase) (*store.Leased, error) {
 	if workerID == "" {
 		return nil, errs.Field("worker_id", "must be non-empty")
+	}
+	if len(phases) == 0 {
+		return nil, errs.E(errs.Internal, "LeaseTask needs the phases the caller takes")
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
@@ -23,7 +28,7 @@ func (s *Store) LeaseTask(ctx context.Context, workerID string) (*store.Leased, 
 			continue
 		}
 		for _, t := range j.tasks {
-			if t.pb.State != pb.TaskState_TASK_STATE_QUEUED {
+			if t.pb.State != pb.TaskState_TASK_STATE_QUEUED || !slices.Contains(phases, t.pb.Phase) {
 				continue
 			}
 			now := s.now()

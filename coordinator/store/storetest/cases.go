@@ -413,7 +413,7 @@ func testConcurrentLeases(f *fixture) {
 			defer wg.Done()
 			id := fmt.Sprint("w", w)
 			for {
-				l, err := f.s.LeaseTask(f.ctx, id)
+				l, err := f.s.LeaseTask(f.ctx, id, store.WorkerPhases)
 				if err != nil {
 					f.t.Error(err)
 					return
@@ -441,7 +441,7 @@ func testConcurrentLeases(f *fixture) {
 	}
 	// Workers may have stopped before the composite was queued; finish it.
 	for {
-		l, _ := f.s.LeaseTask(f.ctx, "w0")
+		l, _ := f.s.LeaseTask(f.ctx, "w0", store.WorkerPhases)
 		if l == nil {
 			break
 		}

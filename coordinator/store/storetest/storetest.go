@@ -72,6 +72,11 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"ListJobsNewestFirstWithPages", testListJobs},
 		{"ListTasksInPlanOrderWithPages", testListTasks},
 		{"ConcurrentLeasesNeverShareATask", testConcurrentLeases},
+		{"LeaseNeedsPhases", testLeaseNeedsPhases},
+		{"LeaseIsFilteredByPhase", testLeasePhaseFilter},
+		{"PhasesOpenInOrderEmitBuildRenderComposite", testPhotonPhasesOpenInOrder},
+		{"JobWithoutPhotonsStartsAtRender", testJobWithoutPhotons},
+		{"ExpiredBuildLeaseIsRequeuedForTheBuilder", testBuildLeaseExpiry},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) { tt.fn(setup(t, newStore)) })
@@ -88,6 +93,36 @@ func newJob(name string, tiles int) store.NewJob {
 	nj.Tasks = append(nj.Tasks, &pb.Task{Index: uint32(tiles), Phase: pb.Phase_PHASE_COMPOSITE,
 		Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}})
 	return nj
+}
+
+// newPhotonJob makes a job of `shards` emit tasks, one build task, `tiles` render tasks
+// and one composite task.
+func newPhotonJob(name string, shards, tiles int) store.NewJob {
+	nj := store.NewJob{DisplayName: name, SceneDigest: digest(name), Width: uint32(8 * tiles), Height: 8}
+	add := func(t *pb.Task) {
+		t.Index = uint32(len(nj.Tasks))
+		nj.Tasks = append(nj.Tasks, t)
+	}
+	for i := 0; i < shards; i++ {
+		add(&pb.Task{Phase: pb.Phase_PHASE_EMIT, Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{
+			Map: pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL, FirstPhoton: uint64(1000 * i), PhotonCount: 1000, TotalPhotons: uint64(1000 * shards)}}})
+	}
+	add(&pb.Task{Phase: pb.Phase_PHASE_BUILD, Spec: &pb.Task_BuildPhotonMap{BuildPhotonMap: &pb.BuildPhotonMapSpec{}}})
+	for i := 0; i < tiles; i++ {
+		add(&pb.Task{Phase: pb.Phase_PHASE_RENDER,
+			Spec: &pb.Task_RenderTile{RenderTile: &pb.RenderTileSpec{Rect: &pb.PixelRect{X: uint32(8 * i), Width: 8, Height: 8}}}})
+	}
+	add(&pb.Task{Phase: pb.Phase_PHASE_COMPOSITE, Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}})
+	return nj
+}
+
+func (f *fixture) createPhotonJob(name string, shards, tiles int) *pb.Job {
+	f.t.Helper()
+	j, err := f.s.CreateJob(f.ctx, newPhotonJob(name, shards, tiles))
+	if err != nil {
+		f.t.Fatalf("CreateJob: %v", err)
+	}
+	return j
 }
 
 func digest(s string) string {
@@ -108,23 +143,34 @@ func (f *fixture) create(name string, tiles int) *pb.Job {
 	return j
 }
 
+// lease leases a task of the phases workers take.
 func (f *fixture) lease(worker string) *store.Leased {
 	f.t.Helper()
-	l, err := f.s.LeaseTask(f.ctx, worker)
+	return f.leaseOf(worker, store.WorkerPhases)
+}
+
+func (f *fixture) leaseOf(worker string, phases []pb.Phase) *store.Leased {
+	f.t.Helper()
+	l, err := f.s.LeaseTask(f.ctx, worker, phases)
 	if err != nil {
-		f.t.Fatalf("LeaseTask(%s): %v", worker, err)
+		f.t.Fatalf("LeaseTask(%s, %v): %v", worker, phases, err)
 	}
 	if l == nil {
-		f.t.Fatalf("LeaseTask(%s): nothing queued, want a task", worker)
+		f.t.Fatalf("LeaseTask(%s, %v): nothing queued, want a task", worker, phases)
 	}
 	return l
 }
 
 func (f *fixture) noLease(worker string) {
 	f.t.Helper()
-	l, err := f.s.LeaseTask(f.ctx, worker)
+	f.noLeaseOf(worker, store.WorkerPhases)
+}
+
+func (f *fixture) noLeaseOf(worker string, phases []pb.Phase) {
+	f.t.Helper()
+	l, err := f.s.LeaseTask(f.ctx, worker, phases)
 	if err != nil || l != nil {
-		f.t.Fatalf("LeaseTask(%s) = %v, %v; want nothing to do", worker, l, err)
+		f.t.Fatalf("LeaseTask(%s, %v) = %v, %v; want nothing to do", worker, phases, l, err)
 	}
 }
 

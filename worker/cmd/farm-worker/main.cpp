@@ -1,5 +1,6 @@
-// farm-worker: leases render and composite tasks from a photonfarm coordinator. This file
-// only wires the pieces together; see daemon/ for the logic and --help for usage.
+// farm-worker: leases photon emission, render and composite tasks from a photonfarm
+// coordinator. This file only wires the pieces together; see daemon/ for the logic and
+// --help for usage.
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>

@@ -1,0 +1,225 @@
+// Package builder is the coordinator's own worker for the build phase: it leases BUILD
+// tasks through the same task service as the farm's workers (so leases, epochs and expiry
+// protect it like any worker), downloads the emission shards the lease names, merges them
+// with photonmap.Build into a kd-tree snapshot, stores the snapshot in the blob store and
+// completes the task with it as "photons.snapshot". Malformed shards fail the task with
+// the builder's error.
+package builder
+
+import (
+	"bytes"
+	"context"
+	"errors"
+	"fmt"
+	"io"
+	"log/slog"
+	"time"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/photonmap"
+	"photonfarm/coordinator/service"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Tasks is what the builder needs of the task service (service.Service).
+type Tasks interface {
+	Lease(ctx context.Context, workerID string, phases []pb.Phase, wait time.Duration) (*pb.LeaseTaskResponse, error)
+	Extend(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error)
+	Complete(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) error
+	Fail(ctx context.Context, ref store.LeaseRef, message string) error
+}
+
+// Blobs is what the builder needs of the blob store.
+type Blobs interface {
+	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
+	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
+}
+
+var (
+	_ Tasks = (*service.Service)(nil)
+	_ Blobs = (*blobstore.Store)(nil)
+)
+
+// Defaults for Config.
+const (
+	DefaultWorkerID = "coordinator-builder"
+	// leaseWait is how long one lease call waits for a build to be queued.
+	leaseWait = 10 * time.Second
+	// retryAfter is the pause after the task service failed unexpectedly.
+	retryAfter = time.Second
+)
+
+// Config wires a Builder. Tasks and Blobs are required.
+type Config struct {
+	Tasks Tasks
+	Blobs Blobs
+	// Build merges shards into a snapshot; photonmap.Build by default.
+	Build func([]photonmap.Shard) ([]byte, error)
+	// WorkerID is the name the builder's leases go under (DefaultWorkerID by default).
+	WorkerID string
+	// HeartbeatInterval is how often a held lease is extended (1s by default); it must be
+	// well below the lease duration.
+	HeartbeatInterval time.Duration
+	Logger            *slog.Logger
+}
+
+// Builder runs build tasks one at a time. Create it with New and run it with Run.
+type Builder struct {
+	cfg Config
+	log *slog.Logger
+}
+
+// New returns a Builder with cfg's defaults filled in.
+func New(cfg Config) *Builder {
+	if cfg.Build == nil {
+		cfg.Build = photonmap.Build
+	}
+	if cfg.WorkerID == "" {
+		cfg.WorkerID = DefaultWorkerID
+	}
+	if cfg.HeartbeatInterval <= 0 {
+		cfg.HeartbeatInterval = time.Second
+	}
+	if cfg.Logger == nil {
+		cfg.Logger = slog.New(slog.DiscardHandler)
+	}
+	return &Builder{cfg: cfg, log: cfg.Logger}
+}
+
+// Run leases and performs build tasks until ctx is cancelled; it then returns nil. A build
+// in progress when ctx is cancelled is abandoned (its lease expires).
+func (b *Builder) Run(ctx context.Context) error {
+	for ctx.Err() == nil {
+		l, err := b.cfg.Tasks.Lease(ctx, b.cfg.WorkerID, store.BuilderPhases, leaseWait)
+		if err != nil {
+			if ctx.Err() != nil {
+				break
+			}
+			b.log.Error("builder: lease", "err", err)
+			sleep(ctx, retryAfter)
+			continue
+		}
+		if l.GetLease() != nil {
+			b.runTask(ctx, l)
+		}
+	}
+	return nil
+}
+
+func sleep(ctx context.Context, d time.Duration) {
+	t := time.NewTimer(d)
+	defer t.Stop()
+	select {
+	case <-ctx.Done():
+	case <-t.C:
+	}
+}
+
+// runTask performs one leased build and reports it, keeping the lease alive meanwhile.
+func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
+	ref := store.LeaseRef{WorkerID: b.cfg.WorkerID, TaskID: l.GetLease().GetTaskId(), Epoch: l.GetLease().GetEpoch()}
+	start := time.Now()
+	taskCtx, cancel := context.WithCancelCause(ctx)
+	defer cancel(nil)
+	go b.heartbeat(taskCtx, ref, cancel)
+
+	out, err := b.build(taskCtx, l.GetTask().GetBuildPhotonMap())
+	if cause := context.Cause(taskCtx); cause != nil {
+		b.log.Info("builder: build abandoned", "task", ref.TaskID, "why", cause)
+		return
+	}
+	if err != nil {
+		b.log.Warn("builder: build failed", "task", ref.TaskID, "err", err)
+		if ferr := b.cfg.Tasks.Fail(ctx, ref, err.Error()); ferr != nil {
+			b.log.Error("builder: reporting failure", "task", ref.TaskID, "err", ferr)
+		}
+		return
+	}
+	if err := b.cfg.Tasks.Complete(ctx, ref, []*pb.Artifact{out}); err != nil {
+		b.log.Error("builder: reporting completion", "task", ref.TaskID, "err", err)
+		return
+	}
+	b.log.Info("photon map built", "task", ref.TaskID, "shards", len(l.GetTask().GetBuildPhotonMap().GetShards()),
+		"bytes", out.GetSizeBytes(), "snapshot", out.GetDigest(), "took", time.Since(start).Round(time.Millisecond))
+}
+
+// errLeaseLost is the cause of a build's cancellation when its lease was revoked.
+var errLeaseLost = errors.New("lease lost")
+
+// heartbeat extends the lease every HeartbeatInterval until ctx ends; if the lease is
+// revoked it cancels the build.
+func (b *Builder) heartbeat(ctx context.Context, ref store.LeaseRef, cancel context.CancelCauseFunc) {
+	t := time.NewTicker(b.cfg.HeartbeatInterval)
+	defer t.Stop()
+	held := []*pb.HeldLease{{TaskId: ref.TaskID, Epoch: ref.Epoch}}
+	for {
+		select {
+		case <-ctx.Done():
+			return
+		case <-t.C:
+		}
+		_, revoked, err := b.cfg.Tasks.Extend(ctx, ref.WorkerID, held)
+		if err != nil {
+			if ctx.Err() == nil {
+				b.log.Warn("builder: heartbeat", "task", ref.TaskID, "err", err)
+			}
+			continue
+		}
+		if len(revoked) > 0 {
+			cancel(errLeaseLost)
+			return
+		}
+	}
+}
+
+// build downloads the shards, merges them and stores the snapshot.
+func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec) (*pb.Artifact, error) {
+	shards := make([]photonmap.Shard, len(spec.GetShards()))
+	for i, s := range spec.GetShards() {
+		data, err := b.download(ctx, s.GetShard())
+		if err != nil {
+			return nil, fmt.Errorf("shard %d (photons %d+%d of the %s map): %w", i,
+				s.GetSpec().GetFirstPhoton(), s.GetSpec().GetPhotonCount(), mapName(s.GetSpec().GetMap()), err)
+		}
+		shards[i].Data = data
+	}
+	snap, err := b.cfg.Build(shards)
+	if err != nil {
+		return nil, fmt.Errorf("build photon map: %w", err)
+	}
+	if err := ctx.Err(); err != nil {
+		return nil, err
+	}
+	info, err := b.cfg.Blobs.Put(ctx, bytes.NewReader(snap), int64(len(snap)), "")
+	if err != nil {
+		return nil, fmt.Errorf("store photon snapshot: %w", err)
+	}
+	return &pb.Artifact{Name: service.SnapshotArtifact, Digest: info.Digest, SizeBytes: info.Size}, nil
+}
+
+func (b *Builder) download(ctx context.Context, a *pb.Artifact) ([]byte, error) {
+	r, info, err := b.cfg.Blobs.Open(ctx, a.GetDigest())
+	if err != nil {
+		return nil, err
+	}
+	defer r.Close()
+	if info.Size != a.GetSizeBytes() {
+		return nil, fmt.Errorf("blob %s has %d bytes, the task says %d", a.GetDigest(), info.Size, a.GetSizeBytes())
+	}
+	data := make([]byte, info.Size)
+	if _, err := io.ReadFull(r, data); err != nil {
+		return nil, fmt.Errorf("read blob %s: %w", a.GetDigest(), err)
+	}
+	return data, nil
+}
+
+func mapName(k pb.PhotonMapKind) string {
+	switch k {
+	case pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL:
+		return "global"
+	case pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC:
+		return "caustic"
+	}
+	return k.String()
+}

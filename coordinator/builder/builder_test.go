@@ -1,0 +1,205 @@
+package builder_test
+
+import (
+	"bytes"
+	"context"
+	"crypto/sha256"
+	"encoding/hex"
+	"io"
+	"strings"
+	"testing"
+	"time"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/builder"
+	"photonfarm/coordinator/clock"
+	"photonfarm/coordinator/events"
+	"photonfarm/coordinator/photonmap"
+	"photonfarm/coordinator/planner"
+	"photonfarm/coordinator/scene"
+	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/coordinator/service"
+	"photonfarm/coordinator/store"
+	"photonfarm/coordinator/store/memstore"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// fixture is a task service over an in-memory store and a real blob store, with a
+// builder running against it.
+type fixture struct {
+	t     *testing.T
+	ctx   context.Context
+	st    store.Store
+	svc   *service.Service
+	blobs *blobstore.Store
+}
+
+func newFixture(t *testing.T, build func([]photonmap.Shard) ([]byte, error)) *fixture {
+	t.Helper()
+	bs, err := blobstore.New(t.TempDir(), 0)
+	if err != nil {
+		t.Fatal(err)
+	}
+	st := memstore.New(store.Options{Clock: clock.Real{}, LeaseDuration: 5 * time.Second})
+	svc := service.New(service.Config{Store: st, Blobs: bs, Events: events.NewBroker(0)})
+	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
+	b := builder.New(builder.Config{Tasks: svc, Blobs: bs, Build: build, HeartbeatInterval: 50 * time.Millisecond})
+	done := make(chan error, 1)
+	go func() { done <- b.Run(ctx) }()
+	t.Cleanup(func() {
+		cancel()
+		svc.Shutdown()
+		if err := <-done; err != nil {
+			t.Errorf("Run: %v", err)
+		}
+	})
+	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs}
+}
+
+// createJob plans a Valid scene with `shards` global-map shards of 1000 photons.
+func (f *fixture) createJob(shards int) *pb.Job {
+	f.t.Helper()
+	sc := scenetest.Valid(8, 8)
+	sc.Photons = &pb.PhotonMapping{GlobalPhotons: uint64(1000 * shards), PhotonsPerShard: 1000}
+	j, err := f.st.CreateJob(f.ctx, store.NewJob{DisplayName: "j", SceneDigest: "sha256:" + strings.Repeat("0", 64),
+		Width: 8, Height: 8, Tasks: planner.Plan(scene.Defaults(sc))})
+	if err != nil {
+		f.t.Fatal(err)
+	}
+	return j
+}
+
+// emit completes every emit shard of the job as a worker would, with data(i) as shard i.
+func (f *fixture) emit(data func(i int, spec *pb.EmitPhotonsSpec) []byte) [][]byte {
+	f.t.Helper()
+	var out [][]byte
+	for i := 0; ; i++ {
+		l, err := f.svc.Lease(f.ctx, "w1", store.WorkerPhases, 0)
+		if err != nil {
+			f.t.Fatal(err)
+		}
+		spec := l.GetTask().GetEmitPhotons()
+		if spec == nil {
+			if l.GetLease() != nil {
+				f.t.Fatalf("leased %v, want an emit shard or nothing", l.Task)
+			}
+			return out
+		}
+		b := data(i, spec)
+		info, err := f.blobs.Put(f.ctx, bytes.NewReader(b), int64(len(b)), "")
+		if err != nil {
+			f.t.Fatal(err)
+		}
+		out = append(out, b)
+		ref := store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch}
+		if err := f.svc.Complete(f.ctx, ref, []*pb.Artifact{{Name: "photons.shard", Digest: info.Digest, SizeBytes: info.Size}}); err != nil {
+			f.t.Fatal(err)
+		}
+	}
+}
+
+// waitFor polls the job's build task until done says it is finished.
+func (f *fixture) waitFor(jobID string, done func(build *pb.Task, job *pb.Job) bool) (*pb.Task, *pb.Job) {
+	f.t.Helper()
+	for deadline := time.Now().Add(10 * time.Second); time.Now().Before(deadline); time.Sleep(10 * time.Millisecond) {
+		tasks, _, err := f.st.ListTasks(f.ctx, jobID, 1000, "")
+		if err != nil {
+			f.t.Fatal(err)
+		}
+		job, _ := f.st.GetJob(f.ctx, jobID)
+		for _, t := range tasks {
+			if t.GetBuildPhotonMap() != nil && done(t, job) {
+				return t, job
+			}
+		}
+	}
+	f.t.Fatal("the builder did not get there within 10s")
+	return nil, nil
+}
+
+func validShard(i int, spec *pb.EmitPhotonsSpec) []byte {
+	var ps []photonmap.ShardPhoton
+	for k := 0; k < 5; k++ {
+		ps = append(ps, photonmap.ShardPhoton{Position: [3]float32{float32(i), float32(k), 0.5}, Power: [3]float32{1e-3, 2e-3, 3e-3}})
+	}
+	return photonmap.EncodeShard(photonmap.Global, spec.GetFirstPhoton(), spec.GetPhotonCount(), ps)
+}
+
+func TestBuilderMergesShardsIntoTheSnapshotTilesGet(t *testing.T) {
+	f := newFixture(t, nil)
+	j := f.createJob(3)
+	shards := f.emit(validShard)
+	if len(shards) != 3 {
+		t.Fatalf("emitted %d shards, want 3", len(shards))
+	}
+	build, _ := f.waitFor(j.Id, func(b *pb.Task, _ *pb.Job) bool { return b.State == pb.TaskState_TASK_STATE_SUCCEEDED })
+	if build.WorkerId != builder.DefaultWorkerID || build.Attempts != 1 || len(build.Outputs) != 1 || build.Outputs[0].Name != "photons.snapshot" {
+		t.Fatalf("build task = %v", build)
+	}
+	var in []photonmap.Shard
+	for _, s := range shards {
+		in = append(in, photonmap.Shard{Data: s})
+	}
+	want, err := photonmap.Build(in)
+	if err != nil {
+		t.Fatal(err)
+	}
+	r, _, err := f.blobs.Open(f.ctx, build.Outputs[0].Digest)
+	if err != nil {
+		t.Fatal(err)
+	}
+	got, _ := io.ReadAll(r)
+	r.Close()
+	if !bytes.Equal(got, want) {
+		t.Errorf("stored snapshot (%d bytes) differs from photonmap.Build of the shards in plan order (%d bytes)", len(got), len(want))
+	}
+	tile, err := f.svc.Lease(f.ctx, "w1", store.WorkerPhases, 0)
+	if err != nil || tile.GetTask().GetRenderTile().GetPhotonSnapshot().GetDigest() != build.Outputs[0].Digest {
+		t.Errorf("tile lease = %v, %v; want the snapshot", tile, err)
+	}
+}
+
+func TestBuilderFailsTheTaskOnMalformedShards(t *testing.T) {
+	f := newFixture(t, nil)
+	j := f.createJob(2)
+	f.emit(func(i int, spec *pb.EmitPhotonsSpec) []byte {
+		if i == 1 {
+			return []byte("not a shard at all")
+		}
+		return validShard(i, spec)
+	})
+	build, job := f.waitFor(j.Id, func(_ *pb.Task, job *pb.Job) bool { return store.Ended(job.State) })
+	if job.State != pb.JobState_JOB_STATE_FAILED || build.State != pb.TaskState_TASK_STATE_FAILED {
+		t.Fatalf("job %v, build %v; want both failed", job.State, build.State)
+	}
+	if !strings.Contains(build.Error, "shards[1]") || !strings.Contains(job.Error, build.Error) {
+		t.Errorf("build error %q, job error %q; want the builder's error naming shards[1]", build.Error, job.Error)
+	}
+}
+
+func TestBuilderAbandonsABuildWhoseLeaseIsLost(t *testing.T) {
+	release := make(chan struct{})
+	started := make(chan struct{}, 1)
+	f := newFixture(t, func(s []photonmap.Shard) ([]byte, error) {
+		started <- struct{}{}
+		<-release
+		return []byte("late snapshot"), nil
+	})
+	j := f.createJob(1)
+	f.emit(validShard)
+	<-started
+	if _, err := f.st.CancelJob(f.ctx, j.Id); err != nil {
+		t.Fatal(err)
+	}
+	time.Sleep(200 * time.Millisecond) // a few heartbeats: the revocation is seen
+	close(release)
+	build, _ := f.waitFor(j.Id, func(b *pb.Task, _ *pb.Job) bool { return b.State == pb.TaskState_TASK_STATE_CANCELLED })
+	time.Sleep(100 * time.Millisecond)
+	if len(build.Outputs) != 0 {
+		t.Errorf("cancelled build has outputs %v", build.Outputs)
+	}
+	sum := sha256.Sum256([]byte("late snapshot"))
+	if _, err := f.blobs.Stat(f.ctx, "sha256:"+hex.EncodeToString(sum[:])); err == nil {
+		t.Error("the abandoned build's snapshot was stored")
+	}
+}

@@ -1,0 +1,134 @@
+package planner_test
+
+import (
+	"fmt"
+	"strings"
+	"testing"
+
+	"photonfarm/coordinator/planner"
+	"photonfarm/coordinator/scene"
+	"photonfarm/coordinator/scene/scenetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// withoutPhotons checks that tasks are indexed in order and returns those of the render
+// and composite phases.
+func withoutPhotons(t *testing.T, tasks []*pb.Task) []*pb.Task {
+	t.Helper()
+	var out []*pb.Task
+	for i, task := range tasks {
+		if task.Index != uint32(i) {
+			t.Fatalf("task %d has index %d", i, task.Index)
+		}
+		if task.Phase == pb.Phase_PHASE_RENDER || task.Phase == pb.Phase_PHASE_COMPOSITE {
+			out = append(out, task)
+		}
+	}
+	return out
+}
+
+func material(name string, kind string) *pb.Material {
+	m := &pb.Material{Name: name}
+	switch kind {
+	case "mirror":
+		m.Kind = &pb.Material_Mirror{Mirror: &pb.Mirror{Reflectance: &pb.Color{R: 1, G: 1, B: 1}}}
+	case "glass":
+		m.Kind = &pb.Material_Dielectric{Dielectric: &pb.Dielectric{Ior: 1.5}}
+	case "gold":
+		m.Kind = &pb.Material_Conductor{Conductor: &pb.Conductor{Eta: &pb.Color{R: 0.1, G: 0.4, B: 1.4}, K: &pb.Color{R: 4, G: 2.4, B: 1.6}}}
+	}
+	return m
+}
+
+// shape sets the materials of shapes 0 (ball) and 1 (floor) of scenetest.Valid.
+func shapes(ball, floor string) func(*pb.Scene) {
+	return func(s *pb.Scene) {
+		s.Materials = append(s.Materials, material("mirror", "mirror"), material("glass", "glass"), material("gold", "gold"))
+		s.Shapes[0].Material, s.Shapes[1].Material = ball, floor
+	}
+}
+
+// describe is a compact plan: "G0+1000/2500 ... B R R C" with emit shards as
+// map+first+count/total.
+func describe(tasks []*pb.Task) string {
+	var parts []string
+	for _, t := range tasks {
+		switch t.Phase {
+		case pb.Phase_PHASE_EMIT:
+			e := t.GetEmitPhotons()
+			parts = append(parts, fmt.Sprintf("%c%d+%d/%d", strings.TrimPrefix(e.Map.String(), "PHOTON_MAP_KIND_")[0],
+				e.FirstPhoton, e.PhotonCount, e.TotalPhotons))
+		case pb.Phase_PHASE_BUILD:
+			if t.GetBuildPhotonMap() == nil {
+				parts = append(parts, "B?")
+			} else {
+				parts = append(parts, "B")
+			}
+		case pb.Phase_PHASE_RENDER:
+			parts = append(parts, "R")
+		case pb.Phase_PHASE_COMPOSITE:
+			parts = append(parts, "C")
+		}
+	}
+	return strings.Join(parts, " ")
+}
+
+func TestPlanPhotonPhases(t *testing.T) {
+	photons := func(global, caustic, per uint64) func(*pb.Scene) {
+		return func(s *pb.Scene) {
+			s.Photons = &pb.PhotonMapping{GlobalPhotons: global, CausticPhotons: caustic, PhotonsPerShard: per}
+		}
+	}
+	both := func(fs ...func(*pb.Scene)) func(*pb.Scene) {
+		return func(s *pb.Scene) {
+			for _, f := range fs {
+				f(s)
+			}
+		}
+	}
+	tests := []struct {
+		name   string
+		mutate func(*pb.Scene)
+		want   string
+	}{
+		{"diffuse only: defaults, global map only", func(*pb.Scene) {},
+			"G0+100000/200000 G100000+100000/200000 B R C"},
+		{"last shard partial", photons(2500, 0, 1000),
+			"G0+1000/2500 G1000+1000/2500 G2000+500/2500 B R C"},
+		{"one shard holds the whole map", photons(1000, 0, 5000), "G0+1000/1000 B R C"},
+		{"mirror adds the caustic map after the global one", both(shapes("mirror", "white"), photons(2000, 3000, 1000)),
+			"G0+1000/2000 G1000+1000/2000 C0+1000/3000 C1000+1000/3000 C2000+1000/3000 B R C"},
+		{"glass", both(shapes("glass", "white"), photons(1000, 1000, 1000)), "G0+1000/1000 C0+1000/1000 B R C"},
+		{"conductor", both(shapes("gold", "white"), photons(1000, 1000, 1000)), "G0+1000/1000 C0+1000/1000 B R C"},
+		{"specular only: caustic map only", both(shapes("glass", "gold"), photons(1000, 2000, 1000)),
+			"C0+1000/2000 C1000+1000/2000 B R C"},
+		{"no reflecting surface: no photons at all", shapes("light", "light"), "R C"},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			s := scenetest.Valid(32, 32) // one tile
+			tt.mutate(s)
+			if err := scene.Validate(s); err != nil {
+				t.Fatal(err)
+			}
+			tasks := planner.Plan(s)
+			if got := describe(tasks); got != tt.want {
+				t.Errorf("plan = %s\nwant   %s", got, tt.want)
+			}
+			withoutPhotons(t, tasks) // checks the indices
+		})
+	}
+}
+
+func TestPlanLargestMapStaysWithinLimits(t *testing.T) {
+	s := scenetest.Valid(8, 8)
+	s.Photons = &pb.PhotonMapping{GlobalPhotons: scene.MaxPhotonsPerMap, PhotonsPerShard: scene.MinPhotonsPerShard}
+	tasks := planner.Plan(s)
+	var sum uint64
+	for _, task := range tasks {
+		sum += task.GetEmitPhotons().GetPhotonCount()
+	}
+	if want := scene.MaxPhotonsPerMap/scene.MinPhotonsPerShard + 3; len(tasks) != want || sum != scene.MaxPhotonsPerMap {
+		t.Errorf("%d tasks covering %d photons, want %d tasks covering %d", len(tasks), sum, want, scene.MaxPhotonsPerMap)
+	}
+}

@@ -1,0 +1,30 @@
+package scene
+
+import pb "photonfarm/proto/renderfarm/v1"
+
+// Surfaces says which kinds of surface a scene's shapes have, which decides the photon maps
+// it needs: a global map if any shape reflects diffusely (Lambert, or glossy with its
+// diffuse lobe), a caustic map if any is specular (mirror, dielectric, conductor).
+// Materials no shape uses do not count; emissive shapes reflect nothing.
+type Surfaces struct {
+	Diffuse  bool
+	Specular bool
+}
+
+// SurfacesOf classifies the materials used by s's shapes. s must have passed Validate.
+func SurfacesOf(s *pb.Scene) Surfaces {
+	kinds := make(map[string]*pb.Material, len(s.GetMaterials()))
+	for _, m := range s.GetMaterials() {
+		kinds[m.GetName()] = m
+	}
+	var out Surfaces
+	for _, sh := range s.GetShapes() {
+		switch kinds[sh.GetMaterial()].GetKind().(type) {
+		case *pb.Material_Lambert, *pb.Material_Glossy:
+			out.Diffuse = true
+		case *pb.Material_Mirror, *pb.Material_Dielectric, *pb.Material_Conductor:
+			out.Specular = true
+		}
+	}
+	return out
+}

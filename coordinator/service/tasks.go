@@ -1,0 +1,130 @@
+package service
+
+import (
+	"context"
+	"fmt"
+	"time"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// The task operations behind WorkerService, as Go methods: the gRPC handlers call them for
+// workers, and the coordinator's builder calls them directly, so that its leases go through
+// the same store with the same epochs and expiry as any worker's.
+
+// Lease leases to workerID the next queued task of one of phases, waiting up to wait for
+// one (0: do not wait). It returns a response without a lease when there is nothing to do,
+// the wait ran out, or the coordinator is shutting down. The task's spec is filled in
+// (composite tiles, build shards, a tile's photon snapshot).
+func (s *Service) Lease(ctx context.Context, workerID string, phases []pb.Phase, wait time.Duration) (*pb.LeaseTaskResponse, error) {
+	var timeout <-chan time.Time
+	if wait > 0 {
+		t := time.NewTimer(wait)
+		defer t.Stop()
+		timeout = t.C
+	}
+	for {
+		wake := s.queued.wait()
+		l, err := s.cfg.Store.LeaseTask(ctx, workerID, phases)
+		if err != nil {
+			return nil, err
+		}
+		if l != nil {
+			return s.granted(ctx, workerID, l)
+		}
+		if wait == 0 {
+			return &pb.LeaseTaskResponse{}, nil
+		}
+		select {
+		case <-wake:
+		case <-timeout:
+			return &pb.LeaseTaskResponse{}, nil
+		case <-s.done:
+			return &pb.LeaseTaskResponse{}, nil
+		case <-ctx.Done():
+			return nil, ctx.Err()
+		}
+	}
+}
+
+// granted completes a lease by filling in what the task needs from earlier phases. If that
+// fails, the lease is handed back rather than left to expire.
+func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased) (*pb.LeaseTaskResponse, error) {
+	s.publish(l.Change)
+	if err := s.fillSpec(ctx, l); err != nil {
+		if c, rerr := s.cfg.Store.ReleaseTask(ctx, store.LeaseRef{WorkerID: workerID, TaskID: l.Lease.GetTaskId(), Epoch: l.Lease.GetEpoch()}); rerr == nil {
+			s.publish(c)
+		}
+		return nil, err
+	}
+	s.log.Debug("task leased", "task", l.Task.GetId(), "worker", workerID, "epoch", l.Lease.GetEpoch(), "attempt", l.Task.GetAttempts())
+	return &pb.LeaseTaskResponse{Lease: l.Lease, Task: l.Task, SceneDigest: l.SceneDigest}, nil
+}
+
+// Extend extends the leases workerID still holds among held; the others are revoked.
+func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error) {
+	return s.cfg.Store.ExtendLeases(ctx, workerID, held)
+}
+
+// Complete records a task's success with its outputs, which must name blobs in the blob
+// store with their true sizes.
+func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) error {
+	for i, a := range outputs {
+		p := fmt.Sprintf("outputs[%d]", i)
+		if a.GetName() == "" || len(a.GetName()) > 255 {
+			return errs.Field(p+".name", "must be 1 to 255 bytes, got %d", len(a.GetName()))
+		}
+		if !blobstore.ValidDigest(a.GetDigest()) {
+			return errs.Field(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", a.GetDigest())
+		}
+		info, err := s.cfg.Blobs.Stat(ctx, a.GetDigest())
+		if errs.Is(err, errs.NotFound) {
+			return errs.Field(p+".digest", "no blob %s; upload it before completing the task", a.GetDigest())
+		}
+		if err != nil {
+			return err
+		}
+		if info.Size != a.GetSizeBytes() {
+			return errs.Field(p+".size_bytes", "blob %s has %d bytes, not %d", a.GetDigest(), info.Size, a.GetSizeBytes())
+		}
+	}
+	c, err := s.cfg.Store.CompleteTask(ctx, ref, outputs)
+	if err != nil {
+		return err
+	}
+	if c.Task != nil {
+		s.log.Debug("task completed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch)
+	}
+	s.publish(c)
+	return nil
+}
+
+// Fail records a task's failure; message is truncated to MaxErrorMessage bytes.
+func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) error {
+	if message == "" {
+		return errs.Field("error", "must say why the task failed")
+	}
+	if len(message) > MaxErrorMessage {
+		message = message[:MaxErrorMessage] + "…"
+	}
+	c, err := s.cfg.Store.FailTask(ctx, ref, message)
+	if err != nil {
+		return err
+	}
+	s.log.Warn("task failed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch, "error", message)
+	s.publish(c)
+	return nil
+}
+
+// Release queues a leased task again without counting a failure.
+func (s *Service) Release(ctx context.Context, ref store.LeaseRef) error {
+	c, err := s.cfg.Store.ReleaseTask(ctx, ref)
+	if err != nil {
+		return err
+	}
+	s.publish(c)
+	return nil
+}

@@ -1,0 +1,116 @@
+package integration
+
+import (
+	"bytes"
+	"path/filepath"
+	"testing"
+	"time"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// causticsFile is scenes/test-caustics.json: the Cornell box with a mirror and a glass
+// sphere under a quad light, 64x64 in 16 tiles of 16, with a global and a caustic map of
+// 40,000 photon paths each in shards of 10,000 (8 emission shards, tens of milliseconds
+// each on one thread).
+const causticsFile = "test-caustics.json"
+
+// slowShards makes each emission shard of the caustics scene take a few hundred
+// milliseconds (100,000 paths), so that a kill lands while a shard is leased.
+func slowShards(sc *pb.Scene) *pb.Scene {
+	sc.Photons.GlobalPhotons, sc.Photons.CausticPhotons, sc.Photons.PhotonsPerShard = 400000, 400000, 100000
+	return sc
+}
+
+var causticsSize = sceneSize{width: 64, height: 64, tile: 16}
+
+// checkCausticsOutputs checks the final EXR (with its AOV layers) and the preview, and
+// returns the EXR.
+func checkCausticsOutputs(t *testing.T, f *farm, job *pb.Job) []byte {
+	t.Helper()
+	s := causticsSize
+	exr := f.output(job, "image.exr")
+	if err := checkFinalEXR(exr, int(s.width), int(s.height), int(s.tile), aovChannels...); err != nil {
+		t.Error(err)
+	}
+	w, h, err := pngSize(f.output(job, "preview.png"))
+	if err != nil || w != int(s.width) || h != int(s.height) {
+		t.Errorf("preview.png: %dx%d, %v; want %dx%d", w, h, err, s.width, s.height)
+	}
+	return exr
+}
+
+// checkPhotonPlan checks that the job went through emit (8 shards of perShard paths,
+// global map first), build (by the coordinator) and render, and every task succeeded.
+func checkPhotonPlan(t *testing.T, tasks []*pb.Task, perShard uint64) {
+	t.Helper()
+	emit, build := tasksOf(tasks, pb.Phase_PHASE_EMIT), tasksOf(tasks, pb.Phase_PHASE_BUILD)
+	if len(emit) != 8 || len(build) != 1 || len(tasksOf(tasks, pb.Phase_PHASE_RENDER)) != 16 {
+		t.Fatalf("%d emit, %d build, %d render tasks; want 8, 1 and 16", len(emit), len(build), len(tasksOf(tasks, pb.Phase_PHASE_RENDER)))
+	}
+	for i, e := range emit {
+		wantMap := pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL
+		if i >= 4 {
+			wantMap = pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC
+		}
+		if spec := e.GetEmitPhotons(); spec.GetMap() != wantMap || spec.GetFirstPhoton() != perShard*uint64(i%4) {
+			t.Errorf("emit task %d = %v", i, spec)
+		}
+	}
+	for _, task := range tasks {
+		if task.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
+			t.Errorf("task %s is %v after the job succeeded: %s", task.GetId(), task.GetState(), task.GetError())
+		}
+	}
+	if b := build[0]; b.GetWorkerId() != "coordinator-builder" || len(b.GetOutputs()) != 1 || b.GetOutputs()[0].GetName() != "photons.snapshot" {
+		t.Errorf("build task = %v, want it done by the coordinator with a photons.snapshot", b)
+	}
+}
+
+func TestCausticsTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
+	two := startFarm(t)
+	cache := filepath.Join(t.TempDir(), "shared-cache") // two workers on one host share it
+	w1, w2 := two.startWorkerWithCache(cache), two.startWorkerWithCache(cache)
+	w1.workerID(t, 15*time.Second)
+	w2.workerID(t, 15*time.Second)
+	job := two.render(two.loadScene(causticsFile), 120*time.Second)
+	exrTwo := checkCausticsOutputs(t, two, job)
+
+	tasks := two.tasks(job.GetId())
+	checkPhotonPlan(t, tasks, 10000)
+	shardsPerWorker := map[string]int{}
+	for _, task := range tasksOf(tasks, pb.Phase_PHASE_EMIT) {
+		shardsPerWorker[task.GetWorkerId()]++
+	}
+	t.Logf("emission shards per worker: %v", shardsPerWorker)
+	if len(shardsPerWorker) != 2 || shardsPerWorker[""] != 0 {
+		t.Errorf("emission shards were traced by %v; want both workers", shardsPerWorker)
+	}
+
+	one := startFarm(t)
+	one.startWorker()
+	jobOne := one.render(one.loadScene(causticsFile), 120*time.Second)
+	exrOne := checkCausticsOutputs(t, one, jobOne)
+	if !bytes.Equal(exrTwo, exrOne) {
+		t.Errorf("EXR from two workers (%d bytes) differs from the one from one worker (%d bytes)", len(exrTwo), len(exrOne))
+	}
+}
+
+func TestWorkerKilledDuringEmissionLeaseExpiresAndImageIsUnchanged(t *testing.T) {
+	f := startFarm(t)
+	first := f.startWorker()
+	first.workerID(t, 15*time.Second)
+	sc := slowShards(f.loadScene(causticsFile))
+	job := f.submit(sc)
+
+	victim := f.killWhileLeasing(t, first, job.GetId(), pb.Phase_PHASE_EMIT)
+
+	second := f.startWorker()
+	secondID := second.workerID(t, 15*time.Second)
+	done := f.wait(job.GetId(), 120*time.Second)
+	exrAfterKill := checkCausticsOutputs(t, f, done)
+	tasks := f.tasks(job.GetId())
+	checkPhotonPlan(t, tasks, 100000)
+	checkTakenOver(t, tasks, victim, secondID)
+	f.checkSameAsUndisturbed(t, sc, exrAfterKill, 120*time.Second)
+}
