@@ -16,6 +16,41 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
+// startServing runs a coordinator on a loopback port and returns a connection to it and a
+// stop function that cancels Serve and returns Serve's result (failing the test if Serve
+// has not returned within 5 s). The connection is closed when the test ends.
+func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() error) {
+	t.Helper()
+	c, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: lease, Logger: slog.New(slog.DiscardHandler)})
+	if err != nil {
+		t.Fatal(err)
+	}
+	lis, err := net.Listen("tcp", "127.0.0.1:0")
+	if err != nil {
+		t.Fatal(err)
+	}
+	ctx, cancel := context.WithCancel(context.Background())
+	served := make(chan error, 1)
+	go func() { served <- c.Serve(ctx, lis) }()
+	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()))
+	if err != nil {
+		cancel()
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { conn.Close() })
+	stop := func() error {
+		cancel()
+		select {
+		case err := <-served:
+			return err
+		case <-time.After(5 * time.Second):
+			t.Fatal("Serve did not stop within 5s")
+			return nil
+		}
+	}
+	return conn, stop
+}
+
 func TestNewRejectsBadConfig(t *testing.T) {
 	for _, cfg := range []coordinator.Config{
 		{},
@@ -32,27 +67,7 @@ func TestNewRejectsBadConfig(t *testing.T) {
 // extended goes back to the queue, and cancelling the context stops Serve promptly even
 // with a worker long-polling.
 func TestServeExpiresLeasesAndStopsGracefully(t *testing.T) {
-	c, err := coordinator.New(coordinator.Config{
-		DataDir:       t.TempDir(),
-		LeaseDuration: 200 * time.Millisecond,
-		Logger:        slog.New(slog.DiscardHandler),
-	})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	ctx, stop := context.WithCancel(context.Background())
-	served := make(chan error, 1)
-	go func() { served <- c.Serve(ctx, lis) }()
-
-	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
+	conn, stop := startServing(t, 200*time.Millisecond)
 	rpc, cancel := context.WithTimeout(context.Background(), 20*time.Second)
 	defer cancel()
 	jobs, workers := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn)
@@ -83,14 +98,8 @@ func TestServeExpiresLeasesAndStopsGracefully(t *testing.T) {
 	}()
 	time.Sleep(100 * time.Millisecond)
 	start := time.Now()
-	stop()
-	select {
-	case err := <-served:
-		if err != nil {
-			t.Errorf("Serve = %v", err)
-		}
-	case <-time.After(5 * time.Second):
-		t.Fatal("Serve did not stop")
+	if err := stop(); err != nil {
+		t.Errorf("Serve = %v", err)
 	}
 	if d := time.Since(start); d > 3*time.Second {
 		t.Errorf("stopping took %v", d)

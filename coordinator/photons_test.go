@@ -2,17 +2,12 @@ package coordinator_test
 
 import (
 	"context"
-	"log/slog"
-	"net"
 	"testing"
 	"time"
 
-	"google.golang.org/grpc"
-	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/protobuf/types/known/durationpb"
 
 	"photonfarm/client"
-	"photonfarm/coordinator"
 	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -22,28 +17,12 @@ import (
 // emission phase and checks that the coordinator's own builder turns the shards into the
 // snapshot render tiles are given.
 func TestServeBuildsThePhotonMapBetweenEmitAndRender(t *testing.T) {
-	c, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: 2 * time.Second, Logger: slog.New(slog.DiscardHandler)})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	ctx, stop := context.WithCancel(context.Background())
-	served := make(chan error, 1)
-	go func() { served <- c.Serve(ctx, lis) }()
+	conn, stop := startServing(t, 2*time.Second)
 	defer func() {
-		stop()
-		if err := <-served; err != nil {
+		if err := stop(); err != nil {
 			t.Errorf("Serve: %v", err)
 		}
 	}()
-	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
 	cl := client.New(conn)
 	rpc, cancel := context.WithTimeout(context.Background(), 20*time.Second)
 	defer cancel()
