@@ -14,6 +14,8 @@ import (
 type testCase struct {
 	name   string
 	shards []Shard
+	// Irradiance shards merged into the snapshot by MergeIrradiance, if any.
+	irradiance [][]byte
 }
 
 func testCases() []testCase {
@@ -21,12 +23,12 @@ func testCases() []testCase {
 	random := uniformPhotons(r, 1000)
 	caustic := uniformPhotons(r, 300)
 	return []testCase{
-		{"random-1000", append(splitShards(Global, random, 100, 600), splitShards(Caustic, caustic, 150)...)},
-		{"plane", splitShards(Global, planePhotons(r, 500), 250)},
-		{"duplicates", splitShards(Global, duplicatePhotons(r, 200), 10, 20)},
-		{"one-photon", append(splitShards(Global, uniformPhotons(r, 1)), splitShards(Caustic, nil)...)},
-		{"empty-caustic", append(splitShards(Global, uniformPhotons(r, 300)), splitShards(Caustic, nil)...)},
-		{"no-maps", nil},
+		{"random-1000", append(splitShards(Global, random, 100, 600), splitShards(Caustic, caustic, 150)...), nil},
+		{"plane", splitShards(Global, planePhotons(r, 500), 250), nil},
+		{"duplicates", splitShards(Global, duplicatePhotons(r, 200), 10, 20), nil},
+		{"one-photon", append(splitShards(Global, uniformPhotons(r, 1)), splitShards(Caustic, nil)...), nil},
+		{"empty-caustic", append(splitShards(Global, uniformPhotons(r, 300)), splitShards(Caustic, nil)...), nil},
+		{"no-maps", nil, nil},
 	}
 }
 

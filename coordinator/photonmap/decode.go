@@ -27,74 +27,142 @@ type Map struct {
 // Snapshot is a decoded snapshot.
 type Snapshot struct {
 	Maps []Map
+	// Irradiance per global photon (RGB9E5 relative to IrradianceScale), in the global
+	// map's array order; nil when the snapshot has no irradiance section.
+	Irradiance      []uint32
+	IrradianceScale float32
+}
+
+// mapLayout is one validated directory entry.
+type mapLayout struct {
+	kind   Kind
+	count  uint64
+	offset uint64
+}
+
+// snapshotLayout is a validated header and directory: where each map's records and the
+// irradiance section lie. Records themselves are not read.
+type snapshotLayout struct {
+	maps      []mapLayout
+	irrOffset uint64 // 0: no irradiance section
+	irrCount  uint64
+	irrScale  float32
+	// End of the last photon array: where an irradiance section may start (aligned).
+	photonsEnd uint64
+}
+
+func snapErr(format string, args ...any) error {
+	return fmt.Errorf("photon snapshot: "+format, args...)
+}
+
+// parseLayout checks everything about a snapshot but its records, in O(maps): sizes,
+// offsets, alignment, counts, power scales and the irradiance section.
+func parseLayout(data []byte) (snapshotLayout, error) {
+	var l snapshotLayout
+	bad := snapErr
+	if len(data) < headerSize {
+		return l, bad("%d bytes is shorter than the header", len(data))
+	}
+	if string(data[:8]) != snapshotMagic {
+		return l, bad("bad magic %q", data[:8])
+	}
+	if v := le.Uint32(data[8:]); v != snapshotVersion {
+		return l, bad("unsupported version %d", v)
+	}
+	if h := le.Uint32(data[12:]); h != headerSize {
+		return l, bad("header_size %d, want %d", h, headerSize)
+	}
+	count := le.Uint32(data[16:])
+	if count > 2 {
+		return l, bad("map_count %d > 2", count)
+	}
+	if e := le.Uint32(data[20:]); e != dirEntrySize {
+		return l, bad("directory_entry_size %d, want %d", e, dirEntrySize)
+	}
+	if fs := le.Uint64(data[24:]); fs != uint64(len(data)) {
+		return l, bad("file_size %d, but %d bytes", fs, len(data))
+	}
+	dirEnd := uint64(headerSize + dirEntrySize*int(count))
+	if dirEnd > uint64(len(data)) {
+		return l, bad("directory runs past the end")
+	}
+	end := dirEnd
+	for i := 0; i < int(count); i++ {
+		d := data[headerSize+i*dirEntrySize:]
+		m := mapLayout{kind: Kind(le.Uint32(d[0:])), count: uint64(le.Uint32(d[4:])), offset: le.Uint64(d[16:])}
+		scale := math.Float32frombits(le.Uint32(d[48:]))
+		switch {
+		case m.kind != Global && m.kind != Caustic:
+			return l, bad("map %d: unknown kind %d", i, m.kind)
+		case i > 0 && m.kind <= l.maps[i-1].kind:
+			return l, bad("map %d: kinds not increasing", i)
+		case m.count > maxMapPhotons:
+			return l, bad("map %d: photon_count %d over the limit", i, m.count)
+		case m.offset%mapAlignment != 0 || m.offset < end || m.offset > uint64(len(data)):
+			return l, bad("map %d: offset %d not 64-aligned after byte %d", i, m.offset, end)
+		case m.count > (uint64(len(data))-m.offset)/recordSize:
+			return l, bad("map %d: %d photons run past the end", i, m.count)
+		case !(scale > 0) || math.IsInf(float64(scale), 0):
+			return l, bad("map %d: power_scale %g", i, scale)
+		case le.Uint32(d[52:]) != recordSize:
+			return l, bad("map %d: record_size %d", i, le.Uint32(d[52:]))
+		}
+		end = m.offset + m.count*recordSize
+		l.maps = append(l.maps, m)
+	}
+	l.photonsEnd = end
+	l.irrOffset = le.Uint64(data[irrOffsetAt:])
+	l.irrCount = uint64(le.Uint32(data[irrCountAt:]))
+	l.irrScale = math.Float32frombits(le.Uint32(data[irrScaleAt:]))
+	if l.irrOffset == 0 {
+		if l.irrCount != 0 || l.irrScale != 0 {
+			return l, bad("irradiance_count or irradiance_scale set without an irradiance section")
+		}
+	} else {
+		if len(l.maps) == 0 || l.maps[0].kind != Global {
+			return l, bad("irradiance section without a global map")
+		}
+		switch {
+		case l.irrCount != l.maps[0].count:
+			return l, bad("irradiance_count %d, but the global map has %d photons", l.irrCount, l.maps[0].count)
+		case !(l.irrScale > 0) || math.IsInf(float64(l.irrScale), 0):
+			return l, bad("irradiance_scale %g", l.irrScale)
+		case l.irrOffset%mapAlignment != 0 || l.irrOffset < end || l.irrOffset > uint64(len(data)):
+			return l, bad("irradiance_offset %d not 64-aligned after byte %d", l.irrOffset, end)
+		case l.irrCount > (uint64(len(data))-l.irrOffset)/irrRecordSize:
+			return l, bad("irradiance runs past the end")
+		}
+		end = l.irrOffset + l.irrCount*irrRecordSize
+	}
+	if end != uint64(len(data)) {
+		return l, bad("%d trailing bytes", uint64(len(data))-end)
+	}
+	return l, nil
 }
 
 // Decode parses and validates a snapshot; tests and tools use it to check what Build wrote.
 // It checks the layout and the axis field, not the kd-tree ordering (see CheckTree).
 func Decode(data []byte) (*Snapshot, error) {
-	bad := func(format string, args ...any) error {
-		return fmt.Errorf("photon snapshot: "+format, args...)
-	}
-	if len(data) < headerSize {
-		return nil, bad("%d bytes is shorter than the header", len(data))
-	}
-	if string(data[:8]) != snapshotMagic {
-		return nil, bad("bad magic %q", data[:8])
-	}
-	if v := le.Uint32(data[8:]); v != snapshotVersion {
-		return nil, bad("unsupported version %d", v)
-	}
-	if h := le.Uint32(data[12:]); h != headerSize {
-		return nil, bad("header_size %d, want %d", h, headerSize)
-	}
-	count := le.Uint32(data[16:])
-	if count > 2 {
-		return nil, bad("map_count %d > 2", count)
-	}
-	if e := le.Uint32(data[20:]); e != dirEntrySize {
-		return nil, bad("directory_entry_size %d, want %d", e, dirEntrySize)
-	}
-	if fs := le.Uint64(data[24:]); fs != uint64(len(data)) {
-		return nil, bad("file_size %d, but %d bytes", fs, len(data))
-	}
-	dirEnd := uint64(headerSize + dirEntrySize*int(count))
-	if dirEnd > uint64(len(data)) {
-		return nil, bad("directory runs past the end")
+	l, err := parseLayout(data)
+	if err != nil {
+		return nil, err
 	}
 	snap := &Snapshot{}
-	end := dirEnd
-	for i := 0; i < int(count); i++ {
+	for i, ml := range l.maps {
 		d := data[headerSize+i*dirEntrySize:]
 		m := Map{
-			Kind:         Kind(le.Uint32(d[0:])),
+			Kind:         ml.kind,
 			PathsEmitted: le.Uint64(d[8:]),
 			PowerScale:   math.Float32frombits(le.Uint32(d[48:])),
-		}
-		n := uint64(le.Uint32(d[4:]))
-		off := le.Uint64(d[16:])
-		switch {
-		case m.Kind != Global && m.Kind != Caustic:
-			return nil, bad("map %d: unknown kind %d", i, m.Kind)
-		case i > 0 && m.Kind <= snap.Maps[i-1].Kind:
-			return nil, bad("map %d: kinds not increasing", i)
-		case n > maxMapPhotons:
-			return nil, bad("map %d: photon_count %d over the limit", i, n)
-		case off%mapAlignment != 0 || off < end || off > uint64(len(data)):
-			return nil, bad("map %d: offset %d not 64-aligned after byte %d", i, off, end)
-		case n > (uint64(len(data))-off)/recordSize:
-			return nil, bad("map %d: %d photons run past the end", i, n)
-		case !(m.PowerScale > 0) || math.IsInf(float64(m.PowerScale), 0):
-			return nil, bad("map %d: power_scale %g", i, m.PowerScale)
-		case le.Uint32(d[52:]) != recordSize:
-			return nil, bad("map %d: record_size %d", i, le.Uint32(d[52:]))
 		}
 		for c := 0; c < 3; c++ {
 			m.BoundsMin[c] = math.Float32frombits(le.Uint32(d[24+4*c:]))
 			m.BoundsMax[c] = math.Float32frombits(le.Uint32(d[36+4*c:]))
 		}
+		n := ml.count
 		m.Photons = make([]Photon, n)
 		for j := range m.Photons {
-			rec := data[off+uint64(j)*recordSize:]
+			rec := data[ml.offset+uint64(j)*recordSize:]
 			p := &m.Photons[j]
 			for c := 0; c < 3; c++ {
 				p.Position[c] = math.Float32frombits(le.Uint32(rec[4*c:]))
@@ -105,14 +173,17 @@ func Decode(data []byte) (*Snapshot, error) {
 			p.Normal = nrm &^ normalAxisMask
 			p.Axis = int(nrm & normalAxisMask)
 			if leaf := 2*uint64(j)+1 >= n; leaf != (p.Axis == axisLeaf) {
-				return nil, bad("map %d: photon %d: axis %d, but leaf is %v", i, j, p.Axis, leaf)
+				return nil, snapErr("map %d: photon %d: axis %d, but leaf is %v", i, j, p.Axis, leaf)
 			}
 		}
-		end = off + n*recordSize
 		snap.Maps = append(snap.Maps, m)
 	}
-	if end != uint64(len(data)) {
-		return nil, bad("%d trailing bytes", uint64(len(data))-end)
+	if l.irrOffset != 0 {
+		snap.IrradianceScale = l.irrScale
+		snap.Irradiance = make([]uint32, l.irrCount)
+		for j := range snap.Irradiance {
+			snap.Irradiance[j] = le.Uint32(data[l.irrOffset+uint64(j)*irrRecordSize:])
+		}
 	}
 	return snap, nil
 }

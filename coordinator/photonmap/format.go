@@ -30,16 +30,24 @@ const (
 	shardHeaderSize = 40
 	shardRecordSize = 28
 
-	snapshotMagic    = "PFPHOTON"
-	snapshotVersion  = 1
-	headerSize       = 64
-	dirEntrySize     = 64
-	recordSize       = 20
-	mapAlignment     = 64
-	axisLeaf         = 3
-	normalAxisMask   = 3
-	maxMapPhotons    = 1<<31 - 1
-	rgb9e5Bias       = 15
-	rgb9e5MantBits   = 9
-	rgb9e5MantLevels = 1 << rgb9e5MantBits
+	snapshotMagic   = "PFPHOTON"
+	snapshotVersion = 2
+	headerSize      = 64
+	dirEntrySize    = 64
+	recordSize      = 20
+	mapAlignment    = 64
+	axisLeaf        = 3
+	normalAxisMask  = 3
+	maxMapPhotons   = 1<<31 - 1
+	// The irradiance section (header bytes 32-47) and the IRRADIANCE SHARD format.
+	irrOffsetAt        = 32
+	irrCountAt         = 40
+	irrScaleAt         = 44
+	irrRecordSize      = 4
+	irrShardMagic      = "PFIRRAD1"
+	irrShardVersion    = 1
+	irrShardHeaderSize = 40
+	rgb9e5Bias         = 15
+	rgb9e5MantBits     = 9
+	rgb9e5MantLevels   = 1 << rgb9e5MantBits
 )

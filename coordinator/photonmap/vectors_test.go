@@ -52,22 +52,40 @@ func TestVectors(t *testing.T) {
 			if err != nil {
 				t.Fatal(err)
 			}
+			irrNames, err := filepath.Glob(filepath.Join(dir, "irradiance-*.bin"))
+			if err != nil {
+				t.Fatal(err)
+			}
+			slices.Sort(irrNames)
+			var irr [][]byte
+			for _, n := range irrNames {
+				data, err := os.ReadFile(n)
+				if err != nil {
+					t.Fatal(err)
+				}
+				irr = append(irr, data)
+			}
 			got, err := Build(shards)
 			if err != nil {
 				t.Fatal(err)
+			}
+			if len(irr) > 0 {
+				if got, err = MergeIrradiance(got, irr); err != nil {
+					t.Fatal(err)
+				}
 			}
 			if !bytes.Equal(got, want) {
 				t.Fatalf("Build of %d shards differs from snapshot.bin (%d vs %d bytes)", len(shards), len(got), len(want))
 			}
 		})
 	}
-	if cases < 5 {
+	if cases < 7 {
 		t.Fatalf("only %d vector cases in %s", cases, vectorDir)
 	}
 }
 
 func writeVectors(t *testing.T) {
-	for _, tc := range testCases() {
+	for _, tc := range append(testCases(), irradianceCases()...) {
 		dir := filepath.Join(vectorDir, tc.name)
 		if err := os.RemoveAll(dir); err != nil {
 			t.Fatal(err)
@@ -80,9 +98,19 @@ func writeVectors(t *testing.T) {
 				t.Fatal(err)
 			}
 		}
+		for i, s := range tc.irradiance {
+			if err := os.WriteFile(filepath.Join(dir, fmt.Sprintf("irradiance-%03d.bin", i)), s, 0o644); err != nil {
+				t.Fatal(err)
+			}
+		}
 		snap, err := Build(tc.shards)
 		if err != nil {
 			t.Fatal(err)
+		}
+		if len(tc.irradiance) > 0 {
+			if snap, err = MergeIrradiance(snap, tc.irradiance); err != nil {
+				t.Fatal(err)
+			}
 		}
 		if err := os.WriteFile(filepath.Join(dir, "snapshot.bin"), snap, 0o644); err != nil {
 			t.Fatal(err)

@@ -32,6 +32,11 @@ std::uint16_t KdPhotonMap::normal_code(std::size_t i) const {
   return byte_io::Load<std::uint16_t>(records_ + kSnapshotRecordSize * i + 18) & ~3u;
 }
 
+Rgb KdPhotonMap::irradiance(std::size_t i) const {
+  if (!irradiance_) return {};
+  return DecodeRgb9e5(byte_io::Load<std::uint32_t>(irradiance_ + 4 * i)) * irradiance_scale_;
+}
+
 DecodedPhoton KdPhotonMap::photon(std::size_t i) const {
   const unsigned char* rec = records_ + kSnapshotRecordSize * i;
   DecodedPhoton p;

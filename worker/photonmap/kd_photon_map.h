@@ -24,7 +24,15 @@ class KdPhotonMap final : public PhotonMap {
         power_scale_(power_scale),
         paths_emitted_(paths_emitted) {}
 
+  // irradiance: count * 4 bytes of RGB9E5 relative to irradiance_scale, or null.
+  void set_irradiance(const unsigned char* irradiance, float irradiance_scale) {
+    irradiance_ = irradiance;
+    irradiance_scale_ = irradiance_scale;
+  }
+
   std::size_t size() const override { return count_; }
+  bool has_irradiance() const override { return irradiance_ != nullptr; }
+  Rgb irradiance(std::size_t index) const override;
   DecodedPhoton photon(std::size_t index) const override;
   void NearestK(const Vec3& p, int k, float max_radius,
                 std::vector<PhotonNeighbour>& out) const override;
@@ -44,6 +52,8 @@ class KdPhotonMap final : public PhotonMap {
   std::uint32_t count_;
   float power_scale_;
   std::uint64_t paths_emitted_;
+  const unsigned char* irradiance_ = nullptr;
+  float irradiance_scale_ = 0;
 };
 
 }  // namespace farm

@@ -18,7 +18,8 @@ namespace farm {
 namespace {
 
 constexpr char kMagic[8] = {'P', 'F', 'P', 'H', 'O', 'T', 'O', 'N'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint64_t kIrradianceRecordSize = 4;
 constexpr std::size_t kHeaderSize = 64;
 constexpr std::size_t kDirEntrySize = 64;
 constexpr std::uint64_t kAlignment = 64;
@@ -135,6 +136,29 @@ void ParseSnapshot(std::string_view b, SnapshotData& data) {
     }
     end = offset + kSnapshotRecordSize * std::uint64_t(count);
     data.maps[kind - 1].emplace(static_cast<PhotonMapKind>(kind), records, count, scale, paths);
+  }
+  // The irradiance section (version 2): present when irradiance_offset is not zero, one
+  // 4-byte record per global photon after the last photon array.
+  const auto irr_offset = byte_io::Load<std::uint64_t>(h + 32);
+  const auto irr_count = byte_io::Load<std::uint32_t>(h + 40);
+  const auto irr_scale = byte_io::Load<float>(h + 44);
+  if (irr_offset == 0) {
+    if (irr_count != 0 || irr_scale != 0) Fail("irradiance_count or scale set without a section");
+  } else {
+    if (!data.maps[0]) Fail("irradiance section without a global map");
+    KdPhotonMap& global = *data.maps[0];
+    if (irr_count != global.size())
+      Fail("irradiance_count " + std::to_string(irr_count) + " but the global map has " +
+           std::to_string(global.size()) + " photons");
+    if (!(irr_scale > 0) || !std::isfinite(irr_scale))
+      Fail("irradiance_scale must be finite and > 0");
+    if (irr_offset % kAlignment != 0 || irr_offset < end || irr_offset > b.size())
+      Fail("irradiance_offset " + std::to_string(irr_offset) + " not 64-aligned after byte " +
+           std::to_string(end));
+    if (irr_count > (b.size() - irr_offset) / kIrradianceRecordSize)
+      Fail("irradiance runs past the end");
+    global.set_irradiance(reinterpret_cast<const unsigned char*>(h + irr_offset), irr_scale);
+    end = irr_offset + kIrradianceRecordSize * irr_count;
   }
   if (end != b.size()) Fail(std::to_string(b.size() - end) + " trailing bytes");
 }

@@ -19,9 +19,13 @@ Rgb EstimateRadiance(const PhotonMap& map, const Vec3& p, const Vec3& n,
   map.NearestK(p, settings.neighbours, settings.max_radius, scratch);
   float r2 = 0;
   for (const PhotonNeighbour& nb : scratch) r2 = std::max(r2, nb.distance_squared);
-  // Jensen's radius: that of the farthest photon found. No photon, or all of them exactly
-  // at p (a zero-area disc), gives no estimate rather than an infinite one.
-  if (!(r2 > 0)) return {};
+  // Jensen's radius: that of the farthest photon found, when k were found. Fewer than k
+  // means the whole max_radius disc was searched, so that disc is the area: dividing by
+  // the farthest photon's distance instead would blow up one lonely photon near p. No
+  // photon gives no estimate.
+  if (scratch.size() < static_cast<std::size_t>(settings.neighbours))
+    r2 = settings.max_radius * settings.max_radius;
+  if (scratch.empty() || !(r2 > 0)) return {};
   const float r = std::sqrt(r2);
   const float cone_k = std::max(settings.cone_k, 1.0f);
   Rgb sum;

@@ -123,7 +123,9 @@ TEST(EstimateRadiance, PassesEachPhotonsDirectionToTheBsdfAndHandlesNoPhotons) {
   Rgb got = EstimateRadiance(map, Vec3(0, 0, 0), Vec3(0, 0, 1), s,
                              [](const Vec3& wi) { return wi.x > 0 ? Rgb(1, 0, 0) : Rgb(0, 1, 0); },
                              scratch);
-  const float expected = 1 / (std::numbers::pi_v<float> * 0.01f);  // box: phi / (pi r^2)
+  // Two photons found where ten were asked for: the whole max_radius disc was searched, so
+  // the box estimate is phi / (pi max_radius^2).
+  const float expected = 1 / std::numbers::pi_v<float>;
   EXPECT_NEAR(got.r, expected, expected * 1e-5f);
   EXPECT_NEAR(got.g, expected, expected * 1e-5f);
   EXPECT_EQ(got.b, 0);

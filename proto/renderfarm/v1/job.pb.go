@@ -91,10 +91,15 @@ const (
 	Phase_PHASE_EMIT Phase = 1
 	// The coordinator merges the shards, in shard order, into a kd-tree snapshot.
 	Phase_PHASE_BUILD Phase = 2
+	// Irradiance at global-map photon positions, in photon index ranges, on workers.
+	Phase_PHASE_PRECOMPUTE Phase = 3
+	// The coordinator merges the irradiance shards into the snapshot.
+	Phase_PHASE_MERGE Phase = 4
 	// Image tiles: trace, shade, upload each as a tile EXR.
-	Phase_PHASE_RENDER Phase = 3
-	// Tile EXRs stitched into the final tiled EXR and a PNG preview.
-	Phase_PHASE_COMPOSITE Phase = 4
+	Phase_PHASE_RENDER Phase = 5
+	// The round's tiles stitched and combined with earlier rounds into the image so far (tiled
+	// EXR and PNG preview) and its error estimate.
+	Phase_PHASE_COMPOSITE Phase = 6
 )
 
 // Enum value maps for Phase.
@@ -103,15 +108,19 @@ var (
 		0: "PHASE_UNSPECIFIED",
 		1: "PHASE_EMIT",
 		2: "PHASE_BUILD",
-		3: "PHASE_RENDER",
-		4: "PHASE_COMPOSITE",
+		3: "PHASE_PRECOMPUTE",
+		4: "PHASE_MERGE",
+		5: "PHASE_RENDER",
+		6: "PHASE_COMPOSITE",
 	}
 	Phase_value = map[string]int32{
 		"PHASE_UNSPECIFIED": 0,
 		"PHASE_EMIT":        1,
 		"PHASE_BUILD":       2,
-		"PHASE_RENDER":      3,
-		"PHASE_COMPOSITE":   4,
+		"PHASE_PRECOMPUTE":  3,
+		"PHASE_MERGE":       4,
+		"PHASE_RENDER":      5,
+		"PHASE_COMPOSITE":   6,
 	}
 )
 
@@ -329,7 +338,11 @@ type Job struct {
 	// Why the job failed; empty otherwise.
 	Error string `protobuf:"bytes,11,opt,name=error,proto3" json:"error,omitempty"`
 	// The final artifacts once the job has succeeded ("image.exr", "preview.png").
-	Outputs       []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	Outputs []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	// Which passes the job runs and which it skips, and why.
+	Plan *Plan `protobuf:"bytes,13,opt,name=plan,proto3" json:"plan,omitempty"`
+	// One entry per finished progressive round: the error-against-time curve.
+	Rounds        []*RoundReport `protobuf:"bytes,14,rep,name=rounds,proto3" json:"rounds,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -448,6 +461,219 @@ func (x *Job) GetOutputs() []*Artifact {
 	return nil
 }
 
+func (x *Job) GetPlan() *Plan {
+	if x != nil {
+		return x.Plan
+	}
+	return nil
+}
+
+func (x *Job) GetRounds() []*RoundReport {
+	if x != nil {
+		return x.Rounds
+	}
+	return nil
+}
+
+// What the planner decided for a scene: every pass it knows, run or skipped.
+type Plan struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Passes        []*PlannedPass         `protobuf:"bytes,1,rep,name=passes,proto3" json:"passes,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Plan) Reset() {
+	*x = Plan{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Plan) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Plan) ProtoMessage() {}
+
+func (x *Plan) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Plan.ProtoReflect.Descriptor instead.
+func (*Plan) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{1}
+}
+
+func (x *Plan) GetPasses() []*PlannedPass {
+	if x != nil {
+		return x.Passes
+	}
+	return nil
+}
+
+type PlannedPass struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// "global photon map", "caustic photon map", "irradiance precompute", "final gathering",
+	// "direct lighting", "edge antialiasing", ...
+	Name    string `protobuf:"bytes,1,opt,name=name,proto3" json:"name,omitempty"`
+	Enabled bool   `protobuf:"varint,2,opt,name=enabled,proto3" json:"enabled,omitempty"`
+	// Why it runs or why it is skipped, e.g. "no specular surface (mirror, glass, metal)".
+	Reason        string `protobuf:"bytes,3,opt,name=reason,proto3" json:"reason,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *PlannedPass) Reset() {
+	*x = PlannedPass{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PlannedPass) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PlannedPass) ProtoMessage() {}
+
+func (x *PlannedPass) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PlannedPass.ProtoReflect.Descriptor instead.
+func (*PlannedPass) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{2}
+}
+
+func (x *PlannedPass) GetName() string {
+	if x != nil {
+		return x.Name
+	}
+	return ""
+}
+
+func (x *PlannedPass) GetEnabled() bool {
+	if x != nil {
+		return x.Enabled
+	}
+	return false
+}
+
+func (x *PlannedPass) GetReason() string {
+	if x != nil {
+		return x.Reason
+	}
+	return ""
+}
+
+// The image after a round: how long the job had taken, how much work it holds, and how
+// far it is estimated to be from the converged image.
+type RoundReport struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Round uint32                 `protobuf:"varint,1,opt,name=round,proto3" json:"round,omitempty"`
+	// From job creation to the end of the round's composite.
+	ElapsedSeconds float64 `protobuf:"fixed64,2,opt,name=elapsed_seconds,json=elapsedSeconds,proto3" json:"elapsed_seconds,omitempty"`
+	// Photon paths emitted so far, all maps.
+	Photons uint64 `protobuf:"varint,3,opt,name=photons,proto3" json:"photons,omitempty"`
+	// Camera samples per ordinary pixel so far.
+	SamplesPerPixel uint64 `protobuf:"varint,4,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
+	// RMSE estimated from the spread between rounds; unset after the first round.
+	ErrorEstimate *float64 `protobuf:"fixed64,5,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
+	// RMSE against the scene's reference image, if it names one.
+	ReferenceRmse *float64 `protobuf:"fixed64,6,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RoundReport) Reset() {
+	*x = RoundReport{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RoundReport) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RoundReport) ProtoMessage() {}
+
+func (x *RoundReport) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RoundReport.ProtoReflect.Descriptor instead.
+func (*RoundReport) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
+}
+
+func (x *RoundReport) GetRound() uint32 {
+	if x != nil {
+		return x.Round
+	}
+	return 0
+}
+
+func (x *RoundReport) GetElapsedSeconds() float64 {
+	if x != nil {
+		return x.ElapsedSeconds
+	}
+	return 0
+}
+
+func (x *RoundReport) GetPhotons() uint64 {
+	if x != nil {
+		return x.Photons
+	}
+	return 0
+}
+
+func (x *RoundReport) GetSamplesPerPixel() uint64 {
+	if x != nil {
+		return x.SamplesPerPixel
+	}
+	return 0
+}
+
+func (x *RoundReport) GetErrorEstimate() float64 {
+	if x != nil && x.ErrorEstimate != nil {
+		return *x.ErrorEstimate
+	}
+	return 0
+}
+
+func (x *RoundReport) GetReferenceRmse() float64 {
+	if x != nil && x.ReferenceRmse != nil {
+		return *x.ReferenceRmse
+	}
+	return 0
+}
+
 type PhaseProgress struct {
 	state          protoimpl.MessageState `protogen:"open.v1"`
 	Phase          Phase                  `protobuf:"varint,1,opt,name=phase,proto3,enum=renderfarm.v1.Phase" json:"phase,omitempty"`
@@ -459,7 +685,7 @@ type PhaseProgress struct {
 
 func (x *PhaseProgress) Reset() {
 	*x = PhaseProgress{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -471,7 +697,7 @@ func (x *PhaseProgress) String() string {
 func (*PhaseProgress) ProtoMessage() {}
 
 func (x *PhaseProgress) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -484,7 +710,7 @@ func (x *PhaseProgress) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhaseProgress.ProtoReflect.Descriptor instead.
 func (*PhaseProgress) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
 }
 
 func (x *PhaseProgress) GetPhase() Phase {
@@ -522,7 +748,7 @@ type Artifact struct {
 
 func (x *Artifact) Reset() {
 	*x = Artifact{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -534,7 +760,7 @@ func (x *Artifact) String() string {
 func (*Artifact) ProtoMessage() {}
 
 func (x *Artifact) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -547,7 +773,7 @@ func (x *Artifact) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Artifact.ProtoReflect.Descriptor instead.
 func (*Artifact) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
 }
 
 func (x *Artifact) GetName() string {
@@ -584,7 +810,7 @@ type PixelRect struct {
 
 func (x *PixelRect) Reset() {
 	*x = PixelRect{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -596,7 +822,7 @@ func (x *PixelRect) String() string {
 func (*PixelRect) ProtoMessage() {}
 
 func (x *PixelRect) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -609,7 +835,7 @@ func (x *PixelRect) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PixelRect.ProtoReflect.Descriptor instead.
 func (*PixelRect) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
 }
 
 func (x *PixelRect) GetX() uint32 {
@@ -661,16 +887,20 @@ type Task struct {
 	//	*Task_Composite
 	//	*Task_EmitPhotons
 	//	*Task_BuildPhotonMap
+	//	*Task_PrecomputeIrradiance
+	//	*Task_MergeIrradiance
 	Spec isTask_Spec `protobuf_oneof:"spec"`
 	// What the task produced once it succeeded.
-	Outputs       []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	Outputs []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	// The progressive round the task belongs to, from 1.
+	Round         uint32 `protobuf:"varint,15,opt,name=round,proto3" json:"round,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
 
 func (x *Task) Reset() {
 	*x = Task{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -682,7 +912,7 @@ func (x *Task) String() string {
 func (*Task) ProtoMessage() {}
 
 func (x *Task) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -695,7 +925,7 @@ func (x *Task) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Task.ProtoReflect.Descriptor instead.
 func (*Task) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
 }
 
 func (x *Task) GetId() string {
@@ -797,11 +1027,36 @@ func (x *Task) GetBuildPhotonMap() *BuildPhotonMapSpec {
 	return nil
 }
 
+func (x *Task) GetPrecomputeIrradiance() *PrecomputeIrradianceSpec {
+	if x != nil {
+		if x, ok := x.Spec.(*Task_PrecomputeIrradiance); ok {
+			return x.PrecomputeIrradiance
+		}
+	}
+	return nil
+}
+
+func (x *Task) GetMergeIrradiance() *MergeIrradianceSpec {
+	if x != nil {
+		if x, ok := x.Spec.(*Task_MergeIrradiance); ok {
+			return x.MergeIrradiance
+		}
+	}
+	return nil
+}
+
 func (x *Task) GetOutputs() []*Artifact {
 	if x != nil {
 		return x.Outputs
 	}
 	return nil
+}
+
+func (x *Task) GetRound() uint32 {
+	if x != nil {
+		return x.Round
+	}
+	return 0
 }
 
 type isTask_Spec interface {
@@ -824,6 +1079,14 @@ type Task_BuildPhotonMap struct {
 	BuildPhotonMap *BuildPhotonMapSpec `protobuf:"bytes,14,opt,name=build_photon_map,json=buildPhotonMap,proto3,oneof"`
 }
 
+type Task_PrecomputeIrradiance struct {
+	PrecomputeIrradiance *PrecomputeIrradianceSpec `protobuf:"bytes,16,opt,name=precompute_irradiance,json=precomputeIrradiance,proto3,oneof"`
+}
+
+type Task_MergeIrradiance struct {
+	MergeIrradiance *MergeIrradianceSpec `protobuf:"bytes,17,opt,name=merge_irradiance,json=mergeIrradiance,proto3,oneof"`
+}
+
 func (*Task_RenderTile) isTask_Spec() {}
 
 func (*Task_Composite) isTask_Spec() {}
@@ -832,6 +1095,10 @@ func (*Task_EmitPhotons) isTask_Spec() {}
 
 func (*Task_BuildPhotonMap) isTask_Spec() {}
 
+func (*Task_PrecomputeIrradiance) isTask_Spec() {}
+
+func (*Task_MergeIrradiance) isTask_Spec() {}
+
 // Render one tile of the image.
 type RenderTileSpec struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
@@ -839,13 +1106,17 @@ type RenderTileSpec struct {
 	// Filled in when the task is leased, if the job has photon maps: the kd-tree snapshot
 	// ("photons.snapshot", format in docs/photon-snapshot.md).
 	PhotonSnapshot *Artifact `protobuf:"bytes,2,opt,name=photon_snapshot,json=photonSnapshot,proto3" json:"photon_snapshot,omitempty"`
-	unknownFields  protoimpl.UnknownFields
-	sizeCache      protoimpl.SizeCache
+	// Progressive photon mapping: this round's search radii are the scene's times this.
+	RadiusScale float64 `protobuf:"fixed64,3,opt,name=radius_scale,json=radiusScale,proto3" json:"radius_scale,omitempty"`
+	// Index of the round's first pixel sample, so rounds draw fresh samples.
+	FirstSample   uint32 `protobuf:"varint,4,opt,name=first_sample,json=firstSample,proto3" json:"first_sample,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *RenderTileSpec) Reset() {
 	*x = RenderTileSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -857,7 +1128,7 @@ func (x *RenderTileSpec) String() string {
 func (*RenderTileSpec) ProtoMessage() {}
 
 func (x *RenderTileSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -870,7 +1141,7 @@ func (x *RenderTileSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RenderTileSpec.ProtoReflect.Descriptor instead.
 func (*RenderTileSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
 }
 
 func (x *RenderTileSpec) GetRect() *PixelRect {
@@ -883,6 +1154,146 @@ func (x *RenderTileSpec) GetRect() *PixelRect {
 func (x *RenderTileSpec) GetPhotonSnapshot() *Artifact {
 	if x != nil {
 		return x.PhotonSnapshot
+	}
+	return nil
+}
+
+func (x *RenderTileSpec) GetRadiusScale() float64 {
+	if x != nil {
+		return x.RadiusScale
+	}
+	return 0
+}
+
+func (x *RenderTileSpec) GetFirstSample() uint32 {
+	if x != nil {
+		return x.FirstSample
+	}
+	return 0
+}
+
+// Compute irradiance at global-map photons [first_photon, first_photon + photon_count) (in
+// the snapshot's tree order) and upload it as "irradiance.shard".
+type PrecomputeIrradianceSpec struct {
+	state       protoimpl.MessageState `protogen:"open.v1"`
+	FirstPhoton uint64                 `protobuf:"varint,1,opt,name=first_photon,json=firstPhoton,proto3" json:"first_photon,omitempty"`
+	PhotonCount uint64                 `protobuf:"varint,2,opt,name=photon_count,json=photonCount,proto3" json:"photon_count,omitempty"`
+	// Filled in when the task is leased: the round's "photons.snapshot".
+	PhotonSnapshot *Artifact `protobuf:"bytes,3,opt,name=photon_snapshot,json=photonSnapshot,proto3" json:"photon_snapshot,omitempty"`
+	// This round's search radii are the scene's times this (as in RenderTileSpec).
+	RadiusScale   float64 `protobuf:"fixed64,4,opt,name=radius_scale,json=radiusScale,proto3" json:"radius_scale,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *PrecomputeIrradianceSpec) Reset() {
+	*x = PrecomputeIrradianceSpec{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PrecomputeIrradianceSpec) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PrecomputeIrradianceSpec) ProtoMessage() {}
+
+func (x *PrecomputeIrradianceSpec) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PrecomputeIrradianceSpec.ProtoReflect.Descriptor instead.
+func (*PrecomputeIrradianceSpec) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
+}
+
+func (x *PrecomputeIrradianceSpec) GetFirstPhoton() uint64 {
+	if x != nil {
+		return x.FirstPhoton
+	}
+	return 0
+}
+
+func (x *PrecomputeIrradianceSpec) GetPhotonCount() uint64 {
+	if x != nil {
+		return x.PhotonCount
+	}
+	return 0
+}
+
+func (x *PrecomputeIrradianceSpec) GetPhotonSnapshot() *Artifact {
+	if x != nil {
+		return x.PhotonSnapshot
+	}
+	return nil
+}
+
+func (x *PrecomputeIrradianceSpec) GetRadiusScale() float64 {
+	if x != nil {
+		return x.RadiusScale
+	}
+	return 0
+}
+
+// Merge the irradiance shards, in plan order, into the snapshot. Done by the coordinator.
+type MergeIrradianceSpec struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Filled in when the task is leased.
+	PhotonSnapshot   *Artifact   `protobuf:"bytes,1,opt,name=photon_snapshot,json=photonSnapshot,proto3" json:"photon_snapshot,omitempty"`
+	IrradianceShards []*Artifact `protobuf:"bytes,2,rep,name=irradiance_shards,json=irradianceShards,proto3" json:"irradiance_shards,omitempty"`
+	unknownFields    protoimpl.UnknownFields
+	sizeCache        protoimpl.SizeCache
+}
+
+func (x *MergeIrradianceSpec) Reset() {
+	*x = MergeIrradianceSpec{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *MergeIrradianceSpec) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*MergeIrradianceSpec) ProtoMessage() {}
+
+func (x *MergeIrradianceSpec) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use MergeIrradianceSpec.ProtoReflect.Descriptor instead.
+func (*MergeIrradianceSpec) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
+}
+
+func (x *MergeIrradianceSpec) GetPhotonSnapshot() *Artifact {
+	if x != nil {
+		return x.PhotonSnapshot
+	}
+	return nil
+}
+
+func (x *MergeIrradianceSpec) GetIrradianceShards() []*Artifact {
+	if x != nil {
+		return x.IrradianceShards
 	}
 	return nil
 }
@@ -902,7 +1313,7 @@ type EmitPhotonsSpec struct {
 
 func (x *EmitPhotonsSpec) Reset() {
 	*x = EmitPhotonsSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -914,7 +1325,7 @@ func (x *EmitPhotonsSpec) String() string {
 func (*EmitPhotonsSpec) ProtoMessage() {}
 
 func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -927,7 +1338,7 @@ func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use EmitPhotonsSpec.ProtoReflect.Descriptor instead.
 func (*EmitPhotonsSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *EmitPhotonsSpec) GetMap() PhotonMapKind {
@@ -970,7 +1381,7 @@ type BuildPhotonMapSpec struct {
 
 func (x *BuildPhotonMapSpec) Reset() {
 	*x = BuildPhotonMapSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -982,7 +1393,7 @@ func (x *BuildPhotonMapSpec) String() string {
 func (*BuildPhotonMapSpec) ProtoMessage() {}
 
 func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -995,7 +1406,7 @@ func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use BuildPhotonMapSpec.ProtoReflect.Descriptor instead.
 func (*BuildPhotonMapSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *BuildPhotonMapSpec) GetShards() []*EmittedShard {
@@ -1015,7 +1426,7 @@ type EmittedShard struct {
 
 func (x *EmittedShard) Reset() {
 	*x = EmittedShard{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1027,7 +1438,7 @@ func (x *EmittedShard) String() string {
 func (*EmittedShard) ProtoMessage() {}
 
 func (x *EmittedShard) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1040,7 +1451,7 @@ func (x *EmittedShard) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use EmittedShard.ProtoReflect.Descriptor instead.
 func (*EmittedShard) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *EmittedShard) GetSpec() *EmitPhotonsSpec {
@@ -1061,14 +1472,18 @@ func (x *EmittedShard) GetShard() *Artifact {
 type CompositeSpec struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// Filled in when the task is leased: each tile's rectangle and tile EXR.
-	Tiles         []*TileInput `protobuf:"bytes,1,rep,name=tiles,proto3" json:"tiles,omitempty"`
+	Tiles []*TileInput `protobuf:"bytes,1,rep,name=tiles,proto3" json:"tiles,omitempty"`
+	// Filled in when the task is leased: the previous round's "accumulation.exr", if any.
+	PreviousAccumulation *Artifact `protobuf:"bytes,2,opt,name=previous_accumulation,json=previousAccumulation,proto3" json:"previous_accumulation,omitempty"`
+	// Filled in when the task is leased: the scene's reference image, if it names one.
+	Reference     *Artifact `protobuf:"bytes,3,opt,name=reference,proto3" json:"reference,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
 
 func (x *CompositeSpec) Reset() {
 	*x = CompositeSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1080,7 +1495,7 @@ func (x *CompositeSpec) String() string {
 func (*CompositeSpec) ProtoMessage() {}
 
 func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1093,12 +1508,26 @@ func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CompositeSpec.ProtoReflect.Descriptor instead.
 func (*CompositeSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *CompositeSpec) GetTiles() []*TileInput {
 	if x != nil {
 		return x.Tiles
+	}
+	return nil
+}
+
+func (x *CompositeSpec) GetPreviousAccumulation() *Artifact {
+	if x != nil {
+		return x.PreviousAccumulation
+	}
+	return nil
+}
+
+func (x *CompositeSpec) GetReference() *Artifact {
+	if x != nil {
+		return x.Reference
 	}
 	return nil
 }
@@ -1113,7 +1542,7 @@ type TileInput struct {
 
 func (x *TileInput) Reset() {
 	*x = TileInput{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1125,7 +1554,7 @@ func (x *TileInput) String() string {
 func (*TileInput) ProtoMessage() {}
 
 func (x *TileInput) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1138,7 +1567,7 @@ func (x *TileInput) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TileInput.ProtoReflect.Descriptor instead.
 func (*TileInput) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *TileInput) GetRect() *PixelRect {
@@ -1164,7 +1593,7 @@ type SubmitJobRequest struct {
 
 func (x *SubmitJobRequest) Reset() {
 	*x = SubmitJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1176,7 +1605,7 @@ func (x *SubmitJobRequest) String() string {
 func (*SubmitJobRequest) ProtoMessage() {}
 
 func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1189,7 +1618,7 @@ func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobRequest.ProtoReflect.Descriptor instead.
 func (*SubmitJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *SubmitJobRequest) GetScene() *Scene {
@@ -1208,7 +1637,7 @@ type SubmitJobResponse struct {
 
 func (x *SubmitJobResponse) Reset() {
 	*x = SubmitJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1220,7 +1649,7 @@ func (x *SubmitJobResponse) String() string {
 func (*SubmitJobResponse) ProtoMessage() {}
 
 func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1233,12 +1662,109 @@ func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobResponse.ProtoReflect.Descriptor instead.
 func (*SubmitJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *SubmitJobResponse) GetJob() *Job {
 	if x != nil {
 		return x.Job
+	}
+	return nil
+}
+
+type PlanSceneRequest struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Scene         *Scene                 `protobuf:"bytes,1,opt,name=scene,proto3" json:"scene,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *PlanSceneRequest) Reset() {
+	*x = PlanSceneRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PlanSceneRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PlanSceneRequest) ProtoMessage() {}
+
+func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PlanSceneRequest.ProtoReflect.Descriptor instead.
+func (*PlanSceneRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
+}
+
+func (x *PlanSceneRequest) GetScene() *Scene {
+	if x != nil {
+		return x.Scene
+	}
+	return nil
+}
+
+type PlanSceneResponse struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Plan  *Plan                  `protobuf:"bytes,1,opt,name=plan,proto3" json:"plan,omitempty"`
+	// Tasks per phase of the first round.
+	Phases        []*PhaseProgress `protobuf:"bytes,2,rep,name=phases,proto3" json:"phases,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *PlanSceneResponse) Reset() {
+	*x = PlanSceneResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PlanSceneResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PlanSceneResponse) ProtoMessage() {}
+
+func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PlanSceneResponse.ProtoReflect.Descriptor instead.
+func (*PlanSceneResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
+}
+
+func (x *PlanSceneResponse) GetPlan() *Plan {
+	if x != nil {
+		return x.Plan
+	}
+	return nil
+}
+
+func (x *PlanSceneResponse) GetPhases() []*PhaseProgress {
+	if x != nil {
+		return x.Phases
 	}
 	return nil
 }
@@ -1252,7 +1778,7 @@ type GetJobRequest struct {
 
 func (x *GetJobRequest) Reset() {
 	*x = GetJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1264,7 +1790,7 @@ func (x *GetJobRequest) String() string {
 func (*GetJobRequest) ProtoMessage() {}
 
 func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1277,7 +1803,7 @@ func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobRequest.ProtoReflect.Descriptor instead.
 func (*GetJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *GetJobRequest) GetJobId() string {
@@ -1296,7 +1822,7 @@ type GetJobResponse struct {
 
 func (x *GetJobResponse) Reset() {
 	*x = GetJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1308,7 +1834,7 @@ func (x *GetJobResponse) String() string {
 func (*GetJobResponse) ProtoMessage() {}
 
 func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1321,7 +1847,7 @@ func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobResponse.ProtoReflect.Descriptor instead.
 func (*GetJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *GetJobResponse) GetJob() *Job {
@@ -1343,7 +1869,7 @@ type ListJobsRequest struct {
 
 func (x *ListJobsRequest) Reset() {
 	*x = ListJobsRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1355,7 +1881,7 @@ func (x *ListJobsRequest) String() string {
 func (*ListJobsRequest) ProtoMessage() {}
 
 func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1368,7 +1894,7 @@ func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsRequest.ProtoReflect.Descriptor instead.
 func (*ListJobsRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *ListJobsRequest) GetPageSize() int32 {
@@ -1396,7 +1922,7 @@ type ListJobsResponse struct {
 
 func (x *ListJobsResponse) Reset() {
 	*x = ListJobsResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1408,7 +1934,7 @@ func (x *ListJobsResponse) String() string {
 func (*ListJobsResponse) ProtoMessage() {}
 
 func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1421,7 +1947,7 @@ func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsResponse.ProtoReflect.Descriptor instead.
 func (*ListJobsResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *ListJobsResponse) GetJobs() []*Job {
@@ -1450,7 +1976,7 @@ type ListTasksRequest struct {
 
 func (x *ListTasksRequest) Reset() {
 	*x = ListTasksRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1462,7 +1988,7 @@ func (x *ListTasksRequest) String() string {
 func (*ListTasksRequest) ProtoMessage() {}
 
 func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1475,7 +2001,7 @@ func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksRequest.ProtoReflect.Descriptor instead.
 func (*ListTasksRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *ListTasksRequest) GetJobId() string {
@@ -1509,7 +2035,7 @@ type ListTasksResponse struct {
 
 func (x *ListTasksResponse) Reset() {
 	*x = ListTasksResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1521,7 +2047,7 @@ func (x *ListTasksResponse) String() string {
 func (*ListTasksResponse) ProtoMessage() {}
 
 func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1534,7 +2060,7 @@ func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksResponse.ProtoReflect.Descriptor instead.
 func (*ListTasksResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *ListTasksResponse) GetTasks() []*Task {
@@ -1560,7 +2086,7 @@ type CancelJobRequest struct {
 
 func (x *CancelJobRequest) Reset() {
 	*x = CancelJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1572,7 +2098,7 @@ func (x *CancelJobRequest) String() string {
 func (*CancelJobRequest) ProtoMessage() {}
 
 func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1585,7 +2111,7 @@ func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobRequest.ProtoReflect.Descriptor instead.
 func (*CancelJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *CancelJobRequest) GetJobId() string {
@@ -1604,7 +2130,7 @@ type CancelJobResponse struct {
 
 func (x *CancelJobResponse) Reset() {
 	*x = CancelJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1616,7 +2142,7 @@ func (x *CancelJobResponse) String() string {
 func (*CancelJobResponse) ProtoMessage() {}
 
 func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1629,7 +2155,7 @@ func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobResponse.ProtoReflect.Descriptor instead.
 func (*CancelJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *CancelJobResponse) GetJob() *Job {
@@ -1648,7 +2174,7 @@ type WatchJobRequest struct {
 
 func (x *WatchJobRequest) Reset() {
 	*x = WatchJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1660,7 +2186,7 @@ func (x *WatchJobRequest) String() string {
 func (*WatchJobRequest) ProtoMessage() {}
 
 func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1673,7 +2199,7 @@ func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobRequest.ProtoReflect.Descriptor instead.
 func (*WatchJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *WatchJobRequest) GetJobId() string {
@@ -1697,7 +2223,7 @@ type WatchJobResponse struct {
 
 func (x *WatchJobResponse) Reset() {
 	*x = WatchJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1709,7 +2235,7 @@ func (x *WatchJobResponse) String() string {
 func (*WatchJobResponse) ProtoMessage() {}
 
 func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1722,7 +2248,7 @@ func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobResponse.ProtoReflect.Descriptor instead.
 func (*WatchJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
 }
 
 func (x *WatchJobResponse) GetKind() JobEventKind {
@@ -1757,7 +2283,7 @@ var File_renderfarm_v1_job_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\n" +
-	"\x17renderfarm/v1/job.proto\x12\rrenderfarm.v1\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x19renderfarm/v1/scene.proto\"\xe8\x03\n" +
+	"\x17renderfarm/v1/job.proto\x12\rrenderfarm.v1\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x19renderfarm/v1/scene.proto\"\xc5\x04\n" +
 	"\x03Job\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12!\n" +
 	"\fdisplay_name\x18\x02 \x01(\tR\vdisplayName\x12-\n" +
@@ -1773,7 +2299,24 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06phases\x18\n" +
 	" \x03(\v2\x1c.renderfarm.v1.PhaseProgressR\x06phases\x12\x14\n" +
 	"\x05error\x18\v \x01(\tR\x05error\x121\n" +
-	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\"\x85\x01\n" +
+	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12'\n" +
+	"\x04plan\x18\r \x01(\v2\x13.renderfarm.v1.PlanR\x04plan\x122\n" +
+	"\x06rounds\x18\x0e \x03(\v2\x1a.renderfarm.v1.RoundReportR\x06rounds\":\n" +
+	"\x04Plan\x122\n" +
+	"\x06passes\x18\x01 \x03(\v2\x1a.renderfarm.v1.PlannedPassR\x06passes\"S\n" +
+	"\vPlannedPass\x12\x12\n" +
+	"\x04name\x18\x01 \x01(\tR\x04name\x12\x18\n" +
+	"\aenabled\x18\x02 \x01(\bR\aenabled\x12\x16\n" +
+	"\x06reason\x18\x03 \x01(\tR\x06reason\"\x90\x02\n" +
+	"\vRoundReport\x12\x14\n" +
+	"\x05round\x18\x01 \x01(\rR\x05round\x12'\n" +
+	"\x0felapsed_seconds\x18\x02 \x01(\x01R\x0eelapsedSeconds\x12\x18\n" +
+	"\aphotons\x18\x03 \x01(\x04R\aphotons\x12*\n" +
+	"\x11samples_per_pixel\x18\x04 \x01(\x04R\x0fsamplesPerPixel\x12*\n" +
+	"\x0eerror_estimate\x18\x05 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
+	"\x0ereference_rmse\x18\x06 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01B\x11\n" +
+	"\x0f_error_estimateB\x11\n" +
+	"\x0f_reference_rmse\"\x85\x01\n" +
 	"\rPhaseProgress\x12*\n" +
 	"\x05phase\x18\x01 \x01(\x0e2\x14.renderfarm.v1.PhaseR\x05phase\x12\x1f\n" +
 	"\vtasks_total\x18\x02 \x01(\rR\n" +
@@ -1788,7 +2331,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x01x\x18\x01 \x01(\rR\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\rR\x01y\x12\x14\n" +
 	"\x05width\x18\x03 \x01(\rR\x05width\x12\x16\n" +
-	"\x06height\x18\x04 \x01(\rR\x06height\"\xbd\x04\n" +
+	"\x06height\x18\x04 \x01(\rR\x06height\"\x84\x06\n" +
 	"\x04Task\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12\x15\n" +
 	"\x06job_id\x18\x02 \x01(\tR\x05jobId\x12\x14\n" +
@@ -1803,12 +2346,25 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"renderTile\x12<\n" +
 	"\tcomposite\x18\v \x01(\v2\x1c.renderfarm.v1.CompositeSpecH\x00R\tcomposite\x12C\n" +
 	"\femit_photons\x18\r \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecH\x00R\vemitPhotons\x12M\n" +
-	"\x10build_photon_map\x18\x0e \x01(\v2!.renderfarm.v1.BuildPhotonMapSpecH\x00R\x0ebuildPhotonMap\x121\n" +
-	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputsB\x06\n" +
-	"\x04spec\"\x80\x01\n" +
+	"\x10build_photon_map\x18\x0e \x01(\v2!.renderfarm.v1.BuildPhotonMapSpecH\x00R\x0ebuildPhotonMap\x12^\n" +
+	"\x15precompute_irradiance\x18\x10 \x01(\v2'.renderfarm.v1.PrecomputeIrradianceSpecH\x00R\x14precomputeIrradiance\x12O\n" +
+	"\x10merge_irradiance\x18\x11 \x01(\v2\".renderfarm.v1.MergeIrradianceSpecH\x00R\x0fmergeIrradiance\x121\n" +
+	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12\x14\n" +
+	"\x05round\x18\x0f \x01(\rR\x05roundB\x06\n" +
+	"\x04spec\"\xc6\x01\n" +
 	"\x0eRenderTileSpec\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12@\n" +
-	"\x0fphoton_snapshot\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\"\xac\x01\n" +
+	"\x0fphoton_snapshot\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12!\n" +
+	"\fradius_scale\x18\x03 \x01(\x01R\vradiusScale\x12!\n" +
+	"\ffirst_sample\x18\x04 \x01(\rR\vfirstSample\"\xc5\x01\n" +
+	"\x18PrecomputeIrradianceSpec\x12!\n" +
+	"\ffirst_photon\x18\x01 \x01(\x04R\vfirstPhoton\x12!\n" +
+	"\fphoton_count\x18\x02 \x01(\x04R\vphotonCount\x12@\n" +
+	"\x0fphoton_snapshot\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12!\n" +
+	"\fradius_scale\x18\x04 \x01(\x01R\vradiusScale\"\x9d\x01\n" +
+	"\x13MergeIrradianceSpec\x12@\n" +
+	"\x0fphoton_snapshot\x18\x01 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12D\n" +
+	"\x11irradiance_shards\x18\x02 \x03(\v2\x17.renderfarm.v1.ArtifactR\x10irradianceShards\"\xac\x01\n" +
 	"\x0fEmitPhotonsSpec\x12.\n" +
 	"\x03map\x18\x01 \x01(\x0e2\x1c.renderfarm.v1.PhotonMapKindR\x03map\x12!\n" +
 	"\ffirst_photon\x18\x02 \x01(\x04R\vfirstPhoton\x12!\n" +
@@ -1818,16 +2374,23 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06shards\x18\x01 \x03(\v2\x1b.renderfarm.v1.EmittedShardR\x06shards\"q\n" +
 	"\fEmittedShard\x122\n" +
 	"\x04spec\x18\x01 \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecR\x04spec\x12-\n" +
-	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"?\n" +
+	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xc4\x01\n" +
 	"\rCompositeSpec\x12.\n" +
-	"\x05tiles\x18\x01 \x03(\v2\x18.renderfarm.v1.TileInputR\x05tiles\"f\n" +
+	"\x05tiles\x18\x01 \x03(\v2\x18.renderfarm.v1.TileInputR\x05tiles\x12L\n" +
+	"\x15previous_accumulation\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x14previousAccumulation\x125\n" +
+	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\"f\n" +
 	"\tTileInput\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12+\n" +
 	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\">\n" +
 	"\x10SubmitJobRequest\x12*\n" +
 	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\"9\n" +
 	"\x11SubmitJobResponse\x12$\n" +
-	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"&\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\">\n" +
+	"\x10PlanSceneRequest\x12*\n" +
+	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\"r\n" +
+	"\x11PlanSceneResponse\x12'\n" +
+	"\x04plan\x18\x01 \x01(\v2\x13.renderfarm.v1.PlanR\x04plan\x124\n" +
+	"\x06phases\x18\x02 \x03(\v2\x1c.renderfarm.v1.PhaseProgressR\x06phases\"&\n" +
 	"\rGetJobRequest\x12\x15\n" +
 	"\x06job_id\x18\x01 \x01(\tR\x05jobId\"6\n" +
 	"\x0eGetJobResponse\x12$\n" +
@@ -1864,14 +2427,16 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11JOB_STATE_RUNNING\x10\x02\x12\x17\n" +
 	"\x13JOB_STATE_SUCCEEDED\x10\x03\x12\x14\n" +
 	"\x10JOB_STATE_FAILED\x10\x04\x12\x17\n" +
-	"\x13JOB_STATE_CANCELLED\x10\x05*f\n" +
+	"\x13JOB_STATE_CANCELLED\x10\x05*\x8d\x01\n" +
 	"\x05Phase\x12\x15\n" +
 	"\x11PHASE_UNSPECIFIED\x10\x00\x12\x0e\n" +
 	"\n" +
 	"PHASE_EMIT\x10\x01\x12\x0f\n" +
-	"\vPHASE_BUILD\x10\x02\x12\x10\n" +
-	"\fPHASE_RENDER\x10\x03\x12\x13\n" +
-	"\x0fPHASE_COMPOSITE\x10\x04*\xb8\x01\n" +
+	"\vPHASE_BUILD\x10\x02\x12\x14\n" +
+	"\x10PHASE_PRECOMPUTE\x10\x03\x12\x0f\n" +
+	"\vPHASE_MERGE\x10\x04\x12\x10\n" +
+	"\fPHASE_RENDER\x10\x05\x12\x13\n" +
+	"\x0fPHASE_COMPOSITE\x10\x06*\xb8\x01\n" +
 	"\tTaskState\x12\x1a\n" +
 	"\x16TASK_STATE_UNSPECIFIED\x10\x00\x12\x16\n" +
 	"\x12TASK_STATE_WAITING\x10\x01\x12\x15\n" +
@@ -1888,14 +2453,15 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x1aJOB_EVENT_KIND_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17JOB_EVENT_KIND_SNAPSHOT\x10\x01\x12 \n" +
 	"\x1cJOB_EVENT_KIND_STATE_CHANGED\x10\x02\x12\x1f\n" +
-	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xdf\x03\n" +
+	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xaf\x04\n" +
 	"\n" +
 	"JobService\x12N\n" +
 	"\tSubmitJob\x12\x1f.renderfarm.v1.SubmitJobRequest\x1a .renderfarm.v1.SubmitJobResponse\x12E\n" +
 	"\x06GetJob\x12\x1c.renderfarm.v1.GetJobRequest\x1a\x1d.renderfarm.v1.GetJobResponse\x12K\n" +
 	"\bListJobs\x12\x1e.renderfarm.v1.ListJobsRequest\x1a\x1f.renderfarm.v1.ListJobsResponse\x12N\n" +
 	"\tListTasks\x12\x1f.renderfarm.v1.ListTasksRequest\x1a .renderfarm.v1.ListTasksResponse\x12N\n" +
-	"\tCancelJob\x12\x1f.renderfarm.v1.CancelJobRequest\x1a .renderfarm.v1.CancelJobResponse\x12M\n" +
+	"\tCancelJob\x12\x1f.renderfarm.v1.CancelJobRequest\x1a .renderfarm.v1.CancelJobResponse\x12N\n" +
+	"\tPlanScene\x12\x1f.renderfarm.v1.PlanSceneRequest\x1a .renderfarm.v1.PlanSceneResponse\x12M\n" +
 	"\bWatchJob\x12\x1e.renderfarm.v1.WatchJobRequest\x1a\x1f.renderfarm.v1.WatchJobResponse0\x01B-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
@@ -1911,90 +2477,112 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 23)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 30)
 var file_renderfarm_v1_job_proto_goTypes = []any{
-	(JobState)(0),                 // 0: renderfarm.v1.JobState
-	(Phase)(0),                    // 1: renderfarm.v1.Phase
-	(TaskState)(0),                // 2: renderfarm.v1.TaskState
-	(PhotonMapKind)(0),            // 3: renderfarm.v1.PhotonMapKind
-	(JobEventKind)(0),             // 4: renderfarm.v1.JobEventKind
-	(*Job)(nil),                   // 5: renderfarm.v1.Job
-	(*PhaseProgress)(nil),         // 6: renderfarm.v1.PhaseProgress
-	(*Artifact)(nil),              // 7: renderfarm.v1.Artifact
-	(*PixelRect)(nil),             // 8: renderfarm.v1.PixelRect
-	(*Task)(nil),                  // 9: renderfarm.v1.Task
-	(*RenderTileSpec)(nil),        // 10: renderfarm.v1.RenderTileSpec
-	(*EmitPhotonsSpec)(nil),       // 11: renderfarm.v1.EmitPhotonsSpec
-	(*BuildPhotonMapSpec)(nil),    // 12: renderfarm.v1.BuildPhotonMapSpec
-	(*EmittedShard)(nil),          // 13: renderfarm.v1.EmittedShard
-	(*CompositeSpec)(nil),         // 14: renderfarm.v1.CompositeSpec
-	(*TileInput)(nil),             // 15: renderfarm.v1.TileInput
-	(*SubmitJobRequest)(nil),      // 16: renderfarm.v1.SubmitJobRequest
-	(*SubmitJobResponse)(nil),     // 17: renderfarm.v1.SubmitJobResponse
-	(*GetJobRequest)(nil),         // 18: renderfarm.v1.GetJobRequest
-	(*GetJobResponse)(nil),        // 19: renderfarm.v1.GetJobResponse
-	(*ListJobsRequest)(nil),       // 20: renderfarm.v1.ListJobsRequest
-	(*ListJobsResponse)(nil),      // 21: renderfarm.v1.ListJobsResponse
-	(*ListTasksRequest)(nil),      // 22: renderfarm.v1.ListTasksRequest
-	(*ListTasksResponse)(nil),     // 23: renderfarm.v1.ListTasksResponse
-	(*CancelJobRequest)(nil),      // 24: renderfarm.v1.CancelJobRequest
-	(*CancelJobResponse)(nil),     // 25: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),       // 26: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),      // 27: renderfarm.v1.WatchJobResponse
-	(*timestamppb.Timestamp)(nil), // 28: google.protobuf.Timestamp
-	(*Scene)(nil),                 // 29: renderfarm.v1.Scene
+	(JobState)(0),                    // 0: renderfarm.v1.JobState
+	(Phase)(0),                       // 1: renderfarm.v1.Phase
+	(TaskState)(0),                   // 2: renderfarm.v1.TaskState
+	(PhotonMapKind)(0),               // 3: renderfarm.v1.PhotonMapKind
+	(JobEventKind)(0),                // 4: renderfarm.v1.JobEventKind
+	(*Job)(nil),                      // 5: renderfarm.v1.Job
+	(*Plan)(nil),                     // 6: renderfarm.v1.Plan
+	(*PlannedPass)(nil),              // 7: renderfarm.v1.PlannedPass
+	(*RoundReport)(nil),              // 8: renderfarm.v1.RoundReport
+	(*PhaseProgress)(nil),            // 9: renderfarm.v1.PhaseProgress
+	(*Artifact)(nil),                 // 10: renderfarm.v1.Artifact
+	(*PixelRect)(nil),                // 11: renderfarm.v1.PixelRect
+	(*Task)(nil),                     // 12: renderfarm.v1.Task
+	(*RenderTileSpec)(nil),           // 13: renderfarm.v1.RenderTileSpec
+	(*PrecomputeIrradianceSpec)(nil), // 14: renderfarm.v1.PrecomputeIrradianceSpec
+	(*MergeIrradianceSpec)(nil),      // 15: renderfarm.v1.MergeIrradianceSpec
+	(*EmitPhotonsSpec)(nil),          // 16: renderfarm.v1.EmitPhotonsSpec
+	(*BuildPhotonMapSpec)(nil),       // 17: renderfarm.v1.BuildPhotonMapSpec
+	(*EmittedShard)(nil),             // 18: renderfarm.v1.EmittedShard
+	(*CompositeSpec)(nil),            // 19: renderfarm.v1.CompositeSpec
+	(*TileInput)(nil),                // 20: renderfarm.v1.TileInput
+	(*SubmitJobRequest)(nil),         // 21: renderfarm.v1.SubmitJobRequest
+	(*SubmitJobResponse)(nil),        // 22: renderfarm.v1.SubmitJobResponse
+	(*PlanSceneRequest)(nil),         // 23: renderfarm.v1.PlanSceneRequest
+	(*PlanSceneResponse)(nil),        // 24: renderfarm.v1.PlanSceneResponse
+	(*GetJobRequest)(nil),            // 25: renderfarm.v1.GetJobRequest
+	(*GetJobResponse)(nil),           // 26: renderfarm.v1.GetJobResponse
+	(*ListJobsRequest)(nil),          // 27: renderfarm.v1.ListJobsRequest
+	(*ListJobsResponse)(nil),         // 28: renderfarm.v1.ListJobsResponse
+	(*ListTasksRequest)(nil),         // 29: renderfarm.v1.ListTasksRequest
+	(*ListTasksResponse)(nil),        // 30: renderfarm.v1.ListTasksResponse
+	(*CancelJobRequest)(nil),         // 31: renderfarm.v1.CancelJobRequest
+	(*CancelJobResponse)(nil),        // 32: renderfarm.v1.CancelJobResponse
+	(*WatchJobRequest)(nil),          // 33: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),         // 34: renderfarm.v1.WatchJobResponse
+	(*timestamppb.Timestamp)(nil),    // 35: google.protobuf.Timestamp
+	(*Scene)(nil),                    // 36: renderfarm.v1.Scene
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	28, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	28, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	28, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
-	6,  // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	7,  // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
-	1,  // 6: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
-	1,  // 7: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
-	2,  // 8: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	10, // 9: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	14, // 10: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	11, // 11: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
-	12, // 12: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
-	7,  // 13: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	8,  // 14: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	7,  // 15: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	3,  // 16: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	13, // 17: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	11, // 18: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	7,  // 19: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	15, // 20: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	8,  // 21: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	7,  // 22: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	29, // 23: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	5,  // 24: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 25: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 26: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	9,  // 27: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	5,  // 28: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	4,  // 29: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	28, // 30: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	5,  // 31: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	9,  // 32: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	16, // 33: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	18, // 34: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	20, // 35: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	22, // 36: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	24, // 37: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	26, // 38: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	17, // 39: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	19, // 40: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	21, // 41: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	23, // 42: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	25, // 43: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	27, // 44: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	39, // [39:45] is the sub-list for method output_type
-	33, // [33:39] is the sub-list for method input_type
-	33, // [33:33] is the sub-list for extension type_name
-	33, // [33:33] is the sub-list for extension extendee
-	0,  // [0:33] is the sub-list for field type_name
+	35, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	35, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	35, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	9,  // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
+	10, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
+	6,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
+	8,  // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
+	7,  // 8: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
+	1,  // 9: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
+	1,  // 10: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
+	2,  // 11: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
+	13, // 12: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	19, // 13: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	16, // 14: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	17, // 15: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	14, // 16: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
+	15, // 17: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
+	10, // 18: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	11, // 19: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	10, // 20: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	10, // 21: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	10, // 22: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	10, // 23: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 24: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	18, // 25: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	16, // 26: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	10, // 27: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	20, // 28: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	10, // 29: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	10, // 30: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	11, // 31: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	10, // 32: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	36, // 33: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	5,  // 34: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	36, // 35: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 36: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	9,  // 37: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	5,  // 38: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 39: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	12, // 40: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	5,  // 41: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	4,  // 42: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	35, // 43: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	5,  // 44: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	12, // 45: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	21, // 46: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	25, // 47: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	27, // 48: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	29, // 49: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	31, // 50: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	23, // 51: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	33, // 52: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	22, // 53: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	26, // 54: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	28, // 55: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	30, // 56: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	32, // 57: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	24, // 58: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	34, // 59: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	53, // [53:60] is the sub-list for method output_type
+	46, // [46:53] is the sub-list for method input_type
+	46, // [46:46] is the sub-list for extension type_name
+	46, // [46:46] is the sub-list for extension extendee
+	0,  // [0:46] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -2003,11 +2591,14 @@ func file_renderfarm_v1_job_proto_init() {
 		return
 	}
 	file_renderfarm_v1_scene_proto_init()
-	file_renderfarm_v1_job_proto_msgTypes[4].OneofWrappers = []any{
+	file_renderfarm_v1_job_proto_msgTypes[3].OneofWrappers = []any{}
+	file_renderfarm_v1_job_proto_msgTypes[7].OneofWrappers = []any{
 		(*Task_RenderTile)(nil),
 		(*Task_Composite)(nil),
 		(*Task_EmitPhotons)(nil),
 		(*Task_BuildPhotonMap)(nil),
+		(*Task_PrecomputeIrradiance)(nil),
+		(*Task_MergeIrradiance)(nil),
 	}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
@@ -2015,7 +2606,7 @@ func file_renderfarm_v1_job_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
 			NumEnums:      5,
-			NumMessages:   23,
+			NumMessages:   30,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

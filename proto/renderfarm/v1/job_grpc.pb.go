@@ -24,6 +24,7 @@ const (
 	JobService_ListJobs_FullMethodName  = "/renderfarm.v1.JobService/ListJobs"
 	JobService_ListTasks_FullMethodName = "/renderfarm.v1.JobService/ListTasks"
 	JobService_CancelJob_FullMethodName = "/renderfarm.v1.JobService/CancelJob"
+	JobService_PlanScene_FullMethodName = "/renderfarm.v1.JobService/PlanScene"
 	JobService_WatchJob_FullMethodName  = "/renderfarm.v1.JobService/WatchJob"
 )
 
@@ -51,6 +52,9 @@ type JobServiceClient interface {
 	// revoked at the workers' next heartbeat. Returns NOT_FOUND if the job does not exist and
 	// FAILED_PRECONDITION if it has already ended.
 	CancelJob(ctx context.Context, in *CancelJobRequest, opts ...grpc.CallOption) (*CancelJobResponse, error)
+	// Validates and plans a scene without rendering it: the passes it would run and skip.
+	// Returns INVALID_ARGUMENT, naming the field, for a malformed scene.
+	PlanScene(ctx context.Context, in *PlanSceneRequest, opts ...grpc.CallOption) (*PlanSceneResponse, error)
 	// Streams a job's events: first a snapshot of the job, then one event per change, until
 	// the job ends (the last event carries its final state). Returns NOT_FOUND if the job
 	// does not exist.
@@ -115,6 +119,16 @@ func (c *jobServiceClient) CancelJob(ctx context.Context, in *CancelJobRequest, 
 	return out, nil
 }
 
+func (c *jobServiceClient) PlanScene(ctx context.Context, in *PlanSceneRequest, opts ...grpc.CallOption) (*PlanSceneResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(PlanSceneResponse)
+	err := c.cc.Invoke(ctx, JobService_PlanScene_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
 func (c *jobServiceClient) WatchJob(ctx context.Context, in *WatchJobRequest, opts ...grpc.CallOption) (grpc.ServerStreamingClient[WatchJobResponse], error) {
 	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
 	stream, err := c.cc.NewStream(ctx, &JobService_ServiceDesc.Streams[0], JobService_WatchJob_FullMethodName, cOpts...)
@@ -158,6 +172,9 @@ type JobServiceServer interface {
 	// revoked at the workers' next heartbeat. Returns NOT_FOUND if the job does not exist and
 	// FAILED_PRECONDITION if it has already ended.
 	CancelJob(context.Context, *CancelJobRequest) (*CancelJobResponse, error)
+	// Validates and plans a scene without rendering it: the passes it would run and skip.
+	// Returns INVALID_ARGUMENT, naming the field, for a malformed scene.
+	PlanScene(context.Context, *PlanSceneRequest) (*PlanSceneResponse, error)
 	// Streams a job's events: first a snapshot of the job, then one event per change, until
 	// the job ends (the last event carries its final state). Returns NOT_FOUND if the job
 	// does not exist.
@@ -186,6 +203,9 @@ func (UnimplementedJobServiceServer) ListTasks(context.Context, *ListTasksReques
 }
 func (UnimplementedJobServiceServer) CancelJob(context.Context, *CancelJobRequest) (*CancelJobResponse, error) {
 	return nil, status.Error(codes.Unimplemented, "method CancelJob not implemented")
+}
+func (UnimplementedJobServiceServer) PlanScene(context.Context, *PlanSceneRequest) (*PlanSceneResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method PlanScene not implemented")
 }
 func (UnimplementedJobServiceServer) WatchJob(*WatchJobRequest, grpc.ServerStreamingServer[WatchJobResponse]) error {
 	return status.Error(codes.Unimplemented, "method WatchJob not implemented")
@@ -301,6 +321,24 @@ func _JobService_CancelJob_Handler(srv interface{}, ctx context.Context, dec fun
 	return interceptor(ctx, in, info, handler)
 }
 
+func _JobService_PlanScene_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(PlanSceneRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).PlanScene(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_PlanScene_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).PlanScene(ctx, req.(*PlanSceneRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
 func _JobService_WatchJob_Handler(srv interface{}, stream grpc.ServerStream) error {
 	m := new(WatchJobRequest)
 	if err := stream.RecvMsg(m); err != nil {
@@ -338,6 +376,10 @@ var JobService_ServiceDesc = grpc.ServiceDesc{
 		{
 			MethodName: "CancelJob",
 			Handler:    _JobService_CancelJob_Handler,
+		},
+		{
+			MethodName: "PlanScene",
+			Handler:    _JobService_PlanScene_Handler,
 		},
 	},
 	Streams: []grpc.StreamDesc{

@@ -21,6 +21,112 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type AntialiasingMode int32
+
+const (
+	// Selects EDGES.
+	AntialiasingMode_ANTIALIASING_MODE_UNSPECIFIED AntialiasingMode = 0
+	AntialiasingMode_ANTIALIASING_MODE_EDGES       AntialiasingMode = 1
+	AntialiasingMode_ANTIALIASING_MODE_NONE        AntialiasingMode = 2
+	// Every pixel gets edge_samples (the costly baseline edge AA is measured against).
+	AntialiasingMode_ANTIALIASING_MODE_FULL AntialiasingMode = 3
+)
+
+// Enum value maps for AntialiasingMode.
+var (
+	AntialiasingMode_name = map[int32]string{
+		0: "ANTIALIASING_MODE_UNSPECIFIED",
+		1: "ANTIALIASING_MODE_EDGES",
+		2: "ANTIALIASING_MODE_NONE",
+		3: "ANTIALIASING_MODE_FULL",
+	}
+	AntialiasingMode_value = map[string]int32{
+		"ANTIALIASING_MODE_UNSPECIFIED": 0,
+		"ANTIALIASING_MODE_EDGES":       1,
+		"ANTIALIASING_MODE_NONE":        2,
+		"ANTIALIASING_MODE_FULL":        3,
+	}
+)
+
+func (x AntialiasingMode) Enum() *AntialiasingMode {
+	p := new(AntialiasingMode)
+	*p = x
+	return p
+}
+
+func (x AntialiasingMode) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (AntialiasingMode) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (AntialiasingMode) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x AntialiasingMode) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use AntialiasingMode.Descriptor instead.
+func (AntialiasingMode) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
+type IndirectMode int32
+
+const (
+	// Selects FINAL_GATHER.
+	IndirectMode_INDIRECT_MODE_UNSPECIFIED IndirectMode = 0
+	// Gather rays into the global map, reading irradiance precomputed at photon positions.
+	IndirectMode_INDIRECT_MODE_FINAL_GATHER IndirectMode = 1
+	// The global map's radiance estimate seen directly (fast, blotchy).
+	IndirectMode_INDIRECT_MODE_PHOTON_MAP IndirectMode = 2
+)
+
+// Enum value maps for IndirectMode.
+var (
+	IndirectMode_name = map[int32]string{
+		0: "INDIRECT_MODE_UNSPECIFIED",
+		1: "INDIRECT_MODE_FINAL_GATHER",
+		2: "INDIRECT_MODE_PHOTON_MAP",
+	}
+	IndirectMode_value = map[string]int32{
+		"INDIRECT_MODE_UNSPECIFIED":  0,
+		"INDIRECT_MODE_FINAL_GATHER": 1,
+		"INDIRECT_MODE_PHOTON_MAP":   2,
+	}
+)
+
+func (x IndirectMode) Enum() *IndirectMode {
+	p := new(IndirectMode)
+	*p = x
+	return p
+}
+
+func (x IndirectMode) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (IndirectMode) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
+}
+
+func (IndirectMode) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[1]
+}
+
+func (x IndirectMode) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use IndirectMode.Descriptor instead.
+func (IndirectMode) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
+}
+
 type Filter int32
 
 const (
@@ -60,11 +166,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -73,7 +179,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -96,6 +202,9 @@ type Scene struct {
 	Lights []*Light `protobuf:"bytes,7,rep,name=lights,proto3" json:"lights,omitempty"`
 	// Photon mapping settings; unset fields take the defaults documented on each field.
 	Photons       *PhotonMapping `protobuf:"bytes,8,opt,name=photons,proto3" json:"photons,omitempty"`
+	Antialiasing  *Antialiasing  `protobuf:"bytes,9,opt,name=antialiasing,proto3" json:"antialiasing,omitempty"`
+	Indirect      *Indirect      `protobuf:"bytes,10,opt,name=indirect,proto3" json:"indirect,omitempty"`
+	Progressive   *Progressive   `protobuf:"bytes,11,opt,name=progressive,proto3" json:"progressive,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -182,6 +291,27 @@ func (x *Scene) GetLights() []*Light {
 func (x *Scene) GetPhotons() *PhotonMapping {
 	if x != nil {
 		return x.Photons
+	}
+	return nil
+}
+
+func (x *Scene) GetAntialiasing() *Antialiasing {
+	if x != nil {
+		return x.Antialiasing
+	}
+	return nil
+}
+
+func (x *Scene) GetIndirect() *Indirect {
+	if x != nil {
+		return x.Indirect
+	}
+	return nil
+}
+
+func (x *Scene) GetProgressive() *Progressive {
+	if x != nil {
+		return x.Progressive
 	}
 	return nil
 }
@@ -445,11 +575,14 @@ func (x *Film) GetTileSize() uint32 {
 // sample index), so an image is bit-identical however its tiles are spread over workers.
 type Sampling struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// Camera rays per pixel; 0 selects the default (16).
+	// Camera rays per ordinary pixel (per round); 0 selects 1. Pixels on edges get
+	// Antialiasing.edge_samples instead.
 	SamplesPerPixel uint32 `protobuf:"varint,1,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
 	Seed            uint64 `protobuf:"varint,2,opt,name=seed,proto3" json:"seed,omitempty"`
-	unknownFields   protoimpl.UnknownFields
-	sizeCache       protoimpl.SizeCache
+	// Shadow rays towards area lights per shading point; 0 selects 16.
+	LightSamples  uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *Sampling) Reset() {
@@ -496,6 +629,280 @@ func (x *Sampling) GetSeed() uint64 {
 	return 0
 }
 
+func (x *Sampling) GetLightSamples() uint32 {
+	if x != nil {
+		return x.LightSamples
+	}
+	return 0
+}
+
+// Edge anti-aliasing: each tile is rendered with a one-pixel apron, a Sobel gradient of its
+// luminance is thresholded, and only edge pixels get supersampled.
+type Antialiasing struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
+	// Camera rays for an edge pixel (or every pixel in FULL mode); 0 selects 12.
+	EdgeSamples uint32 `protobuf:"varint,2,opt,name=edge_samples,json=edgeSamples,proto3" json:"edge_samples,omitempty"`
+	// A pixel is an edge when the Sobel gradient of log-luminance exceeds this; 0 selects 0.1.
+	EdgeThreshold float64 `protobuf:"fixed64,3,opt,name=edge_threshold,json=edgeThreshold,proto3" json:"edge_threshold,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Antialiasing) Reset() {
+	*x = Antialiasing{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Antialiasing) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Antialiasing) ProtoMessage() {}
+
+func (x *Antialiasing) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Antialiasing.ProtoReflect.Descriptor instead.
+func (*Antialiasing) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+}
+
+func (x *Antialiasing) GetMode() AntialiasingMode {
+	if x != nil {
+		return x.Mode
+	}
+	return AntialiasingMode_ANTIALIASING_MODE_UNSPECIFIED
+}
+
+func (x *Antialiasing) GetEdgeSamples() uint32 {
+	if x != nil {
+		return x.EdgeSamples
+	}
+	return 0
+}
+
+func (x *Antialiasing) GetEdgeThreshold() float64 {
+	if x != nil {
+		return x.EdgeThreshold
+	}
+	return 0
+}
+
+// How indirect diffuse light is computed.
+type Indirect struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Mode  IndirectMode           `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.IndirectMode" json:"mode,omitempty"`
+	// Gather rays at a camera path's first diffuse hit; 0 selects 64.
+	GatherRays uint32 `protobuf:"varint,2,opt,name=gather_rays,json=gatherRays,proto3" json:"gather_rays,omitempty"`
+	// Gather rays at diffuse hits reached after a glossy bounce; 0 selects 8.
+	SecondaryGatherRays uint32 `protobuf:"varint,3,opt,name=secondary_gather_rays,json=secondaryGatherRays,proto3" json:"secondary_gather_rays,omitempty"`
+	unknownFields       protoimpl.UnknownFields
+	sizeCache           protoimpl.SizeCache
+}
+
+func (x *Indirect) Reset() {
+	*x = Indirect{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Indirect) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Indirect) ProtoMessage() {}
+
+func (x *Indirect) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Indirect.ProtoReflect.Descriptor instead.
+func (*Indirect) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
+}
+
+func (x *Indirect) GetMode() IndirectMode {
+	if x != nil {
+		return x.Mode
+	}
+	return IndirectMode_INDIRECT_MODE_UNSPECIFIED
+}
+
+func (x *Indirect) GetGatherRays() uint32 {
+	if x != nil {
+		return x.GatherRays
+	}
+	return 0
+}
+
+func (x *Indirect) GetSecondaryGatherRays() uint32 {
+	if x != nil {
+		return x.SecondaryGatherRays
+	}
+	return 0
+}
+
+// Progressive rounds: each round traces fresh photons and pixel samples with a shrinking
+// kernel (progressive photon mapping); the image is the mean of all rounds. The job stops
+// after max_rounds, or earlier once the error estimate reaches target_error or the time
+// budget is spent, whichever comes first.
+type Progressive struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// 0 selects 1 (a single round).
+	MaxRounds uint32 `protobuf:"varint,1,opt,name=max_rounds,json=maxRounds,proto3" json:"max_rounds,omitempty"`
+	// Stop once the estimated RMSE of the image is at most this; 0 means no target.
+	TargetError float64 `protobuf:"fixed64,2,opt,name=target_error,json=targetError,proto3" json:"target_error,omitempty"`
+	// Start no new round after this many seconds of the job; 0 means no budget.
+	TimeBudgetSeconds float64 `protobuf:"fixed64,3,opt,name=time_budget_seconds,json=timeBudgetSeconds,proto3" json:"time_budget_seconds,omitempty"`
+	// Progressive photon mapping's alpha in (0, 1]: round r's search radii are those of round
+	// 1 times sqrt(prod over i < r of (i + alpha) / (i + 1)); 0 selects 0.7.
+	Alpha float64 `protobuf:"fixed64,4,opt,name=alpha,proto3" json:"alpha,omitempty"`
+	// A converged image to measure the error against, as well as the spread between rounds.
+	Reference     *ReferenceImage `protobuf:"bytes,5,opt,name=reference,proto3" json:"reference,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Progressive) Reset() {
+	*x = Progressive{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Progressive) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Progressive) ProtoMessage() {}
+
+func (x *Progressive) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Progressive.ProtoReflect.Descriptor instead.
+func (*Progressive) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
+}
+
+func (x *Progressive) GetMaxRounds() uint32 {
+	if x != nil {
+		return x.MaxRounds
+	}
+	return 0
+}
+
+func (x *Progressive) GetTargetError() float64 {
+	if x != nil {
+		return x.TargetError
+	}
+	return 0
+}
+
+func (x *Progressive) GetTimeBudgetSeconds() float64 {
+	if x != nil {
+		return x.TimeBudgetSeconds
+	}
+	return 0
+}
+
+func (x *Progressive) GetAlpha() float64 {
+	if x != nil {
+		return x.Alpha
+	}
+	return 0
+}
+
+func (x *Progressive) GetReference() *ReferenceImage {
+	if x != nil {
+		return x.Reference
+	}
+	return nil
+}
+
+// An OpenEXR image of the same size. In a scene file, path is relative to the file; the
+// client uploads it and submits its digest.
+type ReferenceImage struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Path          string                 `protobuf:"bytes,1,opt,name=path,proto3" json:"path,omitempty"`
+	Digest        string                 `protobuf:"bytes,2,opt,name=digest,proto3" json:"digest,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *ReferenceImage) Reset() {
+	*x = ReferenceImage{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *ReferenceImage) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*ReferenceImage) ProtoMessage() {}
+
+func (x *ReferenceImage) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use ReferenceImage.ProtoReflect.Descriptor instead.
+func (*ReferenceImage) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
+}
+
+func (x *ReferenceImage) GetPath() string {
+	if x != nil {
+		return x.Path
+	}
+	return ""
+}
+
+func (x *ReferenceImage) GetDigest() string {
+	if x != nil {
+		return x.Digest
+	}
+	return ""
+}
+
 // A named surface material; exactly one kind is set.
 type Material struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
@@ -515,7 +922,7 @@ type Material struct {
 
 func (x *Material) Reset() {
 	*x = Material{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -527,7 +934,7 @@ func (x *Material) String() string {
 func (*Material) ProtoMessage() {}
 
 func (x *Material) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -540,7 +947,7 @@ func (x *Material) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Material.ProtoReflect.Descriptor instead.
 func (*Material) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *Material) GetName() string {
@@ -661,7 +1068,7 @@ type Lambert struct {
 
 func (x *Lambert) Reset() {
 	*x = Lambert{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -673,7 +1080,7 @@ func (x *Lambert) String() string {
 func (*Lambert) ProtoMessage() {}
 
 func (x *Lambert) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -686,7 +1093,7 @@ func (x *Lambert) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Lambert.ProtoReflect.Descriptor instead.
 func (*Lambert) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *Lambert) GetReflectance() *Color {
@@ -707,7 +1114,7 @@ type Emissive struct {
 
 func (x *Emissive) Reset() {
 	*x = Emissive{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -719,7 +1126,7 @@ func (x *Emissive) String() string {
 func (*Emissive) ProtoMessage() {}
 
 func (x *Emissive) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -732,7 +1139,7 @@ func (x *Emissive) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Emissive.ProtoReflect.Descriptor instead.
 func (*Emissive) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *Emissive) GetRadiance() *Color {
@@ -756,7 +1163,7 @@ type Glossy struct {
 
 func (x *Glossy) Reset() {
 	*x = Glossy{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -768,7 +1175,7 @@ func (x *Glossy) String() string {
 func (*Glossy) ProtoMessage() {}
 
 func (x *Glossy) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -781,7 +1188,7 @@ func (x *Glossy) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Glossy.ProtoReflect.Descriptor instead.
 func (*Glossy) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *Glossy) GetDiffuse() *Color {
@@ -815,7 +1222,7 @@ type Mirror struct {
 
 func (x *Mirror) Reset() {
 	*x = Mirror{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -827,7 +1234,7 @@ func (x *Mirror) String() string {
 func (*Mirror) ProtoMessage() {}
 
 func (x *Mirror) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -840,7 +1247,7 @@ func (x *Mirror) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Mirror.ProtoReflect.Descriptor instead.
 func (*Mirror) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *Mirror) GetReflectance() *Color {
@@ -864,7 +1271,7 @@ type Dielectric struct {
 
 func (x *Dielectric) Reset() {
 	*x = Dielectric{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -876,7 +1283,7 @@ func (x *Dielectric) String() string {
 func (*Dielectric) ProtoMessage() {}
 
 func (x *Dielectric) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -889,7 +1296,7 @@ func (x *Dielectric) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Dielectric.ProtoReflect.Descriptor instead.
 func (*Dielectric) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *Dielectric) GetIor() float64 {
@@ -918,7 +1325,7 @@ type Conductor struct {
 
 func (x *Conductor) Reset() {
 	*x = Conductor{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -930,7 +1337,7 @@ func (x *Conductor) String() string {
 func (*Conductor) ProtoMessage() {}
 
 func (x *Conductor) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -943,7 +1350,7 @@ func (x *Conductor) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Conductor.ProtoReflect.Descriptor instead.
 func (*Conductor) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *Conductor) GetEta() *Color {
@@ -975,7 +1382,7 @@ type Light struct {
 
 func (x *Light) Reset() {
 	*x = Light{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -987,7 +1394,7 @@ func (x *Light) String() string {
 func (*Light) ProtoMessage() {}
 
 func (x *Light) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1000,7 +1407,7 @@ func (x *Light) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Light.ProtoReflect.Descriptor instead.
 func (*Light) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *Light) GetName() string {
@@ -1063,7 +1470,7 @@ type PointLight struct {
 
 func (x *PointLight) Reset() {
 	*x = PointLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1075,7 +1482,7 @@ func (x *PointLight) String() string {
 func (*PointLight) ProtoMessage() {}
 
 func (x *PointLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1088,7 +1495,7 @@ func (x *PointLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PointLight.ProtoReflect.Descriptor instead.
 func (*PointLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *PointLight) GetPosition() *Vec3 {
@@ -1118,7 +1525,7 @@ type SunLight struct {
 
 func (x *SunLight) Reset() {
 	*x = SunLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1130,7 +1537,7 @@ func (x *SunLight) String() string {
 func (*SunLight) ProtoMessage() {}
 
 func (x *SunLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1143,7 +1550,7 @@ func (x *SunLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SunLight.ProtoReflect.Descriptor instead.
 func (*SunLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
 }
 
 func (x *SunLight) GetDirection() *Vec3 {
@@ -1180,7 +1587,7 @@ type PhotonMapping struct {
 
 func (x *PhotonMapping) Reset() {
 	*x = PhotonMapping{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1192,7 +1599,7 @@ func (x *PhotonMapping) String() string {
 func (*PhotonMapping) ProtoMessage() {}
 
 func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1205,7 +1612,7 @@ func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhotonMapping.ProtoReflect.Descriptor instead.
 func (*PhotonMapping) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *PhotonMapping) GetGlobalPhotons() uint64 {
@@ -1261,7 +1668,7 @@ type RadianceEstimate struct {
 
 func (x *RadianceEstimate) Reset() {
 	*x = RadianceEstimate{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1273,7 +1680,7 @@ func (x *RadianceEstimate) String() string {
 func (*RadianceEstimate) ProtoMessage() {}
 
 func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1286,7 +1693,7 @@ func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RadianceEstimate.ProtoReflect.Descriptor instead.
 func (*RadianceEstimate) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *RadianceEstimate) GetNeighbours() uint32 {
@@ -1337,7 +1744,7 @@ type Shape struct {
 
 func (x *Shape) Reset() {
 	*x = Shape{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1349,7 +1756,7 @@ func (x *Shape) String() string {
 func (*Shape) ProtoMessage() {}
 
 func (x *Shape) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1362,7 +1769,7 @@ func (x *Shape) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Shape.ProtoReflect.Descriptor instead.
 func (*Shape) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *Shape) GetName() string {
@@ -1461,7 +1868,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1473,7 +1880,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1486,7 +1893,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -1516,7 +1923,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1528,7 +1935,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1541,7 +1948,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -1577,7 +1984,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1589,7 +1996,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1602,7 +2009,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -1634,7 +2041,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1646,7 +2053,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1659,7 +2066,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -1697,7 +2104,7 @@ type Transform struct {
 
 func (x *Transform) Reset() {
 	*x = Transform{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1709,7 +2116,7 @@ func (x *Transform) String() string {
 func (*Transform) ProtoMessage() {}
 
 func (x *Transform) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1722,7 +2129,7 @@ func (x *Transform) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Transform.ProtoReflect.Descriptor instead.
 func (*Transform) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *Transform) GetTranslation() *Vec3 {
@@ -1757,7 +2164,7 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\"\xf3\x02\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\"\xa7\x04\n" +
 	"\x05Scene\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12-\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraR\x06camera\x12'\n" +
@@ -1766,7 +2173,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\tmaterials\x18\x05 \x03(\v2\x17.renderfarm.v1.MaterialR\tmaterials\x12,\n" +
 	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeR\x06shapes\x12,\n" +
 	"\x06lights\x18\a \x03(\v2\x14.renderfarm.v1.LightR\x06lights\x126\n" +
-	"\aphotons\x18\b \x01(\v2\x1c.renderfarm.v1.PhotonMappingR\aphotons\"0\n" +
+	"\aphotons\x18\b \x01(\v2\x1c.renderfarm.v1.PhotonMappingR\aphotons\x12?\n" +
+	"\fantialiasing\x18\t \x01(\v2\x1b.renderfarm.v1.AntialiasingR\fantialiasing\x123\n" +
+	"\bindirect\x18\n" +
+	" \x01(\v2\x17.renderfarm.v1.IndirectR\bindirect\x12<\n" +
+	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive\"0\n" +
 	"\x04Vec3\x12\f\n" +
 	"\x01x\x18\x01 \x01(\x01R\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\x01R\x01y\x12\f\n" +
@@ -1783,10 +2194,30 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x04Film\x12\x14\n" +
 	"\x05width\x18\x01 \x01(\rR\x05width\x12\x16\n" +
 	"\x06height\x18\x02 \x01(\rR\x06height\x12\x1b\n" +
-	"\ttile_size\x18\x03 \x01(\rR\btileSize\"J\n" +
+	"\ttile_size\x18\x03 \x01(\rR\btileSize\"o\n" +
 	"\bSampling\x12*\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rR\x0fsamplesPerPixel\x12\x12\n" +
-	"\x04seed\x18\x02 \x01(\x04R\x04seed\"\xea\x02\n" +
+	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12#\n" +
+	"\rlight_samples\x18\x03 \x01(\rR\flightSamples\"\x8d\x01\n" +
+	"\fAntialiasing\x123\n" +
+	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeR\x04mode\x12!\n" +
+	"\fedge_samples\x18\x02 \x01(\rR\vedgeSamples\x12%\n" +
+	"\x0eedge_threshold\x18\x03 \x01(\x01R\redgeThreshold\"\x90\x01\n" +
+	"\bIndirect\x12/\n" +
+	"\x04mode\x18\x01 \x01(\x0e2\x1b.renderfarm.v1.IndirectModeR\x04mode\x12\x1f\n" +
+	"\vgather_rays\x18\x02 \x01(\rR\n" +
+	"gatherRays\x122\n" +
+	"\x15secondary_gather_rays\x18\x03 \x01(\rR\x13secondaryGatherRays\"\xd2\x01\n" +
+	"\vProgressive\x12\x1d\n" +
+	"\n" +
+	"max_rounds\x18\x01 \x01(\rR\tmaxRounds\x12!\n" +
+	"\ftarget_error\x18\x02 \x01(\x01R\vtargetError\x12.\n" +
+	"\x13time_budget_seconds\x18\x03 \x01(\x01R\x11timeBudgetSeconds\x12\x14\n" +
+	"\x05alpha\x18\x04 \x01(\x01R\x05alpha\x12;\n" +
+	"\treference\x18\x05 \x01(\v2\x1d.renderfarm.v1.ReferenceImageR\treference\"<\n" +
+	"\x0eReferenceImage\x12\x12\n" +
+	"\x04path\x18\x01 \x01(\tR\x04path\x12\x16\n" +
+	"\x06digest\x18\x02 \x01(\tR\x06digest\"\xea\x02\n" +
 	"\bMaterial\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x122\n" +
 	"\alambert\x18\x02 \x01(\v2\x16.renderfarm.v1.LambertH\x00R\alambert\x125\n" +
@@ -1870,7 +2301,16 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\vtranslation\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\vtranslation\x12)\n" +
 	"\x05scale\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3R\x05scale\x128\n" +
 	"\rrotation_axis\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3R\frotationAxis\x12)\n" +
-	"\x10rotation_degrees\x18\x04 \x01(\x01R\x0frotationDegrees*V\n" +
+	"\x10rotation_degrees\x18\x04 \x01(\x01R\x0frotationDegrees*\x8a\x01\n" +
+	"\x10AntialiasingMode\x12!\n" +
+	"\x1dANTIALIASING_MODE_UNSPECIFIED\x10\x00\x12\x1b\n" +
+	"\x17ANTIALIASING_MODE_EDGES\x10\x01\x12\x1a\n" +
+	"\x16ANTIALIASING_MODE_NONE\x10\x02\x12\x1a\n" +
+	"\x16ANTIALIASING_MODE_FULL\x10\x03*k\n" +
+	"\fIndirectMode\x12\x1d\n" +
+	"\x19INDIRECT_MODE_UNSPECIFIED\x10\x00\x12\x1e\n" +
+	"\x1aINDIRECT_MODE_FINAL_GATHER\x10\x01\x12\x1c\n" +
+	"\x18INDIRECT_MODE_PHOTON_MAP\x10\x02*V\n" +
 	"\x06Filter\x12\x16\n" +
 	"\x12FILTER_UNSPECIFIED\x10\x00\x12\x0e\n" +
 	"\n" +
@@ -1890,87 +2330,99 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 1)
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 24)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 3)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 28)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(Filter)(0),              // 0: renderfarm.v1.Filter
-	(*Scene)(nil),            // 1: renderfarm.v1.Scene
-	(*Vec3)(nil),             // 2: renderfarm.v1.Vec3
-	(*Color)(nil),            // 3: renderfarm.v1.Color
-	(*Camera)(nil),           // 4: renderfarm.v1.Camera
-	(*Film)(nil),             // 5: renderfarm.v1.Film
-	(*Sampling)(nil),         // 6: renderfarm.v1.Sampling
-	(*Material)(nil),         // 7: renderfarm.v1.Material
-	(*Lambert)(nil),          // 8: renderfarm.v1.Lambert
-	(*Emissive)(nil),         // 9: renderfarm.v1.Emissive
-	(*Glossy)(nil),           // 10: renderfarm.v1.Glossy
-	(*Mirror)(nil),           // 11: renderfarm.v1.Mirror
-	(*Dielectric)(nil),       // 12: renderfarm.v1.Dielectric
-	(*Conductor)(nil),        // 13: renderfarm.v1.Conductor
-	(*Light)(nil),            // 14: renderfarm.v1.Light
-	(*PointLight)(nil),       // 15: renderfarm.v1.PointLight
-	(*SunLight)(nil),         // 16: renderfarm.v1.SunLight
-	(*PhotonMapping)(nil),    // 17: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil), // 18: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),            // 19: renderfarm.v1.Shape
-	(*Sphere)(nil),           // 20: renderfarm.v1.Sphere
-	(*Quad)(nil),             // 21: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),     // 22: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),         // 23: renderfarm.v1.MeshFile
-	(*Transform)(nil),        // 24: renderfarm.v1.Transform
+	(AntialiasingMode)(0),    // 0: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),        // 1: renderfarm.v1.IndirectMode
+	(Filter)(0),              // 2: renderfarm.v1.Filter
+	(*Scene)(nil),            // 3: renderfarm.v1.Scene
+	(*Vec3)(nil),             // 4: renderfarm.v1.Vec3
+	(*Color)(nil),            // 5: renderfarm.v1.Color
+	(*Camera)(nil),           // 6: renderfarm.v1.Camera
+	(*Film)(nil),             // 7: renderfarm.v1.Film
+	(*Sampling)(nil),         // 8: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),     // 9: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),         // 10: renderfarm.v1.Indirect
+	(*Progressive)(nil),      // 11: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),   // 12: renderfarm.v1.ReferenceImage
+	(*Material)(nil),         // 13: renderfarm.v1.Material
+	(*Lambert)(nil),          // 14: renderfarm.v1.Lambert
+	(*Emissive)(nil),         // 15: renderfarm.v1.Emissive
+	(*Glossy)(nil),           // 16: renderfarm.v1.Glossy
+	(*Mirror)(nil),           // 17: renderfarm.v1.Mirror
+	(*Dielectric)(nil),       // 18: renderfarm.v1.Dielectric
+	(*Conductor)(nil),        // 19: renderfarm.v1.Conductor
+	(*Light)(nil),            // 20: renderfarm.v1.Light
+	(*PointLight)(nil),       // 21: renderfarm.v1.PointLight
+	(*SunLight)(nil),         // 22: renderfarm.v1.SunLight
+	(*PhotonMapping)(nil),    // 23: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil), // 24: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),            // 25: renderfarm.v1.Shape
+	(*Sphere)(nil),           // 26: renderfarm.v1.Sphere
+	(*Quad)(nil),             // 27: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),     // 28: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),         // 29: renderfarm.v1.MeshFile
+	(*Transform)(nil),        // 30: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	4,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	5,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	6,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	7,  // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	19, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	14, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	17, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	2,  // 7: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	2,  // 8: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	2,  // 9: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	8,  // 10: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	9,  // 11: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	10, // 12: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	11, // 13: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	12, // 14: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	13, // 15: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	3,  // 16: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	3,  // 17: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	3,  // 18: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	3,  // 19: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	3,  // 20: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	3,  // 21: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	3,  // 22: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	3,  // 23: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	15, // 24: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	16, // 25: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	2,  // 26: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	3,  // 27: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	2,  // 28: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	3,  // 29: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	18, // 30: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	18, // 31: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	0,  // 32: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	20, // 33: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	21, // 34: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	22, // 35: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	23, // 36: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	2,  // 37: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	2,  // 38: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	2,  // 39: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	2,  // 40: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	2,  // 41: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	24, // 42: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	2,  // 43: renderfarm.v1.Transform.translation:type_name -> renderfarm.v1.Vec3
-	2,  // 44: renderfarm.v1.Transform.scale:type_name -> renderfarm.v1.Vec3
-	2,  // 45: renderfarm.v1.Transform.rotation_axis:type_name -> renderfarm.v1.Vec3
-	46, // [46:46] is the sub-list for method output_type
-	46, // [46:46] is the sub-list for method input_type
-	46, // [46:46] is the sub-list for extension type_name
-	46, // [46:46] is the sub-list for extension extendee
-	0,  // [0:46] is the sub-list for field type_name
+	6,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	7,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	8,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	13, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	25, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	20, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	23, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	9,  // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	10, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	11, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	4,  // 10: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	4,  // 11: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	4,  // 12: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	0,  // 13: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	1,  // 14: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	12, // 15: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	14, // 16: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	15, // 17: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	16, // 18: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	17, // 19: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	18, // 20: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	19, // 21: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	5,  // 22: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	5,  // 23: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	5,  // 24: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	5,  // 25: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	5,  // 26: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	5,  // 27: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	5,  // 28: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	5,  // 29: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	21, // 30: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	22, // 31: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	4,  // 32: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	5,  // 33: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	4,  // 34: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	5,  // 35: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	24, // 36: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	24, // 37: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	2,  // 38: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	26, // 39: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	27, // 40: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	28, // 41: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	29, // 42: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	4,  // 43: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	4,  // 44: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	4,  // 45: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	4,  // 46: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	4,  // 47: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	30, // 48: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	4,  // 49: renderfarm.v1.Transform.translation:type_name -> renderfarm.v1.Vec3
+	4,  // 50: renderfarm.v1.Transform.scale:type_name -> renderfarm.v1.Vec3
+	4,  // 51: renderfarm.v1.Transform.rotation_axis:type_name -> renderfarm.v1.Vec3
+	52, // [52:52] is the sub-list for method output_type
+	52, // [52:52] is the sub-list for method input_type
+	52, // [52:52] is the sub-list for extension type_name
+	52, // [52:52] is the sub-list for extension extendee
+	0,  // [0:52] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -1978,7 +2430,7 @@ func file_renderfarm_v1_scene_proto_init() {
 	if File_renderfarm_v1_scene_proto != nil {
 		return
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[6].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[10].OneofWrappers = []any{
 		(*Material_Lambert)(nil),
 		(*Material_Emissive)(nil),
 		(*Material_Glossy)(nil),
@@ -1986,11 +2438,11 @@ func file_renderfarm_v1_scene_proto_init() {
 		(*Material_Dielectric)(nil),
 		(*Material_Conductor)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[13].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[17].OneofWrappers = []any{
 		(*Light_Point)(nil),
 		(*Light_Sun)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[18].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[22].OneofWrappers = []any{
 		(*Shape_Sphere)(nil),
 		(*Shape_Quad)(nil),
 		(*Shape_Triangles)(nil),
@@ -2001,8 +2453,8 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      1,
-			NumMessages:   24,
+			NumEnums:      3,
+			NumMessages:   28,
 			NumExtensions: 0,
 			NumServices:   0,
 		},

@@ -481,11 +481,13 @@ func (x *LeaseTaskResponse) GetSceneDigest() string {
 }
 
 type CompleteTaskRequest struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	WorkerId      string                 `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
-	TaskId        string                 `protobuf:"bytes,2,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
-	Epoch         uint64                 `protobuf:"varint,3,opt,name=epoch,proto3" json:"epoch,omitempty"`
-	Outputs       []*Artifact            `protobuf:"bytes,4,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	WorkerId string                 `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
+	TaskId   string                 `protobuf:"bytes,2,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
+	Epoch    uint64                 `protobuf:"varint,3,opt,name=epoch,proto3" json:"epoch,omitempty"`
+	Outputs  []*Artifact            `protobuf:"bytes,4,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	// Set by composite tasks: the error estimates of the image so far.
+	Metrics       *RoundMetrics `protobuf:"bytes,5,opt,name=metrics,proto3" json:"metrics,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -548,6 +550,67 @@ func (x *CompleteTaskRequest) GetOutputs() []*Artifact {
 	return nil
 }
 
+func (x *CompleteTaskRequest) GetMetrics() *RoundMetrics {
+	if x != nil {
+		return x.Metrics
+	}
+	return nil
+}
+
+type RoundMetrics struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// RMSE of the mean image estimated from the spread between rounds (needs two rounds).
+	ErrorEstimate *float64 `protobuf:"fixed64,1,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
+	// RMSE against the reference image, if the composite was given one.
+	ReferenceRmse *float64 `protobuf:"fixed64,2,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RoundMetrics) Reset() {
+	*x = RoundMetrics{}
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RoundMetrics) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RoundMetrics) ProtoMessage() {}
+
+func (x *RoundMetrics) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RoundMetrics.ProtoReflect.Descriptor instead.
+func (*RoundMetrics) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{9}
+}
+
+func (x *RoundMetrics) GetErrorEstimate() float64 {
+	if x != nil && x.ErrorEstimate != nil {
+		return *x.ErrorEstimate
+	}
+	return 0
+}
+
+func (x *RoundMetrics) GetReferenceRmse() float64 {
+	if x != nil && x.ReferenceRmse != nil {
+		return *x.ReferenceRmse
+	}
+	return 0
+}
+
 type CompleteTaskResponse struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
 	unknownFields protoimpl.UnknownFields
@@ -556,7 +619,7 @@ type CompleteTaskResponse struct {
 
 func (x *CompleteTaskResponse) Reset() {
 	*x = CompleteTaskResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -568,7 +631,7 @@ func (x *CompleteTaskResponse) String() string {
 func (*CompleteTaskResponse) ProtoMessage() {}
 
 func (x *CompleteTaskResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -581,7 +644,7 @@ func (x *CompleteTaskResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CompleteTaskResponse.ProtoReflect.Descriptor instead.
 func (*CompleteTaskResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{10}
 }
 
 type FailTaskRequest struct {
@@ -596,7 +659,7 @@ type FailTaskRequest struct {
 
 func (x *FailTaskRequest) Reset() {
 	*x = FailTaskRequest{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -608,7 +671,7 @@ func (x *FailTaskRequest) String() string {
 func (*FailTaskRequest) ProtoMessage() {}
 
 func (x *FailTaskRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -621,7 +684,7 @@ func (x *FailTaskRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use FailTaskRequest.ProtoReflect.Descriptor instead.
 func (*FailTaskRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *FailTaskRequest) GetWorkerId() string {
@@ -660,7 +723,7 @@ type FailTaskResponse struct {
 
 func (x *FailTaskResponse) Reset() {
 	*x = FailTaskResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -672,7 +735,7 @@ func (x *FailTaskResponse) String() string {
 func (*FailTaskResponse) ProtoMessage() {}
 
 func (x *FailTaskResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -685,7 +748,7 @@ func (x *FailTaskResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use FailTaskResponse.ProtoReflect.Descriptor instead.
 func (*FailTaskResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{12}
 }
 
 type ReleaseTaskRequest struct {
@@ -699,7 +762,7 @@ type ReleaseTaskRequest struct {
 
 func (x *ReleaseTaskRequest) Reset() {
 	*x = ReleaseTaskRequest{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -711,7 +774,7 @@ func (x *ReleaseTaskRequest) String() string {
 func (*ReleaseTaskRequest) ProtoMessage() {}
 
 func (x *ReleaseTaskRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -724,7 +787,7 @@ func (x *ReleaseTaskRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ReleaseTaskRequest.ProtoReflect.Descriptor instead.
 func (*ReleaseTaskRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *ReleaseTaskRequest) GetWorkerId() string {
@@ -756,7 +819,7 @@ type ReleaseTaskResponse struct {
 
 func (x *ReleaseTaskResponse) Reset() {
 	*x = ReleaseTaskResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -768,7 +831,7 @@ func (x *ReleaseTaskResponse) String() string {
 func (*ReleaseTaskResponse) ProtoMessage() {}
 
 func (x *ReleaseTaskResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -781,7 +844,7 @@ func (x *ReleaseTaskResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ReleaseTaskResponse.ProtoReflect.Descriptor instead.
 func (*ReleaseTaskResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{14}
 }
 
 type UnregisterWorkerRequest struct {
@@ -793,7 +856,7 @@ type UnregisterWorkerRequest struct {
 
 func (x *UnregisterWorkerRequest) Reset() {
 	*x = UnregisterWorkerRequest{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -805,7 +868,7 @@ func (x *UnregisterWorkerRequest) String() string {
 func (*UnregisterWorkerRequest) ProtoMessage() {}
 
 func (x *UnregisterWorkerRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -818,7 +881,7 @@ func (x *UnregisterWorkerRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnregisterWorkerRequest.ProtoReflect.Descriptor instead.
 func (*UnregisterWorkerRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *UnregisterWorkerRequest) GetWorkerId() string {
@@ -836,7 +899,7 @@ type UnregisterWorkerResponse struct {
 
 func (x *UnregisterWorkerResponse) Reset() {
 	*x = UnregisterWorkerResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -848,7 +911,7 @@ func (x *UnregisterWorkerResponse) String() string {
 func (*UnregisterWorkerResponse) ProtoMessage() {}
 
 func (x *UnregisterWorkerResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -861,7 +924,7 @@ func (x *UnregisterWorkerResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnregisterWorkerResponse.ProtoReflect.Descriptor instead.
 func (*UnregisterWorkerResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{16}
 }
 
 var File_renderfarm_v1_worker_proto protoreflect.FileDescriptor
@@ -897,12 +960,18 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\x11LeaseTaskResponse\x12*\n" +
 	"\x05lease\x18\x01 \x01(\v2\x14.renderfarm.v1.LeaseR\x05lease\x12'\n" +
 	"\x04task\x18\x02 \x01(\v2\x13.renderfarm.v1.TaskR\x04task\x12!\n" +
-	"\fscene_digest\x18\x03 \x01(\tR\vsceneDigest\"\x94\x01\n" +
+	"\fscene_digest\x18\x03 \x01(\tR\vsceneDigest\"\xcb\x01\n" +
 	"\x13CompleteTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
 	"\atask_id\x18\x02 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x03 \x01(\x04R\x05epoch\x121\n" +
-	"\aoutputs\x18\x04 \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\"\x16\n" +
+	"\aoutputs\x18\x04 \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x125\n" +
+	"\ametrics\x18\x05 \x01(\v2\x1b.renderfarm.v1.RoundMetricsR\ametrics\"\x8c\x01\n" +
+	"\fRoundMetrics\x12*\n" +
+	"\x0eerror_estimate\x18\x01 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
+	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01B\x11\n" +
+	"\x0f_error_estimateB\x11\n" +
+	"\x0f_reference_rmse\"\x16\n" +
 	"\x14CompleteTaskResponse\"s\n" +
 	"\x0fFailTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
@@ -939,7 +1008,7 @@ func file_renderfarm_v1_worker_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_worker_proto_rawDescData
 }
 
-var file_renderfarm_v1_worker_proto_msgTypes = make([]protoimpl.MessageInfo, 16)
+var file_renderfarm_v1_worker_proto_msgTypes = make([]protoimpl.MessageInfo, 17)
 var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*RegisterWorkerRequest)(nil),    // 0: renderfarm.v1.RegisterWorkerRequest
 	(*RegisterWorkerResponse)(nil),   // 1: renderfarm.v1.RegisterWorkerResponse
@@ -950,48 +1019,50 @@ var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*LeaseTaskRequest)(nil),         // 6: renderfarm.v1.LeaseTaskRequest
 	(*LeaseTaskResponse)(nil),        // 7: renderfarm.v1.LeaseTaskResponse
 	(*CompleteTaskRequest)(nil),      // 8: renderfarm.v1.CompleteTaskRequest
-	(*CompleteTaskResponse)(nil),     // 9: renderfarm.v1.CompleteTaskResponse
-	(*FailTaskRequest)(nil),          // 10: renderfarm.v1.FailTaskRequest
-	(*FailTaskResponse)(nil),         // 11: renderfarm.v1.FailTaskResponse
-	(*ReleaseTaskRequest)(nil),       // 12: renderfarm.v1.ReleaseTaskRequest
-	(*ReleaseTaskResponse)(nil),      // 13: renderfarm.v1.ReleaseTaskResponse
-	(*UnregisterWorkerRequest)(nil),  // 14: renderfarm.v1.UnregisterWorkerRequest
-	(*UnregisterWorkerResponse)(nil), // 15: renderfarm.v1.UnregisterWorkerResponse
-	(*durationpb.Duration)(nil),      // 16: google.protobuf.Duration
-	(*timestamppb.Timestamp)(nil),    // 17: google.protobuf.Timestamp
-	(*Task)(nil),                     // 18: renderfarm.v1.Task
-	(*Artifact)(nil),                 // 19: renderfarm.v1.Artifact
+	(*RoundMetrics)(nil),             // 9: renderfarm.v1.RoundMetrics
+	(*CompleteTaskResponse)(nil),     // 10: renderfarm.v1.CompleteTaskResponse
+	(*FailTaskRequest)(nil),          // 11: renderfarm.v1.FailTaskRequest
+	(*FailTaskResponse)(nil),         // 12: renderfarm.v1.FailTaskResponse
+	(*ReleaseTaskRequest)(nil),       // 13: renderfarm.v1.ReleaseTaskRequest
+	(*ReleaseTaskResponse)(nil),      // 14: renderfarm.v1.ReleaseTaskResponse
+	(*UnregisterWorkerRequest)(nil),  // 15: renderfarm.v1.UnregisterWorkerRequest
+	(*UnregisterWorkerResponse)(nil), // 16: renderfarm.v1.UnregisterWorkerResponse
+	(*durationpb.Duration)(nil),      // 17: google.protobuf.Duration
+	(*timestamppb.Timestamp)(nil),    // 18: google.protobuf.Timestamp
+	(*Task)(nil),                     // 19: renderfarm.v1.Task
+	(*Artifact)(nil),                 // 20: renderfarm.v1.Artifact
 }
 var file_renderfarm_v1_worker_proto_depIdxs = []int32{
-	16, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
-	16, // 1: renderfarm.v1.RegisterWorkerResponse.lease_duration:type_name -> google.protobuf.Duration
-	17, // 2: renderfarm.v1.Lease.expire_time:type_name -> google.protobuf.Timestamp
+	17, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
+	17, // 1: renderfarm.v1.RegisterWorkerResponse.lease_duration:type_name -> google.protobuf.Duration
+	18, // 2: renderfarm.v1.Lease.expire_time:type_name -> google.protobuf.Timestamp
 	3,  // 3: renderfarm.v1.HeartbeatRequest.leases:type_name -> renderfarm.v1.HeldLease
 	2,  // 4: renderfarm.v1.HeartbeatResponse.leases:type_name -> renderfarm.v1.Lease
 	3,  // 5: renderfarm.v1.HeartbeatResponse.revoked:type_name -> renderfarm.v1.HeldLease
-	16, // 6: renderfarm.v1.LeaseTaskRequest.wait_timeout:type_name -> google.protobuf.Duration
+	17, // 6: renderfarm.v1.LeaseTaskRequest.wait_timeout:type_name -> google.protobuf.Duration
 	2,  // 7: renderfarm.v1.LeaseTaskResponse.lease:type_name -> renderfarm.v1.Lease
-	18, // 8: renderfarm.v1.LeaseTaskResponse.task:type_name -> renderfarm.v1.Task
-	19, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
-	0,  // 10: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
-	4,  // 11: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
-	6,  // 12: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
-	8,  // 13: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
-	10, // 14: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
-	12, // 15: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
-	14, // 16: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
-	1,  // 17: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
-	5,  // 18: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
-	7,  // 19: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
-	9,  // 20: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
-	11, // 21: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
-	13, // 22: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
-	15, // 23: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
-	17, // [17:24] is the sub-list for method output_type
-	10, // [10:17] is the sub-list for method input_type
-	10, // [10:10] is the sub-list for extension type_name
-	10, // [10:10] is the sub-list for extension extendee
-	0,  // [0:10] is the sub-list for field type_name
+	19, // 8: renderfarm.v1.LeaseTaskResponse.task:type_name -> renderfarm.v1.Task
+	20, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
+	9,  // 10: renderfarm.v1.CompleteTaskRequest.metrics:type_name -> renderfarm.v1.RoundMetrics
+	0,  // 11: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
+	4,  // 12: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
+	6,  // 13: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
+	8,  // 14: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
+	11, // 15: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
+	13, // 16: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
+	15, // 17: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
+	1,  // 18: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
+	5,  // 19: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
+	7,  // 20: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
+	10, // 21: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
+	12, // 22: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
+	14, // 23: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
+	16, // 24: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
+	18, // [18:25] is the sub-list for method output_type
+	11, // [11:18] is the sub-list for method input_type
+	11, // [11:11] is the sub-list for extension type_name
+	11, // [11:11] is the sub-list for extension extendee
+	0,  // [0:11] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_worker_proto_init() }
@@ -1000,13 +1071,14 @@ func file_renderfarm_v1_worker_proto_init() {
 		return
 	}
 	file_renderfarm_v1_job_proto_init()
+	file_renderfarm_v1_worker_proto_msgTypes[9].OneofWrappers = []any{}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_worker_proto_rawDesc), len(file_renderfarm_v1_worker_proto_rawDesc)),
 			NumEnums:      0,
-			NumMessages:   16,
+			NumMessages:   17,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

@@ -1,0 +1,49 @@
+#pragma once
+
+// Final gathering's read of the precomputed irradiance (Christensen 1999): one nearest
+// photon per gather ray instead of a k-nearest estimate.
+
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include "math/rgb.h"
+#include "math/vec3.h"
+#include "photonmap/photon_map.h"
+
+namespace farm {
+
+// Photons whose normal is more than 60 degrees from the query's are not used: the same rule
+// as the radiance estimate (photons on the back of a thin wall, or on a perpendicular wall
+// at a corner, hold another surface's light).
+inline constexpr float kIrradianceMinNormalCosine = 0.5f;
+
+// How many nearest photons a lookup considers before giving up: the nearest one is almost
+// always usable; the others cover a photon across a thin wall or around a corner.
+inline constexpr int kIrradianceCandidates = 8;
+
+// The irradiance of the photon nearest to p, within max_radius, whose normal faces the same
+// way as n and that `visible(photon)` accepts (the caller checks that no wall stands between
+// p and the photon: light leaks through thin walls otherwise). Nothing if no candidate
+// qualifies or the map has no irradiance. scratch is reused between calls.
+template <typename VisibleFn>
+std::optional<Rgb> NearestIrradiance(const PhotonMap& map, const Vec3& p, const Vec3& n,
+                                     float max_radius, const VisibleFn& visible,
+                                     std::vector<PhotonNeighbour>& scratch) {
+  if (!map.has_irradiance()) return std::nullopt;
+  map.NearestK(p, kIrradianceCandidates, max_radius, scratch);
+  // Nearest first; equal distances by index, so the choice is deterministic.
+  std::sort(scratch.begin(), scratch.end(), [](const PhotonNeighbour& a, const PhotonNeighbour& b) {
+    return a.distance_squared != b.distance_squared ? a.distance_squared < b.distance_squared
+                                                    : a.index < b.index;
+  });
+  for (const PhotonNeighbour& nb : scratch) {
+    const DecodedPhoton photon = map.photon(nb.index);
+    if (Dot(photon.normal, n) < kIrradianceMinNormalCosine) continue;
+    if (!visible(photon)) continue;
+    return map.irradiance(nb.index);
+  }
+  return std::nullopt;
+}
+
+}  // namespace farm
