@@ -1,10 +1,13 @@
 #include "daemon/task_executor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "image/composite.h"
+#include "image/round_accumulator.h"
 #include "image/tile_exr.h"
+#include "photon/irradiance_precompute.h"
 #include "photon/photon_tracer.h"
 #include "photonmap/photon_snapshot.h"
 #include "render/tile_renderer.h"
@@ -76,8 +79,11 @@ const char* MapName(pb::PhotonMapKind kind) {
   }
 }
 
-// The tracer's request for an emission spec from the wire, checked.
-PhotonShardRequest ShardRequestOf(const pb::EmitPhotonsSpec& spec) {
+// The tracer's request for an emission spec from the wire. Round r of N paths per round
+// owns the absolute path indices [(r-1)·N, r·N); the tracer counts the shard's range from
+// the round's start (and checks it lies inside the round's N paths).
+PhotonShardRequest ShardRequestOf(const pb::Task& task) {
+  const pb::EmitPhotonsSpec& spec = task.emit_photons();
   PhotonShardRequest r;
   switch (spec.map()) {
     case pb::PHOTON_MAP_KIND_GLOBAL:
@@ -89,18 +95,30 @@ PhotonShardRequest ShardRequestOf(const pb::EmitPhotonsSpec& spec) {
     default:
       throw std::runtime_error("emit_photons.map " + std::to_string(spec.map()) + " is not a photon map");
   }
-  if (spec.photon_count() == 0 || spec.total_photons() == 0 ||
-      spec.first_photon() > spec.total_photons() ||
-      spec.photon_count() > spec.total_photons() - spec.first_photon()) {
-    throw std::runtime_error("emit_photons: photons " + std::to_string(spec.first_photon()) + "+" +
-                             std::to_string(spec.photon_count()) + " are not a non-empty part of " +
-                             std::to_string(spec.total_photons()));
-  }
-  r.first_photon = spec.first_photon();
-  r.photon_count = spec.photon_count();
   r.total_photons = spec.total_photons();
+  const std::uint64_t round = std::max<std::uint32_t>(task.round(), 1);
+  if (r.total_photons == 0 || (round - 1) > UINT64_MAX / r.total_photons)
+    throw std::runtime_error("emit_photons: round " + std::to_string(round) + " of " +
+                             std::to_string(r.total_photons) + " paths is out of range");
+  r.round_offset = (round - 1) * r.total_photons;
+  if (spec.first_photon() < r.round_offset)
+    throw std::runtime_error("emit_photons.first_photon " + std::to_string(spec.first_photon()) +
+                             " lies before round " + std::to_string(round));
+  r.first_photon = spec.first_photon() - r.round_offset;
+  r.photon_count = spec.photon_count();
   return r;
 }
+
+// A radius_scale from the wire (tiles, precompute): 0 (unset) means 1; else finite in (0, 1].
+double RadiusScaleOf(double v) {
+  if (v == 0) return 1.0;
+  if (!std::isfinite(v) || v < 0 || v > 1) {
+    throw std::runtime_error("radius_scale " + std::to_string(v) + " is not in (0, 1]");
+  }
+  return v;
+}
+
+TaskResult Outputs(std::vector<pb::Artifact> artifacts) { return TaskResult{std::move(artifacts), std::nullopt}; }
 
 }  // namespace
 
@@ -119,7 +137,16 @@ std::string DescribeTask(const pb::Task& task) {
              std::to_string(r.width()) + "x" + std::to_string(r.height()) + ")";
     }
     case pb::Task::kComposite:
-      return "composite (" + std::to_string(task.composite().tiles_size()) + " tiles)";
+      return "composite (round " + std::to_string(task.round()) + ", " +
+             std::to_string(task.composite().tiles_size()) + " tiles)";
+    case pb::Task::kPrecomputeIrradiance: {
+      const auto& p = task.precompute_irradiance();
+      return "precompute_irradiance (round " + std::to_string(task.round()) + ", photons " +
+             std::to_string(p.first_photon()) + "+" + std::to_string(p.photon_count()) + ")";
+    }
+    case pb::Task::kMergeIrradiance:
+      return "merge_irradiance (" + std::to_string(task.merge_irradiance().irradiance_shards_size()) +
+             " shards)";
     default:
       return "unknown kind";
   }
@@ -128,9 +155,10 @@ std::string DescribeTask(const pb::Task& task) {
 TaskExecutor::TaskExecutor(BlobClient& blobs) : blobs_(blobs) {}
 TaskExecutor::~TaskExecutor() = default;
 
-std::vector<pb::Artifact> TaskExecutor::Execute(const pb::LeaseTaskResponse& leased,
-                                                std::stop_token stop) {
+TaskResult TaskExecutor::Execute(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
   switch (leased.task().spec_case()) {
+    case pb::Task::kPrecomputeIrradiance:
+      return PrecomputeIrradiance(leased, stop);
     case pb::Task::kRenderTile:
       return RenderTile(leased, stop);
     case pb::Task::kComposite:
@@ -184,19 +212,34 @@ const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop
   return *photons_;
 }
 
-std::vector<pb::Artifact> TaskExecutor::EmitPhotons(const pb::LeaseTaskResponse& leased,
-                                                    std::stop_token stop) {
-  const PhotonShardRequest request = ShardRequestOf(leased.task().emit_photons());
+TaskResult TaskExecutor::EmitPhotons(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
+  const PhotonShardRequest request = ShardRequestOf(leased.task());
   const Scene& scene = Built(leased.scene_digest(), stop);
   ThrowIfStopped(stop);
   const std::string shard = TracePhotonShard(scene, request, stop);
   ThrowIfStopped(stop);  // A stopped trace returns an unfinished shard.
   const std::string digest = blobs_.Upload(shard, stop);
-  return {MakeArtifact("photons.shard", digest, shard.size())};
+  return Outputs({MakeArtifact("photons.shard", digest, shard.size())});
 }
 
-std::vector<pb::Artifact> TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased,
-                                                   std::stop_token stop) {
+TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& leased,
+                                              std::stop_token stop) {
+  const pb::PrecomputeIrradianceSpec& spec = leased.task().precompute_irradiance();
+  if (!spec.has_photon_snapshot()) {
+    throw std::runtime_error("precompute_irradiance has no photon_snapshot");
+  }
+  const Scene& scene = Built(leased.scene_digest(), stop);
+  const PhotonSnapshot& photons = Photons(spec.photon_snapshot().digest(), stop);
+  ThrowIfStopped(stop);
+  const std::string shard = ComputeIrradianceShard(scene, photons, spec.first_photon(),
+                                                   spec.photon_count(),
+                                                   RadiusScaleOf(spec.radius_scale()), stop);
+  ThrowIfStopped(stop);
+  const std::string digest = blobs_.Upload(shard, stop);
+  return Outputs({MakeArtifact("irradiance.shard", digest, shard.size())});
+}
+
+TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
   const Film film = FilmOf(Description(leased.scene_digest(), stop));
   const PixelRect rect = RectIn(leased.task().render_tile().rect(), film.size, "render_tile.rect");
   const Scene& scene = Built(leased.scene_digest(), stop);
@@ -204,44 +247,54 @@ std::vector<pb::Artifact> TaskExecutor::RenderTile(const pb::LeaseTaskResponse& 
   const PhotonSnapshot* photons = nullptr;
   if (spec.has_photon_snapshot()) photons = &Photons(spec.photon_snapshot().digest(), stop);
   ThrowIfStopped(stop);
-  const Image tile = farm::RenderTile(scene, photons, rect, stop);
+  const RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
+  const Image tile = farm::RenderTile(scene, photons, rect, round, stop);
   ThrowIfStopped(stop);  // A stopped render returns an unfinished image.
   if (tile.rect() != rect) throw std::runtime_error("renderer returned a tile of the wrong size");
   const std::string exr = EncodeTileExr(tile, film.size);
   const std::string digest = blobs_.Upload(exr, stop);
-  return {MakeArtifact("tile.exr", digest, exr.size())};
+  return Outputs({MakeArtifact("tile.exr", digest, exr.size())});
 }
 
-std::vector<pb::Artifact> TaskExecutor::Composite(const pb::LeaseTaskResponse& leased,
-                                                  std::stop_token stop) {
+TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
   const Film film = FilmOf(Description(leased.scene_digest(), stop));
-  const auto& inputs = leased.task().composite().tiles();
-  // Row by row, so OpenEXR can write each tile at once instead of holding it back.
-  std::vector<const pb::TileInput*> order;
-  for (const auto& t : inputs) order.push_back(&t);
-  std::stable_sort(order.begin(), order.end(), [](const pb::TileInput* a, const pb::TileInput* b) {
-    return std::pair(a->rect().y(), a->rect().x()) < std::pair(b->rect().y(), b->rect().x());
-  });
-  Compositor compositor(film.size, film.tile_size);
-  for (const pb::TileInput* t : order) {
-    const PixelRect rect = RectIn(t->rect(), film.size, "composite.tiles.rect");
-    std::string bytes;
+  const pb::CompositeSpec& spec = leased.task().composite();
+  std::vector<EncodedTile> tiles;
+  tiles.reserve(static_cast<std::size_t>(spec.tiles_size()));
+  for (const pb::TileInput& t : spec.tiles()) {
+    const PixelRect rect = RectIn(t.rect(), film.size, "composite.tiles.rect");
     try {
-      bytes = blobs_.Download(t->tile().digest(), stop);
+      tiles.push_back({rect, blobs_.Download(t.tile().digest(), stop)});
     } catch (const BlobError& e) {
       ThrowIfStopped(stop);
       throw std::runtime_error("tile at x " + std::to_string(rect.x) + ", y " +
                                std::to_string(rect.y) + ": " + e.what());
     }
     ThrowIfStopped(stop);
-    compositor.Add(rect, bytes);
   }
-  const CompositeOutput out = compositor.Finish();
+  RoundInputs in;
+  in.size = film.size;
+  in.tile_size = film.tile_size;
+  in.round = static_cast<int>(std::max<std::uint32_t>(leased.task().round(), 1));
+  in.tiles = tiles;
+  if (spec.has_previous_accumulation()) {
+    in.previous_accumulation = blobs_.Download(spec.previous_accumulation().digest(), stop);
+  }
+  if (spec.has_reference()) in.reference_exr = blobs_.Download(spec.reference().digest(), stop);
   ThrowIfStopped(stop);
-  const std::string exr_digest = blobs_.Upload(out.exr, stop);
-  const std::string png_digest = blobs_.Upload(out.preview_png, stop);
-  return {MakeArtifact("image.exr", exr_digest, out.exr.size()),
-          MakeArtifact("preview.png", png_digest, out.preview_png.size())};
+  const RoundOutputs out = AccumulateRound(in);
+  ThrowIfStopped(stop);
+  TaskResult result;
+  for (const auto& [name, bytes] : {std::pair<const char*, const std::string*>{"image.exr", &out.image_exr},
+                                    {"preview.png", &out.preview_png},
+                                    {"accumulation.exr", &out.accumulation_exr}}) {
+    result.outputs.push_back(MakeArtifact(name, blobs_.Upload(*bytes, stop), bytes->size()));
+  }
+  pb::RoundMetrics metrics;
+  if (out.error_estimate) metrics.set_error_estimate(*out.error_estimate);
+  if (out.reference_rmse) metrics.set_reference_rmse(*out.reference_rmse);
+  result.metrics = metrics;
+  return result;
 }
 
 }  // namespace farm

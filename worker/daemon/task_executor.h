@@ -1,11 +1,12 @@
 #pragma once
 
-// What the worker does with a leased task: trace a photon emission shard, render a tile
-// (with the job's photon snapshot, if it has one) or composite the image, with the blobs
-// and the scene that takes. Knows nothing of leases and reports (worker.cpp does).
-// Internal to daemon/.
+// What the worker does with a leased task: trace a photon emission shard, precompute
+// irradiance at global photons, render a tile (with the round's photon snapshot, if the
+// job has one) or composite a round into the image so far, with the blobs and the scene
+// that takes. Knows nothing of leases and reports (worker.cpp does). Internal to daemon/.
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <stop_token>
 #include <string>
@@ -29,16 +30,22 @@ class TaskCancelled : public std::runtime_error {
 // "render_tile (x 0, y 32, 32x32)", "composite (12 tiles)".
 std::string DescribeTask(const renderfarm::v1::Task& task);
 
+// What a finished task reports: its artifacts (already uploaded) and, for a composite, the
+// error metrics of the image so far.
+struct TaskResult {
+  std::vector<renderfarm::v1::Artifact> outputs;
+  std::optional<renderfarm::v1::RoundMetrics> metrics;
+};
+
 class TaskExecutor {
  public:
   explicit TaskExecutor(BlobClient& blobs);
   ~TaskExecutor();
 
-  // Performs the task and returns the artifacts to report (already uploaded). Throws
-  // TaskCancelled if `stop` was requested, any other exception (whose message is the
-  // reason to report) if the task failed.
-  std::vector<renderfarm::v1::Artifact> Execute(const renderfarm::v1::LeaseTaskResponse& leased,
-                                                std::stop_token stop);
+  // Performs the task and returns what to report. Throws TaskCancelled if `stop` was
+  // requested, any other exception (whose message is the reason to report) if the task
+  // failed.
+  TaskResult Execute(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
 
  private:
   // The job's scene description, fetched by digest; the last one is kept.
@@ -49,12 +56,11 @@ class TaskExecutor {
   // digest; the last one is kept.
   const PhotonSnapshot& Photons(const std::string& digest, std::stop_token stop);
 
-  std::vector<renderfarm::v1::Artifact> EmitPhotons(const renderfarm::v1::LeaseTaskResponse& leased,
-                                                    std::stop_token stop);
-  std::vector<renderfarm::v1::Artifact> RenderTile(const renderfarm::v1::LeaseTaskResponse& leased,
-                                                   std::stop_token stop);
-  std::vector<renderfarm::v1::Artifact> Composite(const renderfarm::v1::LeaseTaskResponse& leased,
-                                                  std::stop_token stop);
+  TaskResult EmitPhotons(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
+  TaskResult PrecomputeIrradiance(const renderfarm::v1::LeaseTaskResponse& leased,
+                                  std::stop_token stop);
+  TaskResult RenderTile(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
+  TaskResult Composite(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
 
   BlobClient& blobs_;
   std::string description_digest_;

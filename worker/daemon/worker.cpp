@@ -106,7 +106,7 @@ class Worker::Impl {
   void LoseLease(const std::string& reason);  // Needs mu_ held.
   grpc::Status LeaseOnce(pb::LeaseTaskResponse& leased);
   void RunTask(const pb::LeaseTaskResponse& leased);
-  std::string ReportComplete(const pb::Lease& lease, const std::vector<pb::Artifact>& outputs);
+  std::string ReportComplete(const pb::Lease& lease, const TaskResult& result);
   std::string ReportFailure(const pb::Lease& lease, const std::string& error);
   void Release(const pb::Lease& lease);
   void Unregister();
@@ -289,10 +289,10 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     task_stop.request_stop();
   });
 
-  std::vector<pb::Artifact> outputs;
+  TaskResult result;
   std::string error;
   try {
-    outputs = executor_.Execute(leased, task_stop.get_token());
+    result = executor_.Execute(leased, task_stop.get_token());
   } catch (const TaskCancelled&) {
   } catch (const std::exception& e) {
     error = e.what();
@@ -312,7 +312,7 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   } else if (!error.empty()) {
     outcome = ReportFailure(lease, error);
   } else {
-    outcome = ReportComplete(lease, outputs);
+    outcome = ReportComplete(lease, result);
   }
   {
     std::lock_guard lock(mu_);
@@ -322,13 +322,13 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
           " in " + Seconds(std::chrono::steady_clock::now() - start));
 }
 
-std::string Worker::Impl::ReportComplete(const pb::Lease& lease,
-                                         const std::vector<pb::Artifact>& outputs) {
+std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result) {
   pb::CompleteTaskRequest request;
   request.set_worker_id(WorkerId());
   request.set_task_id(lease.task_id());
   request.set_epoch(lease.epoch());
-  for (const auto& a : outputs) *request.add_outputs() = a;
+  for (const auto& a : result.outputs) *request.add_outputs() = a;
+  if (result.metrics) *request.mutable_metrics() = *result.metrics;
   // Completion is idempotent on the coordinator: repeat until it is acknowledged.
   const grpc::Status status =
       RetryTransient("CompleteTask " + lease.task_id(), abort_.get_token(), seconds(0), [&] {

@@ -16,13 +16,19 @@
 #include "image/image_error.h"
 #include "image/srgb_preview.h"
 #include "image/tile_exr.h"
+#include "image/tile_grid.h"
 
 namespace farm {
 namespace {
 
-// The output's channels: red, green, blue and alpha first (the order viewers expect), then
-// the passes the first tile carries.
-std::vector<std::string> ChannelsOfFirstTile(std::string_view tile_exr) {
+bool BeginsRgba(const std::vector<std::string>& channels) {
+  const std::vector<std::string> rgba = RgbaChannels();
+  return channels.size() >= rgba.size() && std::equal(rgba.begin(), rgba.end(), channels.begin());
+}
+
+}  // namespace
+
+std::vector<std::string> CompositeChannels(std::string_view tile_exr) {
   const std::vector<std::string> found = ReadTileExrChannels(tile_exr);
   std::vector<std::string> channels = RgbaChannels();
   for (const auto& name : channels) {
@@ -38,15 +44,11 @@ std::vector<std::string> ChannelsOfFirstTile(std::string_view tile_exr) {
   return channels;
 }
 
-}  // namespace
-
 struct Compositor::State {
-  ImageSize size;
-  int tile_size = 0;
-  int tiles_x = 0;
-  int tiles_y = 0;
+  explicit State(ImageSize size, int tile_size) : grid(size, tile_size) {}
+
+  TileGrid grid;
   std::optional<std::filesystem::path> path;  // Unset: the EXR goes to `exr`.
-  std::vector<bool> written;                  // Per grid cell, row-major.
   std::vector<std::string> channels;          // Fixed by the first tile.
   std::string exr;
   // The file is opened with the first tile, when the channels are known. It comes after
@@ -56,33 +58,13 @@ struct Compositor::State {
   std::vector<std::uint8_t> preview;  // Straight-alpha sRGB RGBA8, whole image.
   bool finished = false;
 
-  PixelRect CellRect(int tx, int ty) const {
-    const int x = tx * tile_size;
-    const int y = ty * tile_size;
-    return {x, y, std::min(tile_size, size.width - x), std::min(tile_size, size.height - y)};
-  }
-
-  void CheckPlacement(const PixelRect& rect) const {
-    if (rect.width <= 0 || rect.height <= 0 ||
-        !PixelRect{0, 0, size.width, size.height}.Contains(rect)) {
-      throw ImageError("tile " + ToString(rect) + " lies outside the " + ToString(size) +
-                       " image");
-    }
-    if (rect.x % tile_size != 0 || rect.y % tile_size != 0 ||
-        rect != CellRect(rect.x / tile_size, rect.y / tile_size)) {
-      throw ImageError("tile " + ToString(rect) + " is not a cell of the " +
-                       std::to_string(tile_size) + "-pixel tile grid");
-    }
-    if (written[static_cast<std::size_t>(rect.y / tile_size) * tiles_x + rect.x / tile_size]) {
-      throw ImageError("tile " + ToString(rect) + " overlaps a tile already composited");
-    }
-  }
-
   void Open(const std::vector<std::string>& tile_channels) {
     channels = tile_channels;
+    const ImageSize size = grid.size();
     Imf::Header header(size.width, size.height);
     header.compression() = Imf::ZIP_COMPRESSION;
-    header.setTileDescription(Imf::TileDescription(tile_size, tile_size, Imf::ONE_LEVEL));
+    header.setTileDescription(
+        Imf::TileDescription(grid.tile_size(), grid.tile_size(), Imf::ONE_LEVEL));
     for (const auto& name : channels) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     if (path) {
       file = std::make_unique<Imf::TiledOutputFile>(path->c_str(), header);
@@ -91,18 +73,30 @@ struct Compositor::State {
       file = std::make_unique<Imf::TiledOutputFile>(*stream, header);
     }
   }
+
+  // The tile's placement and channels are checked; writes it and marks its cell.
+  void Write(const Image& tile) {
+    const PixelRect& rect = tile.rect();
+    const std::size_t x_stride = sizeof(float) * channels.size();
+    const std::size_t y_stride = x_stride * static_cast<std::size_t>(rect.width);
+    Imf::FrameBuffer fb;
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      fb.insert(channels[c], Imf::Slice::Make(Imf::FLOAT, tile.data().data() + c, ToBox(rect),
+                                              x_stride, y_stride));
+    }
+    try {
+      file->setFrameBuffer(fb);
+      file->writeTile(rect.x / grid.tile_size(), rect.y / grid.tile_size());
+    } catch (const std::exception& e) {
+      throw ImageError("cannot write tile " + ToString(rect) + ": " + e.what());
+    }
+    grid.Mark(rect);
+    WritePreviewPixels(tile, grid.size(), preview);
+  }
 };
 
-Compositor::Compositor(ImageSize size, int tile_size) : state_(std::make_unique<State>()) {
-  if (size.width <= 0 || size.height <= 0) {
-    throw ImageError("image size " + ToString(size) + " is empty");
-  }
-  if (tile_size <= 0) throw ImageError("tile size " + std::to_string(tile_size) + " is not positive");
-  state_->size = size;
-  state_->tile_size = tile_size;
-  state_->tiles_x = (size.width + tile_size - 1) / tile_size;
-  state_->tiles_y = (size.height + tile_size - 1) / tile_size;
-  state_->written.assign(static_cast<std::size_t>(state_->tiles_x) * state_->tiles_y, false);
+Compositor::Compositor(ImageSize size, int tile_size)
+    : state_(std::make_unique<State>(size, tile_size)) {
   state_->preview.assign(static_cast<std::size_t>(size.width) * size.height * 4, 0);
 }
 
@@ -118,45 +112,31 @@ Compositor::~Compositor() = default;
 void Compositor::Add(const PixelRect& rect, std::string_view tile_exr) {
   State& s = *state_;
   if (s.finished) throw ImageError("compositor already finished");
-  s.CheckPlacement(rect);
+  s.grid.Check(rect);
   const bool first = !s.file;
-  const std::vector<std::string> channels = first ? ChannelsOfFirstTile(tile_exr) : s.channels;
-  const Image tile = DecodeTileExr(tile_exr, s.size, rect, channels);
+  const std::vector<std::string> channels = first ? CompositeChannels(tile_exr) : s.channels;
+  const Image tile = DecodeTileExr(tile_exr, s.grid.size(), rect, channels);
   if (first) s.Open(channels);
+  s.Write(tile);
+}
 
-  const std::size_t x_stride = sizeof(float) * s.channels.size();
-  const std::size_t y_stride = x_stride * static_cast<std::size_t>(rect.width);
-  Imf::FrameBuffer fb;
-  for (std::size_t c = 0; c < s.channels.size(); ++c) {
-    fb.insert(s.channels[c], Imf::Slice::Make(Imf::FLOAT, tile.data().data() + c, ToBox(rect),
-                                              x_stride, y_stride));
+void Compositor::Add(const Image& tile) {
+  State& s = *state_;
+  if (s.finished) throw ImageError("compositor already finished");
+  s.grid.Check(tile.rect());
+  if (!s.file) {
+    if (!BeginsRgba(tile.channels())) throw ImageError("tile channels must begin R, G, B, A");
+    s.Open(tile.channels());
+  } else if (tile.channels() != s.channels) {
+    throw ImageError("tile " + ToString(tile.rect()) + " has other channels than the first tile");
   }
-  try {
-    s.file->setFrameBuffer(fb);
-    s.file->writeTile(rect.x / s.tile_size, rect.y / s.tile_size);
-  } catch (const std::exception& e) {
-    throw ImageError("cannot write tile " + ToString(rect) + ": " + e.what());
-  }
-  s.written[static_cast<std::size_t>(rect.y / s.tile_size) * s.tiles_x + rect.x / s.tile_size] =
-      true;
-  WritePreviewPixels(tile, s.size, s.preview);
+  s.Write(tile);
 }
 
 CompositeOutput Compositor::Finish() {
   State& s = *state_;
   if (s.finished) throw ImageError("compositor already finished");
-  int missing = 0;
-  std::string first_missing;
-  for (int ty = 0; ty < s.tiles_y; ++ty) {
-    for (int tx = 0; tx < s.tiles_x; ++tx) {
-      if (s.written[static_cast<std::size_t>(ty) * s.tiles_x + tx]) continue;
-      if (missing++ == 0) first_missing = ToString(s.CellRect(tx, ty));
-    }
-  }
-  if (missing > 0) {
-    throw ImageError(std::to_string(missing) + " of " + std::to_string(s.written.size()) +
-                     " tiles are missing, the first " + first_missing);
-  }
+  s.grid.CheckComplete();
   s.finished = true;
   try {
     s.file.reset();  // Writes the tile offset table and flushes.
@@ -166,13 +146,35 @@ CompositeOutput Compositor::Finish() {
   s.stream.reset();
   CompositeOutput out;
   out.exr = std::move(s.exr);
-  out.preview_png = EncodePngRgba8(s.size, s.preview);
+  out.preview_png = EncodePngRgba8(s.grid.size(), s.preview);
   return out;
 }
 
 CompositeOutput Composite(ImageSize size, int tile_size, std::span<const EncodedTile> tiles) {
   Compositor compositor(size, tile_size);
   for (const auto& t : tiles) compositor.Add(t.rect, t.exr);
+  return compositor.Finish();
+}
+
+CompositeOutput CompositeImage(const Image& image, int tile_size) {
+  const PixelRect& whole = image.rect();
+  if (whole.x != 0 || whole.y != 0) {
+    throw ImageError("image " + ToString(whole) + " does not start at the origin");
+  }
+  const ImageSize size{whole.width, whole.height};
+  Compositor compositor(size, tile_size);
+  const TileGrid grid(size, tile_size);
+  for (int y = 0; y < size.height; y += tile_size) {
+    for (int x = 0; x < size.width; x += tile_size) {
+      const PixelRect cell = grid.CellRect(x / tile_size, y / tile_size);
+      Image tile(cell, image.channels());
+      const std::size_t row = static_cast<std::size_t>(cell.width) * image.channel_count();
+      for (int py = cell.y; py < cell.y_end(); ++py) {
+        std::copy_n(image.pixel(cell.x, py), row, tile.pixel(cell.x, py));
+      }
+      compositor.Add(tile);
+    }
+  }
   return compositor.Finish();
 }
 

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "image/image.h"
 
@@ -44,6 +45,10 @@ class Compositor {
   // include R, G, B and A); every later tile must carry the same channels.
   void Add(const PixelRect& rect, std::string_view tile_exr);
 
+  // Writes one tile already in memory (its rect places it). The first tile fixes the
+  // channels, which must begin R, G, B, A; every later tile must have the same list.
+  void Add(const Image& tile);
+
   // Checks that every tile of the grid arrived, completes the EXR and encodes the preview.
   // Call once.
   CompositeOutput Finish();
@@ -55,5 +60,15 @@ class Compositor {
 
 // Composites a complete list of tiles in memory.
 CompositeOutput Composite(ImageSize size, int tile_size, std::span<const EncodedTile> tiles);
+
+// Writes a whole image held in memory (its rect the whole image, channels beginning R, G,
+// B, A) as the tiled EXR and preview. The same pixels give the same bytes as Composite of
+// the image's tiles.
+CompositeOutput CompositeImage(const Image& image, int tile_size);
+
+// The channels a composite of these tiles carries: R, G, B, A first (the order viewers
+// expect), then the other channels of the tile, in the file's order. Throws ImageError if
+// the tile lacks one of R, G, B, A or is not an OpenEXR file.
+std::vector<std::string> CompositeChannels(std::string_view tile_exr);
 
 }  // namespace farm

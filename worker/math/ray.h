@@ -24,9 +24,9 @@ inline std::string ToString(const Ray& r) {
 
 // Relative part of the ray offset. Hit points are first projected back onto their surface
 // (see scene/shapes.h), which leaves an error of a few float ulps of the point's largest
-// coordinate (2^-23 relative); 2e-5 is ~170 ulps, far above that and far below any feature
-// a scene would model.
-inline constexpr float kRayOffsetRelative = 2e-5f;
+// coordinate (2^-23 relative); 4e-6 is ~34 ulps, well above that, and small enough that
+// a scene moved far from the origin (1e6 units) keeps its contact shadows.
+inline constexpr float kRayOffsetRelative = 4e-6f;
 
 // Moves p off its surface along the geometric normal n, to the side that w points into.
 // The offset is scale-aware: it grows with the magnitude of p (float error is relative)

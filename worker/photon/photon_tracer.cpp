@@ -32,6 +32,9 @@ void CheckRequest(const PhotonShardRequest& r) {
     throw std::invalid_argument("TracePhotonShard: paths [" + std::to_string(r.first_photon) +
                                 ", +" + std::to_string(r.photon_count) + ") exceed total_photons " +
                                 std::to_string(r.total_photons));
+  if (r.round_offset > UINT64_MAX - r.total_photons)
+    throw std::invalid_argument("TracePhotonShard: round_offset " + std::to_string(r.round_offset) +
+                                " overflows the path index");
 }
 
 }  // namespace
@@ -112,8 +115,8 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
                         const uint64_t end = std::min(request.first_photon + request.photon_count,
                                                       begin + kChunkPaths);
                         for (uint64_t i = begin; i < end; ++i)
-                          TracePhotonPath(data, request.map, i, power_scale, options,
-                                          per_chunk[c]);
+                          TracePhotonPath(data, request.map, request.round_offset + i,
+                                          power_scale, options, per_chunk[c]);
                       }
                     });
   std::size_t total = 0;

@@ -13,8 +13,12 @@ struct PhotonShardRequest {
   PhotonMapKind map = PhotonMapKind::kGlobal;
   std::uint64_t first_photon = 0;
   std::uint64_t photon_count = 0;
-  // Paths emitted for this map over all shards; each photon's power is divided by it.
+  // Paths emitted for this map over all shards of the round; each photon's power is divided
+  // by it.
   std::uint64_t total_photons = 0;
+  // Path indices are counted from here: round r of N paths per round starts at (r-1)·N, so
+  // every round traces fresh photons. first_photon and the shard's header count from it.
+  std::uint64_t round_offset = 0;
 };
 
 // Traces photon paths [first_photon, first_photon + photon_count) of one map and returns

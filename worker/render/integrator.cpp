@@ -2,8 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+
+#include "math/frame.h"
+#include "math/math.h"
+#include "photonmap/irradiance_lookup.h"
+#include "sampling/hash.h"
+#include "sampling/sobol.h"
+#include "sampling/warps.h"
+#include "scene/blinn_phong.h"
 
 namespace farm {
+
+// A non-specular surface point being shaded: n faces the side wo comes from.
+struct PhotonMappingIntegrator::Shading {
+  const SurfaceHit& hit;
+  Vec3 wo;
+  const Material& material;
+  Vec3 n;
+};
+
 namespace {
 
 // Specular bounces a camera path may take before it is cut (a ray trapped between two
@@ -11,14 +29,79 @@ namespace {
 constexpr int kMaxSpecularDepth = 16;
 constexpr int kRouletteDepth = 4;
 
+// Streams of stratified points hashed from one per-shading-point seed: each gets its own
+// scramble and index shuffle, so streams are decorrelated while each stays a (0,2)-net.
+enum Stream : uint32_t {
+  kLightPick = 1,
+  kLightPoint,
+  kGatherDirection,
+  kGatherLightPick,
+  kGatherLightPoint,
+  kGatherSpecular,
+  kDirectSeed,
+  kGatherSeed,
+  kSecondarySeed,
+};
+
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
 
-// What the radiance estimate weighs photons with: captured by a single reference so that
-// std::function stores it without allocating.
-struct BsdfAt {
-  const Material& material;
-  Vec3 n, wo;
+uint32_t SubSeed(uint32_t seed, uint32_t stream) { return uint32_t(Hash(seed, stream)); }
+
+// Point i of n of a stream: shuffled index, Owen-scrambled Sobol.
+float Point1(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
+  const uint64_t h = Hash(seed, stream);
+  return SobolSample(PermutationElement(i, n, uint32_t(h >> 32)), 0, uint32_t(h));
+}
+
+Vec2 Point2(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
+  const uint64_t h = Hash(seed, stream);
+  const uint64_t s = MixBits(h);
+  const uint32_t index = PermutationElement(i, n, uint32_t(h >> 32));
+  return {SobolSample(index, 0, uint32_t(s)), SobolSample(index, 1, uint32_t(s >> 32))};
+}
+
+// A uniform float from 24 bits of a hash (for the rare choices of specular bounces).
+float HashFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
+
+// What a diffuse gather ray is weighted by: the reflectance of the diffuse lobe (f = kd/pi
+// sampled with density cos/pi).
+Rgb DiffuseReflectance(const Material& m) {
+  if (const auto* l = std::get_if<LambertMaterial>(&m)) return l->reflectance;
+  if (const auto* g = std::get_if<GlossyMaterial>(&m)) return g->diffuse;
+  return {};
+}
+
+// Follows at most kGatherSpecularDepth specular bounces to the first non-specular surface
+// that reflects; nothing if the ray escapes, ends on an emitter or is absorbed. key seeds
+// the Fresnel choices.
+struct DiffuseHit {
+  SurfaceHit hit;
+  Rgb throughput;
+  Vec3 wo;
 };
+std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64_t key) {
+  Rgb throughput(1);
+  for (int depth = 0; depth <= kGatherSpecularDepth; ++depth) {
+    const std::optional<SurfaceHit> hit = scene.Intersect(ray);
+    if (!hit) return std::nullopt;
+    const Material& material = scene.material_of(*hit);
+    const Vec3 wo = -ray.direction;
+    if (!IsSpecular(material)) {
+      if (!Reflects(material)) return std::nullopt;
+      return DiffuseHit{*hit, throughput, wo};
+    }
+    const uint64_t h = Hash(key, uint64_t(depth));
+    const uint64_t h2 = MixBits(h);
+    const std::optional<BsdfSample> s = SampleBsdf(material, hit->n, wo, HashFloat(h),
+                                                   {HashFloat(h2), HashFloat(h2 << 24)},
+                                                   TransportMode::kRadiance);
+    if (!s) return std::nullopt;
+    throughput = throughput * s->weight;
+    if (!throughput.IsFinite() || throughput.IsBlack()) return std::nullopt;
+    ray = Ray{OffsetRayOrigin(hit->p, hit->n, s->wi, scene.ray_epsilon), s->wi};
+  }
+  return std::nullopt;
+}
 
 }  // namespace
 
@@ -35,6 +118,21 @@ RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& s) {
   return r;
 }
 
+PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
+                                                 double radius_scale)
+    : scene_(scene), maps_(maps) {
+  const float scale = std::isfinite(radius_scale) && radius_scale > 0 ? float(radius_scale) : 1.0f;
+  maps_.global_estimate.max_radius *= scale;
+  maps_.caustic_estimate.max_radius *= scale;
+  lookup_radius_ = maps_.global_estimate.max_radius;
+  // Without precomputed irradiance (a job planned before the precompute phase existed, or
+  // a map too small to need one) the global map is seen directly rather than not at all.
+  final_gather_ = scene.indirect.mode == IndirectMode::kFinalGather && maps_.global &&
+                  maps_.global->has_irradiance();
+  // A lone point or sun light gives every shadow ray the same answer: one is enough.
+  single_delta_light_ = scene.lights.size() == 1 && IsDeltaLight(scene.lights.front());
+}
+
 SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sampler,
                                          std::vector<PhotonNeighbour>& scratch) const {
   SampleResult result;
@@ -43,11 +141,11 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   for (int depth = 0; depth < kMaxSpecularDepth; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit.
-    const float u_light = sampler.Get1D();
-    const Vec2 u_point = sampler.Get2D();
+    const float u_seed = sampler.Get1D();
     const float u_lobe = sampler.Get1D();
     const Vec2 u_direction = sampler.Get2D();
     const float u_survive = sampler.Get1D();
+    const Vec2 u_glossy = sampler.Get2D();
 
     const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
     if (!hit) break;  // black background
@@ -63,16 +161,17 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
 
     if (!IsSpecular(material)) {
       if (Reflects(material)) {
-        result.direct = throughput * SampleDirect(*hit, wo, material, u_light, u_point);
-        const Vec3 n = FaceForward(hit->n, wo);
-        const BsdfAt at{material, hit->n, wo};
-        const auto bsdf = [&at](const Vec3& wi) { return EvaluateBsdf(at.material, at.n, at.wo, wi); };
-        if (maps_.caustic)
-          result.caustic = throughput * EstimateRadiance(*maps_.caustic, hit->p, n,
-                                                         maps_.caustic_estimate, bsdf, scratch);
-        if (maps_.global)
-          result.indirect = throughput * EstimateRadiance(*maps_.global, hit->p, n,
-                                                          maps_.global_estimate, bsdf, scratch);
+        // 2^32 levels from the sample's dimension, hashed so that nearby values give
+        // unrelated scrambles.
+        const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
+        const Shading at{*hit, wo, material, FaceForward(hit->n, wo)};
+        Rgb direct, caustic, indirect;
+        Shade(at, final_gather_ ? scene_.indirect.gather_rays : 0, seed, scratch, direct, caustic,
+              indirect);
+        if (final_gather_) indirect += GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+        result.direct = throughput * direct;
+        result.caustic = throughput * caustic;
+        result.indirect = throughput * indirect;
       }
       break;
     }
@@ -100,26 +199,117 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   return result;
 }
 
-Rgb PhotonMappingIntegrator::SampleDirect(const SurfaceHit& hit, const Vec3& wo,
-                                          const Material& material, float u_light,
-                                          Vec2 u_point) const {
+void PhotonMappingIntegrator::Shade(const Shading& at, uint32_t gather_rays, uint32_t seed,
+                                    std::vector<PhotonNeighbour>& scratch, Rgb& direct,
+                                    Rgb& caustic, Rgb& indirect) const {
+  direct = DirectLight(at, scene_.indirect.light_samples, SubSeed(seed, kDirectSeed));
+  const auto bsdf = [&at](const Vec3& wi) { return EvaluateBsdf(at.material, at.hit.n, at.wo, wi); };
+  caustic = maps_.caustic ? EstimateRadiance(*maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
+                                             bsdf, scratch)
+                          : Rgb();
+  if (gather_rays > 0)
+    indirect = Gather(at, gather_rays, SubSeed(seed, kGatherSeed), scratch);
+  else if (maps_.global)
+    indirect = EstimateRadiance(*maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf, scratch);
+  else
+    indirect = {};
+}
+
+Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, uint32_t count, uint32_t seed) const {
+  if (scene_.light_power.empty() || count == 0) return {};
+  if (single_delta_light_) count = 1;
+  Rgb sum;
+  for (uint32_t j = 0; j < count; ++j) {
+    const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kLightPick));
+    if (!(pick.pmf > 0)) continue;
+    const std::optional<LightSample> ls =
+        SampleLi(scene_.lights[pick.index], at.hit.p, Point2(j, count, seed, kLightPoint));
+    if (!ls) continue;
+    const Rgb f = EvaluateBsdf(at.material, at.hit.n, at.wo, ls->wi);
+    if (f.IsBlack()) continue;
+    const float pdf = pick.pmf * ls->pdf;
+    if (!(pdf > 0) || !std::isfinite(pdf)) continue;
+    if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) continue;
+    sum += f * ls->radiance * (AbsDot(at.hit.n, ls->wi) / pdf);
+  }
+  return sum / float(count);
+}
+
+Rgb PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t seed,
+                                    std::vector<PhotonNeighbour>& scratch) const {
+  const Rgb kd = DiffuseReflectance(at.material);
+  if (kd.IsBlack() || count == 0) return {};
+  const Frame frame = Frame::FromZ(at.n);
+  Rgb sum;
+  for (uint32_t i = 0; i < count; ++i) {
+    const Vec3 w = frame.FromLocal(SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection)));
+    const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
+    sum += GatherRay(ray, i, seed, scratch);
+  }
+  // Cosine-weighted directions: f cos / pdf = kd for every ray.
+  return kd * sum / float(count);
+}
+
+Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed,
+                                       std::vector<PhotonNeighbour>& scratch) const {
+  const std::optional<DiffuseHit> d =
+      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular), i));
+  if (!d) return {};
+  const Vec3 n = FaceForward(d->hit.n, d->wo);
+  const uint32_t count = scene_.indirect.gather_rays;
+  Rgb e = DirectIrradiance(d->hit.p, d->hit.n, n, Point1(i, count, seed, kGatherLightPick),
+                           Point2(i, count, seed, kGatherLightPoint));
+  const auto visible = [&](const DecodedPhoton& photon) {
+    return scene_.FrontsSeeEachOther(d->hit.p, n, photon.position, photon.normal);
+  };
+  if (const std::optional<Rgb> irradiance =
+          NearestIrradiance(*maps_.global, d->hit.p, n, lookup_radius_, visible, scratch))
+    e += *irradiance;
+  return d->throughput * Albedo(scene_.material_of(d->hit)) * kInvPi * e;
+}
+
+Rgb PhotonMappingIntegrator::DirectIrradiance(const Vec3& p, const Vec3& geometric_n,
+                                              const Vec3& n, float u_light, Vec2 u_point) const {
   if (scene_.light_power.empty()) return {};
   const auto pick = scene_.light_power.Sample(u_light);
   if (!(pick.pmf > 0)) return {};
-  const std::optional<LightSample> ls = SampleLi(scene_.lights[pick.index], hit.p, u_point);
+  const std::optional<LightSample> ls = SampleLi(scene_.lights[pick.index], p, u_point);
   if (!ls) return {};
-  const Rgb f = EvaluateBsdf(material, hit.n, wo, ls->wi);
-  if (f.IsBlack()) return {};
-  const float cos_theta = AbsDot(hit.n, ls->wi);
+  const float cos_theta = Dot(n, ls->wi);
   const float pdf = pick.pmf * ls->pdf;
-  if (!(pdf > 0) || !std::isfinite(pdf)) return {};
-  if (!scene_.Visible(hit.p, hit.n, ls->p, ls->n)) return {};
-  return f * ls->radiance * (cos_theta / pdf);
+  if (!(cos_theta > 0) || !(pdf > 0) || !std::isfinite(pdf)) return {};
+  if (!scene_.Visible(p, geometric_n, ls->p, ls->n)) return {};
+  return ls->radiance * (cos_theta / pdf);
+}
+
+Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
+                                          std::vector<PhotonNeighbour>& scratch) const {
+  const auto* glossy = std::get_if<GlossyMaterial>(&at.material);
+  if (!glossy || glossy->specular.IsBlack()) return {};
+  const Frame frame = Frame::FromZ(at.n);
+  const Vec3 wo_local = frame.ToLocal(at.wo);
+  if (!(wo_local.z > 0)) return {};
+  const std::optional<Vec3> w = SampleBlinnPhong(wo_local, u, glossy->exponent);
+  if (!w || !(w->z > 0)) return {};
+  // blinn_phong.h: a sampled direction carries f cos / pdf = wi.z / max(wo.z, wi.z).
+  const Rgb weight = glossy->specular * (w->z / std::max(wo_local.z, w->z));
+  const Vec3 wi = frame.FromLocal(*w);
+  const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, wi, scene_.ray_epsilon), wi};
+  const std::optional<DiffuseHit> d = TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)));
+  if (!d) return {};
+  // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
+  // the landing point is shaded in full, with the cheaper secondary gather.
+  const Shading next{d->hit, d->wo, scene_.material_of(d->hit), FaceForward(d->hit.n, d->wo)};
+  Rgb direct, caustic, indirect;
+  Shade(next, scene_.indirect.secondary_gather_rays, seed, scratch, direct, caustic, indirect);
+  return weight * d->throughput * (direct + caustic + indirect);
 }
 
 std::string PhotonMappingIntegrator::ToString() const {
   return std::string("PhotonMappingIntegrator{global=") + (maps_.global ? "yes" : "no") +
-         ", caustic=" + (maps_.caustic ? "yes" : "no") + "}";
+         ", caustic=" + (maps_.caustic ? "yes" : "no") +
+         ", indirect=" + (final_gather_ ? "final gathering" : "global map seen directly") + ", " +
+         scene_.indirect.ToString() + "}";
 }
 
 }  // namespace farm

@@ -1,20 +1,38 @@
 #pragma once
 
-// The photon-mapping integrator (Jensen's two-pass method, with the global map seen
-// directly until final gathering arrives): a camera ray follows specular bounces (mirror,
-// glass by a Fresnel choice, metal; bounded depth and Russian roulette) to the first
-// non-specular surface, where the light leaving it is split into
+// The photon-mapping integrator (Jensen's two-pass method with Christensen's precomputed
+// irradiance): a camera ray follows specular bounces (mirror, glass by a Fresnel choice,
+// metal; bounded depth and Russian roulette) to the first non-specular surface, where the
+// light leaving it is split into
 //
 //   emitted   its own emission, and that of emitters seen through specular bounces
-//   direct    one light sample per camera sample, by a light picked in proportion to
-//             power, with a shadow ray (area lights give soft shadows, point and sun hard)
+//   direct    light_samples shadow rays, to lights picked in proportion to power (area
+//             lights give soft shadows, point and sun hard)
 //   caustic   radiance estimate on the caustic map (light -> specular+ -> here)
-//   indirect  radiance estimate on the global map (light -> ... diffuse ... -> here)
+//   indirect  FINAL_GATHER: gather_rays cosine-weighted rays (Malley over the concentric
+//             disk, stratified); where a gather ray lands on a diffuse surface (after at
+//             most kGatherSpecularDepth specular bounces) its radiance is albedo / pi times
+//             (one shadow-ray sample of the direct irradiance there + the irradiance
+//             precomputed at the nearest photon facing the same way and visible from it).
+//             A glossy surface adds its glossy lobe by one sampled ray per camera sample;
+//             the diffuse surface that ray reaches is shaded in full with
+//             secondary_gather_rays gather rays.
+//             PHOTON_MAP (or a snapshot without irradiance): the global map's radiance
+//             estimate seen directly.
 //
 // each weighted by the throughput of the specular path, so the four add up to the beauty.
-// The three light-transport terms cover disjoint sets of paths: shadow rays are blocked by
-// glass, whose light arrives through the caustic map, and the global map holds no direct
-// light and no pure caustics.
+// The terms cover disjoint sets of paths: shadow rays are blocked by glass, whose light
+// arrives through the caustic map; the global map (and so the precomputed irradiance)
+// holds no direct light; gather rays ignore the emitters they hit (direct light covers
+// them) and read no caustic at the shading point (the caustic map does).
+//
+// Light leaking at walls and corners: the remedy is that no direct light is ever read from
+// photons (it is sampled by a shadow ray at every gather hit, exact to the corner and
+// blocked by any wall), and the precomputed irradiance is read only from a photon whose
+// normal is within 60 degrees of the hit's and that a shadow ray shows visible from it, so
+// neither the other side of a thin wall nor the perpendicular wall of a corner lends its
+// light. This replaces Jensen's "short gather rays recurse" rule, which needs direct light
+// in the photon estimate to matter.
 
 #include <string>
 #include <vector>
@@ -27,6 +45,9 @@
 #include "scene/scene_data.h"
 
 namespace farm {
+
+// Specular bounces a gather ray may follow to the diffuse surface it lights.
+inline constexpr int kGatherSpecularDepth = 4;
 
 // Everything one camera sample contributes to its pixel; the tile renderer averages these
 // into the channels of RenderChannels().
@@ -52,23 +73,54 @@ RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
 
 class PhotonMappingIntegrator {
  public:
-  PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps)
-      : scene_(scene), maps_(maps) {}
+  // radius_scale multiplies every photon search radius (progressive rounds shrink it:
+  // RoundSettings::radius_scale).
+  PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
+                          double radius_scale = 1.0);
 
-  // Consumes sampler dimensions after the camera's; scratch is reused between calls (one per
-  // thread). Never returns NaN or infinity.
+  // Consumes sampler dimensions after the camera's: six per specular bounce, drawn before
+  // any early exit, so a bounce's dimensions do not depend on what earlier bounces hit.
+  // Gather rays and shadow rays take stratified (Owen-scrambled Sobol) points whose
+  // scrambles come from those dimensions, so the result depends only on (seed, pixel,
+  // sample index). scratch is reused between calls (one per thread). Never returns NaN or
+  // infinity.
   SampleResult Li(const Ray& camera_ray, PixelSampler& sampler,
                   std::vector<PhotonNeighbour>& scratch) const;
+
+  // Whether indirect light comes from final gathering (FINAL_GATHER and a global map with
+  // precomputed irradiance) rather than the global map seen directly.
+  bool final_gathering() const { return final_gather_; }
 
   std::string ToString() const;
 
  private:
-  // Reflected radiance along wo at hit from one light sample.
-  Rgb SampleDirect(const SurfaceHit& hit, const Vec3& wo, const Material& material, float u_light,
-                   Vec2 u_point) const;
+  struct Shading;
+
+  // Direct + caustic + indirect leaving a non-specular hit along wo; `gather_rays` 0 means
+  // the global map's estimate instead of gathering. seed scrambles the stratified points.
+  void Shade(const Shading& at, uint32_t gather_rays, uint32_t seed,
+             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect) const;
+  // The average of `count` light samples of the reflected direct radiance along wo.
+  Rgb DirectLight(const Shading& at, uint32_t count, uint32_t seed) const;
+  // Diffuse-lobe indirect radiance along wo from `count` gather rays.
+  Rgb Gather(const Shading& at, uint32_t count, uint32_t seed,
+             std::vector<PhotonNeighbour>& scratch) const;
+  // Radiance a gather ray brings back (see the file comment); i indexes its stratified
+  // points.
+  Rgb GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch) const;
+  // One sample of the irradiance from the lights at p on the side of n (unit).
+  Rgb DirectIrradiance(const Vec3& p, const Vec3& geometric_n, const Vec3& n, float u_light,
+                       Vec2 u_point) const;
+  // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
+  // full with secondary gathering.
+  Rgb GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
+                   std::vector<PhotonNeighbour>& scratch) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;
+  bool final_gather_ = false;
+  bool single_delta_light_ = false;
+  float lookup_radius_ = 0;
 };
 
 }  // namespace farm

@@ -4,19 +4,44 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "render/edge_detect.h"
 #include "render/integrator.h"
+#include "sampling/hash.h"
 #include "sampling/pixel_sampler.h"
 #include "scene/scene_data.h"
+
+// How a tile's pixels are sampled.
+//
+// Every pixel first gets samples_per_pixel camera samples (the base pass). With edge
+// anti-aliasing, the base pass also covers a one-pixel apron around the tile; the Sobel
+// gradient of the base pass's log-luminance (render/edge_detect.h) marks edge pixels, and
+// those continue to max(samples_per_pixel, edge_samples) samples in all. FULL mode gives
+// every pixel that many; NONE gives none more.
+//
+// Sample j of a pixel in a round is a pure function of (seed, round key, pixel, j): the
+// sampler's permutation domain is the most samples a pixel can take in the round (a scene
+// constant, never a per-pixel choice), so an edge pixel's first samples are exactly the
+// base samples it was judged by and the extra ones continue that stratified set. A round
+// is keyed by RoundSettings::first_sample: round 1 (first_sample 0) uses the scene seed,
+// later rounds a seed hashed from (seed, first_sample), so any value distinct per round
+// draws a fresh, independent set (the image's rounds then have independent errors, which
+// the round accumulator's error estimate relies on).
+//
+// Apron pixels are computed exactly as in their own tile and the edge decision reads only
+// the 3x3 base-pass neighbourhood clamped at the image border, so tiles stitch into the
+// same bytes as one whole-image render.
 
 namespace farm {
 namespace {
 
 // Channel offsets in RenderChannels() order.
 enum Channel : int {
-  kBeauty = 0,    // R G B, then A at 3
+  kBeauty = 0,  // R G B, then A at 3
   kAlpha = 3,
   kDirect = 4,
   kIndirect = 7,
@@ -24,8 +49,12 @@ enum Channel : int {
   kAlbedo = 13,
   kNormal = 16,
   kDepth = 19,
-  kChannelCount = 20,
+  kEdge = 20,
+  kSummed = 20,  // channels summed over samples: all but the edge mask
+  kChannelCount = 21,
 };
+
+using Sums = std::array<double, kSummed>;
 
 PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
   PhotonMaps maps;
@@ -38,77 +67,182 @@ PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
   return maps;
 }
 
-void Add(std::array<double, kChannelCount>& sum, int at, const Rgb& c) {
+void Add(Sums& sum, int at, const Rgb& c) {
   sum[at] += c.r;
   sum[at + 1] += c.g;
   sum[at + 2] += c.b;
 }
 
-}  // namespace
+// The per-round sampling plan, the same for every pixel of the scene.
+struct SamplePlan {
+  uint32_t base = 1;          // samples of an ordinary pixel
+  uint32_t supersampled = 1;  // samples of an edge pixel (every pixel in FULL mode)
+  bool detect_edges = false;  // EDGES mode with something to add
+  bool supersample_all = false;
+  uint64_t seed = 0;  // of this round's sample set
 
-std::vector<std::string> RenderChannels() {
-  return {"R",          "G",          "B",          "A",         "direct.R",  "direct.G",
-          "direct.B",   "indirect.R", "indirect.G", "indirect.B", "caustic.R", "caustic.G",
-          "caustic.B",  "albedo.R",   "albedo.G",   "albedo.B",  "normal.X",  "normal.Y",
-          "normal.Z",   "depth.Z"};
+  static SamplePlan Of(const SceneData& data, const RoundSettings& round) {
+    SamplePlan p;
+    p.base = data.samples_per_pixel;
+    const AntialiasingSettings& aa = data.antialiasing;
+    p.supersampled = aa.mode == AntialiasingMode::kNone ? p.base
+                                                        : std::max(p.base, aa.edge_samples);
+    p.detect_edges = aa.mode == AntialiasingMode::kEdges && p.supersampled > p.base;
+    p.supersample_all = aa.mode == AntialiasingMode::kFull;
+    p.seed = round.first_sample == 0 ? data.seed : Hash(data.seed, round.first_sample);
+    return p;
+  }
+};
+
+// Draws camera samples of single pixels; one per thread.
+class PixelRenderer {
+ public:
+  PixelRenderer(const SceneData& data, const PhotonMappingIntegrator& integrator,
+                const SamplePlan& plan)
+      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed) {}
+
+  // Adds samples [from, to) of pixel (x, y) to sum, in sample order.
+  void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum) {
+    const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
+    for (uint32_t s = from; s < to; ++s) {
+      sampler_.StartPixelSample(pixel_index, s);
+      const Vec2 u = sampler_.Get2D();  // box filter over the pixel
+      const Ray ray = data_.camera.GenerateRay({x + u.x, y + u.y});
+      const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
+      Add(sum, kBeauty, r.radiance);
+      sum[kAlpha] += r.alpha;
+      Add(sum, kDirect, r.direct);
+      Add(sum, kIndirect, r.indirect);
+      Add(sum, kCaustic, r.caustic);
+      Add(sum, kAlbedo, r.albedo);
+      if (r.alpha > 0) {
+        sum[kNormal] += r.normal.x;
+        sum[kNormal + 1] += r.normal.y;
+        sum[kNormal + 2] += r.normal.z;
+        sum[kDepth] += r.depth;
+      }
+    }
+  }
+
+ private:
+  const SceneData& data_;
+  const PhotonMappingIntegrator& integrator_;
+  PixelSampler sampler_;
+  std::vector<PhotonNeighbour> scratch_;
+};
+
+// Light and albedo average over all samples (alpha is the covered fraction); normal and
+// depth over the samples that hit something, so an edge pixel's depth is a real distance,
+// not one diluted by the background.
+void WritePixel(const Sums& sum, uint32_t samples, bool supersampled, float* out) {
+  const double hits = sum[kAlpha];
+  for (int c = 0; c < kSummed; ++c) {
+    const double n = c >= kNormal ? hits : double(samples);
+    out[c] = n > 0 ? static_cast<float>(sum[c] / n) : 0.0f;
+  }
+  out[kEdge] = supersampled ? 1.0f : 0.0f;
 }
 
-Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 std::stop_token stop) {
-  const SceneData& data = scene.data();
-  if (!PixelRect{0, 0, data.width, data.height}.Contains(rect) || rect.width < 0 ||
-      rect.height < 0)
+void CheckArguments(const SceneData& data, const PixelRect& rect, const RoundSettings& round) {
+  if (rect.width < 0 || rect.height < 0 || !PixelRect{0, 0, data.width, data.height}.Contains(rect))
     throw std::invalid_argument("RenderTile: rect (" + std::to_string(rect.x) + ", " +
                                 std::to_string(rect.y) + ", " + std::to_string(rect.width) + "x" +
                                 std::to_string(rect.height) + ") is not inside the " +
                                 std::to_string(data.width) + "x" + std::to_string(data.height) +
                                 " image");
-  Image image(rect, RenderChannels());
-  const PhotonMappingIntegrator integrator(data, MapsOf(data, photons));
-  const uint32_t spp = data.samples_per_pixel;
+  if (!std::isfinite(round.radius_scale) || !(round.radius_scale > 0))
+    throw std::invalid_argument("RenderTile: radius_scale must be finite and > 0, got " +
+                                std::to_string(round.radius_scale));
+}
 
-  // Rows are the unit of parallel work and of cancellation. A pixel's samples are summed in
-  // sample order by one thread, so the result is independent of the partition.
-  tbb::parallel_for(
-      tbb::blocked_range<int>(rect.y, rect.y_end()), [&](const tbb::blocked_range<int>& rows) {
-        PixelSampler sampler(spp, data.seed);
-        std::vector<PhotonNeighbour> scratch;
-        for (int y = rows.begin(); y < rows.end(); ++y) {
-          if (stop.stop_requested()) return;
-          for (int x = rect.x; x < rect.x_end(); ++x) {
-            const uint64_t pixel_index = uint64_t(y) * uint64_t(data.width) + x;
-            std::array<double, kChannelCount> sum{};
-            for (uint32_t s = 0; s < spp; ++s) {
-              sampler.StartPixelSample(pixel_index, s);
-              const Vec2 u = sampler.Get2D();  // box filter over the pixel
-              const Ray ray = data.camera.GenerateRay({x + u.x, y + u.y});
-              const SampleResult r = integrator.Li(ray, sampler, scratch);
-              Add(sum, kBeauty, r.radiance);
-              sum[kAlpha] += r.alpha;
-              Add(sum, kDirect, r.direct);
-              Add(sum, kIndirect, r.indirect);
-              Add(sum, kCaustic, r.caustic);
-              Add(sum, kAlbedo, r.albedo);
-              if (r.alpha > 0) {
-                sum[kNormal] += r.normal.x;
-                sum[kNormal + 1] += r.normal.y;
-                sum[kNormal + 2] += r.normal.z;
-                sum[kDepth] += r.depth;
-              }
-            }
-            // Light and albedo average over all samples (alpha is the covered fraction);
-            // normal and depth over the samples that hit something, so an edge pixel's depth
-            // is a real distance, not one diluted by the background.
-            float* out = image.pixel(x, y);
-            const double hits = sum[kAlpha];
-            for (int c = 0; c < kChannelCount; ++c) {
-              const bool geometric = c >= kNormal;
-              const double n = geometric ? hits : double(spp);
-              out[c] = n > 0 ? static_cast<float>(sum[c] / n) : 0.0f;
-            }
-          }
-        }
-      });
+}  // namespace
+
+std::vector<std::string> RenderChannels() {
+  return {"R",          "G",          "B",          "A",          "direct.R",  "direct.G",
+          "direct.B",   "indirect.R", "indirect.G", "indirect.B", "caustic.R", "caustic.G",
+          "caustic.B",  "albedo.R",   "albedo.G",   "albedo.B",   "normal.X",  "normal.Y",
+          "normal.Z",   "depth.Z",    "edge.Y"};
+}
+
+Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
+                 const RoundSettings& round, std::stop_token stop) {
+  const SceneData& data = scene.data();
+  CheckArguments(data, rect, round);
+  Image image(rect, RenderChannels());
+  if (rect.width == 0 || rect.height == 0) return image;
+  const PhotonMappingIntegrator integrator(data, MapsOf(data, photons), round.radius_scale);
+  const SamplePlan plan = SamplePlan::Of(data, round);
+
+  // Without edge detection each pixel is independent: one pass.
+  if (!plan.detect_edges) {
+    const uint32_t n = plan.supersample_all ? plan.supersampled : plan.base;
+    const bool supersampled = n > plan.base;
+    tbb::parallel_for(tbb::blocked_range<int>(rect.y, rect.y_end()),
+                      [&](const tbb::blocked_range<int>& rows) {
+                        PixelRenderer renderer(data, integrator, plan);
+                        for (int y = rows.begin(); y < rows.end(); ++y) {
+                          if (stop.stop_requested()) return;
+                          for (int x = rect.x; x < rect.x_end(); ++x) {
+                            Sums sum{};
+                            renderer.AddSamples(x, y, 0, n, sum);
+                            WritePixel(sum, n, supersampled, image.pixel(x, y));
+                          }
+                        }
+                      });
+    return image;
+  }
+
+  // Base pass over the tile and its apron. Rows are the unit of parallel work and of
+  // cancellation; a pixel's samples are summed in sample order by one thread, so the result
+  // is independent of the partition.
+  const PixelRect area = ApronArea(rect, {data.width, data.height});
+  std::vector<Sums> base(static_cast<std::size_t>(area.width) * area.height);
+  const auto base_at = [&](int x, int y) -> Sums& {
+    return base[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
+  };
+  LogLuminanceGrid luminance(area);
+  tbb::parallel_for(tbb::blocked_range<int>(area.y, area.y_end()),
+                    [&](const tbb::blocked_range<int>& rows) {
+                      PixelRenderer renderer(data, integrator, plan);
+                      for (int y = rows.begin(); y < rows.end(); ++y) {
+                        if (stop.stop_requested()) return;
+                        for (int x = area.x; x < area.x_end(); ++x) {
+                          Sums& sum = base_at(x, y);
+                          renderer.AddSamples(x, y, 0, plan.base, sum);
+                          const double n = plan.base;
+                          luminance.set(x, y,
+                                        EdgeLogLuminance(float(sum[kBeauty] / n),
+                                                         float(sum[kBeauty + 1] / n),
+                                                         float(sum[kBeauty + 2] / n)));
+                        }
+                      }
+                    });
+  if (stop.stop_requested()) return image;
+
+  const std::vector<std::uint8_t> edges =
+      DetectEdges(luminance, rect, data.antialiasing.edge_threshold);
+  // Edge pixels continue where their base samples ended. They cluster along a few rows, so
+  // the work is split by edge pixel, not by row, to keep both threads busy.
+  std::vector<std::pair<int, int>> edge_pixels;
+  for (int y = rect.y; y < rect.y_end(); ++y)
+    for (int x = rect.x; x < rect.x_end(); ++x) {
+      if (edges[static_cast<std::size_t>(y - rect.y) * rect.width + (x - rect.x)] != 0) {
+        edge_pixels.emplace_back(x, y);
+      } else {
+        WritePixel(base_at(x, y), plan.base, false, image.pixel(x, y));
+      }
+    }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_pixels.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      PixelRenderer renderer(data, integrator, plan);
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        if (stop.stop_requested()) return;
+                        const auto [x, y] = edge_pixels[i];
+                        Sums& sum = base_at(x, y);
+                        renderer.AddSamples(x, y, plan.base, plan.supersampled, sum);
+                        WritePixel(sum, plan.supersampled, true, image.pixel(x, y));
+                      }
+                    });
   return image;
 }
 

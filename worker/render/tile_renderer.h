@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <stop_token>
 #include <string>
 #include <vector>
@@ -11,9 +12,20 @@
 namespace farm {
 
 // The channels RenderTile produces: the beauty (R, G, B, A), then the AOV layers
-// direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, albedo.{R,G,B}, normal.{X,Y,Z} and
-// depth.Z, so that passes can be recombined after the render.
+// direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, albedo.{R,G,B}, normal.{X,Y,Z},
+// depth.Z and edge.Y (1 on pixels edge anti-aliasing supersampled), so that passes can be
+// recombined after the render.
 std::vector<std::string> RenderChannels();
+
+// What changes from one progressive round to the next.
+struct RoundSettings {
+  // Multiplies the scene's photon search radii (progressive photon mapping shrinks them).
+  double radius_scale = 1.0;
+  // Index of the round's first pixel sample, so that each round draws fresh samples. It keys
+  // the round's sample set: any value distinct per round (0 in round 1) gives independent
+  // samples, however many an edge pixel takes (see tile_renderer.cpp).
+  std::uint32_t first_sample = 0;
+};
 
 // Renders one rectangle of the scene's image into RenderChannels(): linear radiance, alpha
 // the fraction of camera rays that hit geometry. photons holds the job's photon maps, or is
@@ -22,6 +34,6 @@ std::vector<std::string> RenderChannels();
 // was rendered in, so tiles rendered anywhere stitch into a bit-identical image. If stop is
 // requested the render ends early and the returned image must be discarded.
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 std::stop_token stop = {});
+                 const RoundSettings& round = {}, std::stop_token stop = {});
 
 }  // namespace farm

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "scene/scene_data.h"
 #include "scene/test_scenes.h"
 
 namespace farm {
@@ -49,14 +50,37 @@ void ExpectSamePixels(const Image& whole, const Image& part) {
 
 TEST(RenderTile, FourTilesEqualTheWholeImageBitForBit) {
   const Scene scene = BuildBox(42);
-  const Image whole = RenderTile(scene, nullptr, {0, 0, 24, 16});
-  for (const PixelRect& tile : {PixelRect{0, 0, 13, 7}, PixelRect{13, 0, 11, 7},
-                                PixelRect{0, 7, 13, 9}, PixelRect{13, 7, 11, 9}}) {
-    const Image part = RenderTile(scene, nullptr, tile);
-    EXPECT_EQ(part.rect(), tile);
-    EXPECT_EQ(part.channels(), RenderChannels());
-    ExpectSamePixels(whole, part);
+  // Edge anti-aliasing is on by default: the tiles' aprons must not change any pixel.
+  ASSERT_EQ(scene.data().antialiasing.mode, AntialiasingMode::kEdges);
+  for (const RoundSettings& round : {RoundSettings{}, RoundSettings{.first_sample = 4}}) {
+    const Image whole = RenderTile(scene, nullptr, {0, 0, 24, 16}, round);
+    for (const PixelRect& tile : {PixelRect{0, 0, 13, 7}, PixelRect{13, 0, 11, 7},
+                                  PixelRect{0, 7, 13, 9}, PixelRect{13, 7, 11, 9}}) {
+      const Image part = RenderTile(scene, nullptr, tile, round);
+      EXPECT_EQ(part.rect(), tile);
+      EXPECT_EQ(part.channels(), RenderChannels());
+      ExpectSamePixels(whole, part);
+    }
   }
+}
+
+TEST(RenderTile, OrdinaryPixelsTakeOneSampleByDefault) {
+  pb::Scene s = BoxScene(5);
+  s.mutable_sampling()->clear_samples_per_pixel();
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
+  const Scene scene = Scene::Build(s, MapLoader({{"sha256:block", kBlockObj}}));
+  EXPECT_EQ(scene.data().samples_per_pixel, 1u);
+  const Image image = RenderTile(scene, nullptr, {0, 0, 24, 16});
+  // With one sample a pixel is either fully covered or not at all, and its normal is unit.
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 24; ++x) {
+      const float* p = image.pixel(x, y);
+      ASSERT_TRUE(p[3] == 0.0f || p[3] == 1.0f) << x << ", " << y;
+      if (p[3] == 1.0f) {
+        EXPECT_NEAR(Length(Vec3(p[16], p[17], p[18])), 1.0f, 1e-5f);
+      }
+      EXPECT_EQ(p[20], 0.0f);
+    }
 }
 
 TEST(RenderTile, SameSeedSameBytesDifferentSeedDifferentBytes) {
@@ -72,9 +96,10 @@ TEST(RenderTile, ImageIsFiniteLitAndCovered) {
   const Image image = RenderTile(BuildBox(1), nullptr, {0, 0, 24, 16});
   double sum = 0;
   const std::span<const float> data = image.data();
+  const std::size_t channels = RenderChannels().size();
   for (std::size_t i = 0; i < data.size(); ++i) {
     ASSERT_TRUE(std::isfinite(data[i]));
-    const bool normal = i % 20 >= 16 && i % 20 < 19;  // normals may point any way
+    const bool normal = i % channels >= 16 && i % channels < 19;  // normals may point any way
     if (!normal) {
       ASSERT_GE(data[i], 0);
     }
@@ -99,8 +124,10 @@ TEST(RenderTile, PassesAddUpToTheBeautyAndGeometryLayersAreFilled) {
   const Image image = RenderTile(BuildBox(3), nullptr, {0, 0, 24, 16});
   const std::vector<std::string> channels = RenderChannels();
   ASSERT_EQ(image.channels(), channels);
-  ASSERT_EQ(channels.size(), 20u);
+  ASSERT_EQ(channels.size(), 21u);
   EXPECT_EQ(channels[19], "depth.Z");
+  EXPECT_EQ(channels[20], "edge.Y");
+  int edges = 0;
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 24; ++x) {
       const float* p = image.pixel(x, y);
@@ -119,14 +146,20 @@ TEST(RenderTile, PassesAddUpToTheBeautyAndGeometryLayersAreFilled) {
         EXPECT_GT(p[19], 700);  // the box is at least 800 away, walls at an angle nearer
         EXPECT_GT(p[13], 0);    // albedo of white, red or green walls
       }
+      EXPECT_TRUE(p[20] == 0.0f || p[20] == 1.0f);
+      edges += p[20] == 1.0f;
     }
+  // The sphere, the block and the wall corners make edges; at this size, and with the soft
+  // shadows' noise at 4 samples, so does much of the view, but not all of it.
+  EXPECT_GT(edges, 0);
+  EXPECT_LT(edges, 24 * 16);
 }
 
 TEST(RenderTile, StopsWhenAsked) {
   const Scene scene = BuildBox(1);
   std::stop_source source;
   source.request_stop();
-  const Image image = RenderTile(scene, nullptr, {0, 0, 24, 16}, source.get_token());
+  const Image image = RenderTile(scene, nullptr, {0, 0, 24, 16}, {}, source.get_token());
   // Nothing rendered: every row checks the token first.
   for (float v : image.data()) EXPECT_EQ(v, 0.0f);
 }

@@ -164,6 +164,8 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
                             ? kDefaultSamplesPerPixel
                             : description.sampling().samples_per_pixel();
   d.seed = description.sampling().seed();
+  d.antialiasing = AntialiasingSettings::FromProto(description.antialiasing());
+  d.indirect = IndirectSettings::FromProto(description);
   d.camera = Camera::FromProto(description.camera(), d.width, d.height);
 
   std::unordered_map<std::string, int> material_index;
@@ -215,7 +217,9 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
   for (const Light& light : d.lights) power.push_back(Power(light).Luminance());
   d.light_power = DiscreteDistribution(power);
 
-  d.ray_epsilon = 1e-5f * SceneExtent(d.shapes);
+  // ~17 ulps of the largest coordinate: above the rounding of the primitives' own
+  // coordinates, which is what rays leaving points near the origin of a large scene meet.
+  d.ray_epsilon = 2e-6f * SceneExtent(d.shapes);
   d.accelerator = Accelerator::Build(geometries);
   return Scene(std::move(data));
 }

@@ -55,8 +55,15 @@ std::optional<SurfaceHit> SceneData::Intersect(const Ray& ray) const {
 
 bool SceneData::Visible(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const {
   const Vec3 d = p1 - p0;
-  const Vec3 o0 = OffsetRayOrigin(p0, n0, d, ray_epsilon);
-  const Vec3 o1 = OffsetRayOrigin(p1, n1, -d, ray_epsilon);
+  return SegmentClear(OffsetRayOrigin(p0, n0, d, ray_epsilon), OffsetRayOrigin(p1, n1, -d, ray_epsilon));
+}
+
+bool SceneData::FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p1,
+                                   const Vec3& n1) const {
+  return SegmentClear(OffsetRayOrigin(p0, n0, n0, ray_epsilon), OffsetRayOrigin(p1, n1, n1, ray_epsilon));
+}
+
+bool SceneData::SegmentClear(const Vec3& o0, const Vec3& o1) const {
   const Vec3 segment = o1 - o0;
   const float length = Length(segment);
   if (!(length > 0)) return true;

@@ -14,7 +14,9 @@
 #include "math/vec3.h"
 #include "sampling/distribution.h"
 #include "scene/accelerator.h"
+#include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
+#include "scene/indirect_settings.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
 #include "scene/photon_settings.h"
@@ -23,7 +25,8 @@
 namespace farm {
 
 inline constexpr int kDefaultTileSize = 32;
-inline constexpr uint32_t kDefaultSamplesPerPixel = 16;
+// Ordinary pixels; edge pixels get AntialiasingSettings::edge_samples.
+inline constexpr uint32_t kDefaultSamplesPerPixel = 1;
 
 struct ShapeRecord {
   std::string label;  // "shapes[3]", or "shapes[3] (\"floor\")" when named: for messages
@@ -50,6 +53,8 @@ struct SceneData {
   int tile_size = kDefaultTileSize;
   uint32_t samples_per_pixel = kDefaultSamplesPerPixel;
   uint64_t seed = 0;
+  AntialiasingSettings antialiasing;
+  IndirectSettings indirect;  // also holds sampling.light_samples
 
   Camera camera;
   std::vector<Material> materials;
@@ -73,6 +78,13 @@ struct SceneData {
   // Whether nothing blocks the segment between two surface points, each with its
   // geometric normal; the ends are offset off their surfaces toward each other.
   bool Visible(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const;
+  // Whether the front sides of two nearby surface points see each other: each end moves
+  // off its own surface along its normal (n0, n1 point to the sides that matter), never
+  // through it, which the choice by direction in Visible can do for close points on a
+  // curved wall whose normals are quantised.
+  bool FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const;
+  // Whether nothing lies on the segment between two ray origins already off their surfaces.
+  bool SegmentClear(const Vec3& o0, const Vec3& o1) const;
 
   const Material& material_of(const SurfaceHit& hit) const {
     return materials[shapes[hit.shape].material];

@@ -1,0 +1,255 @@
+#include "image/round_accumulator.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include "image/accumulation_exr.h"
+#include "image/image_error.h"
+#include "image/tile_exr.h"
+
+namespace farm {
+namespace {
+
+using PixelFn = std::function<float(int x, int y, int c)>;
+
+// 20x12 in 8-pixel tiles: a 3x2 grid with a partial last column and row.
+constexpr ImageSize kSize{20, 12};
+constexpr int kTile = 8;
+const std::vector<std::string> kChannels = {"R", "G", "B", "A", "direct.R", "edge.Y"};
+
+std::vector<EncodedTile> Tiles(const PixelFn& value, ImageSize size = kSize,
+                               const std::vector<std::string>& channels = kChannels) {
+  std::vector<EncodedTile> tiles;
+  for (int y = 0; y < size.height; y += kTile)
+    for (int x = 0; x < size.width; x += kTile) {
+      const PixelRect r{x, y, std::min(kTile, size.width - x), std::min(kTile, size.height - y)};
+      Image tile(r, channels);
+      for (int py = r.y; py < r.y_end(); ++py)
+        for (int px = r.x; px < r.x_end(); ++px)
+          for (int c = 0; c < tile.channel_count(); ++c) tile.pixel(px, py)[c] = value(px, py, c);
+      tiles.push_back({r, EncodeTileExr(tile, size)});
+    }
+  return tiles;
+}
+
+Image WholeImage(const PixelFn& value, const std::vector<std::string>& channels,
+                 ImageSize size = kSize) {
+  Image image({0, 0, size.width, size.height}, channels);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x)
+      for (int c = 0; c < image.channel_count(); ++c) image.pixel(x, y)[c] = value(x, y, c);
+  return image;
+}
+
+// Runs rounds 1..n of the given per-round images; returns the last outputs.
+RoundOutputs RunRounds(int n, const std::function<PixelFn(int round)>& round_value,
+                       const std::optional<std::string>& reference = std::nullopt,
+                       const std::function<void(int, const RoundOutputs&)>& each = {}) {
+  RoundOutputs out;
+  for (int r = 1; r <= n; ++r) {
+    const std::vector<EncodedTile> tiles = Tiles(round_value(r));
+    RoundInputs in{kSize, kTile, r, tiles, std::nullopt, reference};
+    if (r > 1) in.previous_accumulation = out.accumulation_exr;
+    out = AccumulateRound(in);
+    if (each) each(r, out);
+  }
+  return out;
+}
+
+Image DecodeImage(const RoundOutputs& out) {
+  return DecodeTileExr(out.image_exr, kSize, {0, 0, kSize.width, kSize.height}, kChannels);
+}
+
+TEST(RoundAccumulator, SumsAndMeansAreExactOnHandBuiltTiles) {
+  // Quarter steps: every sum and square is exact in float.
+  const auto round_value = [](int r) -> PixelFn {
+    return [r](int x, int y, int c) { return 0.25f * (x + 2 * y + 3 * c) + float(r * r); };
+  };
+  const RoundOutputs out = RunRounds(3, round_value);
+  const Accumulation a = DecodeAccumulationExr(out.accumulation_exr, kSize, kChannels, 3);
+  const Image mean = DecodeImage(out);
+  for (int y = 0; y < kSize.height; ++y)
+    for (int x = 0; x < kSize.width; ++x)
+      for (int c = 0; c < int(kChannels.size()); ++c) {
+        double sum = 0, squares = 0;
+        for (int r = 1; r <= 3; ++r) {
+          sum += round_value(r)(x, y, c);
+          squares += std::pow(round_value(r)(x, y, c), 2);
+        }
+        ASSERT_EQ(a.sums.pixel(x, y)[c], float(sum)) << x << ", " << y << " " << kChannels[c];
+        if (c < 3) {
+          ASSERT_EQ(a.squares.pixel(x, y)[c], float(squares));
+        }
+        ASSERT_EQ(mean.pixel(x, y)[c], float(sum / 3)) << x << ", " << y << " " << kChannels[c];
+      }
+}
+
+TEST(RoundAccumulator, RoundOneIsThePlainCompositeWithoutAnErrorEstimate) {
+  const PixelFn value = [](int x, int y, int c) { return 0.01f * x + 0.1f * y + 0.3f * c; };
+  const std::vector<EncodedTile> tiles = Tiles(value);
+  const RoundOutputs out = AccumulateRound({kSize, kTile, 1, tiles, std::nullopt, std::nullopt});
+  const CompositeOutput plain = Composite(kSize, kTile, tiles);
+  EXPECT_EQ(out.image_exr, plain.exr);
+  EXPECT_EQ(out.preview_png, plain.preview_png);
+  EXPECT_FALSE(out.error_estimate.has_value());
+  EXPECT_FALSE(out.reference_rmse.has_value());
+  EXPECT_NO_THROW(DecodeAccumulationExr(out.accumulation_exr, kSize, kChannels, 1));
+}
+
+TEST(RoundAccumulator, ErrorEstimateIsTheFormulaOnAHandComputedCase) {
+  // Pixel (x, y) channel c in round r: 3 rounds; a, b, c per channel chosen by hand for two
+  // pixels, every other pixel constant over rounds (variance 0).
+  const auto round_value = [](int r) -> PixelFn {
+    return [r](int x, int y, int c) -> float {
+      if (y != 0 || x > 1 || c > 2) return 0.5f;
+      // pixel 0: R 1,2,3 G 0,0,3 B 2,2,2; pixel 1: R 0,4,8 G 1,1,4 B 5,6,7
+      static const float v[2][3][3] = {{{1, 2, 3}, {0, 0, 3}, {2, 2, 2}},
+                                       {{0, 4, 8}, {1, 1, 4}, {5, 6, 7}}};
+      return v[x][c][r - 1];
+    };
+  };
+  // Unbiased variances: pixel 0: 1, 3, 0; pixel 1: 16, 3, 1. Sum 24, each divided by R = 3.
+  const double expected = std::sqrt((24.0 / 3) / (3.0 * kSize.width * kSize.height));
+  const RoundOutputs out = RunRounds(3, round_value);
+  ASSERT_TRUE(out.error_estimate.has_value());
+  EXPECT_NEAR(*out.error_estimate, expected, 1e-12);
+}
+
+TEST(RoundAccumulator, EstimateTracksTheNoiseOfIndependentRoundsAndFallsAsTheyAdd) {
+  // Each round is truth plus independent Gaussian noise of known sigma: the mean of R
+  // rounds has RMSE sigma / sqrt(R), which both the estimate and the reference should find.
+  constexpr double kSigma = 0.05;
+  const PixelFn truth = [](int x, int y, int c) { return 0.3f + 0.02f * x + 0.03f * y + 0.1f * c; };
+  const auto round_value = [&](int r) -> PixelFn {
+    auto noise = std::make_shared<std::vector<float>>();
+    std::mt19937_64 rng(1000 + r);
+    std::normal_distribution<double> gauss(0, kSigma);
+    for (int i = 0; i < kSize.width * kSize.height * int(kChannels.size()); ++i)
+      noise->push_back(float(gauss(rng)));
+    return [=](int x, int y, int c) {
+      return truth(x, y, c) + (*noise)[(y * kSize.width + x) * kChannels.size() + c];
+    };
+  };
+  const std::string reference = EncodeTileExr(WholeImage(truth, {"R", "G", "B"}), kSize);
+  std::vector<double> estimates;
+  RunRounds(16, round_value, reference, [&](int r, const RoundOutputs& out) {
+    if (r == 1) return;
+    const double expected = kSigma / std::sqrt(double(r));
+    ASSERT_TRUE(out.error_estimate && out.reference_rmse);
+    EXPECT_NEAR(*out.error_estimate, expected, 0.10 * expected) << "round " << r;
+    EXPECT_NEAR(*out.reference_rmse, expected, 0.10 * expected) << "round " << r;
+    estimates.push_back(*out.error_estimate);
+  });
+  // Rounds 2, 4, 8, 16: each doubling cuts the error by about 1/sqrt(2).
+  EXPECT_LT(estimates[2], estimates[0]);
+  EXPECT_LT(estimates[6], estimates[2]);
+  EXPECT_LT(estimates[14], estimates[6]);
+}
+
+TEST(RoundAccumulator, ReferenceRmseOfAKnownOffset) {
+  const PixelFn value = [](int x, int y, int c) { return 0.1f * c + 0.01f * (x + y); };
+  // Reference: R off by 0.25, G exact, B off by 0.5 everywhere; alpha is not beauty.
+  const PixelFn reference = [&](int x, int y, int c) {
+    return value(x, y, c) + (c == 0 ? 0.25f : c == 2 ? -0.5f : c == 3 ? 9.0f : 0.0f);
+  };
+  const std::string ref = EncodeTileExr(WholeImage(reference, {"R", "G", "B", "A"}), kSize);
+  const RoundOutputs out = RunRounds(1, [&](int) { return value; }, ref);
+  ASSERT_TRUE(out.reference_rmse.has_value());
+  EXPECT_NEAR(*out.reference_rmse, std::sqrt((0.25 * 0.25 + 0.5 * 0.5) / 3), 1e-6);
+}
+
+TEST(RoundAccumulator, BytesAreDeterministicWhateverTheTileOrder) {
+  const auto round_value = [](int r) -> PixelFn {
+    return [r](int x, int y, int c) { return std::sin(0.1f * x * r + y + c); };
+  };
+  const RoundOutputs a = RunRounds(2, round_value);
+  RoundOutputs first = RunRounds(1, round_value);
+  std::vector<EncodedTile> tiles = Tiles(round_value(2));
+  std::reverse(tiles.begin(), tiles.end());
+  const RoundOutputs b =
+      AccumulateRound({kSize, kTile, 2, tiles, first.accumulation_exr, std::nullopt});
+  EXPECT_EQ(a.image_exr, b.image_exr);
+  EXPECT_EQ(a.preview_png, b.preview_png);
+  EXPECT_EQ(a.accumulation_exr, b.accumulation_exr);
+  EXPECT_EQ(a.error_estimate, b.error_estimate);
+}
+
+// --- untrusted input -------------------------------------------------------------------
+
+void ExpectRefused(const RoundInputs& in, const std::string& needle) {
+  try {
+    AccumulateRound(in);
+    ADD_FAILURE() << "accepted; expected an ImageError mentioning '" << needle << "'";
+  } catch (const ImageError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+const PixelFn kFlat = [](int, int, int c) { return 0.5f + c; };
+
+std::string AccumulationOf(int rounds, const std::vector<std::string>& channels = kChannels,
+                           ImageSize size = kSize, float poison = 0, int poison_at = -1) {
+  const PixelRect whole{0, 0, size.width, size.height};
+  Accumulation a{rounds, Image(whole, channels), Image(whole, {"R", "G", "B"})};
+  std::fill(a.sums.data().begin(), a.sums.data().end(), 1.0f);
+  std::fill(a.squares.data().begin(), a.squares.data().end(), 1.0f);
+  if (poison_at == 0) a.sums.data()[5] = poison;
+  if (poison_at == 1) a.squares.data()[7] = poison;
+  return EncodeAccumulationExr(a);
+}
+
+TEST(RoundAccumulator, RefusesMalformedAccumulationsNamingWhatIsWrong) {
+  const std::vector<EncodedTile> tiles = Tiles(kFlat);
+  const auto round2 = [&](std::string acc) {
+    return RoundInputs{kSize, kTile, 2, tiles, std::move(acc), std::nullopt};
+  };
+  ExpectRefused(round2(AccumulationOf(2)), "holds 2 rounds, expected 1");
+  ExpectRefused(round2(AccumulationOf(1, {"R", "G", "B", "A"})), "accumulation has channels");
+  ExpectRefused(round2(AccumulationOf(1, kChannels, {20, 13})), "not the whole 20x12 image");
+  ExpectRefused(round2("not an EXR at all"), "accumulation is not a readable OpenEXR");
+  ExpectRefused(round2(AccumulationOf(1).substr(0, 300)), "accumulation is not a readable");
+  ExpectRefused(round2(AccumulationOf(1, kChannels, kSize, NAN, 0)), "is nan, not finite");
+  ExpectRefused(round2(AccumulationOf(1, kChannels, kSize, -1, 1)), "sumsq.");
+  // A tile EXR is not an accumulation: no round count.
+  ExpectRefused(round2(tiles[0].exr), "accumulation");
+  ExpectRefused(round2(EncodeTileExr(WholeImage(kFlat, AccumulationChannels(kChannels)), kSize)),
+                "no int attribute photonfarm.rounds");
+  ExpectRefused({kSize, kTile, 2, tiles, std::nullopt, std::nullopt}, "needs the accumulation");
+  ExpectRefused({kSize, kTile, 1, tiles, AccumulationOf(1), std::nullopt}, "round 1 was given");
+  ExpectRefused({kSize, kTile, 0, tiles, std::nullopt, std::nullopt}, "not a round");
+}
+
+TEST(RoundAccumulator, RefusesMalformedReferencesNamingWhatIsWrong) {
+  const std::vector<EncodedTile> tiles = Tiles(kFlat);
+  const auto with = [&](std::string ref) {
+    return RoundInputs{kSize, kTile, 1, tiles, std::nullopt, std::move(ref)};
+  };
+  ExpectRefused(with(EncodeTileExr(WholeImage(kFlat, {"R", "G", "B"}, {10, 12}), {10, 12})),
+                "not the whole 20x12 image");
+  ExpectRefused(with(EncodeTileExr(WholeImage(kFlat, {"R", "G"}), kSize)), "no channel B");
+  ExpectRefused(with("garbage"), "reference image is not a readable OpenEXR");
+  const PixelFn nan_at_3_4 = [](int x, int y, int c) {
+    return x == 3 && y == 4 && c == 1 ? std::numeric_limits<float>::quiet_NaN() : 1.0f;
+  };
+  ExpectRefused(with(EncodeTileExr(WholeImage(nan_at_3_4, {"R", "G", "B"}), kSize)),
+                "channel G at pixel (3, 4) is not finite");
+}
+
+TEST(RoundAccumulator, RefusesNonFiniteOrMisplacedTiles) {
+  const PixelFn inf = [](int x, int, int c) {
+    return x == 17 && c == 4 ? std::numeric_limits<float>::infinity() : 1.0f;
+  };
+  ExpectRefused({kSize, kTile, 1, Tiles(inf), std::nullopt, std::nullopt},
+                "tile channel direct.R at pixel (17, 0) is not finite");
+  std::vector<EncodedTile> tiles = Tiles(kFlat);
+  tiles.pop_back();
+  ExpectRefused({kSize, kTile, 1, tiles, std::nullopt, std::nullopt}, "missing");
+}
+
+}  // namespace
+}  // namespace farm
