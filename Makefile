@@ -32,12 +32,13 @@ check-proto:
 test-cpp: cpp
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
-# Integration tests under tests/ find the binaries through FARM_BIN_DIR.
+# Integration and stiff tests under tests/ find the binaries through FARM_BIN_DIR; packages
+# run one at a time (-p 1) because those suites start real farms and time their kills.
 test-go: go
 	@unformatted=$$(gofmt -l $$(git ls-files '*.go')); \
 	  if [ -n "$$unformatted" ]; then echo "gofmt needed: $$unformatted"; exit 1; fi
 	go vet ./...
-	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -timeout 20m ./...
+	FARM_BIN_DIR=$(abspath $(BIN)) go test -p 1 -count=1 -timeout 30m ./...
 
 # Prints figures (photons traced per second, kd-tree build time, nearest-k queries per
 # second against nanoflann in the same run); never part of make test.

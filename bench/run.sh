@@ -1,7 +1,8 @@
 #!/bin/sh
-# Runs every photon-map benchmark and prints the figures (`make bench`).
+# Runs every benchmark and prints the figures (`make bench`).
 #   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
-# Needs farm_bench_knn built in BUILD_DIR. Snapshots go to a temporary folder, removed at exit.
+# Needs farm_bench_photons, farm_bench_knn and farm_bench_edge_aa built in BUILD_DIR.
+# Snapshots go to a temporary folder, removed at exit.
 set -eu
 build=${1:-build}
 sizes=${2:-"1000000 10000000"}
@@ -24,3 +25,5 @@ done
 echo "== worker nearest-k (C++, the Go-built snapshot mapped) vs nanoflann, same points and queries"
 # shellcheck disable=SC2086
 "$build/bin/farm_bench_knn" $snaps
+echo "== edge anti-aliasing vs full 12x supersampling (C++, in-process; exits 1 on FAIL)"
+"$build/bin/farm_bench_edge_aa"

@@ -25,6 +25,17 @@ func (c *Client) Submit(ctx context.Context, sc *pb.Scene) (*pb.Job, error) {
 	return resp.GetJob(), nil
 }
 
+// PlanScene returns what the coordinator would run for sc, without creating a job: the
+// passes it runs and skips, and the tasks per phase of the first round. A malformed scene
+// gives an *Error with code InvalidArgument naming the field.
+func (c *Client) PlanScene(ctx context.Context, sc *pb.Scene) (*pb.PlanSceneResponse, error) {
+	resp, err := c.jobs.PlanScene(ctx, &pb.PlanSceneRequest{Scene: sc})
+	if err != nil {
+		return nil, fromRPC("plan scene", err)
+	}
+	return resp, nil
+}
+
 // GetJob returns the job jobID.
 func (c *Client) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	resp, err := c.jobs.GetJob(ctx, &pb.GetJobRequest{JobId: jobID})
@@ -215,6 +226,18 @@ func (c *Client) downloadFile(ctx context.Context, a *pb.Artifact, path string) 
 		return err
 	}
 	return os.Rename(tmp.Name(), path)
+}
+
+// RoundError is the error a round reports: its RMSE against the reference if it has one,
+// else the estimate from the spread between rounds; ok is false if it has neither.
+func RoundError(r *pb.RoundReport) (float64, bool) {
+	switch {
+	case r.ReferenceRmse != nil:
+		return r.GetReferenceRmse(), true
+	case r.ErrorEstimate != nil:
+		return r.GetErrorEstimate(), true
+	}
+	return 0, false
 }
 
 // StateName is a job state for people: "succeeded", "running".

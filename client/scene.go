@@ -21,7 +21,8 @@ type SceneFile struct {
 	// Scene has every mesh's digest set and path cleared, ready to submit once Meshes are
 	// uploaded.
 	Scene *pb.Scene
-	// Meshes are the distinct mesh files the scene references.
+	// Meshes are the distinct files the scene references: its mesh files, then its
+	// reference image (progressive.reference.path), if any.
 	Meshes []MeshRef
 }
 
@@ -85,7 +86,40 @@ func ReadSceneFile(path string) (*SceneFile, error) {
 		m.Digest = digest
 		m.Path = ""
 	}
+	if err := sf.resolveReference(dir); err != nil {
+		return nil, err
+	}
 	return sf, nil
+}
+
+// resolveReference hashes the reference image a progressive scene names by path (relative
+// to the scene file) and sets its digest; the file is uploaded with the meshes.
+func (sf *SceneFile) resolveReference(dir string) error {
+	ref := sf.Scene.GetProgressive().GetReference()
+	if ref.GetPath() == "" {
+		return nil
+	}
+	const field = "progressive.reference"
+	file := ref.GetPath()
+	if !filepath.IsAbs(file) {
+		file = filepath.Join(dir, file)
+	}
+	digest, size, err := fileDigest(file)
+	if err != nil {
+		var pe *fs.PathError
+		if errors.As(err, &pe) {
+			pe.Path = ref.GetPath()
+		}
+		return invalid(field+".path", err.Error(), err)
+	}
+	if d := ref.GetDigest(); d != "" && d != digest {
+		return invalid(field+".digest",
+			fmt.Sprintf("is %s but the file at path %q has digest %s; set only one of path and digest", d, ref.GetPath(), digest), nil)
+	}
+	sf.Meshes = append(sf.Meshes, MeshRef{Field: field + ".path", File: file, Digest: digest, Size: size})
+	ref.Digest = digest
+	ref.Path = ""
+	return nil
 }
 
 // Upload stores the scene's mesh files in the coordinator's blob store (skipping those it
@@ -106,8 +140,9 @@ func (c *Client) Upload(ctx context.Context, sf *SceneFile) error {
 	return nil
 }
 
-// LoadSceneFile reads the scene file at path, uploads the mesh files it references and
-// returns the scene ready to submit: each mesh has its digest set and its path cleared.
+// LoadSceneFile reads the scene file at path, uploads the mesh files and reference image
+// it references and returns the scene ready to submit: each has its digest set and its
+// path cleared.
 func (c *Client) LoadSceneFile(ctx context.Context, path string) (*pb.Scene, error) {
 	sf, err := ReadSceneFile(path)
 	if err != nil {

@@ -29,6 +29,7 @@ func TestServeBuildsThePhotonMapBetweenEmitAndRender(t *testing.T) {
 
 	sc := scenetest.Valid(16, 16)
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: 2000, PhotonsPerShard: 1000}
+	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP} // no precompute
 	if _, err := cl.Submit(rpc, sc); err != nil {
 		t.Fatal(err)
 	}

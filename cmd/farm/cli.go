@@ -40,7 +40,7 @@ var verbs []*verb
 func init() {
 	verbs = []*verb{
 		renderVerb, coordinatorVerb, submitVerb, watchVerb, fetchVerb,
-		statusVerb, listVerb, tasksVerb, cancelVerb,
+		statusVerb, listVerb, tasksVerb, cancelVerb, planVerb, reportVerb,
 	}
 }
 
@@ -264,6 +264,17 @@ connections (with --listen 127.0.0.1:0 the port is chosen by the system).
 DIR/NAME.png (the preview), NAME being --name, else the job's display name (the scene's
 name field, made file-safe), else the job id. Each download is checked against its
 sha256 digest before it replaces a file.
+`,
+	"plan": `Reads SCENE (JSON), has the coordinator validate and plan it without creating a job,
+and prints one line per pass the renderer knows (run or skip, and why: e.g. "skip caustic
+photon map: no specular surface"), then the tasks per phase of the first round. Mesh and
+reference files are hashed, not uploaded.
+`,
+	"report": `Prints a job's progressive rounds as a table: seconds since the job was submitted,
+photon paths and samples per pixel so far, the error estimated from the spread between
+rounds (from round 2 on) and the RMSE against the scene's reference image (if it names
+one). With -o FILE.svg it also writes the error-against-time chart (log-log axes, one
+marker per round and error kind).
 `,
 	"submit": `Reads SCENE (JSON), uploads the mesh files it names (paths relative to the scene file),
 submits it and prints the job id on stdout. A malformed scene is refused with the field

@@ -138,6 +138,33 @@ func phaseOf(job *pb.Job, p pb.Phase) (*pb.PhaseProgress, bool) {
 	return nil, false
 }
 
+// roundLabel is "round 3 (error 0.012) " for a job that runs progressive rounds, "" for
+// one that does not: the round running (or the last one, once the job has ended) and the
+// error of the image so far.
+func roundLabel(job *pb.Job) string {
+	progressive := false
+	for _, ps := range job.GetPlan().GetPasses() {
+		if ps.GetName() == "progressive rounds" && ps.GetEnabled() {
+			progressive = true
+		}
+	}
+	rounds := job.GetRounds()
+	if !progressive {
+		return ""
+	}
+	n := len(rounds)
+	if !client.JobEnded(job.GetState()) {
+		n++
+	}
+	label := fmt.Sprintf("round %d", n)
+	if len(rounds) > 0 {
+		if e, ok := client.RoundError(rounds[len(rounds)-1]); ok {
+			label += fmt.Sprintf(" (error %.3g)", e)
+		}
+	}
+	return label + " "
+}
+
 // unit names what a phase's tasks are.
 func unit(phase string) string {
 	switch phase {
@@ -219,6 +246,7 @@ func (p *progress) drawTTY(final bool) {
 	case client.JobEnded(state):
 		name = client.StateName(state)
 	}
+	name = roundLabel(p.job) + name
 	var b strings.Builder
 	filled := 0
 	if total > 0 {
@@ -246,18 +274,19 @@ func (p *progress) drawTTY(final bool) {
 
 func (p *progress) drawPlain(final bool) {
 	job := p.job
-	name, done, total := current(job)
+	phase, done, total := current(job)
+	name := roundLabel(job) + phase
 	var text string
 	switch state := job.GetState(); {
 	case client.JobEnded(state):
-		text = fmt.Sprintf("job %s: %s", job.GetId(), client.StateName(state))
+		text = fmt.Sprintf("job %s: %s%s", job.GetId(), roundLabel(job), client.StateName(state))
 		if s := phaseSummary(job); s != "" {
 			text += " (" + s + ")"
 		}
 	case state == pb.JobState_JOB_STATE_QUEUED:
 		text = fmt.Sprintf("job %s: queued", job.GetId())
 	default:
-		text = fmt.Sprintf("job %s: %s %d/%d %s (%d%%)", job.GetId(), name, done, total, unit(name), percent(done, total))
+		text = fmt.Sprintf("job %s: %s %d/%d %s (%d%%)", job.GetId(), name, done, total, unit(phase), percent(done, total))
 	}
 	now := p.now()
 	changed := text != p.plainText

@@ -1,9 +1,11 @@
-// Package builder is the coordinator's own worker for the build phase: it leases BUILD
-// tasks through the same task service as the farm's workers (so leases, epochs and expiry
-// protect it like any worker), downloads the emission shards the lease names, merges them
-// with photonmap.Build into a kd-tree snapshot, stores the snapshot in the blob store and
-// completes the task with it as "photons.snapshot". Malformed shards fail the task with
-// the builder's error.
+// Package builder is the coordinator's own worker for the build and merge phases: it
+// leases BUILD and MERGE tasks through the same task service as the farm's workers (so
+// leases, epochs and expiry protect it like any worker). A build downloads the emission
+// shards the lease names and merges them with photonmap.Build into a kd-tree snapshot; a
+// merge downloads the round's snapshot and irradiance shards and adds the irradiance with
+// photonmap.MergeIrradiance. Either stores the result in the blob store and completes the
+// task with it as "photons.snapshot". Malformed shards fail the task with the builder's
+// error.
 package builder
 
 import (
@@ -56,6 +58,8 @@ type Config struct {
 	Blobs Blobs
 	// Build merges shards into a snapshot; photonmap.Build by default.
 	Build func([]photonmap.Shard) ([]byte, error)
+	// Merge adds irradiance shards to a snapshot; photonmap.MergeIrradiance by default.
+	Merge func(snapshot []byte, shards [][]byte) ([]byte, error)
 	// WorkerID is the name the builder's leases go under (DefaultWorkerID by default).
 	WorkerID string
 	// HeartbeatInterval is how often a held lease is extended (1s by default); it must be
@@ -74,6 +78,9 @@ type Builder struct {
 func New(cfg Config) *Builder {
 	if cfg.Build == nil {
 		cfg.Build = photonmap.Build
+	}
+	if cfg.Merge == nil {
+		cfg.Merge = photonmap.MergeIrradiance
 	}
 	if cfg.WorkerID == "" {
 		cfg.WorkerID = DefaultWorkerID
@@ -124,7 +131,16 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 	defer cancel(nil)
 	go b.heartbeat(taskCtx, ref, cancel)
 
-	out, err := b.build(taskCtx, l.GetTask().GetBuildPhotonMap())
+	var out *pb.Artifact
+	var err error
+	switch spec := l.GetTask().GetSpec().(type) {
+	case *pb.Task_BuildPhotonMap:
+		out, err = b.build(taskCtx, spec.BuildPhotonMap)
+	case *pb.Task_MergeIrradiance:
+		out, err = b.merge(taskCtx, spec.MergeIrradiance)
+	default:
+		err = fmt.Errorf("the coordinator's builder cannot do task %s (%T)", ref.TaskID, spec)
+	}
 	if cause := context.Cause(taskCtx); cause != nil {
 		b.log.Info("builder: build abandoned", "task", ref.TaskID, "why", cause)
 		return
@@ -140,7 +156,7 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 		b.log.Error("builder: reporting completion", "task", ref.TaskID, "err", err)
 		return
 	}
-	b.log.Info("photon map built", "task", ref.TaskID, "shards", len(l.GetTask().GetBuildPhotonMap().GetShards()),
+	b.log.Info("photon map built", "task", ref.TaskID, "phase", l.GetTask().GetPhase().String(),
 		"bytes", out.GetSizeBytes(), "snapshot", out.GetDigest(), "took", time.Since(start).Round(time.Millisecond))
 }
 
@@ -188,6 +204,31 @@ func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec) (*pb.A
 	if err != nil {
 		return nil, fmt.Errorf("build photon map: %w", err)
 	}
+	return b.store(ctx, snap)
+}
+
+// merge downloads the snapshot and the irradiance shards, merges them and stores the
+// snapshot with irradiance.
+func (b *Builder) merge(ctx context.Context, spec *pb.MergeIrradianceSpec) (*pb.Artifact, error) {
+	snap, err := b.download(ctx, spec.GetPhotonSnapshot())
+	if err != nil {
+		return nil, fmt.Errorf("photon snapshot: %w", err)
+	}
+	shards := make([][]byte, len(spec.GetIrradianceShards()))
+	for i, a := range spec.GetIrradianceShards() {
+		if shards[i], err = b.download(ctx, a); err != nil {
+			return nil, fmt.Errorf("irradiance shard %d: %w", i, err)
+		}
+	}
+	merged, err := b.cfg.Merge(snap, shards)
+	if err != nil {
+		return nil, fmt.Errorf("merge irradiance: %w", err)
+	}
+	return b.store(ctx, merged)
+}
+
+// store puts a snapshot in the blob store as the task's "photons.snapshot".
+func (b *Builder) store(ctx context.Context, snap []byte) (*pb.Artifact, error) {
 	if err := ctx.Err(); err != nil {
 		return nil, err
 	}

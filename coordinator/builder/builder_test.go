@@ -61,6 +61,8 @@ func (f *fixture) createJob(shards int) *pb.Job {
 	f.t.Helper()
 	sc := scenetest.Valid(8, 8)
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: uint64(1000 * shards), PhotonsPerShard: 1000}
+	// Without final gathering the build is followed by the tiles directly.
+	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
 	j, err := f.st.CreateJob(f.ctx, store.NewJob{DisplayName: "j", SceneDigest: "sha256:" + strings.Repeat("0", 64),
 		Width: 8, Height: 8, Tasks: planner.Plan(scene.Defaults(sc))})
 	if err != nil {

@@ -128,7 +128,8 @@ func TestPlanLargestMapStaysWithinLimits(t *testing.T) {
 	for _, task := range tasks {
 		sum += task.GetEmitPhotons().GetPhotonCount()
 	}
-	if want := scene.MaxPhotonsPerMap/scene.MinPhotonsPerShard + 3; len(tasks) != want || sum != scene.MaxPhotonsPerMap {
+	// Shards, a build, as many precompute tasks as shards, a merge, a tile and a composite.
+	if want := 2*scene.MaxPhotonsPerMap/scene.MinPhotonsPerShard + 4; len(tasks) != want || sum != scene.MaxPhotonsPerMap {
 		t.Errorf("%d tasks covering %d photons, want %d tasks covering %d", len(tasks), sum, want, scene.MaxPhotonsPerMap)
 	}
 }

@@ -40,6 +40,7 @@ func Defaults(s *pb.Scene) *pb.Scene {
 	out.Photons.GlobalPhotons = GlobalPhotons(s)
 	out.Photons.CausticPhotons = CausticPhotons(s)
 	out.Photons.PhotonsPerShard = PhotonsPerShard(s)
+	defaultRendering(out)
 	return out
 }
 

@@ -12,7 +12,7 @@ const (
 	// MaxSamplesPerPixel bounds Sampling.samples_per_pixel.
 	MaxSamplesPerPixel = 65536
 	// DefaultSamplesPerPixel is used when Sampling.samples_per_pixel is 0.
-	DefaultSamplesPerPixel = 16
+	DefaultSamplesPerPixel = 1
 	// MaxMaterials and MaxShapes bound the scene's lists.
 	MaxMaterials = 4096
 	MaxShapes    = 100000
@@ -47,4 +47,26 @@ const (
 	MaxNeighbours = 10000
 	// MaxConeK bounds RadianceEstimate.cone_k (a cone filter's k >= 1; past this it is a box).
 	MaxConeK = 1e6
+
+	// MaxPathLength bounds the file paths a scene file names (meshes, reference image).
+	MaxPathLength = 4096
+
+	// MaxLightSamples bounds Sampling.light_samples; DefaultLightSamples is used for 0.
+	MaxLightSamples     = 1024
+	DefaultLightSamples = 16
+	// MaxEdgeSamples bounds Antialiasing.edge_samples; DefaultEdgeSamples is used for 0.
+	MaxEdgeSamples     = 1024
+	DefaultEdgeSamples = 12
+	// DefaultEdgeThreshold is used when Antialiasing.edge_threshold is 0.
+	DefaultEdgeThreshold = 0.1
+	// MaxGatherRays bounds Indirect.gather_rays and secondary_gather_rays.
+	MaxGatherRays              = 4096
+	DefaultGatherRays          = 64
+	DefaultSecondaryGatherRays = 8
+	// MaxRounds bounds Progressive.max_rounds.
+	MaxRounds = 1000
+	// MaxTimeBudgetSeconds bounds Progressive.time_budget_seconds (7 days).
+	MaxTimeBudgetSeconds = 7 * 24 * 3600
+	// DefaultAlpha is progressive photon mapping's alpha when Progressive.alpha is 0.
+	DefaultAlpha = 0.7
 )

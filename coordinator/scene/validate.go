@@ -56,7 +56,10 @@ func Validate(s *pb.Scene) error {
 		return fe("lights", "the scene needs a light: a point or sun light with a positive power, "+
 			"or a shape whose material is emissive with a positive radiance")
 	}
-	return validatePhotons(s.GetPhotons())
+	if err := validatePhotons(s.GetPhotons()); err != nil {
+		return err
+	}
+	return validateRendering(s)
 }
 
 func fe(field, format string, args ...any) *FieldError {
@@ -87,7 +90,11 @@ func checkFinite(field string, v float64) error {
 
 type vec struct{ x, y, z float64 }
 
-func (a vec) sub(b vec) vec   { return vec{a.x - b.x, a.y - b.y, a.z - b.z} }
+func (a vec) sub(b vec) vec { return vec{a.x - b.x, a.y - b.y, a.z - b.z} }
+func (a vec) add(b vec) vec { return vec{a.x + b.x, a.y + b.y, a.z + b.z} }
+func (a vec) scale(k float64) vec {
+	return vec{a.x * k, a.y * k, a.z * k}
+}
 func (a vec) cross(b vec) vec { return vec{a.y*b.z - a.z*b.y, a.z*b.x - a.x*b.z, a.x*b.y - a.y*b.x} }
 func (a vec) length() float64 { return math.Sqrt(a.x*a.x + a.y*a.y + a.z*a.z) }
 func (a vec) isZero() bool    { return a.x == 0 && a.y == 0 && a.z == 0 }
@@ -346,8 +353,8 @@ func validateMesh(p string, m *pb.MeshFile) error {
 	case !DigestPattern.MatchString(d):
 		return fe(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
 	}
-	if len(m.GetPath()) > 4096 {
-		return fe(p+".path", "must be at most 4096 bytes, got %d", len(m.GetPath()))
+	if len(m.GetPath()) > MaxPathLength {
+		return fe(p+".path", "must be at most %d bytes, got %d", MaxPathLength, len(m.GetPath()))
 	}
 	tr := m.GetTransform()
 	if tr == nil {

@@ -55,6 +55,27 @@ func TestValidateRefusesNamingTheField(t *testing.T) {
 		message string // substring
 	}{
 		{"no camera", func(s *pb.Scene) { s.Camera = nil }, "camera", "missing"},
+		{"too many rounds", func(s *pb.Scene) { s.Progressive = &pb.Progressive{MaxRounds: 1001} }, "progressive.max_rounds", "<= 1000"},
+		{"negative target", func(s *pb.Scene) { s.Progressive = &pb.Progressive{TargetError: -0.1} }, "progressive.target_error", ">= 0"},
+		{"NaN target", func(s *pb.Scene) { s.Progressive = &pb.Progressive{TargetError: nan} }, "progressive.target_error", "finite"},
+		{"budget over a week", func(s *pb.Scene) { s.Progressive = &pb.Progressive{TimeBudgetSeconds: 7*24*3600 + 1} }, "progressive.time_budget_seconds", "604800"},
+		{"alpha above 1", func(s *pb.Scene) { s.Progressive = &pb.Progressive{Alpha: 1.5} }, "progressive.alpha", "(0, 1]"},
+		{"negative alpha", func(s *pb.Scene) { s.Progressive = &pb.Progressive{Alpha: -0.5} }, "progressive.alpha", "(0, 1]"},
+		{"reference path without digest", func(s *pb.Scene) {
+			s.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Path: "ref.exr"}}
+		}, "progressive.reference.digest", "missing"},
+		{"bad reference digest", func(s *pb.Scene) {
+			s.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Digest: "sha256:XYZ"}}
+		}, "progressive.reference.digest", "64 lowercase hex"},
+		{"too many gather rays", func(s *pb.Scene) { s.Indirect = &pb.Indirect{GatherRays: 4097} }, "indirect.gather_rays", "<= 4096"},
+		{"too many secondary rays", func(s *pb.Scene) { s.Indirect = &pb.Indirect{SecondaryGatherRays: 5000} }, "indirect.secondary_gather_rays", "<= 4096"},
+		{"unknown indirect mode", func(s *pb.Scene) { s.Indirect = &pb.Indirect{Mode: 9} }, "indirect.mode", "unknown"},
+		{"too many edge samples", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{EdgeSamples: 1025} }, "antialiasing.edge_samples", "<= 1024"},
+		{"negative edge threshold", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{EdgeThreshold: -1} }, "antialiasing.edge_threshold", ">= 0"},
+		{"infinite edge threshold", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{EdgeThreshold: inf} }, "antialiasing.edge_threshold", "finite"},
+		{"unknown antialiasing mode", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: 7} }, "antialiasing.mode", "unknown"},
+		{"too many light samples", func(s *pb.Scene) { s.Sampling.LightSamples = 1025 }, "sampling.light_samples", "<= 1024"},
+
 		{"no look_at", func(s *pb.Scene) { s.Camera.LookAt = nil }, "camera.look_at", "missing"},
 		{"NaN position", func(s *pb.Scene) { s.Camera.Position.Y = nan }, "camera.position.y", "finite"},
 		{"Inf up", func(s *pb.Scene) { s.Camera.Up.Z = inf }, "camera.up.z", "finite"},
@@ -130,8 +151,18 @@ func TestDefaults(t *testing.T) {
 	s := scenetest.Valid(10, 10)
 	s.Sampling = nil
 	d := scene.Defaults(s)
-	if d.Film.TileSize != 32 || d.Sampling.SamplesPerPixel != 16 {
-		t.Errorf("Defaults: tile %d spp %d, want 32 and 16", d.Film.TileSize, d.Sampling.SamplesPerPixel)
+	if d.Film.TileSize != 32 || d.Sampling.SamplesPerPixel != 1 || d.Sampling.LightSamples != 16 {
+		t.Errorf("Defaults: tile %d spp %d light samples %d, want 32, 1 and 16", d.Film.TileSize, d.Sampling.SamplesPerPixel, d.Sampling.LightSamples)
+	}
+	if d.GetIndirect().GetMode() != pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER || d.GetIndirect().GetGatherRays() != 64 ||
+		d.GetIndirect().GetSecondaryGatherRays() != 8 {
+		t.Errorf("Defaults: indirect %v, want final gathering with 64 and 8 rays", d.GetIndirect())
+	}
+	if a := d.GetAntialiasing(); a.GetMode() != pb.AntialiasingMode_ANTIALIASING_MODE_EDGES || a.GetEdgeSamples() != 12 || a.GetEdgeThreshold() != 0.1 {
+		t.Errorf("Defaults: antialiasing %v, want EDGES, 12 samples, threshold 0.1", a)
+	}
+	if p := d.GetProgressive(); p.GetMaxRounds() != 1 || p.GetAlpha() != 0.7 || p.GetReference() != nil {
+		t.Errorf("Defaults: progressive %v, want 1 round, alpha 0.7, no reference", p)
 	}
 	if ph := d.GetPhotons(); ph.GetGlobalPhotons() != 200000 || ph.GetCausticPhotons() != 200000 || ph.GetPhotonsPerShard() != 100000 {
 		t.Errorf("Defaults: photons %v, want 200000, 200000 and 100000 per shard", ph)

@@ -59,13 +59,8 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	if err := scene.Validate(sc); err != nil {
 		return nil, err
 	}
-	for _, ref := range scene.MeshRefs(sc) {
-		if _, err := s.cfg.Blobs.Stat(ctx, ref.Digest); err != nil {
-			if errs.Is(err, errs.NotFound) {
-				return nil, errs.Field(ref.Field, "no blob %s in the blob store; upload the mesh file first", ref.Digest)
-			}
-			return nil, err
-		}
+	if err := s.checkInputBlobs(ctx, sc); err != nil {
+		return nil, err
 	}
 	sc = scene.Defaults(sc)
 	data, err := proto.MarshalOptions{Deterministic: true}.Marshal(sc)
@@ -78,6 +73,7 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	}
 	tasks := planner.Plan(sc)
 	job, err := s.cfg.Store.CreateJob(ctx, store.NewJob{
+		Plan:        planner.Passes(sc),
 		DisplayName: sc.GetName(),
 		SceneDigest: info.Digest,
 		Width:       sc.GetFilm().GetWidth(),
@@ -91,6 +87,36 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 		"width", job.GetWidth(), "height", job.GetHeight(), "tasks", len(tasks), "scene", info.Digest)
 	s.queued.broadcast()
 	return &pb.SubmitJobResponse{Job: job}, nil
+}
+
+// checkInputBlobs checks that the blobs a scene names (meshes, reference image) exist.
+func (s *Service) checkInputBlobs(ctx context.Context, sc *pb.Scene) error {
+	refs := scene.MeshRefs(sc)
+	if d := scene.ReferenceDigest(sc); d != "" {
+		refs = append(refs, scene.MeshRef{Field: "progressive.reference.digest", Digest: d})
+	}
+	for _, ref := range refs {
+		if _, err := s.cfg.Blobs.Stat(ctx, ref.Digest); err != nil {
+			if errs.Is(err, errs.NotFound) {
+				return errs.Field(ref.Field, "no blob %s in the blob store; upload the file first", ref.Digest)
+			}
+			return err
+		}
+	}
+	return nil
+}
+
+// PlanScene validates and plans a scene as SubmitJob would, without storing anything.
+func (j *jobServer) PlanScene(ctx context.Context, req *pb.PlanSceneRequest) (*pb.PlanSceneResponse, error) {
+	sc := req.GetScene()
+	if sc == nil {
+		return nil, errs.Field("scene", "missing")
+	}
+	if err := scene.Validate(sc); err != nil {
+		return nil, err
+	}
+	sc = scene.Defaults(sc)
+	return &pb.PlanSceneResponse{Plan: planner.Passes(sc), Phases: planner.PhaseCounts(planner.Plan(sc))}, nil
 }
 
 func (j *jobServer) GetJob(ctx context.Context, req *pb.GetJobRequest) (*pb.GetJobResponse, error) {

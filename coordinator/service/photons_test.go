@@ -35,6 +35,7 @@ func TestPhotonJobFillsBuildShardsAndTileSnapshots(t *testing.T) {
 	f := newFarm(t)
 	sc := scenetest.Valid(32, 64) // two tiles
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: 2500, PhotonsPerShard: 1000}
+	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP} // no precompute
 	job := f.submit(sc)
 	if len(job.Phases) != 4 || job.Phases[0].Phase != pb.Phase_PHASE_EMIT || job.Phases[0].TasksTotal != 3 ||
 		job.Phases[1].Phase != pb.Phase_PHASE_BUILD || job.Phases[1].TasksTotal != 1 {

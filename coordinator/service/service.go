@@ -76,6 +76,7 @@ type Service struct {
 	queued    notifier
 	workers   registry
 	snapshots snapshotCache
+	scenes    sceneCache
 	done      chan struct{}
 	once      sync.Once
 }

@@ -1,7 +1,9 @@
 package service
 
 import (
+	"cmp"
 	"context"
+	"strconv"
 
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -13,27 +15,40 @@ const (
 	ShardArtifact    = "photons.shard"
 	SnapshotArtifact = "photons.snapshot"
 	TileArtifact     = "tile.exr"
+	// IrradianceArtifact is a precompute task's output (docs/photon-snapshot.md).
+	IrradianceArtifact = "irradiance.shard"
+	// The composite's outputs: the image so far, its preview, and the running sums the
+	// next round's composite extends.
+	ImageArtifact        = "image.exr"
+	PreviewArtifact      = "preview.png"
+	AccumulationArtifact = "accumulation.exr"
 )
 
-// fillSpec fills in what a leased task needs from the phases before it: a composite its
-// tiles, a build its emission shards, a render tile its photon snapshot (if the job has
-// one). Earlier phases have all succeeded when a task is leased, so their outputs are final.
+// fillSpec fills in what a leased task needs from the stages before it, all of its own
+// round except the previous round's accumulation: a build its emission shards, a
+// precompute its photon range and snapshot, a merge the snapshot and irradiance shards, a
+// render tile its photon snapshot (if the job has one), a composite its tiles, the
+// previous accumulation and the reference image. Earlier stages have all succeeded when a
+// task is leased, so their outputs are final.
 func (s *Service) fillSpec(ctx context.Context, l *store.Leased) error {
 	task := l.Task
+	jobID, round := task.GetJobId(), max(task.GetRound(), 1)
 	switch spec := task.GetSpec().(type) {
 	case *pb.Task_Composite:
-		tiles, err := s.tiles(ctx, task.GetJobId())
-		spec.Composite.Tiles = tiles
-		return err
+		return s.fillComposite(ctx, l, spec.Composite)
 	case *pb.Task_BuildPhotonMap:
-		shards, err := s.shards(ctx, task.GetJobId())
+		shards, err := s.shards(ctx, jobID, round)
 		spec.BuildPhotonMap.Shards = shards
 		return err
+	case *pb.Task_PrecomputeIrradiance:
+		return s.fillPrecompute(ctx, task, spec.PrecomputeIrradiance)
+	case *pb.Task_MergeIrradiance:
+		return s.fillMerge(ctx, task, spec.MergeIrradiance)
 	case *pb.Task_RenderTile:
 		if !hasPhase(l.Change.Job, pb.Phase_PHASE_BUILD) {
 			return nil
 		}
-		snap, err := s.snapshot(ctx, task.GetJobId())
+		snap, err := s.snapshot(ctx, jobID, round)
 		spec.RenderTile.PhotonSnapshot = snap
 		return err
 	}
@@ -83,63 +98,98 @@ func output(t *pb.Task, name string) (*pb.Artifact, error) {
 	return nil, errs.E(errs.Internal, "task %s succeeded without a %q output", t.GetId(), name)
 }
 
-// tiles lists the rectangles and tile EXRs of a job's render phase.
-func (s *Service) tiles(ctx context.Context, jobID string) ([]*pb.TileInput, error) {
+// roundTasks calls fn with the tasks of one round of a job, in plan order.
+func (s *Service) roundTasks(ctx context.Context, jobID string, round uint32, fn func(*pb.Task) error) error {
+	return s.eachTask(ctx, jobID, func(t *pb.Task) (bool, error) {
+		r := max(t.GetRound(), 1)
+		if r == round {
+			if err := fn(t); err != nil {
+				return false, err
+			}
+		}
+		return r <= round, nil
+	})
+}
+
+// tiles lists the rectangles and tile EXRs of a round's render phase.
+func (s *Service) tiles(ctx context.Context, jobID string, round uint32) ([]*pb.TileInput, error) {
 	var tiles []*pb.TileInput
-	err := s.eachTask(ctx, jobID, func(t *pb.Task) (bool, error) {
+	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
 		rt := t.GetRenderTile()
 		if rt == nil {
-			return t.GetPhase() < pb.Phase_PHASE_RENDER, nil
+			return nil
 		}
 		tile, err := output(t, TileArtifact)
 		if err != nil {
-			return false, err
+			return err
 		}
 		tiles = append(tiles, &pb.TileInput{Rect: rt.GetRect(), Tile: tile})
-		return true, nil
+		return nil
 	})
 	return tiles, err
 }
 
-// shards lists a job's emission shards, in plan order, with what each produced.
-func (s *Service) shards(ctx context.Context, jobID string) ([]*pb.EmittedShard, error) {
+// shards lists a round's emission shards, in plan order, with what each produced.
+func (s *Service) shards(ctx context.Context, jobID string, round uint32) ([]*pb.EmittedShard, error) {
 	var shards []*pb.EmittedShard
-	err := s.eachTask(ctx, jobID, func(t *pb.Task) (bool, error) {
+	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
 		e := t.GetEmitPhotons()
 		if e == nil {
-			return t.GetPhase() < pb.Phase_PHASE_EMIT, nil
+			return nil
 		}
 		shard, err := output(t, ShardArtifact)
 		if err != nil {
-			return false, err
+			return err
 		}
 		shards = append(shards, &pb.EmittedShard{Spec: e, Shard: shard})
-		return true, nil
+		return nil
 	})
 	return shards, err
 }
 
-// snapshot returns the photon snapshot a job's build task produced. It is immutable once
-// the build succeeded, so it is remembered per job.
-func (s *Service) snapshot(ctx context.Context, jobID string) (*pb.Artifact, error) {
-	if a, ok := s.snapshots.get(jobID); ok {
-		return a, nil
-	}
+// builtSnapshot returns the snapshot a round's build task produced (without irradiance).
+func (s *Service) builtSnapshot(ctx context.Context, jobID string, round uint32) (*pb.Artifact, error) {
 	var snap *pb.Artifact
-	err := s.eachTask(ctx, jobID, func(t *pb.Task) (bool, error) {
+	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
 		if t.GetBuildPhotonMap() == nil {
-			return t.GetPhase() < pb.Phase_PHASE_BUILD, nil
+			return nil
 		}
 		a, err := output(t, SnapshotArtifact)
 		snap = a
-		return false, err
+		return err
+	})
+	if err == nil && snap == nil {
+		err = errs.E(errs.Internal, "job %s round %d has no build task", jobID, round)
+	}
+	return snap, err
+}
+
+// snapshot returns the photon snapshot a round's tiles render with: the merge's (with
+// irradiance) if the round has one, else the build's. It is immutable once made, so it is
+// remembered per job and round.
+func (s *Service) snapshot(ctx context.Context, jobID string, round uint32) (*pb.Artifact, error) {
+	key := jobID + "/" + strconv.FormatUint(uint64(round), 10)
+	if a, ok := s.snapshots.get(key); ok {
+		return a, nil
+	}
+	var built, merged *pb.Artifact
+	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
+		var err error
+		switch {
+		case t.GetBuildPhotonMap() != nil:
+			built, err = output(t, SnapshotArtifact)
+		case t.GetMergeIrradiance() != nil:
+			merged, err = output(t, SnapshotArtifact)
+		}
+		return err
 	})
 	if err != nil {
 		return nil, err
 	}
+	snap := cmp.Or(merged, built)
 	if snap == nil {
-		return nil, errs.E(errs.Internal, "job %s has a build phase but no build task", jobID)
+		return nil, errs.E(errs.Internal, "job %s round %d has a build phase but no build task", jobID, round)
 	}
-	s.snapshots.put(jobID, snap)
+	s.snapshots.put(key, snap)
 	return snap, nil
 }

@@ -72,6 +72,19 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 // Complete records a task's success with its outputs, which must name blobs in the blob
 // store with their true sizes.
 func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) error {
+	return s.CompleteWithMetrics(ctx, ref, outputs, nil)
+}
+
+// CompleteWithMetrics is Complete with a composite's error metrics. The composite of a
+// round ends it: the round's report is recorded and the job goes on to the next round or
+// stops (StopReason), in one store step (store.Store.CompleteRound).
+func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact, metrics *pb.RoundMetrics) error {
+	if metrics == nil {
+		metrics = &pb.RoundMetrics{}
+	}
+	if err := checkMetrics(metrics); err != nil {
+		return err
+	}
 	for i, a := range outputs {
 		p := fmt.Sprintf("outputs[%d]", i)
 		if a.GetName() == "" || len(a.GetName()) > 255 {
@@ -91,8 +104,25 @@ func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*p
 			return errs.Field(p+".size_bytes", "blob %s has %d bytes, not %d", a.GetDigest(), info.Size, a.GetSizeBytes())
 		}
 	}
-	c, err := s.cfg.Store.CompleteTask(ctx, ref, outputs)
+	task, err := s.cfg.Store.GetTask(ctx, ref.TaskID)
 	if err != nil {
+		return err
+	}
+	var c store.Change
+	if task.GetComposite() != nil {
+		end, why, err := s.roundEnd(ctx, task, outputs, metrics)
+		if err != nil {
+			return err
+		}
+		if c, err = s.cfg.Store.CompleteRound(ctx, ref, end); err != nil {
+			return err
+		}
+		if c.Job != nil {
+			r := end.Report
+			s.log.Info("round finished", "job", task.GetJobId(), "round", r.GetRound(), "elapsed_s", r.GetElapsedSeconds(),
+				"error_estimate", r.ErrorEstimate, "reference_rmse", r.ReferenceRmse, "stop", why)
+		}
+	} else if c, err = s.cfg.Store.CompleteTask(ctx, ref, outputs); err != nil {
 		return err
 	}
 	if c.Task != nil {

@@ -147,7 +147,7 @@ func (ws *workerServer) CompleteTask(ctx context.Context, req *pb.CompleteTaskRe
 	if err != nil {
 		return nil, err
 	}
-	if err := ws.s.Complete(ctx, ref, req.GetOutputs()); err != nil {
+	if err := ws.s.CompleteWithMetrics(ctx, ref, req.GetOutputs(), req.GetMetrics()); err != nil {
 		return nil, err
 	}
 	return &pb.CompleteTaskResponse{}, nil

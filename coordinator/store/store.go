@@ -9,6 +9,11 @@
 //   - ExtendLeases and ExpireLeases move lease deadlines and requeue expired tasks;
 //   - CompleteTask records outputs and, on the last task of a phase, queues the next
 //     phase, or on the last task of the job marks it SUCCEEDED with the final outputs;
+//   - CompleteRound completes a round's composite, records the round's report and either
+//     appends and queues the next round's tasks or marks the job SUCCEEDED: the decision
+//     and the completion are one step, so a crash leaves either the composite leased
+//     (it is redone after its lease expires, and decided again) or the round fully
+//     recorded, never a completed round without a successor or an end;
 //   - FailTask requeues the task or, after Options.MaxAttempts failures, fails the job;
 //   - ReleaseTask and ReleaseWorker requeue without counting a failure;
 //   - CancelJob drops queued tasks and revokes held leases.
@@ -53,6 +58,14 @@ type Store interface {
 	// CompleteTask records a task's success. Repeating an accepted report (same worker,
 	// same epoch) succeeds and changes nothing (an empty Change).
 	CompleteTask(ctx context.Context, ref LeaseRef, outputs []*pb.Artifact) (Change, error)
+	// CompleteRound is CompleteTask for the composite task of a progressive round, which
+	// must be the round's last task: it records the outputs, appends end.Report to the
+	// job's rounds, and then either appends end.Next (renumbered after the job's last task,
+	// its first phase queued) or, if end.Next is empty, marks the job SUCCEEDED with
+	// end.Final as its outputs. Repeating an accepted report succeeds and changes nothing.
+	CompleteRound(ctx context.Context, ref LeaseRef, end RoundEnd) (Change, error)
+	// GetTask returns a task; errs.NotFound if it does not exist.
+	GetTask(ctx context.Context, taskID string) (*pb.Task, error)
 	// FailTask records a failure: the task is queued again, or after MaxAttempts failures
 	// it fails and so does its job, with message as the job's error.
 	FailTask(ctx context.Context, ref LeaseRef, message string) (Change, error)
@@ -72,16 +85,37 @@ type NewJob struct {
 	DisplayName   string
 	SceneDigest   string
 	Width, Height uint32
-	// Tasks in plan order, as the planner makes them: Index, Phase and spec set. Phases
-	// run in ascending Phase order.
+	// Plan is what the planner decided: the passes the job runs and skips.
+	Plan *pb.Plan
+	// Tasks in plan order, as the planner makes them: Index, Phase, Round and spec set.
+	// Stages (round, then phase) run in ascending order; Round 0 counts as 1.
 	Tasks []*pb.Task
 }
 
-// The phases each kind of lessee takes: workers never lease BUILD, which the
+// RoundEnd is what CompleteRound records when a round's composite succeeds.
+type RoundEnd struct {
+	// Outputs of the composite task.
+	Outputs []*pb.Artifact
+	// Report is appended to Job.rounds.
+	Report *pb.RoundReport
+	// Next is the next round's tasks in plan order (Index from 0: the store renumbers
+	// them after the job's last task). Empty: the job ends here.
+	Next []*pb.Task
+	// Final is the job's outputs when it ends here.
+	Final []*pb.Artifact
+}
+
+// Stage orders a job's tasks: by round (0 counts as 1), then by phase. A stage's tasks are
+// queued once every task of the stage before has succeeded.
+func Stage(t *pb.Task) uint64 {
+	return uint64(max(t.GetRound(), 1))<<8 | uint64(t.GetPhase())
+}
+
+// The phases each kind of lessee takes: workers never lease BUILD or MERGE, which the
 // coordinator's builder does itself.
 var (
-	WorkerPhases  = []pb.Phase{pb.Phase_PHASE_EMIT, pb.Phase_PHASE_RENDER, pb.Phase_PHASE_COMPOSITE}
-	BuilderPhases = []pb.Phase{pb.Phase_PHASE_BUILD}
+	WorkerPhases  = []pb.Phase{pb.Phase_PHASE_EMIT, pb.Phase_PHASE_PRECOMPUTE, pb.Phase_PHASE_RENDER, pb.Phase_PHASE_COMPOSITE}
+	BuilderPhases = []pb.Phase{pb.Phase_PHASE_BUILD, pb.Phase_PHASE_MERGE}
 )
 
 // LeaseRef names the lease a report is made under.

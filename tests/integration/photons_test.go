@@ -41,12 +41,18 @@ func checkCausticsOutputs(t *testing.T, f *farm, job *pb.Job) []byte {
 }
 
 // checkPhotonPlan checks that the job went through emit (8 shards of perShard paths,
-// global map first), build (by the coordinator) and render, and every task succeeded.
+// global map first), build (by the coordinator), irradiance precompute (one task per
+// global shard), merge (by the coordinator) and render, and every task succeeded.
 func checkPhotonPlan(t *testing.T, tasks []*pb.Task, perShard uint64) {
 	t.Helper()
 	emit, build := tasksOf(tasks, pb.Phase_PHASE_EMIT), tasksOf(tasks, pb.Phase_PHASE_BUILD)
-	if len(emit) != 8 || len(build) != 1 || len(tasksOf(tasks, pb.Phase_PHASE_RENDER)) != 16 {
-		t.Fatalf("%d emit, %d build, %d render tasks; want 8, 1 and 16", len(emit), len(build), len(tasksOf(tasks, pb.Phase_PHASE_RENDER)))
+	pre, merge := tasksOf(tasks, pb.Phase_PHASE_PRECOMPUTE), tasksOf(tasks, pb.Phase_PHASE_MERGE)
+	if len(emit) != 8 || len(build) != 1 || len(pre) != 4 || len(merge) != 1 || len(tasksOf(tasks, pb.Phase_PHASE_RENDER)) != 16 {
+		t.Fatalf("%d emit, %d build, %d precompute, %d merge, %d render tasks; want 8, 1, 4, 1 and 16",
+			len(emit), len(build), len(pre), len(merge), len(tasksOf(tasks, pb.Phase_PHASE_RENDER)))
+	}
+	if m := merge[0]; m.GetWorkerId() != "coordinator-builder" || len(m.GetOutputs()) != 1 || m.GetOutputs()[0].GetName() != "photons.snapshot" {
+		t.Errorf("merge task = %v, want it done by the coordinator with a photons.snapshot", m)
 	}
 	for i, e := range emit {
 		wantMap := pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL

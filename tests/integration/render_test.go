@@ -13,8 +13,8 @@ import (
 // a tile of the lease scene takes a few hundred, so that a kill lands while a lease is
 // held.
 var (
-	stitchScene = sceneSize{width: 192, height: 128, tile: 16, spp: 256} // 96 tiles, ~20 ms each
-	leaseScene  = sceneSize{width: 96, height: 64, tile: 32, spp: 1536}  // 6 tiles, ~350 ms each
+	stitchScene = sceneSize{width: 192, height: 128, tile: 16, spp: 4} // 96 tiles, tens of ms each (64 gather rays a sample)
+	leaseScene  = sceneSize{width: 96, height: 64, tile: 32, spp: 24}  // 6 tiles, a few hundred ms each
 )
 
 type sceneSize struct{ width, height, tile, spp uint32 }

@@ -5,6 +5,7 @@ import (
 	"fmt"
 	"slices"
 
+	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
 	"photonfarm/coordinator/errs"
@@ -121,27 +122,25 @@ func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
 func (s *Store) CompleteTask(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) (store.Change, error) {
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	if t := s.tasks[ref.TaskID]; t != nil && t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED &&
-		t.epoch == ref.Epoch && t.pb.WorkerId == ref.WorkerID {
+	if s.repeated(ref) {
 		return store.Change{}, nil // a repeated report that was accepted
 	}
 	t, err := s.held(ref)
 	if err != nil {
 		return store.Change{}, err
 	}
-	now := timestamppb.New(s.now())
+	s.succeed(t, outputs)
 	j := t.job
-	t.pb.State = pb.TaskState_TASK_STATE_SUCCEEDED
-	t.pb.Outputs = cloneArtifacts(outputs)
-	j.pb.UpdateTime = now
 
-	// Open the next phase once every task of this one has succeeded.
+	// Open the next stage once every task of this one has succeeded.
+	stage := store.Stage(t.pb)
 	var next []*task
 	for _, o := range j.tasks {
-		if o.pb.Phase == t.pb.Phase && o.pb.State != pb.TaskState_TASK_STATE_SUCCEEDED {
+		os := store.Stage(o.pb)
+		if os == stage && o.pb.State != pb.TaskState_TASK_STATE_SUCCEEDED {
 			return s.change(t, false, false), nil
 		}
-		if o.pb.Phase > t.pb.Phase && (len(next) == 0 || next[0].pb.Phase == o.pb.Phase) {
+		if os > stage && (len(next) == 0 || store.Stage(next[0].pb) == os) {
 			next = append(next, o)
 		}
 	}
@@ -151,16 +150,69 @@ func (s *Store) CompleteTask(ctx context.Context, ref store.LeaseRef, outputs []
 		}
 		return s.change(t, false, true), nil
 	}
-	// That was the last phase: the job succeeded with its outputs.
-	j.pb.State = pb.JobState_JOB_STATE_SUCCEEDED
-	j.pb.EndTime = now
-	j.pb.Outputs = nil
+	// That was the last stage: the job succeeded with its outputs.
+	var final []*pb.Artifact
 	for _, o := range j.tasks {
-		if o.pb.Phase == t.pb.Phase {
-			j.pb.Outputs = append(j.pb.Outputs, cloneArtifacts(o.pb.Outputs)...)
+		if store.Stage(o.pb) == stage {
+			final = append(final, o.pb.Outputs...)
 		}
 	}
+	s.succeedJob(j, final)
 	return s.change(t, true, false), nil
+}
+
+// CompleteRound implements store.Store.
+func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store.RoundEnd) (store.Change, error) {
+	if end.Report == nil {
+		return store.Change{}, errs.E(errs.Internal, "CompleteRound needs the round's report")
+	}
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	if s.repeated(ref) {
+		return store.Change{}, nil
+	}
+	t, err := s.held(ref)
+	if err != nil {
+		return store.Change{}, err
+	}
+	j := t.job
+	stage := store.Stage(t.pb)
+	for _, o := range j.tasks {
+		if o != t && store.Stage(o.pb) >= stage {
+			return store.Change{}, errs.E(errs.Internal, "task %s is not the last task of its round", t.pb.Id)
+		}
+	}
+	for i, n := range end.Next {
+		if n.GetIndex() != uint32(i) || (i > 0 && store.Stage(n) < store.Stage(end.Next[i-1])) || store.Stage(n) <= stage {
+			return store.Change{}, errs.E(errs.Internal, "next round's task %d is out of order", i)
+		}
+	}
+	s.succeed(t, end.Outputs)
+	j.pb.Rounds = append(j.pb.Rounds, proto.Clone(end.Report).(*pb.RoundReport))
+	if len(end.Next) > 0 {
+		s.appendTasks(j, end.Next)
+		return s.change(t, false, true), nil
+	}
+	s.succeedJob(j, end.Final)
+	return s.change(t, true, false), nil
+}
+
+// repeated reports whether ref names a task that already succeeded under that lease.
+func (s *Store) repeated(ref store.LeaseRef) bool {
+	t := s.tasks[ref.TaskID]
+	return t != nil && t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED && t.epoch == ref.Epoch && t.pb.WorkerId == ref.WorkerID
+}
+
+func (s *Store) succeed(t *task, outputs []*pb.Artifact) {
+	t.pb.State = pb.TaskState_TASK_STATE_SUCCEEDED
+	t.pb.Outputs = cloneArtifacts(outputs)
+	t.job.pb.UpdateTime = timestamppb.New(s.now())
+}
+
+func (s *Store) succeedJob(j *job, outputs []*pb.Artifact) {
+	j.pb.State = pb.JobState_JOB_STATE_SUCCEEDED
+	j.pb.EndTime = timestamppb.New(s.now())
+	j.pb.Outputs = cloneArtifacts(outputs)
 }
 
 func cloneArtifacts(as []*pb.Artifact) []*pb.Artifact {

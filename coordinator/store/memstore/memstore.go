@@ -74,7 +74,7 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 		if t.GetIndex() != uint32(i) {
 			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
 		}
-		if i > 0 && t.GetPhase() < nj.Tasks[i-1].GetPhase() {
+		if i > 0 && store.Stage(t) < store.Stage(nj.Tasks[i-1]) {
 			return nil, errs.E(errs.Internal, "task %d: phases out of order", i)
 		}
 	}
@@ -96,28 +96,43 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 		Width:       nj.Width,
 		Height:      nj.Height,
 	}}
-	first := nj.Tasks[0].GetPhase()
-	for _, t := range nj.Tasks {
+	if nj.Plan != nil {
+		j.pb.Plan = proto.Clone(nj.Plan).(*pb.Plan)
+	}
+	s.appendTasks(j, nj.Tasks)
+	s.jobs[id] = j
+	s.ordered = append(s.ordered, j)
+	return j.snapshot(), nil
+}
+
+// appendTasks adds tasks (in plan order) after j's last task, numbered on from it, with
+// their first stage queued and the rest waiting.
+func (s *Store) appendTasks(j *job, tasks []*pb.Task) {
+	base := uint32(len(j.tasks))
+	first := store.Stage(tasks[0])
+	for i, t := range tasks {
 		pt := proto.Clone(t).(*pb.Task)
-		pt.Id = store.TaskID(id, t.GetIndex())
-		pt.JobId = id
+		pt.Index = base + uint32(i)
+		pt.Id = store.TaskID(j.pb.Id, pt.Index)
+		pt.JobId = j.pb.Id
 		pt.State = pb.TaskState_TASK_STATE_WAITING
-		if pt.Phase == first {
+		if store.Stage(pt) == first {
 			pt.State = pb.TaskState_TASK_STATE_QUEUED
 		}
 		tk := &task{job: j, pb: pt}
 		j.tasks = append(j.tasks, tk)
 		s.tasks[pt.Id] = tk
 	}
-	s.jobs[id] = j
-	s.ordered = append(s.ordered, j)
-	return j.snapshot(), nil
 }
 
-// snapshot returns a copy of the job with its phase progress.
+// snapshot returns a copy of the job with the phase progress of its latest round.
 func (j *job) snapshot() *pb.Job {
 	out := proto.Clone(j.pb).(*pb.Job)
+	round := j.tasks[len(j.tasks)-1].pb.GetRound()
 	for _, t := range j.tasks {
+		if t.pb.GetRound() != round {
+			continue
+		}
 		n := len(out.Phases)
 		if n == 0 || out.Phases[n-1].Phase != t.pb.Phase {
 			out.Phases = append(out.Phases, &pb.PhaseProgress{Phase: t.pb.Phase})
@@ -135,6 +150,17 @@ func (t *task) snapshot() *pb.Task { return proto.Clone(t.pb).(*pb.Task) }
 
 func (s *Store) change(t *task, stateChanged, queued bool) store.Change {
 	return store.Change{Job: t.job.snapshot(), Task: t.snapshot(), JobStateChanged: stateChanged, Queued: queued}
+}
+
+// GetTask implements store.Store.
+func (s *Store) GetTask(ctx context.Context, taskID string) (*pb.Task, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	t := s.tasks[taskID]
+	if t == nil {
+		return nil, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", taskID)}
+	}
+	return t.snapshot(), nil
 }
 
 // GetJob implements store.Store.

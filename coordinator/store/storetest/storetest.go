@@ -77,6 +77,9 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"PhasesOpenInOrderEmitBuildRenderComposite", testPhotonPhasesOpenInOrder},
 		{"JobWithoutPhotonsStartsAtRender", testJobWithoutPhotons},
 		{"ExpiredBuildLeaseIsRequeuedForTheBuilder", testBuildLeaseExpiry},
+		{"CompleteRoundAppendsTheNextRoundThenEndsTheJob", testCompleteRoundAppendsNextRound},
+		{"CompleteRoundRefusesTilesAndStaleLeases", testCompleteRoundRefusals},
+		{"CancelledJobGetsNoNewRound", testCancelledRoundIsNotExtended},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) { tt.fn(setup(t, newStore)) })

@@ -1,0 +1,62 @@
+package main
+
+import (
+	"context"
+	"fmt"
+	"io"
+	"strings"
+	"text/tabwriter"
+
+	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+var planVerb = &verb{
+	name:    "plan",
+	args:    "SCENE [--coordinator ADDR]",
+	summary: "print the passes a scene would run and skip, and why, without rendering",
+	run:     runPlan,
+}
+
+func runPlan(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("plan", e)
+	c, pos, err := connect(fs, e, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	// The files a scene names are hashed, not uploaded: planning does not need them.
+	sf, err := client.ReadSceneFile(pos[0])
+	if err != nil {
+		return err
+	}
+	resp, err := c.PlanScene(ctx, sf.Scene)
+	if err != nil {
+		return err
+	}
+	fmt.Fprintf(e.stdout, "plan of %s\n", pos[0])
+	printPlan(e.stdout, resp.GetPlan(), resp.GetPhases())
+	return nil
+}
+
+// printPlan writes one line per pass (run or skip, and why), then the tasks per phase of
+// the first round.
+func printPlan(w io.Writer, plan *pb.Plan, phases []*pb.PhaseProgress) {
+	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', 0)
+	for _, p := range plan.GetPasses() {
+		verdict := "skip"
+		if p.GetEnabled() {
+			verdict = "run"
+		}
+		fmt.Fprintf(tw, "  %s\t%s\t%s\n", verdict, p.GetName(), p.GetReason())
+	}
+	tw.Flush()
+	if len(phases) == 0 {
+		return
+	}
+	var parts []string
+	for _, ph := range phases {
+		parts = append(parts, fmt.Sprintf("%s %d", client.PhaseName(ph.GetPhase()), ph.GetTasksTotal()))
+	}
+	fmt.Fprintf(w, "tasks per phase (round 1): %s\n", strings.Join(parts, ", "))
+}

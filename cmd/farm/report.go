@@ -1,0 +1,102 @@
+package main
+
+import (
+	"cmp"
+	"context"
+	"fmt"
+	"io"
+	"os"
+	"path/filepath"
+	"strconv"
+	"text/tabwriter"
+
+	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+var reportVerb = &verb{
+	name:    "report",
+	args:    "JOB [-o PLOT.svg] [--coordinator ADDR]",
+	summary: "print a job's error against run time, round by round; -o writes an SVG plot",
+	run:     runReport,
+}
+
+func runReport(ctx context.Context, e *env, args []string) error {
+	fs := newFlags("report", e)
+	out := fs.String("o", "", "also write the error-against-time plot (SVG) to this file")
+	c, pos, err := connect(fs, e, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	defer c.Close()
+	job, err := c.GetJob(ctx, pos[0])
+	if err != nil {
+		return err
+	}
+	printReport(e.stdout, job)
+	if *out == "" {
+		return nil
+	}
+	if err := writePlotFile(*out, job); err != nil {
+		return err
+	}
+	fmt.Fprintf(e.stdout, "plot written to %s\n", *out)
+	return nil
+}
+
+// printReport writes the job's rounds as a table.
+func printReport(w io.Writer, job *pb.Job) {
+	name := job.GetDisplayName()
+	if name == "" {
+		name = job.GetId()
+	}
+	fmt.Fprintf(w, "job %s (%s): %s, %d rounds\n", job.GetId(), name, client.StateName(job.GetState()), len(job.GetRounds()))
+	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', tabwriter.AlignRight)
+	fmt.Fprintln(tw, "round\tseconds\tphotons\tsamples/px\terror estimate\treference RMSE\t")
+	for _, r := range job.GetRounds() {
+		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t\n", r.GetRound(), r.GetElapsedSeconds(), grouped(r.GetPhotons()),
+			r.GetSamplesPerPixel(), optional(r.ErrorEstimate), optional(r.ReferenceRmse))
+	}
+	tw.Flush()
+}
+
+func optional(v *float64) string {
+	if v == nil {
+		return "-"
+	}
+	return strconv.FormatFloat(*v, 'g', 4, 64)
+}
+
+// grouped writes n with thousands separators: 1,200,000.
+func grouped(n uint64) string {
+	s := strconv.FormatUint(n, 10)
+	out := make([]byte, 0, len(s)+len(s)/3)
+	for i := range len(s) {
+		if i > 0 && (len(s)-i)%3 == 0 {
+			out = append(out, ',')
+		}
+		out = append(out, s[i])
+	}
+	return string(out)
+}
+
+// writePlotFile writes the plot through a temporary file renamed into place.
+func writePlotFile(path string, job *pb.Job) error {
+	tmp, err := os.CreateTemp(filepath.Dir(path), ".farm-report-*.svg")
+	if err != nil {
+		return err
+	}
+	defer os.Remove(tmp.Name())
+	title := fmt.Sprintf("%s: error against time", cmp.Or(job.GetDisplayName(), job.GetId()))
+	if err := writePlot(tmp, title, job.GetRounds()); err != nil {
+		tmp.Close()
+		return err
+	}
+	if err := tmp.Close(); err != nil {
+		return err
+	}
+	if err := os.Chmod(tmp.Name(), 0o644); err != nil {
+		return err
+	}
+	return os.Rename(tmp.Name(), path)
+}

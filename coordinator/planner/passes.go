@@ -1,0 +1,166 @@
+package planner
+
+import (
+	"fmt"
+	"strconv"
+	"strings"
+
+	"photonfarm/coordinator/scene"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Names of the passes a Plan lists, in order.
+const (
+	PassGlobalMap   = "global photon map"
+	PassCausticMap  = "caustic photon map"
+	PassPrecompute  = "irradiance precompute"
+	PassFinalGather = "final gathering"
+	PassDirect      = "direct lighting"
+	PassEdgeAA      = "edge antialiasing"
+	PassRounds      = "progressive rounds"
+)
+
+// Passes returns every pass the renderer knows for s, each run or skipped with the reason.
+// s must have passed scene.Validate.
+func Passes(s *pb.Scene) *pb.Plan {
+	var global, caustic *MapPlan
+	for _, m := range Maps(s) {
+		switch m.Kind {
+		case pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL:
+			global = &m
+		case pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC:
+			caustic = &m
+		}
+	}
+	per := scene.PhotonsPerShard(s)
+	shards := func(n uint64) uint64 { return (n + per - 1) / per }
+	plan := &pb.Plan{}
+	add := func(name string, enabled bool, format string, args ...any) {
+		plan.Passes = append(plan.Passes, &pb.PlannedPass{Name: name, Enabled: enabled, Reason: fmt.Sprintf(format, args...)})
+	}
+
+	inter := scene.InterreflectionOf(s)
+	switch {
+	case global != nil:
+		add(PassGlobalMap, true, "%s photon paths per round in %d shards: %s", count(global.Photons), shards(global.Photons), inter.Why)
+	case scene.GlobalPhotons(s) == 0:
+		add(PassGlobalMap, false, "no global photons requested")
+	default:
+		add(PassGlobalMap, false, "%s", inter.Why)
+	}
+	if caustic != nil {
+		add(PassCausticMap, true, "%s photon paths per round in %d shards: specular surfaces focus light onto diffuse ones",
+			count(caustic.Photons), shards(caustic.Photons))
+	} else if scene.SurfacesOf(s).Specular {
+		add(PassCausticMap, false, "no caustic photons requested")
+	} else {
+		add(PassCausticMap, false, "no specular surface (mirror, glass, metal)")
+	}
+
+	switch {
+	case global == nil:
+		add(PassPrecompute, false, "no global photon map")
+		add(PassFinalGather, false, "no global photon map")
+	case !scene.FinalGather(s):
+		add(PassPrecompute, false, "indirect.mode is PHOTON_MAP")
+		add(PassFinalGather, false, "indirect.mode is PHOTON_MAP: the global map's radiance estimate is seen directly")
+	default:
+		add(PassPrecompute, true, "irradiance at the global map's photons in %d shards per round, merged into the snapshot", PrecomputeShards(s))
+		add(PassFinalGather, true, "%d gather rays at a camera path's first diffuse hit, %d after a glossy bounce",
+			gatherRays(s), secondaryGatherRays(s))
+	}
+
+	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightCount(s), lightSamples(s))
+
+	switch scene.AntialiasingMode(s) {
+	case pb.AntialiasingMode_ANTIALIASING_MODE_NONE:
+		add(PassEdgeAA, false, "antialiasing.mode is NONE: every pixel gets %d samples", scene.SamplesPerPixel(s))
+	case pb.AntialiasingMode_ANTIALIASING_MODE_FULL:
+		add(PassEdgeAA, true, "FULL: every pixel gets %d samples (the costly baseline edge antialiasing is measured against)", scene.EdgeSamples(s))
+	default:
+		add(PassEdgeAA, true, "%d samples on edge pixels (Sobel gradient of log-luminance above %s), %d elsewhere",
+			scene.EdgeSamples(s), strconv.FormatFloat(edgeThreshold(s), 'g', -1, 64), scene.SamplesPerPixel(s))
+	}
+
+	add(PassRounds, scene.Rounds(s) > 1, "%s", roundsReason(s))
+	return plan
+}
+
+func roundsReason(s *pb.Scene) string {
+	p := s.GetProgressive()
+	n := scene.Rounds(s)
+	if n == 1 {
+		return "a single round (progressive.max_rounds is 1)"
+	}
+	parts := []string{fmt.Sprintf("up to %d rounds", n)}
+	switch {
+	case p.GetTargetError() > 0 && p.GetReference().GetDigest() != "":
+		parts = append(parts, fmt.Sprintf("stop at reference RMSE <= %s", strconv.FormatFloat(p.GetTargetError(), 'g', -1, 64)))
+	case p.GetTargetError() > 0:
+		parts = append(parts, fmt.Sprintf("stop at estimated error <= %s", strconv.FormatFloat(p.GetTargetError(), 'g', -1, 64)))
+	}
+	if b := p.GetTimeBudgetSeconds(); b > 0 {
+		parts = append(parts, fmt.Sprintf("no new round after %ss", strconv.FormatFloat(b, 'g', -1, 64)))
+	}
+	parts = append(parts, fmt.Sprintf("alpha %s", strconv.FormatFloat(scene.Alpha(s), 'g', -1, 64)))
+	return strings.Join(parts, ", ")
+}
+
+func count(n uint64) string {
+	s := strconv.FormatUint(n, 10)
+	var b strings.Builder
+	for i, c := range s {
+		if i > 0 && (len(s)-i)%3 == 0 {
+			b.WriteByte(',')
+		}
+		b.WriteRune(c)
+	}
+	return b.String()
+}
+
+func lightCount(s *pb.Scene) string {
+	n := len(s.GetLights())
+	emissive := map[string]bool{}
+	for _, m := range s.GetMaterials() {
+		if m.GetEmissive() != nil {
+			emissive[m.GetName()] = true
+		}
+	}
+	for _, sh := range s.GetShapes() {
+		if emissive[sh.GetMaterial()] {
+			n++
+		}
+	}
+	if n == 1 {
+		return "1 light"
+	}
+	return strconv.Itoa(n) + " lights"
+}
+
+func gatherRays(s *pb.Scene) uint32 {
+	if n := s.GetIndirect().GetGatherRays(); n != 0 {
+		return n
+	}
+	return scene.DefaultGatherRays
+}
+
+func secondaryGatherRays(s *pb.Scene) uint32 {
+	if n := s.GetIndirect().GetSecondaryGatherRays(); n != 0 {
+		return n
+	}
+	return scene.DefaultSecondaryGatherRays
+}
+
+func lightSamples(s *pb.Scene) uint32 {
+	if n := s.GetSampling().GetLightSamples(); n != 0 {
+		return n
+	}
+	return scene.DefaultLightSamples
+}
+
+func edgeThreshold(s *pb.Scene) float64 {
+	if v := s.GetAntialiasing().GetEdgeThreshold(); v != 0 {
+		return v
+	}
+	return scene.DefaultEdgeThreshold
+}

@@ -1,0 +1,123 @@
+package planner_test
+
+import (
+	"math"
+	"strings"
+	"testing"
+
+	"photonfarm/coordinator/planner"
+	"photonfarm/coordinator/scene"
+	"photonfarm/coordinator/scene/scenetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// passOf returns the pass called name.
+func passOf(t *testing.T, p *pb.Plan, name string) *pb.PlannedPass {
+	t.Helper()
+	for _, ps := range p.GetPasses() {
+		if ps.GetName() == name {
+			return ps
+		}
+	}
+	t.Fatalf("plan has no pass %q: %v", name, p)
+	return nil
+}
+
+func TestPassesSayWhatRunsAndWhy(t *testing.T) {
+	flatFloor := func(s *pb.Scene) { s.Shapes = s.Shapes[1:] } // floor and lamp only
+	tests := []struct {
+		name   string
+		mutate func(*pb.Scene)
+		pass   string
+		run    bool
+		reason string
+	}{
+		{"diffuse sphere on a floor", func(*pb.Scene) {}, planner.PassGlobalMap, true, "can light each other"},
+		{"one plane of diffuse surfaces", flatFloor, planner.PassGlobalMap, false, "one plane"},
+		{"one plane: no gathering", flatFloor, planner.PassFinalGather, false, "no global photon map"},
+		{"one sphere lit from outside", func(s *pb.Scene) { s.Shapes = append(s.Shapes[:1], s.Shapes[2]) }, planner.PassGlobalMap, false, "one sphere lit from outside"},
+		{"one sphere with the light inside (a furnace)", func(s *pb.Scene) {
+			s.Shapes = s.Shapes[:1]
+			s.Lights = []*pb.Light{{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 1, 0), Intensity: &pb.Color{R: 1, G: 1, B: 1}}}}}
+		}, planner.PassGlobalMap, true, "can light each other"},
+		{"one plane with a mirror", func(s *pb.Scene) {
+			flatFloor(s)
+			s.Materials = append(s.Materials, material("mirror", "mirror"))
+			s.Shapes = append(s.Shapes, &pb.Shape{Material: "mirror", Geometry: &pb.Shape_Sphere{Sphere: &pb.Sphere{Center: scenetest.V(0, 1, 0), Radius: 1}}})
+		}, planner.PassGlobalMap, true, "specular"},
+		{"no specular surface", func(*pb.Scene) {}, planner.PassCausticMap, false, "no specular surface (mirror, glass, metal)"},
+		{"glass ball", shapes("glass", "white"), planner.PassCausticMap, true, "specular surfaces focus light"},
+		{"final gathering by default", func(*pb.Scene) {}, planner.PassFinalGather, true, "64 gather rays"},
+		{"precompute by default", func(*pb.Scene) {}, planner.PassPrecompute, true, "2 shards per round"},
+		{"photon map mode", func(s *pb.Scene) { s.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP} }, planner.PassFinalGather, false, "PHOTON_MAP"},
+		{"direct light", func(*pb.Scene) {}, planner.PassDirect, true, "1 light"},
+		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
+		{"no antialiasing", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_NONE} }, planner.PassEdgeAA, false, "NONE"},
+		{"full supersampling", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_FULL} }, planner.PassEdgeAA, true, "FULL"},
+		{"one round", func(*pb.Scene) {}, planner.PassRounds, false, "a single round"},
+		{"rounds with a target and a budget", func(s *pb.Scene) {
+			s.Progressive = &pb.Progressive{MaxRounds: 8, TargetError: 0.01, TimeBudgetSeconds: 60}
+		}, planner.PassRounds, true, "up to 8 rounds, stop at estimated error <= 0.01, no new round after 60s"},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			s := scenetest.Valid(64, 64)
+			s.Photons = &pb.PhotonMapping{GlobalPhotons: 200000}
+			tt.mutate(s)
+			if err := scene.Validate(s); err != nil {
+				t.Fatal(err)
+			}
+			p := passOf(t, planner.Passes(scene.Defaults(s)), tt.pass)
+			if p.GetEnabled() != tt.run || !strings.Contains(p.GetReason(), tt.reason) {
+				t.Errorf("%s: run %v, %q; want run %v with %q", tt.pass, p.GetEnabled(), p.GetReason(), tt.run, tt.reason)
+			}
+		})
+	}
+}
+
+func TestRoundsDrawFreshPhotonsAndSamplesWithShrinkingRadii(t *testing.T) {
+	s := scenetest.Valid(32, 32)
+	s.Sampling.SamplesPerPixel = 4
+	s.Photons = &pb.PhotonMapping{GlobalPhotons: 2500, PhotonsPerShard: 1000}
+	s.Progressive = &pb.Progressive{MaxRounds: 3, Alpha: 0.5}
+	s = scene.Defaults(s)
+	for r := uint32(1); r <= 3; r++ {
+		tasks := planner.Round(s, r)
+		var firsts []uint64
+		for i, task := range tasks {
+			if task.Round != r || task.Index != uint32(i) {
+				t.Fatalf("round %d task %d: round %d index %d", r, i, task.Round, task.Index)
+			}
+			if e := task.GetEmitPhotons(); e != nil {
+				firsts = append(firsts, e.FirstPhoton)
+				if e.TotalPhotons != 2500 {
+					t.Errorf("round %d: total_photons %d, want 2500 (each round's map stands alone)", r, e.TotalPhotons)
+				}
+			}
+			if rt := task.GetRenderTile(); rt != nil {
+				if rt.FirstSample != 4*(r-1) {
+					t.Errorf("round %d: first_sample %d, want %d", r, rt.FirstSample, 4*(r-1))
+				}
+				if want := planner.RadiusScale(0.5, r); rt.RadiusScale != want {
+					t.Errorf("round %d: radius_scale %v, want %v", r, rt.RadiusScale, want)
+				}
+			}
+		}
+		base := uint64(2500 * (r - 1))
+		if len(firsts) != 3 || firsts[0] != base || firsts[1] != base+1000 || firsts[2] != base+2000 {
+			t.Errorf("round %d: emission shards start at %v, want %d, %d, %d", r, firsts, base, base+1000, base+2000)
+		}
+		if got := planner.PhaseCounts(tasks); len(got) != 6 || got[2].Phase != pb.Phase_PHASE_PRECOMPUTE || got[2].TasksTotal != 3 {
+			t.Errorf("round %d phases = %v, want emit, build, 3 precompute, merge, render, composite", r, got)
+		}
+	}
+	for _, tt := range []struct {
+		alpha float64
+		r     uint32
+		want  float64
+	}{{0.7, 1, 1}, {0.7, 2, math.Sqrt(1.7 / 2)}, {0.7, 3, math.Sqrt(1.7 / 2 * 2.7 / 3)}, {1, 50, 1}} {
+		if got := planner.RadiusScale(tt.alpha, tt.r); math.Abs(got-tt.want) > 1e-15 {
+			t.Errorf("RadiusScale(%v, %d) = %v, want %v", tt.alpha, tt.r, got, tt.want)
+		}
+	}
+}

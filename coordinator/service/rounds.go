@@ -1,0 +1,258 @@
+package service
+
+import (
+	"context"
+	"encoding/binary"
+	"fmt"
+	"io"
+	"math"
+	"sync"
+
+	"google.golang.org/protobuf/proto"
+
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/planner"
+	"photonfarm/coordinator/scene"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Progressive rounds: what the precompute, merge and composite tasks are given when
+// leased, and what happens when a round's composite completes.
+
+// fillComposite gives a composite its round's tiles, the previous round's accumulation and
+// the scene's reference image.
+func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.CompositeSpec) error {
+	task := l.Task
+	round := max(task.GetRound(), 1)
+	tiles, err := s.tiles(ctx, task.GetJobId(), round)
+	if err != nil {
+		return err
+	}
+	spec.Tiles = tiles
+	if round > 1 {
+		err := s.roundTasks(ctx, task.GetJobId(), round-1, func(t *pb.Task) error {
+			if t.GetComposite() == nil {
+				return nil
+			}
+			a, err := output(t, AccumulationArtifact)
+			spec.PreviousAccumulation = a
+			return err
+		})
+		if err != nil {
+			return err
+		}
+	}
+	sc, err := s.scene(ctx, l.SceneDigest)
+	if err != nil {
+		return err
+	}
+	if d := scene.ReferenceDigest(sc); d != "" {
+		info, err := s.cfg.Blobs.Stat(ctx, d)
+		if err != nil {
+			return errs.Wrap(errs.Internal, err, fmt.Sprintf("reference image %s", d))
+		}
+		spec.Reference = &pb.Artifact{Name: "reference.exr", Digest: d, SizeBytes: info.Size}
+	}
+	return nil
+}
+
+// fillPrecompute gives precompute task i of the round's K its share of the global map's n
+// stored photons, [n·i/K, n·(i+1)/K), and the round's built snapshot. n is read from the
+// snapshot's header (docs/photon-snapshot.md).
+func (s *Service) fillPrecompute(ctx context.Context, task *pb.Task, spec *pb.PrecomputeIrradianceSpec) error {
+	round := max(task.GetRound(), 1)
+	i, k := -1, 0
+	err := s.roundTasks(ctx, task.GetJobId(), round, func(t *pb.Task) error {
+		if t.GetPrecomputeIrradiance() != nil {
+			if t.GetIndex() == task.GetIndex() {
+				i = k
+			}
+			k++
+		}
+		return nil
+	})
+	if err != nil {
+		return err
+	}
+	if i < 0 {
+		return errs.E(errs.Internal, "task %s is not among its round's precompute tasks", task.GetId())
+	}
+	snap, err := s.builtSnapshot(ctx, task.GetJobId(), round)
+	if err != nil {
+		return err
+	}
+	n, err := s.globalPhotons(ctx, snap)
+	if err != nil {
+		return err
+	}
+	first := n * uint64(i) / uint64(k)
+	spec.FirstPhoton = first
+	spec.PhotonCount = n*uint64(i+1)/uint64(k) - first
+	spec.PhotonSnapshot = snap
+	return nil
+}
+
+// fillMerge gives the merge the round's built snapshot and irradiance shards in plan order.
+func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIrradianceSpec) error {
+	round := max(task.GetRound(), 1)
+	snap, err := s.builtSnapshot(ctx, task.GetJobId(), round)
+	if err != nil {
+		return err
+	}
+	spec.PhotonSnapshot = snap
+	spec.IrradianceShards = nil
+	return s.roundTasks(ctx, task.GetJobId(), round, func(t *pb.Task) error {
+		if t.GetPrecomputeIrradiance() == nil {
+			return nil
+		}
+		a, err := output(t, IrradianceArtifact)
+		if err == nil {
+			spec.IrradianceShards = append(spec.IrradianceShards, a)
+		}
+		return err
+	})
+}
+
+// globalPhotons reads the stored photon count of a snapshot's global map from its header
+// and directory (0 if it has none).
+func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64, error) {
+	r, _, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
+	if err != nil {
+		return 0, err
+	}
+	defer r.Close()
+	const header, entry = 64, 64
+	buf := make([]byte, header+2*entry)
+	n, err := io.ReadFull(r, buf)
+	if err != nil && err != io.ErrUnexpectedEOF {
+		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("read snapshot %s", snap.GetDigest()))
+	}
+	buf = buf[:n]
+	le := binary.LittleEndian
+	if n < header || string(buf[:8]) != "PFPHOTON" {
+		return 0, errs.E(errs.Internal, "snapshot %s has no snapshot header", snap.GetDigest())
+	}
+	maps := int(le.Uint32(buf[16:]))
+	for m := 0; m < maps && header+(m+1)*entry <= n; m++ {
+		e := buf[header+m*entry:]
+		if le.Uint32(e) == 1 {
+			return uint64(le.Uint32(e[4:])), nil
+		}
+	}
+	return 0, nil
+}
+
+// sceneCache remembers parsed scenes by digest (they are immutable).
+type sceneCache struct {
+	mu sync.Mutex
+	m  map[string]*pb.Scene
+}
+
+const maxRememberedScenes = 64
+
+// scene returns the stored scene with this digest (defaults filled in at submit).
+func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
+	c := &s.scenes
+	c.mu.Lock()
+	sc, ok := c.m[digest]
+	c.mu.Unlock()
+	if ok {
+		return sc, nil
+	}
+	r, info, err := s.cfg.Blobs.Open(ctx, digest)
+	if err != nil {
+		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("scene %s", digest))
+	}
+	defer r.Close()
+	data := make([]byte, info.Size)
+	if _, err := io.ReadFull(r, data); err != nil {
+		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("read scene %s", digest))
+	}
+	sc = &pb.Scene{}
+	if err := proto.Unmarshal(data, sc); err != nil {
+		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("scene %s", digest))
+	}
+	c.mu.Lock()
+	defer c.mu.Unlock()
+	if c.m == nil || len(c.m) >= maxRememberedScenes {
+		c.m = make(map[string]*pb.Scene)
+	}
+	c.m[digest] = sc
+	return sc, nil
+}
+
+// checkMetrics refuses metrics that are not finite and >= 0.
+func checkMetrics(m *pb.RoundMetrics) error {
+	for _, v := range []struct {
+		field string
+		set   bool
+		v     float64
+	}{
+		{"metrics.error_estimate", m.ErrorEstimate != nil, m.GetErrorEstimate()},
+		{"metrics.reference_rmse", m.ReferenceRmse != nil, m.GetReferenceRmse()},
+	} {
+		if v.set && (math.IsNaN(v.v) || math.IsInf(v.v, 0) || v.v < 0) {
+			return errs.Field(v.field, "must be a finite number >= 0, got %v", v.v)
+		}
+	}
+	return nil
+}
+
+// roundEnd decides what follows the composite of task's round: the report of the round,
+// and the next round's tasks or, if the job stops here, its final outputs.
+func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Artifact, m *pb.RoundMetrics) (store.RoundEnd, string, error) {
+	job, err := s.cfg.Store.GetJob(ctx, task.GetJobId())
+	if err != nil {
+		return store.RoundEnd{}, "", err
+	}
+	sc, err := s.scene(ctx, job.GetSceneDigest())
+	if err != nil {
+		return store.RoundEnd{}, "", err
+	}
+	round := max(task.GetRound(), 1)
+	report := &pb.RoundReport{
+		Round:           round,
+		ElapsedSeconds:  s.cfg.Clock.Now().Sub(job.GetCreateTime().AsTime()).Seconds(),
+		Photons:         uint64(round) * planner.PhotonsPerRound(sc),
+		SamplesPerPixel: uint64(round) * uint64(scene.SamplesPerPixel(sc)),
+		ErrorEstimate:   m.ErrorEstimate,
+		ReferenceRmse:   m.ReferenceRmse,
+	}
+	end := store.RoundEnd{Outputs: outputs, Report: report}
+	why := StopReason(sc, report)
+	if why == "" {
+		end.Next = planner.Round(sc, round+1)
+		return end, "", nil
+	}
+	for _, o := range outputs {
+		if o.GetName() != AccumulationArtifact {
+			end.Final = append(end.Final, o)
+		}
+	}
+	return end, why, nil
+}
+
+// StopReason says why a progressive job stops after the round of report, or "" if it goes
+// on: max_rounds reached, the error (against the reference if the scene names one, else
+// the estimate from the spread between rounds) at most target_error, or the time budget
+// spent.
+func StopReason(sc *pb.Scene, report *pb.RoundReport) string {
+	p := sc.GetProgressive()
+	if report.GetRound() >= scene.Rounds(sc) {
+		return fmt.Sprintf("max rounds (%d) reached", scene.Rounds(sc))
+	}
+	if t := p.GetTargetError(); t > 0 {
+		if scene.ReferenceDigest(sc) != "" {
+			if report.ReferenceRmse != nil && report.GetReferenceRmse() <= t {
+				return fmt.Sprintf("reference RMSE %.4g <= target %g", report.GetReferenceRmse(), t)
+			}
+		} else if report.ErrorEstimate != nil && report.GetErrorEstimate() <= t {
+			return fmt.Sprintf("error estimate %.4g <= target %g", report.GetErrorEstimate(), t)
+		}
+	}
+	if b := p.GetTimeBudgetSeconds(); b > 0 && report.GetElapsedSeconds() >= b {
+		return fmt.Sprintf("time budget %gs spent (%.1fs)", b, report.GetElapsedSeconds())
+	}
+	return ""
+}
