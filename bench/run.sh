@@ -25,5 +25,7 @@ done
 echo "== worker nearest-k (C++, the Go-built snapshot mapped) vs nanoflann, same points and queries"
 # shellcheck disable=SC2086
 "$build/bin/farm_bench_knn" $snaps
+echo "== final gathering vs the photon map seen directly at equal wall-clock budgets (through a local farm)"
+"$root/bench/fg_vs_photonmap.sh" "$build"
 echo "== edge anti-aliasing vs full 12x supersampling (C++, in-process; exits 1 on FAIL)"
 "$build/bin/farm_bench_edge_aa"
