@@ -1,9 +1,7 @@
 package scene_test
 
 import (
-	"errors"
 	"math"
-	"strings"
 	"testing"
 
 	"photonfarm/coordinator/scene"
@@ -45,10 +43,7 @@ func addMaterial(m *pb.Material) func(*pb.Scene) {
 }
 
 func TestValidateAcceptsMaterialsLightsAndPhotonSettings(t *testing.T) {
-	tests := []struct {
-		name   string
-		mutate func(*pb.Scene)
-	}{
+	tests := []variant{
 		{"glossy at the energy bound", addMaterial(glossy(rgb(0.5, 0.2, 0), rgb(0.5, 0.8, 1), 1))},
 		{"glossy max exponent", addMaterial(glossy(rgb(0, 0, 0), rgb(0.9, 0.9, 0.9), 1e5))},
 		{"mirror", addMaterial(mirror(rgb(1, 0.9, 0)))},
@@ -78,27 +73,14 @@ func TestValidateAcceptsMaterialsLightsAndPhotonSettings(t *testing.T) {
 		}},
 		{"empty photon settings", func(s *pb.Scene) { s.Photons = &pb.PhotonMapping{} }},
 	}
-	for _, tt := range tests {
-		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(64, 48)
-			tt.mutate(s)
-			if err := scene.Validate(s); err != nil {
-				t.Fatalf("Validate: %v", err)
-			}
-		})
-	}
+	expectValid(t, tests)
 }
 
 func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 	nan, inf := math.NaN(), math.Inf(1)
 	photons := func(ph *pb.PhotonMapping) func(*pb.Scene) { return func(s *pb.Scene) { s.Photons = ph } }
 	lights := func(ls ...*pb.Light) func(*pb.Scene) { return func(s *pb.Scene) { s.Lights = ls } }
-	tests := []struct {
-		name    string
-		mutate  func(*pb.Scene)
-		field   string
-		message string // substring
-	}{
+	tests := []refusal{
 		{"glossy over 1", addMaterial(glossy(rgb(0.5, 0.6, 0), rgb(0.5, 0.5, 0), 10)), "materials[2].glossy.specular.g", "diffuse + specular must be <= 1"},
 		{"glossy specular missing", addMaterial(glossy(rgb(0.5, 0.5, 0.5), nil, 10)), "materials[2].glossy.specular", "missing"},
 		{"glossy diffuse negative", addMaterial(glossy(rgb(-0.1, 0, 0), rgb(0, 0, 0), 10)), "materials[2].glossy.diffuse.r", ">= 0"},
@@ -144,20 +126,7 @@ func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 		{"cone k NaN", photons(&pb.PhotonMapping{CausticEstimate: &pb.RadianceEstimate{ConeK: nan}}), "photons.caustic_estimate.cone_k", "finite"},
 		{"unknown filter", photons(&pb.PhotonMapping{GlobalEstimate: &pb.RadianceEstimate{Filter: 9}}), "photons.global_estimate.filter", "unknown filter 9"},
 	}
-	for _, tt := range tests {
-		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(64, 48)
-			tt.mutate(s)
-			err := scene.Validate(s)
-			var fe *scene.FieldError
-			if !errors.As(err, &fe) {
-				t.Fatalf("Validate = %v, want a *FieldError", err)
-			}
-			if fe.Field != tt.field || !strings.Contains(fe.Message, tt.message) {
-				t.Errorf("Validate = %q; want field %q and a message containing %q", err, tt.field, tt.message)
-			}
-		})
-	}
+	expectRefused(t, tests)
 }
 
 func TestSurfacesOf(t *testing.T) {

@@ -1,9 +1,7 @@
 package scene_test
 
 import (
-	"errors"
 	"math"
-	"strings"
 	"testing"
 
 	"photonfarm/coordinator/scene"
@@ -18,10 +16,7 @@ func meshShape(m *pb.MeshFile) *pb.Shape {
 }
 
 func TestValidateAcceptsValidScenes(t *testing.T) {
-	tests := []struct {
-		name   string
-		mutate func(*pb.Scene)
-	}{
+	tests := []variant{
 		{"as built", func(*pb.Scene) {}},
 		{"explicit tile size and spp", func(s *pb.Scene) { s.Film.TileSize = 8; s.Sampling.SamplesPerPixel = scene.MaxSamplesPerPixel }},
 		{"no sampling message", func(s *pb.Scene) { s.Sampling = nil }},
@@ -35,25 +30,12 @@ func TestValidateAcceptsValidScenes(t *testing.T) {
 				Transform: &pb.Transform{Scale: scenetest.V(2, 2, -2), RotationAxis: scenetest.V(0, 1, 0), RotationDegrees: 90}}))
 		}},
 	}
-	for _, tt := range tests {
-		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(64, 48)
-			tt.mutate(s)
-			if err := scene.Validate(s); err != nil {
-				t.Fatalf("Validate: %v", err)
-			}
-		})
-	}
+	expectValid(t, tests)
 }
 
 func TestValidateRefusesNamingTheField(t *testing.T) {
 	nan, inf := math.NaN(), math.Inf(1)
-	tests := []struct {
-		name    string
-		mutate  func(*pb.Scene)
-		field   string
-		message string // substring
-	}{
+	tests := []refusal{
 		{"no camera", func(s *pb.Scene) { s.Camera = nil }, "camera", "missing"},
 		{"too many rounds", func(s *pb.Scene) { s.Progressive = &pb.Progressive{MaxRounds: 1001} }, "progressive.max_rounds", "<= 1000"},
 		{"negative target", func(s *pb.Scene) { s.Progressive = &pb.Progressive{TargetError: -0.1} }, "progressive.target_error", ">= 0"},
@@ -128,23 +110,7 @@ func TestValidateRefusesNamingTheField(t *testing.T) {
 		{"no light", func(s *pb.Scene) { s.Shapes = s.Shapes[:2] }, "lights", "emissive"},
 		{"black light", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance = &pb.Color{} }, "lights", "emissive"},
 	}
-	for _, tt := range tests {
-		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(64, 48)
-			tt.mutate(s)
-			err := scene.Validate(s)
-			var fe *scene.FieldError
-			if !errors.As(err, &fe) {
-				t.Fatalf("Validate = %v, want a *FieldError", err)
-			}
-			if fe.Field != tt.field || !strings.Contains(fe.Message, tt.message) {
-				t.Errorf("Validate = %q; want field %q and a message containing %q", err, tt.field, tt.message)
-			}
-			if !strings.HasPrefix(err.Error(), tt.field+": ") {
-				t.Errorf("Error() = %q, want it to start with the field", err)
-			}
-		})
-	}
+	expectRefused(t, tests)
 }
 
 func TestDefaults(t *testing.T) {

@@ -34,6 +34,24 @@ func cornellRef(t *testing.T, f *farm) *rendered {
 	return reference(t, f, "cornell-mm", func() *pb.Scene { return cornellMM(t) })
 }
 
+// pinpointCase lights the box with a sphere light of radius fraction of the box and the
+// quad light's power, and compares it with a 5%-radius sphere light of the same power.
+func pinpointCase(name string, fraction float64) stiffCase {
+	return stiffCase{
+		name:  name,
+		scene: func(t *testing.T) *pb.Scene { return sphereLitCornell(t, fraction*cornellSize) },
+		check: func(t *testing.T, f *farm, name string, sc *pb.Scene, r *rendered) {
+			big := reference(t, f, "cornell-sphere-light-5pc", func() *pb.Scene { return sphereLitCornell(t, 0.05*cornellSize) })
+			bigLe := brightestEmitter(sphereLitCornell(t, 0.05*cornellSize))
+			for k, col := range beauty {
+				checkClose(t, name, col, "image average of direct+indirect+caustic (vs a 5%-radius light of equal power)",
+					meanReflected(r.img, k), meanReflected(big.img, k), 0.03)
+			}
+			checkBoundReflected(t, name, r.img, bigLe, "radiance of a 5%-radius sphere light of equal power")
+		},
+	}
+}
+
 var cases = []stiffCase{
 	// Scale: radiance does not depend on the unit, so the box 1e-4 or 1e5 units across
 	// must give the image of the box 1 unit across (same seed, same samples).
@@ -59,35 +77,11 @@ var cases = []stiffCase{
 	// box's quad light (radiance ~4e6) lights the walls as a 5%-radius sphere of the same
 	// power does; and no wall reflects more than that large sphere's radiance (a spike from
 	// the tiny light's sampling would).
-	{
-		name:  "pinpoint-sphere-light-1e-3-keeps-power",
-		scene: func(t *testing.T) *pb.Scene { return sphereLitCornell(t, 1e-3*cornellSize) },
-		check: func(t *testing.T, f *farm, name string, sc *pb.Scene, r *rendered) {
-			big := reference(t, f, "cornell-sphere-light-5pc", func() *pb.Scene { return sphereLitCornell(t, 0.05*cornellSize) })
-			bigLe := brightestEmitter(sphereLitCornell(t, 0.05*cornellSize))
-			for k, col := range beauty {
-				checkClose(t, name, col, "image average of direct+indirect+caustic (vs a 5%-radius light of equal power)",
-					meanReflected(r.img, k), meanReflected(big.img, k), 0.03)
-			}
-			checkBoundReflected(t, name, r.img, bigLe, "radiance of a 5%-radius sphere light of equal power")
-		},
-	},
+	pinpointCase("pinpoint-sphere-light-1e-3-keeps-power", 1e-3),
 	// Smaller still: radius 1e-5 of the box (radiance ~4e10), where the cone of directions
 	// towards the light is so narrow that 1 - cos(theta_max) underflows a float unless
 	// computed with care.
-	{
-		name:  "pinpoint-sphere-light-1e-5-keeps-power",
-		scene: func(t *testing.T) *pb.Scene { return sphereLitCornell(t, 1e-5*cornellSize) },
-		check: func(t *testing.T, f *farm, name string, sc *pb.Scene, r *rendered) {
-			big := reference(t, f, "cornell-sphere-light-5pc", func() *pb.Scene { return sphereLitCornell(t, 0.05*cornellSize) })
-			bigLe := brightestEmitter(sphereLitCornell(t, 0.05*cornellSize))
-			for k, col := range beauty {
-				checkClose(t, name, col, "image average of direct+indirect+caustic (vs a 5%-radius light of equal power)",
-					meanReflected(r.img, k), meanReflected(big.img, k), 0.03)
-			}
-			checkBoundReflected(t, name, r.img, bigLe, "radiance of a 5%-radius sphere light of equal power")
-		},
-	},
+	pinpointCase("pinpoint-sphere-light-1e-5-keeps-power", 1e-5),
 	// Glass of index 1.0001 bends and reflects (Fresnel ~2.5e-9) almost nothing: the
 	// image is the box without the ball.
 	{

@@ -107,12 +107,7 @@ Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
     ExrMemoryIStream stream(bytes);
     Imf::InputFile file(stream);
     const Imf::Header& header = file.header();
-    const PixelRect display = ToRect(header.displayWindow());
-    const PixelRect data = ToRect(header.dataWindow());
-    if (display != whole || data != whole) {
-      throw ImageError("accumulation covers " + ToString(data) + " of " + ToString(display) +
-                       ", not the whole " + ToString(size) + " image");
-    }
+    RequireWholeImage(header, size, "accumulation");
     const auto* count = header.findTypedAttribute<Imf::IntAttribute>(kRoundsAttribute);
     if (!count) throw ImageError(std::string("accumulation has no int attribute ") + kRoundsAttribute);
     if (count->value() != rounds) {
@@ -134,7 +129,7 @@ Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
                        JoinNames(wanted));
     }
     file.setFrameBuffer(SlicesOver(a));
-    file.readPixels(data.y, data.y_end() - 1);
+    file.readPixels(whole.y, whole.y_end() - 1);
   } catch (const ImageError&) {
     throw;
   } catch (const std::exception& e) {

@@ -3,10 +3,12 @@
 // Small conversions shared by the EXR readers and writers. Internal to image/.
 
 #include <Imath/ImathBox.h>
+#include <OpenEXR/ImfHeader.h>
 
 #include <string>
 
 #include "image/image.h"
+#include "image/image_error.h"
 
 namespace farm {
 
@@ -25,6 +27,18 @@ inline std::string ToString(const PixelRect& r) {
 
 inline std::string ToString(const ImageSize& s) {
   return std::to_string(s.width) + "x" + std::to_string(s.height);
+}
+
+// Refuses a header whose data or display window is not the whole image of this size;
+// what names the file in the message ("reference image", "accumulation").
+inline void RequireWholeImage(const Imf::Header& header, ImageSize size, const std::string& what) {
+  const PixelRect whole{0, 0, size.width, size.height};
+  const PixelRect display = ToRect(header.displayWindow());
+  const PixelRect data = ToRect(header.dataWindow());
+  if (display != whole || data != whole) {
+    throw ImageError(what + " covers " + ToString(data) + " of " + ToString(display) +
+                     ", not the whole " + ToString(size) + " image");
+  }
 }
 
 }  // namespace farm

@@ -21,12 +21,7 @@ Image ReadReferenceExr(std::string_view bytes, ImageSize size) {
     ExrMemoryIStream stream(bytes);
     Imf::InputFile file(stream);
     const Imf::Header& header = file.header();
-    const PixelRect display = ToRect(header.displayWindow());
-    const PixelRect data = ToRect(header.dataWindow());
-    if (display != whole || data != whole) {
-      throw ImageError("reference image covers " + ToString(data) + " of " + ToString(display) +
-                       ", not the whole " + ToString(size) + " image");
-    }
+    RequireWholeImage(header, size, "reference image");
     const std::size_t x_stride = sizeof(float) * 3;
     const std::size_t y_stride = x_stride * static_cast<std::size_t>(size.width);
     Imf::FrameBuffer fb;
@@ -41,7 +36,7 @@ Image ReadReferenceExr(std::string_view bytes, ImageSize size) {
                                        x_stride, y_stride));
     }
     file.setFrameBuffer(fb);
-    file.readPixels(data.y, data.y_end() - 1);
+    file.readPixels(whole.y, whole.y_end() - 1);
   } catch (const ImageError&) {
     throw;
   } catch (const std::exception& e) {
