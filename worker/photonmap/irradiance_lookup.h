@@ -4,6 +4,7 @@
 // photon per gather ray instead of a k-nearest estimate.
 
 #include <algorithm>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -31,18 +32,24 @@ std::optional<Rgb> NearestIrradiance(const PhotonMap& map, const Vec3& p, const 
                                      float max_radius, const VisibleFn& visible,
                                      std::vector<PhotonNeighbour>& scratch) {
   if (!map.has_irradiance()) return std::nullopt;
+  const auto usable = [&](std::uint32_t index) {
+    const DecodedPhoton photon = map.photon(index);
+    return Dot(photon.normal, n) >= kIrradianceMinNormalCosine && visible(photon);
+  };
+  // The nearest photon almost always qualifies, and a 1-nearest search prunes from its
+  // first hit on: several times cheaper than gathering every candidate up front.
+  map.NearestK(p, 1, max_radius, scratch);
+  if (scratch.empty()) return std::nullopt;
+  const std::uint32_t nearest = scratch.front().index;
+  if (usable(nearest)) return map.irradiance(nearest);
   map.NearestK(p, kIrradianceCandidates, max_radius, scratch);
   // Nearest first; equal distances by index, so the choice is deterministic.
   std::sort(scratch.begin(), scratch.end(), [](const PhotonNeighbour& a, const PhotonNeighbour& b) {
     return a.distance_squared != b.distance_squared ? a.distance_squared < b.distance_squared
                                                     : a.index < b.index;
   });
-  for (const PhotonNeighbour& nb : scratch) {
-    const DecodedPhoton photon = map.photon(nb.index);
-    if (Dot(photon.normal, n) < kIrradianceMinNormalCosine) continue;
-    if (!visible(photon)) continue;
-    return map.irradiance(nb.index);
-  }
+  for (const PhotonNeighbour& nb : scratch)
+    if (nb.index != nearest && usable(nb.index)) return map.irradiance(nb.index);
   return std::nullopt;
 }
 
