@@ -119,8 +119,15 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		}
 		if c.Job != nil {
 			r := end.Report
-			s.log.Info("round finished", "job", task.GetJobId(), "round", r.GetRound(), "elapsed_s", r.GetElapsedSeconds(),
-				"error_estimate", r.ErrorEstimate, "reference_rmse", r.ReferenceRmse, "stop", why)
+			attrs := []any{"job", task.GetJobId(), "round", r.GetRound(), "elapsed_s", r.GetElapsedSeconds(), "stop", why}
+			// Unset estimates are left out: slog would print the pointers.
+			if r.ErrorEstimate != nil {
+				attrs = append(attrs, "error_estimate", r.GetErrorEstimate())
+			}
+			if r.ReferenceRmse != nil {
+				attrs = append(attrs, "reference_rmse", r.GetReferenceRmse())
+			}
+			s.log.Info("round finished", attrs...)
 		}
 	} else if c, err = s.cfg.Store.CompleteTask(ctx, ref, outputs); err != nil {
 		return err
