@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "image/reference_exr.h"
 #include "render/thin_bars_scene.h"
 #include "render/tile_renderer.h"
 
@@ -50,14 +51,7 @@ Image RenderInTiles(const farm::Scene& scene, int width, int height, int tile) {
   return whole;
 }
 
-double Rmse(const Image& a, const Image& b) {
-  double sum = 0;
-  const PixelRect& r = a.rect();
-  for (int y = r.y; y < r.y_end(); ++y)
-    for (int x = r.x; x < r.x_end(); ++x)
-      for (int c = 0; c < 3; ++c) sum += std::pow(double(a.pixel(x, y)[c]) - b.pixel(x, y)[c], 2);
-  return std::sqrt(sum / (3.0 * r.width * r.height));
-}
+double Rmse(const Image& a, const Image& b) { return farm::LayerRmse(a, b, "").value(); }
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

@@ -44,18 +44,44 @@ func runReport(ctx context.Context, e *env, args []string) error {
 	return nil
 }
 
-// printReport writes the job's rounds as a table.
+// layerOrder is the order of the per-layer reference RMSE columns.
+var layerOrder = []string{"direct", "indirect", "caustic"}
+
+// printReport writes the job's rounds as a table, with a reference RMSE column for each
+// light layer any round measured.
 func printReport(w io.Writer, job *pb.Job) {
 	name := job.GetDisplayName()
 	if name == "" {
 		name = job.GetId()
 	}
 	fmt.Fprintf(w, "job %s (%s): %s, %d rounds\n", job.GetId(), name, client.StateName(job.GetState()), len(job.GetRounds()))
+	var layers []string
+	for _, l := range layerOrder {
+		for _, r := range job.GetRounds() {
+			if _, ok := r.GetLayerReferenceRmse()[l]; ok {
+				layers = append(layers, l)
+				break
+			}
+		}
+	}
 	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', tabwriter.AlignRight)
-	fmt.Fprintln(tw, "round\tseconds\tphotons\tsamples/px\terror estimate\treference RMSE\t")
+	fmt.Fprint(tw, "round\tseconds\tphotons\tsamples/px\terror estimate\treference RMSE\t")
+	for _, l := range layers {
+		fmt.Fprintf(tw, "%s RMSE\t", l)
+	}
+	fmt.Fprintln(tw)
 	for _, r := range job.GetRounds() {
-		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t\n", r.GetRound(), r.GetElapsedSeconds(), grouped(r.GetPhotons()),
+		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t", r.GetRound(), r.GetElapsedSeconds(), grouped(r.GetPhotons()),
 			r.GetSamplesPerPixel(), optional(r.ErrorEstimate), optional(r.ReferenceRmse))
+		for _, l := range layers {
+			v, ok := r.GetLayerReferenceRmse()[l]
+			if !ok {
+				fmt.Fprint(tw, "-\t")
+				continue
+			}
+			fmt.Fprintf(tw, "%s\t", optional(&v))
+		}
+		fmt.Fprintln(tw)
 	}
 	tw.Flush()
 }

@@ -128,6 +128,23 @@ func TestReportTable(t *testing.T) {
 	}
 }
 
+func TestReportTableHasAColumnPerMeasuredLayer(t *testing.T) {
+	job := &pb.Job{Id: "j-1", State: pb.JobState_JOB_STATE_SUCCEEDED, Rounds: rounds(2, false, true)}
+	job.Rounds[1].LayerReferenceRmse = map[string]float64{"indirect": 0.002, "direct": 0.0005}
+	var b strings.Builder
+	printReport(&b, job)
+	lines := strings.Split(strings.TrimSpace(b.String()), "\n")
+	if len(lines) != 4 || !strings.HasSuffix(strings.TrimSpace(lines[1]), "reference RMSE  direct RMSE  indirect RMSE") {
+		t.Fatalf("report = %q, want direct and indirect columns, in that order", b.String())
+	}
+	if f := strings.Fields(lines[2]); len(f) != 8 || f[6] != "-" || f[7] != "-" {
+		t.Errorf("round 1 = %q, want no layer errors", lines[2])
+	}
+	if f := strings.Fields(lines[3]); len(f) != 8 || f[6] != "0.0005" || f[7] != "0.002" {
+		t.Errorf("round 2 = %q", lines[3])
+	}
+}
+
 func TestPrintPlan(t *testing.T) {
 	plan := &pb.Plan{Passes: []*pb.PlannedPass{
 		{Name: "global photon map", Enabled: true, Reason: "200,000 paths"},

@@ -182,16 +182,29 @@ func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	return sc, nil
 }
 
-// checkMetrics refuses metrics that are not finite and >= 0.
+// measuredLayers are the light layers a composite may report an RMSE for.
+var measuredLayers = map[string]bool{"direct": true, "indirect": true, "caustic": true}
+
+// checkMetrics refuses metrics that are not finite and >= 0, and layer errors of layers
+// a render does not have.
 func checkMetrics(m *pb.RoundMetrics) error {
-	for _, v := range []struct {
+	type value struct {
 		field string
 		set   bool
 		v     float64
-	}{
+	}
+	values := []value{
 		{"metrics.error_estimate", m.ErrorEstimate != nil, m.GetErrorEstimate()},
 		{"metrics.reference_rmse", m.ReferenceRmse != nil, m.GetReferenceRmse()},
-	} {
+	}
+	for layer, v := range m.GetLayerReferenceRmse() {
+		field := fmt.Sprintf("metrics.layer_reference_rmse[%q]", layer)
+		if !measuredLayers[layer] {
+			return errs.Field(field, "is not a measured layer (direct, indirect, caustic)")
+		}
+		values = append(values, value{field, true, v})
+	}
+	for _, v := range values {
 		if v.set && (math.IsNaN(v.v) || math.IsInf(v.v, 0) || v.v < 0) {
 			return errs.Field(v.field, "must be a finite number >= 0, got %v", v.v)
 		}
@@ -212,12 +225,13 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 	}
 	round := max(task.GetRound(), 1)
 	report := &pb.RoundReport{
-		Round:           round,
-		ElapsedSeconds:  s.cfg.Clock.Now().Sub(job.GetCreateTime().AsTime()).Seconds(),
-		Photons:         uint64(round) * planner.PhotonsPerRound(sc),
-		SamplesPerPixel: uint64(round) * uint64(scene.SamplesPerPixel(sc)),
-		ErrorEstimate:   m.ErrorEstimate,
-		ReferenceRmse:   m.ReferenceRmse,
+		Round:              round,
+		ElapsedSeconds:     s.cfg.Clock.Now().Sub(job.GetCreateTime().AsTime()).Seconds(),
+		Photons:            uint64(round) * planner.PhotonsPerRound(sc),
+		SamplesPerPixel:    uint64(round) * uint64(scene.SamplesPerPixel(sc)),
+		ErrorEstimate:      m.ErrorEstimate,
+		ReferenceRmse:      m.ReferenceRmse,
+		LayerReferenceRmse: m.GetLayerReferenceRmse(),
 	}
 	end := store.RoundEnd{Outputs: outputs, Report: report}
 	why := StopReason(sc, report)

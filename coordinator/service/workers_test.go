@@ -2,6 +2,7 @@ package service_test
 
 import (
 	"context"
+	"math"
 	"strings"
 	"testing"
 	"time"
@@ -213,6 +214,16 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1})
 			return err
 		}, codes.NotFound, "task_id"},
+		{"complete NaN layer error", func() error {
+			m := &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"indirect": math.NaN()}}
+			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1, Metrics: m})
+			return err
+		}, codes.InvalidArgument, `metrics.layer_reference_rmse["indirect"]`},
+		{"complete unknown layer", func() error {
+			m := &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"albedo": 0.1}}
+			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1, Metrics: m})
+			return err
+		}, codes.InvalidArgument, `metrics.layer_reference_rmse["albedo"]`},
 		{"fail no worker", func() error {
 			_, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{TaskId: "j.0", Epoch: 1, Error: "x"})
 			return err

@@ -293,6 +293,7 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
   pb::RoundMetrics metrics;
   if (out.error_estimate) metrics.set_error_estimate(*out.error_estimate);
   if (out.reference_rmse) metrics.set_reference_rmse(*out.reference_rmse);
+  for (const auto& [layer, rmse] : out.layer_reference_rmse) (*metrics.mutable_layer_reference_rmse())[layer] = rmse;
   result.metrics = metrics;
   return result;
 }

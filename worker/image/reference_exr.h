@@ -3,20 +3,30 @@
 // A reference image to measure a render's error against: a converged render of the same
 // scene, supplied by the user (untrusted bytes).
 
+#include <array>
+#include <optional>
 #include <string_view>
 
 #include "image/image.h"
 
 namespace farm {
 
+// The light components a render writes as layers ("direct.R" and so on) and whose error
+// is measured apart from the beauty's when the reference has them too: the beauty's error
+// is often dominated by one term (a bright emitter's edges), which hides how well another
+// (the indirect light) has converged.
+inline constexpr std::array<std::string_view, 3> kMeasuredLayers = {"direct", "indirect", "caustic"};
+
 // Reads the R, G and B channels (any pixel type; converted to float) of a single-part
-// OpenEXR whose data and display windows are both the whole `size` image. Throws
-// ImageError naming what is wrong: unreadable bytes, another size, a missing channel, a
-// NaN or infinite value (with its pixel).
+// OpenEXR whose data and display windows are both the whole `size` image, and the R, G, B
+// of each kMeasuredLayers layer the file has all three of (the image's channels are R, G,
+// B, then those). Throws ImageError naming what is wrong: unreadable bytes, another size,
+// a missing beauty channel, a NaN or infinite value (with its pixel).
 Image ReadReferenceExr(std::string_view bytes, ImageSize size);
 
-// Root mean square of a - b over every pixel and channel R, G, B (the first three channels
-// of both images, which must cover the same rectangle).
-double BeautyRmse(const Image& a, const Image& b);
+// Root mean square of a - b over every pixel and the channels R, G, B of `layer` ("" for
+// the beauty, "indirect" for indirect.R, indirect.G, indirect.B). Nothing if either image
+// lacks one of them. The images must cover the same rectangle.
+std::optional<double> LayerRmse(const Image& a, const Image& b, std::string_view layer);
 
 }  // namespace farm

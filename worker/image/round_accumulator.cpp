@@ -115,7 +115,13 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs) {
   out.preview_png = std::move(composite.preview_png);
   out.accumulation_exr = EncodeAccumulationExr(accumulation);
   if (accumulation.rounds > 1) out.error_estimate = ErrorEstimate(accumulation);
-  if (reference) out.reference_rmse = BeautyRmse(mean, *reference);
+  if (reference) {
+    out.reference_rmse = LayerRmse(mean, *reference, "");
+    for (std::string_view layer : kMeasuredLayers) {
+      if (const std::optional<double> rmse = LayerRmse(mean, *reference, layer))
+        out.layer_reference_rmse.emplace(layer, *rmse);
+    }
+  }
   return out;
 }
 

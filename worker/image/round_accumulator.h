@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -33,6 +34,8 @@ struct RoundOutputs {
   std::optional<double> error_estimate;
   // RMSE of the mean's beauty against reference_exr, when one was given.
   std::optional<double> reference_rmse;
+  // RMSE of each kMeasuredLayers layer (by name) that both the mean and reference_exr have.
+  std::map<std::string, double> layer_reference_rmse;
 };
 
 // Stitches the round's tiles, folds them into the running per-pixel sums of earlier rounds,

@@ -163,6 +163,26 @@ TEST(RoundAccumulator, ReferenceRmseOfAKnownOffset) {
   EXPECT_NEAR(*out.reference_rmse, std::sqrt((0.25 * 0.25 + 0.5 * 0.5) / 3), 1e-6);
 }
 
+TEST(RoundAccumulator, LayerReferenceRmseForEachLayerBothImagesHave) {
+  const std::vector<std::string> channels = {"R", "G", "B", "A", "direct.R", "direct.G", "direct.B",
+                                             "indirect.R", "indirect.G", "indirect.B"};
+  const PixelFn value = [](int x, int y, int c) { return 0.05f * c + 0.01f * (x + y); };
+  // The reference has no direct layer; its indirect.G is off by 0.5 and the beauty exact.
+  const std::vector<std::string> ref_channels = {"R", "G", "B", "indirect.R", "indirect.G", "indirect.B"};
+  const PixelFn reference = [&](int x, int y, int c) {
+    return c < 3 ? value(x, y, c) : value(x, y, c + 4) + (c == 4 ? 0.5f : 0.0f);
+  };
+  const std::vector<EncodedTile> tiles = Tiles(value, kSize, channels);
+  RoundInputs in{kSize, kTile, 1, tiles, std::nullopt,
+                 EncodeTileExr(WholeImage(reference, ref_channels), kSize)};
+  const RoundOutputs out = AccumulateRound(in);
+  ASSERT_TRUE(out.reference_rmse.has_value());
+  EXPECT_NEAR(*out.reference_rmse, 0.0, 1e-7);
+  ASSERT_EQ(out.layer_reference_rmse.size(), 1u);
+  ASSERT_TRUE(out.layer_reference_rmse.contains("indirect"));
+  EXPECT_NEAR(out.layer_reference_rmse.at("indirect"), std::sqrt(0.25 / 3), 1e-6);
+}
+
 TEST(RoundAccumulator, BytesAreDeterministicWhateverTheTileOrder) {
   const auto round_value = [](int r) -> PixelFn {
     return [r](int x, int y, int c) { return std::sin(0.1f * x * r + y + c); };

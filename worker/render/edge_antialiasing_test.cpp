@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "image/reference_exr.h"
 #include "render/thin_bars_scene.h"
 #include "render/tile_renderer.h"
 
@@ -108,13 +109,7 @@ TEST(EdgeAntialiasing, NoneModeSupersamplesNothing) {
     for (int x = 0; x < kW; ++x) ASSERT_EQ(none.pixel(x, y)[kEdgeChannel], 0.0f);
 }
 
-double BeautyRmse(const Image& a, const Image& b) {
-  double sum = 0;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      for (int c = 0; c < 3; ++c) sum += std::pow(a.pixel(x, y)[c] - b.pixel(x, y)[c], 2);
-  return std::sqrt(sum / (kW * kH * 3));
-}
+double BeautyRmse(const Image& a, const Image& b) { return LayerRmse(a, b, "").value(); }
 
 TEST(EdgeAntialiasing, EdgeSupersamplingRemovesMostOfTheAliasing) {
   const Image reference =

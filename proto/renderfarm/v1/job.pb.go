@@ -598,8 +598,12 @@ type RoundReport struct {
 	ErrorEstimate *float64 `protobuf:"fixed64,5,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the scene's reference image, if it names one.
 	ReferenceRmse *float64 `protobuf:"fixed64,6,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	// The RMSE of each light layer ("direct", "indirect", "caustic") against the reference's,
+	// when both have it: the beauty's error can be dominated by one term (a bright emitter's
+	// edges) and hide how far another has converged.
+	LayerReferenceRmse map[string]float64 `protobuf:"bytes,7,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
+	unknownFields      protoimpl.UnknownFields
+	sizeCache          protoimpl.SizeCache
 }
 
 func (x *RoundReport) Reset() {
@@ -672,6 +676,13 @@ func (x *RoundReport) GetReferenceRmse() float64 {
 		return *x.ReferenceRmse
 	}
 	return 0
+}
+
+func (x *RoundReport) GetLayerReferenceRmse() map[string]float64 {
+	if x != nil {
+		return x.LayerReferenceRmse
+	}
+	return nil
 }
 
 type PhaseProgress struct {
@@ -2307,14 +2318,18 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\vPlannedPass\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12\x18\n" +
 	"\aenabled\x18\x02 \x01(\bR\aenabled\x12\x16\n" +
-	"\x06reason\x18\x03 \x01(\tR\x06reason\"\x90\x02\n" +
+	"\x06reason\x18\x03 \x01(\tR\x06reason\"\xbd\x03\n" +
 	"\vRoundReport\x12\x14\n" +
 	"\x05round\x18\x01 \x01(\rR\x05round\x12'\n" +
 	"\x0felapsed_seconds\x18\x02 \x01(\x01R\x0eelapsedSeconds\x12\x18\n" +
 	"\aphotons\x18\x03 \x01(\x04R\aphotons\x12*\n" +
 	"\x11samples_per_pixel\x18\x04 \x01(\x04R\x0fsamplesPerPixel\x12*\n" +
 	"\x0eerror_estimate\x18\x05 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
-	"\x0ereference_rmse\x18\x06 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01B\x11\n" +
+	"\x0ereference_rmse\x18\x06 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12d\n" +
+	"\x14layer_reference_rmse\x18\a \x03(\v22.renderfarm.v1.RoundReport.LayerReferenceRmseEntryR\x12layerReferenceRmse\x1aE\n" +
+	"\x17LayerReferenceRmseEntry\x12\x10\n" +
+	"\x03key\x18\x01 \x01(\tR\x03key\x12\x14\n" +
+	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
 	"\x0f_reference_rmse\"\x85\x01\n" +
 	"\rPhaseProgress\x12*\n" +
@@ -2477,7 +2492,7 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 30)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 31)
 var file_renderfarm_v1_job_proto_goTypes = []any{
 	(JobState)(0),                    // 0: renderfarm.v1.JobState
 	(Phase)(0),                       // 1: renderfarm.v1.Phase
@@ -2514,75 +2529,77 @@ var file_renderfarm_v1_job_proto_goTypes = []any{
 	(*CancelJobResponse)(nil),        // 32: renderfarm.v1.CancelJobResponse
 	(*WatchJobRequest)(nil),          // 33: renderfarm.v1.WatchJobRequest
 	(*WatchJobResponse)(nil),         // 34: renderfarm.v1.WatchJobResponse
-	(*timestamppb.Timestamp)(nil),    // 35: google.protobuf.Timestamp
-	(*Scene)(nil),                    // 36: renderfarm.v1.Scene
+	nil,                              // 35: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	(*timestamppb.Timestamp)(nil),    // 36: google.protobuf.Timestamp
+	(*Scene)(nil),                    // 37: renderfarm.v1.Scene
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	35, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	35, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	35, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	36, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	36, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	36, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
 	9,  // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
 	10, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
 	6,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
 	8,  // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
 	7,  // 8: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
-	1,  // 9: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
-	1,  // 10: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
-	2,  // 11: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	13, // 12: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	19, // 13: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	16, // 14: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
-	17, // 15: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
-	14, // 16: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
-	15, // 17: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
-	10, // 18: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	11, // 19: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	10, // 20: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	10, // 21: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	10, // 22: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	10, // 23: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
-	3,  // 24: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	18, // 25: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	16, // 26: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	10, // 27: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	20, // 28: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	10, // 29: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	10, // 30: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	11, // 31: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	10, // 32: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	36, // 33: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	5,  // 34: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	36, // 35: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	6,  // 36: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	9,  // 37: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	5,  // 38: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 39: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	12, // 40: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	5,  // 41: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	4,  // 42: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	35, // 43: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	5,  // 44: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	12, // 45: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	21, // 46: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	25, // 47: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	27, // 48: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	29, // 49: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	31, // 50: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	23, // 51: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	33, // 52: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	22, // 53: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	26, // 54: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	28, // 55: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	30, // 56: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	32, // 57: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	24, // 58: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	34, // 59: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	53, // [53:60] is the sub-list for method output_type
-	46, // [46:53] is the sub-list for method input_type
-	46, // [46:46] is the sub-list for extension type_name
-	46, // [46:46] is the sub-list for extension extendee
-	0,  // [0:46] is the sub-list for field type_name
+	35, // 9: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	1,  // 10: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
+	1,  // 11: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
+	2,  // 12: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
+	13, // 13: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	19, // 14: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	16, // 15: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	17, // 16: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	14, // 17: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
+	15, // 18: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
+	10, // 19: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	11, // 20: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	10, // 21: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	10, // 22: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	10, // 23: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	10, // 24: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 25: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	18, // 26: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	16, // 27: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	10, // 28: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	20, // 29: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	10, // 30: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	10, // 31: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	11, // 32: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	10, // 33: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	37, // 34: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	5,  // 35: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	37, // 36: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 37: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	9,  // 38: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	5,  // 39: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 40: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	12, // 41: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	5,  // 42: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	4,  // 43: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	36, // 44: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	5,  // 45: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	12, // 46: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	21, // 47: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	25, // 48: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	27, // 49: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	29, // 50: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	31, // 51: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	23, // 52: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	33, // 53: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	22, // 54: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	26, // 55: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	28, // 56: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	30, // 57: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	32, // 58: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	24, // 59: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	34, // 60: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	54, // [54:61] is the sub-list for method output_type
+	47, // [47:54] is the sub-list for method input_type
+	47, // [47:47] is the sub-list for extension type_name
+	47, // [47:47] is the sub-list for extension extendee
+	0,  // [0:47] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -2606,7 +2623,7 @@ func file_renderfarm_v1_job_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
 			NumEnums:      5,
-			NumMessages:   30,
+			NumMessages:   31,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

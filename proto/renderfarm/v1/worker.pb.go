@@ -563,8 +563,11 @@ type RoundMetrics struct {
 	ErrorEstimate *float64 `protobuf:"fixed64,1,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the reference image, if the composite was given one.
 	ReferenceRmse *float64 `protobuf:"fixed64,2,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	// RMSE of each light layer ("direct", "indirect", "caustic") that both the image and the
+	// reference have, against the reference's.
+	LayerReferenceRmse map[string]float64 `protobuf:"bytes,3,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
+	unknownFields      protoimpl.UnknownFields
+	sizeCache          protoimpl.SizeCache
 }
 
 func (x *RoundMetrics) Reset() {
@@ -609,6 +612,13 @@ func (x *RoundMetrics) GetReferenceRmse() float64 {
 		return *x.ReferenceRmse
 	}
 	return 0
+}
+
+func (x *RoundMetrics) GetLayerReferenceRmse() map[string]float64 {
+	if x != nil {
+		return x.LayerReferenceRmse
+	}
+	return nil
 }
 
 type CompleteTaskResponse struct {
@@ -966,10 +976,14 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\atask_id\x18\x02 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x03 \x01(\x04R\x05epoch\x121\n" +
 	"\aoutputs\x18\x04 \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x125\n" +
-	"\ametrics\x18\x05 \x01(\v2\x1b.renderfarm.v1.RoundMetricsR\ametrics\"\x8c\x01\n" +
+	"\ametrics\x18\x05 \x01(\v2\x1b.renderfarm.v1.RoundMetricsR\ametrics\"\xba\x02\n" +
 	"\fRoundMetrics\x12*\n" +
 	"\x0eerror_estimate\x18\x01 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
-	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01B\x11\n" +
+	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12e\n" +
+	"\x14layer_reference_rmse\x18\x03 \x03(\v23.renderfarm.v1.RoundMetrics.LayerReferenceRmseEntryR\x12layerReferenceRmse\x1aE\n" +
+	"\x17LayerReferenceRmseEntry\x12\x10\n" +
+	"\x03key\x18\x01 \x01(\tR\x03key\x12\x14\n" +
+	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
 	"\x0f_reference_rmse\"\x16\n" +
 	"\x14CompleteTaskResponse\"s\n" +
@@ -1008,7 +1022,7 @@ func file_renderfarm_v1_worker_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_worker_proto_rawDescData
 }
 
-var file_renderfarm_v1_worker_proto_msgTypes = make([]protoimpl.MessageInfo, 17)
+var file_renderfarm_v1_worker_proto_msgTypes = make([]protoimpl.MessageInfo, 18)
 var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*RegisterWorkerRequest)(nil),    // 0: renderfarm.v1.RegisterWorkerRequest
 	(*RegisterWorkerResponse)(nil),   // 1: renderfarm.v1.RegisterWorkerResponse
@@ -1027,42 +1041,44 @@ var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*ReleaseTaskResponse)(nil),      // 14: renderfarm.v1.ReleaseTaskResponse
 	(*UnregisterWorkerRequest)(nil),  // 15: renderfarm.v1.UnregisterWorkerRequest
 	(*UnregisterWorkerResponse)(nil), // 16: renderfarm.v1.UnregisterWorkerResponse
-	(*durationpb.Duration)(nil),      // 17: google.protobuf.Duration
-	(*timestamppb.Timestamp)(nil),    // 18: google.protobuf.Timestamp
-	(*Task)(nil),                     // 19: renderfarm.v1.Task
-	(*Artifact)(nil),                 // 20: renderfarm.v1.Artifact
+	nil,                              // 17: renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
+	(*durationpb.Duration)(nil),      // 18: google.protobuf.Duration
+	(*timestamppb.Timestamp)(nil),    // 19: google.protobuf.Timestamp
+	(*Task)(nil),                     // 20: renderfarm.v1.Task
+	(*Artifact)(nil),                 // 21: renderfarm.v1.Artifact
 }
 var file_renderfarm_v1_worker_proto_depIdxs = []int32{
-	17, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
-	17, // 1: renderfarm.v1.RegisterWorkerResponse.lease_duration:type_name -> google.protobuf.Duration
-	18, // 2: renderfarm.v1.Lease.expire_time:type_name -> google.protobuf.Timestamp
+	18, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
+	18, // 1: renderfarm.v1.RegisterWorkerResponse.lease_duration:type_name -> google.protobuf.Duration
+	19, // 2: renderfarm.v1.Lease.expire_time:type_name -> google.protobuf.Timestamp
 	3,  // 3: renderfarm.v1.HeartbeatRequest.leases:type_name -> renderfarm.v1.HeldLease
 	2,  // 4: renderfarm.v1.HeartbeatResponse.leases:type_name -> renderfarm.v1.Lease
 	3,  // 5: renderfarm.v1.HeartbeatResponse.revoked:type_name -> renderfarm.v1.HeldLease
-	17, // 6: renderfarm.v1.LeaseTaskRequest.wait_timeout:type_name -> google.protobuf.Duration
+	18, // 6: renderfarm.v1.LeaseTaskRequest.wait_timeout:type_name -> google.protobuf.Duration
 	2,  // 7: renderfarm.v1.LeaseTaskResponse.lease:type_name -> renderfarm.v1.Lease
-	19, // 8: renderfarm.v1.LeaseTaskResponse.task:type_name -> renderfarm.v1.Task
-	20, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
+	20, // 8: renderfarm.v1.LeaseTaskResponse.task:type_name -> renderfarm.v1.Task
+	21, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
 	9,  // 10: renderfarm.v1.CompleteTaskRequest.metrics:type_name -> renderfarm.v1.RoundMetrics
-	0,  // 11: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
-	4,  // 12: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
-	6,  // 13: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
-	8,  // 14: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
-	11, // 15: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
-	13, // 16: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
-	15, // 17: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
-	1,  // 18: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
-	5,  // 19: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
-	7,  // 20: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
-	10, // 21: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
-	12, // 22: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
-	14, // 23: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
-	16, // 24: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
-	18, // [18:25] is the sub-list for method output_type
-	11, // [11:18] is the sub-list for method input_type
-	11, // [11:11] is the sub-list for extension type_name
-	11, // [11:11] is the sub-list for extension extendee
-	0,  // [0:11] is the sub-list for field type_name
+	17, // 11: renderfarm.v1.RoundMetrics.layer_reference_rmse:type_name -> renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
+	0,  // 12: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
+	4,  // 13: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
+	6,  // 14: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
+	8,  // 15: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
+	11, // 16: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
+	13, // 17: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
+	15, // 18: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
+	1,  // 19: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
+	5,  // 20: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
+	7,  // 21: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
+	10, // 22: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
+	12, // 23: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
+	14, // 24: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
+	16, // 25: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
+	19, // [19:26] is the sub-list for method output_type
+	12, // [12:19] is the sub-list for method input_type
+	12, // [12:12] is the sub-list for extension type_name
+	12, // [12:12] is the sub-list for extension extendee
+	0,  // [0:12] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_worker_proto_init() }
@@ -1078,7 +1094,7 @@ func file_renderfarm_v1_worker_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_worker_proto_rawDesc), len(file_renderfarm_v1_worker_proto_rawDesc)),
 			NumEnums:      0,
-			NumMessages:   17,
+			NumMessages:   18,
 			NumExtensions: 0,
 			NumServices:   1,
 		},
