@@ -4,9 +4,12 @@
 // wall-clock budget, the same scene with final gathering and with the global photon map
 // seen directly (PHOTON_MAP mode), both progressive within the budget and both told the
 // reference so that the farm itself reports their RMSE against it. It prints, per budget,
-// the RMSE of the image each method had within the budget and the ratio.
+// the RMSE of the indirect layer (the light final gathering computes) and of the beauty
+// that each method had within the budget, and the ratios; it exits 1 unless final
+// gathering's indirect light is the closer at every budget.
 //
 //	go run ./bench/cmd/fgbench -bin build/bin [-scene scenes/cornell-box.json]
+//	    [-reference ref.exr | -save-reference ref.exr] [-gather-rays N]
 package main
 
 import (
@@ -38,6 +41,9 @@ func main() {
 	refBudget := flag.Duration("reference-budget", 150*time.Second, "time budget of the reference render")
 	budgetList := flag.String("budgets", "10s,60s", "comma-separated wall-clock budgets to compare at")
 	photons := flag.Uint64("photons", 100000, "global photon paths per round")
+	gatherRays := flag.Uint("gather-rays", 0, "final gathering's gather rays per camera sample (0: the scene's)")
+	reference := flag.String("reference", "", "reuse this reference EXR instead of rendering one")
+	saveReference := flag.String("save-reference", "", "write the rendered reference EXR here")
 	flag.Parse()
 	var budgets []time.Duration
 	for _, s := range strings.Split(*budgetList, ",") {
@@ -49,7 +55,9 @@ func main() {
 	}
 	ctx, stop := signal.NotifyContext(context.Background(), os.Interrupt, syscall.SIGTERM)
 	defer stop()
-	if err := run(ctx, *bin, *scenePath, uint32(*size), *workers, *refBudget, budgets, *photons); err != nil {
+	opts := options{bin: *bin, scene: *scenePath, size: uint32(*size), workers: *workers, refBudget: *refBudget,
+		budgets: budgets, photons: *photons, gatherRays: uint32(*gatherRays), reference: *reference, saveReference: *saveReference}
+	if err := run(ctx, opts); err != nil {
 		fail(err)
 	}
 }
@@ -143,31 +151,43 @@ func (f *farm) render(ctx context.Context, sc *pb.Scene) (*pb.Job, error) {
 	return job, nil
 }
 
-func run(ctx context.Context, bin, scenePath string, size uint32, workers int, refBudget time.Duration, budgets []time.Duration, photons uint64) error {
+// options are the command's flags.
+type options struct {
+	bin, scene               string
+	size                     uint32
+	workers                  int
+	refBudget                time.Duration
+	budgets                  []time.Duration
+	photons                  uint64
+	gatherRays               uint32
+	reference, saveReference string
+}
+
+func run(ctx context.Context, o options) error {
 	dir, err := os.MkdirTemp("", "fgbench-")
 	if err != nil {
 		return err
 	}
 	defer os.RemoveAll(dir)
-	f, err := startFarm(ctx, bin, workers, dir)
+	f, err := startFarm(ctx, o.bin, o.workers, dir)
 	if err != nil {
 		return err
 	}
 	defer f.stop()
-	base, err := f.c.LoadSceneFile(ctx, scenePath)
+	base, err := f.c.LoadSceneFile(ctx, o.scene)
 	if err != nil {
 		return err
 	}
-	base.Film.Width, base.Film.Height, base.Film.TileSize = size, size, 32
+	base.Film.Width, base.Film.Height, base.Film.TileSize = o.size, o.size, 32
 	base.Sampling.SamplesPerPixel = 1
 	if base.Photons == nil {
 		base.Photons = &pb.PhotonMapping{}
 	}
-	base.Photons.GlobalPhotons, base.Photons.PhotonsPerShard = photons, photons/2
+	base.Photons.GlobalPhotons, base.Photons.PhotonsPerShard = o.photons, o.photons/2
 
 	variant := func(mode pb.IndirectMode, budget time.Duration, reference string) *pb.Scene {
 		sc := proto.Clone(base).(*pb.Scene)
-		sc.Indirect = &pb.Indirect{Mode: mode}
+		sc.Indirect = &pb.Indirect{Mode: mode, GatherRays: o.gatherRays}
 		sc.Progressive = &pb.Progressive{MaxRounds: 1000, TimeBudgetSeconds: budget.Seconds()}
 		if reference != "" {
 			sc.Progressive.Reference = &pb.ReferenceImage{Digest: reference}
@@ -176,44 +196,89 @@ func run(ctx context.Context, bin, scenePath string, size uint32, workers int, r
 	}
 
 	fmt.Printf("scene %s at %dx%d, 1 sample per pixel and %d global photon paths per round, %d workers of 1 thread\n",
-		scenePath, size, size, photons, workers)
-	fmt.Printf("reference: final gathering, progressive rounds for %s ...\n", refBudget)
-	// The reference draws other photons and pixel samples (another seed), so that the runs
-	// measured against it do not share its noise.
-	refScene := variant(pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER, refBudget, "")
-	refScene.Sampling.Seed += 1_000_003
-	ref, err := f.render(ctx, refScene)
+		o.scene, o.size, o.size, o.photons, o.workers)
+	refDigest, err := reference(ctx, f, o, variant(pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER, o.refBudget, ""))
 	if err != nil {
 		return fmt.Errorf("reference: %w", err)
 	}
-	refDigest := ""
-	for _, a := range ref.GetOutputs() {
-		if a.GetName() == "image.exr" {
-			refDigest = a.GetDigest()
-		}
-	}
-	last := ref.GetRounds()[len(ref.GetRounds())-1]
-	fmt.Printf("reference: %d rounds, %.0f s, %d samples per pixel, %s photon paths, error estimate %s\n\n",
-		len(ref.GetRounds()), last.GetElapsedSeconds(), last.GetSamplesPerPixel(), grouped(last.GetPhotons()), opt(last.ErrorEstimate))
 
-	fmt.Printf("%-8s  %-32s  %-32s  %s\n", "budget", "final gathering: RMSE (rounds, s)", "photon map seen directly: RMSE", "ratio PM/FG")
-	for _, b := range budgets {
-		var rmse [2]float64
-		var cells [2]string
+	// Final gathering computes the indirect light, so the verdict is on the indirect layer;
+	// the beauty's RMSE is printed too, though both methods share its direct light and its
+	// emitter edges.
+	fmt.Printf("%-8s  %-8s  %-30s  %-30s  %s\n", "budget", "measure", "final gathering (rounds, s)", "photon map seen directly", "PM/FG")
+	failed := false
+	for _, b := range o.budgets {
+		var at [2]*pb.RoundReport
 		for i, mode := range []pb.IndirectMode{pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER, pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP} {
 			job, err := f.render(ctx, variant(mode, b, refDigest))
 			if err != nil {
 				return fmt.Errorf("%s at %s: %w", mode, b, err)
 			}
-			r := withinBudget(job.GetRounds(), b)
-			rmse[i] = r.GetReferenceRmse()
-			cells[i] = fmt.Sprintf("%.5f (%d, %.1f s)", rmse[i], r.GetRound(), r.GetElapsedSeconds())
+			at[i] = withinBudget(job.GetRounds(), b)
 		}
-		fmt.Printf("%-8s  %-32s  %-32s  %.2fx\n", b, cells[0], cells[1], rmse[1]/rmse[0])
+		indirect := func(r *pb.RoundReport) float64 { return r.GetLayerReferenceRmse()["indirect"] }
+		beauty := func(r *pb.RoundReport) float64 { return r.GetReferenceRmse() }
+		for _, m := range []struct {
+			name string
+			rmse func(*pb.RoundReport) float64
+		}{{"indirect", indirect}, {"beauty", beauty}} {
+			fg, pm := m.rmse(at[0]), m.rmse(at[1])
+			fmt.Printf("%-8s  %-8s  %-30s  %-30s  %.2fx\n", b, m.name,
+				fmt.Sprintf("%.5f (%d, %.1f s)", fg, at[0].GetRound(), at[0].GetElapsedSeconds()),
+				fmt.Sprintf("%.5f (%d, %.1f s)", pm, at[1].GetRound(), at[1].GetElapsedSeconds()), pm/fg)
+		}
+		if fg, pm := indirect(at[0]), indirect(at[1]); fg > 0 && fg < pm {
+			fmt.Printf("PASS: at %s final gathering's indirect light is closer to the reference (%.2fx)\n", b, pm/fg)
+		} else {
+			fmt.Printf("FAIL: at %s final gathering's indirect light is not closer to the reference\n", b)
+			failed = true
+		}
 	}
-	fmt.Println("\nEach RMSE is the farm's reference_rmse of the last round finished within the budget")
-	fmt.Println("(the first round if none was); the ratio above 1 means final gathering is closer.")
+	fmt.Println("\nEach RMSE is the farm's, of the last round finished within the budget (the first")
+	fmt.Println("round if none was): of the indirect layer and of the beauty, against the reference's.")
+	fmt.Println("A ratio above 1 means final gathering is closer.")
+	if failed {
+		return errors.New("final gathering did not beat the photon map at every budget")
+	}
 	return nil
+}
+
+// reference is the digest of the converged image the runs are measured against: the file
+// of -reference uploaded, or sc rendered for -reference-budget (and saved to
+// -save-reference).
+func reference(ctx context.Context, f *farm, o options, sc *pb.Scene) (string, error) {
+	if o.reference != "" {
+		fmt.Printf("reference: %s\n\n", o.reference)
+		return f.c.UploadFile(ctx, o.reference)
+	}
+	fmt.Printf("reference: final gathering, progressive rounds for %s ...\n", o.refBudget)
+	// The reference draws other photons and pixel samples (another seed), so that the runs
+	// measured against it do not share its noise.
+	sc.Sampling.Seed += 1_000_003
+	ref, err := f.render(ctx, sc)
+	if err != nil {
+		return "", err
+	}
+	digest := ""
+	for _, a := range ref.GetOutputs() {
+		if a.GetName() == "image.exr" {
+			digest = a.GetDigest()
+		}
+	}
+	last := ref.GetRounds()[len(ref.GetRounds())-1]
+	fmt.Printf("reference: %d rounds, %.0f s, %d samples per pixel, %s photon paths, error estimate %s\n\n",
+		len(ref.GetRounds()), last.GetElapsedSeconds(), last.GetSamplesPerPixel(), grouped(last.GetPhotons()), opt(last.ErrorEstimate))
+	if o.saveReference != "" {
+		out, err := os.Create(o.saveReference)
+		if err != nil {
+			return "", err
+		}
+		defer out.Close()
+		if _, err := f.c.Download(ctx, digest, out); err != nil {
+			return "", err
+		}
+	}
+	return digest, nil
 }
 
 // withinBudget is the last round that ended within b, or the first round.
