@@ -7,12 +7,12 @@ SCENE ?= scenes/cornell-box.json
 # Go's usual install folder, for shells whose PATH lacks it.
 export PATH := $(PATH):/usr/local/go/bin
 
-.PHONY: demo test build deps cpp go check-proto test-cpp test-go bench clean
+.PHONY: demo test build deps cpp go check-proto test-cpp test-go fuzz bench clean
 
 demo: build
 	$(BIN)/farm render $(SCENE) -o out/ --workers 2
 
-test: build check-proto test-cpp test-go
+test: build check-proto test-cpp test-go fuzz
 
 deps:
 	@scripts/install-deps.sh
@@ -39,6 +39,12 @@ test-go: go
 	  if [ -n "$$unformatted" ]; then echo "gofmt needed: $$unformatted"; exit 1; fi
 	go vet ./...
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -p 1 -count=1 -timeout 30m ./...
+
+# Fuzzes scene parsing, validation and planning (what every submitted scene goes through)
+# for a bounded time; failing inputs are kept under coordinator/scene/testdata/fuzz.
+FUZZTIME ?= 20s
+fuzz:
+	go test -run '^$$' -fuzz FuzzParseValidatePlan -fuzztime $(FUZZTIME) ./coordinator/scene
 
 # Prints figures (photons traced per second, kd-tree build time, nearest-k queries per
 # second against nanoflann in the same run); never part of make test.
