@@ -90,6 +90,10 @@ type NewJob struct {
 	// Tasks in plan order, as the planner makes them: Index, Phase, Round and spec set.
 	// Stages (round, then phase) run in ascending order; Round 0 counts as 1.
 	Tasks []*pb.Task
+	// RequestID, if set, is the client's id for this submission: a second CreateJob with
+	// the same RequestID creates nothing and returns the job the first one created, so a
+	// client may retry a submit whose answer it lost.
+	RequestID string
 }
 
 // RoundEnd is what CompleteRound records when a round's composite succeeds.

@@ -1596,8 +1596,12 @@ func (x *TileInput) GetTile() *Artifact {
 }
 
 type SubmitJobRequest struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	Scene         *Scene                 `protobuf:"bytes,1,opt,name=scene,proto3" json:"scene,omitempty"`
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Scene *Scene                 `protobuf:"bytes,1,opt,name=scene,proto3" json:"scene,omitempty"`
+	// The client's id for this submission (at most 128 printable ASCII characters): a
+	// repeated request with the same id returns the job the first one created instead of
+	// creating another, so a client may retry a submit whose answer it lost.
+	RequestId     string `protobuf:"bytes,2,opt,name=request_id,json=requestId,proto3" json:"request_id,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1637,6 +1641,13 @@ func (x *SubmitJobRequest) GetScene() *Scene {
 		return x.Scene
 	}
 	return nil
+}
+
+func (x *SubmitJobRequest) GetRequestId() string {
+	if x != nil {
+		return x.RequestId
+	}
+	return ""
 }
 
 type SubmitJobResponse struct {
@@ -2396,9 +2407,11 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\"f\n" +
 	"\tTileInput\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12+\n" +
-	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\">\n" +
+	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\"]\n" +
 	"\x10SubmitJobRequest\x12*\n" +
-	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\"9\n" +
+	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\x12\x1d\n" +
+	"\n" +
+	"request_id\x18\x02 \x01(\tR\trequestId\"9\n" +
 	"\x11SubmitJobResponse\x12$\n" +
 	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\">\n" +
 	"\x10PlanSceneRequest\x12*\n" +
