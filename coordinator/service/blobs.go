@@ -31,6 +31,9 @@ func checkDigest(d string) error {
 // becomes visible.
 func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
 	first, err := stream.Recv()
+	if errors.Is(err, io.EOF) {
+		return errs.Field("header", "the upload ended before its header")
+	}
 	if err != nil {
 		return err
 	}

@@ -29,9 +29,28 @@ type jobServer struct {
 
 var _ pb.JobServiceServer = (*jobServer)(nil)
 
-func required(field, v string) error {
+// MaxIDLength bounds every id a request names (job, task, worker, request ids).
+const MaxIDLength = 128
+
+// checkID refuses an empty id, and one no id of ours could be: too long, or with spaces or
+// control characters (the value is not echoed, since it may be huge or unprintable).
+func checkID(field, v string) error {
 	if v == "" {
 		return errs.Field(field, "must be non-empty")
+	}
+	return checkToken(field, v)
+}
+
+// checkToken refuses ids (that may be empty) longer than MaxIDLength bytes or with bytes
+// outside printable ASCII.
+func checkToken(field, v string) error {
+	if len(v) > MaxIDLength {
+		return errs.Field(field, "must be at most %d bytes, got %d", MaxIDLength, len(v))
+	}
+	for i := 0; i < len(v); i++ {
+		if v[i] <= ' ' || v[i] > '~' {
+			return errs.Field(field, "must be printable ASCII without spaces (byte %d is 0x%02x)", i, v[i])
+		}
 	}
 	return nil
 }
@@ -56,6 +75,9 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	if sc == nil {
 		return nil, errs.Field("scene", "missing")
 	}
+	if err := checkToken("request_id", req.GetRequestId()); err != nil {
+		return nil, err
+	}
 	if err := scene.Validate(sc); err != nil {
 		return nil, err
 	}
@@ -79,6 +101,7 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 		Width:       sc.GetFilm().GetWidth(),
 		Height:      sc.GetFilm().GetHeight(),
 		Tasks:       tasks,
+		RequestID:   req.GetRequestId(),
 	})
 	if err != nil {
 		return nil, err
@@ -120,7 +143,7 @@ func (j *jobServer) PlanScene(ctx context.Context, req *pb.PlanSceneRequest) (*p
 }
 
 func (j *jobServer) GetJob(ctx context.Context, req *pb.GetJobRequest) (*pb.GetJobResponse, error) {
-	if err := required("job_id", req.GetJobId()); err != nil {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
 		return nil, err
 	}
 	job, err := j.s.cfg.Store.GetJob(ctx, req.GetJobId())
@@ -143,7 +166,7 @@ func (j *jobServer) ListJobs(ctx context.Context, req *pb.ListJobsRequest) (*pb.
 }
 
 func (j *jobServer) ListTasks(ctx context.Context, req *pb.ListTasksRequest) (*pb.ListTasksResponse, error) {
-	if err := required("job_id", req.GetJobId()); err != nil {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
 		return nil, err
 	}
 	n, err := pageSize("page_size", req.GetPageSize(), DefaultTasksPage, MaxTasksPage)
@@ -158,7 +181,7 @@ func (j *jobServer) ListTasks(ctx context.Context, req *pb.ListTasksRequest) (*p
 }
 
 func (j *jobServer) CancelJob(ctx context.Context, req *pb.CancelJobRequest) (*pb.CancelJobResponse, error) {
-	if err := required("job_id", req.GetJobId()); err != nil {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
 		return nil, err
 	}
 	c, err := j.s.cfg.Store.CancelJob(ctx, req.GetJobId())
@@ -174,7 +197,7 @@ func (j *jobServer) CancelJob(ctx context.Context, req *pb.CancelJobRequest) (*p
 func (j *jobServer) WatchJob(req *pb.WatchJobRequest, stream pb.JobService_WatchJobServer) error {
 	s := j.s
 	ctx := stream.Context()
-	if err := required("job_id", req.GetJobId()); err != nil {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
 		return err
 	}
 	// Subscribe before reading the snapshot so that no change falls in between.

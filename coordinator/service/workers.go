@@ -61,10 +61,15 @@ func (r *registry) touch(id string, now time.Time) error {
 	return nil
 }
 
-func (r *registry) remove(id string) {
+// remove forgets a worker; NotFound if it was not registered.
+func (r *registry) remove(id string) error {
 	r.mu.Lock()
 	defer r.mu.Unlock()
+	if r.m[id] == nil {
+		return &errs.Error{Kind: errs.NotFound, Field: "worker_id", Message: fmt.Sprintf("unknown worker %q", id)}
+	}
 	delete(r.m, id)
+	return nil
 }
 
 func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWorkerRequest) (*pb.RegisterWorkerResponse, error) {
@@ -86,12 +91,15 @@ func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWork
 
 func (ws *workerServer) Heartbeat(ctx context.Context, req *pb.HeartbeatRequest) (*pb.HeartbeatResponse, error) {
 	s := ws.s
-	if err := required("worker_id", req.GetWorkerId()); err != nil {
+	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	for i, l := range req.GetLeases() {
-		if l.GetTaskId() == "" {
-			return nil, errs.Field(fmt.Sprintf("leases[%d].task_id", i), "must be non-empty")
+		if err := checkID(fmt.Sprintf("leases[%d].task_id", i), l.GetTaskId()); err != nil {
+			return nil, err
+		}
+		if l.GetEpoch() == 0 {
+			return nil, errs.Field(fmt.Sprintf("leases[%d].epoch", i), "must be > 0 (the epoch the lease was granted under)")
 		}
 	}
 	if err := s.workers.touch(req.GetWorkerId(), s.cfg.Clock.Now()); err != nil {
@@ -109,7 +117,7 @@ func (ws *workerServer) Heartbeat(ctx context.Context, req *pb.HeartbeatRequest)
 // caller gives up, or the coordinator shuts down.
 func (ws *workerServer) LeaseTask(ctx context.Context, req *pb.LeaseTaskRequest) (*pb.LeaseTaskResponse, error) {
 	s := ws.s
-	if err := required("worker_id", req.GetWorkerId()); err != nil {
+	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	var wait time.Duration
@@ -130,10 +138,10 @@ func (ws *workerServer) LeaseTask(ctx context.Context, req *pb.LeaseTaskRequest)
 
 // leaseRef validates the lease fields shared by CompleteTask, FailTask and ReleaseTask.
 func leaseRef(workerID, taskID string, epoch uint64) (store.LeaseRef, error) {
-	if err := required("worker_id", workerID); err != nil {
+	if err := checkID("worker_id", workerID); err != nil {
 		return store.LeaseRef{}, err
 	}
-	if err := required("task_id", taskID); err != nil {
+	if err := checkID("task_id", taskID); err != nil {
 		return store.LeaseRef{}, err
 	}
 	if epoch == 0 {
@@ -178,10 +186,12 @@ func (ws *workerServer) ReleaseTask(ctx context.Context, req *pb.ReleaseTaskRequ
 // UnregisterWorker forgets the worker and releases its leases. It is idempotent.
 func (ws *workerServer) UnregisterWorker(ctx context.Context, req *pb.UnregisterWorkerRequest) (*pb.UnregisterWorkerResponse, error) {
 	s := ws.s
-	if err := required("worker_id", req.GetWorkerId()); err != nil {
+	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
 		return nil, err
 	}
-	s.workers.remove(req.GetWorkerId())
+	if err := s.workers.remove(req.GetWorkerId()); err != nil {
+		return nil, err
+	}
 	changes, err := s.cfg.Store.ReleaseWorker(ctx, req.GetWorkerId())
 	for _, c := range changes {
 		s.publish(c)

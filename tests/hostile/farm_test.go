@@ -1,0 +1,134 @@
+package hostile
+
+import (
+	"context"
+	"net"
+	"path/filepath"
+	"runtime"
+	"strings"
+	"testing"
+	"time"
+
+	"google.golang.org/grpc"
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/credentials/insecure"
+	"google.golang.org/grpc/status"
+	"google.golang.org/protobuf/proto"
+
+	"photonfarm/client"
+	"photonfarm/coordinator"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// repoRoot is the module root, two folders above this package.
+func repoRoot() string {
+	_, file, _, _ := runtime.Caller(0)
+	return filepath.Dir(filepath.Dir(filepath.Dir(file)))
+}
+
+// farm is a coordinator serving on loopback, a client of it, and what is stored before
+// the hostile requests: one job with a task leased by a registered worker.
+type farm struct {
+	ctx      context.Context
+	c        *client.Client
+	jobs     pb.JobServiceClient
+	workers  pb.WorkerServiceClient
+	blobs    pb.BlobServiceClient
+	scene    *pb.Scene // valid, its mesh uploaded
+	job      *pb.Job
+	workerID string
+	lease    *pb.Lease
+	stopped  chan error
+}
+
+func startFarm(t *testing.T) *farm {
+	t.Helper()
+	ctx, cancel := context.WithCancel(context.Background())
+	coord, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: time.Minute})
+	if err != nil {
+		t.Fatal(err)
+	}
+	lis, err := net.Listen("tcp", "127.0.0.1:0")
+	if err != nil {
+		t.Fatal(err)
+	}
+	f := &farm{ctx: ctx, stopped: make(chan error, 1)}
+	go func() { f.stopped <- coord.Serve(ctx, lis) }()
+	t.Cleanup(func() {
+		cancel()
+		<-f.stopped
+	})
+	if f.c, err = client.Dial(lis.Addr().String()); err != nil {
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { f.c.Close() })
+	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()),
+		grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(128<<20), grpc.MaxCallSendMsgSize(128<<20)))
+	if err != nil {
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { conn.Close() })
+	f.jobs, f.workers, f.blobs = pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
+
+	sc, err := f.c.LoadSceneFile(ctx, filepath.Join(repoRoot(), "scenes", "test-small.json"))
+	if err != nil {
+		t.Fatal(err)
+	}
+	f.scene = sc
+	if f.job, err = f.c.Submit(ctx, sc); err != nil {
+		t.Fatal(err)
+	}
+	reg, err := f.workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "honest", Cores: 1})
+	if err != nil {
+		t.Fatal(err)
+	}
+	f.workerID = reg.GetWorkerId()
+	l, err := f.workers.LeaseTask(ctx, &pb.LeaseTaskRequest{WorkerId: f.workerID})
+	if err != nil || l.GetLease() == nil {
+		t.Fatalf("lease: %v, %v", l, err)
+	}
+	f.lease = l.GetLease()
+	return f
+}
+
+// state is every stored job and task, for comparing before and after.
+func (f *farm) state(t *testing.T) []proto.Message {
+	t.Helper()
+	jobs, err := f.c.ListJobs(f.ctx)
+	if err != nil {
+		t.Fatalf("ListJobs: %v (is the coordinator still up?)", err)
+	}
+	var out []proto.Message
+	for _, j := range jobs {
+		out = append(out, j)
+		tasks, err := f.c.ListTasks(f.ctx, j.GetId())
+		if err != nil {
+			t.Fatal(err)
+		}
+		for _, task := range tasks {
+			out = append(out, task)
+		}
+	}
+	return out
+}
+
+// hostileCase is one request and what it must get back.
+type hostileCase struct {
+	name string
+	call func(f *farm) error
+	code codes.Code
+	// want is a substring of the status message: the field or the reason.
+	want string
+}
+
+func check(t *testing.T, f *farm, c hostileCase) {
+	t.Helper()
+	err := c.call(f)
+	st, _ := status.FromError(err)
+	if st.Code() != c.code || !strings.Contains(st.Message(), c.want) {
+		t.Errorf("got %v %q, want %v with %q", st.Code(), st.Message(), c.code, c.want)
+	}
+	if c.code != codes.OK && strings.TrimSpace(st.Message()) == "" {
+		t.Error("a refusal without a message")
+	}
+}
