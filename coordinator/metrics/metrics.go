@@ -85,7 +85,9 @@ func (m *Metrics) Handler() http.Handler {
 }
 
 // LeaseGranted counts a lease of a task of phase.
-func (m *Metrics) LeaseGranted(phase pb.Phase) { m.leases.WithLabelValues(client.PhaseName(phase)).Inc() }
+func (m *Metrics) LeaseGranted(phase pb.Phase) {
+	m.leases.WithLabelValues(client.PhaseName(phase)).Inc()
+}
 
 // LeaseExpired counts a lease that expired.
 func (m *Metrics) LeaseExpired() { m.leaseExpiries.Inc() }
