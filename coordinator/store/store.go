@@ -32,7 +32,8 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// Store holds jobs, tasks and leases. Implementations: memstore (in process); Redis next.
+// Store holds jobs, tasks and leases. Implementations: memstore (in process) and
+// redisstore (shared by coordinator replicas, survives restarts).
 // The behavioural suite in storetest runs against every implementation.
 type Store interface {
 	// CreateJob stores a new QUEUED job with its tasks and queues the tasks of its first

@@ -16,11 +16,8 @@ import (
 // LeaseTask implements store.Store: the first queued task of phases in the oldest job
 // with one.
 func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phase) (*store.Leased, error) {
-	if workerID == "" {
-		return nil, errs.Field("worker_id", "must be non-empty")
-	}
-	if len(phases) == 0 {
-		return nil, errs.E(errs.Internal, "LeaseTask needs the phases the caller takes")
+	if err := store.CheckLeaseArgs(workerID, phases); err != nil {
+		return nil, err
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()

@@ -6,10 +6,8 @@ package memstore
 import (
 	"context"
 	"crypto/rand"
-	"encoding/base64"
 	"encoding/hex"
 	"fmt"
-	"strconv"
 	"sync"
 	"time"
 
@@ -30,6 +28,8 @@ type Store struct {
 	jobs    map[string]*job
 	ordered []*job // creation order; the queue's job order
 	tasks   map[string]*task
+	// requests maps a CreateJob request id to the job it created.
+	requests map[string]*job
 }
 
 var _ store.Store = (*Store)(nil)
@@ -51,9 +51,10 @@ type task struct {
 // New returns an empty store.
 func New(opts store.Options) *Store {
 	return &Store{
-		opts:  opts.WithDefaults(),
-		jobs:  make(map[string]*job),
-		tasks: make(map[string]*task),
+		opts:     opts.WithDefaults(),
+		jobs:     make(map[string]*job),
+		tasks:    make(map[string]*task),
+		requests: make(map[string]*job),
 	}
 }
 
@@ -80,6 +81,9 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
+	if j := s.requests[nj.RequestID]; nj.RequestID != "" && j != nil {
+		return j.snapshot(), nil // a retried submission
+	}
 	now := timestamppb.New(s.now())
 	s.seq++
 	id := newJobID()
@@ -102,6 +106,9 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	s.appendTasks(j, nj.Tasks)
 	s.jobs[id] = j
 	s.ordered = append(s.ordered, j)
+	if nj.RequestID != "" {
+		s.requests[nj.RequestID] = j
+	}
 	return j.snapshot(), nil
 }
 
@@ -182,22 +189,6 @@ func (s *Store) job(id string) (*job, error) {
 	return j, nil
 }
 
-// Page tokens are opaque to clients: base64 of "j<seq>" (jobs older than seq) or
-// "t<index>" (tasks from index on).
-func encodeToken(prefix byte, n uint64) string {
-	return base64.RawURLEncoding.EncodeToString([]byte(string(prefix) + strconv.FormatUint(n, 10)))
-}
-
-func decodeToken(prefix byte, tok string) (uint64, error) {
-	b, err := base64.RawURLEncoding.DecodeString(tok)
-	if err == nil && len(b) > 1 && b[0] == prefix {
-		if n, err := strconv.ParseUint(string(b[1:]), 10, 64); err == nil {
-			return n, nil
-		}
-	}
-	return 0, errs.Field("page_token", "malformed page token %q", tok)
-}
-
 // ListJobs implements store.Store.
 func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([]*pb.Job, string, error) {
 	if pageSize <= 0 {
@@ -205,7 +196,7 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 	}
 	before := uint64(1<<63 - 1)
 	if pageToken != "" {
-		n, err := decodeToken('j', pageToken)
+		n, err := store.DecodePageToken('j', pageToken)
 		if err != nil {
 			return nil, "", err
 		}
@@ -221,7 +212,7 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 			continue
 		}
 		if len(out) == pageSize {
-			return out, encodeToken('j', last), nil
+			return out, store.EncodePageToken('j', last), nil
 		}
 		out = append(out, j.snapshot())
 		last = j.seq
@@ -236,7 +227,7 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	}
 	var from uint64
 	if pageToken != "" {
-		n, err := decodeToken('t', pageToken)
+		n, err := store.DecodePageToken('t', pageToken)
 		if err != nil {
 			return nil, "", err
 		}
@@ -251,7 +242,7 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	var out []*pb.Task
 	for i := from; i < uint64(len(j.tasks)); i++ {
 		if len(out) == pageSize {
-			return out, encodeToken('t', i), nil
+			return out, store.EncodePageToken('t', i), nil
 		}
 		out = append(out, j.tasks[i].snapshot())
 	}

@@ -37,6 +37,37 @@ func testCreateJob(f *fixture) {
 	}
 }
 
+func testCreateJobRequestID(f *fixture) {
+	create := func(name, requestID string) *pb.Job {
+		f.t.Helper()
+		nj := newJob(name, 2)
+		nj.RequestID = requestID
+		j, err := f.s.CreateJob(f.ctx, nj)
+		if err != nil {
+			f.t.Fatalf("CreateJob(%s, %q): %v", name, requestID, err)
+		}
+		return j
+	}
+	first := create("a", "req-1")
+	f.lease("w1") // the retry must return the job as it stands, not reset it
+	again := create("a-retry", "req-1")
+	if again.Id != first.Id || again.DisplayName != "a" || again.State != pb.JobState_JOB_STATE_RUNNING {
+		f.t.Errorf("retried CreateJob = %v, want job %s as it stands", again, first.Id)
+	}
+	other := create("b", "req-2")
+	anon1, anon2 := create("c", ""), create("c", "")
+	if other.Id == first.Id || anon1.Id == anon2.Id {
+		f.t.Errorf("distinct submissions share a job: %s %s, %s %s", first.Id, other.Id, anon1.Id, anon2.Id)
+	}
+	jobs, _, err := f.s.ListJobs(f.ctx, 100, "")
+	if err != nil || len(jobs) != 4 {
+		f.t.Errorf("ListJobs = %d jobs, %v; want 4 (the retry created nothing)", len(jobs), err)
+	}
+	if got := taskStates(f.tasks(first.Id)); got != "LQW" {
+		f.t.Errorf("states of the first job = %s, want LQW", got)
+	}
+}
+
 func testGetJobUnknown(f *fixture) {
 	_, err := f.s.GetJob(f.ctx, "nope")
 	wantKind(f.t, "GetJob", err, errs.NotFound)

@@ -54,6 +54,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		fn   func(*fixture)
 	}{
 		{"CreateJobQueuesFirstPhase", testCreateJob},
+		{"CreateJobWithSeenRequestIDReturnsTheFirstJob", testCreateJobRequestID},
 		{"GetJobUnknownIsNotFound", testGetJobUnknown},
 		{"LeaseNothingQueuedIsNotAnError", testLeaseNothing},
 		{"LeaseIsFIFOByJobThenIndex", testLeaseFIFO},

@@ -1,0 +1,209 @@
+package redisstore
+
+import (
+	"fmt"
+	"strconv"
+	"strings"
+	"time"
+
+	"google.golang.org/protobuf/proto"
+	"google.golang.org/protobuf/types/known/timestamppb"
+
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// A job record (hash j:{job}) keeps what never changes as one protobuf ("static": the
+// pb.Job without state, times other than creation, outputs, phases or rounds) and what
+// the scripts change as plain fields:
+//
+//	seq, state, update, end (µs), error, outputs (see encodeArtifacts)
+//	ntasks                 tasks so far
+//	cur, curend, left      the current stage [cur, curend) and its tasks not yet succeeded
+//	pround, pphases        the latest round and its phases in plan order ("5,6")
+//	pt:{phase}, ps:{phase} that round's tasks of phase: total, succeeded
+//
+// A task record (hash t:{job}.{index}) keeps the planner's task as "spec" (the pb.Task
+// without id, job, index, state, attempts, worker, error or outputs) and: job, idx, phase,
+// round, state, epoch (the fencing token; only grows), attempts, failures, worker, error,
+// outputs, expire (µs).
+
+// encodeArtifacts stores a list of artifacts as a serialized pb.Task holding only them, so
+// that concatenated encodings decode to the concatenated list (protobuf merges repeated
+// fields): the completion script joins a stage's outputs without parsing them.
+func encodeArtifacts(as []*pb.Artifact) ([]byte, error) {
+	return proto.Marshal(&pb.Task{Outputs: as})
+}
+
+func decodeArtifacts(b string) ([]*pb.Artifact, error) {
+	var t pb.Task
+	if err := proto.Unmarshal([]byte(b), &t); err != nil {
+		return nil, err
+	}
+	return t.Outputs, nil
+}
+
+// taskArgs is the append section the scripts read: the count, then spec, phase and
+// round of each task.
+func taskArgs(tasks []*pb.Task) ([]any, error) {
+	args := []any{len(tasks)}
+	for _, t := range tasks {
+		spec := proto.Clone(t).(*pb.Task)
+		spec.Id, spec.JobId, spec.Index, spec.State = "", "", 0, pb.TaskState_TASK_STATE_UNSPECIFIED
+		spec.Attempts, spec.WorkerId, spec.Error, spec.Outputs = 0, "", "", nil
+		b, err := proto.Marshal(spec)
+		if err != nil {
+			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("encode task %d", t.GetIndex()))
+		}
+		args = append(args, b, int32(t.GetPhase()), t.GetRound())
+	}
+	return args, nil
+}
+
+func micros(t time.Time) string { return strconv.FormatInt(t.UnixMicro(), 10) }
+
+func timestamp(us string) *timestamppb.Timestamp {
+	n, _ := strconv.ParseInt(us, 10, 64)
+	return timestamppb.New(time.UnixMicro(n))
+}
+
+func number(s string) uint64 {
+	n, _ := strconv.ParseUint(s, 10, 64)
+	return n
+}
+
+// decodeJob rebuilds a pb.Job from its record and its round reports.
+func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
+	j := &pb.Job{}
+	if err := proto.Unmarshal([]byte(h["static"]), j); err != nil {
+		return nil, errs.Wrap(errs.Internal, err, "decode job record")
+	}
+	j.State = pb.JobState(number(h["state"]))
+	j.UpdateTime = timestamp(h["update"])
+	if h["end"] != "" {
+		j.EndTime = timestamp(h["end"])
+	}
+	j.Error = h["error"]
+	outs, err := decodeArtifacts(h["outputs"])
+	if err != nil {
+		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode outputs of job %s", j.Id))
+	}
+	j.Outputs = outs
+	for _, r := range rounds {
+		rr := &pb.RoundReport{}
+		if err := proto.Unmarshal([]byte(r), rr); err != nil {
+			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode round report of job %s", j.Id))
+		}
+		j.Rounds = append(j.Rounds, rr)
+	}
+	for _, ph := range strings.Split(h["pphases"], ",") {
+		if ph == "" {
+			continue
+		}
+		j.Phases = append(j.Phases, &pb.PhaseProgress{
+			Phase:          pb.Phase(number(ph)),
+			TasksTotal:     uint32(number(h["pt:"+ph])),
+			TasksSucceeded: uint32(number(h["ps:"+ph])),
+		})
+	}
+	return j, nil
+}
+
+// decodeTask rebuilds a pb.Task from its record.
+func decodeTask(h map[string]string) (*pb.Task, error) {
+	t := &pb.Task{}
+	if err := proto.Unmarshal([]byte(h["spec"]), t); err != nil {
+		return nil, errs.Wrap(errs.Internal, err, "decode task record")
+	}
+	t.Index = uint32(number(h["idx"]))
+	t.JobId = h["job"]
+	t.Id = store.TaskID(t.JobId, t.Index)
+	t.State = pb.TaskState(number(h["state"]))
+	t.Attempts = uint32(number(h["attempts"]))
+	t.WorkerId = h["worker"]
+	t.Error = h["error"]
+	outs, err := decodeArtifacts(h["outputs"])
+	if err != nil {
+		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode outputs of task %s", t.Id))
+	}
+	t.Outputs = outs
+	return t, nil
+}
+
+// hash turns an HGETALL answer (a flat list, as scripts return it) into a map.
+func hash(v any) map[string]string {
+	l, _ := v.([]any)
+	m := make(map[string]string, len(l)/2)
+	for i := 0; i+1 < len(l); i += 2 {
+		k, _ := l[i].(string)
+		m[k], _ = l[i+1].(string)
+	}
+	return m
+}
+
+func strs(v any) []string {
+	l, _ := v.([]any)
+	out := make([]string, len(l))
+	for i, x := range l {
+		out[i], _ = x.(string)
+	}
+	return out
+}
+
+// reply is a script's answer decoded: a change and its task record. A repeated report
+// decodes to the zero reply, the empty Change the Store contract asks for.
+type reply struct {
+	change store.Change
+	task   map[string]string // the task record behind change.Task
+	none   bool              // nothing to lease
+}
+
+// decodeReply decodes the answers described in scripts.go.
+func decodeReply(v any) (reply, error) {
+	l, _ := v.([]any)
+	if len(l) == 0 {
+		return reply{}, errs.E(errs.Internal, "unexpected script answer %v", v)
+	}
+	switch l[0] {
+	case "NOOP":
+		return reply{}, nil
+	case "NONE":
+		return reply{none: true}, nil
+	case "E":
+		if len(l) == 4 {
+			return reply{}, refusal(l[1], l[2], l[3])
+		}
+	case "OK":
+		if len(l) == 6 {
+			return decodeOK(l)
+		}
+	}
+	return reply{}, errs.E(errs.Internal, "unexpected script answer %v", v)
+}
+
+func decodeOK(l []any) (reply, error) {
+	job, err := decodeJob(hash(l[3]), strs(l[4]))
+	if err != nil {
+		return reply{}, err
+	}
+	r := reply{change: store.Change{Job: job, JobStateChanged: l[1] == int64(1), Queued: l[2] == int64(1)}}
+	if r.task = hash(l[5]); len(r.task) > 0 {
+		if r.change.Task, err = decodeTask(r.task); err != nil {
+			return reply{}, err
+		}
+	}
+	return r, nil
+}
+
+func refusal(kind, field, msg any) error {
+	k := errs.Internal
+	switch kind {
+	case "notfound":
+		k = errs.NotFound
+	case "precondition":
+		k = errs.FailedPrecondition
+	}
+	f, _ := field.(string)
+	return &errs.Error{Kind: k, Field: f, Message: fmt.Sprint(msg)}
+}

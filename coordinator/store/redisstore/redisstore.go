@@ -1,0 +1,281 @@
+// Package redisstore is a store.Store kept in Redis, so that the farm's state outlives a
+// coordinator and several coordinators (replicas) can share it.
+//
+// Atomicity: every method that changes state is one Lua script (scripts.go), run with
+// EVALSHA. Redis runs a script alone, start to finish, so two Store values on one Redis
+// (two coordinator processes) can never interleave inside a step: a task is popped from
+// its queue and leased in the same script, and every report is checked against the
+// task's epoch, worker and expiry in the script that applies it. Scripts were chosen over
+// WATCH/MULTI because a lease must search the queues and then write, and many lessees
+// compete for the same queue: optimistic transactions would retry under exactly the load
+// that matters. Reads are single commands or MULTI blocks, so each sees one state.
+//
+// Epochs (fencing tokens) are task fields in Redis, grown by HINCRBY on every lease and
+// never reset. Time comes from Options.Clock of the calling coordinator, passed to each
+// script, so replicas should run synchronized clocks.
+//
+// Scale: a lease or a completion touches the job record, one task record and a few
+// sorted-set entries; only opening a stage touches that stage's tasks (they all become
+// queued), and ending a job early (fail, cancel) its unfinished tasks. Job.phases is kept
+// as counters of the latest round.
+//
+// The scripts build key names from the prefix (keys.go) because a lease discovers the
+// keys it needs while it runs; on Redis Cluster the prefix must therefore be a hash tag
+// such as "{farm}:" so that all of a farm's keys share a slot.
+package redisstore
+
+import (
+	"context"
+	"crypto/rand"
+	"encoding/hex"
+	"errors"
+	"fmt"
+	"strconv"
+
+	"github.com/redis/go-redis/v9"
+	"google.golang.org/protobuf/proto"
+	"google.golang.org/protobuf/types/known/timestamppb"
+
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Store is a store.Store over Redis. Create it with New.
+type Store struct {
+	rdb    redis.UniversalClient
+	prefix string
+	opts   store.Options
+}
+
+var _ store.Store = (*Store)(nil)
+
+// New returns a Store keeping its keys under prefix in the Redis rdb talks to. It checks
+// that Redis answers; the data already under prefix (a restarted coordinator's) is used
+// as it is.
+func New(ctx context.Context, rdb redis.UniversalClient, prefix string, opts store.Options) (*Store, error) {
+	if err := rdb.Ping(ctx).Err(); err != nil {
+		return nil, fmt.Errorf("redisstore: %w", err)
+	}
+	return &Store{rdb: rdb, prefix: prefix, opts: opts.WithDefaults()}, nil
+}
+
+// run runs a script with the prefix and the time in front of args.
+func (s *Store) run(ctx context.Context, sc *redis.Script, args ...any) (any, error) {
+	args = append([]any{s.prefix, micros(s.opts.Clock.Now())}, args...)
+	v, err := sc.Run(ctx, s.rdb, []string{s.key("jobs")}, args...).Result()
+	if err != nil {
+		return nil, redisErr(err)
+	}
+	return v, nil
+}
+
+// change runs a script that answers with one reply.
+func (s *Store) change(ctx context.Context, sc *redis.Script, args ...any) (reply, error) {
+	v, err := s.run(ctx, sc, args...)
+	if err != nil {
+		return reply{}, err
+	}
+	return decodeReply(v)
+}
+
+// changes runs a script that answers with a list of replies.
+func (s *Store) changes(ctx context.Context, sc *redis.Script, args ...any) ([]store.Change, error) {
+	v, err := s.run(ctx, sc, args...)
+	if err != nil {
+		return nil, err
+	}
+	l, _ := v.([]any)
+	var out []store.Change
+	for _, x := range l {
+		r, err := decodeReply(x)
+		if err != nil {
+			return nil, err
+		}
+		out = append(out, r.change)
+	}
+	return out, nil
+}
+
+// redisErr reports a failed Redis call: unreachable Redis means the store cannot
+// answer now; an error Redis answered with (a failing script) is a bug.
+func redisErr(err error) error {
+	var answered redis.Error
+	if errors.As(err, &answered) {
+		return errs.Wrap(errs.Internal, err, "redis")
+	}
+	return errs.Wrap(errs.Unavailable, err, "redis")
+}
+
+func newJobID() string {
+	var b [8]byte
+	_, _ = rand.Read(b[:])
+	return "j-" + hex.EncodeToString(b[:])
+}
+
+// CreateJob implements store.Store.
+func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
+	if len(nj.Tasks) == 0 {
+		return nil, errs.E(errs.InvalidArgument, "a job needs at least one task")
+	}
+	for i, t := range nj.Tasks {
+		if t.GetIndex() != uint32(i) {
+			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
+		}
+		if i > 0 && store.Stage(t) < store.Stage(nj.Tasks[i-1]) {
+			return nil, errs.E(errs.Internal, "task %d: phases out of order", i)
+		}
+	}
+	id := newJobID()
+	static, err := proto.Marshal(&pb.Job{
+		Id:          id,
+		DisplayName: nj.DisplayName,
+		CreateTime:  timestamppb.New(s.opts.Clock.Now()),
+		SceneDigest: nj.SceneDigest,
+		Width:       nj.Width,
+		Height:      nj.Height,
+		Plan:        nj.Plan,
+	})
+	if err != nil {
+		return nil, errs.Wrap(errs.Internal, err, "encode job")
+	}
+	tasks, err := taskArgs(nj.Tasks)
+	if err != nil {
+		return nil, err
+	}
+	r, err := s.change(ctx, createScript, append([]any{id, nj.RequestID, static}, tasks...)...)
+	if err != nil {
+		return nil, err
+	}
+	return r.change.Job, nil
+}
+
+// GetJob implements store.Store.
+func (s *Store) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
+	jobs, err := s.jobs(ctx, []string{jobID})
+	if err != nil {
+		return nil, err
+	}
+	return jobs[0], nil
+}
+
+// jobs reads jobs in one MULTI block.
+func (s *Store) jobs(ctx context.Context, ids []string) ([]*pb.Job, error) {
+	records := make([]*redis.MapStringStringCmd, len(ids))
+	rounds := make([]*redis.StringSliceCmd, len(ids))
+	_, err := s.rdb.TxPipelined(ctx, func(p redis.Pipeliner) error {
+		for i, id := range ids {
+			records[i] = p.HGetAll(ctx, s.jobKey(id))
+			rounds[i] = p.LRange(ctx, s.roundsKey(id), 0, -1)
+		}
+		return nil
+	})
+	if err != nil {
+		return nil, redisErr(err)
+	}
+	out := make([]*pb.Job, len(ids))
+	for i, id := range ids {
+		if len(records[i].Val()) == 0 {
+			return nil, &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
+		}
+		if out[i], err = decodeJob(records[i].Val(), rounds[i].Val()); err != nil {
+			return nil, err
+		}
+	}
+	return out, nil
+}
+
+// GetTask implements store.Store.
+func (s *Store) GetTask(ctx context.Context, taskID string) (*pb.Task, error) {
+	h, err := s.rdb.HGetAll(ctx, s.taskKey(taskID)).Result()
+	if err != nil {
+		return nil, redisErr(err)
+	}
+	if len(h) == 0 {
+		return nil, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", taskID)}
+	}
+	return decodeTask(h)
+}
+
+// ListJobs implements store.Store.
+func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([]*pb.Job, string, error) {
+	if pageSize <= 0 {
+		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
+	}
+	upper := "+inf"
+	if pageToken != "" {
+		n, err := store.DecodePageToken('j', pageToken)
+		if err != nil {
+			return nil, "", err
+		}
+		upper = "(" + strconv.FormatUint(n, 10)
+	}
+	// One more than a page tells whether another page follows.
+	zs, err := s.rdb.ZRevRangeByScoreWithScores(ctx, s.key("jobs"), &redis.ZRangeBy{
+		Max: upper, Min: "-inf", Count: int64(pageSize) + 1,
+	}).Result()
+	if err != nil {
+		return nil, "", redisErr(err)
+	}
+	next := ""
+	if len(zs) > pageSize {
+		zs = zs[:pageSize]
+		next = store.EncodePageToken('j', uint64(zs[pageSize-1].Score))
+	}
+	ids := make([]string, len(zs))
+	for i, z := range zs {
+		ids[i], _ = z.Member.(string)
+	}
+	jobs, err := s.jobs(ctx, ids)
+	if err != nil {
+		return nil, "", err
+	}
+	return jobs, next, nil
+}
+
+// ListTasks implements store.Store.
+func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageToken string) ([]*pb.Task, string, error) {
+	if pageSize <= 0 {
+		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
+	}
+	var from uint64
+	if pageToken != "" {
+		n, err := store.DecodePageToken('t', pageToken)
+		if err != nil {
+			return nil, "", err
+		}
+		from = n
+	}
+	n, err := s.rdb.HGet(ctx, s.jobKey(jobID), "ntasks").Uint64()
+	if err == redis.Nil {
+		return nil, "", &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", jobID)}
+	}
+	if err != nil {
+		return nil, "", redisErr(err)
+	}
+	to, next := min(from+uint64(pageSize), n), ""
+	if to < n {
+		next = store.EncodePageToken('t', to)
+	}
+	if from >= to {
+		return nil, next, nil
+	}
+	// Tasks are only ever added, so the n read above still bounds them.
+	cmds := make([]*redis.MapStringStringCmd, 0, to-from)
+	_, err = s.rdb.TxPipelined(ctx, func(p redis.Pipeliner) error {
+		for i := from; i < to; i++ {
+			cmds = append(cmds, p.HGetAll(ctx, s.taskKey(store.TaskID(jobID, uint32(i)))))
+		}
+		return nil
+	})
+	if err != nil {
+		return nil, "", redisErr(err)
+	}
+	out := make([]*pb.Task, len(cmds))
+	for i, c := range cmds {
+		if out[i], err = decodeTask(c.Val()); err != nil {
+			return nil, "", err
+		}
+	}
+	return out, next, nil
+}
