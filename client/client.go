@@ -39,16 +39,20 @@ type Client struct {
 type Option func(*dialOptions)
 
 type dialOptions struct {
-	creds    credentials.TransportCredentials
-	perRPC   credentials.PerRPCCredentials
-	extra    []grpc.DialOption
-	chunkLen int
+	creds          credentials.TransportCredentials
+	secure         bool // creds protect the connection (not plaintext)
+	perRPC         credentials.PerRPCCredentials
+	token          string
+	allowPlaintext bool
+	extra          []grpc.DialOption
+	chunkLen       int
+	err            error // from an option that failed (an unreadable CA file)
 }
 
 // WithTransportCredentials secures the connection (TLS, mTLS). Without it the connection
 // is plaintext, which is meant for loopback and trusted networks only.
 func WithTransportCredentials(c credentials.TransportCredentials) Option {
-	return func(o *dialOptions) { o.creds = c }
+	return func(o *dialOptions) { o.creds, o.secure = c, true }
 }
 
 // WithPerRPCCredentials attaches credentials (for example a bearer token) to every call.
@@ -67,7 +71,8 @@ func withChunkSize(n int) Option {
 }
 
 // Dial returns a Client for the coordinator at addr ("host:port"). The connection is made
-// lazily, on the first call, so Dial fails only for a malformed address or options.
+// lazily, on the first call, so Dial fails only for a malformed address or options, or
+// for a token that would travel in plaintext to another machine (ErrPlaintextToken).
 func Dial(addr string, opts ...Option) (*Client, error) {
 	if addr == "" {
 		return nil, errors.New("client: empty coordinator address")
@@ -75,6 +80,18 @@ func Dial(addr string, opts ...Option) (*Client, error) {
 	o := dialOptions{creds: insecure.NewCredentials(), chunkLen: UploadChunkSize}
 	for _, opt := range opts {
 		opt(&o)
+	}
+	if o.err != nil {
+		return nil, o.err
+	}
+	if o.token != "" {
+		if !o.secure && !o.allowPlaintext && !IsLoopback(addr) {
+			return nil, fmt.Errorf("client: %s: %w (use TLS, or allow plaintext on a trusted network)", addr, ErrPlaintextToken)
+		}
+		if o.perRPC != nil {
+			return nil, errors.New("client: WithToken and WithPerRPCCredentials are exclusive")
+		}
+		o.perRPC = bearerToken{token: o.token, requireTLS: o.secure}
 	}
 	dopts := []grpc.DialOption{grpc.WithTransportCredentials(o.creds)}
 	if o.perRPC != nil {

@@ -30,18 +30,39 @@ type SceneFile struct {
 type MeshRef struct {
 	// Field is the first shape field that names the file ("shapes[3].mesh.path").
 	Field string
-	// File is the path on disk (relative paths resolved against the scene file's folder).
+	// File is the path on disk: relative paths resolved against the scene file's folder,
+	// symbolic links resolved (it lies inside the asset root).
 	File   string
 	Digest string
 	Size   int64
 }
 
+// A SceneOption changes how ReadSceneFile and LoadSceneFile read a scene.
+type SceneOption func(*sceneOptions)
+
+type sceneOptions struct {
+	assetRoot string
+}
+
+// WithAssetRoot sets the folder that every file a scene names (meshes, the reference
+// image) must lie in; by default it is the scene file's folder. A path that leaves it
+// (through "..", as an absolute path, or through a symbolic link) is refused.
+func WithAssetRoot(dir string) SceneOption {
+	return func(o *sceneOptions) { o.assetRoot = dir }
+}
+
 // ReadSceneFile parses the scene file at path (protobuf's JSON mapping of
 // renderfarm.v1.Scene) and reads the mesh files it references, relative to the scene
-// file's folder. Every error that is the file's fault is an *Error with code
-// InvalidArgument naming the field: "shapes[3].mesh.path: open meshes/x.obj: no such file
-// or directory". The scene is not validated here; the coordinator does that on submit.
-func ReadSceneFile(path string) (*SceneFile, error) {
+// file's folder. Every file it names must lie inside the asset root (WithAssetRoot; by
+// default the scene file's folder), symbolic links resolved. Every error that is the
+// file's fault is an *Error with code InvalidArgument naming the field:
+// "shapes[3].mesh.path: open meshes/x.obj: no such file or directory". The scene is not
+// validated here; the coordinator does that on submit.
+func ReadSceneFile(path string, opts ...SceneOption) (*SceneFile, error) {
+	var o sceneOptions
+	for _, opt := range opts {
+		opt(&o)
+	}
 	data, err := os.ReadFile(path)
 	if err != nil {
 		return nil, invalid("", err.Error(), err)
@@ -52,6 +73,13 @@ func ReadSceneFile(path string) (*SceneFile, error) {
 	}
 	sf := &SceneFile{Path: path, Scene: sc}
 	dir := filepath.Dir(path)
+	if o.assetRoot == "" {
+		o.assetRoot = dir
+	}
+	root, err := newAssetRoot(o.assetRoot)
+	if err != nil {
+		return nil, err
+	}
 	seen := map[string]int{} // resolved file -> index in sf.Meshes
 	for i, sh := range sc.GetShapes() {
 		m := sh.GetMesh()
@@ -59,9 +87,9 @@ func ReadSceneFile(path string) (*SceneFile, error) {
 			continue
 		}
 		field := fmt.Sprintf("shapes[%d].mesh", i)
-		file := m.GetPath()
-		if !filepath.IsAbs(file) {
-			file = filepath.Join(dir, file)
+		file, err := root.resolve(field+".path", dir, m.GetPath())
+		if err != nil {
+			return nil, err
 		}
 		j, ok := seen[file]
 		if !ok {
@@ -86,23 +114,86 @@ func ReadSceneFile(path string) (*SceneFile, error) {
 		m.Digest = digest
 		m.Path = ""
 	}
-	if err := sf.resolveReference(dir); err != nil {
+	if err := sf.resolveReference(root, dir); err != nil {
 		return nil, err
 	}
 	return sf, nil
 }
 
+// assetRoot is the folder a scene's files must stay in: as given, absolute, and with
+// symbolic links resolved.
+type assetRoot struct {
+	abs, resolved string
+}
+
+func newAssetRoot(dir string) (*assetRoot, error) {
+	abs, err := filepath.Abs(dir)
+	if err != nil {
+		return nil, invalid("", fmt.Sprintf("asset root %s: %v", dir, err), err)
+	}
+	resolved, err := filepath.EvalSymlinks(abs)
+	if err != nil {
+		return nil, invalid("", fmt.Sprintf("asset root: %v", err), err)
+	}
+	if st, err := os.Stat(resolved); err != nil || !st.IsDir() {
+		return nil, invalid("", fmt.Sprintf("asset root %s is not a folder", dir), err)
+	}
+	return &assetRoot{abs: abs, resolved: resolved}, nil
+}
+
+// within reports whether path p is root or lies below it (both absolute and clean).
+func within(root, p string) bool {
+	rel, err := filepath.Rel(root, p)
+	return err == nil && !filepath.IsAbs(rel) && rel != ".." && !strings.HasPrefix(rel, ".."+string(filepath.Separator))
+}
+
+// resolve returns the path, symbolic links resolved, of the file a scene names as p,
+// relative paths being relative to the scene's folder dir. It refuses, naming field, p and
+// the root, a path that leaves the root as written ("..", an absolute path elsewhere) or
+// once its symbolic links are followed. A file that does not exist gives the error of
+// opening it.
+func (r *assetRoot) resolve(field, dir, p string) (string, error) {
+	file := p
+	if !filepath.IsAbs(file) {
+		file = filepath.Join(dir, file)
+	}
+	abs, err := filepath.Abs(file)
+	if err != nil {
+		return "", invalid(field, err.Error(), err)
+	}
+	if !within(r.abs, abs) && !within(r.resolved, abs) {
+		return "", invalid(field, fmt.Sprintf("%q is outside the asset root %s (it is %s); move the file into the root or choose a wider root (farm: --asset-root DIR)", p, r.abs, abs), nil)
+	}
+	resolved, err := filepath.EvalSymlinks(abs)
+	if err != nil {
+		// Report it as opening the file would, naming the path as the scene does.
+		if _, _, oerr := fileDigest(abs); oerr != nil {
+			err = oerr
+		}
+		var pe *fs.PathError
+		if errors.As(err, &pe) {
+			pe.Path = p
+		}
+		return "", invalid(field, err.Error(), err)
+	}
+	if !within(r.resolved, resolved) {
+		return "", invalid(field, fmt.Sprintf("%q leads through a symbolic link to %s, outside the asset root %s; move the file into the root or choose a wider root (farm: --asset-root DIR)", p, resolved, r.resolved), nil)
+	}
+	return resolved, nil
+}
+
 // resolveReference hashes the reference image a progressive scene names by path (relative
-// to the scene file) and sets its digest; the file is uploaded with the meshes.
-func (sf *SceneFile) resolveReference(dir string) error {
+// to the scene file, inside the asset root) and sets its digest; the file is uploaded with
+// the meshes.
+func (sf *SceneFile) resolveReference(root *assetRoot, dir string) error {
 	ref := sf.Scene.GetProgressive().GetReference()
 	if ref.GetPath() == "" {
 		return nil
 	}
 	const field = "progressive.reference"
-	file := ref.GetPath()
-	if !filepath.IsAbs(file) {
-		file = filepath.Join(dir, file)
+	file, err := root.resolve(field+".path", dir, ref.GetPath())
+	if err != nil {
+		return err
 	}
 	digest, size, err := fileDigest(file)
 	if err != nil {
@@ -140,11 +231,11 @@ func (c *Client) Upload(ctx context.Context, sf *SceneFile) error {
 	return nil
 }
 
-// LoadSceneFile reads the scene file at path, uploads the mesh files and reference image
-// it references and returns the scene ready to submit: each has its digest set and its
-// path cleared.
-func (c *Client) LoadSceneFile(ctx context.Context, path string) (*pb.Scene, error) {
-	sf, err := ReadSceneFile(path)
+// LoadSceneFile reads the scene file at path (see ReadSceneFile for the options and the
+// asset root), uploads the mesh files and reference image it references and returns the
+// scene ready to submit: each has its digest set and its path cleared.
+func (c *Client) LoadSceneFile(ctx context.Context, path string, opts ...SceneOption) (*pb.Scene, error) {
+	sf, err := ReadSceneFile(path, opts...)
 	if err != nil {
 		return nil, err
 	}

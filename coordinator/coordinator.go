@@ -6,6 +6,7 @@ package coordinator
 
 import (
 	"context"
+	"crypto/tls"
 	"errors"
 	"fmt"
 	"log/slog"
@@ -14,7 +15,9 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
+	"google.golang.org/grpc/credentials"
 
+	"photonfarm/coordinator/auth"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/builder"
 	"photonfarm/coordinator/clock"
@@ -45,11 +48,21 @@ type Config struct {
 	Clock clock.Clock
 	// Logger defaults to slog.Default().
 	Logger *slog.Logger
+
+	// ClientTokens and WorkerTokens are the bearer tokens of the two roles (package
+	// auth): a client token may call JobService and BlobService, a worker token
+	// WorkerService and BlobService. When both are empty authentication is OFF and any
+	// caller may do anything; that is only safe on loopback or a trusted network.
+	ClientTokens, WorkerTokens []string
+	// TLS, if not nil, serves gRPC over TLS with this configuration (it needs a
+	// certificate); nil serves plaintext. MinVersion defaults to TLS 1.2.
+	TLS *tls.Config
 }
 
 // Coordinator is the assembled coordinator. Create it with New and run it with Serve.
 type Coordinator struct {
 	cfg     Config
+	auth    *auth.Authenticator
 	log     *slog.Logger
 	store   store.Store
 	svc     *service.Service
@@ -57,7 +70,8 @@ type Coordinator struct {
 }
 
 // New checks cfg, opens the blob store under DataDir and builds the services. State other
-// than blobs lives in memory (memstore) for now.
+// than blobs lives in memory (memstore) for now. Calls are authenticated if cfg has
+// tokens (package auth) and encrypted if cfg.TLS is set.
 func New(cfg Config) (*Coordinator, error) {
 	if cfg.DataDir == "" {
 		return nil, errors.New("coordinator: Config.DataDir is required")
@@ -80,6 +94,19 @@ func New(cfg Config) (*Coordinator, error) {
 	if cfg.Logger == nil {
 		cfg.Logger = slog.Default()
 	}
+	authn, err := auth.New(cfg.ClientTokens, cfg.WorkerTokens)
+	if err != nil {
+		return nil, fmt.Errorf("coordinator: %w", err)
+	}
+	if cfg.TLS != nil {
+		if len(cfg.TLS.Certificates) == 0 && cfg.TLS.GetCertificate == nil && cfg.TLS.GetConfigForClient == nil {
+			return nil, errors.New("coordinator: Config.TLS has no certificate")
+		}
+		cfg.TLS = cfg.TLS.Clone()
+		if cfg.TLS.MinVersion == 0 {
+			cfg.TLS.MinVersion = tls.VersionTLS12
+		}
+	}
 	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), blobstore.DefaultMaxSize)
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
@@ -100,14 +127,19 @@ func New(cfg Config) (*Coordinator, error) {
 		HeartbeatInterval: cfg.HeartbeatInterval,
 		Logger:            cfg.Logger,
 	})
-	return &Coordinator{cfg: cfg, log: cfg.Logger, store: st, svc: svc, builder: b}, nil
+	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, svc: svc, builder: b}, nil
 }
 
-// Serve serves JobService, WorkerService and BlobService on lis, sweeps expired leases and
+// Serve serves JobService, WorkerService and BlobService on lis (behind the token check
+// and TLS, if configured), sweeps expired leases and
 // runs the photon map builder until ctx is cancelled; it then stops gracefully, closing
 // connections after StopTimeout. It returns nil after a stop caused by ctx.
 func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
-	srv := c.svc.NewGRPCServer()
+	opts := c.auth.ServerOptions()
+	if c.cfg.TLS != nil {
+		opts = append(opts, grpc.Creds(credentials.NewTLS(c.cfg.TLS)))
+	}
+	srv := c.svc.NewGRPCServer(opts...)
 	ctx, cancel := context.WithCancel(ctx)
 	defer cancel()
 
@@ -125,7 +157,8 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	served := make(chan error, 1)
 	go func() { served <- srv.Serve(lis) }()
 	c.log.Info("coordinator serving", "addr", lis.Addr().String(), "data_dir", c.cfg.DataDir,
-		"lease_duration", c.cfg.LeaseDuration, "heartbeat_interval", c.cfg.HeartbeatInterval)
+		"lease_duration", c.cfg.LeaseDuration, "heartbeat_interval", c.cfg.HeartbeatInterval,
+		"auth", c.AuthEnabled(), "tls", c.cfg.TLS != nil)
 
 	var err error
 	select {
@@ -148,6 +181,9 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	c.log.Info("coordinator stopped")
 	return nil
 }
+
+// AuthEnabled reports whether calls need a token (Config has tokens).
+func (c *Coordinator) AuthEnabled() bool { return c.auth.Enabled() }
 
 func stopGracefully(srv *grpc.Server, timeout time.Duration) {
 	done := make(chan struct{})

@@ -9,6 +9,9 @@ import (
 	"os"
 	"strings"
 
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/status"
+
 	"photonfarm/client"
 )
 
@@ -53,7 +56,9 @@ verbs:
 
 const usageFooter = `
 Client verbs talk to the coordinator at --coordinator, else $FARM_COORDINATOR, else
-localhost:7070. Exit status: 0 success; 1 failure (job failed, coordinator unreachable);
+localhost:7070, with the client token --token, else $FARM_TOKEN, over TLS if --tls-ca
+(else $FARM_TLS_CA) names the CA to trust; a token goes in plaintext only to loopback
+unless --insecure. Exit status: 0 success; 1 failure (job failed, coordinator unreachable);
 2 bad usage or invalid input (the message names the scene field); 130 interrupted.
 Run 'farm VERB -h' for a verb's flags.
 `
@@ -113,7 +118,7 @@ func run(ctx context.Context, args []string, e *env) int {
 		return ex.code
 	}
 	code := exitCode(ctx, err)
-	msg := oneLine(err.Error())
+	msg := oneLine(err.Error()) + authHint(err)
 	if code == exitInterrupted && errors.Is(err, context.Canceled) {
 		msg = "interrupted"
 	}
@@ -222,19 +227,81 @@ func coordinatorFlag(fs *flagSet, e *env) func() string {
 	}
 }
 
-// connect adds --coordinator to fs, parses args (see parse) and dials the coordinator;
-// client verbs start with it once they have declared their own flags.
+// assetRootFlag adds --asset-root to fs: the folder the files a scene names must lie in
+// (empty: the scene file's folder).
+func assetRootFlag(fs *flagSet) *string {
+	return fs.String("asset-root", "", "`folder` every mesh and reference file the scene names must lie in, symbolic links resolved (default: the scene file's folder)")
+}
+
+// connFlags are the flags of client verbs that say how to reach the coordinator.
+type connFlags struct {
+	addr     func() string
+	token    *string
+	tlsCA    *string
+	insecure *bool
+	e        *env
+}
+
+// addConnFlags adds --coordinator, --token, --tls-ca and --insecure to fs.
+func addConnFlags(fs *flagSet, e *env) *connFlags {
+	return &connFlags{
+		addr:     coordinatorFlag(fs, e),
+		token:    fs.String("token", "", "client `token` sent with every call (default $FARM_TOKEN; prefer the variable, a command line is visible to other users)"),
+		tlsCA:    fs.String("tls-ca", "", "connect with TLS, trusting the CA certificates in this PEM `file` (default $FARM_TLS_CA; none: plaintext)"),
+		insecure: fs.Bool("insecure", false, "allow sending the token without TLS to a coordinator that is not on loopback"),
+		e:        e,
+	}
+}
+
+// dial connects to the coordinator the flags name. A token is sent without TLS only to a
+// loopback address, unless --insecure.
+func (cf *connFlags) dial() (*client.Client, error) {
+	addr := cf.addr()
+	token := *cf.token
+	if token == "" {
+		token = cf.e.getenv("FARM_TOKEN")
+	}
+	ca := *cf.tlsCA
+	if ca == "" {
+		ca = cf.e.getenv("FARM_TLS_CA")
+	}
+	opts := []client.Option{client.WithToken(token)}
+	if ca != "" {
+		opts = append(opts, client.WithTLS(ca))
+	}
+	if *cf.insecure {
+		opts = append(opts, client.AllowPlaintextToken())
+	}
+	c, err := client.Dial(addr, opts...)
+	if errors.Is(err, client.ErrPlaintextToken) {
+		return nil, usageErrorf("refusing to send the token without TLS to %s, which is not loopback: pass --tls-ca FILE, or --insecure on a trusted network", addr)
+	}
+	return c, err
+}
+
+// connect adds the connection flags (--coordinator, --token, --tls-ca, --insecure) to fs,
+// parses args (see parse) and dials the coordinator; client verbs start with it once they
+// have declared their own flags.
 func connect(fs *flagSet, e *env, args []string, minArgs, maxArgs int) (*client.Client, []string, error) {
-	addr := coordinatorFlag(fs, e)
+	cf := addConnFlags(fs, e)
 	pos, err := parse(fs, args, minArgs, maxArgs)
 	if err != nil {
 		return nil, nil, err
 	}
-	c, err := client.Dial(addr())
+	c, err := cf.dial()
 	if err != nil {
 		return nil, nil, err
 	}
 	return c, pos, nil
+}
+
+// authHint says what to do about a missing or unknown token, for the error line (a
+// token of the wrong role is explained by the coordinator's message).
+func authHint(err error) string {
+	if status.Code(err) == codes.Unauthenticated {
+		return " (give a client token with --token or $FARM_TOKEN)"
+	}
+	return ""
 }
 
 // isTerminal reports whether w is a character device (a terminal).
@@ -255,10 +322,19 @@ progress, and writes OUTDIR/NAME.exr and OUTDIR/NAME.png, NAME being the scene f
 name without .json (scenes/cornell-box.json gives OUTDIR/cornell-box.exr). Workers are
 stopped (SIGTERM) and the temporary folder removed at the end, on failure and on Ctrl-C.
 farm-worker is found through --worker-bin, else next to the farm executable, else $PATH.
+The local farm is authenticated: farm makes random client and worker tokens and gives
+the worker token to its workers.
 `,
 	"coordinator": `Serves JobService, WorkerService and BlobService until SIGINT or SIGTERM, then stops
 gracefully. Prints "coordinator listening on HOST:PORT" on stderr once it accepts
 connections (with --listen 127.0.0.1:0 the port is chosen by the system).
+
+Calls need a token (gRPC metadata "authorization: Bearer TOKEN"): a client token for
+JobService, a worker token for WorkerService, either for BlobService. Tokens come from
+--client-token-file and --worker-token-file and from $FARM_CLIENT_TOKENS and
+$FARM_WORKER_TOKENS. With no token at all, authentication is OFF: anyone who can connect
+may do anything (a loud warning if the address is not loopback). --tls-cert and
+--tls-key serve TLS; without them tokens travel in plaintext.
 `,
 	"fetch": `Downloads the outputs of a succeeded job as DIR/NAME.exr (the final image) and
 DIR/NAME.png (the preview), NAME being --name, else the job's display name (the scene's
@@ -278,6 +354,7 @@ marker per round and error kind).
 `,
 	"submit": `Reads SCENE (JSON), uploads the mesh files it names (paths relative to the scene file),
 submits it and prints the job id on stdout. A malformed scene is refused with the field
-at fault and exit status 2.
+at fault and exit status 2, and so is a file outside the asset root (--asset-root, by
+default the scene file's folder: no "..", absolute path or symbolic link leading out).
 `,
 }

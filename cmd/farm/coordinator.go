@@ -2,6 +2,7 @@ package main
 
 import (
 	"context"
+	"crypto/tls"
 	"errors"
 	"fmt"
 	"io"
@@ -9,6 +10,7 @@ import (
 	"net"
 	"os"
 	"path/filepath"
+	"strings"
 	"time"
 
 	"photonfarm/coordinator"
@@ -16,7 +18,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--lease-duration D]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--lease-duration D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }
@@ -35,8 +37,31 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "how long a task lease lasts without a heartbeat")
 	heartbeat := fs.Duration("heartbeat-interval", 0, "how often workers heartbeat (0: a quarter of the lease duration)")
 	logLevel := fs.String("log-level", "info", "log level: debug, info, warn, error")
+	clientTokenFile := fs.String("client-token-file", "", "`file` of client tokens, one a line (# comments); also $FARM_CLIENT_TOKENS, comma-separated")
+	workerTokenFile := fs.String("worker-token-file", "", "`file` of worker tokens, one a line (# comments); also $FARM_WORKER_TOKENS, comma-separated")
+	tlsCert := fs.String("tls-cert", "", "serve gRPC over TLS with this PEM certificate `file` (needs --tls-key)")
+	tlsKey := fs.String("tls-key", "", "PEM private key `file` of --tls-cert")
 	if _, err := parse(fs, args, 0, 0); err != nil {
 		return err
+	}
+	clientTokens, err := loadTokens(*clientTokenFile, e.getenv("FARM_CLIENT_TOKENS"))
+	if err != nil {
+		return usageErrorf("coordinator: --client-token-file: %v", err)
+	}
+	workerTokens, err := loadTokens(*workerTokenFile, e.getenv("FARM_WORKER_TOKENS"))
+	if err != nil {
+		return usageErrorf("coordinator: --worker-token-file: %v", err)
+	}
+	var tlsConfig *tls.Config
+	switch {
+	case (*tlsCert == "") != (*tlsKey == ""):
+		return usageErrorf("coordinator: --tls-cert and --tls-key go together")
+	case *tlsCert != "":
+		cert, err := tls.LoadX509KeyPair(*tlsCert, *tlsKey)
+		if err != nil {
+			return usageErrorf("coordinator: --tls-cert/--tls-key: %v", err)
+		}
+		tlsConfig = &tls.Config{Certificates: []tls.Certificate{cert}, MinVersion: tls.VersionTLS12}
 	}
 	var level slog.Level
 	if err := level.UnmarshalText([]byte(*logLevel)); err != nil {
@@ -58,8 +83,74 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 		LeaseDuration:     *lease,
 		HeartbeatInterval: *heartbeat,
 		Logger:            logger,
-	}, func(addr string) { fmt.Fprintf(e.stderr, "coordinator listening on %s\n", addr) })
+		ClientTokens:      clientTokens,
+		WorkerTokens:      workerTokens,
+		TLS:               tlsConfig,
+	}, func(addr string) {
+		warnAboutSecurity(e.stderr, logger, lis.Addr(), len(clientTokens), len(workerTokens), tlsConfig != nil)
+		fmt.Fprintf(e.stderr, "coordinator listening on %s\n", addr)
+	})
 	return err
+}
+
+// loadTokens reads the tokens of one role: those in file (one a line; blank lines and
+// lines starting with # are skipped) and those in the comma-separated list fromEnv. A
+// file given but holding no token is an error, so that a mistake cannot turn auth off.
+func loadTokens(file, fromEnv string) ([]string, error) {
+	var tokens []string
+	for _, t := range strings.Split(fromEnv, ",") {
+		if t = strings.TrimSpace(t); t != "" {
+			tokens = append(tokens, t)
+		}
+	}
+	if file == "" {
+		return tokens, nil
+	}
+	data, err := os.ReadFile(file)
+	if err != nil {
+		return nil, err
+	}
+	n := 0
+	for _, line := range strings.Split(string(data), "\n") {
+		line = strings.TrimSpace(line)
+		if line == "" || strings.HasPrefix(line, "#") {
+			continue
+		}
+		tokens = append(tokens, line)
+		n++
+	}
+	if n == 0 {
+		return nil, fmt.Errorf("%s holds no token", file)
+	}
+	return tokens, nil
+}
+
+// warnAboutSecurity says what is unprotected: loudly, on stderr, if authentication is off
+// on an address other machines can reach; in the log otherwise.
+func warnAboutSecurity(w io.Writer, log *slog.Logger, addr net.Addr, clientTokens, workerTokens int, tlsOn bool) {
+	loopback := isLoopbackAddr(addr)
+	switch {
+	case clientTokens == 0 && workerTokens == 0 && !loopback:
+		fmt.Fprintf(w, `farm: WARNING: authentication is OFF and the coordinator listens on %s, reachable from other machines.
+farm: WARNING: anyone who can connect may submit and cancel jobs, download every upload and image, and lease tasks.
+farm: WARNING: give tokens with --client-token-file and --worker-token-file (and TLS with --tls-cert/--tls-key).
+`, addr)
+	case clientTokens == 0 && workerTokens == 0:
+		log.Warn("authentication is off (no --client-token-file or --worker-token-file): any local process may use this coordinator")
+	case clientTokens == 0:
+		log.Warn("no client tokens: nobody can submit or follow jobs (--client-token-file)")
+	case workerTokens == 0:
+		log.Warn("no worker tokens: no worker can lease tasks (--worker-token-file)")
+	}
+	if (clientTokens > 0 || workerTokens > 0) && !tlsOn && !loopback {
+		log.Warn("tokens travel in plaintext: anyone on the network path can read them; serve TLS with --tls-cert and --tls-key", "addr", addr.String())
+	}
+}
+
+// isLoopbackAddr reports whether a listener's address accepts loopback connections only.
+func isLoopbackAddr(a net.Addr) bool {
+	tcp, ok := a.(*net.TCPAddr)
+	return ok && tcp.IP.IsLoopback()
 }
 
 // serveCoordinator runs a coordinator on lis until ctx ends, calling ready once it is
@@ -83,8 +174,9 @@ type embeddedCoordinator struct {
 	done   chan error
 }
 
-// startEmbedded serves a coordinator on 127.0.0.1 with a free port, logging to logw.
-func startEmbedded(dataDir string, lease time.Duration, logw io.Writer) (*embeddedCoordinator, error) {
+// startEmbedded serves a coordinator on 127.0.0.1 with a free port, logging to logw, that
+// accepts the given client and worker tokens.
+func startEmbedded(dataDir string, lease time.Duration, logw io.Writer, clientToken, workerToken string) (*embeddedCoordinator, error) {
 	lis, err := net.Listen("tcp", "127.0.0.1:0")
 	if err != nil {
 		return nil, err
@@ -97,6 +189,8 @@ func startEmbedded(dataDir string, lease time.Duration, logw io.Writer) (*embedd
 			DataDir:       dataDir,
 			LeaseDuration: lease,
 			Logger:        slog.New(slog.NewTextHandler(logw, &slog.HandlerOptions{Level: slog.LevelInfo})),
+			ClientTokens:  []string{clientToken},
+			WorkerTokens:  []string{workerToken},
 		}, func(string) { close(ready) })
 	}()
 	select {

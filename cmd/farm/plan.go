@@ -13,20 +13,21 @@ import (
 
 var planVerb = &verb{
 	name:    "plan",
-	args:    "SCENE [--coordinator ADDR]",
+	args:    "SCENE [--coordinator ADDR] [--asset-root DIR]",
 	summary: "print the passes a scene would run and skip, and why, without rendering",
 	run:     runPlan,
 }
 
 func runPlan(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("plan", e)
+	assetRoot := assetRootFlag(fs)
 	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}
 	defer c.Close()
 	// The files a scene names are hashed, not uploaded: planning does not need them.
-	sf, err := client.ReadSceneFile(pos[0])
+	sf, err := client.ReadSceneFile(pos[0], client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}

@@ -3,6 +3,7 @@ package main
 import (
 	"bufio"
 	"context"
+	"crypto/rand"
 	"errors"
 	"fmt"
 	"os"
@@ -20,7 +21,7 @@ import (
 
 var renderVerb = &verb{
 	name:    "render",
-	args:    "SCENE -o OUTDIR [--workers N] [--worker-bin PATH]",
+	args:    "SCENE -o OUTDIR [--workers N] [--worker-bin PATH] [--asset-root DIR]",
 	summary: "render a scene on a local all-in-one farm",
 	run:     runRender,
 }
@@ -40,6 +41,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	threads := fs.Int("threads", 0, "render threads per worker (0: the CPUs divided among the workers)")
 	workerBin := fs.String("worker-bin", "", "`path` of farm-worker (default: next to farm, else $PATH)")
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "task lease duration")
+	assetRoot := assetRootFlag(fs)
 	pos, err := parse(fs, args, 1, 1)
 	if err != nil {
 		return err
@@ -56,7 +58,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	scenePath := pos[0]
 
 	// Everything that can be checked without a farm is checked first.
-	sf, err := client.ReadSceneFile(scenePath)
+	sf, err := client.ReadSceneFile(scenePath, client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}
@@ -95,7 +97,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 		return err
 	}
 
-	c, err := client.Dial(farm.coord.addr)
+	c, err := client.Dial(farm.coord.addr, client.WithToken(farm.clientToken))
 	if err != nil {
 		return err
 	}
@@ -150,6 +152,10 @@ type localFarm struct {
 	coord     *embeddedCoordinator
 	workers   []*workerProc
 	allExited chan struct{}
+	// Even a local farm is authenticated: random tokens, the worker's passed to the
+	// worker processes in their environment (not on their command line, which other
+	// users of the host can read).
+	clientToken, workerToken string
 }
 
 type workerProc struct {
@@ -164,7 +170,7 @@ func startLocalFarm(bin string, n, threads int, lease time.Duration) (f *localFa
 	if err != nil {
 		return nil, err
 	}
-	f = &localFarm{dir: dir, allExited: make(chan struct{})}
+	f = &localFarm{dir: dir, allExited: make(chan struct{}), clientToken: randomToken(), workerToken: randomToken()}
 	defer func() {
 		if err != nil {
 			f.stop()
@@ -175,12 +181,12 @@ func startLocalFarm(bin string, n, threads int, lease time.Duration) (f *localFa
 		return f, err
 	}
 	defer logf.Close() // the coordinator's logger keeps its own reference until stop
-	f.coord, err = startEmbedded(filepath.Join(dir, "coordinator"), lease, logf)
+	f.coord, err = startEmbedded(filepath.Join(dir, "coordinator"), lease, logf, f.clientToken, f.workerToken)
 	if err != nil {
 		return f, fmt.Errorf("render: start the coordinator: %w", err)
 	}
 	for i := range n {
-		w, err := startWorker(bin, f.coord.addr, filepath.Join(dir, fmt.Sprintf("worker-%d", i)), threads, i)
+		w, err := startWorker(bin, f.coord.addr, f.workerToken, filepath.Join(dir, fmt.Sprintf("worker-%d", i)), threads, i)
 		if err != nil {
 			return f, fmt.Errorf("render: start %s: %w", bin, err)
 		}
@@ -195,7 +201,10 @@ func startLocalFarm(bin string, n, threads int, lease time.Duration) (f *localFa
 	return f, nil
 }
 
-func startWorker(bin, addr, dir string, threads, i int) (*workerProc, error) {
+// randomToken returns a token of at least 128 random bits (crypto/rand).
+func randomToken() string { return rand.Text() }
+
+func startWorker(bin, addr, token, dir string, threads, i int) (*workerProc, error) {
 	if err := os.MkdirAll(filepath.Join(dir, "cache"), 0o755); err != nil {
 		return nil, err
 	}
@@ -211,6 +220,7 @@ func startWorker(bin, addr, dir string, threads, i int) (*workerProc, error) {
 		"--cache-dir", filepath.Join(dir, "cache"),
 		"--threads", strconv.Itoa(threads),
 		"--name", fmt.Sprintf("%s-local-%d", host, i))
+	cmd.Env = append(os.Environ(), "FARM_WORKER_TOKEN="+token)
 	cmd.Stdout, cmd.Stderr = logf, logf
 	// A process group of its own: Ctrl-C reaches farm only, which stops the workers in
 	// order; and the kernel kills the worker if farm dies without stopping it.

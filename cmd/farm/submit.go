@@ -3,11 +3,13 @@ package main
 import (
 	"context"
 	"fmt"
+
+	"photonfarm/client"
 )
 
 var submitVerb = &verb{
 	name:    "submit",
-	args:    "SCENE [--coordinator ADDR] [--watch]",
+	args:    "SCENE [--coordinator ADDR] [--watch] [--asset-root DIR]",
 	summary: "submit a scene file; prints the job id",
 	run:     runSubmit,
 }
@@ -15,12 +17,13 @@ var submitVerb = &verb{
 func runSubmit(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("submit", e)
 	watch := fs.Bool("watch", false, "after submitting, show progress until the job ends (like farm watch)")
+	assetRoot := assetRootFlag(fs)
 	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}
 	defer c.Close()
-	sc, err := c.LoadSceneFile(ctx, pos[0])
+	sc, err := c.LoadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}

@@ -21,7 +21,8 @@ import (
 )
 
 // smallSceneJSON returns scenes/test-small.json as a generic JSON tree, its mesh path
-// made absolute so that the scene works from any folder.
+// made absolute so that the scene works from any folder given the asset root
+// scenesRoot (the mesh is outside the folder the test writes the scene to).
 func smallSceneJSON(t *testing.T) map[string]any {
 	t.Helper()
 	root := repoRoot(t)
@@ -37,6 +38,9 @@ func smallSceneJSON(t *testing.T) map[string]any {
 	mesh["path"] = filepath.Join(root, "scenes", mesh["path"].(string))
 	return m
 }
+
+// scenesRoot is the repository's scenes folder, the asset root of smallSceneJSON's scenes.
+func scenesRoot(t *testing.T) string { return filepath.Join(repoRoot(t), "scenes") }
 
 func shape(m map[string]any, i int) map[string]any {
 	return m["shapes"].([]any)[i].(map[string]any)
@@ -55,6 +59,9 @@ func TestMalformedScenesRefused(t *testing.T) {
 		want string
 		// Whether the scene parses, so that it can be sent with a raw SubmitJob too.
 		rpc bool
+		// Whether the mesh path is relative to the scene's folder, the default asset root
+		// (else scenesRoot is).
+		relative bool
 	}{
 		{name: "bad JSON", raw: `{"name": "broken",, "film": {}}`, want: "scene: line 1:19: unexpected token"},
 		{name: "unknown field", change: func(m map[string]any) {
@@ -70,7 +77,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 		}, want: "shapes[1].sphere.center.y: ", rpc: true},
 		{name: "missing mesh file", change: func(m map[string]any) {
 			shape(m, 3)["mesh"].(map[string]any)["path"] = "meshes/absent.obj"
-		}, want: "shapes[3].mesh.path: open meshes/absent.obj: no such file or directory"},
+		}, want: "shapes[3].mesh.path: open meshes/absent.obj: no such file or directory", relative: true},
 		{name: "zero resolution", change: func(m map[string]any) {
 			m["film"].(map[string]any)["width"] = 0
 		}, want: "film.width: ", rpc: true},
@@ -91,7 +98,11 @@ func TestMalformedScenesRefused(t *testing.T) {
 			}
 
 			// The CLI: exit status 2, one line on stderr naming the field, no job id.
-			code, stdout, stderr := runFarm(t, 30*time.Second, nil, "submit", path, "--coordinator", f.addr)
+			args := []string{"submit", path, "--coordinator", f.addr}
+			if !tc.relative {
+				args = append(args, "--asset-root", scenesRoot(t))
+			}
+			code, stdout, stderr := runFarm(t, 30*time.Second, nil, args...)
 			lines := strings.Split(strings.TrimRight(stderr, "\n"), "\n")
 			if code != 2 {
 				t.Errorf("farm submit: exit status %d, want 2", code)
@@ -111,7 +122,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 			if err != nil {
 				t.Fatalf("the scene does not parse: %v", err)
 			}
-			sf, err := client.ReadSceneFile(path) // mesh path -> digest, as a client would
+			sf, err := client.ReadSceneFile(path, client.WithAssetRoot(scenesRoot(t))) // mesh path -> digest, as a client would
 			if err != nil {
 				t.Fatal(err)
 			}
@@ -135,7 +146,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 	text, _ := json.Marshal(smallSceneJSON(t))
 	path := filepath.Join(dir, "valid.json")
 	os.WriteFile(path, text, 0o644)
-	code, stdout, stderr := runFarm(t, 30*time.Second, []string{"FARM_COORDINATOR=" + f.addr}, "submit", path)
+	code, stdout, stderr := runFarm(t, 30*time.Second, []string{"FARM_COORDINATOR=" + f.addr}, "submit", path, "--asset-root", scenesRoot(t))
 	if code != 0 {
 		t.Fatalf("farm submit of a valid scene: exit status %d, stderr %q", code, stderr)
 	}
@@ -268,7 +279,7 @@ func TestFarmRenderInterruptedStopsTheFarm(t *testing.T) {
 	scenePath := filepath.Join(t.TempDir(), "slow.json")
 	os.WriteFile(scenePath, text, 0o644)
 
-	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2")
+	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2", "--asset-root", scenesRoot(t))
 	// Interrupt once the job is under way (its id has been printed).
 	deadline := time.Now().Add(30 * time.Second)
 	for !strings.Contains(stdout.String(), "as job") {

@@ -179,14 +179,18 @@ type farm struct {
 
 // startFarm runs `farm coordinator --listen 127.0.0.1:0 --lease-duration 2s` and waits
 // for it to say where it listens.
-func startFarm(t *testing.T) *farm {
+func startFarm(t *testing.T) *farm { return startFarmWith(t, nil) }
+
+// startFarmWith is startFarm with more coordinator flags (coordArgs) and client options
+// (a token, TLS) for the test's client.
+func startFarmWith(t *testing.T, coordArgs []string, opts ...client.Option) *farm {
 	t.Helper()
 	bin := binDir(t)
 	addrc := make(chan string, 1)
-	coord := start(t, "coordinator", filepath.Join(bin, "farm"), []string{
+	coord := start(t, "coordinator", filepath.Join(bin, "farm"), append([]string{
 		"coordinator", "--listen", "127.0.0.1:0", "--lease-duration", "2s",
 		"--data-dir", filepath.Join(t.TempDir(), "data"),
-	}, func(line string) {
+	}, coordArgs...), func(line string) {
 		if _, addr, ok := strings.Cut(line, "coordinator listening on "); ok {
 			select {
 			case addrc <- strings.TrimSpace(addr):
@@ -202,7 +206,7 @@ func startFarm(t *testing.T) *farm {
 	case <-time.After(15 * time.Second):
 		t.Fatal("farm coordinator did not say `coordinator listening on` within 15s")
 	}
-	c, err := client.Dial(addr)
+	c, err := client.Dial(addr, opts...)
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -218,17 +222,17 @@ func (f *farm) startWorker() *proc {
 }
 
 // startWorkerWithCache runs a farm-worker with the given cache folder, which several
-// workers may share (as workers on one host do by default).
-func (f *farm) startWorkerWithCache(cache string) *proc {
+// workers may share (as workers on one host do by default), and extra flags.
+func (f *farm) startWorkerWithCache(cache string, extra ...string) *proc {
 	f.t.Helper()
 	f.workers++
 	name := fmt.Sprintf("worker-%d", f.workers)
-	return start(f.t, name, filepath.Join(f.bin, "farm-worker"), []string{
+	return start(f.t, name, filepath.Join(f.bin, "farm-worker"), append([]string{
 		"--coordinator", f.addr,
 		"--cache-dir", cache,
 		"--threads", "1",
 		"--name", name,
-	}, nil)
+	}, extra...), nil)
 }
 
 // testScene loads scenes/test-small.json through the client (uploading its mesh) and

@@ -8,6 +8,7 @@ namespace farm {
 
 const char kWorkerUsage[] =
     "usage: farm-worker --coordinator HOST:PORT [--cache-dir DIR] [--threads N] [--name NAME]\n"
+    "                   [--token TOKEN] [--tls-ca FILE] [--insecure]\n"
     "\n"
     "Leases photon emission, render and composite tasks from a photonfarm coordinator until\n"
     "stopped.\n"
@@ -22,6 +23,11 @@ const char kWorkerUsage[] =
     "                           ~/.cache/photonfarm/worker)\n"
     "  --threads N              render threads (default: all cores)\n"
     "  --name NAME              the name the farm shows for this worker (default: hostname)\n"
+    "  --token TOKEN            worker token the coordinator was given, sent on every call\n"
+    "                           (default: $FARM_WORKER_TOKEN); prefer the variable, a\n"
+    "                           command line is visible to every user of the host\n"
+    "  --tls-ca FILE            connect with TLS, trusting the CA certificates in FILE (PEM)\n"
+    "  --insecure               allow a token without TLS to a coordinator not on loopback\n"
     "  --help                   show this help\n";
 
 namespace {
@@ -49,7 +55,21 @@ bool IsHostPort(std::string_view s) {
   return port && *port >= 1 && *port <= 65535;
 }
 
+// Printable ASCII without spaces: what a gRPC metadata value carries unchanged.
+bool IsTokenText(std::string_view s) {
+  for (const char c : s) {
+    if (c <= ' ' || c > '~') return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+bool IsLoopbackAddress(const std::string& host_port) {
+  const auto colon = host_port.rfind(':');
+  const std::string_view host = std::string_view(host_port).substr(0, colon);
+  return host == "localhost" || host.starts_with("127.") || host == "[::1]";
+}
 
 ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
                              const std::function<const char*(const char*)>& getenv) {
@@ -67,6 +87,10 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       return out;
     }
     if (!arg.starts_with("--")) return fail("unexpected argument \"" + std::string(arg) + "\"");
+    if (arg == "--insecure") {
+      out.options.insecure = true;
+      continue;
+    }
     std::string_view name = arg;
     std::optional<std::string> value;
     if (const auto eq = arg.find('='); eq != std::string_view::npos) {
@@ -74,7 +98,7 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       value = std::string(arg.substr(eq + 1));
     }
     if (name != "--coordinator" && name != "--cache-dir" && name != "--threads" &&
-        name != "--name") {
+        name != "--name" && name != "--token" && name != "--tls-ca") {
       return fail("unknown flag " + std::string(name));
     }
     if (!value) {
@@ -98,12 +122,29 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
                     std::to_string(kMaxThreads));
       }
       out.options.threads = *n;
+    } else if (name == "--token") {
+      if (value->empty()) return fail("--token is empty");
+      out.options.token = *value;
+    } else if (name == "--tls-ca") {
+      if (value->empty()) return fail("--tls-ca is empty");
+      out.options.tls_ca = *value;
     } else {
       if (value->empty()) return fail("--name is empty");
       out.options.name = *value;
     }
   }
   if (!have_coordinator) return fail("--coordinator HOST:PORT is required");
+  if (out.options.token.empty()) {
+    if (const char* t = getenv("FARM_WORKER_TOKEN"); t && t[0] != '\0') out.options.token = t;
+  }
+  if (!IsTokenText(out.options.token)) {
+    return fail("the worker token has spaces or characters outside printable ASCII");
+  }
+  if (!out.options.token.empty() && out.options.tls_ca.empty() && !out.options.insecure &&
+      !IsLoopbackAddress(out.options.coordinator)) {
+    return fail("refusing to send the worker token without TLS to " + out.options.coordinator +
+                " (not loopback): pass --tls-ca FILE, or --insecure on a trusted network");
+  }
   if (!have_cache_dir) {
     const char* xdg = getenv("XDG_CACHE_HOME");
     const char* home = getenv("HOME");

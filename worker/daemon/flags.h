@@ -12,6 +12,10 @@ namespace farm {
 
 extern const char kWorkerUsage[];
 
+// Whether HOST:PORT names this machine without leaving it (localhost, 127.x.y.z, [::1]).
+// Names are not resolved.
+bool IsLoopbackAddress(const std::string& host_port);
+
 struct ParsedFlags {
   WorkerOptions options;
   bool help = false;   // --help was given: print kWorkerUsage and exit 0.
@@ -20,7 +24,9 @@ struct ParsedFlags {
 
 // Parses the arguments after the program name. Flags take their value as the next
 // argument or after "=". `getenv` supplies XDG_CACHE_HOME and HOME for the default cache
-// directory ($XDG_CACHE_HOME/photonfarm/worker, else ~/.cache/photonfarm/worker).
+// directory ($XDG_CACHE_HOME/photonfarm/worker, else ~/.cache/photonfarm/worker) and
+// FARM_WORKER_TOKEN when --token is not given. A token without --tls-ca is refused for a
+// coordinator that is not on loopback unless --insecure is given.
 ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
                              const std::function<const char*(const char*)>& getenv);
 

@@ -72,11 +72,34 @@ TEST(WorkerFlags, ClearErrors) {
       {{"--coordinator=h:1", "--cache-dir="}, "--cache-dir is empty"},
       {{"--coordinator=h:1", "--verbose"}, "unknown flag --verbose"},
       {{"--coordinator=h:1", "stray"}, "unexpected argument \"stray\""},
+      {{"--coordinator=h:1", "--token="}, "--token is empty"},
+      {{"--coordinator=h:1", "--tls-ca="}, "--tls-ca is empty"},
+      {{"--coordinator=localhost:1", "--token", "a b"}, "printable ASCII"},
+      {{"--coordinator=farm.example:1", "--token", "t"}, "refusing to send the worker token"},
   };
   for (const auto& [args, want] : cases) {
     const ParsedFlags f = Parse(args);
     EXPECT_NE(f.error.find(want), std::string::npos) << "got \"" << f.error << "\", want \"" << want << "\"";
   }
+}
+
+TEST(WorkerFlags, TokenFromFlagElseEnvironment) {
+  FakeEnv env{{{"HOME", "/home/u"}, {"FARM_WORKER_TOKEN", "from-env"}}};
+  EXPECT_EQ(Parse({"--coordinator=localhost:1"}, env).options.token, "from-env");
+  EXPECT_EQ(Parse({"--coordinator=localhost:1", "--token=flag"}, env).options.token, "flag");
+  EXPECT_EQ(Parse({"--coordinator=localhost:1"}).options.token, "");
+}
+
+TEST(WorkerFlags, TokenLeavesLoopbackOnlyWithTlsOrInsecure) {
+  for (const char* local : {"localhost:1", "127.0.0.1:7070", "[::1]:7070"}) {
+    EXPECT_EQ(Parse({"--coordinator", local, "--token", "t"}).error, "") << local;
+  }
+  ParsedFlags f = Parse({"--coordinator=farm.example:1", "--token=t", "--tls-ca", "/etc/ca.pem"});
+  EXPECT_EQ(f.error, "");
+  EXPECT_EQ(f.options.tls_ca, "/etc/ca.pem");
+  f = Parse({"--coordinator=farm.example:1", "--token=t", "--insecure"});
+  EXPECT_EQ(f.error, "");
+  EXPECT_TRUE(f.options.insecure);
 }
 
 }  // namespace

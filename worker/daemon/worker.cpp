@@ -1,7 +1,5 @@
 #include "daemon/worker.h"
 
-#include <grpcpp/create_channel.h>
-#include <grpcpp/security/credentials.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -13,6 +11,7 @@
 
 #include "daemon/blob_cache.h"
 #include "daemon/blob_client.h"
+#include "daemon/channel.h"
 #include "daemon/log.h"
 #include "daemon/retry.h"
 #include "daemon/task_executor.h"
@@ -45,18 +44,21 @@ Millis ToMillis(const google::protobuf::Duration& d, Millis fallback) {
   return ms.count() > 0 ? ms : fallback;
 }
 
-void SetDeadline(grpc::ClientContext& ctx, std::chrono::system_clock::duration d) {
-  ctx.set_deadline(std::chrono::system_clock::now() + d);
+// An answer that no retry will change: this worker's token is missing, unknown or not a
+// worker token.
+bool IsAuthError(const grpc::Status& status) {
+  return status.error_code() == grpc::StatusCode::UNAUTHENTICATED ||
+         status.error_code() == grpc::StatusCode::PERMISSION_DENIED;
 }
 
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target) {
-  grpc::ChannelArguments args;
-  // Blob chunks are up to 4 MiB, and a composite task lists every tile.
-  args.SetMaxReceiveMessageSize(64 << 20);
-  // Notice a restarted coordinator within seconds (gRPC's default backoff grows to 2 min).
-  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
-  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 5000);
-  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+std::string AuthHint(const grpc::Status& status) {
+  return IsAuthError(status) ? " (give the coordinator's worker token with --token or "
+                               "$FARM_WORKER_TOKEN)"
+                             : "";
+}
+
+void SetDeadline(grpc::ClientContext& ctx, std::chrono::system_clock::duration d) {
+  ctx.set_deadline(std::chrono::system_clock::now() + d);
 }
 
 std::string Seconds(std::chrono::steady_clock::duration d) {
@@ -74,7 +76,7 @@ class Worker::Impl {
         hostname_(options.name.empty() ? HostName() : options.name),
         cores_(cores),
         cache_(options.cache_dir),
-        channel_(MakeChannel(options.coordinator)),
+        channel_(MakeCoordinatorChannel(options)),
         stub_(pb::WorkerService::NewStub(channel_)),
         blobs_(channel_, &cache_),
         executor_(blobs_) {}
@@ -153,7 +155,8 @@ bool Worker::Impl::Register() {
       });
   if (!status.ok()) {
     if (!drain_.stop_requested()) {
-      LogLine("coordinator " + coordinator_ + " refused registration: " + status.error_message());
+      LogLine("coordinator " + coordinator_ + " refused registration: " + status.error_message() +
+              AuthHint(status));
     }
     return false;
   }
@@ -257,6 +260,11 @@ int Worker::Impl::Run() {
         if (drain_.stop_requested()) break;
         if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
           reregister_ = true;
+        } else if (IsAuthError(status)) {
+          LogLine("coordinator " + coordinator_ + " refused LeaseTask: " + status.error_message() +
+                  AuthHint(status));
+          exit_code = 1;
+          break;
         } else {
           if (!lease_failing) {  // Once per outage, not every attempt.
             LogLine("LeaseTask failed: " + status.error_message() + " (code " +

@@ -1,0 +1,86 @@
+#include "daemon/channel.h"
+
+#include <grpcpp/create_channel.h>
+#include <grpcpp/security/credentials.h>
+#include <grpcpp/support/client_interceptor.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace farm {
+namespace {
+
+namespace exp = grpc::experimental;
+
+// Adds "authorization: Bearer TOKEN" to the initial metadata of a call.
+class BearerInterceptor final : public exp::Interceptor {
+ public:
+  explicit BearerInterceptor(std::string value) : value_(std::move(value)) {}
+
+  void Intercept(exp::InterceptorBatchMethods* methods) override {
+    if (methods->QueryInterceptionHookPoint(exp::InterceptionHookPoints::PRE_SEND_INITIAL_METADATA)) {
+      methods->GetSendInitialMetadata()->emplace("authorization", value_);
+    }
+    methods->Proceed();
+  }
+
+ private:
+  const std::string value_;
+};
+
+class BearerInterceptorFactory final : public exp::ClientInterceptorFactoryInterface {
+ public:
+  explicit BearerInterceptorFactory(const std::string& token) : value_("Bearer " + token) {}
+
+  exp::Interceptor* CreateClientInterceptor(exp::ClientRpcInfo*) override {
+    // gRPC takes ownership of the returned interceptor and deletes it when the call ends.
+    return std::make_unique<BearerInterceptor>(value_).release();
+  }
+
+ private:
+  const std::string value_;
+};
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read the TLS CA file " + path.string());
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (text.str().find("-----BEGIN CERTIFICATE-----") == std::string::npos) {
+    throw std::runtime_error("the TLS CA file " + path.string() + " holds no PEM certificate");
+  }
+  return text.str();
+}
+
+}  // namespace
+
+std::shared_ptr<grpc::Channel> MakeCoordinatorChannel(const WorkerOptions& options) {
+  grpc::ChannelArguments args;
+  // Blob chunks are up to 4 MiB, and a composite task lists every tile.
+  args.SetMaxReceiveMessageSize(64 << 20);
+  // Notice a restarted coordinator within seconds (gRPC's default backoff grows to 2 min).
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 5000);
+
+  std::shared_ptr<grpc::ChannelCredentials> creds;
+  if (options.tls_ca.empty()) {
+    creds = grpc::InsecureChannelCredentials();
+  } else {
+    grpc::SslCredentialsOptions ssl;
+    ssl.pem_root_certs = ReadFile(options.tls_ca);
+    creds = grpc::SslCredentials(ssl);
+  }
+  if (options.token.empty()) {
+    return grpc::CreateCustomChannel(options.coordinator, creds, args);
+  }
+  std::vector<std::unique_ptr<exp::ClientInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<BearerInterceptorFactory>(options.token));
+  return exp::CreateCustomChannelWithInterceptors(options.coordinator, creds, args,
+                                                  std::move(interceptors));
+}
+
+}  // namespace farm
