@@ -9,11 +9,15 @@ import (
 	"crypto/tls"
 	"errors"
 	"fmt"
+	"io"
 	"log/slog"
 	"net"
+	"net/http"
+	"net/url"
 	"path/filepath"
 	"time"
 
+	"github.com/redis/go-redis/v9"
 	"google.golang.org/grpc"
 	"google.golang.org/grpc/credentials"
 
@@ -22,9 +26,11 @@ import (
 	"photonfarm/coordinator/builder"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/events"
+	"photonfarm/coordinator/metrics"
 	"photonfarm/coordinator/service"
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/memstore"
+	"photonfarm/coordinator/store/redisstore"
 )
 
 // Defaults for Config.
@@ -57,7 +63,19 @@ type Config struct {
 	// TLS, if not nil, serves gRPC over TLS with this configuration (it needs a
 	// certificate); nil serves plaintext. MinVersion defaults to TLS 1.2.
 	TLS *tls.Config
+
+	// RedisURL, if set ("redis://[:password@]host:port/db", or rediss:// for TLS), keeps
+	// jobs, tasks and leases in Redis (package redisstore): they survive a restart of the
+	// coordinator, and several coordinators may share them. Empty keeps them in this
+	// process (memstore), lost when it exits.
+	RedisURL string
+	// RedisPrefix is put before every key (default "farm:"), so that farms can share a
+	// Redis.
+	RedisPrefix string
 }
+
+// DefaultRedisPrefix is Config.RedisPrefix's default.
+const DefaultRedisPrefix = "farm:"
 
 // Coordinator is the assembled coordinator. Create it with New and run it with Serve.
 type Coordinator struct {
@@ -65,13 +83,15 @@ type Coordinator struct {
 	auth    *auth.Authenticator
 	log     *slog.Logger
 	store   store.Store
+	closers []io.Closer // of the store's connections; closed when Serve returns
+	metrics *metrics.Metrics
 	svc     *service.Service
 	builder *builder.Builder
 }
 
-// New checks cfg, opens the blob store under DataDir and builds the services. State other
-// than blobs lives in memory (memstore) for now. Calls are authenticated if cfg has
-// tokens (package auth) and encrypted if cfg.TLS is set.
+// New checks cfg, opens the blob store under DataDir and the store (Redis if
+// cfg.RedisURL is set, else in memory) and builds the services. Calls are authenticated
+// if cfg has tokens (package auth) and encrypted if cfg.TLS is set.
 func New(cfg Config) (*Coordinator, error) {
 	if cfg.DataDir == "" {
 		return nil, errors.New("coordinator: Config.DataDir is required")
@@ -111,9 +131,14 @@ func New(cfg Config) (*Coordinator, error) {
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
 	}
-	st := memstore.New(store.Options{Clock: cfg.Clock, LeaseDuration: cfg.LeaseDuration})
+	st, closers, err := openStore(cfg)
+	if err != nil {
+		return nil, err
+	}
+	m := metrics.New(metrics.StoreCounts(st))
 	svc := service.New(service.Config{
 		Store:             st,
+		Metrics:           m,
 		Blobs:             blobs,
 		Events:            events.NewBroker(0),
 		Clock:             cfg.Clock,
@@ -127,15 +152,52 @@ func New(cfg Config) (*Coordinator, error) {
 		HeartbeatInterval: cfg.HeartbeatInterval,
 		Logger:            cfg.Logger,
 	})
-	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, svc: svc, builder: b}, nil
+	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, closers: closers, metrics: m, svc: svc, builder: b}, nil
 }
+
+// openStore opens the store cfg names, and what must be closed after it.
+func openStore(cfg Config) (store.Store, []io.Closer, error) {
+	opts := store.Options{Clock: cfg.Clock, LeaseDuration: cfg.LeaseDuration}
+	if cfg.RedisURL == "" {
+		return memstore.New(opts), nil, nil
+	}
+	ropts, err := redis.ParseURL(cfg.RedisURL)
+	if err != nil {
+		return nil, nil, fmt.Errorf("coordinator: Config.RedisURL: %w", err)
+	}
+	prefix := cfg.RedisPrefix
+	if prefix == "" {
+		prefix = DefaultRedisPrefix
+	}
+	rdb := redis.NewClient(ropts)
+	ctx, cancel := context.WithTimeout(context.Background(), 10*time.Second)
+	defer cancel()
+	st, err := redisstore.New(ctx, rdb, prefix, opts)
+	if err != nil {
+		rdb.Close()
+		return nil, nil, fmt.Errorf("coordinator: Redis at %s: %w", ropts.Addr, err)
+	}
+	return st, []io.Closer{rdb}, nil
+}
+
+// MetricsHandler serves the coordinator's Prometheus metrics.
+func (c *Coordinator) MetricsHandler() http.Handler { return c.metrics.Handler() }
 
 // Serve serves JobService, WorkerService and BlobService on lis (behind the token check
 // and TLS, if configured), sweeps expired leases and
 // runs the photon map builder until ctx is cancelled; it then stops gracefully, closing
 // connections after StopTimeout. It returns nil after a stop caused by ctx.
 func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
-	opts := c.auth.ServerOptions()
+	defer func() {
+		for _, cl := range c.closers {
+			cl.Close()
+		}
+	}()
+	// Metrics first, so that they time the whole call and see the final status code.
+	opts := append([]grpc.ServerOption{
+		grpc.ChainUnaryInterceptor(c.metrics.UnaryServerInterceptor),
+		grpc.ChainStreamInterceptor(c.metrics.StreamServerInterceptor),
+	}, c.auth.ServerOptions()...)
 	if c.cfg.TLS != nil {
 		opts = append(opts, grpc.Creds(credentials.NewTLS(c.cfg.TLS)))
 	}
@@ -158,7 +220,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	go func() { served <- srv.Serve(lis) }()
 	c.log.Info("coordinator serving", "addr", lis.Addr().String(), "data_dir", c.cfg.DataDir,
 		"lease_duration", c.cfg.LeaseDuration, "heartbeat_interval", c.cfg.HeartbeatInterval,
-		"auth", c.AuthEnabled(), "tls", c.cfg.TLS != nil)
+		"auth", c.AuthEnabled(), "tls", c.cfg.TLS != nil, "store", c.storeName())
 
 	var err error
 	select {
@@ -180,6 +242,17 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	}
 	c.log.Info("coordinator stopped")
 	return nil
+}
+
+// storeName says where state lives, for the log (without a Redis password).
+func (c *Coordinator) storeName() string {
+	if c.cfg.RedisURL == "" {
+		return "memory"
+	}
+	if u, err := url.Parse(c.cfg.RedisURL); err == nil {
+		return "redis " + u.Redacted()
+	}
+	return "redis"
 }
 
 // AuthEnabled reports whether calls need a token (Config has tokens).

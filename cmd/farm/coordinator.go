@@ -8,6 +8,7 @@ import (
 	"io"
 	"log/slog"
 	"net"
+	"net/http"
 	"os"
 	"path/filepath"
 	"strings"
@@ -18,7 +19,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--lease-duration D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }
@@ -41,6 +42,9 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	workerTokenFile := fs.String("worker-token-file", "", "`file` of worker tokens, one a line (# comments); also $FARM_WORKER_TOKENS, comma-separated")
 	tlsCert := fs.String("tls-cert", "", "serve gRPC over TLS with this PEM certificate `file` (needs --tls-key)")
 	tlsKey := fs.String("tls-key", "", "PEM private key `file` of --tls-cert")
+	redisURL := fs.String("redis", "", "keep jobs, tasks and leases in Redis at this `URL` (redis://host:6379/0; also $FARM_REDIS_URL) so they survive restarts; default: in memory")
+	redisPrefix := fs.String("redis-prefix", coordinator.DefaultRedisPrefix, "`prefix` of every Redis key, so that farms can share a Redis")
+	metricsListen := fs.String("metrics-listen", "", "serve Prometheus metrics over HTTP at `address`/metrics (HOST:PORT); default: off")
 	if _, err := parse(fs, args, 0, 0); err != nil {
 		return err
 	}
@@ -73,7 +77,17 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	if *lease < 0 || *heartbeat < 0 {
 		return usageErrorf("coordinator: durations must not be negative")
 	}
+	if *redisURL == "" {
+		*redisURL = e.getenv("FARM_REDIS_URL")
+	}
 	logger := slog.New(slog.NewTextHandler(e.stderr, &slog.HandlerOptions{Level: level}))
+	var metricsLis net.Listener
+	if *metricsListen != "" {
+		if metricsLis, err = net.Listen("tcp", *metricsListen); err != nil {
+			return fmt.Errorf("coordinator: --metrics-listen: %w", err)
+		}
+		defer metricsLis.Close()
+	}
 	lis, err := net.Listen("tcp", *listen)
 	if err != nil {
 		return err
@@ -86,9 +100,14 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 		ClientTokens:      clientTokens,
 		WorkerTokens:      workerTokens,
 		TLS:               tlsConfig,
-	}, func(addr string) {
+		RedisURL:          *redisURL,
+		RedisPrefix:       *redisPrefix,
+	}, metricsLis, func(addr string) {
 		warnAboutSecurity(e.stderr, logger, lis.Addr(), len(clientTokens), len(workerTokens), tlsConfig != nil)
 		fmt.Fprintf(e.stderr, "coordinator listening on %s\n", addr)
+		if metricsLis != nil {
+			fmt.Fprintf(e.stderr, "metrics on http://%s/metrics\n", metricsLis.Addr())
+		}
 	})
 	return err
 }
@@ -155,11 +174,18 @@ func isLoopbackAddr(a net.Addr) bool {
 
 // serveCoordinator runs a coordinator on lis until ctx ends, calling ready once it is
 // set up. It closes lis. A stop caused by ctx is not an error.
-func serveCoordinator(ctx context.Context, lis net.Listener, cfg coordinator.Config, ready func(addr string)) error {
+func serveCoordinator(ctx context.Context, lis net.Listener, cfg coordinator.Config, metricsLis net.Listener, ready func(addr string)) error {
 	co, err := coordinator.New(cfg)
 	if err != nil {
 		lis.Close()
 		return err
+	}
+	if metricsLis != nil {
+		mux := http.NewServeMux()
+		mux.Handle("/metrics", co.MetricsHandler())
+		srv := &http.Server{Handler: mux, ReadHeaderTimeout: 10 * time.Second}
+		go func() { _ = srv.Serve(metricsLis) }()
+		defer srv.Close()
 	}
 	if ready != nil {
 		ready(lis.Addr().String())
@@ -191,7 +217,7 @@ func startEmbedded(dataDir string, lease time.Duration, logw io.Writer, clientTo
 			Logger:        slog.New(slog.NewTextHandler(logw, &slog.HandlerOptions{Level: slog.LevelInfo})),
 			ClientTokens:  []string{clientToken},
 			WorkerTokens:  []string{workerToken},
-		}, func(string) { close(ready) })
+		}, nil, func(string) { close(ready) })
 	}()
 	select {
 	case <-ready:

@@ -134,3 +134,12 @@ func TestInterceptorTimesRealRPCsByMethodAndCode(t *testing.T) {
 		`farm_rpc_duration_seconds_count{code="OK",method="/grpc.health.v1.Health/Check"} 3`,
 		`farm_rpc_duration_seconds_count{code="NotFound",method="/grpc.health.v1.Health/Check"} 1`)
 }
+
+func TestNilMetricsCountNothingAndDoNotPanic(t *testing.T) {
+	var m *metrics.Metrics
+	m.LeaseGranted(pb.Phase_PHASE_RENDER)
+	m.LeaseExpired()
+	m.TaskFailed()
+	m.TaskCompleted(pb.Phase_PHASE_RENDER)
+	m.JobSubmitted()
+}

@@ -106,6 +106,7 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	if err != nil {
 		return nil, err
 	}
+	s.cfg.Metrics.JobSubmitted()
 	s.log.Info("job submitted", "job", job.GetId(), "name", job.GetDisplayName(),
 		"width", job.GetWidth(), "height", job.GetHeight(), "tasks", len(tasks), "scene", info.Digest)
 	s.queued.broadcast()

@@ -19,6 +19,7 @@ import (
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/events"
+	"photonfarm/coordinator/metrics"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -58,11 +59,13 @@ const (
 
 // Config wires a Service.
 type Config struct {
-	Store  store.Store
-	Blobs  Blobs
-	Events Events
-	Clock  clock.Clock
-	Logger *slog.Logger
+	Store store.Store
+	// Metrics counts what happens to tasks and jobs; nil counts nothing.
+	Metrics *metrics.Metrics
+	Blobs   Blobs
+	Events  Events
+	Clock   clock.Clock
+	Logger  *slog.Logger
 	// LeaseDuration and HeartbeatInterval are told to workers when they register; the
 	// store enforces the lease duration.
 	LeaseDuration     time.Duration
@@ -129,6 +132,7 @@ func (s *Service) Shutdown() { s.once.Do(func() { close(s.done) }) }
 func (s *Service) ExpireLeases(ctx context.Context) error {
 	changes, err := s.cfg.Store.ExpireLeases(ctx)
 	for _, c := range changes {
+		s.cfg.Metrics.LeaseExpired()
 		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts())
 		s.publish(c)
 	}

@@ -60,6 +60,7 @@ func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased)
 		}
 		return nil, err
 	}
+	s.cfg.Metrics.LeaseGranted(l.Task.GetPhase())
 	s.log.Debug("task leased", "task", l.Task.GetId(), "worker", workerID, "epoch", l.Lease.GetEpoch(), "attempt", l.Task.GetAttempts())
 	return &pb.LeaseTaskResponse{Lease: l.Lease, Task: l.Task, SceneDigest: l.SceneDigest}, nil
 }
@@ -133,6 +134,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		return err
 	}
 	if c.Task != nil {
+		s.cfg.Metrics.TaskCompleted(c.Task.GetPhase())
 		s.log.Debug("task completed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch)
 	}
 	s.publish(c)
@@ -151,6 +153,7 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) 
 	if err != nil {
 		return err
 	}
+	s.cfg.Metrics.TaskFailed()
 	s.log.Warn("task failed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch, "error", message)
 	s.publish(c)
 	return nil
