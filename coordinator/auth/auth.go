@@ -47,13 +47,15 @@ const MetadataKey = "authorization"
 // call it. A method missing here is refused to every role; the tests fail if a service
 // gains a method without a rule.
 var Rules = map[string][]Role{
-	pb.JobService_SubmitJob_FullMethodName: {Client},
-	pb.JobService_GetJob_FullMethodName:    {Client},
-	pb.JobService_ListJobs_FullMethodName:  {Client},
-	pb.JobService_ListTasks_FullMethodName: {Client},
-	pb.JobService_CancelJob_FullMethodName: {Client},
-	pb.JobService_PlanScene_FullMethodName: {Client},
-	pb.JobService_WatchJob_FullMethodName:  {Client},
+	pb.JobService_SubmitJob_FullMethodName:      {Client},
+	pb.JobService_GetJob_FullMethodName:         {Client},
+	pb.JobService_ListJobs_FullMethodName:       {Client},
+	pb.JobService_ListTasks_FullMethodName:      {Client},
+	pb.JobService_CancelJob_FullMethodName:      {Client},
+	pb.JobService_SetJobPriority_FullMethodName: {Client},
+	pb.JobService_UnblockWorker_FullMethodName:  {Client},
+	pb.JobService_PlanScene_FullMethodName:      {Client},
+	pb.JobService_WatchJob_FullMethodName:       {Client},
 
 	pb.WorkerService_RegisterWorker_FullMethodName:   {Worker},
 	pb.WorkerService_Heartbeat_FullMethodName:        {Worker},

@@ -30,11 +30,12 @@ void PrepareContext(grpc::ClientContext& ctx) {
 BlobClient::BlobClient(std::shared_ptr<grpc::Channel> channel, const BlobCache* cache)
     : stub_(pb::BlobService::NewStub(std::move(channel))), cache_(cache) {}
 
-std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop) {
+std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop,
+                              Progress progress) {
   if (cache_) {
     if (auto cached = cache_->Get(digest)) return std::move(*cached);
   }
-  std::string bytes = Download(digest, stop);
+  std::string bytes = Download(digest, stop, progress);
   if (cache_) {
     try {
       cache_->Put(digest, bytes);
@@ -45,11 +46,12 @@ std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop) {
   return bytes;
 }
 
-std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop_token stop) {
+std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop_token stop,
+                                            Progress progress) {
   if (!cache_) throw BlobError("no cache folder to keep blob " + digest + " in");
   if (auto path = cache_->Path(digest)) return std::move(*path);
   {
-    const std::string bytes = Download(digest, stop);
+    const std::string bytes = Download(digest, stop, progress);
     try {
       cache_->Put(digest, bytes);  // Atomic: a temporary file renamed into place.
     } catch (const std::exception& e) {
@@ -60,7 +62,8 @@ std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop
   throw BlobError("blob " + digest + " vanished from the cache right after it was stored");
 }
 
-std::string BlobClient::Download(const std::string& digest, std::stop_token stop) {
+std::string BlobClient::Download(const std::string& digest, std::stop_token stop,
+                                 Progress progress) {
   if (!IsValidDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
   std::string bytes;
   std::string problem;  // Set when the bytes arrived but were wrong.
@@ -94,6 +97,7 @@ std::string BlobClient::Download(const std::string& digest, std::stop_token stop
       }
       hash.Update(chunk.chunk());
       bytes += chunk.chunk();
+      progress.Advance(chunk.chunk().size());
     }
     grpc::Status s = reader->Finish();
     if (!problem.empty()) return grpc::Status::OK;  // Not retried: the store sent bad bytes.
@@ -114,7 +118,8 @@ std::string BlobClient::Download(const std::string& digest, std::stop_token stop
   return bytes;
 }
 
-std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop) {
+std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop,
+                               Progress progress) {
   const std::string digest = Sha256Digest(bytes);
   pb::UploadBlobResponse response;
   const grpc::Status status = RetryTransient("upload " + digest, stop, kGiveUpAfter, [&] {
@@ -129,6 +134,7 @@ std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop) {
     for (std::size_t at = 0; ok && at < bytes.size(); at += kUploadChunk) {
       part.set_chunk(std::string(bytes.substr(at, kUploadChunk)));
       ok = writer->Write(part);
+      if (ok) progress.Advance(part.chunk().size());
     }
     // A failed Write means the call is over; Finish tells why.
     writer->WritesDone();

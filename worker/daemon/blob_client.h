@@ -15,6 +15,7 @@
 
 #include "daemon/blob_cache.h"
 #include "renderfarm/v1/blob.grpc.pb.h"
+#include "util/progress.h"
 
 namespace farm {
 
@@ -25,6 +26,8 @@ class BlobError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Every transfer advances `progress` by the bytes it moves, chunk by chunk, so a task
+// fetching a big photon snapshot is not taken for stuck (a retried transfer counts again).
 class BlobClient {
  public:
   // `cache` may be null (nothing is cached).
@@ -32,19 +35,20 @@ class BlobClient {
 
   // The blob's bytes, from the cache if there, else downloaded, verified and cached. Use for
   // blobs many tasks need (scenes, meshes).
-  std::string Fetch(const std::string& digest, std::stop_token stop);
+  std::string Fetch(const std::string& digest, std::stop_token stop, Progress progress = {});
 
   // The path of the blob's verified file in the cache, downloading it first if it is not
   // there. Use for big blobs mapped into memory (photon snapshots). Throws BlobError if the
   // blob cannot be fetched or the client has no cache to keep it in.
-  std::filesystem::path FetchFile(const std::string& digest, std::stop_token stop);
+  std::filesystem::path FetchFile(const std::string& digest, std::stop_token stop,
+                                  Progress progress = {});
 
   // Downloads and verifies without caching. Use for blobs read once (tile EXRs).
-  std::string Download(const std::string& digest, std::stop_token stop);
+  std::string Download(const std::string& digest, std::stop_token stop, Progress progress = {});
 
   // Uploads `bytes` (a header with size and digest, then chunks of at most 1 MiB) and
   // returns the digest. Uploading a blob the store already has is cheap.
-  std::string Upload(std::string_view bytes, std::stop_token stop);
+  std::string Upload(std::string_view bytes, std::stop_token stop, Progress progress = {});
 
  private:
   std::unique_ptr<renderfarm::v1::BlobService::Stub> stub_;

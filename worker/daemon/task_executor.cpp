@@ -155,25 +155,27 @@ std::string DescribeTask(const pb::Task& task) {
 TaskExecutor::TaskExecutor(BlobClient& blobs) : blobs_(blobs) {}
 TaskExecutor::~TaskExecutor() = default;
 
-TaskResult TaskExecutor::Execute(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
+TaskResult TaskExecutor::Execute(const pb::LeaseTaskResponse& leased, std::stop_token stop,
+                                 Progress progress) {
   switch (leased.task().spec_case()) {
     case pb::Task::kPrecomputeIrradiance:
-      return PrecomputeIrradiance(leased, stop);
+      return PrecomputeIrradiance(leased, stop, progress);
     case pb::Task::kRenderTile:
-      return RenderTile(leased, stop);
+      return RenderTile(leased, stop, progress);
     case pb::Task::kComposite:
-      return Composite(leased, stop);
+      return Composite(leased, stop, progress);
     case pb::Task::kEmitPhotons:
-      return EmitPhotons(leased, stop);
+      return EmitPhotons(leased, stop, progress);
     default:
       throw std::runtime_error("task " + leased.task().id() +
                                " has a kind this worker does not know (is it out of date?)");
   }
 }
 
-const pb::Scene& TaskExecutor::Description(const std::string& digest, std::stop_token stop) {
+const pb::Scene& TaskExecutor::Description(const std::string& digest, std::stop_token stop,
+                                           Progress progress) {
   if (!description_ || description_digest_ != digest) {
-    const std::string bytes = blobs_.Fetch(digest, stop);
+    const std::string bytes = blobs_.Fetch(digest, stop, progress);
     auto scene = std::make_unique<pb::Scene>();
     if (!scene->ParseFromString(bytes)) {
       throw std::runtime_error("scene blob " + digest + " is not a binary renderfarm.v1.Scene");
@@ -184,12 +186,13 @@ const pb::Scene& TaskExecutor::Description(const std::string& digest, std::stop_
   return *description_;
 }
 
-const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop) {
+const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop,
+                                 Progress progress) {
   if (!built_ || built_digest_ != digest) {
     built_.reset();  // Frees the previous scene before building the next.
-    const pb::Scene& description = Description(digest, stop);
-    const BlobLoader load = [this, stop](const std::string& mesh_digest) {
-      return blobs_.Fetch(mesh_digest, stop);
+    const pb::Scene& description = Description(digest, stop, progress);
+    const BlobLoader load = [this, stop, progress](const std::string& mesh_digest) {
+      return blobs_.Fetch(mesh_digest, stop, progress);
     };
     built_ = std::make_unique<Scene>(Scene::Build(description, load));
     built_digest_ = digest;
@@ -197,10 +200,11 @@ const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop
   return *built_;
 }
 
-const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop_token stop) {
+const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop_token stop,
+                                            Progress progress) {
   if (!photons_ || photons_digest_ != digest) {
     photons_.reset();  // Unmaps the previous job's snapshot first.
-    const std::filesystem::path file = blobs_.FetchFile(digest, stop);
+    const std::filesystem::path file = blobs_.FetchFile(digest, stop, progress);
     ThrowIfStopped(stop);
     try {
       photons_ = std::make_unique<PhotonSnapshot>(PhotonSnapshot::Open(file));
@@ -212,59 +216,65 @@ const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop
   return *photons_;
 }
 
-TaskResult TaskExecutor::EmitPhotons(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
+TaskResult TaskExecutor::EmitPhotons(const pb::LeaseTaskResponse& leased, std::stop_token stop,
+                                     Progress progress) {
   const PhotonShardRequest request = ShardRequestOf(leased.task());
-  const Scene& scene = Built(leased.scene_digest(), stop);
+  const Scene& scene = Built(leased.scene_digest(), stop, progress);
   ThrowIfStopped(stop);
-  const std::string shard = TracePhotonShard(scene, request, stop);
+  const std::string shard = TracePhotonShard(scene, request, stop, progress);
   ThrowIfStopped(stop);  // A stopped trace returns an unfinished shard.
-  const std::string digest = blobs_.Upload(shard, stop);
+  const std::string digest = blobs_.Upload(shard, stop, progress);
   return Outputs({MakeArtifact("photons.shard", digest, shard.size())});
 }
 
 TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& leased,
-                                              std::stop_token stop) {
+                                              std::stop_token stop, Progress progress) {
   const pb::PrecomputeIrradianceSpec& spec = leased.task().precompute_irradiance();
   if (!spec.has_photon_snapshot()) {
     throw std::runtime_error("precompute_irradiance has no photon_snapshot");
   }
-  const Scene& scene = Built(leased.scene_digest(), stop);
-  const PhotonSnapshot& photons = Photons(spec.photon_snapshot().digest(), stop);
+  const Scene& scene = Built(leased.scene_digest(), stop, progress);
+  const PhotonSnapshot& photons = Photons(spec.photon_snapshot().digest(), stop, progress);
   ThrowIfStopped(stop);
   const std::string shard = ComputeIrradianceShard(scene, photons, spec.first_photon(),
                                                    spec.photon_count(),
-                                                   RadiusScaleOf(spec.radius_scale()), stop);
+                                                   RadiusScaleOf(spec.radius_scale()), stop,
+                                                   progress);
   ThrowIfStopped(stop);
-  const std::string digest = blobs_.Upload(shard, stop);
+  const std::string digest = blobs_.Upload(shard, stop, progress);
   return Outputs({MakeArtifact("irradiance.shard", digest, shard.size())});
 }
 
-TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
-  const Film film = FilmOf(Description(leased.scene_digest(), stop));
+TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::stop_token stop,
+                                    Progress progress) {
+  const Film film = FilmOf(Description(leased.scene_digest(), stop, progress));
   const PixelRect rect = RectIn(leased.task().render_tile().rect(), film.size, "render_tile.rect");
-  const Scene& scene = Built(leased.scene_digest(), stop);
+  const Scene& scene = Built(leased.scene_digest(), stop, progress);
   const pb::RenderTileSpec& spec = leased.task().render_tile();
   const PhotonSnapshot* photons = nullptr;
-  if (spec.has_photon_snapshot()) photons = &Photons(spec.photon_snapshot().digest(), stop);
+  if (spec.has_photon_snapshot()) {
+    photons = &Photons(spec.photon_snapshot().digest(), stop, progress);
+  }
   ThrowIfStopped(stop);
   const RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
-  const Image tile = farm::RenderTile(scene, photons, rect, round, stop);
+  const Image tile = farm::RenderTile(scene, photons, rect, round, stop, progress);
   ThrowIfStopped(stop);  // A stopped render returns an unfinished image.
   if (tile.rect() != rect) throw std::runtime_error("renderer returned a tile of the wrong size");
   const std::string exr = EncodeTileExr(tile, film.size);
-  const std::string digest = blobs_.Upload(exr, stop);
+  const std::string digest = blobs_.Upload(exr, stop, progress);
   return Outputs({MakeArtifact("tile.exr", digest, exr.size())});
 }
 
-TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop) {
-  const Film film = FilmOf(Description(leased.scene_digest(), stop));
+TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,
+                                   Progress progress) {
+  const Film film = FilmOf(Description(leased.scene_digest(), stop, progress));
   const pb::CompositeSpec& spec = leased.task().composite();
   std::vector<EncodedTile> tiles;
   tiles.reserve(static_cast<std::size_t>(spec.tiles_size()));
   for (const pb::TileInput& t : spec.tiles()) {
     const PixelRect rect = RectIn(t.rect(), film.size, "composite.tiles.rect");
     try {
-      tiles.push_back({rect, blobs_.Download(t.tile().digest(), stop)});
+      tiles.push_back({rect, blobs_.Download(t.tile().digest(), stop, progress)});
     } catch (const BlobError& e) {
       ThrowIfStopped(stop);
       throw std::runtime_error("tile at x " + std::to_string(rect.x) + ", y " +
@@ -278,17 +288,21 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
   in.round = static_cast<int>(std::max<std::uint32_t>(leased.task().round(), 1));
   in.tiles = tiles;
   if (spec.has_previous_accumulation()) {
-    in.previous_accumulation = blobs_.Download(spec.previous_accumulation().digest(), stop);
+    in.previous_accumulation =
+        blobs_.Download(spec.previous_accumulation().digest(), stop, progress);
   }
-  if (spec.has_reference()) in.reference_exr = blobs_.Download(spec.reference().digest(), stop);
+  if (spec.has_reference()) {
+    in.reference_exr = blobs_.Download(spec.reference().digest(), stop, progress);
+  }
   ThrowIfStopped(stop);
-  const RoundOutputs out = AccumulateRound(in);
+  const RoundOutputs out = AccumulateRound(in, progress);
   ThrowIfStopped(stop);
   TaskResult result;
   for (const auto& [name, bytes] : {std::pair<const char*, const std::string*>{"image.exr", &out.image_exr},
                                     {"preview.png", &out.preview_png},
                                     {"accumulation.exr", &out.accumulation_exr}}) {
-    result.outputs.push_back(MakeArtifact(name, blobs_.Upload(*bytes, stop), bytes->size()));
+    result.outputs.push_back(
+        MakeArtifact(name, blobs_.Upload(*bytes, stop, progress), bytes->size()));
   }
   pb::RoundMetrics metrics;
   if (out.error_estimate) metrics.set_error_estimate(*out.error_estimate);

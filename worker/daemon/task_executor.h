@@ -14,6 +14,7 @@
 
 #include "daemon/blob_client.h"
 #include "renderfarm/v1/worker.pb.h"
+#include "util/progress.h"
 
 namespace farm {
 
@@ -44,23 +45,31 @@ class TaskExecutor {
 
   // Performs the task and returns what to report. Throws TaskCancelled if `stop` was
   // requested, any other exception (whose message is the reason to report) if the task
-  // failed.
-  TaskResult Execute(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
+  // failed. Advances `progress` as the work goes: bytes of blobs moved, camera samples
+  // rendered, photon paths traced, photons' irradiance computed, tiles stitched (one unit
+  // for all, since the coordinator only watches it grow).
+  TaskResult Execute(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
+                     Progress progress = {});
 
  private:
   // The job's scene description, fetched by digest; the last one is kept.
-  const renderfarm::v1::Scene& Description(const std::string& digest, std::stop_token stop);
+  const renderfarm::v1::Scene& Description(const std::string& digest, std::stop_token stop,
+                                           Progress progress);
   // The renderable scene, built once per scene digest; the last one is kept.
-  const Scene& Built(const std::string& digest, std::stop_token stop);
+  const Scene& Built(const std::string& digest, std::stop_token stop, Progress progress);
   // The photon snapshot, fetched into the on-disk cache and mapped into memory once per
   // digest; the last one is kept.
-  const PhotonSnapshot& Photons(const std::string& digest, std::stop_token stop);
+  const PhotonSnapshot& Photons(const std::string& digest, std::stop_token stop,
+                                Progress progress);
 
-  TaskResult EmitPhotons(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
+  TaskResult EmitPhotons(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
+                         Progress progress);
   TaskResult PrecomputeIrradiance(const renderfarm::v1::LeaseTaskResponse& leased,
-                                  std::stop_token stop);
-  TaskResult RenderTile(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
-  TaskResult Composite(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop);
+                                  std::stop_token stop, Progress progress);
+  TaskResult RenderTile(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
+                        Progress progress);
+  TaskResult Composite(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
+                       Progress progress);
 
   BlobClient& blobs_;
   std::string description_digest_;

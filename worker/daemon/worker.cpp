@@ -12,6 +12,7 @@
 #include "daemon/blob_cache.h"
 #include "daemon/blob_client.h"
 #include "daemon/channel.h"
+#include "daemon/current_task.h"
 #include "daemon/log.h"
 #include "daemon/retry.h"
 #include "daemon/task_executor.h"
@@ -95,14 +96,6 @@ class Worker::Impl {
   }
 
  private:
-  // The task being worked on; shared with the heartbeat thread.
-  struct CurrentTask {
-    std::string task_id;
-    std::uint64_t epoch = 0;
-    std::stop_source stop;
-    std::string lost;  // Why the lease was lost, if it was: the result must be dropped.
-  };
-
   bool Register();
   void HeartbeatLoop(std::stop_token stop);
   void LoseLease(const std::string& reason);  // Needs mu_ held.
@@ -133,7 +126,7 @@ class Worker::Impl {
   std::mutex mu_;  // Guards what follows.
   std::string worker_id_;
   Millis heartbeat_interval_{5000};
-  std::optional<CurrentTask> current_;
+  std::optional<CurrentTask> current_;  // Shared with the heartbeat thread.
 };
 
 
@@ -189,12 +182,7 @@ void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
     {
       std::lock_guard lock(mu_);
       if (worker_id_.empty()) continue;
-      request.set_worker_id(worker_id_);
-      if (current_ && current_->lost.empty()) {
-        pb::HeldLease* held = request.add_leases();
-        held->set_task_id(current_->task_id);
-        held->set_epoch(current_->epoch);
-      }
+      request = MakeHeartbeatRequest(worker_id_, current_);
     }
     pb::HeartbeatResponse response;
     grpc::ClientContext ctx;
@@ -289,9 +277,12 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   const pb::Lease& lease = leased.lease();
   const auto start = std::chrono::steady_clock::now();
   std::stop_source task_stop;
+  Progress progress;
   {
     std::lock_guard lock(mu_);
-    current_ = CurrentTask{lease.task_id(), lease.epoch(), task_stop, ""};
+    current_.emplace(lease.task_id(), lease.epoch(), task_stop);
+    // The counter stays put until current_.reset() below, after the task's code is done.
+    progress = Progress(current_->progress);
   }
   std::stop_callback on_abort(abort_.get_token(), [task_stop]() mutable {
     task_stop.request_stop();
@@ -300,7 +291,7 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   TaskResult result;
   std::string error;
   try {
-    result = executor_.Execute(leased, task_stop.get_token());
+    result = executor_.Execute(leased, task_stop.get_token(), progress);
   } catch (const TaskCancelled&) {
   } catch (const std::exception& e) {
     error = e.what();

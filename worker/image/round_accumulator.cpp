@@ -84,7 +84,7 @@ double ErrorEstimate(const Accumulation& a) {
 
 }  // namespace
 
-RoundOutputs AccumulateRound(const RoundInputs& inputs) {
+RoundOutputs AccumulateRound(const RoundInputs& inputs, Progress progress) {
   if (inputs.round < 1) {
     throw ImageError("round " + std::to_string(inputs.round) + " is not a round (they count from 1)");
   }
@@ -95,7 +95,7 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs) {
     throw ImageError("round " + std::to_string(inputs.round) + " needs the accumulation of round " +
                      std::to_string(inputs.round - 1));
   }
-  const Image round = StitchTiles(inputs.size, inputs.tile_size, inputs.tiles);
+  const Image round = StitchTiles(inputs.size, inputs.tile_size, inputs.tiles, progress);
   CheckRoundValues(round);
   std::optional<Accumulation> previous;
   if (inputs.previous_accumulation) {
@@ -106,14 +106,19 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs) {
   std::optional<Image> reference;
   if (inputs.reference_exr) reference = ReadReferenceExr(*inputs.reference_exr, inputs.size);
 
+  // One unit per step after the tiles, each of which takes a while on a big film.
+  progress.Advance();  // Inputs read.
   const Accumulation accumulation = Fold(std::move(previous), round);
   const Image mean = MeanOf(accumulation);
+  progress.Advance();  // Folded.
   CompositeOutput composite = CompositeImage(mean, inputs.tile_size);
+  progress.Advance();  // Final EXR and preview encoded.
 
   RoundOutputs out;
   out.image_exr = std::move(composite.exr);
   out.preview_png = std::move(composite.preview_png);
   out.accumulation_exr = EncodeAccumulationExr(accumulation);
+  progress.Advance();  // Accumulation encoded.
   if (accumulation.rounds > 1) out.error_estimate = ErrorEstimate(accumulation);
   if (reference) {
     out.reference_rmse = LayerRmse(mean, *reference, "");

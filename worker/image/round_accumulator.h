@@ -7,6 +7,7 @@
 
 #include "image/composite.h"
 #include "image/image.h"
+#include "util/progress.h"
 
 namespace farm {
 
@@ -40,7 +41,9 @@ struct RoundOutputs {
 
 // Stitches the round's tiles, folds them into the running per-pixel sums of earlier rounds,
 // and measures the error of the mean. Deterministic bytes. Throws ImageError naming what is
-// wrong with a tile, the accumulation or the reference.
-RoundOutputs AccumulateRound(const RoundInputs& inputs);
+// wrong with a tile, the accumulation or the reference. progress advances by one per tile
+// stitched, then once per later step (inputs read, fold, final EXR, accumulation EXR):
+// tiles + 4 in all.
+RoundOutputs AccumulateRound(const RoundInputs& inputs, Progress progress = {});
 
 }  // namespace farm

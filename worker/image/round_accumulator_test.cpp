@@ -271,5 +271,15 @@ TEST(RoundAccumulator, RefusesNonFiniteOrMisplacedTiles) {
   ExpectRefused({kSize, kTile, 1, tiles, std::nullopt, std::nullopt}, "missing");
 }
 
+// Progress counts the tiles stitched, then the steps after them (fold and mean, composite
+// EXR and preview, accumulation EXR): a composite of n tiles ends at n + 4.
+TEST(RoundAccumulator, ProgressCountsTilesStitchedAndTheStepsAfter) {
+  const std::vector<EncodedTile> tiles = Tiles([](int x, int y, int c) { return float(x + y + c); });
+  ProgressCounter counter{0};
+  RoundInputs in{kSize, kTile, 1, tiles, std::nullopt, std::nullopt};
+  AccumulateRound(in, Progress(counter));
+  EXPECT_EQ(counter.load(), tiles.size() + 4);
+}
+
 }  // namespace
 }  // namespace farm

@@ -8,7 +8,8 @@
 
 namespace farm {
 
-Image StitchTiles(ImageSize size, int tile_size, std::span<const EncodedTile> tiles) {
+Image StitchTiles(ImageSize size, int tile_size, std::span<const EncodedTile> tiles,
+                  Progress progress) {
   TileGrid grid(size, tile_size);
   if (tiles.empty()) throw ImageError("no tiles to stitch");
   Image image({0, 0, size.width, size.height}, CompositeChannels(tiles.front().exr));
@@ -20,6 +21,7 @@ Image StitchTiles(ImageSize size, int tile_size, std::span<const EncodedTile> ti
       std::copy_n(tile.pixel(t.rect.x, y), channels * t.rect.width, image.pixel(t.rect.x, y));
     }
     grid.Mark(t.rect);
+    progress.Advance();
   }
   grid.CheckComplete();
   return image;

@@ -8,12 +8,15 @@
 
 #include "image/composite.h"
 #include "image/image.h"
+#include "util/progress.h"
 
 namespace farm {
 
 // Decodes and places every tile of the grid. The image's channels are CompositeChannels of
 // the first tile; every tile must carry the same ones. Throws ImageError naming the tile
 // that is misplaced, overlapping, missing, unreadable or differently channelled.
-Image StitchTiles(ImageSize size, int tile_size, std::span<const EncodedTile> tiles);
+// progress advances by one per tile placed.
+Image StitchTiles(ImageSize size, int tile_size, std::span<const EncodedTile> tiles,
+                  Progress progress = {});
 
 }  // namespace farm

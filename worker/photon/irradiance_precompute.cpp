@@ -35,7 +35,7 @@ Rgb One(const Vec3&) { return Rgb(1); }  // a BSDF of 1 turns the estimate into 
 std::vector<Rgb> ComputeIrradiance(const SceneData& scene, const PhotonMap& global,
                                    const PhotonMap* caustic, std::uint64_t first,
                                    std::uint64_t count, double radius_scale,
-                                   std::stop_token stop) {
+                                   std::stop_token stop, Progress progress) {
   if (first > global.size() || count > global.size() - first)
     throw std::invalid_argument("ComputeIrradiance: photons " + std::to_string(first) + "+" +
                                 std::to_string(count) + " outside the global map's " +
@@ -62,18 +62,20 @@ std::vector<Rgb> ComputeIrradiance(const SceneData& scene, const PhotonMap& glob
                                                 caustic_settings, One, scratch);
                         out[j] = e.IsFinite() ? e : Rgb();
                       }
+                      progress.Advance(r.size());  // A batch is at most the grain, 256.
                     });
   return out;
 }
 
 std::string ComputeIrradianceShard(const Scene& scene, const PhotonSnapshot& photons,
                                    std::uint64_t first_photon, std::uint64_t photon_count,
-                                   double radius_scale, std::stop_token stop) {
+                                   double radius_scale, std::stop_token stop,
+                                   Progress progress) {
   const PhotonMap* global = photons.map(PhotonMapKind::kGlobal);
   if (!global) throw std::invalid_argument("ComputeIrradianceShard: the snapshot has no global map");
   const std::vector<Rgb> irradiance =
       ComputeIrradiance(scene.data(), *global, photons.map(PhotonMapKind::kCaustic), first_photon,
-                        photon_count, radius_scale, stop);
+                        photon_count, radius_scale, stop, progress);
   return EncodeIrradianceShard(first_photon, irradiance);
 }
 

@@ -10,6 +10,7 @@
 #include "photonmap/photon_snapshot.h"
 #include "scene/scene.h"
 #include "scene/scene_data.h"
+#include "util/progress.h"
 
 namespace farm {
 
@@ -18,9 +19,11 @@ namespace farm {
 // (docs/photon-snapshot.md); the coordinator merges the shards into the snapshot so that
 // final gathering reads one precomputed value per gather ray instead of a k-nearest
 // estimate. radius_scale shrinks the search radius as in RoundSettings. Deterministic.
+// progress advances as in ComputeIrradiance.
 std::string ComputeIrradianceShard(const Scene& scene, const PhotonSnapshot& photons,
                                    std::uint64_t first_photon, std::uint64_t photon_count,
-                                   double radius_scale, std::stop_token stop = {});
+                                   double radius_scale, std::stop_token stop = {},
+                                   Progress progress = {});
 
 // What ComputeIrradianceShard encodes, for any PhotonMap (tests use in-memory maps): for
 // each photon i of the range, the irradiance on the side of its normal from the global
@@ -29,10 +32,12 @@ std::string ComputeIrradianceShard(const Scene& scene, const PhotonSnapshot& pho
 // estimate): all the light the global map's photon holds but direct light, which final
 // gathering samples with shadow rays at the gather hit instead. Parallel (TBB) and
 // deterministic: each value depends only on the maps and i. Throws std::invalid_argument
-// for a range outside the map or a radius_scale that is not finite and > 0.
+// for a range outside the map or a radius_scale that is not finite and > 0. progress
+// advances by the photons of each batch once their values are computed: photon_count in
+// all.
 std::vector<Rgb> ComputeIrradiance(const SceneData& scene, const PhotonMap& global,
                                    const PhotonMap* caustic, std::uint64_t first_photon,
                                    std::uint64_t photon_count, double radius_scale,
-                                   std::stop_token stop = {});
+                                   std::stop_token stop = {}, Progress progress = {});
 
 }  // namespace farm

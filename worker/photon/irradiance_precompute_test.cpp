@@ -141,5 +141,13 @@ TEST(IrradiancePrecompute, ShardsOfASnapshotAreDeterministicAndSplitFree) {
   EXPECT_THROW(ComputeIrradianceShard(scene, snap, 900, 101, 1.0), std::invalid_argument);
 }
 
+TEST(IrradiancePrecompute, ProgressCountsEveryPhotonOfTheRange) {
+  std::mt19937 rng(3);
+  const MemoryPhotonMap map(CornerPhotons(3000, rng));
+  ProgressCounter counter{0};
+  ComputeIrradiance(SettingsOnly(20, 0.3f), map, nullptr, 100, 2500, 1, {}, Progress(counter));
+  EXPECT_EQ(counter.load(), 2500u);
+}
+
 }  // namespace
 }  // namespace farm

@@ -99,7 +99,8 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
 }
 
 std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardRequest& request,
-                                      const PhotonTraceOptions& options, std::stop_token stop) {
+                                      const PhotonTraceOptions& options, std::stop_token stop,
+                                      Progress progress) {
   CheckRequest(request);
   const SceneData& data = scene.data();
   const float power_scale = static_cast<float>(1.0 / static_cast<double>(request.total_photons));
@@ -117,6 +118,7 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
                         for (uint64_t i = begin; i < end; ++i)
                           TracePhotonPath(data, request.map, request.round_offset + i,
                                           power_scale, options, per_chunk[c]);
+                        progress.Advance(end - begin);  // Once a chunk, beside the stop check.
                       }
                     });
   std::size_t total = 0;
@@ -128,8 +130,8 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
 }
 
 std::string TracePhotonShard(const Scene& scene, const PhotonShardRequest& request,
-                             std::stop_token stop) {
-  const std::vector<ShardPhoton> photons = TracePhotons(scene, request, {}, stop);
+                             std::stop_token stop, Progress progress) {
+  const std::vector<ShardPhoton> photons = TracePhotons(scene, request, {}, stop, progress);
   return EncodeShard(request.map, request.first_photon, request.photon_count, photons);
 }
 

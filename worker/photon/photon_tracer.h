@@ -6,6 +6,7 @@
 
 #include "photonmap/photon_map.h"
 #include "scene/scene.h"
+#include "util/progress.h"
 
 namespace farm {
 
@@ -25,8 +26,9 @@ struct PhotonShardRequest {
 // the photons they store, in photon index order, as shard bytes (docs/photon-snapshot.md).
 // A photon's random numbers depend only on (scene seed, map, photon index), so any split of
 // the index range into shards gives the same photons. Throws std::invalid_argument for a
-// bad request; returns early (result to be discarded) if stop is requested.
+// bad request; returns early (result to be discarded) if stop is requested. progress
+// advances by the paths of each batch as it is traced: photon_count in all.
 std::string TracePhotonShard(const Scene& scene, const PhotonShardRequest& request,
-                             std::stop_token stop = {});
+                             std::stop_token stop = {}, Progress progress = {});
 
 }  // namespace farm

@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <numbers>
+#include <thread>
 
 #include "math/math.h"
 #include "photon/trace_photons.h"
@@ -301,6 +303,36 @@ TEST(PhotonTracer, CausticMapIsEmptyWithoutSpecularSurfacesAndBadRequestsThrow) 
   EXPECT_THROW(TracePhotonShard(scene, {PhotonMapKind::kGlobal, 0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(TracePhotonShard(scene, {static_cast<PhotonMapKind>(7), 0, 1, 1}),
                std::invalid_argument);
+}
+
+// Progress counts photon paths traced, chunk by chunk, whatever they store: a shard of n
+// paths adds n (the range spans several chunks and a partial last one).
+TEST(PhotonTracer, ProgressCountsEveryPathOfTheShard) {
+  const Scene scene = Scene::Build(MixedScene(), NoBlobs());
+  for (const PhotonMapKind kind : {PhotonMapKind::kGlobal, PhotonMapKind::kCaustic}) {
+    ProgressCounter counter{0};
+    TracePhotonShard(scene, {kind, 1'000, 9'000, 20'000}, {}, Progress(counter));
+    EXPECT_EQ(counter.load(), 9'000u);
+  }
+}
+
+// Read from another thread while TBB traces, as the heartbeat does: it never goes back.
+TEST(PhotonTracer, ProgressReadFromAnotherThreadOnlyGrows) {
+  const Scene scene = Scene::Build(MixedScene(), NoBlobs());
+  ProgressCounter counter{0};
+  std::atomic<bool> done{false};
+  std::vector<std::uint64_t> seen;
+  std::jthread watcher([&] {
+    while (!done.load()) {
+      const std::uint64_t now = counter.load();
+      if (seen.empty() || now != seen.back()) seen.push_back(now);  // Changes only.
+    }
+  });
+  TracePhotons(scene, {PhotonMapKind::kGlobal, 0, 100'000, 100'000}, {}, {}, Progress(counter));
+  done = true;
+  watcher.join();
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_EQ(counter.load(), 100'000u);
 }
 
 }  // namespace

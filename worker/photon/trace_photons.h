@@ -27,9 +27,9 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
 
 // The photons of request's paths in path-index order, traced in parallel over chunks of
 // the range. Throws std::invalid_argument for a bad request; returns early (partial) if
-// stop is requested.
+// stop is requested. progress advances by each chunk's paths once they are traced.
 std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardRequest& request,
                                       const PhotonTraceOptions& options = {},
-                                      std::stop_token stop = {});
+                                      std::stop_token stop = {}, Progress progress = {});
 
 }  // namespace farm

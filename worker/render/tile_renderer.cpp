@@ -165,7 +165,7 @@ std::vector<std::string> RenderChannels() {
 }
 
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 const RoundSettings& round, std::stop_token stop) {
+                 const RoundSettings& round, std::stop_token stop, Progress progress) {
   const SceneData& data = scene.data();
   CheckArguments(data, rect, round);
   Image image(rect, RenderChannels());
@@ -186,6 +186,9 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                             Sums sum{};
                             renderer.AddSamples(x, y, 0, n, sum);
                             WritePixel(sum, n, supersampled, image.pixel(x, y));
+                            // Per pixel, not per row: a row of a heavy scene can take
+                            // long, and one relaxed add per pixel costs nothing beside it.
+                            progress.Advance(n);
                           }
                         }
                       });
@@ -214,6 +217,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                                         EdgeLogLuminance(float(sum[kBeauty] / n),
                                                          float(sum[kBeauty + 1] / n),
                                                          float(sum[kBeauty + 2] / n)));
+                          progress.Advance(plan.base);
                         }
                       }
                     });
@@ -241,6 +245,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                         Sums& sum = base_at(x, y);
                         renderer.AddSamples(x, y, plan.base, plan.supersampled, sum);
                         WritePixel(sum, plan.supersampled, true, image.pixel(x, y));
+                        progress.Advance(plan.supersampled - plan.base);
                       }
                     });
   return image;

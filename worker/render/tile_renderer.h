@@ -8,6 +8,7 @@
 #include "image/image.h"
 #include "photonmap/photon_snapshot.h"
 #include "scene/scene.h"
+#include "util/progress.h"
 
 namespace farm {
 
@@ -32,8 +33,12 @@ struct RoundSettings {
 // null for a job without any. Uses all threads TBB allows. A pixel's value depends only on
 // the scene (its seed included), the photon maps and the pixel, never on the rectangle it
 // was rendered in, so tiles rendered anywhere stitch into a bit-identical image. If stop is
-// requested the render ends early and the returned image must be discarded.
+// requested the render ends early and the returned image must be discarded. progress
+// advances by the camera samples each pixel took as it is finished (with edge
+// anti-aliasing: every base-pass pixel of the tile and its apron, then an edge pixel's extra
+// samples), so a tile rendered in one pass adds width x height x samples in all.
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 const RoundSettings& round = {}, std::stop_token stop = {});
+                 const RoundSettings& round = {}, std::stop_token stop = {},
+                 Progress progress = {});
 
 }  // namespace farm

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
+#include <thread>
+#include <vector>
 
 #include "scene/scene_data.h"
 #include "scene/test_scenes.h"
@@ -167,6 +171,56 @@ TEST(RenderTile, StopsWhenAsked) {
 TEST(RenderTile, RefusesARectOutsideTheImage) {
   const Scene scene = BuildBox(1);
   EXPECT_THROW(RenderTile(scene, nullptr, {20, 0, 8, 8}), std::invalid_argument);
+}
+
+// Progress counts camera samples: a one-pass tile adds width x height x samples.
+TEST(RenderTile, ProgressCountsEveryCameraSampleOfAOnePassTile) {
+  for (const auto mode : {pb::ANTIALIASING_MODE_NONE, pb::ANTIALIASING_MODE_FULL}) {
+    pb::Scene s = BoxScene(2);
+    s.mutable_antialiasing()->set_mode(mode);
+    s.mutable_antialiasing()->set_edge_samples(6);
+    const Scene scene = Scene::Build(s, MapLoader({{"sha256:block", kBlockObj}}));
+    ProgressCounter counter{0};
+    RenderTile(scene, nullptr, {4, 2, 12, 8}, {}, {}, Progress(counter));
+    const std::uint64_t samples = mode == pb::ANTIALIASING_MODE_FULL ? 6 : 4;
+    EXPECT_EQ(counter.load(), 12u * 8u * samples) << "mode " << mode;
+  }
+}
+
+// With edge anti-aliasing: the base pass over the tile and its one-pixel apron, then the
+// extra samples of each pixel the edge layer marks.
+TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSamples) {
+  const Scene scene = BuildBox(3);  // EDGES by default: 4 samples, 12 at edges.
+  ProgressCounter counter{0};
+  const PixelRect tile{4, 4, 8, 8};
+  const Image image = RenderTile(scene, nullptr, tile, {}, {}, Progress(counter));
+  std::uint64_t edges = 0;
+  for (int y = tile.y; y < tile.y_end(); ++y)
+    for (int x = tile.x; x < tile.x_end(); ++x) edges += image.pixel(x, y)[20] == 1.0f;
+  EXPECT_GT(edges, 0u);
+  EXPECT_EQ(counter.load(), 10u * 10u * 4u + edges * (12u - 4u));
+}
+
+// What the heartbeat sees: read from another thread while the TBB threads render, the
+// counter never goes back and ends at the tile's total.
+TEST(RenderTile, ProgressReadFromAnotherThreadOnlyGrows) {
+  pb::Scene s = BoxScene(4, 48, 32);
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
+  const Scene scene = Scene::Build(s, MapLoader({{"sha256:block", kBlockObj}}));
+  ProgressCounter counter{0};
+  std::atomic<bool> done{false};
+  std::vector<std::uint64_t> seen;
+  std::jthread watcher([&] {
+    while (!done.load()) {
+      const std::uint64_t now = counter.load();
+      if (seen.empty() || now != seen.back()) seen.push_back(now);  // Changes only.
+    }
+  });
+  RenderTile(scene, nullptr, {0, 0, 48, 32}, {}, {}, Progress(counter));
+  done = true;
+  watcher.join();
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_EQ(counter.load(), 48u * 32u * 4u);
 }
 
 }  // namespace

@@ -342,9 +342,16 @@ type Job struct {
 	// Which passes the job runs and which it skips, and why.
 	Plan *Plan `protobuf:"bytes,13,opt,name=plan,proto3" json:"plan,omitempty"`
 	// One entry per finished progressive round: the error-against-time curve.
-	Rounds        []*RoundReport `protobuf:"bytes,14,rep,name=rounds,proto3" json:"rounds,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	Rounds []*RoundReport `protobuf:"bytes,14,rep,name=rounds,proto3" json:"rounds,omitempty"`
+	// Higher runs first, in [-1000, 1000]; 0 by default. Among jobs of equal priority the
+	// farm shares workers fairly (the job with the fewest leases held goes next) instead of
+	// first come, first served.
+	Priority int32 `protobuf:"varint,15,opt,name=priority,proto3" json:"priority,omitempty"`
+	// Workers that failed too many of this job's tasks and may no longer lease them, with
+	// why (UnblockWorker clears them).
+	BlockedWorkers []*BlockedWorker `protobuf:"bytes,16,rep,name=blocked_workers,json=blockedWorkers,proto3" json:"blocked_workers,omitempty"`
+	unknownFields  protoimpl.UnknownFields
+	sizeCache      protoimpl.SizeCache
 }
 
 func (x *Job) Reset() {
@@ -475,6 +482,81 @@ func (x *Job) GetRounds() []*RoundReport {
 	return nil
 }
 
+func (x *Job) GetPriority() int32 {
+	if x != nil {
+		return x.Priority
+	}
+	return 0
+}
+
+func (x *Job) GetBlockedWorkers() []*BlockedWorker {
+	if x != nil {
+		return x.BlockedWorkers
+	}
+	return nil
+}
+
+type BlockedWorker struct {
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	WorkerId string                 `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
+	// The failures that blocked it, e.g. "3 failed tasks: out of memory".
+	Reason        string                 `protobuf:"bytes,2,opt,name=reason,proto3" json:"reason,omitempty"`
+	BlockTime     *timestamppb.Timestamp `protobuf:"bytes,3,opt,name=block_time,json=blockTime,proto3" json:"block_time,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *BlockedWorker) Reset() {
+	*x = BlockedWorker{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *BlockedWorker) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*BlockedWorker) ProtoMessage() {}
+
+func (x *BlockedWorker) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use BlockedWorker.ProtoReflect.Descriptor instead.
+func (*BlockedWorker) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{1}
+}
+
+func (x *BlockedWorker) GetWorkerId() string {
+	if x != nil {
+		return x.WorkerId
+	}
+	return ""
+}
+
+func (x *BlockedWorker) GetReason() string {
+	if x != nil {
+		return x.Reason
+	}
+	return ""
+}
+
+func (x *BlockedWorker) GetBlockTime() *timestamppb.Timestamp {
+	if x != nil {
+		return x.BlockTime
+	}
+	return nil
+}
+
 // What the planner decided for a scene: every pass it knows, run or skipped.
 type Plan struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
@@ -485,7 +567,7 @@ type Plan struct {
 
 func (x *Plan) Reset() {
 	*x = Plan{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -497,7 +579,7 @@ func (x *Plan) String() string {
 func (*Plan) ProtoMessage() {}
 
 func (x *Plan) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[1]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -510,7 +592,7 @@ func (x *Plan) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Plan.ProtoReflect.Descriptor instead.
 func (*Plan) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{2}
 }
 
 func (x *Plan) GetPasses() []*PlannedPass {
@@ -534,7 +616,7 @@ type PlannedPass struct {
 
 func (x *PlannedPass) Reset() {
 	*x = PlannedPass{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -546,7 +628,7 @@ func (x *PlannedPass) String() string {
 func (*PlannedPass) ProtoMessage() {}
 
 func (x *PlannedPass) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[2]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -559,7 +641,7 @@ func (x *PlannedPass) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlannedPass.ProtoReflect.Descriptor instead.
 func (*PlannedPass) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
 }
 
 func (x *PlannedPass) GetName() string {
@@ -608,7 +690,7 @@ type RoundReport struct {
 
 func (x *RoundReport) Reset() {
 	*x = RoundReport{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -620,7 +702,7 @@ func (x *RoundReport) String() string {
 func (*RoundReport) ProtoMessage() {}
 
 func (x *RoundReport) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -633,7 +715,7 @@ func (x *RoundReport) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RoundReport.ProtoReflect.Descriptor instead.
 func (*RoundReport) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
 }
 
 func (x *RoundReport) GetRound() uint32 {
@@ -696,7 +778,7 @@ type PhaseProgress struct {
 
 func (x *PhaseProgress) Reset() {
 	*x = PhaseProgress{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -708,7 +790,7 @@ func (x *PhaseProgress) String() string {
 func (*PhaseProgress) ProtoMessage() {}
 
 func (x *PhaseProgress) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -721,7 +803,7 @@ func (x *PhaseProgress) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhaseProgress.ProtoReflect.Descriptor instead.
 func (*PhaseProgress) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
 }
 
 func (x *PhaseProgress) GetPhase() Phase {
@@ -759,7 +841,7 @@ type Artifact struct {
 
 func (x *Artifact) Reset() {
 	*x = Artifact{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -771,7 +853,7 @@ func (x *Artifact) String() string {
 func (*Artifact) ProtoMessage() {}
 
 func (x *Artifact) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -784,7 +866,7 @@ func (x *Artifact) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Artifact.ProtoReflect.Descriptor instead.
 func (*Artifact) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
 }
 
 func (x *Artifact) GetName() string {
@@ -821,7 +903,7 @@ type PixelRect struct {
 
 func (x *PixelRect) Reset() {
 	*x = PixelRect{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -833,7 +915,7 @@ func (x *PixelRect) String() string {
 func (*PixelRect) ProtoMessage() {}
 
 func (x *PixelRect) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -846,7 +928,7 @@ func (x *PixelRect) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PixelRect.ProtoReflect.Descriptor instead.
 func (*PixelRect) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
 }
 
 func (x *PixelRect) GetX() uint32 {
@@ -904,14 +986,17 @@ type Task struct {
 	// What the task produced once it succeeded.
 	Outputs []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
 	// The progressive round the task belongs to, from 1.
-	Round         uint32 `protobuf:"varint,15,opt,name=round,proto3" json:"round,omitempty"`
+	Round uint32 `protobuf:"varint,15,opt,name=round,proto3" json:"round,omitempty"`
+	// After a failure, the task is queued again but not leased before this time
+	// (exponential backoff); unset when it may be leased now.
+	RetryTime     *timestamppb.Timestamp `protobuf:"bytes,18,opt,name=retry_time,json=retryTime,proto3" json:"retry_time,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
 
 func (x *Task) Reset() {
 	*x = Task{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -923,7 +1008,7 @@ func (x *Task) String() string {
 func (*Task) ProtoMessage() {}
 
 func (x *Task) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -936,7 +1021,7 @@ func (x *Task) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Task.ProtoReflect.Descriptor instead.
 func (*Task) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
 }
 
 func (x *Task) GetId() string {
@@ -1070,6 +1155,13 @@ func (x *Task) GetRound() uint32 {
 	return 0
 }
 
+func (x *Task) GetRetryTime() *timestamppb.Timestamp {
+	if x != nil {
+		return x.RetryTime
+	}
+	return nil
+}
+
 type isTask_Spec interface {
 	isTask_Spec()
 }
@@ -1127,7 +1219,7 @@ type RenderTileSpec struct {
 
 func (x *RenderTileSpec) Reset() {
 	*x = RenderTileSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1139,7 +1231,7 @@ func (x *RenderTileSpec) String() string {
 func (*RenderTileSpec) ProtoMessage() {}
 
 func (x *RenderTileSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1152,7 +1244,7 @@ func (x *RenderTileSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RenderTileSpec.ProtoReflect.Descriptor instead.
 func (*RenderTileSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
 }
 
 func (x *RenderTileSpec) GetRect() *PixelRect {
@@ -1199,7 +1291,7 @@ type PrecomputeIrradianceSpec struct {
 
 func (x *PrecomputeIrradianceSpec) Reset() {
 	*x = PrecomputeIrradianceSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1211,7 +1303,7 @@ func (x *PrecomputeIrradianceSpec) String() string {
 func (*PrecomputeIrradianceSpec) ProtoMessage() {}
 
 func (x *PrecomputeIrradianceSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1224,7 +1316,7 @@ func (x *PrecomputeIrradianceSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PrecomputeIrradianceSpec.ProtoReflect.Descriptor instead.
 func (*PrecomputeIrradianceSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *PrecomputeIrradianceSpec) GetFirstPhoton() uint64 {
@@ -1267,7 +1359,7 @@ type MergeIrradianceSpec struct {
 
 func (x *MergeIrradianceSpec) Reset() {
 	*x = MergeIrradianceSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1279,7 +1371,7 @@ func (x *MergeIrradianceSpec) String() string {
 func (*MergeIrradianceSpec) ProtoMessage() {}
 
 func (x *MergeIrradianceSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1292,7 +1384,7 @@ func (x *MergeIrradianceSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MergeIrradianceSpec.ProtoReflect.Descriptor instead.
 func (*MergeIrradianceSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *MergeIrradianceSpec) GetPhotonSnapshot() *Artifact {
@@ -1324,7 +1416,7 @@ type EmitPhotonsSpec struct {
 
 func (x *EmitPhotonsSpec) Reset() {
 	*x = EmitPhotonsSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1336,7 +1428,7 @@ func (x *EmitPhotonsSpec) String() string {
 func (*EmitPhotonsSpec) ProtoMessage() {}
 
 func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1349,7 +1441,7 @@ func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use EmitPhotonsSpec.ProtoReflect.Descriptor instead.
 func (*EmitPhotonsSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *EmitPhotonsSpec) GetMap() PhotonMapKind {
@@ -1392,7 +1484,7 @@ type BuildPhotonMapSpec struct {
 
 func (x *BuildPhotonMapSpec) Reset() {
 	*x = BuildPhotonMapSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1404,7 +1496,7 @@ func (x *BuildPhotonMapSpec) String() string {
 func (*BuildPhotonMapSpec) ProtoMessage() {}
 
 func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1417,7 +1509,7 @@ func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use BuildPhotonMapSpec.ProtoReflect.Descriptor instead.
 func (*BuildPhotonMapSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *BuildPhotonMapSpec) GetShards() []*EmittedShard {
@@ -1437,7 +1529,7 @@ type EmittedShard struct {
 
 func (x *EmittedShard) Reset() {
 	*x = EmittedShard{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1449,7 +1541,7 @@ func (x *EmittedShard) String() string {
 func (*EmittedShard) ProtoMessage() {}
 
 func (x *EmittedShard) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1462,7 +1554,7 @@ func (x *EmittedShard) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use EmittedShard.ProtoReflect.Descriptor instead.
 func (*EmittedShard) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *EmittedShard) GetSpec() *EmitPhotonsSpec {
@@ -1494,7 +1586,7 @@ type CompositeSpec struct {
 
 func (x *CompositeSpec) Reset() {
 	*x = CompositeSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1506,7 +1598,7 @@ func (x *CompositeSpec) String() string {
 func (*CompositeSpec) ProtoMessage() {}
 
 func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1519,7 +1611,7 @@ func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CompositeSpec.ProtoReflect.Descriptor instead.
 func (*CompositeSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *CompositeSpec) GetTiles() []*TileInput {
@@ -1553,7 +1645,7 @@ type TileInput struct {
 
 func (x *TileInput) Reset() {
 	*x = TileInput{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1565,7 +1657,7 @@ func (x *TileInput) String() string {
 func (*TileInput) ProtoMessage() {}
 
 func (x *TileInput) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1578,7 +1670,7 @@ func (x *TileInput) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TileInput.ProtoReflect.Descriptor instead.
 func (*TileInput) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *TileInput) GetRect() *PixelRect {
@@ -1598,6 +1690,8 @@ func (x *TileInput) GetTile() *Artifact {
 type SubmitJobRequest struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Scene *Scene                 `protobuf:"bytes,1,opt,name=scene,proto3" json:"scene,omitempty"`
+	// Higher runs first, in [-1000, 1000]; 0 by default.
+	Priority int32 `protobuf:"varint,3,opt,name=priority,proto3" json:"priority,omitempty"`
 	// The client's id for this submission (at most 128 printable ASCII characters): a
 	// repeated request with the same id returns the job the first one created instead of
 	// creating another, so a client may retry a submit whose answer it lost.
@@ -1608,7 +1702,7 @@ type SubmitJobRequest struct {
 
 func (x *SubmitJobRequest) Reset() {
 	*x = SubmitJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1620,7 +1714,7 @@ func (x *SubmitJobRequest) String() string {
 func (*SubmitJobRequest) ProtoMessage() {}
 
 func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1633,7 +1727,7 @@ func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobRequest.ProtoReflect.Descriptor instead.
 func (*SubmitJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *SubmitJobRequest) GetScene() *Scene {
@@ -1641,6 +1735,13 @@ func (x *SubmitJobRequest) GetScene() *Scene {
 		return x.Scene
 	}
 	return nil
+}
+
+func (x *SubmitJobRequest) GetPriority() int32 {
+	if x != nil {
+		return x.Priority
+	}
+	return 0
 }
 
 func (x *SubmitJobRequest) GetRequestId() string {
@@ -1659,7 +1760,7 @@ type SubmitJobResponse struct {
 
 func (x *SubmitJobResponse) Reset() {
 	*x = SubmitJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1671,7 +1772,7 @@ func (x *SubmitJobResponse) String() string {
 func (*SubmitJobResponse) ProtoMessage() {}
 
 func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1684,10 +1785,204 @@ func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobResponse.ProtoReflect.Descriptor instead.
 func (*SubmitJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *SubmitJobResponse) GetJob() *Job {
+	if x != nil {
+		return x.Job
+	}
+	return nil
+}
+
+type SetJobPriorityRequest struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	JobId string                 `protobuf:"bytes,1,opt,name=job_id,json=jobId,proto3" json:"job_id,omitempty"`
+	// In [-1000, 1000].
+	Priority      int32 `protobuf:"varint,2,opt,name=priority,proto3" json:"priority,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *SetJobPriorityRequest) Reset() {
+	*x = SetJobPriorityRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *SetJobPriorityRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*SetJobPriorityRequest) ProtoMessage() {}
+
+func (x *SetJobPriorityRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use SetJobPriorityRequest.ProtoReflect.Descriptor instead.
+func (*SetJobPriorityRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
+}
+
+func (x *SetJobPriorityRequest) GetJobId() string {
+	if x != nil {
+		return x.JobId
+	}
+	return ""
+}
+
+func (x *SetJobPriorityRequest) GetPriority() int32 {
+	if x != nil {
+		return x.Priority
+	}
+	return 0
+}
+
+type SetJobPriorityResponse struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Job           *Job                   `protobuf:"bytes,1,opt,name=job,proto3" json:"job,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *SetJobPriorityResponse) Reset() {
+	*x = SetJobPriorityResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *SetJobPriorityResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*SetJobPriorityResponse) ProtoMessage() {}
+
+func (x *SetJobPriorityResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use SetJobPriorityResponse.ProtoReflect.Descriptor instead.
+func (*SetJobPriorityResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
+}
+
+func (x *SetJobPriorityResponse) GetJob() *Job {
+	if x != nil {
+		return x.Job
+	}
+	return nil
+}
+
+type UnblockWorkerRequest struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	JobId string                 `protobuf:"bytes,1,opt,name=job_id,json=jobId,proto3" json:"job_id,omitempty"`
+	// Empty unblocks every worker of the job.
+	WorkerId      string `protobuf:"bytes,2,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *UnblockWorkerRequest) Reset() {
+	*x = UnblockWorkerRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *UnblockWorkerRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*UnblockWorkerRequest) ProtoMessage() {}
+
+func (x *UnblockWorkerRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use UnblockWorkerRequest.ProtoReflect.Descriptor instead.
+func (*UnblockWorkerRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
+}
+
+func (x *UnblockWorkerRequest) GetJobId() string {
+	if x != nil {
+		return x.JobId
+	}
+	return ""
+}
+
+func (x *UnblockWorkerRequest) GetWorkerId() string {
+	if x != nil {
+		return x.WorkerId
+	}
+	return ""
+}
+
+type UnblockWorkerResponse struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Job           *Job                   `protobuf:"bytes,1,opt,name=job,proto3" json:"job,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *UnblockWorkerResponse) Reset() {
+	*x = UnblockWorkerResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *UnblockWorkerResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*UnblockWorkerResponse) ProtoMessage() {}
+
+func (x *UnblockWorkerResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use UnblockWorkerResponse.ProtoReflect.Descriptor instead.
+func (*UnblockWorkerResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
+}
+
+func (x *UnblockWorkerResponse) GetJob() *Job {
 	if x != nil {
 		return x.Job
 	}
@@ -1703,7 +1998,7 @@ type PlanSceneRequest struct {
 
 func (x *PlanSceneRequest) Reset() {
 	*x = PlanSceneRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1715,7 +2010,7 @@ func (x *PlanSceneRequest) String() string {
 func (*PlanSceneRequest) ProtoMessage() {}
 
 func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1728,7 +2023,7 @@ func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlanSceneRequest.ProtoReflect.Descriptor instead.
 func (*PlanSceneRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *PlanSceneRequest) GetScene() *Scene {
@@ -1749,7 +2044,7 @@ type PlanSceneResponse struct {
 
 func (x *PlanSceneResponse) Reset() {
 	*x = PlanSceneResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1761,7 +2056,7 @@ func (x *PlanSceneResponse) String() string {
 func (*PlanSceneResponse) ProtoMessage() {}
 
 func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1774,7 +2069,7 @@ func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlanSceneResponse.ProtoReflect.Descriptor instead.
 func (*PlanSceneResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *PlanSceneResponse) GetPlan() *Plan {
@@ -1800,7 +2095,7 @@ type GetJobRequest struct {
 
 func (x *GetJobRequest) Reset() {
 	*x = GetJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1812,7 +2107,7 @@ func (x *GetJobRequest) String() string {
 func (*GetJobRequest) ProtoMessage() {}
 
 func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1825,7 +2120,7 @@ func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobRequest.ProtoReflect.Descriptor instead.
 func (*GetJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *GetJobRequest) GetJobId() string {
@@ -1844,7 +2139,7 @@ type GetJobResponse struct {
 
 func (x *GetJobResponse) Reset() {
 	*x = GetJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1856,7 +2151,7 @@ func (x *GetJobResponse) String() string {
 func (*GetJobResponse) ProtoMessage() {}
 
 func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1869,7 +2164,7 @@ func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobResponse.ProtoReflect.Descriptor instead.
 func (*GetJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *GetJobResponse) GetJob() *Job {
@@ -1891,7 +2186,7 @@ type ListJobsRequest struct {
 
 func (x *ListJobsRequest) Reset() {
 	*x = ListJobsRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1903,7 +2198,7 @@ func (x *ListJobsRequest) String() string {
 func (*ListJobsRequest) ProtoMessage() {}
 
 func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1916,7 +2211,7 @@ func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsRequest.ProtoReflect.Descriptor instead.
 func (*ListJobsRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *ListJobsRequest) GetPageSize() int32 {
@@ -1944,7 +2239,7 @@ type ListJobsResponse struct {
 
 func (x *ListJobsResponse) Reset() {
 	*x = ListJobsResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1956,7 +2251,7 @@ func (x *ListJobsResponse) String() string {
 func (*ListJobsResponse) ProtoMessage() {}
 
 func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1969,7 +2264,7 @@ func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsResponse.ProtoReflect.Descriptor instead.
 func (*ListJobsResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *ListJobsResponse) GetJobs() []*Job {
@@ -1998,7 +2293,7 @@ type ListTasksRequest struct {
 
 func (x *ListTasksRequest) Reset() {
 	*x = ListTasksRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2010,7 +2305,7 @@ func (x *ListTasksRequest) String() string {
 func (*ListTasksRequest) ProtoMessage() {}
 
 func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2023,7 +2318,7 @@ func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksRequest.ProtoReflect.Descriptor instead.
 func (*ListTasksRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
 }
 
 func (x *ListTasksRequest) GetJobId() string {
@@ -2057,7 +2352,7 @@ type ListTasksResponse struct {
 
 func (x *ListTasksResponse) Reset() {
 	*x = ListTasksResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2069,7 +2364,7 @@ func (x *ListTasksResponse) String() string {
 func (*ListTasksResponse) ProtoMessage() {}
 
 func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2082,7 +2377,7 @@ func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksResponse.ProtoReflect.Descriptor instead.
 func (*ListTasksResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{30}
 }
 
 func (x *ListTasksResponse) GetTasks() []*Task {
@@ -2108,7 +2403,7 @@ type CancelJobRequest struct {
 
 func (x *CancelJobRequest) Reset() {
 	*x = CancelJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2120,7 +2415,7 @@ func (x *CancelJobRequest) String() string {
 func (*CancelJobRequest) ProtoMessage() {}
 
 func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2133,7 +2428,7 @@ func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobRequest.ProtoReflect.Descriptor instead.
 func (*CancelJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{31}
 }
 
 func (x *CancelJobRequest) GetJobId() string {
@@ -2152,7 +2447,7 @@ type CancelJobResponse struct {
 
 func (x *CancelJobResponse) Reset() {
 	*x = CancelJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2164,7 +2459,7 @@ func (x *CancelJobResponse) String() string {
 func (*CancelJobResponse) ProtoMessage() {}
 
 func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2177,7 +2472,7 @@ func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobResponse.ProtoReflect.Descriptor instead.
 func (*CancelJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{32}
 }
 
 func (x *CancelJobResponse) GetJob() *Job {
@@ -2196,7 +2491,7 @@ type WatchJobRequest struct {
 
 func (x *WatchJobRequest) Reset() {
 	*x = WatchJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2208,7 +2503,7 @@ func (x *WatchJobRequest) String() string {
 func (*WatchJobRequest) ProtoMessage() {}
 
 func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2221,7 +2516,7 @@ func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobRequest.ProtoReflect.Descriptor instead.
 func (*WatchJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *WatchJobRequest) GetJobId() string {
@@ -2245,7 +2540,7 @@ type WatchJobResponse struct {
 
 func (x *WatchJobResponse) Reset() {
 	*x = WatchJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2257,7 +2552,7 @@ func (x *WatchJobResponse) String() string {
 func (*WatchJobResponse) ProtoMessage() {}
 
 func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2270,7 +2565,7 @@ func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobResponse.ProtoReflect.Descriptor instead.
 func (*WatchJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{34}
 }
 
 func (x *WatchJobResponse) GetKind() JobEventKind {
@@ -2305,7 +2600,7 @@ var File_renderfarm_v1_job_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\n" +
-	"\x17renderfarm/v1/job.proto\x12\rrenderfarm.v1\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x19renderfarm/v1/scene.proto\"\xc5\x04\n" +
+	"\x17renderfarm/v1/job.proto\x12\rrenderfarm.v1\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x19renderfarm/v1/scene.proto\"\xa8\x05\n" +
 	"\x03Job\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12!\n" +
 	"\fdisplay_name\x18\x02 \x01(\tR\vdisplayName\x12-\n" +
@@ -2323,7 +2618,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x05error\x18\v \x01(\tR\x05error\x121\n" +
 	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12'\n" +
 	"\x04plan\x18\r \x01(\v2\x13.renderfarm.v1.PlanR\x04plan\x122\n" +
-	"\x06rounds\x18\x0e \x03(\v2\x1a.renderfarm.v1.RoundReportR\x06rounds\":\n" +
+	"\x06rounds\x18\x0e \x03(\v2\x1a.renderfarm.v1.RoundReportR\x06rounds\x12\x1a\n" +
+	"\bpriority\x18\x0f \x01(\x05R\bpriority\x12E\n" +
+	"\x0fblocked_workers\x18\x10 \x03(\v2\x1c.renderfarm.v1.BlockedWorkerR\x0eblockedWorkers\"\x7f\n" +
+	"\rBlockedWorker\x12\x1b\n" +
+	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x16\n" +
+	"\x06reason\x18\x02 \x01(\tR\x06reason\x129\n" +
+	"\n" +
+	"block_time\x18\x03 \x01(\v2\x1a.google.protobuf.TimestampR\tblockTime\":\n" +
 	"\x04Plan\x122\n" +
 	"\x06passes\x18\x01 \x03(\v2\x1a.renderfarm.v1.PlannedPassR\x06passes\"S\n" +
 	"\vPlannedPass\x12\x12\n" +
@@ -2357,7 +2659,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x01x\x18\x01 \x01(\rR\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\rR\x01y\x12\x14\n" +
 	"\x05width\x18\x03 \x01(\rR\x05width\x12\x16\n" +
-	"\x06height\x18\x04 \x01(\rR\x06height\"\x84\x06\n" +
+	"\x06height\x18\x04 \x01(\rR\x06height\"\xbf\x06\n" +
 	"\x04Task\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12\x15\n" +
 	"\x06job_id\x18\x02 \x01(\tR\x05jobId\x12\x14\n" +
@@ -2376,7 +2678,9 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x15precompute_irradiance\x18\x10 \x01(\v2'.renderfarm.v1.PrecomputeIrradianceSpecH\x00R\x14precomputeIrradiance\x12O\n" +
 	"\x10merge_irradiance\x18\x11 \x01(\v2\".renderfarm.v1.MergeIrradianceSpecH\x00R\x0fmergeIrradiance\x121\n" +
 	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12\x14\n" +
-	"\x05round\x18\x0f \x01(\rR\x05roundB\x06\n" +
+	"\x05round\x18\x0f \x01(\rR\x05round\x129\n" +
+	"\n" +
+	"retry_time\x18\x12 \x01(\v2\x1a.google.protobuf.TimestampR\tretryTimeB\x06\n" +
 	"\x04spec\"\xc6\x01\n" +
 	"\x0eRenderTileSpec\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12@\n" +
@@ -2407,12 +2711,23 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\"f\n" +
 	"\tTileInput\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12+\n" +
-	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\"]\n" +
+	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\"y\n" +
 	"\x10SubmitJobRequest\x12*\n" +
-	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\x12\x1d\n" +
+	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\x12\x1a\n" +
+	"\bpriority\x18\x03 \x01(\x05R\bpriority\x12\x1d\n" +
 	"\n" +
 	"request_id\x18\x02 \x01(\tR\trequestId\"9\n" +
 	"\x11SubmitJobResponse\x12$\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"J\n" +
+	"\x15SetJobPriorityRequest\x12\x15\n" +
+	"\x06job_id\x18\x01 \x01(\tR\x05jobId\x12\x1a\n" +
+	"\bpriority\x18\x02 \x01(\x05R\bpriority\">\n" +
+	"\x16SetJobPriorityResponse\x12$\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"J\n" +
+	"\x14UnblockWorkerRequest\x12\x15\n" +
+	"\x06job_id\x18\x01 \x01(\tR\x05jobId\x12\x1b\n" +
+	"\tworker_id\x18\x02 \x01(\tR\bworkerId\"=\n" +
+	"\x15UnblockWorkerResponse\x12$\n" +
 	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\">\n" +
 	"\x10PlanSceneRequest\x12*\n" +
 	"\x05scene\x18\x01 \x01(\v2\x14.renderfarm.v1.SceneR\x05scene\"r\n" +
@@ -2481,7 +2796,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x1aJOB_EVENT_KIND_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17JOB_EVENT_KIND_SNAPSHOT\x10\x01\x12 \n" +
 	"\x1cJOB_EVENT_KIND_STATE_CHANGED\x10\x02\x12\x1f\n" +
-	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xaf\x04\n" +
+	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xea\x05\n" +
 	"\n" +
 	"JobService\x12N\n" +
 	"\tSubmitJob\x12\x1f.renderfarm.v1.SubmitJobRequest\x1a .renderfarm.v1.SubmitJobResponse\x12E\n" +
@@ -2490,7 +2805,9 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\tListTasks\x12\x1f.renderfarm.v1.ListTasksRequest\x1a .renderfarm.v1.ListTasksResponse\x12N\n" +
 	"\tCancelJob\x12\x1f.renderfarm.v1.CancelJobRequest\x1a .renderfarm.v1.CancelJobResponse\x12N\n" +
 	"\tPlanScene\x12\x1f.renderfarm.v1.PlanSceneRequest\x1a .renderfarm.v1.PlanSceneResponse\x12M\n" +
-	"\bWatchJob\x12\x1e.renderfarm.v1.WatchJobRequest\x1a\x1f.renderfarm.v1.WatchJobResponse0\x01B-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\bWatchJob\x12\x1e.renderfarm.v1.WatchJobRequest\x1a\x1f.renderfarm.v1.WatchJobResponse0\x01\x12]\n" +
+	"\x0eSetJobPriority\x12$.renderfarm.v1.SetJobPriorityRequest\x1a%.renderfarm.v1.SetJobPriorityResponse\x12Z\n" +
+	"\rUnblockWorker\x12#.renderfarm.v1.UnblockWorkerRequest\x1a$.renderfarm.v1.UnblockWorkerResponseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_job_proto_rawDescOnce sync.Once
@@ -2505,7 +2822,7 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 31)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 36)
 var file_renderfarm_v1_job_proto_goTypes = []any{
 	(JobState)(0),                    // 0: renderfarm.v1.JobState
 	(Phase)(0),                       // 1: renderfarm.v1.Phase
@@ -2513,106 +2830,120 @@ var file_renderfarm_v1_job_proto_goTypes = []any{
 	(PhotonMapKind)(0),               // 3: renderfarm.v1.PhotonMapKind
 	(JobEventKind)(0),                // 4: renderfarm.v1.JobEventKind
 	(*Job)(nil),                      // 5: renderfarm.v1.Job
-	(*Plan)(nil),                     // 6: renderfarm.v1.Plan
-	(*PlannedPass)(nil),              // 7: renderfarm.v1.PlannedPass
-	(*RoundReport)(nil),              // 8: renderfarm.v1.RoundReport
-	(*PhaseProgress)(nil),            // 9: renderfarm.v1.PhaseProgress
-	(*Artifact)(nil),                 // 10: renderfarm.v1.Artifact
-	(*PixelRect)(nil),                // 11: renderfarm.v1.PixelRect
-	(*Task)(nil),                     // 12: renderfarm.v1.Task
-	(*RenderTileSpec)(nil),           // 13: renderfarm.v1.RenderTileSpec
-	(*PrecomputeIrradianceSpec)(nil), // 14: renderfarm.v1.PrecomputeIrradianceSpec
-	(*MergeIrradianceSpec)(nil),      // 15: renderfarm.v1.MergeIrradianceSpec
-	(*EmitPhotonsSpec)(nil),          // 16: renderfarm.v1.EmitPhotonsSpec
-	(*BuildPhotonMapSpec)(nil),       // 17: renderfarm.v1.BuildPhotonMapSpec
-	(*EmittedShard)(nil),             // 18: renderfarm.v1.EmittedShard
-	(*CompositeSpec)(nil),            // 19: renderfarm.v1.CompositeSpec
-	(*TileInput)(nil),                // 20: renderfarm.v1.TileInput
-	(*SubmitJobRequest)(nil),         // 21: renderfarm.v1.SubmitJobRequest
-	(*SubmitJobResponse)(nil),        // 22: renderfarm.v1.SubmitJobResponse
-	(*PlanSceneRequest)(nil),         // 23: renderfarm.v1.PlanSceneRequest
-	(*PlanSceneResponse)(nil),        // 24: renderfarm.v1.PlanSceneResponse
-	(*GetJobRequest)(nil),            // 25: renderfarm.v1.GetJobRequest
-	(*GetJobResponse)(nil),           // 26: renderfarm.v1.GetJobResponse
-	(*ListJobsRequest)(nil),          // 27: renderfarm.v1.ListJobsRequest
-	(*ListJobsResponse)(nil),         // 28: renderfarm.v1.ListJobsResponse
-	(*ListTasksRequest)(nil),         // 29: renderfarm.v1.ListTasksRequest
-	(*ListTasksResponse)(nil),        // 30: renderfarm.v1.ListTasksResponse
-	(*CancelJobRequest)(nil),         // 31: renderfarm.v1.CancelJobRequest
-	(*CancelJobResponse)(nil),        // 32: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),          // 33: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),         // 34: renderfarm.v1.WatchJobResponse
-	nil,                              // 35: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	(*timestamppb.Timestamp)(nil),    // 36: google.protobuf.Timestamp
-	(*Scene)(nil),                    // 37: renderfarm.v1.Scene
+	(*BlockedWorker)(nil),            // 6: renderfarm.v1.BlockedWorker
+	(*Plan)(nil),                     // 7: renderfarm.v1.Plan
+	(*PlannedPass)(nil),              // 8: renderfarm.v1.PlannedPass
+	(*RoundReport)(nil),              // 9: renderfarm.v1.RoundReport
+	(*PhaseProgress)(nil),            // 10: renderfarm.v1.PhaseProgress
+	(*Artifact)(nil),                 // 11: renderfarm.v1.Artifact
+	(*PixelRect)(nil),                // 12: renderfarm.v1.PixelRect
+	(*Task)(nil),                     // 13: renderfarm.v1.Task
+	(*RenderTileSpec)(nil),           // 14: renderfarm.v1.RenderTileSpec
+	(*PrecomputeIrradianceSpec)(nil), // 15: renderfarm.v1.PrecomputeIrradianceSpec
+	(*MergeIrradianceSpec)(nil),      // 16: renderfarm.v1.MergeIrradianceSpec
+	(*EmitPhotonsSpec)(nil),          // 17: renderfarm.v1.EmitPhotonsSpec
+	(*BuildPhotonMapSpec)(nil),       // 18: renderfarm.v1.BuildPhotonMapSpec
+	(*EmittedShard)(nil),             // 19: renderfarm.v1.EmittedShard
+	(*CompositeSpec)(nil),            // 20: renderfarm.v1.CompositeSpec
+	(*TileInput)(nil),                // 21: renderfarm.v1.TileInput
+	(*SubmitJobRequest)(nil),         // 22: renderfarm.v1.SubmitJobRequest
+	(*SubmitJobResponse)(nil),        // 23: renderfarm.v1.SubmitJobResponse
+	(*SetJobPriorityRequest)(nil),    // 24: renderfarm.v1.SetJobPriorityRequest
+	(*SetJobPriorityResponse)(nil),   // 25: renderfarm.v1.SetJobPriorityResponse
+	(*UnblockWorkerRequest)(nil),     // 26: renderfarm.v1.UnblockWorkerRequest
+	(*UnblockWorkerResponse)(nil),    // 27: renderfarm.v1.UnblockWorkerResponse
+	(*PlanSceneRequest)(nil),         // 28: renderfarm.v1.PlanSceneRequest
+	(*PlanSceneResponse)(nil),        // 29: renderfarm.v1.PlanSceneResponse
+	(*GetJobRequest)(nil),            // 30: renderfarm.v1.GetJobRequest
+	(*GetJobResponse)(nil),           // 31: renderfarm.v1.GetJobResponse
+	(*ListJobsRequest)(nil),          // 32: renderfarm.v1.ListJobsRequest
+	(*ListJobsResponse)(nil),         // 33: renderfarm.v1.ListJobsResponse
+	(*ListTasksRequest)(nil),         // 34: renderfarm.v1.ListTasksRequest
+	(*ListTasksResponse)(nil),        // 35: renderfarm.v1.ListTasksResponse
+	(*CancelJobRequest)(nil),         // 36: renderfarm.v1.CancelJobRequest
+	(*CancelJobResponse)(nil),        // 37: renderfarm.v1.CancelJobResponse
+	(*WatchJobRequest)(nil),          // 38: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),         // 39: renderfarm.v1.WatchJobResponse
+	nil,                              // 40: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	(*timestamppb.Timestamp)(nil),    // 41: google.protobuf.Timestamp
+	(*Scene)(nil),                    // 42: renderfarm.v1.Scene
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	36, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	36, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	36, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
-	9,  // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	10, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
-	6,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
-	8,  // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
-	7,  // 8: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
-	35, // 9: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	1,  // 10: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
-	1,  // 11: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
-	2,  // 12: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	13, // 13: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	19, // 14: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	16, // 15: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
-	17, // 16: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
-	14, // 17: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
-	15, // 18: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
-	10, // 19: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	11, // 20: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	10, // 21: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	10, // 22: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	10, // 23: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	10, // 24: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
-	3,  // 25: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	18, // 26: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	16, // 27: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	10, // 28: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	20, // 29: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	10, // 30: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	10, // 31: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	11, // 32: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	10, // 33: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	37, // 34: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	5,  // 35: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	37, // 36: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	6,  // 37: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	9,  // 38: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	5,  // 39: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 40: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	12, // 41: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	5,  // 42: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	4,  // 43: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	36, // 44: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	5,  // 45: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	12, // 46: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	21, // 47: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	25, // 48: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	27, // 49: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	29, // 50: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	31, // 51: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	23, // 52: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	33, // 53: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	22, // 54: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	26, // 55: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	28, // 56: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	30, // 57: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	32, // 58: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	24, // 59: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	34, // 60: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	54, // [54:61] is the sub-list for method output_type
-	47, // [47:54] is the sub-list for method input_type
-	47, // [47:47] is the sub-list for extension type_name
-	47, // [47:47] is the sub-list for extension extendee
-	0,  // [0:47] is the sub-list for field type_name
+	41, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	41, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	41, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	10, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
+	11, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
+	7,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
+	9,  // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
+	6,  // 8: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
+	41, // 9: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
+	8,  // 10: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
+	40, // 11: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	1,  // 12: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
+	1,  // 13: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
+	2,  // 14: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
+	14, // 15: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	20, // 16: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	17, // 17: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	18, // 18: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	15, // 19: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
+	16, // 20: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
+	11, // 21: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	41, // 22: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
+	12, // 23: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	11, // 24: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	11, // 25: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	11, // 26: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	11, // 27: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 28: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	19, // 29: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	17, // 30: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	11, // 31: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	21, // 32: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	11, // 33: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	11, // 34: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	12, // 35: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	11, // 36: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	42, // 37: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	5,  // 38: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 39: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 40: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
+	42, // 41: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	7,  // 42: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	10, // 43: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	5,  // 44: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 45: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	13, // 46: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	5,  // 47: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	4,  // 48: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	41, // 49: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	5,  // 50: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	13, // 51: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	22, // 52: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	30, // 53: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	32, // 54: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	34, // 55: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	36, // 56: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	28, // 57: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	38, // 58: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	24, // 59: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	26, // 60: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	23, // 61: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	31, // 62: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	33, // 63: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	35, // 64: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	37, // 65: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	29, // 66: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	39, // 67: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	25, // 68: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	27, // 69: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	61, // [61:70] is the sub-list for method output_type
+	52, // [52:61] is the sub-list for method input_type
+	52, // [52:52] is the sub-list for extension type_name
+	52, // [52:52] is the sub-list for extension extendee
+	0,  // [0:52] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -2621,8 +2952,8 @@ func file_renderfarm_v1_job_proto_init() {
 		return
 	}
 	file_renderfarm_v1_scene_proto_init()
-	file_renderfarm_v1_job_proto_msgTypes[3].OneofWrappers = []any{}
-	file_renderfarm_v1_job_proto_msgTypes[7].OneofWrappers = []any{
+	file_renderfarm_v1_job_proto_msgTypes[4].OneofWrappers = []any{}
+	file_renderfarm_v1_job_proto_msgTypes[8].OneofWrappers = []any{
 		(*Task_RenderTile)(nil),
 		(*Task_Composite)(nil),
 		(*Task_EmitPhotons)(nil),
@@ -2636,7 +2967,7 @@ func file_renderfarm_v1_job_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
 			NumEnums:      5,
-			NumMessages:   31,
+			NumMessages:   36,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

@@ -19,13 +19,15 @@ import (
 const _ = grpc.SupportPackageIsVersion9
 
 const (
-	JobService_SubmitJob_FullMethodName = "/renderfarm.v1.JobService/SubmitJob"
-	JobService_GetJob_FullMethodName    = "/renderfarm.v1.JobService/GetJob"
-	JobService_ListJobs_FullMethodName  = "/renderfarm.v1.JobService/ListJobs"
-	JobService_ListTasks_FullMethodName = "/renderfarm.v1.JobService/ListTasks"
-	JobService_CancelJob_FullMethodName = "/renderfarm.v1.JobService/CancelJob"
-	JobService_PlanScene_FullMethodName = "/renderfarm.v1.JobService/PlanScene"
-	JobService_WatchJob_FullMethodName  = "/renderfarm.v1.JobService/WatchJob"
+	JobService_SubmitJob_FullMethodName      = "/renderfarm.v1.JobService/SubmitJob"
+	JobService_GetJob_FullMethodName         = "/renderfarm.v1.JobService/GetJob"
+	JobService_ListJobs_FullMethodName       = "/renderfarm.v1.JobService/ListJobs"
+	JobService_ListTasks_FullMethodName      = "/renderfarm.v1.JobService/ListTasks"
+	JobService_CancelJob_FullMethodName      = "/renderfarm.v1.JobService/CancelJob"
+	JobService_PlanScene_FullMethodName      = "/renderfarm.v1.JobService/PlanScene"
+	JobService_WatchJob_FullMethodName       = "/renderfarm.v1.JobService/WatchJob"
+	JobService_SetJobPriority_FullMethodName = "/renderfarm.v1.JobService/SetJobPriority"
+	JobService_UnblockWorker_FullMethodName  = "/renderfarm.v1.JobService/UnblockWorker"
 )
 
 // JobServiceClient is the client API for JobService service.
@@ -59,6 +61,12 @@ type JobServiceClient interface {
 	// the job ends (the last event carries its final state). Returns NOT_FOUND if the job
 	// does not exist.
 	WatchJob(ctx context.Context, in *WatchJobRequest, opts ...grpc.CallOption) (grpc.ServerStreamingClient[WatchJobResponse], error)
+	// Changes the priority of a job that has not ended (leases granted already stand).
+	// Returns NOT_FOUND for an unknown job, FAILED_PRECONDITION for an ended one.
+	SetJobPriority(ctx context.Context, in *SetJobPriorityRequest, opts ...grpc.CallOption) (*SetJobPriorityResponse, error)
+	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
+	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
+	UnblockWorker(ctx context.Context, in *UnblockWorkerRequest, opts ...grpc.CallOption) (*UnblockWorkerResponse, error)
 }
 
 type jobServiceClient struct {
@@ -148,6 +156,26 @@ func (c *jobServiceClient) WatchJob(ctx context.Context, in *WatchJobRequest, op
 // This type alias is provided for backwards compatibility with existing code that references the prior non-generic stream type by name.
 type JobService_WatchJobClient = grpc.ServerStreamingClient[WatchJobResponse]
 
+func (c *jobServiceClient) SetJobPriority(ctx context.Context, in *SetJobPriorityRequest, opts ...grpc.CallOption) (*SetJobPriorityResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(SetJobPriorityResponse)
+	err := c.cc.Invoke(ctx, JobService_SetJobPriority_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
+func (c *jobServiceClient) UnblockWorker(ctx context.Context, in *UnblockWorkerRequest, opts ...grpc.CallOption) (*UnblockWorkerResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(UnblockWorkerResponse)
+	err := c.cc.Invoke(ctx, JobService_UnblockWorker_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
 // JobServiceServer is the server API for JobService service.
 // All implementations must embed UnimplementedJobServiceServer
 // for forward compatibility.
@@ -179,6 +207,12 @@ type JobServiceServer interface {
 	// the job ends (the last event carries its final state). Returns NOT_FOUND if the job
 	// does not exist.
 	WatchJob(*WatchJobRequest, grpc.ServerStreamingServer[WatchJobResponse]) error
+	// Changes the priority of a job that has not ended (leases granted already stand).
+	// Returns NOT_FOUND for an unknown job, FAILED_PRECONDITION for an ended one.
+	SetJobPriority(context.Context, *SetJobPriorityRequest) (*SetJobPriorityResponse, error)
+	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
+	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
+	UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error)
 	mustEmbedUnimplementedJobServiceServer()
 }
 
@@ -209,6 +243,12 @@ func (UnimplementedJobServiceServer) PlanScene(context.Context, *PlanSceneReques
 }
 func (UnimplementedJobServiceServer) WatchJob(*WatchJobRequest, grpc.ServerStreamingServer[WatchJobResponse]) error {
 	return status.Error(codes.Unimplemented, "method WatchJob not implemented")
+}
+func (UnimplementedJobServiceServer) SetJobPriority(context.Context, *SetJobPriorityRequest) (*SetJobPriorityResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method SetJobPriority not implemented")
+}
+func (UnimplementedJobServiceServer) UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method UnblockWorker not implemented")
 }
 func (UnimplementedJobServiceServer) mustEmbedUnimplementedJobServiceServer() {}
 func (UnimplementedJobServiceServer) testEmbeddedByValue()                    {}
@@ -350,6 +390,42 @@ func _JobService_WatchJob_Handler(srv interface{}, stream grpc.ServerStream) err
 // This type alias is provided for backwards compatibility with existing code that references the prior non-generic stream type by name.
 type JobService_WatchJobServer = grpc.ServerStreamingServer[WatchJobResponse]
 
+func _JobService_SetJobPriority_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(SetJobPriorityRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).SetJobPriority(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_SetJobPriority_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).SetJobPriority(ctx, req.(*SetJobPriorityRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
+func _JobService_UnblockWorker_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(UnblockWorkerRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).UnblockWorker(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_UnblockWorker_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).UnblockWorker(ctx, req.(*UnblockWorkerRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
 // JobService_ServiceDesc is the grpc.ServiceDesc for JobService service.
 // It's only intended for direct use with grpc.RegisterService,
 // and not to be introspected or modified (even as a copy)
@@ -380,6 +456,14 @@ var JobService_ServiceDesc = grpc.ServiceDesc{
 		{
 			MethodName: "PlanScene",
 			Handler:    _JobService_PlanScene_Handler,
+		},
+		{
+			MethodName: "SetJobPriority",
+			Handler:    _JobService_SetJobPriority_Handler,
+		},
+		{
+			MethodName: "UnblockWorker",
+			Handler:    _JobService_UnblockWorker_Handler,
 		},
 	},
 	Streams: []grpc.StreamDesc{

@@ -208,9 +208,13 @@ func (x *Lease) GetExpireTime() *timestamppb.Timestamp {
 }
 
 type HeldLease struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	TaskId        string                 `protobuf:"bytes,1,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
-	Epoch         uint64                 `protobuf:"varint,2,opt,name=epoch,proto3" json:"epoch,omitempty"`
+	state  protoimpl.MessageState `protogen:"open.v1"`
+	TaskId string                 `protobuf:"bytes,1,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
+	Epoch  uint64                 `protobuf:"varint,2,opt,name=epoch,proto3" json:"epoch,omitempty"`
+	// Work done on the task so far, in any unit that only grows (rows rendered, photons
+	// traced). A lease whose progress has not grown for the coordinator's stuck timeout is
+	// revoked and the attempt counted as failed, even though the worker still heartbeats.
+	Progress      uint64 `protobuf:"varint,3,opt,name=progress,proto3" json:"progress,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -255,6 +259,13 @@ func (x *HeldLease) GetTaskId() string {
 func (x *HeldLease) GetEpoch() uint64 {
 	if x != nil {
 		return x.Epoch
+	}
+	return 0
+}
+
+func (x *HeldLease) GetProgress() uint64 {
+	if x != nil {
+		return x.Progress
 	}
 	return 0
 }
@@ -954,10 +965,11 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\atask_id\x18\x01 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x02 \x01(\x04R\x05epoch\x12;\n" +
 	"\vexpire_time\x18\x03 \x01(\v2\x1a.google.protobuf.TimestampR\n" +
-	"expireTime\":\n" +
+	"expireTime\"V\n" +
 	"\tHeldLease\x12\x17\n" +
 	"\atask_id\x18\x01 \x01(\tR\x06taskId\x12\x14\n" +
-	"\x05epoch\x18\x02 \x01(\x04R\x05epoch\"a\n" +
+	"\x05epoch\x18\x02 \x01(\x04R\x05epoch\x12\x1a\n" +
+	"\bprogress\x18\x03 \x01(\x04R\bprogress\"a\n" +
 	"\x10HeartbeatRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x120\n" +
 	"\x06leases\x18\x02 \x03(\v2\x18.renderfarm.v1.HeldLeaseR\x06leases\"u\n" +
