@@ -14,13 +14,45 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
+// A SubmitOption configures Submit.
+type SubmitOption func(*pb.SubmitJobRequest)
+
+// WithPriority submits the job with priority p, in [-1000, 1000] (default 0): higher
+// jobs are leased first.
+func WithPriority(p int32) SubmitOption {
+	return func(r *pb.SubmitJobRequest) { r.Priority = p }
+}
+
 // Submit queues scene as a new job. The scene's meshes must be in the blob store already
-// (LoadSceneFile does that). A malformed scene gives an *Error with code InvalidArgument
-// naming the field.
-func (c *Client) Submit(ctx context.Context, sc *pb.Scene) (*pb.Job, error) {
-	resp, err := c.jobs.SubmitJob(ctx, &pb.SubmitJobRequest{Scene: sc})
+// (LoadSceneFile does that). A malformed scene (or priority) gives an *Error with code
+// InvalidArgument naming the field.
+func (c *Client) Submit(ctx context.Context, sc *pb.Scene, opts ...SubmitOption) (*pb.Job, error) {
+	req := &pb.SubmitJobRequest{Scene: sc}
+	for _, o := range opts {
+		o(req)
+	}
+	resp, err := c.jobs.SubmitJob(ctx, req)
 	if err != nil {
 		return nil, fromRPC("submit job", err)
+	}
+	return resp.GetJob(), nil
+}
+
+// SetJobPriority changes the priority of a job that has not ended (leases granted
+// already stand).
+func (c *Client) SetJobPriority(ctx context.Context, jobID string, priority int32) (*pb.Job, error) {
+	resp, err := c.jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: jobID, Priority: priority})
+	if err != nil {
+		return nil, fromRPC("set job priority", err)
+	}
+	return resp.GetJob(), nil
+}
+
+// UnblockWorker lets workerID (every blocked worker if empty) lease the job's tasks again.
+func (c *Client) UnblockWorker(ctx context.Context, jobID, workerID string) (*pb.Job, error) {
+	resp, err := c.jobs.UnblockWorker(ctx, &pb.UnblockWorkerRequest{JobId: jobID, WorkerId: workerID})
+	if err != nil {
+		return nil, fromRPC("unblock worker", err)
 	}
 	return resp.GetJob(), nil
 }

@@ -36,6 +36,7 @@ import (
 // Defaults for Config.
 const (
 	DefaultLeaseDuration = store.DefaultLeaseDuration
+	DefaultStuckTimeout  = store.DefaultStuckTimeout
 	// StopTimeout is how long Serve waits for RPCs in flight after ctx is cancelled
 	// before closing connections.
 	StopTimeout = 10 * time.Second
@@ -50,6 +51,9 @@ type Config struct {
 	// HeartbeatInterval is how often workers are told to heartbeat (default
 	// LeaseDuration/4).
 	HeartbeatInterval time.Duration
+	// StuckTimeout: a lease whose progress (HeldLease.progress) has not grown for this
+	// long is revoked at a heartbeat and counted as a failed attempt (default 10m).
+	StuckTimeout time.Duration
 	// Clock defaults to the system clock.
 	Clock clock.Clock
 	// Logger defaults to slog.Default().
@@ -96,7 +100,7 @@ func New(cfg Config) (*Coordinator, error) {
 	if cfg.DataDir == "" {
 		return nil, errors.New("coordinator: Config.DataDir is required")
 	}
-	if cfg.LeaseDuration < 0 || cfg.HeartbeatInterval < 0 {
+	if cfg.LeaseDuration < 0 || cfg.HeartbeatInterval < 0 || cfg.StuckTimeout < 0 {
 		return nil, errors.New("coordinator: durations must not be negative")
 	}
 	if cfg.LeaseDuration == 0 {
@@ -157,7 +161,7 @@ func New(cfg Config) (*Coordinator, error) {
 
 // openStore opens the store cfg names, and what must be closed after it.
 func openStore(cfg Config) (store.Store, []io.Closer, error) {
-	opts := store.Options{Clock: cfg.Clock, LeaseDuration: cfg.LeaseDuration}
+	opts := store.Options{Clock: cfg.Clock, LeaseDuration: cfg.LeaseDuration, StuckTimeout: cfg.StuckTimeout}
 	if cfg.RedisURL == "" {
 		return memstore.New(opts), nil, nil
 	}

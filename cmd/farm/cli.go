@@ -43,7 +43,7 @@ var verbs []*verb
 func init() {
 	verbs = []*verb{
 		renderVerb, coordinatorVerb, submitVerb, watchVerb, fetchVerb,
-		statusVerb, listVerb, tasksVerb, cancelVerb, planVerb, reportVerb,
+		statusVerb, listVerb, tasksVerb, cancelVerb, priorityVerb, unblockVerb, planVerb, reportVerb,
 	}
 }
 
@@ -352,8 +352,18 @@ rounds (from round 2 on) and the RMSE against the scene's reference image (if it
 one). With -o FILE.svg it also writes the error-against-time chart (log-log axes, one
 marker per round and error kind).
 `,
+	"priority": `Sets the priority of a job that has not ended: among jobs with work to do, the
+highest priority is leased first, and jobs of equal priority share the workers (the one
+holding the fewest leases goes next). Leases granted already stand. N may be negative
+("farm priority JOB -5").
+`,
+	"unblock": `A worker that fails 3 tasks of a job is blocked from it (farm status JOB lists the
+blocked workers and why). unblock lets WORKER, or without it every blocked worker, lease
+the job's tasks again, with its failure count reset.
+`,
 	"submit": `Reads SCENE (JSON), uploads the mesh files it names (paths relative to the scene file),
-submits it and prints the job id on stdout. A malformed scene is refused with the field
+submits it and prints the job id on stdout. --priority N (in [-1000, 1000], default 0)
+puts it ahead of (or behind) jobs of lower (higher) priority. A malformed scene is refused with the field
 at fault and exit status 2, and so is a file outside the asset root (--asset-root, by
 default the scene file's folder: no "..", absolute path or symbolic link leading out).
 `,

@@ -19,7 +19,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }
@@ -37,6 +37,7 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	dataDir := fs.String("data-dir", defaultDataDir(), "`folder` for the blob store and state")
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "how long a task lease lasts without a heartbeat")
 	heartbeat := fs.Duration("heartbeat-interval", 0, "how often workers heartbeat (0: a quarter of the lease duration)")
+	stuck := fs.Duration("stuck-timeout", coordinator.DefaultStuckTimeout, "revoke a lease whose progress has not grown for this long, counting a failed attempt")
 	logLevel := fs.String("log-level", "info", "log level: debug, info, warn, error")
 	clientTokenFile := fs.String("client-token-file", "", "`file` of client tokens, one a line (# comments); also $FARM_CLIENT_TOKENS, comma-separated")
 	workerTokenFile := fs.String("worker-token-file", "", "`file` of worker tokens, one a line (# comments); also $FARM_WORKER_TOKENS, comma-separated")
@@ -74,7 +75,7 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	if *dataDir == "" {
 		return usageErrorf("coordinator: --data-dir must not be empty")
 	}
-	if *lease < 0 || *heartbeat < 0 {
+	if *lease < 0 || *heartbeat < 0 || *stuck < 0 {
 		return usageErrorf("coordinator: durations must not be negative")
 	}
 	if *redisURL == "" {
@@ -96,6 +97,7 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 		DataDir:           *dataDir,
 		LeaseDuration:     *lease,
 		HeartbeatInterval: *heartbeat,
+		StuckTimeout:      *stuck,
 		Logger:            logger,
 		ClientTokens:      clientTokens,
 		WorkerTokens:      workerTokens,

@@ -60,6 +60,7 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 	fmt.Fprintf(tw, "job\t%s\n", job.GetId())
 	fmt.Fprintf(tw, "name\t%s\n", job.GetDisplayName())
 	fmt.Fprintf(tw, "state\t%s\n", client.StateName(job.GetState()))
+	fmt.Fprintf(tw, "priority\t%d\n", job.GetPriority())
 	fmt.Fprintf(tw, "image\t%dx%d\n", job.GetWidth(), job.GetHeight())
 	if t := job.GetCreateTime(); t != nil {
 		fmt.Fprintf(tw, "created\t%s\n", t.AsTime().Local().Format(time.DateTime))
@@ -74,6 +75,10 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 	}
 	for _, a := range job.GetOutputs() {
 		fmt.Fprintf(tw, "output %s\t%s (%d bytes)\n", a.GetName(), a.GetDigest(), a.GetSizeBytes())
+	}
+	for _, b := range job.GetBlockedWorkers() {
+		fmt.Fprintf(tw, "blocked %s\t%s (since %s)\n", b.GetWorkerId(), oneLine(b.GetReason()),
+			b.GetBlockTime().AsTime().Local().Format(time.DateTime))
 	}
 	if job.GetError() != "" {
 		fmt.Fprintf(tw, "error\t%s\n", job.GetError())
@@ -93,14 +98,14 @@ func runList(ctx context.Context, e *env, args []string) error {
 		return err
 	}
 	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
-	fmt.Fprintln(tw, "JOB\tNAME\tSTATE\tPROGRESS\tSIZE\tCREATED")
+	fmt.Fprintln(tw, "JOB\tNAME\tSTATE\tPRIORITY\tPROGRESS\tSIZE\tCREATED")
 	for _, j := range jobs {
 		created := ""
 		if t := j.GetCreateTime(); t != nil {
 			created = t.AsTime().Local().Format(time.DateTime)
 		}
-		fmt.Fprintf(tw, "%s\t%s\t%s\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
-			client.StateName(j.GetState()), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
+		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
+			client.StateName(j.GetState()), j.GetPriority(), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
 	}
 	return tw.Flush()
 }

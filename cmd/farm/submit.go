@@ -9,7 +9,7 @@ import (
 
 var submitVerb = &verb{
 	name:    "submit",
-	args:    "SCENE [--coordinator ADDR] [--watch] [--asset-root DIR]",
+	args:    "SCENE [--coordinator ADDR] [--priority N] [--watch] [--asset-root DIR]",
 	summary: "submit a scene file; prints the job id",
 	run:     runSubmit,
 }
@@ -18,16 +18,21 @@ func runSubmit(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("submit", e)
 	watch := fs.Bool("watch", false, "after submitting, show progress until the job ends (like farm watch)")
 	assetRoot := assetRootFlag(fs)
+	priority := fs.Int("priority", 0, "the job's priority in [-1000, 1000]: higher runs first")
 	c, pos, err := connect(fs, e, args, 1, 1)
 	if err != nil {
 		return err
 	}
 	defer c.Close()
+	prio, err := submitPriority(*priority)
+	if err != nil {
+		return err
+	}
 	sc, err := c.LoadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}
-	job, err := c.Submit(ctx, sc)
+	job, err := c.Submit(ctx, sc, prio)
 	if err != nil {
 		return err
 	}

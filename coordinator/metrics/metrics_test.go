@@ -54,7 +54,8 @@ func renderTasks(n int) []*pb.Task {
 func TestGaugesCountJobsAndTasksFromTheStore(t *testing.T) {
 	ctx := context.Background()
 	st := memstore.New(store.Options{})
-	running, err := st.CreateJob(ctx, store.NewJob{SceneDigest: "sha256:a", Tasks: renderTasks(5)})
+	// Ahead of the other job, so that it gets both leases.
+	running, err := st.CreateJob(ctx, store.NewJob{SceneDigest: "sha256:a", Tasks: renderTasks(5), Priority: 1})
 	if err != nil {
 		t.Fatal(err)
 	}

@@ -78,6 +78,9 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	if err := checkToken("request_id", req.GetRequestId()); err != nil {
 		return nil, err
 	}
+	if err := store.CheckPriority(req.GetPriority()); err != nil {
+		return nil, err
+	}
 	if err := scene.Validate(sc); err != nil {
 		return nil, err
 	}
@@ -102,12 +105,13 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 		Height:      sc.GetFilm().GetHeight(),
 		Tasks:       tasks,
 		RequestID:   req.GetRequestId(),
+		Priority:    req.GetPriority(),
 	})
 	if err != nil {
 		return nil, err
 	}
 	s.cfg.Metrics.JobSubmitted()
-	s.log.Info("job submitted", "job", job.GetId(), "name", job.GetDisplayName(),
+	s.log.Info("job submitted", "job", job.GetId(), "name", job.GetDisplayName(), "priority", job.GetPriority(),
 		"width", job.GetWidth(), "height", job.GetHeight(), "tasks", len(tasks), "scene", info.Digest)
 	s.queued.broadcast()
 	return &pb.SubmitJobResponse{Job: job}, nil
@@ -191,6 +195,41 @@ func (j *jobServer) CancelJob(ctx context.Context, req *pb.CancelJobRequest) (*p
 	}
 	j.s.publish(c)
 	return &pb.CancelJobResponse{Job: c.Job}, nil
+}
+
+func (j *jobServer) SetJobPriority(ctx context.Context, req *pb.SetJobPriorityRequest) (*pb.SetJobPriorityResponse, error) {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	if err := store.CheckPriority(req.GetPriority()); err != nil {
+		return nil, err
+	}
+	c, err := j.s.cfg.Store.SetJobPriority(ctx, req.GetJobId(), req.GetPriority())
+	if err != nil {
+		return nil, err
+	}
+	j.s.log.Info("job priority set", "job", req.GetJobId(), "priority", req.GetPriority())
+	return &pb.SetJobPriorityResponse{Job: c.Job}, nil
+}
+
+// UnblockWorker takes a worker (or all, for an empty worker_id) off a job's blocklist and
+// wakes waiting workers, since the job's tasks may now be theirs.
+func (j *jobServer) UnblockWorker(ctx context.Context, req *pb.UnblockWorkerRequest) (*pb.UnblockWorkerResponse, error) {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	if err := checkToken("worker_id", req.GetWorkerId()); err != nil {
+		return nil, err
+	}
+	c, err := j.s.cfg.Store.UnblockWorker(ctx, req.GetJobId(), req.GetWorkerId())
+	if err != nil {
+		return nil, err
+	}
+	if c.Queued {
+		j.s.log.Info("worker unblocked", "job", req.GetJobId(), "worker", req.GetWorkerId())
+	}
+	j.s.publish(c)
+	return &pb.UnblockWorkerResponse{Job: c.Job}, nil
 }
 
 // WatchJob sends a snapshot, then every event of the job, and returns after the event

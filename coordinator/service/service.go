@@ -10,6 +10,7 @@ import (
 	"context"
 	"io"
 	"log/slog"
+	"slices"
 	"sync"
 	"time"
 
@@ -77,6 +78,7 @@ type Service struct {
 	cfg       Config
 	log       *slog.Logger
 	queued    notifier
+	retries   retries
 	workers   registry
 	snapshots snapshotCache
 	scenes    sceneCache
@@ -133,7 +135,7 @@ func (s *Service) ExpireLeases(ctx context.Context) error {
 	changes, err := s.cfg.Store.ExpireLeases(ctx)
 	for _, c := range changes {
 		s.cfg.Metrics.LeaseExpired()
-		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts())
+		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts(), "job_state", c.Job.GetState().String())
 		s.publish(c)
 	}
 	return err
@@ -152,9 +154,43 @@ func (s *Service) publish(c store.Change) {
 		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_STATE_CHANGED, Time: now, Job: c.Job})
 		s.log.Info("job state changed", "job", c.Job.GetId(), "state", c.Job.GetState().String(), "error", c.Job.GetError())
 	}
-	if c.Queued {
+	if rt := c.Task.GetRetryTime(); rt != nil {
+		// Waiting workers set their timers anew (Lease) and so wake when it may be leased.
+		s.retries.add(rt.AsTime())
+		s.queued.broadcast()
+	} else if c.Queued {
 		s.queued.broadcast()
 	}
+}
+
+// retries remembers when tasks in backoff become leasable, so that a long poll also
+// wakes then (putting a task back with a backoff makes nothing leasable now:
+// store.Change.Queued). Only this coordinator's failures are known here; workers polling
+// another replica find the task at their next poll.
+type retries struct {
+	mu sync.Mutex
+	at []time.Time
+}
+
+func (r *retries) add(t time.Time) {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	r.at = append(r.at, t)
+}
+
+// next forgets the times not after now and returns the earliest of the others, or the
+// zero time.
+func (r *retries) next(now time.Time) time.Time {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	r.at = slices.DeleteFunc(r.at, func(t time.Time) bool { return !t.After(now) })
+	var first time.Time
+	for _, t := range r.at {
+		if first.IsZero() || t.Before(first) {
+			first = t
+		}
+	}
+	return first
 }
 
 // notifier wakes every goroutine waiting on the current channel; waiters take the

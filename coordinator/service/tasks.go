@@ -38,8 +38,10 @@ func (s *Service) Lease(ctx context.Context, workerID string, phases []pb.Phase,
 		if wait == 0 {
 			return &pb.LeaseTaskResponse{}, nil
 		}
+		retry, stop := s.retryTimer()
 		select {
 		case <-wake:
+		case <-retry:
 		case <-timeout:
 			return &pb.LeaseTaskResponse{}, nil
 		case <-s.done:
@@ -47,7 +49,20 @@ func (s *Service) Lease(ctx context.Context, workerID string, phases []pb.Phase,
 		case <-ctx.Done():
 			return nil, ctx.Err()
 		}
+		stop()
 	}
+}
+
+// retryTimer fires when the earliest known backoff ends (never if none is known); stop
+// releases it.
+func (s *Service) retryTimer() (<-chan time.Time, func() bool) {
+	now := s.cfg.Clock.Now()
+	at := s.retries.next(now)
+	if at.IsZero() {
+		return nil, func() bool { return false }
+	}
+	t := time.NewTimer(at.Sub(now))
+	return t.C, t.Stop
 }
 
 // granted completes a lease by filling in what the task needs from earlier phases. If that
@@ -65,9 +80,20 @@ func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased)
 	return &pb.LeaseTaskResponse{Lease: l.Lease, Task: l.Task, SceneDigest: l.SceneDigest}, nil
 }
 
-// Extend extends the leases workerID still holds among held; the others are revoked.
+// Extend extends the leases workerID still holds among held; the others are revoked,
+// among them stuck ones (no progress for the store's StuckTimeout), which count as failed
+// attempts.
 func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error) {
-	return s.cfg.Store.ExtendLeases(ctx, workerID, held)
+	hb, err := s.cfg.Store.ExtendLeases(ctx, workerID, held)
+	if err != nil {
+		return nil, nil, err
+	}
+	for _, c := range hb.Changes {
+		s.cfg.Metrics.TaskFailed()
+		s.log.Warn("task failed", "task", c.Task.GetId(), "worker", workerID, "error", c.Task.GetError())
+		s.publish(c)
+	}
+	return hb.Extended, hb.Revoked, nil
 }
 
 // Complete records a task's success with its outputs, which must name blobs in the blob

@@ -39,6 +39,7 @@ func TestFailedTaskIsRetriedThenFailsTheJob(t *testing.T) {
 		if _, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Error: "embree exploded"}); err != nil {
 			t.Fatalf("FailTask: %v", err)
 		}
+		f.clock.Advance(time.Minute) // past the backoff
 	}
 	got, _ := f.jobs.GetJob(f.ctx, &pb.GetJobRequest{JobId: job.Id})
 	if got.Job.State != pb.JobState_JOB_STATE_FAILED || !strings.Contains(got.Job.Error, "embree exploded") || got.Job.EndTime == nil {

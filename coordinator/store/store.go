@@ -3,10 +3,10 @@
 // implementation over Redis can run each as a single Lua script:
 //
 //   - CreateJob writes a job with all its tasks and queues the first phase;
-//   - LeaseTask pops the next queued task of the phases the caller takes (FIFO by job,
-//     then task index), grows its epoch, records the lease and moves the job
-//     QUEUED -> RUNNING;
-//   - ExtendLeases and ExpireLeases move lease deadlines and requeue expired tasks;
+//   - LeaseTask pops the next leasable task of the phases the caller takes (see
+//     Scheduling), grows its epoch, records the lease and moves the job QUEUED -> RUNNING;
+//   - ExtendLeases moves lease deadlines and revokes stuck leases; ExpireLeases requeues
+//     expired tasks (see Retries);
 //   - CompleteTask records outputs and, on the last task of a phase, queues the next
 //     phase, or on the last task of the job marks it SUCCEEDED with the final outputs;
 //   - CompleteRound completes a round's composite, records the round's report and either
@@ -14,9 +14,43 @@
 //     and the completion are one step, so a crash leaves either the composite leased
 //     (it is redone after its lease expires, and decided again) or the round fully
 //     recorded, never a completed round without a successor or an end;
-//   - FailTask requeues the task or, after Options.MaxAttempts failures, fails the job;
+//   - FailTask requeues the task after a backoff or, after Options.MaxAttempts failures,
+//     fails the job;
 //   - ReleaseTask and ReleaseWorker requeue without counting a failure;
-//   - CancelJob drops queued tasks and revokes held leases.
+//   - CancelJob drops queued tasks and revokes held leases;
+//   - SetJobPriority reorders a job; UnblockWorker takes workers off its blocklist.
+//
+// Scheduling: LeaseTask picks, among the jobs with a leasable task of the caller's
+// phases that have not blocked the caller, the highest Job.priority; among equal
+// priorities the job holding the fewest leases now, so that equal jobs share the workers
+// instead of running first come, first served; among those the oldest job. Within the job
+// it takes the lowest task index.
+//
+// Retries: what happens to a leased task that does not succeed.
+//
+//	event                      counts toward   requeued                    blocklist
+//	FailTask                   MaxAttempts     after Backoff(failures)     counts
+//	stuck (no progress for     MaxAttempts     after Backoff(failures)     counts
+//	  StuckTimeout)
+//	lease expired              MaxExpiries     at once (a lease duration   does not count
+//	                                           has passed already)
+//	ReleaseTask, cancel        nothing         at once                     does not count
+//
+// A task in backoff is QUEUED with Task.retry_time set and is not leased before then
+// (retry_time stays set until the task is leased again). Reaching either limit fails the
+// task and its job with "task T failed N times; last error: E". Expiries have a limit of
+// their own, larger by default, because a worker that dies is usually not the task's
+// fault, while a task that kills every worker it lands on must not retry forever; they do
+// not count toward the blocklist because a crashed worker comes back under a new id.
+// Stuck: a lease whose HeldLease.progress has not grown for StuckTimeout (progress that
+// stays 0 counts as not growing) is revoked at that heartbeat; leases of BuilderPhases
+// are exempt (the builder is the coordinator itself and reports no progress).
+//
+// Blocklist: a worker whose failed attempts at one job's tasks reach BlockAfterFailures
+// is added to Job.blocked_workers (reason: the count and its last error) and never leases
+// that job's tasks again; the leases it holds stand. UnblockWorker clears it and its
+// count. A job every worker is blocked from just waits (for UnblockWorker or a new
+// worker).
 //
 // Reports about a task (complete, fail, release) name a LeaseRef; one under a retired
 // epoch, by another worker, or after the lease expired is refused with an
@@ -25,10 +59,14 @@ package store
 
 import (
 	"context"
+	"fmt"
+	"slices"
 	"strconv"
+	"strings"
 	"time"
 
 	"photonfarm/coordinator/clock"
+	"photonfarm/coordinator/errs"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -46,14 +84,17 @@ type Store interface {
 	// ListTasks lists a job's tasks in plan order.
 	ListTasks(ctx context.Context, jobID string, pageSize int, pageToken string) (tasks []*pb.Task, next string, err error)
 
-	// LeaseTask leases to workerID the next queued task of one of phases (WorkerPhases for
-	// workers, BuilderPhases for the coordinator's builder). It returns nil and no error
-	// when nothing of those phases is queued, and an error if phases is empty.
+	// LeaseTask leases to workerID the next leasable task of one of phases (WorkerPhases
+	// for workers, BuilderPhases for the coordinator's builder), in the order described in
+	// the package comment. It returns nil and no error when nothing of those phases is
+	// leasable by workerID, and an error if phases is empty.
 	LeaseTask(ctx context.Context, workerID string, phases []pb.Phase) (*Leased, error)
-	// ExtendLeases extends the leases workerID still holds among held and returns the
-	// others as revoked (expired, re-leased, finished, or their job ended).
-	ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) (extended []*pb.Lease, revoked []*pb.HeldLease, err error)
-	// ExpireLeases requeues every task whose lease has expired.
+	// ExtendLeases extends the leases workerID still holds among held, recording their
+	// progress, and returns the others as revoked (expired, re-leased, finished, their
+	// job ended, or stuck: a stuck lease is also counted as a failed attempt).
+	ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) (Heartbeat, error)
+	// ExpireLeases requeues every task whose lease has expired, counting an expiry; a task
+	// that reaches MaxExpiries fails its job.
 	ExpireLeases(ctx context.Context) ([]Change, error)
 
 	// CompleteTask records a task's success. Repeating an accepted report (same worker,
@@ -67,8 +108,9 @@ type Store interface {
 	CompleteRound(ctx context.Context, ref LeaseRef, end RoundEnd) (Change, error)
 	// GetTask returns a task; errs.NotFound if it does not exist.
 	GetTask(ctx context.Context, taskID string) (*pb.Task, error)
-	// FailTask records a failure: the task is queued again, or after MaxAttempts failures
-	// it fails and so does its job, with message as the job's error.
+	// FailTask records a failure: the task is queued again after a backoff, or after
+	// MaxAttempts failures it fails and so does its job, with message as the job's error.
+	// The failure counts toward the worker's blocklist threshold for the job.
 	FailTask(ctx context.Context, ref LeaseRef, message string) (Change, error)
 	// ReleaseTask queues a leased task again without counting a failure.
 	ReleaseTask(ctx context.Context, ref LeaseRef) (Change, error)
@@ -79,6 +121,22 @@ type Store interface {
 	// cancelled and its leases revoked. It returns errs.NotFound for an unknown job and
 	// errs.FailedPrecondition for one that has ended.
 	CancelJob(ctx context.Context, jobID string) (Change, error)
+	// SetJobPriority sets a job's priority (CheckPriority); leases granted stand. It
+	// returns errs.NotFound for an unknown job and errs.FailedPrecondition for an ended
+	// one.
+	SetJobPriority(ctx context.Context, jobID string, priority int32) (Change, error)
+	// UnblockWorker takes workerID (every worker if empty) off the job's blocklist and
+	// resets its failure count; unblocking a worker that is not blocked changes nothing.
+	// It returns errs.NotFound for an unknown job.
+	UnblockWorker(ctx context.Context, jobID, workerID string) (Change, error)
+}
+
+// Heartbeat is what ExtendLeases did.
+type Heartbeat struct {
+	Extended []*pb.Lease
+	Revoked  []*pb.HeldLease
+	// Changes made by revoking stuck leases, one per lease.
+	Changes []Change
 }
 
 // NewJob is what CreateJob needs.
@@ -95,6 +153,8 @@ type NewJob struct {
 	// the same RequestID creates nothing and returns the job the first one created, so a
 	// client may retry a submit whose answer it lost.
 	RequestID string
+	// Priority in [MinPriority, MaxPriority]: higher jobs are leased first.
+	Priority int32
 }
 
 // RoundEnd is what CompleteRound records when a round's composite succeeds.
@@ -147,7 +207,9 @@ type Change struct {
 	Task *pb.Task
 	// JobStateChanged is set when Job.State changed.
 	JobStateChanged bool
-	// Queued is set when tasks were queued (a phase opened or a task went back).
+	// Queued is set when tasks became leasable (a phase opened, a task went back without
+	// a backoff, a worker was unblocked). A task put back with a backoff does not set it:
+	// its Task.retry_time says when to look again.
 	Queued bool
 }
 
@@ -156,14 +218,30 @@ type Options struct {
 	Clock clock.Clock
 	// LeaseDuration is how long a lease lasts without being extended.
 	LeaseDuration time.Duration
-	// MaxAttempts is how many failed attempts a task gets before its job fails.
+	// MaxAttempts is how many failed attempts (FailTask, stuck leases) a task gets
+	// before its job fails.
 	MaxAttempts int
+	// MaxExpiries is how many of a task's leases may expire before its job fails.
+	MaxExpiries int
+	// BlockAfterFailures is how many failed attempts at one job's tasks block a worker
+	// from the job.
+	BlockAfterFailures int
+	// RetryBackoff and MaxRetryBackoff bound the wait before a failed task is leased
+	// again (Backoff).
+	RetryBackoff, MaxRetryBackoff time.Duration
+	// StuckTimeout is how long a lease may go without its progress growing.
+	StuckTimeout time.Duration
 }
 
-// Defaults for Options.
+// Defaults for Options (docs/limits.md, "Leases and retries").
 const (
-	DefaultLeaseDuration = 15 * time.Second
-	DefaultMaxAttempts   = 3
+	DefaultLeaseDuration      = 15 * time.Second
+	DefaultMaxAttempts        = 3
+	DefaultMaxExpiries        = 5
+	DefaultBlockAfterFailures = 3
+	DefaultRetryBackoff       = time.Second
+	DefaultMaxRetryBackoff    = time.Minute
+	DefaultStuckTimeout       = 10 * time.Minute
 )
 
 // WithDefaults fills in unset options.
@@ -177,7 +255,82 @@ func (o Options) WithDefaults() Options {
 	if o.MaxAttempts <= 0 {
 		o.MaxAttempts = DefaultMaxAttempts
 	}
+	if o.MaxExpiries <= 0 {
+		o.MaxExpiries = DefaultMaxExpiries
+	}
+	if o.BlockAfterFailures <= 0 {
+		o.BlockAfterFailures = DefaultBlockAfterFailures
+	}
+	if o.RetryBackoff <= 0 {
+		o.RetryBackoff = DefaultRetryBackoff
+	}
+	if o.MaxRetryBackoff <= 0 {
+		o.MaxRetryBackoff = DefaultMaxRetryBackoff
+	}
+	if o.StuckTimeout <= 0 {
+		o.StuckTimeout = DefaultStuckTimeout
+	}
 	return o
+}
+
+// Backoff is how long a task waits after its n-th failed attempt (n >= 1):
+// RetryBackoff·2^(n-1), at most MaxRetryBackoff. (redisstore's Lua fail() computes the
+// same from the policy argument.)
+func (o Options) Backoff(n int) time.Duration {
+	d := o.RetryBackoff
+	for i := 1; i < n && d < o.MaxRetryBackoff; i++ {
+		d *= 2
+	}
+	return min(d, o.MaxRetryBackoff)
+}
+
+// StuckMessage is the failure recorded for a lease revoked as stuck.
+func (o Options) StuckMessage() string {
+	return "no progress for " + o.StuckTimeout.String() + " (stuck)"
+}
+
+// ExpiredMessage is the failure recorded for an expired lease.
+const ExpiredMessage = "lease expired (worker lost)"
+
+// JobFailure is the job's error when its task taskID reached a limit after n failures.
+func JobFailure(taskID string, n int, last string) string {
+	return fmt.Sprintf("task %s failed %d times; last error: %s", taskID, n, last)
+}
+
+// BlockReason is Job.blocked_workers[i].reason for a worker blocked after n failures.
+func BlockReason(n int, last string) string {
+	return fmt.Sprintf("%d failed tasks: %s", n, last)
+}
+
+// Job priorities (Job.priority).
+const (
+	MinPriority = -1000
+	MaxPriority = 1000
+)
+
+// CheckPriority refuses a priority outside [MinPriority, MaxPriority], naming the field.
+func CheckPriority(p int32) error {
+	if p < MinPriority || p > MaxPriority {
+		return errs.Field("priority", "must be in [%d, %d], got %d", MinPriority, MaxPriority, p)
+	}
+	return nil
+}
+
+// Exempt reports whether leases of phase are exempt from the stuck timeout: the
+// builder's, which the coordinator runs itself.
+func Exempt(phase pb.Phase) bool {
+	return slices.Contains(BuilderPhases, phase)
+}
+
+// SortBlocked orders a blocklist by block time, then worker id, so that every store
+// lists it alike.
+func SortBlocked(bs []*pb.BlockedWorker) {
+	slices.SortFunc(bs, func(a, b *pb.BlockedWorker) int {
+		if c := a.GetBlockTime().AsTime().Compare(b.GetBlockTime().AsTime()); c != 0 {
+			return c
+		}
+		return strings.Compare(a.GetWorkerId(), b.GetWorkerId())
+	})
 }
 
 // TaskID returns the id of a job's task: "{job_id}.{index}".

@@ -27,7 +27,8 @@ func repoRoot() string {
 }
 
 // farm is a coordinator serving on loopback, a client of it, and what is stored before
-// the hostile requests: one job with a task leased by a registered worker.
+// the hostile requests: one job with a task leased by a registered worker, and one
+// cancelled job.
 type farm struct {
 	ctx      context.Context
 	c        *client.Client
@@ -36,6 +37,7 @@ type farm struct {
 	blobs    pb.BlobServiceClient
 	scene    *pb.Scene // valid, its mesh uploaded
 	job      *pb.Job
+	ended    *pb.Job
 	workerID string
 	lease    *pb.Lease
 	stopped  chan error
@@ -76,6 +78,12 @@ func startFarm(t *testing.T) *farm {
 	}
 	f.scene = sc
 	if f.job, err = f.c.Submit(ctx, sc); err != nil {
+		t.Fatal(err)
+	}
+	if f.ended, err = f.c.Submit(ctx, sc); err != nil {
+		t.Fatal(err)
+	}
+	if f.ended, err = f.c.Cancel(ctx, f.ended.GetId()); err != nil {
 		t.Fatal(err)
 	}
 	reg, err := f.workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "honest", Cores: 1})

@@ -84,6 +84,50 @@ func jobCases() []hostileCase {
 			_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: f.scene, RequestId: "id\n2"})
 			return err
 		}, codes.InvalidArgument, "request_id"},
+		{"submit: priority too high", func(f *farm) error {
+			_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: f.scene, Priority: 1001})
+			return err
+		}, codes.InvalidArgument, "priority"},
+		{"submit: priority too low", func(f *farm) error {
+			_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: f.scene, Priority: math.MinInt32})
+			return err
+		}, codes.InvalidArgument, "priority"},
+		{"set priority: no id", func(f *farm) error {
+			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{Priority: 1})
+			return err
+		}, codes.InvalidArgument, "job_id"},
+		{"set priority: unknown job", func(f *farm) error {
+			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: "j-0000000000000000", Priority: 1})
+			return err
+		}, codes.NotFound, "j-0000000000000000"},
+		{"set priority: out of range", func(f *farm) error {
+			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: f.job.GetId(), Priority: math.MaxInt32})
+			return err
+		}, codes.InvalidArgument, "priority"},
+		{"set priority: ended job", func(f *farm) error {
+			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: f.ended.GetId(), Priority: 1})
+			return err
+		}, codes.FailedPrecondition, "ended"},
+		{"set priority: huge id", func(f *farm) error {
+			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: strings.Repeat("j", 1<<20), Priority: 1})
+			return err
+		}, codes.InvalidArgument, "job_id"},
+		{"unblock: no id", func(f *farm) error {
+			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{})
+			return err
+		}, codes.InvalidArgument, "job_id"},
+		{"unblock: unknown job", func(f *farm) error {
+			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{JobId: "j-ffffffffffffffff", WorkerId: f.workerID})
+			return err
+		}, codes.NotFound, "j-ffffffffffffffff"},
+		{"unblock: control characters in worker id", func(f *farm) error {
+			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{JobId: f.job.GetId(), WorkerId: "w-\x00\x1b[2J"})
+			return err
+		}, codes.InvalidArgument, "worker_id"},
+		{"unblock: huge worker id", func(f *farm) error {
+			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{JobId: f.job.GetId(), WorkerId: strings.Repeat("w", 1<<20)})
+			return err
+		}, codes.InvalidArgument, "worker_id"},
 	}
 }
 

@@ -4,6 +4,7 @@ import (
 	"context"
 	"fmt"
 	"slices"
+	"time"
 
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
@@ -13,42 +14,70 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// LeaseTask implements store.Store: the first queued task of phases in the oldest job
-// with one.
+// LeaseTask implements store.Store: the lowest leasable task of phases in the job of
+// highest priority, then fewest leases held, then oldest, that has not blocked workerID.
+// Held leases are counted on the way rather than kept, like everything here, by a scan.
 func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phase) (*store.Leased, error) {
 	if err := store.CheckLeaseArgs(workerID, phases); err != nil {
 		return nil, err
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	for _, j := range s.ordered {
-		if store.Ended(j.pb.State) {
+	now := s.now()
+	var t *task
+	bestHeld := 0
+	for _, j := range s.ordered { // oldest first, so a tie keeps the older job
+		if store.Ended(j.pb.State) || blocked(j, workerID) {
 			continue
 		}
-		for _, t := range j.tasks {
-			if t.pb.State != pb.TaskState_TASK_STATE_QUEUED || !slices.Contains(phases, t.pb.Phase) {
-				continue
+		held := 0
+		var first *task
+		for _, o := range j.tasks {
+			if o.pb.State == pb.TaskState_TASK_STATE_LEASED {
+				held++
+			} else if first == nil && o.leasable(phases, now) {
+				first = o
 			}
-			now := s.now()
-			t.epoch++
-			t.expire = now.Add(s.opts.LeaseDuration)
-			t.pb.State = pb.TaskState_TASK_STATE_LEASED
-			t.pb.WorkerId = workerID
-			t.pb.Attempts++
-			started := j.pb.State == pb.JobState_JOB_STATE_QUEUED
-			if started {
-				j.pb.State = pb.JobState_JOB_STATE_RUNNING
-			}
-			j.pb.UpdateTime = timestamppb.New(now)
-			return &store.Leased{
-				Lease:       &pb.Lease{TaskId: t.pb.Id, Epoch: t.epoch, ExpireTime: timestamppb.New(t.expire)},
-				Task:        t.snapshot(),
-				SceneDigest: j.pb.SceneDigest,
-				Change:      s.change(t, started, false),
-			}, nil
+		}
+		if first == nil {
+			continue
+		}
+		if p := j.pb.Priority; t == nil || p > t.job.pb.Priority || (p == t.job.pb.Priority && held < bestHeld) {
+			t, bestHeld = first, held
 		}
 	}
-	return nil, nil
+	if t == nil {
+		return nil, nil
+	}
+	j := t.job
+	t.epoch++
+	t.expire = now.Add(s.opts.LeaseDuration)
+	t.progress, t.progressAt = 0, now
+	t.pb.State = pb.TaskState_TASK_STATE_LEASED
+	t.pb.WorkerId = workerID
+	t.pb.Attempts++
+	t.pb.RetryTime = nil
+	started := j.pb.State == pb.JobState_JOB_STATE_QUEUED
+	if started {
+		j.pb.State = pb.JobState_JOB_STATE_RUNNING
+	}
+	j.pb.UpdateTime = timestamppb.New(now)
+	return &store.Leased{
+		Lease:       &pb.Lease{TaskId: t.pb.Id, Epoch: t.epoch, ExpireTime: timestamppb.New(t.expire)},
+		Task:        t.snapshot(),
+		SceneDigest: j.pb.SceneDigest,
+		Change:      s.change(t, started, false),
+	}, nil
+}
+
+// leasable: queued, of one of phases, and out of its backoff.
+func (t *task) leasable(phases []pb.Phase, now time.Time) bool {
+	return t.pb.State == pb.TaskState_TASK_STATE_QUEUED && slices.Contains(phases, t.pb.Phase) &&
+		(t.pb.RetryTime == nil || !now.Before(t.pb.RetryTime.AsTime()))
+}
+
+func blocked(j *job, workerID string) bool {
+	return slices.ContainsFunc(j.pb.BlockedWorkers, func(b *pb.BlockedWorker) bool { return b.WorkerId == workerID })
 }
 
 // held returns the task ref names if ref's lease on it is still valid.
@@ -78,21 +107,30 @@ func (s *Store) requeue(t *task) {
 }
 
 // ExtendLeases implements store.Store.
-func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error) {
+func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) (store.Heartbeat, error) {
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	var extended []*pb.Lease
-	var revoked []*pb.HeldLease
+	var hb store.Heartbeat
+	now := s.now()
 	for _, h := range held {
 		t, err := s.held(store.LeaseRef{WorkerID: workerID, TaskID: h.GetTaskId(), Epoch: h.GetEpoch()})
-		if err != nil {
-			revoked = append(revoked, &pb.HeldLease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch()})
+		revoke := err != nil
+		switch {
+		case revoke:
+		case h.GetProgress() > t.progress:
+			t.progress, t.progressAt = h.GetProgress(), now
+		case !store.Exempt(t.pb.Phase) && now.Sub(t.progressAt) >= s.opts.StuckTimeout:
+			revoke = true
+			hb.Changes = append(hb.Changes, s.failAttempt(t, workerID, s.opts.StuckMessage()))
+		}
+		if revoke {
+			hb.Revoked = append(hb.Revoked, &pb.HeldLease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch()})
 			continue
 		}
-		t.expire = s.now().Add(s.opts.LeaseDuration)
-		extended = append(extended, &pb.Lease{TaskId: t.pb.Id, Epoch: t.epoch, ExpireTime: timestamppb.New(t.expire)})
+		t.expire = now.Add(s.opts.LeaseDuration)
+		hb.Extended = append(hb.Extended, &pb.Lease{TaskId: t.pb.Id, Epoch: t.epoch, ExpireTime: timestamppb.New(t.expire)})
 	}
-	return extended, revoked, nil
+	return hb, nil
 }
 
 // ExpireLeases implements store.Store.
@@ -102,14 +140,19 @@ func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
 	now := s.now()
 	var changes []store.Change
 	for _, j := range s.ordered {
-		if store.Ended(j.pb.State) {
-			continue
-		}
 		for _, t := range j.tasks {
-			if t.pb.State == pb.TaskState_TASK_STATE_LEASED && !now.Before(t.expire) {
-				s.requeue(t)
-				changes = append(changes, s.change(t, false, true))
+			// Ending the job cancels its other leases, so the state is checked per task.
+			if t.pb.State != pb.TaskState_TASK_STATE_LEASED || now.Before(t.expire) {
+				continue
 			}
+			t.expiries++
+			t.pb.Error = store.ExpiredMessage
+			if t.expiries >= s.opts.MaxExpiries {
+				changes = append(changes, s.failJob(t, t.expiries))
+				continue
+			}
+			s.requeue(t)
+			changes = append(changes, s.change(t, false, true))
 		}
 	}
 	return changes, nil
@@ -228,16 +271,35 @@ func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, message string
 	if err != nil {
 		return store.Change{}, err
 	}
+	return s.failAttempt(t, ref.WorkerID, message), nil
+}
+
+// failAttempt counts a failed attempt at leased task t by workerID (FailTask, a stuck
+// lease): the worker is blocked from the job at BlockAfterFailures; the task goes back
+// after a backoff, or at MaxAttempts fails with its job.
+func (s *Store) failAttempt(t *task, workerID, message string) store.Change {
+	j := t.job
 	t.failures++
 	t.pb.Error = message
-	if t.failures < s.opts.MaxAttempts {
-		s.requeue(t)
-		return s.change(t, false, true), nil
+	j.failures[workerID]++
+	if n := j.failures[workerID]; n >= s.opts.BlockAfterFailures && !blocked(j, workerID) {
+		j.pb.BlockedWorkers = append(j.pb.BlockedWorkers, &pb.BlockedWorker{
+			WorkerId: workerID, Reason: store.BlockReason(n, message), BlockTime: timestamppb.New(s.now())})
+		store.SortBlocked(j.pb.BlockedWorkers)
 	}
+	if t.failures >= s.opts.MaxAttempts {
+		return s.failJob(t, t.failures)
+	}
+	s.requeue(t)
+	t.pb.RetryTime = timestamppb.New(s.now().Add(s.opts.Backoff(t.failures)))
+	return s.change(t, false, false)
+}
+
+// failJob fails t, which failed n times, and its job with t's last error.
+func (s *Store) failJob(t *task, n int) store.Change {
 	t.pb.State = pb.TaskState_TASK_STATE_FAILED
-	s.end(t.job, pb.JobState_JOB_STATE_FAILED,
-		fmt.Sprintf("task %s failed %d times; last error: %s", t.pb.Id, t.failures, message))
-	return s.change(t, true, false), nil
+	s.end(t.job, pb.JobState_JOB_STATE_FAILED, store.JobFailure(t.pb.Id, n, t.pb.Error))
+	return s.change(t, true, false)
 }
 
 // end moves a job to a terminal state and cancels its unfinished tasks.
@@ -296,4 +358,47 @@ func (s *Store) CancelJob(ctx context.Context, jobID string) (store.Change, erro
 	}
 	s.end(j, pb.JobState_JOB_STATE_CANCELLED, "")
 	return store.Change{Job: j.snapshot(), JobStateChanged: true}, nil
+}
+
+// SetJobPriority implements store.Store.
+func (s *Store) SetJobPriority(ctx context.Context, jobID string, priority int32) (store.Change, error) {
+	if err := store.CheckPriority(priority); err != nil {
+		return store.Change{}, err
+	}
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return store.Change{}, err
+	}
+	if store.Ended(j.pb.State) {
+		return store.Change{}, errs.E(errs.FailedPrecondition, "job %s has already ended (%s)", jobID, j.pb.State)
+	}
+	j.pb.Priority = priority
+	j.pb.UpdateTime = timestamppb.New(s.now())
+	return store.Change{Job: j.snapshot()}, nil
+}
+
+// UnblockWorker implements store.Store.
+func (s *Store) UnblockWorker(ctx context.Context, jobID, workerID string) (store.Change, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return store.Change{}, err
+	}
+	n := len(j.pb.BlockedWorkers)
+	j.pb.BlockedWorkers = slices.DeleteFunc(j.pb.BlockedWorkers, func(b *pb.BlockedWorker) bool {
+		return workerID == "" || b.WorkerId == workerID
+	})
+	if workerID == "" {
+		clear(j.failures)
+	} else {
+		delete(j.failures, workerID)
+	}
+	unblocked := len(j.pb.BlockedWorkers) < n
+	if unblocked {
+		j.pb.UpdateTime = timestamppb.New(s.now())
+	}
+	return store.Change{Job: j.snapshot(), Queued: unblocked}, nil
 }

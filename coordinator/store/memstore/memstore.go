@@ -38,6 +38,8 @@ type job struct {
 	seq   uint64
 	pb    *pb.Job // without phases: computed on read
 	tasks []*task
+	// failures counts each worker's failed attempts at the job's tasks (the blocklist).
+	failures map[string]int
 }
 
 type task struct {
@@ -46,6 +48,11 @@ type task struct {
 	epoch    uint64
 	expire   time.Time
 	failures int
+	expiries int
+	// progress is the largest HeldLease.progress of the current lease, reported (or the
+	// lease granted) at progressAt.
+	progress   uint64
+	progressAt time.Time
 }
 
 // New returns an empty store.
@@ -71,6 +78,9 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	if len(nj.Tasks) == 0 {
 		return nil, errs.E(errs.InvalidArgument, "a job needs at least one task")
 	}
+	if err := store.CheckPriority(nj.Priority); err != nil {
+		return nil, err
+	}
 	for i, t := range nj.Tasks {
 		if t.GetIndex() != uint32(i) {
 			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
@@ -90,7 +100,7 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	for s.jobs[id] != nil {
 		id = newJobID()
 	}
-	j := &job{seq: s.seq, pb: &pb.Job{
+	j := &job{seq: s.seq, failures: make(map[string]int), pb: &pb.Job{
 		Id:          id,
 		DisplayName: nj.DisplayName,
 		State:       pb.JobState_JOB_STATE_QUEUED,
@@ -99,6 +109,7 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 		SceneDigest: nj.SceneDigest,
 		Width:       nj.Width,
 		Height:      nj.Height,
+		Priority:    nj.Priority,
 	}}
 	if nj.Plan != nil {
 		j.pb.Plan = proto.Clone(nj.Plan).(*pb.Plan)

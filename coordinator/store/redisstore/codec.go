@@ -19,6 +19,9 @@ import (
 // the scripts change as plain fields:
 //
 //	seq, state, update, end (µs), error, outputs (see encodeArtifacts)
+//	prio, held             priority; leases held now (the ready sets' score)
+//	b:{worker}             blocked: "{block time µs} {reason}"
+//	f:{worker}             the worker's failed attempts at the job's tasks
 //	ntasks                 tasks so far
 //	cur, curend, left      the current stage [cur, curend) and its tasks not yet succeeded
 //	pround, pphases        the latest round and its phases in plan order ("5,6")
@@ -26,8 +29,9 @@ import (
 //
 // A task record (hash t:{job}.{index}) keeps the planner's task as "spec" (the pb.Task
 // without id, job, index, state, attempts, worker, error or outputs) and: job, idx, phase,
-// round, state, epoch (the fencing token; only grows), attempts, failures, worker, error,
-// outputs, expire (µs).
+// round, state, epoch (the fencing token; only grows), attempts, failures, expiries,
+// worker, error, outputs, expire (µs), retry (µs, or empty: Task.retry_time), progress
+// (the lease's largest HeldLease.progress, decimal) and ptime (µs, when it last grew).
 
 // encodeArtifacts stores a list of artifacts as a serialized pb.Task holding only them, so
 // that concatenated encodings decode to the concatenated list (protobuf merges repeated
@@ -51,7 +55,7 @@ func taskArgs(tasks []*pb.Task) ([]any, error) {
 	for _, t := range tasks {
 		spec := proto.Clone(t).(*pb.Task)
 		spec.Id, spec.JobId, spec.Index, spec.State = "", "", 0, pb.TaskState_TASK_STATE_UNSPECIFIED
-		spec.Attempts, spec.WorkerId, spec.Error, spec.Outputs = 0, "", "", nil
+		spec.Attempts, spec.WorkerId, spec.Error, spec.Outputs, spec.RetryTime = 0, "", "", nil, nil
 		b, err := proto.Marshal(spec)
 		if err != nil {
 			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("encode task %d", t.GetIndex()))
@@ -85,6 +89,15 @@ func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
 		j.EndTime = timestamp(h["end"])
 	}
 	j.Error = h["error"]
+	p, _ := strconv.ParseInt(h["prio"], 10, 32)
+	j.Priority = int32(p)
+	for k, v := range h {
+		if w, ok := strings.CutPrefix(k, "b:"); ok {
+			at, reason, _ := strings.Cut(v, " ")
+			j.BlockedWorkers = append(j.BlockedWorkers, &pb.BlockedWorker{WorkerId: w, Reason: reason, BlockTime: timestamp(at)})
+		}
+	}
+	store.SortBlocked(j.BlockedWorkers)
 	outs, err := decodeArtifacts(h["outputs"])
 	if err != nil {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode outputs of job %s", j.Id))
@@ -123,6 +136,9 @@ func decodeTask(h map[string]string) (*pb.Task, error) {
 	t.Attempts = uint32(number(h["attempts"]))
 	t.WorkerId = h["worker"]
 	t.Error = h["error"]
+	if h["retry"] != "" {
+		t.RetryTime = timestamp(h["retry"])
+	}
 	outs, err := decodeArtifacts(h["outputs"])
 	if err != nil {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode outputs of task %s", t.Id))

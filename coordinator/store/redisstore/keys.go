@@ -9,9 +9,11 @@ package redisstore
 //	r:{job}               list: the job's RoundReports (binary protobuf)
 //	s:{job}               hash: first task index of a stage -> index after its last
 //	t:{job}.{index}       hash: one task record (see codec.go)
-//	q:{job}:{phase}       zset task index, score = index: the job's queued tasks
-//	ready:{phase}         zset job id, score = sequence: jobs with queued tasks of phase
+//	q:{job}:{phase}       zset task index, score = index: the job's leasable tasks
+//	ready:{phase}         zset "{seq, 16 digits}:{job}", score = (1000 - priority)·2^32 +
+//	                      leases held: jobs with leasable tasks of phase (scripts.go)
 //	leases                zset task id, score = lease expiry (µs): live leases
+//	delayed               zset task id, score = retry time (µs): queued tasks in backoff
 
 func (s *Store) key(name string) string { return s.prefix + name }
 

@@ -2,7 +2,9 @@ package redisstore
 
 import (
 	"context"
+	"fmt"
 	"strconv"
+	"strings"
 
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
@@ -12,8 +14,7 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// LeaseTask implements store.Store: the first queued task of phases in the oldest job
-// with one.
+// LeaseTask implements store.Store (scheduling: scripts.go).
 func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phase) (*store.Leased, error) {
 	if err := store.CheckLeaseArgs(workerID, phases); err != nil {
 		return nil, err
@@ -39,39 +40,64 @@ func refArgs(ref store.LeaseRef) []any {
 	return []any{ref.TaskID, ref.WorkerID, strconv.FormatUint(ref.Epoch, 10)}
 }
 
-// ExtendLeases implements store.Store.
-func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error) {
-	if len(held) == 0 {
-		return nil, nil, nil
+// policy is the retry policy fail() in scripts.go reads: "attempts block base cap", the
+// backoffs in µs.
+func (s *Store) policy() string {
+	o := s.opts
+	return fmt.Sprintf("%d %d %d %d", o.MaxAttempts, o.BlockAfterFailures, o.RetryBackoff.Microseconds(), o.MaxRetryBackoff.Microseconds())
+}
+
+// exemptPhases lists the phases the stuck check skips, for extendScript.
+func exemptPhases() string {
+	var b strings.Builder
+	for _, p := range store.BuilderPhases {
+		fmt.Fprintf(&b, "%d,", int32(p))
 	}
-	expire := s.opts.Clock.Now().Add(s.opts.LeaseDuration)
-	args := []any{workerID, micros(expire)}
+	return b.String()
+}
+
+// ExtendLeases implements store.Store.
+func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.HeldLease) (store.Heartbeat, error) {
+	var hb store.Heartbeat
+	if len(held) == 0 {
+		return hb, nil
+	}
+	now := s.opts.Clock.Now()
+	expire := now.Add(s.opts.LeaseDuration)
+	args := []any{workerID, micros(expire), micros(now.Add(-s.opts.StuckTimeout)), s.opts.StuckMessage(), s.policy(), exemptPhases()}
 	for _, h := range held {
-		args = append(args, h.GetTaskId(), strconv.FormatUint(h.GetEpoch(), 10))
+		args = append(args, h.GetTaskId(), strconv.FormatUint(h.GetEpoch(), 10), strconv.FormatUint(h.GetProgress(), 10))
 	}
 	v, err := s.run(ctx, extendScript, args...)
 	if err != nil {
-		return nil, nil, err
+		return hb, err
 	}
-	flags, _ := v.([]any)
-	if len(flags) != len(held) {
-		return nil, nil, errs.E(errs.Internal, "extend answered %d flags for %d leases", len(flags), len(held))
+	answers, _ := v.([]any)
+	if len(answers) != len(held) {
+		return hb, errs.E(errs.Internal, "extend answered %d times for %d leases", len(answers), len(held))
 	}
-	var extended []*pb.Lease
-	var revoked []*pb.HeldLease
 	for i, h := range held {
-		if flags[i] == int64(1) {
-			extended = append(extended, &pb.Lease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch(), ExpireTime: timestamppb.New(expire)})
-		} else {
-			revoked = append(revoked, &pb.HeldLease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch()})
+		switch a := answers[i].(type) {
+		case int64:
+			if a == 1 {
+				hb.Extended = append(hb.Extended, &pb.Lease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch(), ExpireTime: timestamppb.New(expire)})
+				continue
+			}
+		default: // stuck: revoked and failed
+			r, err := decodeReply(a)
+			if err != nil {
+				return hb, err
+			}
+			hb.Changes = append(hb.Changes, r.change)
 		}
+		hb.Revoked = append(hb.Revoked, &pb.HeldLease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch()})
 	}
-	return extended, revoked, nil
+	return hb, nil
 }
 
 // ExpireLeases implements store.Store.
 func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
-	return s.changes(ctx, expireScript)
+	return s.changes(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage)
 }
 
 // CompleteTask implements store.Store.
@@ -118,7 +144,7 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 
 // FailTask implements store.Store.
 func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, message string) (store.Change, error) {
-	r, err := s.change(ctx, failScript, append(refArgs(ref), message, s.opts.MaxAttempts)...)
+	r, err := s.change(ctx, failScript, append(refArgs(ref), message, s.policy())...)
 	return r.change, err
 }
 
@@ -136,5 +162,20 @@ func (s *Store) ReleaseWorker(ctx context.Context, workerID string) ([]store.Cha
 // CancelJob implements store.Store.
 func (s *Store) CancelJob(ctx context.Context, jobID string) (store.Change, error) {
 	r, err := s.change(ctx, cancelScript, jobID)
+	return r.change, err
+}
+
+// SetJobPriority implements store.Store.
+func (s *Store) SetJobPriority(ctx context.Context, jobID string, priority int32) (store.Change, error) {
+	if err := store.CheckPriority(priority); err != nil {
+		return store.Change{}, err
+	}
+	r, err := s.change(ctx, priorityScript, jobID, priority)
+	return r.change, err
+}
+
+// UnblockWorker implements store.Store.
+func (s *Store) UnblockWorker(ctx context.Context, jobID, workerID string) (store.Change, error) {
+	r, err := s.change(ctx, unblockScript, jobID, workerID)
 	return r.change, err
 }

@@ -14,6 +14,10 @@
 // never reset. Time comes from Options.Clock of the calling coordinator, passed to each
 // script, so replicas should run synchronized clocks.
 //
+// Scheduling (priority, then fewest leases held, then age) is kept in the ready sorted
+// sets by the scripts themselves, so a lease reads the best job off a set's head instead
+// of scanning jobs; the reasoning is at the top of scripts.go.
+//
 // Scale: a lease or a completion touches the job record, one task record and a few
 // sorted-set entries; only opening a stage touches that stage's tasks (they all become
 // queued), and ending a job early (fail, cancel) its unfinished tasks. Job.phases is kept
@@ -118,6 +122,9 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	if len(nj.Tasks) == 0 {
 		return nil, errs.E(errs.InvalidArgument, "a job needs at least one task")
 	}
+	if err := store.CheckPriority(nj.Priority); err != nil {
+		return nil, err
+	}
 	for i, t := range nj.Tasks {
 		if t.GetIndex() != uint32(i) {
 			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
@@ -143,7 +150,7 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	if err != nil {
 		return nil, err
 	}
-	r, err := s.change(ctx, createScript, append([]any{id, nj.RequestID, static}, tasks...)...)
+	r, err := s.change(ctx, createScript, append([]any{id, nj.RequestID, static, nj.Priority}, tasks...)...)
 	if err != nil {
 		return nil, err
 	}

@@ -14,6 +14,18 @@ import "github.com/redis/go-redis/v9"
 // Scripts that change a task or a job answer through ok(): {"OK", jobStateChanged,
 // queued, HGETALL job, LRANGE rounds, HGETALL task}; a refusal is {"E", kind, field,
 // message}; a repeated report is {"NOOP"}.
+//
+// Scheduling (store package comment): a job with leasable tasks of its current stage's
+// phase is a member of ready:{phase} (see place), scored (1000 - priority)·2^32 + leases
+// held, so the lowest score is the highest priority and then the fewest leases held; the
+// member is the job's sequence zero-padded, ":" and its id, so that equal scores, which
+// Redis orders by member, go oldest first. Every step that changes a job's held leases,
+// priority or queue calls place, so a lease reads the best job from the head of a sorted
+// set (O(log jobs)) rather than scanning the jobs. The one per-worker condition, the
+// blocklist, is checked on the head members until one has not blocked the caller: a
+// worker is blocked from few jobs. Tasks in backoff wait in the delayed set, outside
+// their job's queue, so they never hide a leasable job; each lease first moves the due
+// ones back (promote).
 const lib = `
 local P = ARGV[1]
 local NOW_S = ARGV[2]
@@ -23,6 +35,7 @@ local TASK_STATES = {'WAITING', 'QUEUED', 'LEASED', 'SUCCEEDED', 'FAILED', 'CANC
 local JQUEUED, JRUNNING, JSUCCEEDED, JFAILED, JCANCELLED = 1, 2, 3, 4, 5
 local JOB_STATES = {'QUEUED', 'RUNNING', 'SUCCEEDED', 'FAILED', 'CANCELLED'}
 local LEASES = P .. 'leases'
+local DELAYED = P .. 'delayed'
 
 local function jkey(jid) return P .. 'j:' .. jid end
 local function rkey(jid) return P .. 'r:' .. jid end
@@ -34,6 +47,50 @@ local function tid(jid, i) return jid .. '.' .. i end
 local function num(key, field) return tonumber(redis.call('HGET', key, field) or '0') end
 
 local function refuse(kind, field, msg) return {'E', kind, field, msg} end
+
+-- live refuses a job that does not exist or has ended.
+local function live(jid)
+  local st = redis.call('HGET', jkey(jid), 'state')
+  if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+  st = tonumber(st)
+  if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED then
+    return refuse('precondition', '', 'job ' .. jid .. ' has already ended (JOB_STATE_' .. JOB_STATES[st] .. ')')
+  end
+  return nil
+end
+
+-- policy parses the retry policy Go sends as "attempts block base cap" (Store.policy).
+local function policy(s)
+  local v = {}
+  for n in string.gmatch(s, '%d+') do v[#v + 1] = tonumber(n) end
+  return {attempts = v[1], block = v[2], base = v[3], cap = v[4]}
+end
+
+-- greater compares two decimal strings without leading zeros (uint64 progress, which a
+-- double would round).
+local function greater(a, b) return #a > #b or (#a == #b and a > b) end
+
+local function jobof(member) return string.match(member, ':(.*)$') end
+
+-- place puts the job in the ready set of its current stage's phase, ranked by priority
+-- and leases held, or takes it out when that phase has no leasable task.
+local function place(jid)
+  local jk = jkey(jid)
+  local h = redis.call('HMGET', jk, 'seq', 'prio', 'held', 'cur')
+  local phase = redis.call('HGET', tkey(tid(jid, h[4] or '0')), 'phase')
+  local member = string.rep('0', 16 - #h[1]) .. h[1] .. ':' .. jid
+  if redis.call('EXISTS', qkey(jid, phase)) == 1 then
+    redis.call('ZADD', readykey(phase), (1000 - tonumber(h[2] or '0')) * 4294967296 + tonumber(h[3] or '0'), member)
+  else
+    redis.call('ZREM', readykey(phase), member)
+  end
+end
+
+-- unlease ends t's lease: it leaves LEASES and its job holds one lease less.
+local function unlease(t, jid)
+  redis.call('ZREM', LEASES, t)
+  redis.call('HINCRBY', jkey(jid), 'held', -1)
+end
 
 local function ok(changed, queued, jid, t)
   local task = {}
@@ -70,8 +127,8 @@ local function openstage(jid, start)
     redis.call('HSET', tkey(tid(jid, i)), 'state', QUEUED)
     redis.call('ZADD', q, i, i)
   end
-  redis.call('ZADD', readykey(phase), redis.call('HGET', jk, 'seq'), jid)
   redis.call('HSET', jk, 'cur', start, 'curend', stop, 'left', stop - start)
+  place(jid)
 end
 
 -- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round per
@@ -94,7 +151,8 @@ local function append(jid, a)
     local spec, phase, round = ARGV[a + 1 + 3 * i], ARGV[a + 2 + 3 * i], ARGV[a + 3 + 3 * i]
     local idx = base + i
     redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', spec, 'phase', phase, 'round', round,
-      'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'worker', '', 'error', '', 'outputs', '', 'expire', 0)
+      'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
+      'outputs', '', 'expire', 0, 'retry', '', 'progress', '0', 'ptime', 0)
     local st = math.max(tonumber(round), 1) * 256 + tonumber(phase)
     if st ~= stage then
       if stage then redis.call('HSET', skey(jid), stageStart, idx) end
@@ -112,25 +170,41 @@ local function append(jid, a)
   openstage(jid, base)
 end
 
--- requeue puts a leased task back in its job's queue; it returns the job id.
-local function requeue(t)
+-- requeue puts a leased task back in its job's queue, or, given retry (µs), in DELAYED
+-- until then; it returns the job id.
+local function requeue(t, retry)
   local k = tkey(t)
   local h = redis.call('HMGET', k, 'job', 'idx', 'phase')
-  local jk = jkey(h[1])
+  unlease(t, h[1])
   redis.call('HSET', k, 'state', QUEUED, 'worker', '')
-  redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
-  redis.call('ZADD', readykey(h[3]), redis.call('HGET', jk, 'seq'), h[1])
-  redis.call('ZREM', LEASES, t)
-  redis.call('HSET', jk, 'update', NOW_S)
+  if retry then
+    redis.call('HSET', k, 'retry', retry)
+    redis.call('ZADD', DELAYED, retry, t)
+  else
+    redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
+  end
+  place(h[1])
+  redis.call('HSET', jkey(h[1]), 'update', NOW_S)
   return h[1]
+end
+
+-- promote queues the delayed tasks whose backoff has ended.
+local function promote()
+  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S)) do
+    redis.call('ZREM', DELAYED, t)
+    local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'phase')
+    redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
+    place(h[1])
+  end
 end
 
 -- succeed records a task's success and its round's progress; it returns the job id.
 local function succeed(t, outputs)
   local k = tkey(t)
   redis.call('HSET', k, 'state', SUCCEEDED, 'outputs', outputs)
-  redis.call('ZREM', LEASES, t)
   local h = redis.call('HMGET', k, 'job', 'round', 'phase')
+  unlease(t, h[1])
+  place(h[1])
   local jk = jkey(h[1])
   redis.call('HSET', jk, 'update', NOW_S)
   if redis.call('HGET', jk, 'pround') == h[2] then redis.call('HINCRBY', jk, 'ps:' .. h[3], 1) end
@@ -145,24 +219,54 @@ end
 -- tasks. Only the current stage and those after it can be unfinished.
 local function endjob(jid, state, msg)
   local jk = jkey(jid)
-  redis.call('HSET', jk, 'state', state, 'error', msg, 'end', NOW_S, 'update', NOW_S)
+  redis.call('HSET', jk, 'state', state, 'error', msg, 'end', NOW_S, 'update', NOW_S, 'held', 0)
   local cur, n = num(jk, 'cur'), num(jk, 'ntasks')
-  local phase = redis.call('HGET', tkey(tid(jid, cur)), 'phase')
-  redis.call('DEL', qkey(jid, phase))
-  redis.call('ZREM', readykey(phase), jid)
+  redis.call('DEL', qkey(jid, redis.call('HGET', tkey(tid(jid, cur)), 'phase')))
+  place(jid)
   for i = cur, n - 1 do
     local t = tid(jid, i)
     local st = tonumber(redis.call('HGET', tkey(t), 'state'))
     if st == WAITING or st == QUEUED or st == LEASED then
       redis.call('HSET', tkey(t), 'state', CANCELLED)
       redis.call('ZREM', LEASES, t)
+      redis.call('ZREM', DELAYED, t)
     end
   end
 end
+
+-- failjob fails leased task t, which failed n times, and its job with t's last error
+-- (store.JobFailure).
+local function failjob(t, jid, n)
+  local k = tkey(t)
+  redis.call('HSET', k, 'state', FAILED)
+  redis.call('ZREM', LEASES, t)
+  endjob(jid, JFAILED, 'task ' .. t .. ' failed ' .. n .. ' times; last error: ' .. redis.call('HGET', k, 'error'))
+  return ok(1, 0, jid, t)
+end
+
+-- fail counts a failed attempt at t's live lease by worker (FailTask, a stuck lease)
+-- under pol (policy): the worker is blocked from the job at pol.block failures (reason as
+-- store.BlockReason, stored as "µs reason"); the task goes back after
+-- store.Options.Backoff, or at pol.attempts fails with its job.
+local function fail(t, worker, msg, pol)
+  local k = tkey(t)
+  local jid = redis.call('HGET', k, 'job')
+  local jk = jkey(jid)
+  local failures = redis.call('HINCRBY', k, 'failures', 1)
+  redis.call('HSET', k, 'error', msg)
+  local n = redis.call('HINCRBY', jk, 'f:' .. worker, 1)
+  if n >= pol.block and redis.call('HEXISTS', jk, 'b:' .. worker) == 0 then
+    redis.call('HSET', jk, 'b:' .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg)
+  end
+  if failures >= pol.attempts then return failjob(t, jid, failures) end
+  local retry = string.format('%.0f', NOW + math.min(pol.base * 2 ^ (failures - 1), pol.cap))
+  return ok(0, 0, requeue(t, retry), t)
+end
 `
 
-// createScript: ARGV[3] job id, [4] request id, [5] the job's static record, [6...] the
-// tasks (see append). A request id seen before answers with the job it created.
+// createScript: ARGV[3] job id, [4] request id, [5] the job's static record, [6] its
+// priority, [7...] the tasks (see append). A request id seen before answers with the job
+// it created.
 var createScript = newScript(`
 local jid, req = ARGV[3], ARGV[4]
 if req ~= '' then
@@ -172,39 +276,56 @@ end
 if redis.call('EXISTS', jkey(jid)) == 1 then return refuse('internal', '', 'job id ' .. jid .. ' is taken') end
 local seq = redis.call('INCR', P .. 'seq')
 redis.call('HSET', jkey(jid), 'static', ARGV[5], 'seq', seq, 'state', JQUEUED, 'update', NOW_S,
-  'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '')
+  'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0)
 redis.call('ZADD', P .. 'jobs', seq, jid)
 if req ~= '' then redis.call('HSET', P .. 'req', req, jid) end
-append(jid, 6)
+append(jid, 7)
 return ok(0, 0, jid, nil)
 `)
 
-// leaseScript: ARGV[3] worker, [4] lease expiry, [5...] phases. The oldest job with a
-// queued task of one of the phases comes from the per-phase ready sets (score = job
-// sequence), its lowest queued index from the job's per-phase queues.
+// leaseScript: ARGV[3] worker, [4] lease expiry, [5...] phases. The job comes from the
+// heads of the phases' ready sets (first: the best one that has not blocked the worker),
+// the task is its lowest queued index in the job's per-phase queues.
 var leaseScript = newScript(`
 local worker, expire = ARGV[3], ARGV[4]
-local jid, seq
-for i = 5, #ARGV do
-  local r = redis.call('ZRANGE', readykey(ARGV[i]), 0, 0, 'WITHSCORES')
-  if r[1] and (not seq or tonumber(r[2]) < seq) then jid, seq = r[1], tonumber(r[2]) end
+
+-- first returns the first member of ready set key, and its score, whose job has not
+-- blocked worker, reading a page of members at a time.
+local function first(key)
+  local from = 0
+  while true do
+    local r = redis.call('ZRANGE', key, from, from + 15, 'WITHSCORES')
+    if #r == 0 then return nil end
+    for k = 1, #r, 2 do
+      if redis.call('HEXISTS', jkey(jobof(r[k])), 'b:' .. worker) == 0 then return r[k], tonumber(r[k + 1]) end
+    end
+    from = from + 16
+  end
 end
-if not jid then return {'NONE'} end
+
+promote()
+local best, score
+for i = 5, #ARGV do
+  local m, sc = first(readykey(ARGV[i]))
+  if m and (not best or sc < score or (sc == score and m < best)) then best, score = m, sc end
+end
+if not best then return {'NONE'} end
+local jid = jobof(best)
 local idx, member, phase
 for i = 5, #ARGV do
   local r = redis.call('ZRANGE', qkey(jid, ARGV[i]), 0, 0, 'WITHSCORES')
   if r[1] and (not idx or tonumber(r[2]) < idx) then idx, member, phase = tonumber(r[2]), r[1], ARGV[i] end
 end
-local q = qkey(jid, phase)
-redis.call('ZREM', q, member)
-if redis.call('ZCARD', q) == 0 then redis.call('ZREM', readykey(phase), jid) end
+redis.call('ZREM', qkey(jid, phase), member)
 local t = tid(jid, member)
 local k = tkey(t)
 redis.call('HINCRBY', k, 'epoch', 1)
 redis.call('HINCRBY', k, 'attempts', 1)
-redis.call('HSET', k, 'state', LEASED, 'worker', worker, 'expire', expire)
+redis.call('HSET', k, 'state', LEASED, 'worker', worker, 'expire', expire, 'retry', '', 'progress', '0', 'ptime', NOW_S)
 redis.call('ZADD', LEASES, expire, t)
 local jk = jkey(jid)
+redis.call('HINCRBY', jk, 'held', 1)
+place(jid)
 local started = 0
 if tonumber(redis.call('HGET', jk, 'state')) == JQUEUED then
   redis.call('HSET', jk, 'state', JRUNNING)
@@ -263,20 +384,12 @@ succeedjob(jid, ARGV[8])
 return ok(1, 0, jid, t)
 `)
 
-// failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] MaxAttempts.
+// failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] policy.
 var failScript = newScript(`
-local t, worker, epoch, msg = ARGV[3], ARGV[4], ARGV[5], ARGV[6]
+local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
 local e = held(t, worker, epoch)
 if e then return e end
-local k = tkey(t)
-local failures = redis.call('HINCRBY', k, 'failures', 1)
-redis.call('HSET', k, 'error', msg)
-if failures < tonumber(ARGV[7]) then return ok(0, 1, requeue(t), t) end
-redis.call('HSET', k, 'state', FAILED)
-redis.call('ZREM', LEASES, t)
-local jid = redis.call('HGET', k, 'job')
-endjob(jid, JFAILED, 'task ' .. t .. ' failed ' .. failures .. ' times; last error: ' .. msg)
-return ok(1, 0, jid, t)
+return fail(t, worker, ARGV[6], policy(ARGV[7]))
 `)
 
 // releaseScript: ARGV[3] task, [4] worker, [5] epoch.
@@ -287,30 +400,58 @@ if e then return e end
 return ok(0, 1, requeue(t), t)
 `)
 
-// extendScript: ARGV[3] worker, [4] new expiry, [5...] task id and epoch pairs. It
-// answers 1 (extended) or 0 (revoked) per pair.
+// extendScript: ARGV[3] worker, [4] new expiry, [5] the stuck cutoff (µs: a lease whose
+// progress last grew then or before is stuck), [6] the stuck message, [7] policy, [8] the
+// phases exempt from the stuck check ("2,4"), [9...] task id, epoch and progress triples.
+// It answers per triple 1 (extended), 0 (revoked) or, for a stuck lease (revoked and
+// failed), fail's ok().
 var extendScript = newScript(`
-local worker, expire = ARGV[3], ARGV[4]
+local worker, expire, cutoff = ARGV[3], ARGV[4], tonumber(ARGV[5])
+local exempt = {}
+for ph in string.gmatch(ARGV[8], '%d+') do exempt[ph] = true end
 local out = {}
-for i = 5, #ARGV, 2 do
-  local t = ARGV[i]
+for i = 9, #ARGV, 3 do
+  local t, progress = ARGV[i], ARGV[i + 2]
+  local k = tkey(t)
   if held(t, worker, ARGV[i + 1]) then
     out[#out + 1] = 0
   else
-    redis.call('HSET', tkey(t), 'expire', expire)
-    redis.call('ZADD', LEASES, expire, t)
-    out[#out + 1] = 1
+    local h = redis.call('HMGET', k, 'progress', 'ptime', 'phase')
+    local stuck = false
+    if greater(progress, h[1] or '0') then
+      redis.call('HSET', k, 'progress', progress, 'ptime', NOW_S)
+    else
+      stuck = not exempt[h[3]] and tonumber(h[2] or NOW_S) <= cutoff
+    end
+    if stuck then
+      out[#out + 1] = fail(t, worker, ARGV[6], policy(ARGV[7]))
+    else
+      redis.call('HSET', k, 'expire', expire)
+      redis.call('ZADD', LEASES, expire, t)
+      out[#out + 1] = 1
+    end
   end
 end
 return out
 `)
 
-// expireScript requeues every task whose lease expiry (its score in LEASES) is not
-// after now; it answers one ok() per task.
+// expireScript: ARGV[3] MaxExpiries, [4] the expiry message. It requeues every task whose
+// lease expiry (its score in LEASES) is not after now, counting the expiry, or fails the
+// task and its job at MaxExpiries; it answers one ok() per task.
 var expireScript = newScript(`
 local out = {}
 for _, t in ipairs(redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S)) do
-  out[#out + 1] = ok(0, 1, requeue(t), t)
+  local k = tkey(t)
+  -- An earlier failure in this loop may have ended the job, cancelling the lease.
+  if tonumber(redis.call('HGET', k, 'state')) == LEASED then
+    local n = redis.call('HINCRBY', k, 'expiries', 1)
+    redis.call('HSET', k, 'error', ARGV[4])
+    if n >= tonumber(ARGV[3]) then
+      out[#out + 1] = failjob(t, redis.call('HGET', k, 'job'), n)
+    else
+      out[#out + 1] = ok(0, 1, requeue(t), t)
+    end
+  end
 end
 return out
 `)
@@ -328,14 +469,42 @@ return out
 // cancelScript: ARGV[3] job id.
 var cancelScript = newScript(`
 local jid = ARGV[3]
-local st = redis.call('HGET', jkey(jid), 'state')
-if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
-st = tonumber(st)
-if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED then
-  return refuse('precondition', '', 'job ' .. jid .. ' has already ended (JOB_STATE_' .. JOB_STATES[st] .. ')')
-end
+local e = live(jid)
+if e then return e end
 endjob(jid, JCANCELLED, '')
 return ok(1, 0, jid, nil)
+`)
+
+// priorityScript: ARGV[3] job id, [4] priority.
+var priorityScript = newScript(`
+local jid = ARGV[3]
+local e = live(jid)
+if e then return e end
+redis.call('HSET', jkey(jid), 'prio', ARGV[4], 'update', NOW_S)
+place(jid)
+return ok(0, 0, jid, nil)
+`)
+
+// unblockScript: ARGV[3] job id, [4] worker (empty for all). It drops the worker's
+// blocklist entry (b:) and failure count (f:); queued is 1 if a worker was unblocked.
+var unblockScript = newScript(`
+local jid, worker = ARGV[3], ARGV[4]
+local jk = jkey(jid)
+if redis.call('EXISTS', jk) == 0 then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+local drop, unblocked = {}, 0
+if worker == '' then
+  for _, f in ipairs(redis.call('HKEYS', jk)) do
+    local kind = string.sub(f, 1, 2)
+    if kind == 'b:' or kind == 'f:' then drop[#drop + 1] = f end
+    if kind == 'b:' then unblocked = 1 end
+  end
+else
+  drop = {'b:' .. worker, 'f:' .. worker}
+  unblocked = redis.call('HEXISTS', jk, 'b:' .. worker)
+end
+if #drop > 0 then redis.call('HDEL', jk, unpack(drop)) end
+if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
+return ok(0, unblocked, jid, nil)
 `)
 
 func newScript(body string) *redis.Script { return redis.NewScript(lib + body) }

@@ -88,10 +88,10 @@ func testLeaseNothing(f *fixture) {
 	_ = j
 }
 
-func testLeaseFIFO(f *fixture) {
+func testLeaseShares(f *fixture) {
 	a := f.create("a", 2)
 	b := f.create("b", 2)
-	want := []string{store.TaskID(a.Id, 0), store.TaskID(a.Id, 1), store.TaskID(b.Id, 0), store.TaskID(b.Id, 1)}
+	want := []string{store.TaskID(a.Id, 0), store.TaskID(b.Id, 0), store.TaskID(a.Id, 1), store.TaskID(b.Id, 1)}
 	var got []*store.Leased
 	for i, w := range want {
 		l := f.lease("w1")
@@ -100,14 +100,15 @@ func testLeaseFIFO(f *fixture) {
 		}
 		got = append(got, l)
 	}
-	// A task that goes back keeps its place: a's tile 0 comes before anything of b.
+	// A task that goes back keeps its place in its job: a, now holding fewer leases than
+	// b, gives its tile 0 next.
 	if _, err := f.s.ReleaseTask(f.ctx, ref("w1", got[0])); err != nil {
 		f.t.Fatal(err)
 	}
 	if l := f.lease("w2"); l.Lease.TaskId != want[0] {
 		f.t.Errorf("after release leased %s, want %s", l.Lease.TaskId, want[0])
 	}
-	l := got[2]
+	l := got[1]
 	if l.SceneDigest != digest("b") || l.Task.State != pb.TaskState_TASK_STATE_LEASED || l.Task.WorkerId != "w1" ||
 		l.Task.Attempts != 1 || l.Lease.Epoch == 0 || !l.Lease.ExpireTime.AsTime().Equal(start.Add(leaseDuration)) {
 		f.t.Errorf("leased = %v", l)
@@ -251,18 +252,18 @@ func testExtend(f *fixture) {
 		{TaskId: l1.Lease.TaskId, Epoch: l1.Lease.Epoch + 7},
 		{TaskId: "nope.3", Epoch: 1},
 	}
-	ext, rev, err := f.s.ExtendLeases(f.ctx, "w1", held)
+	hb, err := f.s.ExtendLeases(f.ctx, "w1", held)
 	if err != nil {
 		f.t.Fatal(err)
 	}
+	ext, rev := hb.Extended, hb.Revoked
 	if len(ext) != 1 || ext[0].TaskId != l0.Lease.TaskId || !ext[0].ExpireTime.AsTime().Equal(start.Add(leaseDuration/2+leaseDuration)) {
 		f.t.Errorf("extended = %v", ext)
 	}
 	if len(rev) != 2 || rev[0].TaskId != l1.Lease.TaskId || rev[1].TaskId != "nope.3" {
 		f.t.Errorf("revoked = %v", rev)
 	}
-	_, rev, _ = f.s.ExtendLeases(f.ctx, "w2", held[:1])
-	if len(rev) != 1 {
+	if hb, _ = f.s.ExtendLeases(f.ctx, "w2", held[:1]); len(hb.Revoked) != 1 {
 		f.t.Errorf("another worker extended w1's lease")
 	}
 	f.clock.Advance(leaseDuration/2 + time.Millisecond)
@@ -286,6 +287,7 @@ func testFailRetries(f *fixture) {
 			f.t.Fatal(err)
 		}
 		if attempt < maxAttempts {
+			f.clock.Advance(f.opts.Backoff(attempt))
 			if c.JobStateChanged || c.Task.State != pb.TaskState_TASK_STATE_QUEUED || c.Task.Error != fmt.Sprintf("boom %d", attempt) {
 				f.t.Fatalf("failure %d change = %+v, want a retry", attempt, c)
 			}
@@ -320,10 +322,11 @@ func testRelease(f *fixture) {
 			f.t.Fatalf("second release of the same lease: %v", err)
 		}
 	}
-	for i := 0; i < maxAttempts-1; i++ {
+	for i := 1; i < maxAttempts; i++ {
 		if _, err := f.s.FailTask(f.ctx, ref("w1", f.lease("w1")), "x"); err != nil {
 			f.t.Fatal(err)
 		}
+		f.clock.Advance(f.opts.Backoff(i))
 	}
 	if got := f.job(j.Id).State; got != pb.JobState_JOB_STATE_RUNNING {
 		f.t.Errorf("job state = %v; releases must not count as failures", got)
@@ -355,9 +358,9 @@ func testCancel(f *fixture) {
 		f.t.Errorf("states = %s, want CCCC", got)
 	}
 	f.noLease("w2")
-	_, rev, _ := f.s.ExtendLeases(f.ctx, "w1", []*pb.HeldLease{{TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch}})
-	if len(rev) != 1 {
-		f.t.Errorf("heartbeat after cancel: revoked = %v, want the lease", rev)
+	hb, _ := f.s.ExtendLeases(f.ctx, "w1", []*pb.HeldLease{{TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch}})
+	if len(hb.Revoked) != 1 {
+		f.t.Errorf("heartbeat after cancel: revoked = %v, want the lease", hb.Revoked)
 	}
 	_, err = f.s.CompleteTask(f.ctx, ref("w1", l), nil)
 	wantKind(f.t, "complete after cancel", err, errs.FailedPrecondition)

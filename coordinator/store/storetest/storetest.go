@@ -5,8 +5,8 @@
 //		storetest.Run(t, func(t *testing.T, opts store.Options) store.Store { return memstore.New(opts) })
 //	}
 //
-// The constructor must honour opts (the suite passes a fake clock, a lease duration and an
-// attempt limit) and return an empty store.
+// The constructor must honour opts (the suite passes a fake clock, a lease duration and the
+// retry limits) and return an empty store.
 package storetest
 
 import (
@@ -28,6 +28,9 @@ type NewStoreFunc func(t *testing.T, opts store.Options) store.Store
 const (
 	leaseDuration = 10 * time.Second
 	maxAttempts   = 3
+	maxExpiries   = 4
+	blockAfter    = 3
+	stuckTimeout  = time.Minute
 )
 
 var start = time.Date(2030, 1, 2, 3, 4, 5, 0, time.UTC)
@@ -37,14 +40,16 @@ type fixture struct {
 	t     *testing.T
 	ctx   context.Context
 	clock *clock.Fake
+	opts  store.Options // as the store got them, defaults filled in
 	s     store.Store
 }
 
 func setup(t *testing.T, newStore NewStoreFunc) *fixture {
 	t.Helper()
 	clk := clock.NewFake(start)
-	s := newStore(t, store.Options{Clock: clk, LeaseDuration: leaseDuration, MaxAttempts: maxAttempts})
-	return &fixture{t: t, ctx: context.Background(), clock: clk, s: s}
+	opts := store.Options{Clock: clk, LeaseDuration: leaseDuration, MaxAttempts: maxAttempts,
+		MaxExpiries: maxExpiries, BlockAfterFailures: blockAfter, StuckTimeout: stuckTimeout}.WithDefaults()
+	return &fixture{t: t, ctx: context.Background(), clock: clk, opts: opts, s: newStore(t, opts)}
 }
 
 // Run runs the whole suite against the implementation newStore makes.
@@ -57,7 +62,14 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"CreateJobWithSeenRequestIDReturnsTheFirstJob", testCreateJobRequestID},
 		{"GetJobUnknownIsNotFound", testGetJobUnknown},
 		{"LeaseNothingQueuedIsNotAnError", testLeaseNothing},
-		{"LeaseIsFIFOByJobThenIndex", testLeaseFIFO},
+		{"EqualJobsShareLeasesThenIndexOrder", testLeaseShares},
+		{"HigherPriorityIsLeasedFirst", testPriorityOrder},
+		{"FewestHeldLeasesGoesNextAmongEquals", testFairShare},
+		{"SetJobPriorityReorders", testSetJobPriority},
+		{"FailedTaskWaitsForItsBackoff", testBackoff},
+		{"ExpiriesCountTowardTheirLimit", testExpiryLimit},
+		{"WorkerIsBlockedAfterFailuresUntilUnblocked", testBlocklist},
+		{"LeaseWithoutProgressIsRevokedAsStuck", testStuck},
 		{"FirstLeaseStartsJob", testFirstLeaseStartsJob},
 		{"LastTileOpensCompositePhase", testPhaseOpening},
 		{"LastTaskSucceedsJobWithCompositeOutputs", testJobSucceeds},
