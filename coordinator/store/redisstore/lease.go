@@ -29,7 +29,9 @@ func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phas
 	}
 	return &store.Leased{
 		Lease:       &pb.Lease{TaskId: r.change.Task.Id, Epoch: number(r.task["epoch"]), ExpireTime: timestamp(r.task["expire"])},
-		Task:        r.change.Task,
+		// A copy: the service fills the spec of Task in place while Change is being
+		// published to watchers, who must not see it half-written.
+		Task:        proto.Clone(r.change.Task).(*pb.Task),
 		SceneDigest: r.change.Job.SceneDigest,
 		Change:      r.change,
 	}, nil

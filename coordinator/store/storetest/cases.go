@@ -124,6 +124,12 @@ func testFirstLeaseStartsJob(f *fixture) {
 	if l2 := f.lease("w1"); l2.Change.JobStateChanged {
 		f.t.Error("second lease reported a job state change")
 	}
+	// The caller fills Leased.Task's spec while Change is published to watchers: they
+	// must be separate messages.
+	l.Task.Error = "filled in by the caller"
+	if l.Change.Task.Error != "" {
+		f.t.Error("Leased.Task and Leased.Change.Task are one message")
+	}
 	if got := f.job(j.Id).State; got != pb.JobState_JOB_STATE_RUNNING {
 		f.t.Errorf("job state = %v, want RUNNING", got)
 	}
