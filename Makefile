@@ -7,7 +7,7 @@ SCENE ?= scenes/cornell-box.json
 # Go's usual install folder, for shells whose PATH lacks it.
 export PATH := $(PATH):/usr/local/go/bin
 
-.PHONY: demo test build deps cpp go check-proto test-cpp test-go fuzz bench clean
+.PHONY: demo test build deps cpp go check-proto test-cpp test-go fuzz fault-full bench clean
 
 demo: build
 	$(BIN)/farm render $(SCENE) -o out/ --workers 2
@@ -45,6 +45,13 @@ test-go: go
 FUZZTIME ?= 20s
 fuzz:
 	go test -run '^$$' -fuzz FuzzParseValidatePlan -fuzztime $(FUZZTIME) ./coordinator/scene
+
+# Issue 5's full fault-and-load numbers (20 worker kills, 10 coordinator kills, 100 jobs
+# from 10 clients, lease throughput against Redis); make test runs the same tests with
+# fewer trials.
+fault-full: build
+	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -v -timeout 30m ./tests/fault/ \
+	  -worker-kill-trials 20 -coordinator-kill-trials 10 -load-jobs 100 -load-clients 10
 
 # Prints figures (photons traced per second, kd-tree build time, nearest-k queries per
 # second against nanoflann in the same run); never part of make test.

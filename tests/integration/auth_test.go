@@ -16,30 +16,31 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/tests/farmtest"
 )
 
 // TestWorkerNeedsTheWorkerToken runs a coordinator with tokens: a farm-worker without a
 // token is refused at registration and exits 1 saying why; one with the worker token
 // renders the job submitted with the client token.
 func TestWorkerNeedsTheWorkerToken(t *testing.T) {
-	f := startFarmWith(t, tokenFlags(t), client.WithToken(testClientToken))
+	f := farmtest.StartFarm(t, tokenFlags(t), client.WithToken(testClientToken))
 
-	anonymous := f.startWorker()
+	anonymous := f.StartWorker(t)
 	select {
-	case <-anonymous.done:
+	case <-anonymous.Done():
 	case <-time.After(15 * time.Second):
 		t.Fatal("a farm-worker without a token is still running after 15 s")
 	}
-	log, _ := os.ReadFile(anonymous.logPath)
-	if anonymous.cmd.ProcessState.ExitCode() != 1 || !strings.Contains(string(log), "refused registration") ||
+	log, _ := os.ReadFile(anonymous.LogPath)
+	if anonymous.ExitCode() != 1 || !strings.Contains(string(log), "refused registration") ||
 		!strings.Contains(string(log), "no token") || !strings.Contains(string(log), "--token") {
 		t.Errorf("worker without a token: exit %d, log:\n%s\nwant exit 1 and a refusal that names --token",
-			anonymous.cmd.ProcessState.ExitCode(), log)
+			anonymous.ExitCode(), log)
 	}
 
-	w := f.startWorkerWithCache(filepath.Join(t.TempDir(), "cache"), "--token", testWorkerToken)
-	w.workerID(t, 15*time.Second)
-	f.render(f.testScene(32, 32, 16, 1), 60*time.Second)
+	w := f.StartWorkerWithCache(t, filepath.Join(t.TempDir(), "cache"), "--token", testWorkerToken)
+	w.WorkerID(t, 15*time.Second)
+	f.Render(t, f.TestScene(t, 32, 32, 16, 1), 60*time.Second)
 }
 
 const (
@@ -62,11 +63,11 @@ func tokenFlags(t *testing.T) []string {
 func TestWorkerOverTLS(t *testing.T) {
 	dir := t.TempDir()
 	cert, key := selfSignedFiles(t, dir)
-	f := startFarmWith(t, append(tokenFlags(t), "--tls-cert", cert, "--tls-key", key),
+	f := farmtest.StartFarm(t, append(tokenFlags(t), "--tls-cert", cert, "--tls-key", key),
 		client.WithTLS(cert), client.WithToken(testClientToken))
-	w := f.startWorkerWithCache(filepath.Join(t.TempDir(), "cache"), "--tls-ca", cert, "--token", testWorkerToken)
-	w.workerID(t, 15*time.Second)
-	f.render(f.testScene(32, 32, 16, 1), 60*time.Second)
+	w := f.StartWorkerWithCache(t, filepath.Join(t.TempDir(), "cache"), "--tls-ca", cert, "--token", testWorkerToken)
+	w.WorkerID(t, 15*time.Second)
+	f.Render(t, f.TestScene(t, 32, 32, 16, 1), 60*time.Second)
 }
 
 // selfSignedFiles writes a self-signed ECDSA certificate for 127.0.0.1 and localhost

@@ -18,6 +18,7 @@ import (
 	"photonfarm/client"
 	"photonfarm/coordinator/scene"
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 // smallSceneJSON returns scenes/test-small.json as a generic JSON tree, its mesh path
@@ -25,7 +26,7 @@ import (
 // scenesRoot (the mesh is outside the folder the test writes the scene to).
 func smallSceneJSON(t *testing.T) map[string]any {
 	t.Helper()
-	root := repoRoot(t)
+	root := farmtest.RepoRoot()
 	b, err := os.ReadFile(filepath.Join(root, "scenes", "test-small.json"))
 	if err != nil {
 		t.Fatal(err)
@@ -40,14 +41,14 @@ func smallSceneJSON(t *testing.T) map[string]any {
 }
 
 // scenesRoot is the repository's scenes folder, the asset root of smallSceneJSON's scenes.
-func scenesRoot(t *testing.T) string { return filepath.Join(repoRoot(t), "scenes") }
+func scenesRoot() string { return filepath.Join(farmtest.RepoRoot(), "scenes") }
 
 func shape(m map[string]any, i int) map[string]any {
 	return m["shapes"].([]any)[i].(map[string]any)
 }
 
 func TestMalformedScenesRefused(t *testing.T) {
-	f := startFarm(t)
+	f := farmtest.StartFarm(t, nil)
 	dir := t.TempDir()
 
 	for _, tc := range []struct {
@@ -98,11 +99,11 @@ func TestMalformedScenesRefused(t *testing.T) {
 			}
 
 			// The CLI: exit status 2, one line on stderr naming the field, no job id.
-			args := []string{"submit", path, "--coordinator", f.addr}
+			args := []string{"submit", path, "--coordinator", f.Addr}
 			if !tc.relative {
-				args = append(args, "--asset-root", scenesRoot(t))
+				args = append(args, "--asset-root", scenesRoot())
 			}
-			code, stdout, stderr := runFarm(t, 30*time.Second, nil, args...)
+			code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, nil, args...)
 			lines := strings.Split(strings.TrimRight(stderr, "\n"), "\n")
 			if code != 2 {
 				t.Errorf("farm submit: exit status %d, want 2", code)
@@ -122,22 +123,22 @@ func TestMalformedScenesRefused(t *testing.T) {
 			if err != nil {
 				t.Fatalf("the scene does not parse: %v", err)
 			}
-			sf, err := client.ReadSceneFile(path, client.WithAssetRoot(scenesRoot(t))) // mesh path -> digest, as a client would
+			sf, err := client.ReadSceneFile(path, client.WithAssetRoot(scenesRoot())) // mesh path -> digest, as a client would
 			if err != nil {
 				t.Fatal(err)
 			}
-			if err := f.c.Upload(context.Background(), sf); err != nil {
+			if err := f.Client.Upload(context.Background(), sf); err != nil {
 				t.Fatal(err)
 			}
 			sc = sf.Scene
-			_, err = f.c.Jobs().SubmitJob(context.Background(), &pb.SubmitJobRequest{Scene: sc})
+			_, err = f.Client.Jobs().SubmitJob(context.Background(), &pb.SubmitJobRequest{Scene: sc})
 			if st, _ := status.FromError(err); st.Code() != codes.InvalidArgument || !strings.Contains(st.Message(), tc.want) {
 				t.Errorf("SubmitJob: %v; want InvalidArgument containing %q", err, tc.want)
 			}
 		})
 	}
 
-	jobs, err := f.c.ListJobs(context.Background())
+	jobs, err := f.Client.ListJobs(context.Background())
 	if err != nil || len(jobs) != 0 {
 		t.Fatalf("after refused submissions ListJobs = %v, %v; want no jobs", jobs, err)
 	}
@@ -146,11 +147,11 @@ func TestMalformedScenesRefused(t *testing.T) {
 	text, _ := json.Marshal(smallSceneJSON(t))
 	path := filepath.Join(dir, "valid.json")
 	os.WriteFile(path, text, 0o644)
-	code, stdout, stderr := runFarm(t, 30*time.Second, []string{"FARM_COORDINATOR=" + f.addr}, "submit", path, "--asset-root", scenesRoot(t))
+	code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, []string{"FARM_COORDINATOR=" + f.Addr}, "submit", path, "--asset-root", scenesRoot())
 	if code != 0 {
 		t.Fatalf("farm submit of a valid scene: exit status %d, stderr %q", code, stderr)
 	}
-	jobs, err = f.c.ListJobs(context.Background())
+	jobs, err = f.Client.ListJobs(context.Background())
 	if err != nil || len(jobs) != 1 || jobs[0].GetId() != strings.TrimSpace(stdout) {
 		t.Errorf("after a valid submit: stdout %q, ListJobs = %v, %v; want that one job", stdout, jobs, err)
 	}
@@ -161,7 +162,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 func farmRender(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *syncBuffer, tmp string) {
 	t.Helper()
 	tmp = t.TempDir()
-	cmd = exec.Command(filepath.Join(binDir(t), "farm"), append([]string{"render"}, args...)...)
+	cmd = exec.Command(filepath.Join(farmtest.BinDir(t), "farm"), append([]string{"render"}, args...)...)
 	cmd.Env = append(os.Environ(), "TMPDIR="+tmp)
 	stdout, stderr = &syncBuffer{}, &syncBuffer{}
 	cmd.Stdout, cmd.Stderr = stdout, stderr
@@ -238,7 +239,7 @@ func leftovers(t *testing.T, tmp string) []string {
 
 func TestFarmRenderWritesEXRAndPNG(t *testing.T) {
 	out := filepath.Join(t.TempDir(), "out")
-	scenePath := filepath.Join(repoRoot(t), "scenes", "test-small.json")
+	scenePath := filepath.Join(farmtest.RepoRoot(), "scenes", "test-small.json")
 	// No --worker-bin: farm finds farm-worker next to itself.
 	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2")
 	if code := waitTimeout(t, cmd, 90*time.Second); code != 0 {
@@ -279,7 +280,7 @@ func TestFarmRenderInterruptedStopsTheFarm(t *testing.T) {
 	scenePath := filepath.Join(t.TempDir(), "slow.json")
 	os.WriteFile(scenePath, text, 0o644)
 
-	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2", "--asset-root", scenesRoot(t))
+	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2", "--asset-root", scenesRoot())
 	// Interrupt once the job is under way (its id has been printed).
 	deadline := time.Now().Add(30 * time.Second)
 	for !strings.Contains(stdout.String(), "as job") {

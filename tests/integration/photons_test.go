@@ -7,6 +7,7 @@ import (
 	"time"
 
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 // causticsFile is scenes/test-caustics.json: the Cornell box with a mirror and a glass
@@ -26,14 +27,14 @@ var causticsSize = sceneSize{width: 64, height: 64, tile: 16}
 
 // checkCausticsOutputs checks the final EXR (with its AOV layers) and the preview, and
 // returns the EXR.
-func checkCausticsOutputs(t *testing.T, f *farm, job *pb.Job) []byte {
+func checkCausticsOutputs(t *testing.T, f *farmtest.Farm, job *pb.Job) []byte {
 	t.Helper()
 	s := causticsSize
-	exr := f.output(job, "image.exr")
+	exr := f.Output(t, job, "image.exr")
 	if err := checkFinalEXR(exr, int(s.width), int(s.height), int(s.tile), aovChannels...); err != nil {
 		t.Error(err)
 	}
-	w, h, err := pngSize(f.output(job, "preview.png"))
+	w, h, err := pngSize(f.Output(t, job, "preview.png"))
 	if err != nil || w != int(s.width) || h != int(s.height) {
 		t.Errorf("preview.png: %dx%d, %v; want %dx%d", w, h, err, s.width, s.height)
 	}
@@ -45,11 +46,11 @@ func checkCausticsOutputs(t *testing.T, f *farm, job *pb.Job) []byte {
 // global shard), merge (by the coordinator) and render, and every task succeeded.
 func checkPhotonPlan(t *testing.T, tasks []*pb.Task, perShard uint64) {
 	t.Helper()
-	emit, build := tasksOf(tasks, pb.Phase_PHASE_EMIT), tasksOf(tasks, pb.Phase_PHASE_BUILD)
-	pre, merge := tasksOf(tasks, pb.Phase_PHASE_PRECOMPUTE), tasksOf(tasks, pb.Phase_PHASE_MERGE)
-	if len(emit) != 8 || len(build) != 1 || len(pre) != 4 || len(merge) != 1 || len(tasksOf(tasks, pb.Phase_PHASE_RENDER)) != 16 {
+	emit, build := farmtest.TasksOf(tasks, pb.Phase_PHASE_EMIT), farmtest.TasksOf(tasks, pb.Phase_PHASE_BUILD)
+	pre, merge := farmtest.TasksOf(tasks, pb.Phase_PHASE_PRECOMPUTE), farmtest.TasksOf(tasks, pb.Phase_PHASE_MERGE)
+	if len(emit) != 8 || len(build) != 1 || len(pre) != 4 || len(merge) != 1 || len(farmtest.TasksOf(tasks, pb.Phase_PHASE_RENDER)) != 16 {
 		t.Fatalf("%d emit, %d build, %d precompute, %d merge, %d render tasks; want 8, 1, 4, 1 and 16",
-			len(emit), len(build), len(pre), len(merge), len(tasksOf(tasks, pb.Phase_PHASE_RENDER)))
+			len(emit), len(build), len(pre), len(merge), len(farmtest.TasksOf(tasks, pb.Phase_PHASE_RENDER)))
 	}
 	if m := merge[0]; m.GetWorkerId() != "coordinator-builder" || len(m.GetOutputs()) != 1 || m.GetOutputs()[0].GetName() != "photons.snapshot" {
 		t.Errorf("merge task = %v, want it done by the coordinator with a photons.snapshot", m)
@@ -74,18 +75,18 @@ func checkPhotonPlan(t *testing.T, tasks []*pb.Task, perShard uint64) {
 }
 
 func TestCausticsTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
-	two := startFarm(t)
+	two := farmtest.StartFarm(t, nil)
 	cache := filepath.Join(t.TempDir(), "shared-cache") // two workers on one host share it
-	w1, w2 := two.startWorkerWithCache(cache), two.startWorkerWithCache(cache)
-	w1.workerID(t, 15*time.Second)
-	w2.workerID(t, 15*time.Second)
-	job := two.render(two.loadScene(causticsFile), 120*time.Second)
+	w1, w2 := two.StartWorkerWithCache(t, cache), two.StartWorkerWithCache(t, cache)
+	w1.WorkerID(t, 15*time.Second)
+	w2.WorkerID(t, 15*time.Second)
+	job := two.Render(t, two.LoadScene(t, causticsFile), 120*time.Second)
 	exrTwo := checkCausticsOutputs(t, two, job)
 
-	tasks := two.tasks(job.GetId())
+	tasks := two.Tasks(t, job.GetId())
 	checkPhotonPlan(t, tasks, 10000)
 	shardsPerWorker := map[string]int{}
-	for _, task := range tasksOf(tasks, pb.Phase_PHASE_EMIT) {
+	for _, task := range farmtest.TasksOf(tasks, pb.Phase_PHASE_EMIT) {
 		shardsPerWorker[task.GetWorkerId()]++
 	}
 	t.Logf("emission shards per worker: %v", shardsPerWorker)
@@ -93,9 +94,9 @@ func TestCausticsTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
 		t.Errorf("emission shards were traced by %v; want both workers", shardsPerWorker)
 	}
 
-	one := startFarm(t)
-	one.startWorker()
-	jobOne := one.render(one.loadScene(causticsFile), 120*time.Second)
+	one := farmtest.StartFarm(t, nil)
+	one.StartWorker(t)
+	jobOne := one.Render(t, one.LoadScene(t, causticsFile), 120*time.Second)
 	exrOne := checkCausticsOutputs(t, one, jobOne)
 	if !bytes.Equal(exrTwo, exrOne) {
 		t.Errorf("EXR from two workers (%d bytes) differs from the one from one worker (%d bytes)", len(exrTwo), len(exrOne))
@@ -103,20 +104,20 @@ func TestCausticsTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
 }
 
 func TestWorkerKilledDuringEmissionLeaseExpiresAndImageIsUnchanged(t *testing.T) {
-	f := startFarm(t)
-	first := f.startWorker()
-	first.workerID(t, 15*time.Second)
-	sc := slowShards(f.loadScene(causticsFile))
-	job := f.submit(sc)
+	f := farmtest.StartFarm(t, nil)
+	first := f.StartWorker(t)
+	first.WorkerID(t, 15*time.Second)
+	sc := slowShards(f.LoadScene(t, causticsFile))
+	job := f.Submit(t, sc)
 
-	victim := f.killWhileLeasing(t, first, job.GetId(), pb.Phase_PHASE_EMIT)
+	victim := killWhileLeasing(t, f, first, job.GetId(), pb.Phase_PHASE_EMIT)
 
-	second := f.startWorker()
-	secondID := second.workerID(t, 15*time.Second)
-	done := f.wait(job.GetId(), 120*time.Second)
+	second := f.StartWorker(t)
+	secondID := second.WorkerID(t, 15*time.Second)
+	done := f.Wait(t, job.GetId(), 120*time.Second)
 	exrAfterKill := checkCausticsOutputs(t, f, done)
-	tasks := f.tasks(job.GetId())
+	tasks := f.Tasks(t, job.GetId())
 	checkPhotonPlan(t, tasks, 100000)
 	checkTakenOver(t, tasks, victim, secondID)
-	f.checkSameAsUndisturbed(t, sc, exrAfterKill, 120*time.Second)
+	checkSameAsUndisturbed(t, f, sc, exrAfterKill, 120*time.Second)
 }

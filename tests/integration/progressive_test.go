@@ -12,13 +12,14 @@ import (
 	"time"
 
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 // progressiveCaustics is scenes/test-caustics.json made quick for rounds: 32x32 in tiles
 // of 16, one sample per pixel, 8 gather rays, and 10,000 global and caustic photon paths
 // per round in one shard each.
-func progressiveCaustics(f *farm, maxRounds uint32, target float64) *pb.Scene {
-	sc := f.loadScene(causticsFile)
+func progressiveCaustics(t *testing.T, f *farmtest.Farm, maxRounds uint32, target float64) *pb.Scene {
+	sc := f.LoadScene(t, causticsFile)
 	sc.Film.Width, sc.Film.Height, sc.Film.TileSize = 32, 32, 16
 	sc.Sampling.SamplesPerPixel = 1
 	sc.Photons.GlobalPhotons, sc.Photons.CausticPhotons, sc.Photons.PhotonsPerShard = 10000, 10000, 10000
@@ -40,10 +41,10 @@ func errorEstimate(t *testing.T, r *pb.RoundReport) float64 {
 // plot), then the same scene with a target between the round-2 and round-4 errors and up
 // to 8 rounds: rounds are deterministic, so it must stop by itself at round 3 or 4.
 func TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob(t *testing.T) {
-	f := startFarm(t)
-	f.startWorker()
-	f.startWorker()
-	job := f.render(progressiveCaustics(f, 4, 0), 180*time.Second)
+	f := farmtest.StartFarm(t, nil)
+	f.StartWorker(t)
+	f.StartWorker(t)
+	job := f.Render(t, progressiveCaustics(t, f, 4, 0), 180*time.Second)
 
 	rounds := job.GetRounds()
 	if len(rounds) != 4 {
@@ -65,8 +66,8 @@ func TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob(t *testing.T) {
 	if e4 >= e2 {
 		t.Errorf("error estimate rose from %.5g (round 2) to %.5g (round 4)", e2, e4)
 	}
-	tasks := f.tasks(job.GetId())
-	if n := len(tasksOf(tasks, pb.Phase_PHASE_PRECOMPUTE)); n != 4 {
+	tasks := f.Tasks(t, job.GetId())
+	if n := len(farmtest.TasksOf(tasks, pb.Phase_PHASE_PRECOMPUTE)); n != 4 {
 		t.Errorf("%d precompute tasks, want one per round", n)
 	}
 	for _, a := range job.GetOutputs() {
@@ -74,12 +75,12 @@ func TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob(t *testing.T) {
 			t.Errorf("the job's outputs include the accumulation: %v", job.GetOutputs())
 		}
 	}
-	if err := checkFinalEXR(f.output(job, "image.exr"), 32, 32, 16, aovChannels...); err != nil {
+	if err := checkFinalEXR(f.Output(t, job, "image.exr"), 32, 32, 16, aovChannels...); err != nil {
 		t.Error(err)
 	}
 
 	plot := filepath.Join(t.TempDir(), "plot.svg")
-	code, stdout, stderr := runFarm(t, 30*time.Second, nil, "report", job.GetId(), "-o", plot, "--coordinator", f.addr)
+	code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, nil, "report", job.GetId(), "-o", plot, "--coordinator", f.Addr)
 	if code != 0 {
 		t.Fatalf("farm report: exit %d, stderr %s", code, stderr)
 	}
@@ -105,7 +106,7 @@ func TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob(t *testing.T) {
 	}
 
 	target := math.Sqrt(e2 * e4) // between the two
-	stopped := f.render(progressiveCaustics(f, 8, target), 180*time.Second)
+	stopped := f.Render(t, progressiveCaustics(t, f, 8, target), 180*time.Second)
 	got := stopped.GetRounds()
 	if len(got) < 3 || len(got) > 4 {
 		t.Fatalf("target %.5g: job ran %d rounds, want it to stop at round 3 or 4", target, len(got))
@@ -143,7 +144,7 @@ func countPoints(t *testing.T, svg []byte) int {
 }
 
 func TestPlanOfCornellScenesSaysWhichCausticMapRuns(t *testing.T) {
-	f := startFarm(t)
+	f := farmtest.StartFarm(t, nil)
 	tests := []struct {
 		scene, want string
 	}{
@@ -151,7 +152,7 @@ func TestPlanOfCornellScenesSaysWhichCausticMapRuns(t *testing.T) {
 		{"cornell-caustics.json", `(?m)^\s*run\s+caustic photon map\s+\S`},
 	}
 	for _, tt := range tests {
-		code, stdout, stderr := runFarm(t, 30*time.Second, nil, "plan", filepath.Join(repoRoot(t), "scenes", tt.scene), "--coordinator", f.addr)
+		code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, nil, "plan", filepath.Join(farmtest.RepoRoot(), "scenes", tt.scene), "--coordinator", f.Addr)
 		if code != 0 {
 			t.Fatalf("farm plan %s: exit %d, stderr %s", tt.scene, code, stderr)
 		}
@@ -164,7 +165,7 @@ func TestPlanOfCornellScenesSaysWhichCausticMapRuns(t *testing.T) {
 			}
 		}
 	}
-	if jobs, err := f.c.ListJobs(t.Context()); err != nil || len(jobs) != 0 {
+	if jobs, err := f.Client.ListJobs(t.Context()); err != nil || len(jobs) != 0 {
 		t.Errorf("planning created jobs: %v, %v", jobs, err)
 	}
 }

@@ -6,6 +6,7 @@ import (
 	"time"
 
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 // The scenes these tests render: scenes/test-small.json at a larger size. A tile of the
@@ -19,15 +20,17 @@ var (
 
 type sceneSize struct{ width, height, tile, spp uint32 }
 
-func (f *farm) scene(s sceneSize) *pb.Scene { return f.testScene(s.width, s.height, s.tile, s.spp) }
+func sizedScene(t *testing.T, f *farmtest.Farm, s sceneSize) *pb.Scene {
+	return f.TestScene(t, s.width, s.height, s.tile, s.spp)
+}
 
-func checkOutputs(t *testing.T, f *farm, job *pb.Job, s sceneSize) []byte {
+func checkOutputs(t *testing.T, f *farmtest.Farm, job *pb.Job, s sceneSize) []byte {
 	t.Helper()
-	exr := f.output(job, "image.exr")
+	exr := f.Output(t, job, "image.exr")
 	if err := checkFinalEXR(exr, int(s.width), int(s.height), int(s.tile)); err != nil {
 		t.Error(err)
 	}
-	w, h, err := pngSize(f.output(job, "preview.png"))
+	w, h, err := pngSize(f.Output(t, job, "preview.png"))
 	if err != nil || w != int(s.width) || h != int(s.height) {
 		t.Errorf("preview.png: %dx%d, %v; want %dx%d", w, h, err, s.width, s.height)
 	}
@@ -36,15 +39,15 @@ func checkOutputs(t *testing.T, f *farm, job *pb.Job, s sceneSize) []byte {
 
 func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	// Two workers.
-	two := startFarm(t)
-	w1, w2 := two.startWorker(), two.startWorker()
-	w1.workerID(t, 15*time.Second)
-	w2.workerID(t, 15*time.Second)
-	job := two.render(two.scene(stitchScene), 90*time.Second)
+	two := farmtest.StartFarm(t, nil)
+	w1, w2 := two.StartWorker(t), two.StartWorker(t)
+	w1.WorkerID(t, 15*time.Second)
+	w2.WorkerID(t, 15*time.Second)
+	job := two.Render(t, sizedScene(t, two, stitchScene), 90*time.Second)
 	exrTwo := checkOutputs(t, two, job, stitchScene)
 
-	tasks := two.tasks(job.GetId())
-	tiles := tasksOf(tasks, pb.Phase_PHASE_RENDER)
+	tasks := two.Tasks(t, job.GetId())
+	tiles := farmtest.TasksOf(tasks, pb.Phase_PHASE_RENDER)
 	if want := int((stitchScene.width / stitchScene.tile) * (stitchScene.height / stitchScene.tile)); len(tiles) != want {
 		t.Errorf("%d render tasks, want %d", len(tiles), want)
 	}
@@ -63,9 +66,9 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	}
 
 	// One worker, a fresh farm.
-	one := startFarm(t)
-	one.startWorker()
-	jobOne := one.render(one.scene(stitchScene), 90*time.Second)
+	one := farmtest.StartFarm(t, nil)
+	one.StartWorker(t)
+	jobOne := one.Render(t, sizedScene(t, one, stitchScene), 90*time.Second)
 	exrOne := checkOutputs(t, one, jobOne, stitchScene)
 	if !bytes.Equal(exrTwo, exrOne) {
 		t.Errorf("EXR from two workers (%d bytes) differs from the one from one worker (%d bytes)", len(exrTwo), len(exrOne))
@@ -73,17 +76,17 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 }
 
 func TestKilledWorkerLeaseExpiresAndJobCompletes(t *testing.T) {
-	f := startFarm(t)
-	first := f.startWorker()
-	sc := f.scene(leaseScene)
-	job := f.submit(sc)
+	f := farmtest.StartFarm(t, nil)
+	first := f.StartWorker(t)
+	sc := sizedScene(t, f, leaseScene)
+	job := f.Submit(t, sc)
 
-	victim := f.killWhileLeasing(t, first, job.GetId(), pb.Phase_PHASE_RENDER)
+	victim := killWhileLeasing(t, f, first, job.GetId(), pb.Phase_PHASE_RENDER)
 
-	second := f.startWorker()
-	secondID := second.workerID(t, 15*time.Second)
-	done := f.wait(job.GetId(), 90*time.Second)
+	second := f.StartWorker(t)
+	secondID := second.WorkerID(t, 15*time.Second)
+	done := f.Wait(t, job.GetId(), 90*time.Second)
 	exrAfterKill := checkOutputs(t, f, done, leaseScene)
-	checkTakenOver(t, f.tasks(job.GetId()), victim, secondID)
-	f.checkSameAsUndisturbed(t, sc, exrAfterKill, 90*time.Second)
+	checkTakenOver(t, f.Tasks(t, job.GetId()), victim, secondID)
+	checkSameAsUndisturbed(t, f, sc, exrAfterKill, 90*time.Second)
 }

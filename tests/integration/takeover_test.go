@@ -8,34 +8,30 @@ import (
 	"time"
 
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
-
-// tasksOf returns the tasks of one phase.
-func tasksOf(tasks []*pb.Task, phase pb.Phase) []*pb.Task {
-	return slices.DeleteFunc(slices.Clone(tasks), func(t *pb.Task) bool { return t.GetPhase() != phase })
-}
 
 // killWhileLeasing waits until worker w holds a lease on a task of the given phase,
 // SIGKILLs it mid-task, and returns that task as it stood.
-func (f *farm) killWhileLeasing(t *testing.T, w *proc, jobID string, phase pb.Phase) *pb.Task {
+func killWhileLeasing(t *testing.T, f *farmtest.Farm, w *farmtest.Proc, jobID string, phase pb.Phase) *pb.Task {
 	t.Helper()
 	var victim *pb.Task
 	for deadline := time.Now().Add(30 * time.Second); victim == nil; time.Sleep(5 * time.Millisecond) {
 		if time.Now().After(deadline) {
-			t.Fatalf("the worker leased no %v task within 30s: %v", phase, f.tasks(jobID))
+			t.Fatalf("the worker leased no %v task within 30s: %v", phase, f.Tasks(t, jobID))
 		}
-		if w.exited() {
-			t.Fatalf("the worker exited on its own: %v", w.err)
+		if w.Exited() {
+			t.Fatalf("the worker exited on its own: %v", w.Err())
 		}
-		for _, task := range tasksOf(f.tasks(jobID), phase) {
+		for _, task := range farmtest.TasksOf(f.Tasks(t, jobID), phase) {
 			if task.GetState() == pb.TaskState_TASK_STATE_LEASED && task.GetWorkerId() != "" {
 				victim = task
 				break
 			}
 		}
 	}
-	w.kill(syscall.SIGKILL)
-	<-w.done
+	w.Kill(syscall.SIGKILL)
+	<-w.Done()
 	t.Logf("killed %s while it held %s (attempt %d)", victim.GetWorkerId(), victim.GetId(), victim.GetAttempts())
 	return victim
 }
@@ -62,13 +58,13 @@ func checkTakenOver(t *testing.T, tasks []*pb.Task, victim *pb.Task, secondID st
 
 // checkSameAsUndisturbed renders sc again on the surviving worker and checks that the EXR
 // has the same bytes as exr and that no task of the undisturbed run needed a second lease.
-func (f *farm) checkSameAsUndisturbed(t *testing.T, sc *pb.Scene, exr []byte, timeout time.Duration) {
+func checkSameAsUndisturbed(t *testing.T, f *farmtest.Farm, sc *pb.Scene, exr []byte, timeout time.Duration) {
 	t.Helper()
-	undisturbed := f.render(sc, timeout)
-	if again := f.output(undisturbed, "image.exr"); !bytes.Equal(again, exr) {
+	undisturbed := f.Render(t, sc, timeout)
+	if again := f.Output(t, undisturbed, "image.exr"); !bytes.Equal(again, exr) {
 		t.Errorf("EXR after the kill (%d bytes) differs from the undisturbed render (%d bytes)", len(exr), len(again))
 	}
-	for _, task := range f.tasks(undisturbed.GetId()) {
+	for _, task := range f.Tasks(t, undisturbed.GetId()) {
 		if task.GetAttempts() != 1 {
 			t.Errorf("undisturbed render: task %s took %d attempts", task.GetId(), task.GetAttempts())
 		}

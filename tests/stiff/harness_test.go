@@ -1,30 +1,25 @@
 package stiff
 
 // The suite's small harness: one real farm (a `farm coordinator` process and two
-// `farm-worker` processes from $FARM_BIN_DIR) started on first use and shared by every case,
-// a render helper that submits a scene and downloads the final EXR, and a reader for that
-// EXR built on `oiiotool` (see exr_test.go). Ideas come from tests/integration's harness
-// (process groups, reading the coordinator's port from its log, failing rather than skipping
-// without binaries); it is kept separate because those tests start a farm per test, while
-// these share one so that each case costs about a second.
+// `farm-worker` processes, started with tests/farmtest) shared by every case of
+// TestStiffAndExtremeCases, a render helper that submits a scene and downloads the final
+// EXR, and a reader for that EXR built on `oiiotool` (see exr_test.go). The cases share one
+// farm, where tests/integration starts one per test, so that each case costs about a
+// second.
 
 import (
-	"bufio"
 	"context"
 	"flag"
 	"fmt"
 	"os"
-	"os/exec"
 	"path/filepath"
-	"runtime"
 	"strings"
 	"sync"
-	"syscall"
 	"testing"
 	"time"
 
-	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 // heavy turns on the cases too slow for the test command on two cores (10 million photons).
@@ -33,243 +28,44 @@ var heavy = flag.Bool("stiff.heavy", false, "also run the heavy stiff cases (10,
 // suiteWorkers is the number of farm-worker processes the shared farm runs.
 const suiteWorkers = 2
 
-func TestMain(m *testing.M) {
-	flag.Parse()
-	code := m.Run()
-	if shared != nil {
-		shared.stop()
-	}
-	if scratch != "" {
-		os.RemoveAll(scratch)
-	}
-	os.Exit(code)
-}
-
-var (
-	sharedOnce sync.Once
-	shared     *farm
-	sharedErr  error
-	scratch    string // the suite's temporary folder (data, caches, logs)
-)
-
-// binDir returns $FARM_BIN_DIR, where `farm` and `farm-worker` are built. The suite exists
-// to run the real binaries: without them it fails rather than skips.
-func binDir() (string, error) {
-	dir := os.Getenv("FARM_BIN_DIR")
-	if dir == "" {
-		return "", fmt.Errorf("FARM_BIN_DIR is not set: the stiff suite runs the built binaries. " +
-			"Build them (make build) and run FARM_BIN_DIR=$PWD/build/bin go test ./tests/stiff, or run make test")
-	}
-	for _, b := range []string{"farm", "farm-worker"} {
-		if _, err := os.Stat(filepath.Join(dir, b)); err != nil {
-			return "", fmt.Errorf("FARM_BIN_DIR=%s: %v (build with make build)", dir, err)
-		}
-	}
-	return filepath.Abs(dir)
-}
-
-// repoRoot is the module root, two folders above this package.
-func repoRoot() string {
-	_, file, _, _ := runtime.Caller(0)
-	return filepath.Dir(filepath.Dir(filepath.Dir(file)))
-}
-
-// proc is a process the suite started, in a process group of its own, logging to a file.
-type proc struct {
-	name    string
-	cmd     *exec.Cmd
-	logPath string
-	done    chan struct{}
-	err     error // exit status, once done is closed
-}
-
-func startProc(name, bin string, args []string, onLine func(string)) (*proc, error) {
-	logPath := filepath.Join(scratch, name+".log")
-	logf, err := os.OpenFile(logPath, os.O_CREATE|os.O_WRONLY|os.O_APPEND, 0o644)
-	if err != nil {
-		return nil, err
-	}
-	cmd := exec.Command(bin, args...)
-	cmd.Stdout = logf
-	// Pdeathsig: if the test binary dies (a panic, go test's -timeout) before TestMain can
-	// stop the farm, the kernel kills it rather than leaving it running.
-	cmd.SysProcAttr = &syscall.SysProcAttr{Setpgid: true, Pdeathsig: syscall.SIGKILL}
-	pr, pw, err := os.Pipe()
-	if err != nil {
-		logf.Close()
-		return nil, err
-	}
-	cmd.Stderr = pw
-	if err := cmd.Start(); err != nil {
-		logf.Close()
-		pr.Close()
-		pw.Close()
-		return nil, fmt.Errorf("start %s: %v", name, err)
-	}
-	pw.Close()
-	p := &proc{name: name, cmd: cmd, logPath: logPath, done: make(chan struct{})}
-	var copying sync.WaitGroup
-	copying.Add(1)
-	go func() {
-		defer copying.Done()
-		sc := bufio.NewScanner(pr)
-		sc.Buffer(make([]byte, 64*1024), 1024*1024)
-		for sc.Scan() {
-			fmt.Fprintln(logf, sc.Text())
-			if onLine != nil {
-				onLine(sc.Text())
-			}
-		}
-		pr.Close()
-	}()
-	go func() {
-		p.err = cmd.Wait()
-		copying.Wait()
-		logf.Close()
-		close(p.done)
-	}()
-	return p, nil
-}
-
-func (p *proc) exited() bool {
-	select {
-	case <-p.done:
-		return true
-	default:
-		return false
-	}
-}
-
-// kill SIGKILLs the process's group and waits for it.
-func (p *proc) kill() {
-	if !p.exited() {
-		syscall.Kill(-p.cmd.Process.Pid, syscall.SIGKILL)
-	}
-	select {
-	case <-p.done:
-	case <-time.After(10 * time.Second):
-	}
-}
-
-func (p *proc) logTail(n int) string {
-	b, _ := os.ReadFile(p.logPath)
-	lines := strings.Split(strings.TrimRight(string(b), "\n"), "\n")
-	if len(lines) > n {
-		lines = append([]string{fmt.Sprintf("[... %d lines]", len(lines)-n)}, lines[len(lines)-n:]...)
-	}
-	return strings.Join(lines, "\n")
-}
-
-// farm is the suite's shared farm: a coordinator process, its client and the workers.
+// farm is the suite's shared farm: the coordinator, its client and the workers.
 type farm struct {
-	bin   string
-	addr  string
-	coord *proc
-	c     *client.Client
+	*farmtest.Farm
+	suite *testing.T // the test the farm belongs to, which outlives every case
+	cache string     // the cache folder the workers share
 
-	mu       sync.Mutex
-	workers  []*proc
-	restarts int
+	mu      sync.Mutex
+	workers []*farmtest.Proc
 }
 
-// suiteFarm returns the shared farm, starting it on first use; it fails t if it cannot.
-func suiteFarm(t *testing.T) *farm {
+// startSuiteFarm starts the shared farm for the suite test t: a coordinator with leases of
+// 5 s (a case's tasks take up to a few seconds on a loaded machine) and suiteWorkers
+// workers with one render thread each (two workers on two cores) and one cache folder, as
+// workers on one host share it by default. Everything stops when t ends.
+func startSuiteFarm(t *testing.T) *farm {
 	t.Helper()
-	sharedOnce.Do(func() { shared, sharedErr = startFarm() })
-	if sharedErr != nil {
-		t.Fatal(sharedErr)
+	f := &farm{Farm: farmtest.StartFarm(t, []string{"--lease-duration", "5s"}), suite: t, cache: filepath.Join(t.TempDir(), "cache")}
+	for range suiteWorkers {
+		f.workers = append(f.workers, f.StartWorkerWithCache(t, f.cache))
 	}
-	return shared
-}
-
-func startFarm() (*farm, error) {
-	bin, err := binDir()
-	if err != nil {
-		return nil, err
-	}
-	if scratch, err = os.MkdirTemp("", "stiff-suite-"); err != nil {
-		return nil, err
-	}
-	addrc := make(chan string, 1)
-	coord, err := startProc("coordinator", filepath.Join(bin, "farm"), []string{
-		"coordinator", "--listen", "127.0.0.1:0", "--lease-duration", "5s",
-		"--data-dir", filepath.Join(scratch, "data"),
-	}, func(line string) {
-		if _, addr, ok := strings.Cut(line, "coordinator listening on "); ok {
-			select {
-			case addrc <- strings.TrimSpace(addr):
-			default:
-			}
-		}
-	})
-	if err != nil {
-		return nil, err
-	}
-	f := &farm{bin: bin, coord: coord}
-	select {
-	case f.addr = <-addrc:
-	case <-coord.done:
-		return nil, fmt.Errorf("farm coordinator exited before listening: %v\n%s", coord.err, coord.logTail(40))
-	case <-time.After(15 * time.Second):
-		coord.kill()
-		return nil, fmt.Errorf("farm coordinator did not say `coordinator listening on` within 15s")
-	}
-	if f.c, err = client.Dial(f.addr); err != nil {
-		coord.kill()
-		return nil, err
-	}
-	for i := 0; i < suiteWorkers; i++ {
-		w, err := f.startWorker(i)
-		if err != nil {
-			f.stop()
-			return nil, err
-		}
-		f.workers = append(f.workers, w)
-	}
-	return f, nil
-}
-
-// startWorker runs worker number i with one render thread (two workers on two cores) and a
-// cache folder shared by the suite's workers, as workers on one host share it by default.
-func (f *farm) startWorker(i int) (*proc, error) {
-	name := fmt.Sprintf("worker-%d", i+1)
-	return startProc(name, filepath.Join(f.bin, "farm-worker"), []string{
-		"--coordinator", f.addr,
-		"--cache-dir", filepath.Join(scratch, "cache"),
-		"--threads", "1",
-		"--name", name,
-	}, nil)
-}
-
-func (f *farm) stop() {
-	if f.c != nil {
-		f.c.Close()
-	}
-	for _, w := range f.workers {
-		w.kill()
-	}
-	f.coord.kill()
+	return f
 }
 
 // reviveWorkers restarts any worker that has died (a crash in an earlier case must not
-// take the later cases down with it) and returns the names of those it restarted.
-func (f *farm) reviveWorkers() ([]string, error) {
+// take the later cases down with it) and returns the names of those it restarted. The new
+// workers belong to the suite test, not to the case that asked, so that they outlive it.
+func (f *farm) reviveWorkers() []string {
 	f.mu.Lock()
 	defer f.mu.Unlock()
 	var revived []string
 	for i, w := range f.workers {
-		if !w.exited() {
+		if !w.Exited() {
 			continue
 		}
-		nw, err := f.startWorker(i)
-		if err != nil {
-			return revived, err
-		}
-		f.workers[i] = nw
-		f.restarts++
-		revived = append(revived, fmt.Sprintf("%s (exited: %v)", w.name, w.err))
+		f.workers[i] = f.StartWorkerWithCache(f.suite, f.cache)
+		revived = append(revived, fmt.Sprintf("%s (exited: %v)", w.Name, w.Err()))
 	}
-	return revived, nil
+	return revived
 }
 
 // deadWorkers lists the workers that have exited, with their log tails.
@@ -278,8 +74,8 @@ func (f *farm) deadWorkers() []string {
 	defer f.mu.Unlock()
 	var dead []string
 	for _, w := range f.workers {
-		if w.exited() {
-			dead = append(dead, fmt.Sprintf("%s exited: %v\n--- %s log ---\n%s", w.name, w.err, w.name, w.logTail(30)))
+		if w.Exited() {
+			dead = append(dead, fmt.Sprintf("%s exited: %v\n--- %s log ---\n%s", w.Name, w.Err(), w.Name, w.LogTail(30)))
 		}
 	}
 	return dead
@@ -297,9 +93,7 @@ type rendered struct {
 // while it runs, or if the EXR cannot be read.
 func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Duration) *rendered {
 	t.Helper()
-	if revived, err := f.reviveWorkers(); err != nil {
-		t.Fatalf("case %s: restarting dead workers: %v", name, err)
-	} else if len(revived) > 0 {
+	if revived := f.reviveWorkers(); len(revived) > 0 {
 		t.Logf("case %s: restarted workers left dead by an earlier case: %s", name, strings.Join(revived, "; "))
 	}
 	if sc.Name == "" {
@@ -308,17 +102,17 @@ func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Dura
 	start := time.Now()
 	ctx, cancel := context.WithTimeout(context.Background(), timeout)
 	defer cancel()
-	job, err := f.c.Submit(ctx, sc)
+	job, err := f.Client.Submit(ctx, sc)
 	if err != nil {
 		t.Fatalf("case %s: submit: %v", name, err)
 	}
-	ended, err := f.c.Watch(ctx, job.GetId(), nil)
+	ended, err := f.Client.Watch(ctx, job.GetId(), nil)
 	elapsed := time.Since(start)
 	if dead := f.deadWorkers(); len(dead) > 0 {
 		t.Errorf("case %s: a worker died during the render (a crash):\n%s", name, strings.Join(dead, "\n"))
 	}
 	if err != nil {
-		last, _ := f.c.GetJob(context.Background(), job.GetId())
+		last, _ := f.Client.GetJob(context.Background(), job.GetId())
 		f.cancel(job.GetId())
 		t.Fatalf("case %s: job %s did not end within %s: %v (last seen: %v)\n%s",
 			name, job.GetId(), timeout, err, last, f.logs())
@@ -326,19 +120,7 @@ func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Dura
 	if ended.GetState() != pb.JobState_JOB_STATE_SUCCEEDED {
 		t.Fatalf("case %s: job %s ended %v: %s\n%s", name, job.GetId(), ended.GetState(), ended.GetError(), f.logs())
 	}
-	var exr []byte
-	for _, a := range ended.GetOutputs() {
-		if a.GetName() == "image.exr" {
-			var b strings.Builder
-			if _, err := f.c.Download(context.Background(), a.GetDigest(), &b); err != nil {
-				t.Fatalf("case %s: download image.exr: %v", name, err)
-			}
-			exr = []byte(b.String())
-		}
-	}
-	if exr == nil {
-		t.Fatalf("case %s: job %s has no image.exr (outputs: %v)", name, job.GetId(), ended.GetOutputs())
-	}
+	exr := f.Output(t, ended, "image.exr")
 	path := filepath.Join(t.TempDir(), name+".exr")
 	if err := os.WriteFile(path, exr, 0o644); err != nil {
 		t.Fatal(err)
@@ -362,7 +144,7 @@ func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Dura
 func (f *farm) cancel(jobID string) {
 	ctx, cancel := context.WithTimeout(context.Background(), 5*time.Second)
 	defer cancel()
-	f.c.Cancel(ctx, jobID)
+	f.Client.Cancel(ctx, jobID)
 }
 
 // logs is the tail of every process's log, for a failure message.
@@ -370,8 +152,8 @@ func (f *farm) logs() string {
 	f.mu.Lock()
 	defer f.mu.Unlock()
 	var b strings.Builder
-	for _, p := range append([]*proc{f.coord}, f.workers...) {
-		fmt.Fprintf(&b, "--- %s log ---\n%s\n", p.name, p.logTail(20))
+	for _, p := range append([]*farmtest.Proc{f.Coordinator()}, f.workers...) {
+		fmt.Fprintf(&b, "--- %s log ---\n%s\n", p.Name, p.LogTail(20))
 	}
 	return b.String()
 }

@@ -14,6 +14,7 @@ import (
 
 	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 func v3(x, y, z float64) *pb.Vec3   { return &pb.Vec3{X: x, Y: y, Z: z} }
@@ -59,7 +60,7 @@ func cornellMM(t *testing.T) *pb.Scene {
 	t.Helper()
 	cornellOnce.Do(func() {
 		var sf *client.SceneFile
-		sf, cornellErr = client.ReadSceneFile(filepath.Join(repoRoot(), "scenes", "cornell-box.json"))
+		sf, cornellErr = client.ReadSceneFile(filepath.Join(farmtest.RepoRoot(), "scenes", "cornell-box.json"))
 		if cornellErr == nil {
 			cornell = sf.Scene
 		}

@@ -304,7 +304,7 @@ var cases = []stiffCase{
 }
 
 func TestStiffAndExtremeCases(t *testing.T) {
-	f := suiteFarm(t)
+	f := startSuiteFarm(t)
 	suiteStart := time.Now()
 	for _, c := range cases {
 		if c.heavy && !*heavy {
@@ -520,7 +520,7 @@ func trimFloat(v float64) string { return strconv.FormatFloat(v, 'g', -1, 64) }
 func planOf(f *farm, job *pb.Job) string {
 	ctx, cancel := context.WithTimeout(context.Background(), 5*time.Second)
 	defer cancel()
-	if j, err := f.c.GetJob(ctx, job.GetId()); err == nil {
+	if j, err := f.Client.GetJob(ctx, job.GetId()); err == nil {
 		job = j
 	}
 	var parts []string

@@ -1,0 +1,105 @@
+package fault
+
+import (
+	"bytes"
+	"math/rand/v2"
+	"testing"
+	"time"
+
+	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
+)
+
+// targetPhases are the phases the trials aim at in turn, from one that depends on the seed,
+// so that with as many trials as phases every phase gets a fault and short runs do not
+// always aim at the same ones. Merge is left out: on this scene it takes a few
+// milliseconds, too short to aim at.
+var targetPhases = []pb.Phase{
+	pb.Phase_PHASE_EMIT, pb.Phase_PHASE_BUILD, pb.Phase_PHASE_PRECOMPUTE,
+	pb.Phase_PHASE_RENDER, pb.Phase_PHASE_COMPOSITE,
+}
+
+// trials runs jobs of one scene on one farm, disturbing each at a random moment.
+type trials struct {
+	f         *farmtest.Farm
+	sc        *pb.Scene
+	reference []byte   // the undisturbed render's EXR
+	timeline  timeline // the undisturbed render's phases
+	seed      uint64
+	landed    map[string]int // how many faults landed in each phase ("ended" after the last)
+}
+
+// newTrials renders sc twice undisturbed: the first render warms the workers up (their
+// first task loads the scene), the second gives the phase durations the trials draw their
+// delays from, and both must give the same image, the trials' reference.
+func newTrials(t *testing.T, f *farmtest.Farm, sc *pb.Scene) *trials {
+	t.Helper()
+	first, cold := renderTimed(t, f, sc, 2*time.Minute)
+	reference, tl := renderTimed(t, f, sc, 2*time.Minute)
+	t.Logf("undisturbed renders: %d-byte EXR; phases with cold workers: %s; warm: %s", len(reference), cold, tl)
+	if !bytes.Equal(first, reference) {
+		t.Fatalf("two undisturbed renders of one scene differ (%d and %d bytes)", len(first), len(reference))
+	}
+	return &trials{f: f, sc: sc, reference: reference, timeline: tl, seed: seed(t), landed: map[string]int{}}
+}
+
+// run is trial i: it submits the scene, waits until the job reaches the trial's target
+// phase, then for a random part of the first three quarters of that phase's undisturbed
+// duration (the poll that saw the phase start came some time into it), logs where the job
+// stands and calls fault (with the trial's random source) to disturb it. The job must then
+// succeed with every task succeeded and an EXR byte-identical to the undisturbed one.
+func (tr *trials) run(t *testing.T, i int, fault func(rng *rand.Rand)) {
+	t.Helper()
+	rng := trialRNG(tr.seed, i)
+	target := targetPhases[(i+int(tr.seed%uint64(len(targetPhases))))%len(targetPhases)]
+	delay := time.Duration(rng.Float64() * 0.75 * float64(tr.timeline[target]))
+	job := tr.f.Submit(t, tr.sc)
+	tr.waitForPhase(t, job.GetId(), target)
+	time.Sleep(delay)
+	phase, where := snapshot(t, tr.f, job.GetId())
+	tr.landed[phase]++
+	t.Logf("trial %d: aimed at %s + %s; the job was in %s", i, client.PhaseName(target), delay.Round(time.Millisecond), where)
+	fault(rng)
+
+	done := tr.f.Wait(t, job.GetId(), 2*time.Minute)
+	if got := tr.f.Output(t, done, "image.exr"); !bytes.Equal(got, tr.reference) {
+		t.Errorf("trial %d (seed %d): the EXR (%d bytes) differs from the undisturbed render's (%d bytes)", i, tr.seed, len(got), len(tr.reference))
+	}
+	retried := 0
+	for _, task := range tr.f.Tasks(t, job.GetId()) {
+		if task.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
+			t.Errorf("trial %d (seed %d): task %s is %v: %s", i, tr.seed, task.GetId(), task.GetState(), task.GetError())
+		}
+		if task.GetAttempts() > 1 {
+			retried++
+		}
+	}
+	t.Logf("trial %d: job %s succeeded, byte-identical; %d tasks took more than one lease", i, job.GetId(), retried)
+}
+
+// waitForPhase waits until the job is in phase target or past it (a phase can end between
+// two polls).
+func (tr *trials) waitForPhase(t *testing.T, jobID string, target pb.Phase) {
+	t.Helper()
+	for deadline := time.Now().Add(time.Minute); ; time.Sleep(2 * time.Millisecond) {
+		job := getJob(t, tr.f, jobID)
+		if p := currentPhase(job); p >= target || client.JobEnded(job.GetState()) {
+			return
+		}
+		if time.Now().After(deadline) {
+			t.Fatalf("job %s did not reach %s within a minute: %v", jobID, client.PhaseName(target), job)
+		}
+	}
+}
+
+// checkSpread fails the test if the faults of n trials landed in fewer phases than they
+// could have: the point of aiming is to disturb every phase, not the longest one n times.
+// A phase can end between two polls, so only min(n, 3) distinct phases are asked for.
+func (tr *trials) checkSpread(t *testing.T, n int) {
+	t.Helper()
+	t.Logf("faults landed in: %v", tr.landed)
+	if want := min(n, 3); len(tr.landed) < want {
+		t.Errorf("the faults of %d trials landed in %d phases (%v); want at least %d", n, len(tr.landed), tr.landed, want)
+	}
+}
