@@ -28,7 +28,7 @@ func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phas
 		return nil, err
 	}
 	return &store.Leased{
-		Lease:       &pb.Lease{TaskId: r.change.Task.Id, Epoch: number(r.task["epoch"]), ExpireTime: timestamp(r.task["expire"])},
+		Lease: &pb.Lease{TaskId: r.change.Task.Id, Epoch: number(r.task["epoch"]), ExpireTime: timestamp(r.task["expire"])},
 		// A copy: the service fills the spec of Task in place while Change is being
 		// published to watchers, who must not see it half-written.
 		Task:        proto.Clone(r.change.Task).(*pb.Task),
