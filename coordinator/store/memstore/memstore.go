@@ -5,8 +5,6 @@ package memstore
 
 import (
 	"context"
-	"crypto/rand"
-	"encoding/hex"
 	"fmt"
 	"sync"
 	"time"
@@ -67,27 +65,10 @@ func New(opts store.Options) *Store {
 
 func (s *Store) now() time.Time { return s.opts.Clock.Now() }
 
-func newJobID() string {
-	var b [8]byte
-	_, _ = rand.Read(b[:])
-	return "j-" + hex.EncodeToString(b[:])
-}
-
 // CreateJob implements store.Store.
 func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
-	if len(nj.Tasks) == 0 {
-		return nil, errs.E(errs.InvalidArgument, "a job needs at least one task")
-	}
-	if err := store.CheckPriority(nj.Priority); err != nil {
+	if err := nj.Check(); err != nil {
 		return nil, err
-	}
-	for i, t := range nj.Tasks {
-		if t.GetIndex() != uint32(i) {
-			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
-		}
-		if i > 0 && store.Stage(t) < store.Stage(nj.Tasks[i-1]) {
-			return nil, errs.E(errs.Internal, "task %d: phases out of order", i)
-		}
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
@@ -96,9 +77,9 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	}
 	now := timestamppb.New(s.now())
 	s.seq++
-	id := newJobID()
+	id := store.NewJobID()
 	for s.jobs[id] != nil {
-		id = newJobID()
+		id = store.NewJobID()
 	}
 	j := &job{seq: s.seq, failures: make(map[string]int), pb: &pb.Job{
 		Id:          id,

@@ -30,8 +30,6 @@ package redisstore
 
 import (
 	"context"
-	"crypto/rand"
-	"encoding/hex"
 	"errors"
 	"fmt"
 	"strconv"
@@ -111,29 +109,12 @@ func redisErr(err error) error {
 	return errs.Wrap(errs.Unavailable, err, "redis")
 }
 
-func newJobID() string {
-	var b [8]byte
-	_, _ = rand.Read(b[:])
-	return "j-" + hex.EncodeToString(b[:])
-}
-
 // CreateJob implements store.Store.
 func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
-	if len(nj.Tasks) == 0 {
-		return nil, errs.E(errs.InvalidArgument, "a job needs at least one task")
-	}
-	if err := store.CheckPriority(nj.Priority); err != nil {
+	if err := nj.Check(); err != nil {
 		return nil, err
 	}
-	for i, t := range nj.Tasks {
-		if t.GetIndex() != uint32(i) {
-			return nil, errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
-		}
-		if i > 0 && store.Stage(t) < store.Stage(nj.Tasks[i-1]) {
-			return nil, errs.E(errs.Internal, "task %d: phases out of order", i)
-		}
-	}
-	id := newJobID()
+	id := store.NewJobID()
 	static, err := proto.Marshal(&pb.Job{
 		Id:          id,
 		DisplayName: nj.DisplayName,
