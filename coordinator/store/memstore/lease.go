@@ -349,15 +349,24 @@ func (s *Store) ReleaseWorker(ctx context.Context, workerID string) ([]store.Cha
 func (s *Store) CancelJob(ctx context.Context, jobID string) (store.Change, error) {
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	j, err := s.job(jobID)
+	j, err := s.unended(jobID)
 	if err != nil {
 		return store.Change{}, err
 	}
-	if store.Ended(j.pb.State) {
-		return store.Change{}, errs.E(errs.FailedPrecondition, "job %s has already ended (%s)", jobID, j.pb.State)
-	}
 	s.end(j, pb.JobState_JOB_STATE_CANCELLED, "")
 	return store.Change{Job: j.snapshot(), JobStateChanged: true}, nil
+}
+
+// unended returns a job that has not ended: NotFound or FailedPrecondition otherwise.
+func (s *Store) unended(jobID string) (*job, error) {
+	j, err := s.job(jobID)
+	if err != nil {
+		return nil, err
+	}
+	if store.Ended(j.pb.State) {
+		return nil, errs.E(errs.FailedPrecondition, "job %s has already ended (%s)", jobID, j.pb.State)
+	}
+	return j, nil
 }
 
 // SetJobPriority implements store.Store.
@@ -367,12 +376,9 @@ func (s *Store) SetJobPriority(ctx context.Context, jobID string, priority int32
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	j, err := s.job(jobID)
+	j, err := s.unended(jobID)
 	if err != nil {
 		return store.Change{}, err
-	}
-	if store.Ended(j.pb.State) {
-		return store.Change{}, errs.E(errs.FailedPrecondition, "job %s has already ended (%s)", jobID, j.pb.State)
 	}
 	j.pb.Priority = priority
 	j.pb.UpdateTime = timestamppb.New(s.now())
