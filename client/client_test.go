@@ -110,6 +110,11 @@ type fakeJobs struct {
 	job       *pb.Job
 	events    []*pb.WatchJobResponse
 	tasks     []*pb.Task
+	workers   []*pb.WorkerInfo
+}
+
+func (f *fakeJobs) ListWorkers(context.Context, *pb.ListWorkersRequest) (*pb.ListWorkersResponse, error) {
+	return &pb.ListWorkersResponse{Workers: f.workers}, nil
 }
 
 func (f *fakeJobs) SubmitJob(_ context.Context, req *pb.SubmitJobRequest) (*pb.SubmitJobResponse, error) {
@@ -368,6 +373,18 @@ func TestListTasksFollowsPages(t *testing.T) {
 	tasks, err := c.ListTasks(context.Background(), "j1")
 	if err != nil || len(tasks) != 5 || tasks[4].GetIndex() != 4 {
 		t.Fatalf("ListTasks = %v, %v", tasks, err)
+	}
+}
+
+func TestListWorkersReturnsTheWorkers(t *testing.T) {
+	c, _, jobs := startFake(t)
+	jobs.workers = []*pb.WorkerInfo{
+		{Id: "w-1", State: pb.WorkerState_WORKER_STATE_BUSY, CurrentTaskId: "j1.0"},
+		{Id: "w-2", State: pb.WorkerState_WORKER_STATE_IDLE},
+	}
+	got, err := c.ListWorkers(context.Background())
+	if err != nil || len(got) != 2 || got[0].GetCurrentTaskId() != "j1.0" || got[1].GetId() != "w-2" {
+		t.Fatalf("ListWorkers = %v, %v", got, err)
 	}
 }
 

@@ -109,6 +109,16 @@ func (c *Client) ListTasks(ctx context.Context, jobID string) ([]*pb.Task, error
 	}
 }
 
+// ListWorkers returns the workers registered with the coordinator, oldest first, with
+// their state (idle, busy, lost), current task and task counts.
+func (c *Client) ListWorkers(ctx context.Context) ([]*pb.WorkerInfo, error) {
+	resp, err := c.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
+	if err != nil {
+		return nil, fromRPC("list workers", err)
+	}
+	return resp.GetWorkers(), nil
+}
+
 // Cancel cancels the job.
 func (c *Client) Cancel(ctx context.Context, jobID string) (*pb.Job, error) {
 	resp, err := c.jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: jobID})

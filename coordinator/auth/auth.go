@@ -54,6 +54,7 @@ var Rules = map[string][]Role{
 	pb.JobService_CancelJob_FullMethodName:      {Client},
 	pb.JobService_SetJobPriority_FullMethodName: {Client},
 	pb.JobService_UnblockWorker_FullMethodName:  {Client},
+	pb.JobService_ListWorkers_FullMethodName:    {Client},
 	pb.JobService_PlanScene_FullMethodName:      {Client},
 	pb.JobService_WatchJob_FullMethodName:       {Client},
 

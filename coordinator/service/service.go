@@ -134,6 +134,7 @@ func (s *Service) Shutdown() { s.once.Do(func() { close(s.done) }) }
 func (s *Service) ExpireLeases(ctx context.Context) error {
 	changes, err := s.cfg.Store.ExpireLeases(ctx)
 	for _, c := range changes {
+		s.workers.expired(c.Task.GetId())
 		s.cfg.Metrics.LeaseExpired()
 		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts(), "job_state", c.Job.GetState().String())
 		s.publish(c)

@@ -75,6 +75,7 @@ func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased)
 		}
 		return nil, err
 	}
+	s.workers.leased(workerID, l.Lease.GetTaskId())
 	s.cfg.Metrics.LeaseGranted(l.Task.GetPhase())
 	s.log.Debug("task leased", "task", l.Task.GetId(), "worker", workerID, "epoch", l.Lease.GetEpoch(), "attempt", l.Task.GetAttempts())
 	return &pb.LeaseTaskResponse{Lease: l.Lease, Task: l.Task, SceneDigest: l.SceneDigest}, nil
@@ -89,9 +90,13 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 		return nil, nil, err
 	}
 	for _, c := range hb.Changes {
+		s.workers.ended(workerID, c.Task.GetId(), false)
 		s.cfg.Metrics.TaskFailed()
 		s.log.Warn("task failed", "task", c.Task.GetId(), "worker", workerID, "error", c.Task.GetError())
 		s.publish(c)
+	}
+	for _, r := range hb.Revoked {
+		s.workers.dropped(workerID, r.GetTaskId())
 	}
 	return hb.Extended, hb.Revoked, nil
 }
@@ -106,6 +111,9 @@ func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*p
 // round ends it: the round's report is recorded and the job goes on to the next round or
 // stops (StopReason), in one store step (store.Store.CompleteRound).
 func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact, metrics *pb.RoundMetrics) error {
+	// Whatever the store says (a report under a lease lost to a cancel is refused), the
+	// worker has stopped working on the task.
+	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
 	if metrics == nil {
 		metrics = &pb.RoundMetrics{}
 	}
@@ -160,6 +168,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		return err
 	}
 	if c.Task != nil {
+		s.workers.ended(ref.WorkerID, ref.TaskID, true)
 		s.cfg.Metrics.TaskCompleted(c.Task.GetPhase())
 		s.log.Debug("task completed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch)
 	}
@@ -169,6 +178,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 
 // Fail records a task's failure; message is truncated to MaxErrorMessage bytes.
 func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) error {
+	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
 	if message == "" {
 		return errs.Field("error", "must say why the task failed")
 	}
@@ -179,6 +189,7 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) 
 	if err != nil {
 		return err
 	}
+	s.workers.ended(ref.WorkerID, ref.TaskID, false)
 	s.cfg.Metrics.TaskFailed()
 	s.log.Warn("task failed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch, "error", message)
 	s.publish(c)
@@ -187,6 +198,7 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) 
 
 // Release queues a leased task again without counting a failure.
 func (s *Service) Release(ctx context.Context, ref store.LeaseRef) error {
+	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
 	c, err := s.cfg.Store.ReleaseTask(ctx, ref)
 	if err != nil {
 		return err

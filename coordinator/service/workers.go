@@ -5,10 +5,13 @@ import (
 	"crypto/rand"
 	"encoding/hex"
 	"fmt"
+	"slices"
+	"strings"
 	"sync"
 	"time"
 
 	"google.golang.org/protobuf/types/known/durationpb"
+	"google.golang.org/protobuf/types/known/timestamppb"
 
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -22,7 +25,10 @@ type workerServer struct {
 
 var _ pb.WorkerServiceServer = (*workerServer)(nil)
 
-// registry is the in-memory list of registered workers.
+// registry is the in-memory list of registered workers and what each is doing, for
+// ListWorkers. Leases themselves live in the store; the registry only mirrors what this
+// coordinator saw (grants, reports, revocations, expiries), so another replica's view of
+// a worker may differ.
 type registry struct {
 	mu sync.Mutex
 	m  map[string]*worker
@@ -32,7 +38,12 @@ type worker struct {
 	hostname string
 	cores    uint32
 	version  string
-	lastSeen time.Time
+	// registered is when it registered; lastSeen when it last heartbeat or polled.
+	registered, lastSeen time.Time
+	// current is the task it holds a lease on ("" if none): the latest lease granted.
+	current string
+	// done and failed count the tasks it completed and failed (lost leases included).
+	done, failed uint64
 }
 
 func (r *registry) add(w *worker) string {
@@ -61,6 +72,92 @@ func (r *registry) touch(id string, now time.Time) error {
 	return nil
 }
 
+// leased records that id was granted a lease on taskID. Unknown ids (the coordinator's
+// builder) are ignored, as in the methods below.
+func (r *registry) leased(id, taskID string) {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	if w := r.m[id]; w != nil {
+		w.current = taskID
+	}
+}
+
+// ended records that id's attempt at taskID ended, successfully (ok) or not.
+func (r *registry) ended(id, taskID string, ok bool) {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	w := r.m[id]
+	if w == nil {
+		return
+	}
+	if ok {
+		w.done++
+	} else {
+		w.failed++
+	}
+	if w.current == taskID {
+		w.current = ""
+	}
+}
+
+// dropped records that id no longer holds taskID (released, revoked), counting nothing.
+func (r *registry) dropped(id, taskID string) {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	if w := r.m[id]; w != nil && w.current == taskID {
+		w.current = ""
+	}
+}
+
+// expired records that the lease on taskID expired: its holder (the store no longer names
+// it) failed the task.
+func (r *registry) expired(taskID string) {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	for _, w := range r.m {
+		if w.current == taskID {
+			w.current = ""
+			w.failed++
+		}
+	}
+}
+
+// list returns every worker by registration time, oldest first; a worker not heard from
+// for longer than lost is LOST.
+func (r *registry) list(now time.Time, lost time.Duration) []*pb.WorkerInfo {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	out := make([]*pb.WorkerInfo, 0, len(r.m))
+	for id, w := range r.m {
+		state := pb.WorkerState_WORKER_STATE_IDLE
+		switch {
+		case now.Sub(w.lastSeen) > lost:
+			state = pb.WorkerState_WORKER_STATE_LOST
+		case w.current != "":
+			state = pb.WorkerState_WORKER_STATE_BUSY
+		}
+		out = append(out, &pb.WorkerInfo{
+			Id:            id,
+			Hostname:      w.hostname,
+			Cores:         w.cores,
+			Version:       w.version,
+			State:         state,
+			CurrentTaskId: w.current,
+			TasksDone:     w.done,
+			TasksFailed:   w.failed,
+			RegisterTime:  timestamppb.New(w.registered),
+			LastHeartbeat: timestamppb.New(w.lastSeen),
+		})
+	}
+	slices.SortFunc(out, func(a, b *pb.WorkerInfo) int {
+		if c := a.RegisterTime.AsTime().Compare(b.RegisterTime.AsTime()); c != 0 {
+			return c
+		}
+		return strings.Compare(a.Id, b.Id)
+	})
+	return out
+}
+
 // remove forgets a worker; NotFound if it was not registered.
 func (r *registry) remove(id string) error {
 	r.mu.Lock()
@@ -72,6 +169,13 @@ func (r *registry) remove(id string) error {
 	return nil
 }
 
+// ListWorkers returns the registered workers, oldest first: LOST if not heard from for
+// longer than a lease lasts, else BUSY while holding a lease, else IDLE.
+func (j *jobServer) ListWorkers(ctx context.Context, req *pb.ListWorkersRequest) (*pb.ListWorkersResponse, error) {
+	s := j.s
+	return &pb.ListWorkersResponse{Workers: s.workers.list(s.cfg.Clock.Now(), s.cfg.LeaseDuration)}, nil
+}
+
 func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWorkerRequest) (*pb.RegisterWorkerResponse, error) {
 	s := ws.s
 	if len(req.GetHostname()) > 255 {
@@ -80,7 +184,8 @@ func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWork
 	if len(req.GetVersion()) > 255 {
 		return nil, errs.Field("version", "must be at most 255 bytes, got %d", len(req.GetVersion()))
 	}
-	id := s.workers.add(&worker{hostname: req.GetHostname(), cores: req.GetCores(), version: req.GetVersion(), lastSeen: s.cfg.Clock.Now()})
+	now := s.cfg.Clock.Now()
+	id := s.workers.add(&worker{hostname: req.GetHostname(), cores: req.GetCores(), version: req.GetVersion(), registered: now, lastSeen: now})
 	s.log.Info("worker registered", "worker", id, "hostname", req.GetHostname(), "cores", req.GetCores(), "version", req.GetVersion())
 	return &pb.RegisterWorkerResponse{
 		WorkerId:          id,

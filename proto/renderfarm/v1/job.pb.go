@@ -264,6 +264,61 @@ func (PhotonMapKind) EnumDescriptor() ([]byte, []int) {
 	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{3}
 }
 
+type WorkerState int32
+
+const (
+	WorkerState_WORKER_STATE_UNSPECIFIED WorkerState = 0
+	// Registered and heartbeating, holding no lease.
+	WorkerState_WORKER_STATE_IDLE WorkerState = 1
+	// Holding a lease.
+	WorkerState_WORKER_STATE_BUSY WorkerState = 2
+	// No heartbeat for longer than a lease lasts.
+	WorkerState_WORKER_STATE_LOST WorkerState = 3
+)
+
+// Enum value maps for WorkerState.
+var (
+	WorkerState_name = map[int32]string{
+		0: "WORKER_STATE_UNSPECIFIED",
+		1: "WORKER_STATE_IDLE",
+		2: "WORKER_STATE_BUSY",
+		3: "WORKER_STATE_LOST",
+	}
+	WorkerState_value = map[string]int32{
+		"WORKER_STATE_UNSPECIFIED": 0,
+		"WORKER_STATE_IDLE":        1,
+		"WORKER_STATE_BUSY":        2,
+		"WORKER_STATE_LOST":        3,
+	}
+)
+
+func (x WorkerState) Enum() *WorkerState {
+	p := new(WorkerState)
+	*p = x
+	return p
+}
+
+func (x WorkerState) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (WorkerState) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_job_proto_enumTypes[4].Descriptor()
+}
+
+func (WorkerState) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_job_proto_enumTypes[4]
+}
+
+func (x WorkerState) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use WorkerState.Descriptor instead.
+func (WorkerState) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
+}
+
 type JobEventKind int32
 
 const (
@@ -303,11 +358,11 @@ func (x JobEventKind) String() string {
 }
 
 func (JobEventKind) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_job_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_job_proto_enumTypes[5].Descriptor()
 }
 
 func (JobEventKind) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_job_proto_enumTypes[4]
+	return &file_renderfarm_v1_job_proto_enumTypes[5]
 }
 
 func (x JobEventKind) Number() protoreflect.EnumNumber {
@@ -316,7 +371,7 @@ func (x JobEventKind) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use JobEventKind.Descriptor instead.
 func (JobEventKind) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
 }
 
 type Job struct {
@@ -1892,6 +1947,205 @@ func (x *SetJobPriorityResponse) GetJob() *Job {
 	return nil
 }
 
+type ListWorkersRequest struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *ListWorkersRequest) Reset() {
+	*x = ListWorkersRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *ListWorkersRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*ListWorkersRequest) ProtoMessage() {}
+
+func (x *ListWorkersRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use ListWorkersRequest.ProtoReflect.Descriptor instead.
+func (*ListWorkersRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
+}
+
+type ListWorkersResponse struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// By registration time, oldest first.
+	Workers       []*WorkerInfo `protobuf:"bytes,1,rep,name=workers,proto3" json:"workers,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *ListWorkersResponse) Reset() {
+	*x = ListWorkersResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *ListWorkersResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*ListWorkersResponse) ProtoMessage() {}
+
+func (x *ListWorkersResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use ListWorkersResponse.ProtoReflect.Descriptor instead.
+func (*ListWorkersResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
+}
+
+func (x *ListWorkersResponse) GetWorkers() []*WorkerInfo {
+	if x != nil {
+		return x.Workers
+	}
+	return nil
+}
+
+type WorkerInfo struct {
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	Id       string                 `protobuf:"bytes,1,opt,name=id,proto3" json:"id,omitempty"`
+	Hostname string                 `protobuf:"bytes,2,opt,name=hostname,proto3" json:"hostname,omitempty"`
+	Cores    uint32                 `protobuf:"varint,3,opt,name=cores,proto3" json:"cores,omitempty"`
+	Version  string                 `protobuf:"bytes,4,opt,name=version,proto3" json:"version,omitempty"`
+	State    WorkerState            `protobuf:"varint,5,opt,name=state,proto3,enum=renderfarm.v1.WorkerState" json:"state,omitempty"`
+	// The task it holds a lease on, if any.
+	CurrentTaskId string `protobuf:"bytes,6,opt,name=current_task_id,json=currentTaskId,proto3" json:"current_task_id,omitempty"`
+	// Tasks it completed and failed (lost leases count as failed) since it registered.
+	TasksDone     uint64                 `protobuf:"varint,7,opt,name=tasks_done,json=tasksDone,proto3" json:"tasks_done,omitempty"`
+	TasksFailed   uint64                 `protobuf:"varint,8,opt,name=tasks_failed,json=tasksFailed,proto3" json:"tasks_failed,omitempty"`
+	RegisterTime  *timestamppb.Timestamp `protobuf:"bytes,9,opt,name=register_time,json=registerTime,proto3" json:"register_time,omitempty"`
+	LastHeartbeat *timestamppb.Timestamp `protobuf:"bytes,10,opt,name=last_heartbeat,json=lastHeartbeat,proto3" json:"last_heartbeat,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *WorkerInfo) Reset() {
+	*x = WorkerInfo{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *WorkerInfo) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*WorkerInfo) ProtoMessage() {}
+
+func (x *WorkerInfo) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use WorkerInfo.ProtoReflect.Descriptor instead.
+func (*WorkerInfo) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
+}
+
+func (x *WorkerInfo) GetId() string {
+	if x != nil {
+		return x.Id
+	}
+	return ""
+}
+
+func (x *WorkerInfo) GetHostname() string {
+	if x != nil {
+		return x.Hostname
+	}
+	return ""
+}
+
+func (x *WorkerInfo) GetCores() uint32 {
+	if x != nil {
+		return x.Cores
+	}
+	return 0
+}
+
+func (x *WorkerInfo) GetVersion() string {
+	if x != nil {
+		return x.Version
+	}
+	return ""
+}
+
+func (x *WorkerInfo) GetState() WorkerState {
+	if x != nil {
+		return x.State
+	}
+	return WorkerState_WORKER_STATE_UNSPECIFIED
+}
+
+func (x *WorkerInfo) GetCurrentTaskId() string {
+	if x != nil {
+		return x.CurrentTaskId
+	}
+	return ""
+}
+
+func (x *WorkerInfo) GetTasksDone() uint64 {
+	if x != nil {
+		return x.TasksDone
+	}
+	return 0
+}
+
+func (x *WorkerInfo) GetTasksFailed() uint64 {
+	if x != nil {
+		return x.TasksFailed
+	}
+	return 0
+}
+
+func (x *WorkerInfo) GetRegisterTime() *timestamppb.Timestamp {
+	if x != nil {
+		return x.RegisterTime
+	}
+	return nil
+}
+
+func (x *WorkerInfo) GetLastHeartbeat() *timestamppb.Timestamp {
+	if x != nil {
+		return x.LastHeartbeat
+	}
+	return nil
+}
+
 type UnblockWorkerRequest struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	JobId string                 `protobuf:"bytes,1,opt,name=job_id,json=jobId,proto3" json:"job_id,omitempty"`
@@ -1903,7 +2157,7 @@ type UnblockWorkerRequest struct {
 
 func (x *UnblockWorkerRequest) Reset() {
 	*x = UnblockWorkerRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1915,7 +2169,7 @@ func (x *UnblockWorkerRequest) String() string {
 func (*UnblockWorkerRequest) ProtoMessage() {}
 
 func (x *UnblockWorkerRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1928,7 +2182,7 @@ func (x *UnblockWorkerRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnblockWorkerRequest.ProtoReflect.Descriptor instead.
 func (*UnblockWorkerRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *UnblockWorkerRequest) GetJobId() string {
@@ -1954,7 +2208,7 @@ type UnblockWorkerResponse struct {
 
 func (x *UnblockWorkerResponse) Reset() {
 	*x = UnblockWorkerResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1966,7 +2220,7 @@ func (x *UnblockWorkerResponse) String() string {
 func (*UnblockWorkerResponse) ProtoMessage() {}
 
 func (x *UnblockWorkerResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1979,7 +2233,7 @@ func (x *UnblockWorkerResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnblockWorkerResponse.ProtoReflect.Descriptor instead.
 func (*UnblockWorkerResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *UnblockWorkerResponse) GetJob() *Job {
@@ -1998,7 +2252,7 @@ type PlanSceneRequest struct {
 
 func (x *PlanSceneRequest) Reset() {
 	*x = PlanSceneRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2010,7 +2264,7 @@ func (x *PlanSceneRequest) String() string {
 func (*PlanSceneRequest) ProtoMessage() {}
 
 func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2023,7 +2277,7 @@ func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlanSceneRequest.ProtoReflect.Descriptor instead.
 func (*PlanSceneRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *PlanSceneRequest) GetScene() *Scene {
@@ -2044,7 +2298,7 @@ type PlanSceneResponse struct {
 
 func (x *PlanSceneResponse) Reset() {
 	*x = PlanSceneResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2056,7 +2310,7 @@ func (x *PlanSceneResponse) String() string {
 func (*PlanSceneResponse) ProtoMessage() {}
 
 func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2069,7 +2323,7 @@ func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlanSceneResponse.ProtoReflect.Descriptor instead.
 func (*PlanSceneResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *PlanSceneResponse) GetPlan() *Plan {
@@ -2095,7 +2349,7 @@ type GetJobRequest struct {
 
 func (x *GetJobRequest) Reset() {
 	*x = GetJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2107,7 +2361,7 @@ func (x *GetJobRequest) String() string {
 func (*GetJobRequest) ProtoMessage() {}
 
 func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2120,7 +2374,7 @@ func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobRequest.ProtoReflect.Descriptor instead.
 func (*GetJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *GetJobRequest) GetJobId() string {
@@ -2139,7 +2393,7 @@ type GetJobResponse struct {
 
 func (x *GetJobResponse) Reset() {
 	*x = GetJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2151,7 +2405,7 @@ func (x *GetJobResponse) String() string {
 func (*GetJobResponse) ProtoMessage() {}
 
 func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2164,7 +2418,7 @@ func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobResponse.ProtoReflect.Descriptor instead.
 func (*GetJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
 }
 
 func (x *GetJobResponse) GetJob() *Job {
@@ -2186,7 +2440,7 @@ type ListJobsRequest struct {
 
 func (x *ListJobsRequest) Reset() {
 	*x = ListJobsRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2198,7 +2452,7 @@ func (x *ListJobsRequest) String() string {
 func (*ListJobsRequest) ProtoMessage() {}
 
 func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2211,7 +2465,7 @@ func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsRequest.ProtoReflect.Descriptor instead.
 func (*ListJobsRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{30}
 }
 
 func (x *ListJobsRequest) GetPageSize() int32 {
@@ -2239,7 +2493,7 @@ type ListJobsResponse struct {
 
 func (x *ListJobsResponse) Reset() {
 	*x = ListJobsResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2251,7 +2505,7 @@ func (x *ListJobsResponse) String() string {
 func (*ListJobsResponse) ProtoMessage() {}
 
 func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2264,7 +2518,7 @@ func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsResponse.ProtoReflect.Descriptor instead.
 func (*ListJobsResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{31}
 }
 
 func (x *ListJobsResponse) GetJobs() []*Job {
@@ -2293,7 +2547,7 @@ type ListTasksRequest struct {
 
 func (x *ListTasksRequest) Reset() {
 	*x = ListTasksRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2305,7 +2559,7 @@ func (x *ListTasksRequest) String() string {
 func (*ListTasksRequest) ProtoMessage() {}
 
 func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2318,7 +2572,7 @@ func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksRequest.ProtoReflect.Descriptor instead.
 func (*ListTasksRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{32}
 }
 
 func (x *ListTasksRequest) GetJobId() string {
@@ -2352,7 +2606,7 @@ type ListTasksResponse struct {
 
 func (x *ListTasksResponse) Reset() {
 	*x = ListTasksResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2364,7 +2618,7 @@ func (x *ListTasksResponse) String() string {
 func (*ListTasksResponse) ProtoMessage() {}
 
 func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2377,7 +2631,7 @@ func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksResponse.ProtoReflect.Descriptor instead.
 func (*ListTasksResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{30}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *ListTasksResponse) GetTasks() []*Task {
@@ -2403,7 +2657,7 @@ type CancelJobRequest struct {
 
 func (x *CancelJobRequest) Reset() {
 	*x = CancelJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2415,7 +2669,7 @@ func (x *CancelJobRequest) String() string {
 func (*CancelJobRequest) ProtoMessage() {}
 
 func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2428,7 +2682,7 @@ func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobRequest.ProtoReflect.Descriptor instead.
 func (*CancelJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{31}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{34}
 }
 
 func (x *CancelJobRequest) GetJobId() string {
@@ -2447,7 +2701,7 @@ type CancelJobResponse struct {
 
 func (x *CancelJobResponse) Reset() {
 	*x = CancelJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[35]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2459,7 +2713,7 @@ func (x *CancelJobResponse) String() string {
 func (*CancelJobResponse) ProtoMessage() {}
 
 func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[35]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2472,7 +2726,7 @@ func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobResponse.ProtoReflect.Descriptor instead.
 func (*CancelJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{32}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{35}
 }
 
 func (x *CancelJobResponse) GetJob() *Job {
@@ -2491,7 +2745,7 @@ type WatchJobRequest struct {
 
 func (x *WatchJobRequest) Reset() {
 	*x = WatchJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[36]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2503,7 +2757,7 @@ func (x *WatchJobRequest) String() string {
 func (*WatchJobRequest) ProtoMessage() {}
 
 func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[36]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2516,7 +2770,7 @@ func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobRequest.ProtoReflect.Descriptor instead.
 func (*WatchJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{33}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{36}
 }
 
 func (x *WatchJobRequest) GetJobId() string {
@@ -2540,7 +2794,7 @@ type WatchJobResponse struct {
 
 func (x *WatchJobResponse) Reset() {
 	*x = WatchJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2552,7 +2806,7 @@ func (x *WatchJobResponse) String() string {
 func (*WatchJobResponse) ProtoMessage() {}
 
 func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2565,7 +2819,7 @@ func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobResponse.ProtoReflect.Descriptor instead.
 func (*WatchJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{34}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{37}
 }
 
 func (x *WatchJobResponse) GetKind() JobEventKind {
@@ -2723,7 +2977,24 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06job_id\x18\x01 \x01(\tR\x05jobId\x12\x1a\n" +
 	"\bpriority\x18\x02 \x01(\x05R\bpriority\">\n" +
 	"\x16SetJobPriorityResponse\x12$\n" +
-	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"J\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"\x14\n" +
+	"\x12ListWorkersRequest\"J\n" +
+	"\x13ListWorkersResponse\x123\n" +
+	"\aworkers\x18\x01 \x03(\v2\x19.renderfarm.v1.WorkerInfoR\aworkers\"\x88\x03\n" +
+	"\n" +
+	"WorkerInfo\x12\x0e\n" +
+	"\x02id\x18\x01 \x01(\tR\x02id\x12\x1a\n" +
+	"\bhostname\x18\x02 \x01(\tR\bhostname\x12\x14\n" +
+	"\x05cores\x18\x03 \x01(\rR\x05cores\x12\x18\n" +
+	"\aversion\x18\x04 \x01(\tR\aversion\x120\n" +
+	"\x05state\x18\x05 \x01(\x0e2\x1a.renderfarm.v1.WorkerStateR\x05state\x12&\n" +
+	"\x0fcurrent_task_id\x18\x06 \x01(\tR\rcurrentTaskId\x12\x1d\n" +
+	"\n" +
+	"tasks_done\x18\a \x01(\x04R\ttasksDone\x12!\n" +
+	"\ftasks_failed\x18\b \x01(\x04R\vtasksFailed\x12?\n" +
+	"\rregister_time\x18\t \x01(\v2\x1a.google.protobuf.TimestampR\fregisterTime\x12A\n" +
+	"\x0elast_heartbeat\x18\n" +
+	" \x01(\v2\x1a.google.protobuf.TimestampR\rlastHeartbeat\"J\n" +
 	"\x14UnblockWorkerRequest\x12\x15\n" +
 	"\x06job_id\x18\x01 \x01(\tR\x05jobId\x12\x1b\n" +
 	"\tworker_id\x18\x02 \x01(\tR\bworkerId\"=\n" +
@@ -2791,12 +3062,17 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\rPhotonMapKind\x12\x1f\n" +
 	"\x1bPHOTON_MAP_KIND_UNSPECIFIED\x10\x00\x12\x1a\n" +
 	"\x16PHOTON_MAP_KIND_GLOBAL\x10\x01\x12\x1b\n" +
-	"\x17PHOTON_MAP_KIND_CAUSTIC\x10\x02*\x8e\x01\n" +
+	"\x17PHOTON_MAP_KIND_CAUSTIC\x10\x02*p\n" +
+	"\vWorkerState\x12\x1c\n" +
+	"\x18WORKER_STATE_UNSPECIFIED\x10\x00\x12\x15\n" +
+	"\x11WORKER_STATE_IDLE\x10\x01\x12\x15\n" +
+	"\x11WORKER_STATE_BUSY\x10\x02\x12\x15\n" +
+	"\x11WORKER_STATE_LOST\x10\x03*\x8e\x01\n" +
 	"\fJobEventKind\x12\x1e\n" +
 	"\x1aJOB_EVENT_KIND_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17JOB_EVENT_KIND_SNAPSHOT\x10\x01\x12 \n" +
 	"\x1cJOB_EVENT_KIND_STATE_CHANGED\x10\x02\x12\x1f\n" +
-	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xea\x05\n" +
+	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xc0\x06\n" +
 	"\n" +
 	"JobService\x12N\n" +
 	"\tSubmitJob\x12\x1f.renderfarm.v1.SubmitJobRequest\x1a .renderfarm.v1.SubmitJobResponse\x12E\n" +
@@ -2807,7 +3083,8 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\tPlanScene\x12\x1f.renderfarm.v1.PlanSceneRequest\x1a .renderfarm.v1.PlanSceneResponse\x12M\n" +
 	"\bWatchJob\x12\x1e.renderfarm.v1.WatchJobRequest\x1a\x1f.renderfarm.v1.WatchJobResponse0\x01\x12]\n" +
 	"\x0eSetJobPriority\x12$.renderfarm.v1.SetJobPriorityRequest\x1a%.renderfarm.v1.SetJobPriorityResponse\x12Z\n" +
-	"\rUnblockWorker\x12#.renderfarm.v1.UnblockWorkerRequest\x1a$.renderfarm.v1.UnblockWorkerResponseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\rUnblockWorker\x12#.renderfarm.v1.UnblockWorkerRequest\x1a$.renderfarm.v1.UnblockWorkerResponse\x12T\n" +
+	"\vListWorkers\x12!.renderfarm.v1.ListWorkersRequest\x1a\".renderfarm.v1.ListWorkersResponseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_job_proto_rawDescOnce sync.Once
@@ -2821,129 +3098,139 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_job_proto_rawDescData
 }
 
-var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 36)
+var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 39)
 var file_renderfarm_v1_job_proto_goTypes = []any{
 	(JobState)(0),                    // 0: renderfarm.v1.JobState
 	(Phase)(0),                       // 1: renderfarm.v1.Phase
 	(TaskState)(0),                   // 2: renderfarm.v1.TaskState
 	(PhotonMapKind)(0),               // 3: renderfarm.v1.PhotonMapKind
-	(JobEventKind)(0),                // 4: renderfarm.v1.JobEventKind
-	(*Job)(nil),                      // 5: renderfarm.v1.Job
-	(*BlockedWorker)(nil),            // 6: renderfarm.v1.BlockedWorker
-	(*Plan)(nil),                     // 7: renderfarm.v1.Plan
-	(*PlannedPass)(nil),              // 8: renderfarm.v1.PlannedPass
-	(*RoundReport)(nil),              // 9: renderfarm.v1.RoundReport
-	(*PhaseProgress)(nil),            // 10: renderfarm.v1.PhaseProgress
-	(*Artifact)(nil),                 // 11: renderfarm.v1.Artifact
-	(*PixelRect)(nil),                // 12: renderfarm.v1.PixelRect
-	(*Task)(nil),                     // 13: renderfarm.v1.Task
-	(*RenderTileSpec)(nil),           // 14: renderfarm.v1.RenderTileSpec
-	(*PrecomputeIrradianceSpec)(nil), // 15: renderfarm.v1.PrecomputeIrradianceSpec
-	(*MergeIrradianceSpec)(nil),      // 16: renderfarm.v1.MergeIrradianceSpec
-	(*EmitPhotonsSpec)(nil),          // 17: renderfarm.v1.EmitPhotonsSpec
-	(*BuildPhotonMapSpec)(nil),       // 18: renderfarm.v1.BuildPhotonMapSpec
-	(*EmittedShard)(nil),             // 19: renderfarm.v1.EmittedShard
-	(*CompositeSpec)(nil),            // 20: renderfarm.v1.CompositeSpec
-	(*TileInput)(nil),                // 21: renderfarm.v1.TileInput
-	(*SubmitJobRequest)(nil),         // 22: renderfarm.v1.SubmitJobRequest
-	(*SubmitJobResponse)(nil),        // 23: renderfarm.v1.SubmitJobResponse
-	(*SetJobPriorityRequest)(nil),    // 24: renderfarm.v1.SetJobPriorityRequest
-	(*SetJobPriorityResponse)(nil),   // 25: renderfarm.v1.SetJobPriorityResponse
-	(*UnblockWorkerRequest)(nil),     // 26: renderfarm.v1.UnblockWorkerRequest
-	(*UnblockWorkerResponse)(nil),    // 27: renderfarm.v1.UnblockWorkerResponse
-	(*PlanSceneRequest)(nil),         // 28: renderfarm.v1.PlanSceneRequest
-	(*PlanSceneResponse)(nil),        // 29: renderfarm.v1.PlanSceneResponse
-	(*GetJobRequest)(nil),            // 30: renderfarm.v1.GetJobRequest
-	(*GetJobResponse)(nil),           // 31: renderfarm.v1.GetJobResponse
-	(*ListJobsRequest)(nil),          // 32: renderfarm.v1.ListJobsRequest
-	(*ListJobsResponse)(nil),         // 33: renderfarm.v1.ListJobsResponse
-	(*ListTasksRequest)(nil),         // 34: renderfarm.v1.ListTasksRequest
-	(*ListTasksResponse)(nil),        // 35: renderfarm.v1.ListTasksResponse
-	(*CancelJobRequest)(nil),         // 36: renderfarm.v1.CancelJobRequest
-	(*CancelJobResponse)(nil),        // 37: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),          // 38: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),         // 39: renderfarm.v1.WatchJobResponse
-	nil,                              // 40: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	(*timestamppb.Timestamp)(nil),    // 41: google.protobuf.Timestamp
-	(*Scene)(nil),                    // 42: renderfarm.v1.Scene
+	(WorkerState)(0),                 // 4: renderfarm.v1.WorkerState
+	(JobEventKind)(0),                // 5: renderfarm.v1.JobEventKind
+	(*Job)(nil),                      // 6: renderfarm.v1.Job
+	(*BlockedWorker)(nil),            // 7: renderfarm.v1.BlockedWorker
+	(*Plan)(nil),                     // 8: renderfarm.v1.Plan
+	(*PlannedPass)(nil),              // 9: renderfarm.v1.PlannedPass
+	(*RoundReport)(nil),              // 10: renderfarm.v1.RoundReport
+	(*PhaseProgress)(nil),            // 11: renderfarm.v1.PhaseProgress
+	(*Artifact)(nil),                 // 12: renderfarm.v1.Artifact
+	(*PixelRect)(nil),                // 13: renderfarm.v1.PixelRect
+	(*Task)(nil),                     // 14: renderfarm.v1.Task
+	(*RenderTileSpec)(nil),           // 15: renderfarm.v1.RenderTileSpec
+	(*PrecomputeIrradianceSpec)(nil), // 16: renderfarm.v1.PrecomputeIrradianceSpec
+	(*MergeIrradianceSpec)(nil),      // 17: renderfarm.v1.MergeIrradianceSpec
+	(*EmitPhotonsSpec)(nil),          // 18: renderfarm.v1.EmitPhotonsSpec
+	(*BuildPhotonMapSpec)(nil),       // 19: renderfarm.v1.BuildPhotonMapSpec
+	(*EmittedShard)(nil),             // 20: renderfarm.v1.EmittedShard
+	(*CompositeSpec)(nil),            // 21: renderfarm.v1.CompositeSpec
+	(*TileInput)(nil),                // 22: renderfarm.v1.TileInput
+	(*SubmitJobRequest)(nil),         // 23: renderfarm.v1.SubmitJobRequest
+	(*SubmitJobResponse)(nil),        // 24: renderfarm.v1.SubmitJobResponse
+	(*SetJobPriorityRequest)(nil),    // 25: renderfarm.v1.SetJobPriorityRequest
+	(*SetJobPriorityResponse)(nil),   // 26: renderfarm.v1.SetJobPriorityResponse
+	(*ListWorkersRequest)(nil),       // 27: renderfarm.v1.ListWorkersRequest
+	(*ListWorkersResponse)(nil),      // 28: renderfarm.v1.ListWorkersResponse
+	(*WorkerInfo)(nil),               // 29: renderfarm.v1.WorkerInfo
+	(*UnblockWorkerRequest)(nil),     // 30: renderfarm.v1.UnblockWorkerRequest
+	(*UnblockWorkerResponse)(nil),    // 31: renderfarm.v1.UnblockWorkerResponse
+	(*PlanSceneRequest)(nil),         // 32: renderfarm.v1.PlanSceneRequest
+	(*PlanSceneResponse)(nil),        // 33: renderfarm.v1.PlanSceneResponse
+	(*GetJobRequest)(nil),            // 34: renderfarm.v1.GetJobRequest
+	(*GetJobResponse)(nil),           // 35: renderfarm.v1.GetJobResponse
+	(*ListJobsRequest)(nil),          // 36: renderfarm.v1.ListJobsRequest
+	(*ListJobsResponse)(nil),         // 37: renderfarm.v1.ListJobsResponse
+	(*ListTasksRequest)(nil),         // 38: renderfarm.v1.ListTasksRequest
+	(*ListTasksResponse)(nil),        // 39: renderfarm.v1.ListTasksResponse
+	(*CancelJobRequest)(nil),         // 40: renderfarm.v1.CancelJobRequest
+	(*CancelJobResponse)(nil),        // 41: renderfarm.v1.CancelJobResponse
+	(*WatchJobRequest)(nil),          // 42: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),         // 43: renderfarm.v1.WatchJobResponse
+	nil,                              // 44: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	(*timestamppb.Timestamp)(nil),    // 45: google.protobuf.Timestamp
+	(*Scene)(nil),                    // 46: renderfarm.v1.Scene
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	41, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	41, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	41, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
-	10, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	11, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
-	7,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
-	9,  // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
-	6,  // 8: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
-	41, // 9: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
-	8,  // 10: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
-	40, // 11: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	45, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	45, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	45, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	11, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
+	12, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
+	8,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
+	10, // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
+	7,  // 8: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
+	45, // 9: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
+	9,  // 10: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
+	44, // 11: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
 	1,  // 12: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
 	1,  // 13: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
 	2,  // 14: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	14, // 15: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	20, // 16: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	17, // 17: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
-	18, // 18: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
-	15, // 19: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
-	16, // 20: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
-	11, // 21: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	41, // 22: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
-	12, // 23: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	11, // 24: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	11, // 25: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	11, // 26: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	11, // 27: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	15, // 15: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	21, // 16: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	18, // 17: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	19, // 18: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	16, // 19: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
+	17, // 20: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
+	12, // 21: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	45, // 22: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
+	13, // 23: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	12, // 24: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 25: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 26: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 27: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
 	3,  // 28: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	19, // 29: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	17, // 30: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	11, // 31: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	21, // 32: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	11, // 33: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	11, // 34: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	12, // 35: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	11, // 36: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	42, // 37: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	5,  // 38: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 39: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 40: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
-	42, // 41: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	7,  // 42: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	10, // 43: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	5,  // 44: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 45: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	13, // 46: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	5,  // 47: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	4,  // 48: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	41, // 49: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	5,  // 50: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	13, // 51: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	22, // 52: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	30, // 53: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	32, // 54: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	34, // 55: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	36, // 56: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	28, // 57: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	38, // 58: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	24, // 59: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
-	26, // 60: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
-	23, // 61: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	31, // 62: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	33, // 63: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	35, // 64: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	37, // 65: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	29, // 66: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	39, // 67: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	25, // 68: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
-	27, // 69: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
-	61, // [61:70] is the sub-list for method output_type
-	52, // [52:61] is the sub-list for method input_type
-	52, // [52:52] is the sub-list for extension type_name
-	52, // [52:52] is the sub-list for extension extendee
-	0,  // [0:52] is the sub-list for field type_name
+	20, // 29: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	18, // 30: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	12, // 31: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	22, // 32: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	12, // 33: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	12, // 34: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	13, // 35: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	12, // 36: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	46, // 37: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 38: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 39: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
+	29, // 40: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
+	4,  // 41: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
+	45, // 42: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
+	45, // 43: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
+	6,  // 44: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
+	46, // 45: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	8,  // 46: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	11, // 47: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	6,  // 48: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 49: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	14, // 50: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	6,  // 51: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 52: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	45, // 53: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	6,  // 54: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	14, // 55: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	23, // 56: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	34, // 57: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	36, // 58: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	38, // 59: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	40, // 60: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	32, // 61: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	42, // 62: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	25, // 63: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	30, // 64: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	27, // 65: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
+	24, // 66: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	35, // 67: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	37, // 68: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	39, // 69: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	41, // 70: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	33, // 71: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	43, // 72: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	26, // 73: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	31, // 74: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	28, // 75: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
+	66, // [66:76] is the sub-list for method output_type
+	56, // [56:66] is the sub-list for method input_type
+	56, // [56:56] is the sub-list for extension type_name
+	56, // [56:56] is the sub-list for extension extendee
+	0,  // [0:56] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -2966,8 +3253,8 @@ func file_renderfarm_v1_job_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
-			NumEnums:      5,
-			NumMessages:   36,
+			NumEnums:      6,
+			NumMessages:   39,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

@@ -28,6 +28,7 @@ const (
 	JobService_WatchJob_FullMethodName       = "/renderfarm.v1.JobService/WatchJob"
 	JobService_SetJobPriority_FullMethodName = "/renderfarm.v1.JobService/SetJobPriority"
 	JobService_UnblockWorker_FullMethodName  = "/renderfarm.v1.JobService/UnblockWorker"
+	JobService_ListWorkers_FullMethodName    = "/renderfarm.v1.JobService/ListWorkers"
 )
 
 // JobServiceClient is the client API for JobService service.
@@ -67,6 +68,9 @@ type JobServiceClient interface {
 	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
 	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
 	UnblockWorker(ctx context.Context, in *UnblockWorkerRequest, opts ...grpc.CallOption) (*UnblockWorkerResponse, error)
+	// Lists the workers this coordinator knows (registered and not unregistered), for
+	// monitoring: what each is doing and how it has fared.
+	ListWorkers(ctx context.Context, in *ListWorkersRequest, opts ...grpc.CallOption) (*ListWorkersResponse, error)
 }
 
 type jobServiceClient struct {
@@ -176,6 +180,16 @@ func (c *jobServiceClient) UnblockWorker(ctx context.Context, in *UnblockWorkerR
 	return out, nil
 }
 
+func (c *jobServiceClient) ListWorkers(ctx context.Context, in *ListWorkersRequest, opts ...grpc.CallOption) (*ListWorkersResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(ListWorkersResponse)
+	err := c.cc.Invoke(ctx, JobService_ListWorkers_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
 // JobServiceServer is the server API for JobService service.
 // All implementations must embed UnimplementedJobServiceServer
 // for forward compatibility.
@@ -213,6 +227,9 @@ type JobServiceServer interface {
 	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
 	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
 	UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error)
+	// Lists the workers this coordinator knows (registered and not unregistered), for
+	// monitoring: what each is doing and how it has fared.
+	ListWorkers(context.Context, *ListWorkersRequest) (*ListWorkersResponse, error)
 	mustEmbedUnimplementedJobServiceServer()
 }
 
@@ -249,6 +266,9 @@ func (UnimplementedJobServiceServer) SetJobPriority(context.Context, *SetJobPrio
 }
 func (UnimplementedJobServiceServer) UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error) {
 	return nil, status.Error(codes.Unimplemented, "method UnblockWorker not implemented")
+}
+func (UnimplementedJobServiceServer) ListWorkers(context.Context, *ListWorkersRequest) (*ListWorkersResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method ListWorkers not implemented")
 }
 func (UnimplementedJobServiceServer) mustEmbedUnimplementedJobServiceServer() {}
 func (UnimplementedJobServiceServer) testEmbeddedByValue()                    {}
@@ -426,6 +446,24 @@ func _JobService_UnblockWorker_Handler(srv interface{}, ctx context.Context, dec
 	return interceptor(ctx, in, info, handler)
 }
 
+func _JobService_ListWorkers_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(ListWorkersRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).ListWorkers(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_ListWorkers_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).ListWorkers(ctx, req.(*ListWorkersRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
 // JobService_ServiceDesc is the grpc.ServiceDesc for JobService service.
 // It's only intended for direct use with grpc.RegisterService,
 // and not to be introspected or modified (even as a copy)
@@ -464,6 +502,10 @@ var JobService_ServiceDesc = grpc.ServiceDesc{
 		{
 			MethodName: "UnblockWorker",
 			Handler:    _JobService_UnblockWorker_Handler,
+		},
+		{
+			MethodName: "ListWorkers",
+			Handler:    _JobService_ListWorkers_Handler,
 		},
 	},
 	Streams: []grpc.StreamDesc{
