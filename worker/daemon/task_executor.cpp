@@ -6,6 +6,7 @@
 
 #include "image/composite.h"
 #include "image/round_accumulator.h"
+#include "image/srgb_preview.h"
 #include "image/tile_exr.h"
 #include "photon/irradiance_precompute.h"
 #include "photon/photon_tracer.h"
@@ -262,7 +263,12 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   if (tile.rect() != rect) throw std::runtime_error("renderer returned a tile of the wrong size");
   const std::string exr = EncodeTileExr(tile, film.size);
   const std::string digest = blobs_.Upload(exr, stop, progress);
-  return Outputs({MakeArtifact("tile.exr", digest, exr.size())});
+  // The tile's sRGB preview, for the dashboard to show before the image is composited;
+  // the composite reads only tile.exr.
+  const std::string png = EncodeTilePreviewPng(tile);
+  const std::string png_digest = blobs_.Upload(png, stop, progress);
+  return Outputs({MakeArtifact("tile.exr", digest, exr.size()),
+                  MakeArtifact("tile.png", png_digest, png.size())});
 }
 
 TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,

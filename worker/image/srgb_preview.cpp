@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "image/exr_util.h"
 #include "image/image_error.h"
@@ -57,14 +58,13 @@ std::uint8_t AlphaTo8(float alpha) {
   return static_cast<std::uint8_t>(std::lround(Clamp01(alpha) * 255.0f));
 }
 
-void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::uint8_t> rgba8) {
+namespace {
+
+// Converts the tile's pixels into `rgba8`, a straight-alpha sRGB RGBA8 buffer `row_width`
+// pixels wide whose pixel (0, 0) is image pixel (origin_x, origin_y).
+void ConvertPixels(const Image& tile, int origin_x, int origin_y, int row_width,
+                   std::span<std::uint8_t> rgba8) {
   const PixelRect& r = tile.rect();
-  if (!PixelRect{0, 0, image_size.width, image_size.height}.Contains(r)) {
-    throw ImageError("tile " + ToString(r) + " lies outside the " + ToString(image_size) + " image");
-  }
-  if (rgba8.size() != static_cast<std::size_t>(image_size.width) * image_size.height * 4) {
-    throw ImageError("preview buffer does not match the " + ToString(image_size) + " image");
-  }
   const int index[4] = {ChannelIndex(tile, "R"), ChannelIndex(tile, "G"), ChannelIndex(tile, "B"),
                         ChannelIndex(tile, "A")};
   for (int y = r.y; y < r.y_end(); ++y) {
@@ -73,11 +73,34 @@ void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::
       const float alpha = Clamp01(p[index[3]]);
       // Straight colour = premultiplied / alpha; with no coverage, show the colour as is.
       const float scale = alpha > 0.0f ? 1.0f / alpha : 1.0f;
-      std::uint8_t* out = rgba8.data() + (static_cast<std::size_t>(y) * image_size.width + x) * 4;
+      std::uint8_t* out =
+          rgba8.data() +
+          (static_cast<std::size_t>(y - origin_y) * row_width + (x - origin_x)) * 4;
       for (int c = 0; c < 3; ++c) out[c] = LinearToSrgb8(p[index[c]] * scale);
       out[3] = AlphaTo8(alpha);
     }
   }
+}
+
+}  // namespace
+
+void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::uint8_t> rgba8) {
+  const PixelRect& r = tile.rect();
+  if (!PixelRect{0, 0, image_size.width, image_size.height}.Contains(r)) {
+    throw ImageError("tile " + ToString(r) + " lies outside the " + ToString(image_size) + " image");
+  }
+  if (rgba8.size() != static_cast<std::size_t>(image_size.width) * image_size.height * 4) {
+    throw ImageError("preview buffer does not match the " + ToString(image_size) + " image");
+  }
+  ConvertPixels(tile, 0, 0, image_size.width, rgba8);
+}
+
+std::string EncodeTilePreviewPng(const Image& tile) {
+  const PixelRect& r = tile.rect();
+  if (r.width <= 0 || r.height <= 0) throw ImageError("tile " + ToString(r) + " is empty");
+  std::vector<std::uint8_t> rgba8(static_cast<std::size_t>(r.width) * r.height * 4);
+  ConvertPixels(tile, r.x, r.y, r.width, rgba8);
+  return EncodePngRgba8({r.width, r.height}, rgba8);
 }
 
 std::string EncodePngRgba8(ImageSize size, std::span<const std::uint8_t> rgba8) {

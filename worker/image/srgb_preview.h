@@ -24,6 +24,12 @@ std::uint8_t AlphaTo8(float alpha);
 // lies outside the image.
 void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::uint8_t> rgba8);
 
+// Encodes the tile alone as a PNG of its rectangle's size, converted exactly as
+// WritePreviewPixels converts it into the whole image's preview: the browser shows a
+// finished tile (a render task's tile.png) with the tone mapping of the job's preview.png.
+// Throws ImageError if the tile is empty or lacks one of R, G, B, A.
+std::string EncodeTilePreviewPng(const Image& tile);
+
 // Encodes a straight-alpha sRGB RGBA8 buffer as PNG bytes. Deterministic.
 std::string EncodePngRgba8(ImageSize size, std::span<const std::uint8_t> rgba8);
 

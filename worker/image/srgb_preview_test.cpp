@@ -8,8 +8,30 @@
 #include <limits>
 #include <vector>
 
+#include "image/image_error.h"
+
 namespace farm {
 namespace {
+
+// Decodes PNG bytes to their stored 8-bit values (straight alpha, not premultiplied).
+std::vector<std::uint8_t> ReadPng(const std::string& png, int* width, int* height) {
+  OIIO::Filesystem::IOMemReader reader(png.data(), png.size());
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto in = OIIO::ImageInput::open("tile.png", &config, &reader);
+  if (!in) {
+    ADD_FAILURE() << OIIO::geterror();
+    return {};
+  }
+  *width = in->spec().width;
+  *height = in->spec().height;
+  EXPECT_EQ(in->spec().nchannels, 4);
+  std::vector<std::uint8_t> read(static_cast<std::size_t>(*width) * *height * 4);
+  EXPECT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read.data()));
+  return read;
+}
 
 TEST(SrgbPreview, TransferFunctionAtKnownValues) {
   EXPECT_EQ(LinearToSrgb8(0.0f), 0);
@@ -53,6 +75,47 @@ TEST(SrgbPreview, PngHoldsStraightAlphaSrgbValues) {
   std::vector<std::uint8_t> read(8);
   ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read.data()));
   EXPECT_EQ(read, (std::vector<std::uint8_t>{188, 118, 0, 128, 255, 3, 255, 255}));
+}
+
+TEST(SrgbPreview, TilePngIsTheTilesPartOfTheImagePreview) {
+  // A 3x2 tile at (5, 4) of a 10x8 image, with an extra AOV channel the preview ignores and
+  // the beauty channels out of order.
+  Image tile({5, 4, 3, 2}, {"A", "direct.R", "B", "G", "R"});
+  for (int y = 4; y < 6; ++y) {
+    for (int x = 5; x < 8; ++x) {
+      float* p = tile.pixel(x, y);
+      p[0] = (x == 6 && y == 5) ? 0.5f : 1.0f;  // one half-covered pixel
+      p[1] = 42.0f;
+      p[2] = 0.01f * x;
+      p[3] = 0.05f * y;
+      p[4] = 0.1f * (x - 4);
+    }
+  }
+  const std::string png = EncodeTilePreviewPng(tile);
+  EXPECT_EQ(png, EncodeTilePreviewPng(tile));  // Deterministic.
+
+  std::vector<std::uint8_t> whole(10 * 8 * 4);
+  WritePreviewPixels(tile, {10, 8}, whole);
+  int width = 0, height = 0;
+  const std::vector<std::uint8_t> read = ReadPng(png, &width, &height);
+  ASSERT_EQ(width, 3);
+  ASSERT_EQ(height, 2);
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 0; x < 3; ++x) {
+      for (int c = 0; c < 4; ++c) {
+        EXPECT_EQ(read[(y * 3 + x) * 4 + c], whole[((y + 4) * 10 + (x + 5)) * 4 + c])
+            << "pixel (" << x << ", " << y << ") channel " << c;
+      }
+    }
+  }
+  // The half-covered pixel: straight R = 0.2 / 0.5 = 0.4 -> sRGB 170, alpha 128.
+  EXPECT_EQ(read[(1 * 3 + 1) * 4 + 0], LinearToSrgb8(0.4f));
+  EXPECT_EQ(read[(1 * 3 + 1) * 4 + 3], 128);
+}
+
+TEST(SrgbPreview, TilePngNeedsTheBeautyChannels) {
+  Image tile({0, 0, 2, 2}, {"R", "G", "B"});
+  EXPECT_THROW(EncodeTilePreviewPng(tile), ImageError);
 }
 
 }  // namespace
