@@ -42,7 +42,7 @@ var verbs []*verb
 
 func init() {
 	verbs = []*verb{
-		renderVerb, coordinatorVerb, submitVerb, watchVerb, fetchVerb,
+		renderVerb, coordinatorVerb, dashboardVerb, submitVerb, watchVerb, fetchVerb,
 		statusVerb, listVerb, tasksVerb, cancelVerb, priorityVerb, unblockVerb, planVerb, reportVerb,
 	}
 }
@@ -323,7 +323,18 @@ name without .json (scenes/cornell-box.json gives OUTDIR/cornell-box.exr). Worke
 stopped (SIGTERM) and the temporary folder removed at the end, on failure and on Ctrl-C.
 farm-worker is found through --worker-bin, else next to the farm executable, else $PATH.
 The local farm is authenticated: farm makes random client and worker tokens and gives
-the worker token to its workers.
+the worker token to its workers. It also serves the web dashboard of the local farm
+(--dashboard-listen, default a free loopback port; --no-dashboard to skip) and prints
+"dashboard on http://127.0.0.1:PORT/" and the run's client token to log in with before
+the progress; both last only as long as the render.
+`,
+	"dashboard": `Serves the web dashboard (the job list, a job's tiles as they finish, the workers;
+submit, cancel, reprioritise) for the coordinator at --coordinator, and prints
+"dashboard on http://HOST:PORT/" on stdout once it accepts connections. It holds no
+token of its own: each browser logs in with a coordinator client token, kept in an
+HttpOnly cookie and forwarded with every call. Over plain HTTP, so it listens on
+loopback by default; forwarding tokens to a coordinator that is not on loopback needs
+--tls-ca (or --insecure on a trusted network).
 `,
 	"coordinator": `Serves JobService, WorkerService and BlobService until SIGINT or SIGTERM, then stops
 gracefully. Prints "coordinator listening on HOST:PORT" on stderr once it accepts

@@ -21,7 +21,7 @@ import (
 
 var renderVerb = &verb{
 	name:    "render",
-	args:    "SCENE -o OUTDIR [--workers N] [--worker-bin PATH] [--asset-root DIR]",
+	args:    "SCENE -o OUTDIR [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
 	summary: "render a scene on a local all-in-one farm",
 	run:     runRender,
 }
@@ -42,6 +42,8 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	workerBin := fs.String("worker-bin", "", "`path` of farm-worker (default: next to farm, else $PATH)")
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "task lease duration")
 	assetRoot := assetRootFlag(fs)
+	dashListen := fs.String("dashboard-listen", "127.0.0.1:0", "serve the web dashboard of the local farm on this HTTP `address` (port 0 picks a free one)")
+	noDash := fs.Bool("no-dashboard", false, "do not serve the web dashboard")
 	pos, err := parse(fs, args, 1, 1)
 	if err != nil {
 		return err
@@ -79,6 +81,22 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 			err = &exitError{code: exitInterrupted, err: errors.New("interrupted; the local farm was stopped")}
 		}
 	}()
+
+	if !*noDash {
+		dash, err := startRenderDashboard(farm, *dashListen)
+		if err != nil {
+			return err
+		}
+		// Deferred after farm.stop, so it runs first: the dashboard's streams end before
+		// the coordinator does.
+		defer func() {
+			if serr := dash.stop(); serr != nil && err == nil {
+				err = serr
+			}
+		}()
+		fmt.Fprintf(e.stdout, "dashboard on %s\n", dash.url)
+		fmt.Fprintf(e.stdout, "dashboard token: %s (this farm's client token, random for this run: log in with it)\n", farm.clientToken)
+	}
 
 	// The job is followed under a context that also ends if every worker exits.
 	jobCtx, cancel := context.WithCancelCause(ctx)
@@ -121,6 +139,21 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 		fmt.Fprintln(e.stdout, p)
 	}
 	return nil
+}
+
+// startRenderDashboard serves the dashboard of the local farm on listen, logging to
+// dashboard.log in the farm's folder.
+func startRenderDashboard(farm *localFarm, listen string) (*embeddedDashboard, error) {
+	logf, err := os.Create(filepath.Join(farm.dir, "dashboard.log"))
+	if err != nil {
+		return nil, err
+	}
+	defer logf.Close() // the logger writes through its own reference until stop
+	d, err := startEmbeddedDashboard(farm.coord.addr, listen, logf)
+	if err != nil {
+		return nil, usageErrorf("render: %v", err)
+	}
+	return d, nil
 }
 
 // findWorkerBin returns the farm-worker to run: flag, else next to this executable, else

@@ -1,0 +1,79 @@
+package dashboard
+
+import (
+	"encoding/json"
+	"fmt"
+	"io"
+	"math"
+	"net/http"
+
+	"photonfarm/coordinator/scene"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// submit queues the scene JSON in the body (scenes/*.json's format, meshes inline) as a
+// new job.
+func (s *Server) submit(w http.ResponseWriter, r *http.Request) {
+	data, err := io.ReadAll(r.Body)
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	sc, err := scene.ParseJSON(data)
+	if err != nil {
+		s.writeError(w, r, errorf(http.StatusBadRequest, err.Error()))
+		return
+	}
+	ctx, cancel := callCtx(r)
+	defer cancel()
+	resp, err := s.jobs.SubmitJob(ctx, &pb.SubmitJobRequest{Scene: sc})
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	s.log.Info("dashboard submitted a job", "job", resp.GetJob().GetId(), "name", resp.GetJob().GetDisplayName())
+	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+}
+
+// cancel cancels a job; 409 if it has ended.
+func (s *Server) cancel(w http.ResponseWriter, r *http.Request) {
+	ctx, cancel := callCtx(r)
+	defer cancel()
+	resp, err := s.jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: r.PathValue("id")})
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+}
+
+// setPriority sets a job's priority from {"priority": N}; the coordinator checks the
+// range.
+func (s *Server) setPriority(w http.ResponseWriter, r *http.Request) {
+	var body struct {
+		Priority *json.Number `json:"priority"`
+	}
+	dec := json.NewDecoder(r.Body)
+	dec.UseNumber()
+	if err := dec.Decode(&body); err != nil {
+		s.writeError(w, r, errorf(http.StatusBadRequest, "want a JSON body {\"priority\": N}: "+err.Error()))
+		return
+	}
+	if body.Priority == nil {
+		s.writeError(w, r, errorf(http.StatusBadRequest, "priority: missing"))
+		return
+	}
+	p, err := body.Priority.Int64()
+	if err != nil || p < math.MinInt32 || p > math.MaxInt32 {
+		s.writeError(w, r, errorf(http.StatusBadRequest, fmt.Sprintf("priority: must be an integer in [-1000, 1000], got %s", body.Priority.String())))
+		return
+	}
+	ctx, cancel := callCtx(r)
+	defer cancel()
+	resp, err := s.jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: r.PathValue("id"), Priority: int32(p)})
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+}

@@ -1,0 +1,92 @@
+package dashboard
+
+import (
+	"context"
+	"net/http"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Page sizes the dashboard asks for: the coordinator's largest.
+const (
+	jobsPage  = 1000
+	tasksPage = 10000
+)
+
+// allJobs returns every job, newest first, following the pages.
+func (s *Server) allJobs(ctx context.Context) ([]*pb.Job, error) {
+	var jobs []*pb.Job
+	token := ""
+	for {
+		resp, err := s.jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: jobsPage, PageToken: token})
+		if err != nil {
+			return nil, err
+		}
+		jobs = append(jobs, resp.GetJobs()...)
+		if token = resp.GetNextPageToken(); token == "" {
+			return jobs, nil
+		}
+	}
+}
+
+// allTasks returns every task of a job in plan order, following the pages.
+func (s *Server) allTasks(ctx context.Context, jobID string) ([]*pb.Task, error) {
+	var tasks []*pb.Task
+	token := ""
+	for {
+		resp, err := s.jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: tasksPage, PageToken: token})
+		if err != nil {
+			return nil, err
+		}
+		tasks = append(tasks, resp.GetTasks()...)
+		if token = resp.GetNextPageToken(); token == "" {
+			return tasks, nil
+		}
+	}
+}
+
+// jobWithTasks reads a job and its tasks: {"job": Job, "tasks": [Task...]}.
+func (s *Server) jobWithTasks(ctx context.Context, jobID string) (map[string]any, error) {
+	resp, err := s.jobs.GetJob(ctx, &pb.GetJobRequest{JobId: jobID})
+	if err != nil {
+		return nil, err
+	}
+	tasks, err := s.allTasks(ctx, jobID)
+	if err != nil {
+		return nil, err
+	}
+	return map[string]any{"job": pj(resp.GetJob()), "tasks": pjs(tasks)}, nil
+}
+
+func (s *Server) listJobs(w http.ResponseWriter, r *http.Request) {
+	ctx, cancel := callCtx(r)
+	defer cancel()
+	jobs, err := s.allJobs(ctx)
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	writeJSON(w, http.StatusOK, map[string]any{"jobs": pjs(jobs)})
+}
+
+func (s *Server) getJob(w http.ResponseWriter, r *http.Request) {
+	ctx, cancel := callCtx(r)
+	defer cancel()
+	body, err := s.jobWithTasks(ctx, r.PathValue("id"))
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	writeJSON(w, http.StatusOK, body)
+}
+
+func (s *Server) listWorkers(w http.ResponseWriter, r *http.Request) {
+	ctx, cancel := callCtx(r)
+	defer cancel()
+	resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	writeJSON(w, http.StatusOK, map[string]any{"workers": pjs(resp.GetWorkers())})
+}

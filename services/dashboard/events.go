@@ -1,0 +1,334 @@
+package dashboard
+
+import (
+	"context"
+	"encoding/json"
+	"errors"
+	"fmt"
+	"io"
+	"net/http"
+	"sync"
+	"time"
+
+	"google.golang.org/protobuf/proto"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// sse writes server-sent events.
+type sse struct {
+	w http.ResponseWriter
+	f *http.ResponseController
+}
+
+// startSSE takes a stream slot and writes the event-stream headers; it answers 503 and
+// returns false when MaxStreams are open. release gives the slot back.
+func (s *Server) startSSE(w http.ResponseWriter, r *http.Request) (*sse, func(), bool) {
+	select {
+	case s.streams <- struct{}{}:
+	default:
+		s.writeError(w, r, errorf(http.StatusServiceUnavailable, "too many event streams open; try again later"))
+		return nil, nil, false
+	}
+	release := func() { <-s.streams }
+	h := w.Header()
+	h.Set("Content-Type", "text/event-stream")
+	h.Set("Cache-Control", "no-store")
+	h.Set("X-Accel-Buffering", "no") // nginx: do not buffer the stream
+	w.WriteHeader(http.StatusOK)
+	rc := http.NewResponseController(w)
+	// The server's write timeout (if any) must not end a long-lived stream.
+	_ = rc.SetWriteDeadline(time.Time{})
+	return &sse{w: w, f: rc}, release, true
+}
+
+// send writes one event with v as its JSON data and flushes it.
+func (e *sse) send(event string, v any) error {
+	b, err := json.Marshal(v)
+	if err != nil {
+		return err
+	}
+	// JSON from encoding/json has no raw newlines, so the data fits one data: line.
+	if _, err := fmt.Fprintf(e.w, "event: %s\ndata: %s\n\n", event, b); err != nil {
+		return err
+	}
+	return e.f.Flush()
+}
+
+// ping writes a comment, which keeps proxies from closing an idle stream.
+func (e *sse) ping() error {
+	if _, err := io.WriteString(e.w, ": ping\n\n"); err != nil {
+		return err
+	}
+	return e.f.Flush()
+}
+
+// farmEvents streams the job list whenever it changes (polled every JobsPoll, so at most
+// once per poll) and the workers every WorkersEvery. A refused or failed call ends the
+// stream; the browser's EventSource reconnects and then gets the HTTP error.
+func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
+	ctx := withToken(r.Context(), tokenOf(r))
+	// The first reads happen before the stream starts, so that a bad token is a 401.
+	jobs, err := s.pollJobs(ctx)
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	workers, err := s.pollWorkers(ctx)
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	out, release, ok := s.startSSE(w, r)
+	if !ok {
+		return
+	}
+	defer release()
+	if out.send("jobs", map[string]any{"jobs": pjs(jobs)}) != nil ||
+		out.send("workers", map[string]any{"workers": pjs(workers)}) != nil {
+		return
+	}
+	jobTick := time.NewTicker(s.cfg.JobsPoll)
+	defer jobTick.Stop()
+	workerTick := time.NewTicker(s.cfg.WorkersEvery)
+	defer workerTick.Stop()
+	ping := time.NewTicker(s.cfg.PingEvery)
+	defer ping.Stop()
+	for {
+		var err error
+		select {
+		case <-ctx.Done():
+			return
+		case <-jobTick.C:
+			var now []*pb.Job
+			if now, err = s.pollJobs(ctx); err == nil && !sameJobs(jobs, now) {
+				jobs = now
+				err = out.send("jobs", map[string]any{"jobs": pjs(jobs)})
+			}
+		case <-workerTick.C:
+			if workers, err = s.pollWorkers(ctx); err == nil {
+				err = out.send("workers", map[string]any{"workers": pjs(workers)})
+			}
+		case <-ping.C:
+			err = out.ping()
+		}
+		if err != nil {
+			if ctx.Err() == nil {
+				s.log.Info("dashboard event stream ended", "err", err)
+			}
+			return
+		}
+	}
+}
+
+func (s *Server) pollJobs(ctx context.Context) ([]*pb.Job, error) {
+	ctx, cancel := context.WithTimeout(ctx, callTimeout)
+	defer cancel()
+	return s.allJobs(ctx)
+}
+
+func (s *Server) pollWorkers(ctx context.Context) ([]*pb.WorkerInfo, error) {
+	ctx, cancel := context.WithTimeout(ctx, callTimeout)
+	defer cancel()
+	resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
+	return resp.GetWorkers(), err
+}
+
+func sameJobs(a, b []*pb.Job) bool {
+	if len(a) != len(b) {
+		return false
+	}
+	for i := range a {
+		if !proto.Equal(a[i], b[i]) {
+			return false
+		}
+	}
+	return true
+}
+
+// jobUpdates coalesces a job's WatchJob events between two sends: the latest job, the
+// latest state of each task changed (in the order they first changed), and whether the
+// whole job must be sent again.
+type jobUpdates struct {
+	mu     sync.Mutex
+	job    *pb.Job
+	tasks  map[string]*pb.Task
+	order  []string
+	resync bool  // a change no task event shows: a new round's tasks
+	done   bool  // the watch ended
+	err    error // why it ended (io.EOF after the job ended)
+	wake   chan struct{}
+}
+
+func (u *jobUpdates) add(ev *pb.WatchJobResponse) {
+	u.mu.Lock()
+	defer u.mu.Unlock()
+	if j := ev.GetJob(); j != nil {
+		if u.job != nil && len(j.GetRounds()) != len(u.job.GetRounds()) {
+			u.resync = true // the next round's tasks were added, without events of their own
+		}
+		u.job = j
+	}
+	if t := ev.GetTask(); t != nil {
+		if _, ok := u.tasks[t.GetId()]; !ok {
+			u.order = append(u.order, t.GetId())
+		}
+		u.tasks[t.GetId()] = t
+	}
+	u.signal()
+}
+
+func (u *jobUpdates) finish(err error) {
+	u.mu.Lock()
+	defer u.mu.Unlock()
+	u.done, u.err = true, err
+	u.signal()
+}
+
+func (u *jobUpdates) signal() {
+	select {
+	case u.wake <- struct{}{}:
+	default:
+	}
+}
+
+// take returns what changed since the last take and clears it.
+func (u *jobUpdates) take() (job *pb.Job, tasks []*pb.Task, resync, done bool, err error) {
+	u.mu.Lock()
+	defer u.mu.Unlock()
+	for _, id := range u.order {
+		tasks = append(tasks, u.tasks[id])
+	}
+	job, resync, done, err = u.job, u.resync, u.done, u.err
+	clear(u.tasks)
+	u.order, u.resync = u.order[:0], false
+	return job, tasks, resync, done, err
+}
+
+// jobEvents streams one job: the whole job on connect, then its changed tasks at most
+// every JobUpdateEvery (each task's latest state, one task event each), the whole job
+// again when something changed that task events do not show (a new round's tasks, a
+// change of the job alone), and the end.
+func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
+	jobID := r.PathValue("id")
+	ctx, cancel := context.WithCancel(withToken(r.Context(), tokenOf(r)))
+	defer cancel()
+	watch, err := s.jobs.WatchJob(ctx, &pb.WatchJobRequest{JobId: jobID})
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	// The snapshot comes first; an unknown job or a refused token fails here, before
+	// the stream starts.
+	snap, err := watch.Recv()
+	if err != nil {
+		if errors.Is(err, io.EOF) {
+			err = errorf(http.StatusBadGateway, "the coordinator ended the watch at once")
+		}
+		s.writeError(w, r, err)
+		return
+	}
+	tasks, err := s.allTasksBounded(ctx, jobID)
+	if err != nil {
+		s.writeError(w, r, err)
+		return
+	}
+	out, release, ok := s.startSSE(w, r)
+	if !ok {
+		return
+	}
+	defer release()
+	job := snap.GetJob()
+	if out.send("job", map[string]any{"job": pj(job), "tasks": pjs(tasks)}) != nil {
+		return
+	}
+	if jobEnded(job) {
+		out.send("end", map[string]any{"job": pj(job)})
+		return
+	}
+
+	u := &jobUpdates{job: job, tasks: map[string]*pb.Task{}, wake: make(chan struct{}, 1)}
+	go func() {
+		for {
+			ev, err := watch.Recv()
+			if err != nil {
+				u.finish(err)
+				return
+			}
+			u.add(ev)
+		}
+	}()
+	ping := time.NewTicker(s.cfg.PingEvery)
+	defer ping.Stop()
+	var last time.Time
+	sent := job // the job as the browser last saw it
+	for {
+		select {
+		case <-ctx.Done():
+			return
+		case <-ping.C:
+			if out.ping() != nil {
+				return
+			}
+			continue
+		case <-u.wake:
+		}
+		// At most one update per JobUpdateEvery: wait out the rest of the interval,
+		// gathering what else changes meanwhile.
+		if wait := s.cfg.JobUpdateEvery - time.Since(last); wait > 0 {
+			select {
+			case <-ctx.Done():
+				return
+			case <-time.After(wait):
+			}
+		}
+		last = time.Now()
+		job, changed, resync, done, werr := u.take()
+		if len(changed) == 0 && !proto.Equal(job, sent) {
+			resync = true
+		}
+		if resync && !jobEnded(job) {
+			all, err := s.allTasksBounded(ctx, jobID)
+			if err != nil {
+				return
+			}
+			if out.send("job", map[string]any{"job": pj(job), "tasks": pjs(all)}) != nil {
+				return
+			}
+			sent = job
+		} else {
+			for _, t := range changed {
+				if out.send("task", map[string]any{"job": pj(job), "task": pj(t)}) != nil {
+					return
+				}
+				sent = job
+			}
+		}
+		if jobEnded(job) {
+			out.send("end", map[string]any{"job": pj(job)})
+			return
+		}
+		if done {
+			// The watch broke before the job ended (the coordinator stopped): end the
+			// stream; the browser reconnects.
+			if ctx.Err() == nil {
+				s.log.Info("dashboard job stream ended", "job", jobID, "err", werr)
+			}
+			return
+		}
+	}
+}
+
+func (s *Server) allTasksBounded(ctx context.Context, jobID string) ([]*pb.Task, error) {
+	ctx, cancel := context.WithTimeout(ctx, callTimeout)
+	defer cancel()
+	return s.allTasks(ctx, jobID)
+}
+
+func jobEnded(j *pb.Job) bool {
+	switch j.GetState() {
+	case pb.JobState_JOB_STATE_SUCCEEDED, pb.JobState_JOB_STATE_FAILED, pb.JobState_JOB_STATE_CANCELLED:
+		return true
+	}
+	return false
+}

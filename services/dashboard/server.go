@@ -1,0 +1,168 @@
+// Package dashboard is the farm's web dashboard server: an http.Handler that serves the
+// front end (web/dist, embedded) and the JSON and server-sent-events API of API.md,
+// which it answers by calling the coordinator over gRPC.
+//
+// The dashboard holds no credential of its own: the browser's coordinator client token
+// (the farm_token cookie, or an Authorization: Bearer header) is forwarded on every gRPC
+// call as "authorization: Bearer TOKEN", so the coordinator decides what each request
+// may do, and the gRPC connection itself carries no token.
+package dashboard
+
+import (
+	"embed"
+	"io/fs"
+	"log/slog"
+	"net/http"
+	"time"
+
+	"google.golang.org/grpc"
+
+	"photonfarm/coordinator/service"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// MaxBodyBytes limits request bodies (a scene with inline meshes).
+const MaxBodyBytes = 64 << 20
+
+// Defaults of Config's intervals and limits (API.md).
+const (
+	DefaultJobsPoll       = 500 * time.Millisecond
+	DefaultWorkersEvery   = 2 * time.Second
+	DefaultPingEvery      = 15 * time.Second
+	DefaultJobUpdateEvery = 100 * time.Millisecond
+	DefaultMaxStreams     = 100
+	// callTimeout bounds each unary call to the coordinator.
+	callTimeout = 60 * time.Second
+)
+
+// DialOptions are what a connection to the coordinator needs for the dashboard besides
+// its transport credentials: message limits as large as the coordinator's (a job's
+// 10,000 tasks, a scene with large inline meshes). Give the connection no per-RPC
+// credentials: each call carries its request's token.
+func DialOptions() []grpc.DialOption {
+	return []grpc.DialOption{grpc.WithDefaultCallOptions(
+		grpc.MaxCallRecvMsgSize(service.MaxMessageSize),
+		grpc.MaxCallSendMsgSize(service.MaxMessageSize))}
+}
+
+//go:embed web/dist
+var webFiles embed.FS
+
+// Config wires a Server.
+type Config struct {
+	// Conn is the connection to the coordinator, without per-RPC credentials (the
+	// browser's token is attached per call). Required.
+	Conn grpc.ClientConnInterface
+	// Logger defaults to slog.Default().
+	Logger *slog.Logger
+	// JobsPoll is how often /api/events looks for changed jobs (at most one jobs event
+	// per poll); WorkersEvery how often it sends the workers; PingEvery how often an idle
+	// stream gets a comment; JobUpdateEvery the least time between two updates of
+	// /api/jobs/{id}/events. Zero means the default.
+	JobsPoll, WorkersEvery, PingEvery, JobUpdateEvery time.Duration
+	// MaxStreams bounds the event streams open at once (0: DefaultMaxStreams); more get
+	// 503.
+	MaxStreams int
+	// Static serves the front end; nil serves the embedded web/dist.
+	Static fs.FS
+}
+
+// Server is the dashboard's http.Handler.
+type Server struct {
+	cfg     Config
+	log     *slog.Logger
+	jobs    pb.JobServiceClient
+	blobs   pb.BlobServiceClient
+	mux     *http.ServeMux
+	streams chan struct{} // a slot per open event stream
+}
+
+var _ http.Handler = (*Server)(nil)
+
+// New returns the dashboard handler for the coordinator behind cfg.Conn.
+func New(cfg Config) *Server {
+	if cfg.Logger == nil {
+		cfg.Logger = slog.Default()
+	}
+	if cfg.JobsPoll <= 0 {
+		cfg.JobsPoll = DefaultJobsPoll
+	}
+	if cfg.WorkersEvery <= 0 {
+		cfg.WorkersEvery = DefaultWorkersEvery
+	}
+	if cfg.PingEvery <= 0 {
+		cfg.PingEvery = DefaultPingEvery
+	}
+	if cfg.JobUpdateEvery <= 0 {
+		cfg.JobUpdateEvery = DefaultJobUpdateEvery
+	}
+	if cfg.MaxStreams <= 0 {
+		cfg.MaxStreams = DefaultMaxStreams
+	}
+	if cfg.Static == nil {
+		sub, err := fs.Sub(webFiles, "web/dist")
+		if err != nil {
+			panic(err) // the embedded tree always has web/dist
+		}
+		cfg.Static = sub
+	}
+	s := &Server{
+		cfg:     cfg,
+		log:     cfg.Logger,
+		jobs:    pb.NewJobServiceClient(cfg.Conn),
+		blobs:   pb.NewBlobServiceClient(cfg.Conn),
+		mux:     http.NewServeMux(),
+		streams: make(chan struct{}, cfg.MaxStreams),
+	}
+	s.routes()
+	return s
+}
+
+func (s *Server) routes() {
+	m := s.mux
+	m.HandleFunc("POST /api/login", s.login)
+	m.HandleFunc("POST /api/logout", s.logout)
+	m.HandleFunc("GET /api/session", s.session)
+
+	m.HandleFunc("GET /api/jobs", s.listJobs)
+	m.HandleFunc("GET /api/jobs/{id}", s.getJob)
+	m.HandleFunc("GET /api/workers", s.listWorkers)
+	m.HandleFunc("GET /api/blobs/{digest}", s.blob)
+
+	m.HandleFunc("GET /api/events", s.farmEvents)
+	m.HandleFunc("GET /api/jobs/{id}/events", s.jobEvents)
+
+	m.HandleFunc("POST /api/jobs", s.submit)
+	m.HandleFunc("POST /api/jobs/{id}/cancel", s.cancel)
+	m.HandleFunc("POST /api/jobs/{id}/priority", s.setPriority)
+
+	// Anything else under /api/ is a JSON 404 (or 405), never the front end's page.
+	m.HandleFunc("/api/", func(w http.ResponseWriter, r *http.Request) {
+		writeJSON(w, http.StatusNotFound, map[string]any{"error": "no such API endpoint: " + r.Method + " " + r.URL.Path})
+	})
+	static := http.FileServerFS(s.cfg.Static)
+	m.Handle("/", http.HandlerFunc(func(w http.ResponseWriter, r *http.Request) {
+		if r.Method != http.MethodGet && r.Method != http.MethodHead {
+			w.Header().Set("Allow", "GET, HEAD")
+			http.Error(w, "method not allowed", http.StatusMethodNotAllowed)
+			return
+		}
+		// The front end changes with the build; the browser asks again each time (and
+		// gets 304 when it has not changed).
+		w.Header().Set("Cache-Control", "no-cache")
+		static.ServeHTTP(w, r)
+	}))
+}
+
+// ServeHTTP sets the security headers every answer carries and routes the request.
+func (s *Server) ServeHTTP(w http.ResponseWriter, r *http.Request) {
+	h := w.Header()
+	h.Set("Content-Security-Policy", "default-src 'self'")
+	h.Set("X-Content-Type-Options", "nosniff")
+	h.Set("X-Frame-Options", "DENY")
+	h.Set("Referrer-Policy", "same-origin")
+	if r.Body != nil {
+		r.Body = http.MaxBytesReader(w, r.Body, MaxBodyBytes)
+	}
+	s.mux.ServeHTTP(w, r)
+}
