@@ -1,0 +1,371 @@
+// One job (#/jobs/{id}): header and actions (priority, cancel), progress figures, the live
+// tile mosaic, phases, plan, error chart, final image, blocked workers and the task table,
+// live from /api/jobs/{id}/events.
+import { ApiError, LiveStream, api, blobUrl } from "../api.js";
+import { ErrorChart } from "../components/chart.js";
+import { Mosaic } from "../components/mosaic.js";
+import { PhaseList } from "../components/phases.js";
+import { DataTable } from "../components/table.js";
+import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { frameScheduler, h, setAttr, setText } from "../dom.js";
+import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatFullTimestamp, formatRelative, jobStateLabel, parseTime, phaseShort, taskStateLabel, } from "../format.js";
+import { jobElapsed, jobEta, jobProgress } from "../progress.js";
+import { artifact, jobEnded } from "../types.js";
+import { progressLabel } from "./jobs.js";
+/** Rows the task table shows at first, and adds per "Show more". */
+const PAGE_ROWS = 500;
+const TASK_STATES = [
+    "TASK_STATE_WAITING",
+    "TASK_STATE_QUEUED",
+    "TASK_STATE_LEASED",
+    "TASK_STATE_SUCCEEDED",
+    "TASK_STATE_FAILED",
+    "TASK_STATE_CANCELLED",
+];
+function errorMessage(err) {
+    return err instanceof ApiError || err instanceof Error ? err.message : String(err);
+}
+function card(title, ...children) {
+    const id = `card-${title.toLowerCase().replace(/[^a-z]+/g, "-")}`;
+    return h("section", { class: "card", "aria-labelledby": id }, h("h2", { id, class: "card__title" }, title), ...children);
+}
+/** A figure in the stats strip: a label and a value that updates in place. */
+function stat(label) {
+    const value = h("dd", { class: "stat__value" }, "—");
+    return { element: h("div", { class: "stat" }, h("dt", { class: "stat__label" }, label), value), value };
+}
+/** The final image; sized by CSSOM (the server's CSP forbids inline style attributes). */
+function finalImg(src, alt, job) {
+    const img = h("img", { src, alt, class: "final__image", "data-testid": "final-image" });
+    if (job.width && job.height)
+        img.style.aspectRatio = `${job.width} / ${job.height}`;
+    return img;
+}
+export function jobPage(id) {
+    let job = null;
+    const tasks = [];
+    const byId = new Map();
+    let now = Date.now();
+    let stateFilter = "";
+    let phaseFilter = "";
+    let limit = PAGE_ROWS;
+    let priorityDirty = false;
+    // ---- header and actions
+    const title = h("h1", { class: "job__title" }, "Loading…");
+    const stateBadge = badge("…", "unspecified", { "data-testid": "job-state" });
+    const idLine = h("p", { class: "job__id mono muted" }, id);
+    const priorityInput = h("input", {
+        id: "job-priority",
+        type: "number",
+        min: "-1000",
+        max: "1000",
+        step: "1",
+        value: "0",
+        class: "input input--narrow",
+        "data-testid": "priority-input",
+    });
+    const priorityButton = h("button", { type: "submit", class: "button", "data-testid": "priority-submit" }, "Set");
+    const priorityForm = h("form", { class: "inline-form", "aria-label": "Priority", novalidate: true }, h("label", { for: "job-priority", class: "inline-form__label" }, "Priority"), priorityInput, priorityButton);
+    const cancelButton = h("button", { type: "button", class: "button button--danger", "data-testid": "cancel-button" }, "Cancel job");
+    const notice = h("div", { class: "notice-area" });
+    const jobError = h("div", { class: "notice notice--error", role: "alert", hidden: true });
+    function showNotice(kind, message) {
+        notice.replaceChildren(h("div", { class: `notice notice--${kind}`, role: kind === "error" ? "alert" : "status" }, message));
+    }
+    priorityInput.addEventListener("input", () => {
+        priorityDirty = true;
+    });
+    priorityForm.addEventListener("submit", async (ev) => {
+        ev.preventDefault();
+        const value = Number(priorityInput.value);
+        if (!Number.isInteger(value) || value < -1000 || value > 1000) {
+            showNotice("error", "Priority must be a whole number from -1000 to 1000.");
+            return;
+        }
+        priorityButton.disabled = true;
+        try {
+            const res = await api.setPriority(id, value);
+            priorityDirty = false;
+            applyJob(res.job);
+            showNotice("success", `Priority set to ${res.job.priority ?? 0}.`);
+        }
+        catch (err) {
+            showNotice("error", `Could not set the priority: ${errorMessage(err)}`);
+        }
+        finally {
+            priorityButton.disabled = job ? jobEnded(job) : false;
+        }
+    });
+    cancelButton.addEventListener("click", async () => {
+        cancelButton.disabled = true;
+        try {
+            const res = await api.cancel(id);
+            applyJob(res.job);
+            showNotice("success", "The job was cancelled.");
+        }
+        catch (err) {
+            showNotice("error", `Could not cancel the job: ${errorMessage(err)}`);
+            cancelButton.disabled = job ? jobEnded(job) : false;
+        }
+    });
+    // ---- stats strip
+    const progress = progressBar(0, "0%", { "data-testid": "job-progress", "aria-label": "Progress of the current round" });
+    const sRound = stat("Round");
+    const sElapsed = stat("Elapsed");
+    const sEta = stat("ETA (round)");
+    const sPhotons = stat("Photons");
+    const sSpp = stat("Samples / pixel");
+    const sError = stat("Error estimate");
+    const sRef = stat("Reference RMSE");
+    const stats = h("dl", { class: "stats" }, h("div", { class: "stat stat--wide" }, h("dt", { class: "stat__label" }, "Progress"), h("dd", { class: "stat__value" }, progress)), sRound.element, sElapsed.element, sEta.element, sPhotons.element, sSpp.element, sError.element, sRef.element);
+    // ---- image, phases, plan, chart, workers
+    const mosaic = new Mosaic();
+    const finalImage = h("div", { class: "final", hidden: true });
+    const finalCard = card("Final image", finalImage);
+    finalCard.hidden = true;
+    const phases = new PhaseList();
+    const plan = h("ul", { class: "plan" });
+    const chart = new ErrorChart();
+    const blocked = h("ul", { class: "blocked" });
+    // ---- task table
+    const stateSelect = h("select", { id: "task-state-filter", class: "input", "data-testid": "task-state-filter" }, h("option", { value: "" }, "All states"), ...TASK_STATES.map((s) => h("option", { value: s }, taskStateLabel(s))));
+    const phaseSelect = h("select", { id: "task-phase-filter", class: "input" }, h("option", { value: "" }, "All phases"));
+    const tableInfo = h("p", { class: "muted table-info", "aria-live": "polite" });
+    const moreButton = h("button", { type: "button", class: "button", hidden: true }, "Show more");
+    stateSelect.addEventListener("change", () => {
+        stateFilter = stateSelect.value;
+        limit = PAGE_ROWS;
+        render.schedule();
+    });
+    phaseSelect.addEventListener("change", () => {
+        phaseFilter = phaseSelect.value;
+        limit = PAGE_ROWS;
+        render.schedule();
+    });
+    moreButton.addEventListener("click", () => {
+        limit += PAGE_ROWS;
+        render.schedule();
+    });
+    const taskTable = new DataTable({
+        caption: "Tasks in plan order",
+        captionHidden: true,
+        className: "table--tasks table--compact",
+        key: (t) => t.id,
+        rowAttrs: (t) => ({ "data-testid": "task-row", "data-state": t.state ?? "TASK_STATE_UNSPECIFIED" }),
+        empty: "No tasks match.",
+        columns: [
+            { header: "Task", className: "mono", text: (t) => t.id },
+            { header: "Phase", text: (t) => phaseShort(t.phase) },
+            { header: "Round", className: "num", text: (t) => String(t.round ?? "") },
+            {
+                header: "State",
+                sig: (t) => t.state ?? "",
+                render: (t, td) => {
+                    const el = td.firstElementChild;
+                    if (el)
+                        updateBadge(el, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_"));
+                    else
+                        td.append(badge(taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")));
+                },
+            },
+            { header: "Attempts", className: "num", text: (t) => String(t.attempts ?? 0) },
+            { header: "Worker", className: "mono", text: (t) => t.workerId ?? "" },
+            {
+                header: "Error",
+                className: "col-error",
+                sig: (t) => t.error ?? "",
+                render: (t, td) => {
+                    td.textContent = t.error ?? "";
+                    setAttr(td, "title", t.error || null);
+                },
+            },
+        ],
+    });
+    const tasksCard = h("section", { class: "card", "aria-labelledby": "card-tasks" }, h("div", { class: "card__header" }, h("h2", { id: "card-tasks", class: "card__title" }, "Tasks"), h("div", { class: "filters" }, h("label", { for: "task-state-filter", class: "visually-hidden" }, "Filter by state"), stateSelect, h("label", { for: "task-phase-filter", class: "visually-hidden" }, "Filter by phase"), phaseSelect)), tableInfo, h("div", { class: "table-wrap" }, taskTable.element), h("div", { class: "table-more" }, moreButton));
+    const body = h("div", { class: "job__body", hidden: true }, stats, jobError, h("div", { class: "job__grid" }, h("div", { class: "job__main" }, finalCard, card("Tiles", mosaic.element), card("Error against time", chart.element)), h("div", { class: "job__side" }, card("Phases", phases.element), card("Plan", plan), card("Blocked workers", blocked))), tasksCard);
+    const missing = h("div", { class: "card empty-state", hidden: true });
+    const element = h("section", { class: "page job", "aria-labelledby": "job-title" }, h("nav", { class: "breadcrumb", "aria-label": "Breadcrumb" }, h("a", { href: "#/" }, "Jobs"), h("span", { "aria-hidden": "true" }, " / "), h("span", null, id)), h("div", { class: "page__header" }, h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine), h("div", { class: "page__actions" }, priorityForm, cancelButton)), notice, missing, body);
+    title.id = "job-title-text";
+    // ---- state updates
+    function applyJob(j) {
+        job = j;
+        render.schedule();
+    }
+    function setTasks(list) {
+        tasks.length = 0;
+        byId.clear();
+        for (const t of list) {
+            byId.set(t.id, tasks.length);
+            tasks.push(t);
+        }
+    }
+    function upsertTask(t) {
+        const i = byId.get(t.id);
+        if (i !== undefined) {
+            tasks[i] = t;
+            return;
+        }
+        // New tasks (a new round) come after the others in plan order.
+        const last = tasks[tasks.length - 1];
+        if (!last || (last.index ?? 0) <= (t.index ?? 0)) {
+            byId.set(t.id, tasks.length);
+            tasks.push(t);
+        }
+        else {
+            setTasks([...tasks, t].sort((a, b) => (a.index ?? 0) - (b.index ?? 0)));
+        }
+    }
+    let planSig = "";
+    let blockedSig = "";
+    let finalSig = "";
+    let phaseOptions = "";
+    function renderJob(j) {
+        const ended = jobEnded(j);
+        const name = j.displayName || "(unnamed scene)";
+        setText(title, name);
+        document.title = `${name} · Photon farm`;
+        updateBadge(stateBadge, jobStateLabel(j.state), enumKey(j.state, "JOB_STATE_"));
+        setAttr(stateBadge, "data-state", j.state ?? "");
+        if (!priorityDirty && document.activeElement !== priorityInput)
+            priorityInput.value = String(j.priority ?? 0);
+        priorityInput.disabled = ended;
+        priorityButton.disabled = ended;
+        cancelButton.disabled = ended;
+        setAttr(cancelButton, "title", ended ? "The job has ended" : null);
+        jobError.hidden = !j.error;
+        setText(jobError, j.error ? `Failed: ${j.error}` : "");
+        const p = jobProgress(j);
+        updateProgressBar(progress, p.fraction, progressLabel(j));
+        setText(sRound.value, ended ? `${p.roundsDone} done` : `${p.round}${p.roundsDone ? ` (${p.roundsDone} done)` : ""}`);
+        setText(sElapsed.value, formatDuration(jobElapsed(j, now)));
+        setText(sEta.value, ended ? "—" : formatEta(jobEta(j, now)));
+        const last = j.rounds?.[j.rounds.length - 1];
+        setText(sPhotons.value, last ? formatCompact(last.photons) : "—");
+        setText(sSpp.value, last ? formatCompact(last.samplesPerPixel) : "—");
+        setText(sError.value, formatError(last?.errorEstimate));
+        setText(sRef.value, formatError(last?.referenceRmse));
+        sRef.element.hidden = !(j.rounds ?? []).some((r) => r.referenceRmse !== undefined);
+        phases.update(j);
+        chart.update(j);
+        const ps = JSON.stringify(j.plan?.passes ?? []);
+        if (ps !== planSig) {
+            planSig = ps;
+            const passes = j.plan?.passes ?? [];
+            plan.replaceChildren(...(passes.length
+                ? passes.map((pass) => h("li", { class: `plan__pass ${pass.enabled ? "is-on" : "is-off"}` }, h("span", { class: "plan__mark", "aria-hidden": "true" }, pass.enabled ? "✓" : "–"), h("div", null, h("span", { class: "plan__name" }, pass.name ?? ""), h("span", { class: "visually-hidden" }, pass.enabled ? " (runs)" : " (skipped)"), pass.reason ? h("span", { class: "plan__reason" }, pass.reason) : null)))
+                : [h("li", { class: "empty" }, "No plan reported.")]));
+        }
+        const bs = JSON.stringify(j.blockedWorkers ?? []);
+        if (bs !== blockedSig) {
+            blockedSig = bs;
+            const list = j.blockedWorkers ?? [];
+            blocked.replaceChildren(...(list.length
+                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { class: "mono" }, b.workerId ?? ""), h("span", { class: "blocked__reason" }, b.reason ?? ""), h("time", { datetime: b.blockTime ?? "", class: "muted", title: formatFullTimestamp(parseTime(b.blockTime)) }, formatRelative(parseTime(b.blockTime), now))))
+                : [h("li", { class: "empty" }, "No worker is blocked.")]));
+        }
+        const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, "preview.png") : undefined;
+        const exr = artifact(j.outputs, "image.exr");
+        const fs = `${preview?.digest}|${exr?.digest}`;
+        if (fs !== finalSig) {
+            finalSig = fs;
+            finalCard.hidden = !preview;
+            finalImage.hidden = !preview;
+            finalImage.replaceChildren(...(preview?.digest
+                ? [
+                    finalImg(blobUrl(preview.digest, "preview.png"), `Final render of ${name}`, j),
+                    h("p", { class: "final__links" }, h("a", { href: blobUrl(preview.digest, "preview.png"), download: `${name}.png`, class: "button" }, "Download PNG"), exr?.digest ? h("a", { href: blobUrl(exr.digest, "image.exr"), download: `${name}.exr`, class: "button" }, "Download EXR") : null),
+                ]
+                : []));
+        }
+    }
+    function renderTasks() {
+        const counts = new Map();
+        const phasesSeen = [];
+        let filtered = [];
+        for (const t of tasks) {
+            const s = t.state ?? "";
+            counts.set(s, (counts.get(s) ?? 0) + 1);
+            const ph = t.phase ?? "";
+            if (!phasesSeen.includes(ph))
+                phasesSeen.push(ph);
+            if ((!stateFilter || s === stateFilter) && (!phaseFilter || ph === phaseFilter))
+                filtered.push(t);
+        }
+        const options = stateSelect.options;
+        for (let i = 1; i < options.length; i++) {
+            const opt = options[i];
+            setText(opt, `${taskStateLabel(opt.value)} (${counts.get(opt.value) ?? 0})`);
+        }
+        setText(options[0], `All states (${tasks.length})`);
+        const po = phasesSeen.join(",");
+        if (po !== phaseOptions) {
+            phaseOptions = po;
+            phaseSelect.replaceChildren(h("option", { value: "" }, "All phases"), ...phasesSeen.map((ph) => h("option", { value: ph }, phaseShort(ph))));
+            phaseSelect.value = phasesSeen.includes(phaseFilter) ? phaseFilter : "";
+        }
+        const total = filtered.length;
+        if (total > limit)
+            filtered = filtered.slice(0, limit);
+        taskTable.update(filtered, now);
+        setText(tableInfo, total === tasks.length
+            ? `${tasks.length} ${tasks.length === 1 ? "task" : "tasks"}${total > limit ? `, showing the first ${limit}` : ""}`
+            : `${total} of ${tasks.length} tasks match${total > limit ? `, showing the first ${limit}` : ""}`);
+        moreButton.hidden = total <= limit;
+        setText(moreButton, `Show ${Math.min(PAGE_ROWS, total - limit)} more`);
+    }
+    const render = frameScheduler(() => {
+        if (!job)
+            return;
+        body.hidden = false;
+        renderJob(job);
+        mosaic.update(job, tasks);
+        renderTasks();
+    });
+    const stream = new LiveStream(`api/jobs/${encodeURIComponent(id)}/events`, {
+        events: {
+            job: (data) => {
+                setTasks(data.tasks ?? []);
+                now = Date.now();
+                applyJob(data.job);
+            },
+            task: (data) => {
+                upsertTask(data.task);
+                now = Date.now();
+                applyJob(data.job);
+            },
+            end: (data) => {
+                stream.close();
+                now = Date.now();
+                applyJob(data.job);
+                // The last task changes may have been coalesced away: read the final task list once.
+                api.job(id).then((res) => {
+                    setTasks(res.tasks ?? []);
+                    applyJob(res.job);
+                }, () => { });
+            },
+        },
+        probe: () => api.job(id),
+        onFatal: (err) => {
+            body.hidden = true;
+            missing.hidden = false;
+            setText(title, err.status === 404 ? "Job not found" : "Not allowed");
+            stateBadge.hidden = true;
+            priorityForm.hidden = true;
+            cancelButton.hidden = true;
+            missing.replaceChildren(h("p", null, err.status === 404 ? `There is no job ${id}.` : err.message), h("p", null, h("a", { href: "#/" }, "Back to the jobs")));
+        },
+    });
+    return {
+        element,
+        title: "Job",
+        tick(t) {
+            now = t;
+            if (job && !jobEnded(job))
+                render.schedule();
+        },
+        destroy() {
+            stream.close();
+            render.cancel();
+        },
+    };
+}

@@ -1,0 +1,146 @@
+// The job list (#/): every job with its state, priority, progress, elapsed time and ETA,
+// live from /api/events ("jobs"), and the "Submit scene" upload.
+import { ApiError, LiveStream, api } from "../api.js";
+import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { DataTable } from "../components/table.js";
+import { frameScheduler, h, setText } from "../dom.js";
+import { enumKey, formatDuration, formatEta, formatFullTimestamp, formatTimestamp, jobStateLabel, parseTime, } from "../format.js";
+import { jobElapsed, jobEta, jobProgress } from "../progress.js";
+import { jobHref } from "../router.js";
+import { jobEnded } from "../types.js";
+export function progressLabel(job) {
+    const p = jobProgress(job);
+    const pct = `${Math.round(p.fraction * 100)}%`;
+    if (job.state === "JOB_STATE_QUEUED")
+        return "Queued";
+    return p.roundsDone > 0 || p.round > 1 ? `${pct} · round ${p.round}` : pct;
+}
+/** The job-state badge cell: created once per row, updated in place. */
+function renderState(job, td) {
+    const el = td.firstElementChild;
+    const label = jobStateLabel(job.state);
+    const tone = enumKey(job.state, "JOB_STATE_");
+    if (el)
+        updateBadge(el, label, tone);
+    else
+        td.append(badge(label, tone, { "data-testid": "job-state" }));
+}
+function renderProgress(job, td) {
+    const el = td.firstElementChild;
+    const p = jobProgress(job);
+    const label = progressLabel(job);
+    if (el)
+        updateProgressBar(el, p.fraction, label);
+    else
+        td.append(progressBar(p.fraction, label, { "data-testid": "job-progress", "aria-label": `Progress of ${job.displayName ?? job.id}` }));
+}
+function renderName(job, td) {
+    td.replaceChildren(h("a", { href: jobHref(job.id), class: "table__primary" }, job.displayName || "(unnamed scene)"), h("span", { class: "table__secondary mono" }, job.id));
+}
+export function jobsPage() {
+    let jobs = [];
+    let received = false;
+    let now = Date.now();
+    const table = new DataTable({
+        caption: "Jobs, newest first",
+        captionHidden: true,
+        className: "table--jobs",
+        key: (j) => j.id,
+        rowAttrs: (j) => ({ "data-testid": "job-row", "data-job-id": j.id, "data-state": j.state ?? "JOB_STATE_UNSPECIFIED" }),
+        rowHref: (j) => jobHref(j.id),
+        empty: "Loading jobs…",
+        columns: [
+            { header: "Name", sig: (j) => `${j.displayName}`, render: renderName },
+            { header: "State", sig: (j) => j.state ?? "", render: renderState },
+            { header: "Priority", className: "num", text: (j) => String(j.priority ?? 0) },
+            { header: "Progress", className: "col-progress", sig: (j) => `${j.state}|${progressLabel(j)}|${jobProgress(j).fraction}`, render: renderProgress },
+            { header: "Elapsed", className: "num", text: (j, t) => formatDuration(jobElapsed(j, t)) },
+            { header: "ETA", className: "num", text: (j, t) => (jobEnded(j) ? "—" : formatEta(jobEta(j, t))) },
+            {
+                header: "Created",
+                className: "num",
+                sig: (j, t) => formatTimestamp(parseTime(j.createTime), t),
+                render: (j, td, t) => {
+                    const ms = parseTime(j.createTime);
+                    td.replaceChildren(h("time", { datetime: j.createTime ?? "", title: formatFullTimestamp(ms) }, formatTimestamp(ms, t)));
+                },
+            },
+        ],
+    });
+    const summary = h("p", { class: "page__summary muted", "aria-live": "polite" }, "Loading jobs…");
+    const notice = h("div", { class: "notice-area" });
+    const fileInput = h("input", {
+        type: "file",
+        id: "submit-file",
+        accept: ".json,application/json",
+        class: "visually-hidden",
+        "data-testid": "submit-file",
+    });
+    const uploadLabel = h("label", { for: "submit-file", class: "button button--primary" }, "Submit scene");
+    fileInput.addEventListener("change", async () => {
+        const file = fileInput.files?.[0];
+        if (!file)
+            return;
+        uploadLabel.classList.add("is-busy");
+        notice.replaceChildren();
+        try {
+            const text = await file.text();
+            const { job } = await api.submit(text);
+            notice.replaceChildren(h("div", { class: "notice notice--success", role: "status" }, "Submitted ", h("a", { href: jobHref(job.id) }, job.displayName || job.id), "."));
+            if (!jobs.some((j) => j.id === job.id)) {
+                jobs = [job, ...jobs];
+                render.schedule();
+            }
+        }
+        catch (err) {
+            const message = err instanceof ApiError ? err.message : err instanceof Error ? err.message : String(err);
+            notice.replaceChildren(h("div", { class: "notice notice--error", role: "alert", "data-testid": "submit-error" }, h("strong", null, `Could not submit ${file.name}: `), message));
+        }
+        finally {
+            uploadLabel.classList.remove("is-busy");
+            fileInput.value = "";
+        }
+    });
+    const element = h("section", { class: "page", "aria-labelledby": "jobs-title" }, h("div", { class: "page__header" }, h("div", null, h("h1", { id: "jobs-title" }, "Jobs"), summary), h("div", { class: "page__actions" }, fileInput, uploadLabel)), notice, h("div", { class: "card card--flush table-wrap" }, table.element));
+    const render = frameScheduler(() => {
+        table.update(jobs, now);
+        if (!received)
+            return;
+        table.setEmptyText("No jobs yet. Submit a scene to start rendering.");
+        const counts = new Map();
+        for (const j of jobs)
+            counts.set(j.state ?? "", (counts.get(j.state ?? "") ?? 0) + 1);
+        const parts = [`${jobs.length} ${jobs.length === 1 ? "job" : "jobs"}`];
+        for (const s of ["JOB_STATE_RUNNING", "JOB_STATE_QUEUED", "JOB_STATE_FAILED"]) {
+            const n = counts.get(s);
+            if (n)
+                parts.push(`${n} ${jobStateLabel(s).toLowerCase()}`);
+        }
+        setText(summary, parts.join(" · "));
+    });
+    const stream = new LiveStream("api/events", {
+        events: {
+            jobs: (data) => {
+                jobs = data.jobs ?? [];
+                received = true;
+                now = Date.now();
+                render.schedule();
+            },
+        },
+        probe: () => api.jobs(),
+    });
+    render.schedule();
+    return {
+        element,
+        title: "Jobs",
+        tick(t) {
+            now = t;
+            if (jobs.some((j) => !jobEnded(j)))
+                render.schedule();
+        },
+        destroy() {
+            stream.close();
+            render.cancel();
+        },
+    };
+}

@@ -1,0 +1,99 @@
+// The workers (#/workers): host, state, current task, tasks done and failed, last
+// heartbeat and cores, live from /api/events ("workers", every 2 s).
+import { LiveStream, api } from "../api.js";
+import { DataTable } from "../components/table.js";
+import { badge, updateBadge } from "../components/widgets.js";
+import { frameScheduler, h, setText } from "../dom.js";
+import { enumKey, formatFullTimestamp, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
+import { jobHref } from "../router.js";
+/** A task id is "{job_id}.{index}". */
+function jobOfTask(taskId) {
+    const dot = taskId.lastIndexOf(".");
+    return dot > 0 ? taskId.slice(0, dot) : taskId;
+}
+export function workersPage() {
+    let workers = [];
+    let received = false;
+    let now = Date.now();
+    const table = new DataTable({
+        caption: "Workers, by registration time",
+        captionHidden: true,
+        className: "table--workers",
+        key: (w) => w.id,
+        rowAttrs: (w) => ({ "data-testid": "worker-row", "data-worker-id": w.id, "data-state": w.state ?? "WORKER_STATE_UNSPECIFIED" }),
+        empty: "Loading workers…",
+        columns: [
+            {
+                header: "Host",
+                sig: (w) => `${w.hostname}|${w.id}|${w.version}`,
+                render: (w, td) => td.replaceChildren(h("span", { class: "table__primary" }, w.hostname || "(unknown host)"), h("span", { class: "table__secondary mono", title: w.version ? `version ${w.version}` : null }, w.id)),
+            },
+            {
+                header: "State",
+                sig: (w) => w.state ?? "",
+                render: (w, td) => {
+                    const el = td.firstElementChild;
+                    const label = workerStateLabel(w.state);
+                    const tone = enumKey(w.state, "WORKER_STATE_");
+                    if (el)
+                        updateBadge(el, label, tone);
+                    else
+                        td.append(badge(label, tone, { "data-testid": "worker-state" }));
+                },
+            },
+            {
+                header: "Current task",
+                className: "mono",
+                sig: (w) => w.currentTaskId ?? "",
+                render: (w, td) => td.replaceChildren(w.currentTaskId ? h("a", { href: jobHref(jobOfTask(w.currentTaskId)) }, w.currentTaskId) : h("span", { class: "muted" }, "—")),
+            },
+            { header: "Tasks done", className: "num", text: (w) => formatNumber(w.tasksDone) },
+            { header: "Failures", className: "num", text: (w) => formatNumber(w.tasksFailed) },
+            {
+                header: "Last heartbeat",
+                className: "num",
+                sig: (w, t) => formatRelative(parseTime(w.lastHeartbeat), t),
+                render: (w, td, t) => {
+                    const ms = parseTime(w.lastHeartbeat);
+                    td.replaceChildren(h("time", { datetime: w.lastHeartbeat ?? "", title: formatFullTimestamp(ms) }, formatRelative(ms, t)));
+                },
+            },
+            { header: "Cores", className: "num", text: (w) => String(w.cores ?? 0) },
+        ],
+    });
+    const summary = h("p", { class: "page__summary muted", "aria-live": "polite" }, "Loading workers…");
+    const element = h("section", { class: "page", "aria-labelledby": "workers-title" }, h("div", { class: "page__header" }, h("div", null, h("h1", { id: "workers-title" }, "Workers"), summary)), h("div", { class: "card card--flush table-wrap" }, table.element));
+    const render = frameScheduler(() => {
+        table.update(workers, now);
+        if (!received)
+            return;
+        table.setEmptyText("No worker has registered yet.");
+        const count = (s) => workers.filter((w) => w.state === s).length;
+        const cores = workers.filter((w) => w.state !== "WORKER_STATE_LOST").reduce((n, w) => n + (w.cores ?? 0), 0);
+        setText(summary, `${workers.length} ${workers.length === 1 ? "worker" : "workers"} · ${count("WORKER_STATE_BUSY")} busy · ` +
+            `${count("WORKER_STATE_IDLE")} idle · ${count("WORKER_STATE_LOST")} lost · ${cores} cores online`);
+    });
+    const stream = new LiveStream("api/events", {
+        events: {
+            workers: (data) => {
+                workers = data.workers ?? [];
+                received = true;
+                now = Date.now();
+                render.schedule();
+            },
+        },
+        probe: () => api.workers(),
+    });
+    return {
+        element,
+        title: "Workers",
+        tick(t) {
+            now = t;
+            render.schedule();
+        },
+        destroy() {
+            stream.close();
+            render.cancel();
+        },
+    };
+}

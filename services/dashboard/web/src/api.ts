@@ -1,0 +1,200 @@
+// The dashboard server's HTTP API (services/dashboard/API.md): JSON requests, server-sent
+// event streams, and the login that any 401 answer leads to.
+//
+// Paths are relative ("api/jobs"), so the dashboard also works mounted under a prefix.
+
+import type { Job, Session, Task, WorkerInfo } from "./types.js";
+
+/** An API answer other than 2xx, with the server's {"error": "..."} message. */
+export class ApiError extends Error {
+  constructor(
+    readonly status: number,
+    message: string,
+  ) {
+    super(message);
+    this.name = "ApiError";
+  }
+}
+
+/** Shows the login form and resolves once a login succeeded. Set by main.ts. */
+type LoginPrompt = () => Promise<void>;
+
+let loginPrompt: LoginPrompt = () => Promise.reject(new Error("no login form"));
+let pendingLogin: Promise<void> | null = null;
+
+export function setLoginPrompt(prompt: LoginPrompt): void {
+  loginPrompt = prompt;
+}
+
+/** Asks for a token once, however many requests were refused at the same time. */
+export function requireLogin(): Promise<void> {
+  if (!pendingLogin) {
+    pendingLogin = loginPrompt().finally(() => {
+      pendingLogin = null;
+    });
+  }
+  return pendingLogin;
+}
+
+async function readError(res: Response): Promise<string> {
+  const text = await res.text();
+  try {
+    const body = JSON.parse(text) as { error?: unknown };
+    if (typeof body.error === "string" && body.error) return body.error;
+  } catch {
+    // not JSON: fall through to the raw text
+  }
+  return text.trim() || `${res.status} ${res.statusText}`;
+}
+
+/**
+ * Sends a request; a 401 shows the login form and, after a successful login, sends the
+ * request again. Other errors throw ApiError.
+ */
+export async function request<T>(method: string, path: string, body?: unknown): Promise<T> {
+  for (;;) {
+    const init: RequestInit = { method, credentials: "same-origin", headers: { Accept: "application/json" } };
+    if (body !== undefined) {
+      init.body = typeof body === "string" ? body : JSON.stringify(body);
+      init.headers = { Accept: "application/json", "Content-Type": "application/json" };
+    }
+    const res = await fetch(path, init);
+    if (res.status === 401) {
+      await requireLogin();
+      continue;
+    }
+    if (!res.ok) throw new ApiError(res.status, await readError(res));
+    return (await res.json()) as T;
+  }
+}
+
+/** POST /api/login: throws ApiError (401) for a token the coordinator refuses. */
+export async function login(token: string): Promise<void> {
+  const res = await fetch("api/login", {
+    method: "POST",
+    credentials: "same-origin",
+    headers: { "Content-Type": "application/json", Accept: "application/json" },
+    body: JSON.stringify({ token }),
+  });
+  if (!res.ok) throw new ApiError(res.status, await readError(res));
+}
+
+export async function logout(): Promise<void> {
+  await fetch("api/logout", { method: "POST", credentials: "same-origin" });
+}
+
+export async function getSession(): Promise<Session> {
+  const res = await fetch("api/session", { credentials: "same-origin" });
+  if (!res.ok) throw new ApiError(res.status, await readError(res));
+  return (await res.json()) as Session;
+}
+
+export const api = {
+  jobs: () => request<{ jobs?: Job[] }>("GET", "api/jobs"),
+  job: (id: string) => request<{ job: Job; tasks?: Task[] }>("GET", `api/jobs/${encodeURIComponent(id)}`),
+  workers: () => request<{ workers?: WorkerInfo[] }>("GET", "api/workers"),
+  /** The scene file's text, sent as it is (the server parses and validates it). */
+  submit: (sceneJson: string) => request<{ job: Job }>("POST", "api/jobs", sceneJson),
+  cancel: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),
+  setPriority: (id: string, priority: number) =>
+    request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/priority`, { priority }),
+};
+
+/** The URL of a content-addressed blob (cacheable forever). */
+export function blobUrl(digest: string, name: string): string {
+  return `api/blobs/${encodeURIComponent(digest)}?name=${encodeURIComponent(name)}`;
+}
+
+export type StreamStatus = "live" | "connecting";
+
+let statusListener: (status: StreamStatus) => void = () => {};
+
+/** Reports every stream's connection state (the header's "Live" indicator). */
+export function onStreamStatus(listener: (status: StreamStatus) => void): void {
+  statusListener = listener;
+}
+
+export interface StreamOptions {
+  /** Handlers by event name; each gets the event's parsed JSON. */
+  events: Record<string, (data: any) => void>;
+  /**
+   * Called when the server refused the stream (EventSource cannot see the status): a plain
+   * request to the same resource, whose 401 leads to the login form and whose other errors
+   * (404) reach onFatal. The stream reconnects after it resolves.
+   */
+  probe: () => Promise<unknown>;
+  onFatal?: (err: ApiError) => void;
+}
+
+/**
+ * An EventSource that survives logins and server restarts: reconnects with backoff,
+ * and closes for good on close() (or when a handler calls it, e.g. after "end").
+ */
+export class LiveStream {
+  private source: EventSource | null = null;
+  private closed = false;
+  private delay = 500;
+  private timer: number | undefined;
+
+  constructor(
+    private readonly url: string,
+    private readonly opts: StreamOptions,
+  ) {
+    this.open();
+  }
+
+  private open(): void {
+    if (this.closed) return;
+    const source = new EventSource(this.url, { withCredentials: true });
+    this.source = source;
+    for (const [name, handler] of Object.entries(this.opts.events)) {
+      source.addEventListener(name, (ev) => {
+        if (this.closed) return;
+        let data: unknown;
+        try {
+          data = JSON.parse((ev as MessageEvent<string>).data);
+        } catch (err) {
+          console.error(`bad ${name} event from ${this.url}`, err);
+          return;
+        }
+        handler(data);
+      });
+    }
+    source.onopen = () => {
+      this.delay = 500;
+      statusListener("live");
+    };
+    source.onerror = () => {
+      if (this.closed) return;
+      statusListener("connecting");
+      // CONNECTING: the browser retries by itself. CLOSED: the server answered with an
+      // error status (401, 404, 503...): find out which, then reconnect ourselves.
+      if (source.readyState === EventSource.CLOSED) {
+        source.close();
+        void this.recover();
+      }
+    };
+  }
+
+  private async recover(): Promise<void> {
+    try {
+      await this.opts.probe();
+    } catch (err) {
+      if (err instanceof ApiError && (err.status === 404 || err.status === 403) && this.opts.onFatal) {
+        this.close();
+        this.opts.onFatal(err);
+        return;
+      }
+    }
+    if (this.closed) return;
+    this.timer = window.setTimeout(() => this.open(), this.delay);
+    this.delay = Math.min(this.delay * 2, 10_000);
+  }
+
+  close(): void {
+    this.closed = true;
+    window.clearTimeout(this.timer);
+    this.source?.close();
+    this.source = null;
+  }
+}

@@ -1,0 +1,45 @@
+// Small shared widgets: state badges and progress bars.
+
+import { h, setAttr, setText } from "../dom.js";
+
+/** A coloured state badge; tone is the CSS modifier ("running", "failed", "idle"...). */
+export function badge(label: string, tone: string, attrs?: Record<string, string>): HTMLSpanElement {
+  return h("span", { class: `badge badge--${tone}`, ...attrs }, label);
+}
+
+export function updateBadge(el: HTMLElement, label: string, tone: string): void {
+  setText(el, label);
+  const cls = `badge badge--${tone}`;
+  if (el.className !== cls) el.className = cls;
+}
+
+/**
+ * A progress bar (role=progressbar, with data-percent for tests) and its label.
+ * fraction in [0, 1].
+ */
+export function progressBar(fraction: number, label: string, attrs?: Record<string, string>): HTMLDivElement {
+  const fill = h("div", { class: "bar__fill" });
+  const el = h(
+    "div",
+    { class: "bar", role: "progressbar", "aria-valuemin": "0", "aria-valuemax": "100", ...attrs },
+    h("div", { class: "bar__track" }, fill),
+    h("span", { class: "bar__label" }),
+  );
+  updateProgressBar(el, fraction, label);
+  return el;
+}
+
+export function updateProgressBar(el: HTMLElement, fraction: number, label: string): void {
+  const pct = Math.round(Math.min(1, Math.max(0, fraction)) * 1000) / 10;
+  setAttr(el, "data-percent", String(pct));
+  setAttr(el, "aria-valuenow", String(pct));
+  setAttr(el, "aria-valuetext", label);
+  const fill = el.querySelector<HTMLElement>(".bar__fill");
+  if (fill) {
+    const w = `${pct}%`;
+    if (fill.style.width !== w) fill.style.width = w;
+    fill.classList.toggle("bar__fill--done", pct >= 100);
+  }
+  const text = el.querySelector(".bar__label");
+  if (text) setText(text, label);
+}
