@@ -7,12 +7,12 @@ SCENE ?= scenes/cornell-box.json
 # Go's usual install folder, for shells whose PATH lacks it.
 export PATH := $(PATH):/usr/local/go/bin
 
-.PHONY: demo test build deps cpp go check-proto test-cpp test-go fuzz fault-full bench clean
+.PHONY: demo test build deps cpp go check-proto test-cpp check-dashboard test-go fuzz fault-full bench clean
 
 demo: build
 	$(BIN)/farm render $(SCENE) -o out/ --workers 2
 
-test: build check-proto test-cpp test-go fuzz
+test: build check-proto check-dashboard test-cpp test-go fuzz
 
 deps:
 	@scripts/install-deps.sh
@@ -28,6 +28,11 @@ go:
 
 check-proto:
 	@scripts/gen-proto.sh --check
+
+# The dashboard's built front end (services/dashboard/web/dist) is committed so that
+# go build embeds it without npm; this rebuilds it and fails if the commit is stale.
+check-dashboard:
+	@services/dashboard/web/build.sh --check
 
 test-cpp: cpp
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)

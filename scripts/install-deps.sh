@@ -9,12 +9,17 @@ debian_packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libtbb-dev libtinyobjloader-dev libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev
   redis-server
+  chromium
 )
 
 missing=()
 for pkg in "${debian_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")
 done
+# Node drives the dashboard's browser test (tests/dashboard). Any node and npm on PATH will
+# do (a machine may carry them from elsewhere than Debian, whose npm would conflict).
+command -v node >/dev/null 2>&1 || missing+=(nodejs)
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 
 if [ ${#missing[@]} -gt 0 ]; then
   echo "install-deps: installing ${missing[*]}"
@@ -36,4 +41,21 @@ have_go=$(go env GOVERSION | sed 's/^go//')
 if [ "$(printf '%s\n%s\n' "$need_go" "$have_go" | sort -V | head -n1)" != "$need_go" ]; then
   echo "install-deps: Go $have_go is older than the $need_go that go.mod needs" >&2
   exit 1
+fi
+
+# The dashboard's browser test: playwright-core, pinned in tests/dashboard/e2e/package-lock.json,
+# drives Debian's /usr/bin/chromium (installed above). playwright-core never downloads a
+# browser; the variable says so to anything else that might. npm ci runs only when an
+# installed package differs from the lock file.
+e2e="$(dirname "$0")/../tests/dashboard/e2e"
+if ! (cd "$e2e" && node -e '
+  const fs = require("fs");
+  const lock = JSON.parse(fs.readFileSync("package-lock.json", "utf8"));
+  for (const [path, p] of Object.entries(lock.packages)) {
+    if (!path) continue;
+    const got = JSON.parse(fs.readFileSync(path + "/package.json", "utf8")).version;
+    if (got !== p.version) process.exit(1);
+  }' 2>/dev/null); then
+  echo "install-deps: npm ci in tests/dashboard/e2e"
+  (cd "$e2e" && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error >/dev/null)
 fi

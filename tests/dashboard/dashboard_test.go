@@ -1,0 +1,128 @@
+// Package dashboard_test runs the dashboard's browser test (issue 6's acceptance): a real
+// farm with tokens (a coordinator, two workers), `farm dashboard` in front of it, and
+// e2e/dashboard.spec.mjs driving Debian's chromium through playwright-core against it.
+package dashboard_test
+
+import (
+	"bytes"
+	"context"
+	"os"
+	"os/exec"
+	"path/filepath"
+	"regexp"
+	"testing"
+	"time"
+
+	"photonfarm/client"
+	"photonfarm/tests/farmtest"
+)
+
+const (
+	clientToken = "dashboard-client-token-for-the-test"
+	workerToken = "dashboard-worker-token-for-the-test"
+	chromium    = "/usr/bin/chromium"
+)
+
+// TestDashboardInABrowser logs in, submits a scene through the file input, watches its
+// progress and tiles arrive, sees the final image and both workers, saves a screenshot of
+// the job page, and cancels a long job: every step is in e2e/dashboard.spec.mjs, which
+// prints one line per step.
+func TestDashboardInABrowser(t *testing.T) {
+	e2e := filepath.Join(farmtest.RepoRoot(), "tests", "dashboard", "e2e")
+	node := browserTools(t, e2e)
+
+	f := farmtest.StartFarm(t, tokenFlags(t), client.WithToken(clientToken))
+	for range 2 {
+		w := f.StartWorker(t, "--token", workerToken)
+		if w.WorkerID(t, 15*time.Second) == "" {
+			t.Fatalf("%s did not register within 15 s", w.Name)
+		}
+	}
+	url := startDashboard(t, f)
+
+	shots := os.Getenv("DASHBOARD_SCREENSHOT_DIR")
+	if shots == "" {
+		shots = t.TempDir()
+	} else if abs, err := filepath.Abs(shots); err == nil {
+		shots = abs
+	}
+	t.Logf("dashboard %s; screenshots go to %s", url, shots)
+
+	ctx, cancel := context.WithTimeout(context.Background(), 5*time.Minute)
+	defer cancel()
+	cmd := exec.CommandContext(ctx, node, "dashboard.spec.mjs")
+	cmd.Dir = e2e
+	cmd.Env = append(os.Environ(),
+		"DASHBOARD_URL="+url,
+		"FARM_TOKEN="+clientToken,
+		"SCENE_PATH="+filepath.Join(e2e, "scene.json"),
+		"SCREENSHOT_DIR="+shots,
+		"CHROMIUM="+chromium,
+		"PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1",
+	)
+	var out bytes.Buffer
+	cmd.Stdout, cmd.Stderr = &out, &out
+	err := cmd.Run()
+	if ctx.Err() != nil {
+		t.Fatalf("dashboard.spec.mjs did not finish within 5 minutes; its output:\n%s", out.String())
+	}
+	if err != nil {
+		t.Fatalf("dashboard.spec.mjs failed (%v); its output:\n%s", err, out.String())
+	}
+	t.Logf("dashboard.spec.mjs:\n%s", out.String())
+	t.Logf("job page screenshot: %s", filepath.Join(shots, "job-page.png"))
+}
+
+// browserTools checks that node, chromium and the pinned playwright-core are installed and
+// returns node's path. Missing, the test fails (never skips) saying how to install them.
+func browserTools(t *testing.T, e2e string) string {
+	t.Helper()
+	const fix = "; run scripts/install-deps.sh (it installs Debian's chromium, node and npm, and runs npm ci in tests/dashboard/e2e)"
+	node, err := exec.LookPath("node")
+	if err != nil {
+		t.Fatal("node is not on PATH" + fix)
+	}
+	if _, err := os.Stat(chromium); err != nil {
+		t.Fatalf("%s: %v%s", chromium, err, fix)
+	}
+	if _, err := os.Stat(filepath.Join(e2e, "node_modules", "playwright-core", "package.json")); err != nil {
+		t.Fatalf("playwright-core is not installed in tests/dashboard/e2e/node_modules%s", fix)
+	}
+	return node
+}
+
+// tokenFlags writes token files and returns the coordinator flags that name them.
+func tokenFlags(t *testing.T) []string {
+	dir := t.TempDir()
+	clientFile, workerFile := filepath.Join(dir, "client-tokens"), filepath.Join(dir, "worker-tokens")
+	if err := os.WriteFile(clientFile, []byte(clientToken+"\n"), 0o600); err != nil {
+		t.Fatal(err)
+	}
+	if err := os.WriteFile(workerFile, []byte(workerToken+"\n"), 0o600); err != nil {
+		t.Fatal(err)
+	}
+	return []string{"--client-token-file", clientFile, "--worker-token-file", workerFile}
+}
+
+var dashboardLine = regexp.MustCompile(`dashboard on (http://\S+)`)
+
+// startDashboard runs `farm dashboard` in front of the farm's coordinator and returns the
+// URL it says it serves on (the line may go to stdout or stderr; both reach its log).
+func startDashboard(t *testing.T, f *farmtest.Farm) string {
+	t.Helper()
+	p := farmtest.Start(t, "dashboard", filepath.Join(f.Bin, "farm"),
+		[]string{"dashboard", "--coordinator", f.Addr, "--listen", "127.0.0.1:0"}, nil)
+	deadline := time.Now().Add(15 * time.Second)
+	for time.Now().Before(deadline) {
+		b, _ := os.ReadFile(p.LogPath)
+		if m := dashboardLine.FindSubmatch(b); m != nil {
+			return string(m[1])
+		}
+		if p.Exited() {
+			t.Fatalf("farm dashboard exited (%v) before saying where it serves:\n%s", p.Err(), p.LogTail(40))
+		}
+		time.Sleep(20 * time.Millisecond)
+	}
+	t.Fatalf("farm dashboard did not print `dashboard on http://...` within 15 s:\n%s", p.LogTail(40))
+	return ""
+}

@@ -1,0 +1,298 @@
+// The dashboard's browser test (issue 6's acceptance), run by tests/dashboard/dashboard_test.go
+// against a real farm (a coordinator with tokens, two workers, `farm dashboard`). A plain
+// Node script: playwright-core drives Debian's /usr/bin/chromium; no test runner, no
+// downloaded browser. Exit status 0 when every step passed, 1 otherwise; each step prints
+// one line, and a failure prints what was seen and saves SCREENSHOT_DIR/failure.png.
+//
+// Environment:
+//   DASHBOARD_URL   where `farm dashboard` serves, e.g. http://127.0.0.1:40123/
+//   FARM_TOKEN      the coordinator's client token (the dashboard's login)
+//   SCENE_PATH      a self-contained scene JSON that renders in several seconds
+//   SCREENSHOT_DIR  where job-page.png (and failure.png) go
+//   CHROMIUM        the browser, /usr/bin/chromium unless set
+
+import fs from 'node:fs';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const env = (name, fallback) => {
+  const v = process.env[name] ?? fallback;
+  if (!v) {
+    console.error(`dashboard.spec: ${name} is not set`);
+    process.exit(1);
+  }
+  return v;
+};
+const baseURL = env('DASHBOARD_URL').replace(/\/?$/, '/');
+const token = env('FARM_TOKEN');
+const scenePath = env('SCENE_PATH');
+const shotDir = env('SCREENSHOT_DIR');
+const browserPath = env('CHROMIUM', '/usr/bin/chromium');
+
+const api = (p) => new URL(p.replace(/^\//, ''), baseURL).toString();
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const started = Date.now();
+const clock = () => `${((Date.now() - started) / 1000).toFixed(1).padStart(5)}s`;
+const tid = (id) => `[data-testid="${id}"]`;
+
+// "JOB_STATE_RUNNING", "running", "Running" all mean running.
+const norm = (s) => (s ?? '').trim().toLowerCase().replace(/^job_state_/, '').replace(/^worker_state_/, '');
+const ended = (s) => ['succeeded', 'failed', 'cancelled', 'canceled'].includes(norm(s));
+
+class Failure extends Error {}
+function check(cond, message) {
+  if (!cond) throw new Failure(message);
+}
+
+// Polls fn until it returns a truthy value, which it returns; throws naming `what` (and
+// the last value seen, from describe) after timeoutMs.
+async function waitFor(what, timeoutMs, fn, describe) {
+  const deadline = Date.now() + timeoutMs;
+  let last;
+  for (;;) {
+    try {
+      last = await fn();
+      if (last) return last;
+    } catch (e) {
+      last = `error: ${e.message}`;
+    }
+    if (Date.now() > deadline) {
+      const seen = describe ? await describe().catch((e) => `error: ${e.message}`) : last;
+      throw new Failure(`${what}: not within ${timeoutMs / 1000}s (last seen: ${JSON.stringify(seen)})`);
+    }
+    await sleep(100);
+  }
+}
+
+let current = '';
+async function step(name, fn) {
+  current = name;
+  const t0 = Date.now();
+  const result = await fn();
+  console.log(`${clock()}  ok   ${name} (${((Date.now() - t0) / 1000).toFixed(1)}s)`);
+  return result;
+}
+
+const sceneText = fs.readFileSync(scenePath, 'utf8');
+const scene = JSON.parse(sceneText);
+// The job to cancel: the same scene, far too long to finish during the test.
+const longScene = structuredClone(scene);
+longScene.name = `${scene.name}-long`;
+longScene.film = { ...scene.film, width: 640, height: 480 };
+longScene.sampling = { ...scene.sampling, samplesPerPixel: 256 };
+
+fs.mkdirSync(shotDir, { recursive: true });
+const browser = await chromium.launch({
+  executablePath: browserPath,
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+const context = await browser.newContext({ viewport: { width: 1280, height: 900 } });
+const pages = [];
+const browserLog = [];
+async function newPage() {
+  const p = await context.newPage();
+  const n = pages.push(p);
+  p.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') browserLog.push(`page ${n} console.${m.type()}: ${m.text()}`); });
+  p.on('pageerror', (e) => browserLog.push(`page ${n} uncaught: ${e.message}`));
+  p.on('response', (r) => { if (r.status() >= 400) browserLog.push(`page ${n} HTTP ${r.status()} ${r.request().method()} ${r.url()}`); });
+  p.on('dialog', (d) => d.accept()); // a "really cancel?" confirm
+  return p;
+}
+
+// Submits a scene through the jobs page's file input and returns the new job's id. The
+// dashboard's POST must answer 200; the id is the one job /api/jobs lists that it did not
+// list before (the response body is not read: Chromium keeps it only if the page reads it).
+async function submitThroughFileInput(page, sceneJSON, fileName) {
+  const before = new Set((await jobs(page)).map((j) => j.id));
+  await page.goto(baseURL + '#/');
+  const input = page.locator(tid('submit-file'));
+  await waitFor('the submit-file input', 15000, () => input.count());
+  const answered = page.waitForResponse((r) => r.request().method() === 'POST' && new URL(r.url()).pathname === '/api/jobs', { timeout: 30000 });
+  await input.setInputFiles({ name: fileName, mimeType: 'application/json', buffer: Buffer.from(sceneJSON) });
+  const response = await answered;
+  if (response.status() !== 200) {
+    const body = await Promise.race([response.text(), sleep(2000).then(() => '(body not available)')]).catch(() => '');
+    throw new Failure(`POST /api/jobs answered ${response.status()}: ${body}`);
+  }
+  const added = await waitFor('the submitted job in GET /api/jobs', 10000, async () =>
+    (await jobs(page)).filter((j) => !before.has(j.id)));
+  check(added.length === 1, `one submit made ${added.length} jobs: ${added.map((j) => j.id)}`);
+  return added[0].id;
+}
+
+async function jobs(page) {
+  const r = await page.request.get(api('/api/jobs'));
+  check(r.status() === 200, `GET /api/jobs answered ${r.status()}: ${await r.text()}`);
+  return (await r.json()).jobs ?? [];
+}
+
+async function workers(page) {
+  const r = await page.request.get(api('/api/workers'));
+  check(r.status() === 200, `GET /api/workers answered ${r.status()}: ${await r.text()}`);
+  return (await r.json()).workers ?? [];
+}
+
+let exitCode = 0;
+try {
+  const list = await newPage();
+
+  // (a) Without a token: actions and reads are refused, and the login form shows.
+  await step('without a token, POST /api/jobs and GET /api/jobs answer 401 and the login form shows', async () => {
+    await list.goto(baseURL);
+    const post = await list.request.post(api('/api/jobs'), { data: sceneText, headers: { 'content-type': 'application/json' } });
+    check(post.status() === 401, `POST /api/jobs without a token answered ${post.status()}: ${await post.text()}`);
+    const get = await list.request.get(api('/api/jobs'));
+    check(get.status() === 401, `GET /api/jobs without a token answered ${get.status()}`);
+    const session = await (await list.request.get(api('/api/session'))).json();
+    check(session.authenticated === false && session.authRequired === true, `GET /api/session: ${JSON.stringify(session)}`);
+    await list.locator(tid('login-token')).waitFor({ state: 'visible', timeout: 15000 });
+    const wrong = await list.request.post(api('/api/login'), { data: { token: 'not-the-token' } });
+    check(wrong.status() === 401, `POST /api/login with a wrong token answered ${wrong.status()}`);
+  });
+
+  // (b) Log in through the form.
+  await step('logging in with the token through the form', async () => {
+    await list.locator(tid('login-token')).fill(token);
+    await list.locator(tid('login-submit')).click();
+    await list.locator(tid('login-token')).waitFor({ state: 'hidden', timeout: 15000 });
+    const session = await (await list.request.get(api('/api/session'))).json();
+    check(session.authenticated === true, `GET /api/session after login: ${JSON.stringify(session)}`);
+    const jobs = await (await list.request.get(api('/api/jobs'))).json();
+    check((jobs.jobs ?? []).length === 0, `the refused POST made a job: ${JSON.stringify(jobs)}`);
+  });
+
+  // (c) Submit the scene through the file input.
+  const jobId = await step('submitting the scene through the submit-file input', () =>
+    submitThroughFileInput(list, sceneText, path.basename(scenePath)));
+  console.log(`             job ${jobId}`);
+
+  // (d) + (e): the list page shows the job's progress rising, while a second page on the
+  // job shows tiles arriving in the mosaic, both before the job ends.
+  const row = list.locator(`${tid('job-row')}[data-job-id="${jobId}"]`);
+  await step('the job appears in the job list', () =>
+    waitFor(`a job-row with data-job-id=${jobId}`, 15000, () => row.count(),
+      () => list.locator(tid('job-row')).evaluateAll((rs) => rs.map((r) => r.dataset.jobId))));
+
+  const jobPage = await newPage();
+  await jobPage.goto(`${baseURL}#/jobs/${jobId}`);
+
+  const samples = []; // {state, percent, tiles, loadedTiles}
+  await step('watching the job run (list progress, job page mosaic)', () =>
+    waitFor('the job to end', 180000, async () => {
+      const state = await row.getAttribute('data-state', { timeout: 2000 });
+      // The row's progress bar; the job page's if the row has none.
+      const inRow = row.locator(tid('job-progress'));
+      const bar = (await inRow.count()) ? inRow.first() : jobPage.locator(tid('job-progress')).first();
+      const pct = await bar.getAttribute('data-percent', { timeout: 2000 });
+      const tiles = await jobPage.locator(`${tid('mosaic')} ${tid('tile')}`).count();
+      const s = { state: norm(state), percent: pct === null ? NaN : Number(pct), tiles };
+      const last = samples[samples.length - 1];
+      if (!last || last.state !== s.state || last.percent !== s.percent || last.tiles !== s.tiles) samples.push(s);
+      return ended(state);
+    }, () => samples.slice(-5)));
+  const pretty = samples.map((s) => `${s.state}:${s.percent}%/${s.tiles}t`).join(' ');
+  console.log(`             seen (state:percent/tiles): ${pretty}`);
+
+  await step('progress rose while the job ran', () => {
+    const final = samples[samples.length - 1];
+    check(final.state === 'succeeded', `the job ended ${final.state}`);
+    const percents = samples.map((s) => s.percent);
+    check(percents.every((p) => Number.isFinite(p) && p >= 0 && p <= 100), `data-percent values out of [0, 100]: ${percents}`);
+    for (let i = 1; i < percents.length; i++) {
+      check(percents[i] >= percents[i - 1], `data-percent fell from ${percents[i - 1]} to ${percents[i]}`);
+    }
+    const during = [...new Set(samples.filter((s) => !ended(s.state) && s.percent > 0 && s.percent < 100).map((s) => s.percent))];
+    check(during.length >= 2, `want at least two distinct data-percent values in (0, 100) before the job ended, saw ${JSON.stringify(during)}`);
+    check(final.percent === 100, `the succeeded job shows ${final.percent}%, want 100`);
+  });
+
+  await step('tiles appeared in the mosaic before the job ended', async () => {
+    const before = samples.filter((s) => !ended(s.state)).map((s) => s.tiles);
+    const most = Math.max(0, ...before);
+    check(most > 0, `no tile element in the mosaic while the job ran (counts: ${before})`);
+    check(new Set(before.filter((n) => n > 0)).size >= 2, `the tile count did not grow while the job ran (counts: ${before})`);
+    // The tiles are the workers' tile.png previews: they decode.
+    const loaded = await waitFor('a tile image to load', 10000, () =>
+      jobPage.locator(`${tid('mosaic')} ${tid('tile')}`).evaluateAll((ts) => ts.filter((t) => t.complete && t.naturalWidth > 0).length));
+    console.log(`             ${most} tiles while running; ${loaded} decoded tile images now`);
+  });
+
+  // (f) The final image.
+  await step('the final image shows once the job succeeded', async () => {
+    const img = jobPage.locator(tid('final-image'));
+    await img.waitFor({ state: 'visible', timeout: 15000 });
+    const size = await waitFor('final-image to load', 15000, () =>
+      img.evaluate((el) => (el.complete && el.naturalWidth > 0 ? [el.naturalWidth, el.naturalHeight] : null)));
+    check(size[0] === scene.film.width && size[1] === scene.film.height,
+      `final-image is ${size[0]}x${size[1]}, want ${scene.film.width}x${scene.film.height}`);
+    await waitFor('job-state to say succeeded', 10000, async () =>
+      /succeeded/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
+    () => jobPage.locator(tid('job-state')).first().innerText());
+  });
+
+  // (h) The job page, for people to look at.
+  const shot = path.join(shotDir, 'job-page.png');
+  await step(`screenshot of the job page to ${shot}`, () => jobPage.screenshot({ path: shot, fullPage: true }));
+
+  // (g) Both workers are listed.
+  await step('the workers page lists both workers', async () => {
+    await list.goto(`${baseURL}#/workers`);
+    await waitFor('two worker-row elements', 15000, async () => (await list.locator(tid('worker-row')).count()) === 2,
+      () => list.locator(tid('worker-row')).allInnerTexts());
+  });
+
+  // (i) A long job, cancelled from its page: the state turns cancelled and the workers
+  // come back to idle.
+  const longId = await step('submitting a long job', () =>
+    submitThroughFileInput(list, JSON.stringify(longScene), 'long.json'));
+  console.log(`             job ${longId}`);
+  await jobPage.goto(`${baseURL}#/jobs/${longId}`);
+  await step('the long job keeps a worker busy', () =>
+    waitFor('a busy worker', 60000, async () => (await workers(list)).some((w) => norm(w.state) === 'busy' && w.currentTaskId),
+      () => workers(list)));
+  const cancelledAt = await step('cancel-button cancels it', async () => {
+    await jobPage.locator(tid('cancel-button')).click({ timeout: 15000 });
+    await waitFor('job-state to say cancelled', 10000, async () =>
+      /cancel/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
+    () => jobPage.locator(tid('job-state')).first().innerText());
+    const r = await list.request.get(api(`/api/jobs/${longId}`));
+    const state = norm((await r.json())?.job?.state);
+    check(state === 'cancelled', `GET /api/jobs/${longId} says ${state}`);
+    return Date.now();
+  });
+  await step('the workers are idle within 10 s of the cancel', async () => {
+    await waitFor('every worker idle', 10000, async () => {
+      const ws = await workers(list);
+      return ws.length === 2 && ws.every((w) => norm(w.state) === 'idle' && !w.currentTaskId);
+    }, () => workers(list));
+    console.log(`             idle ${((Date.now() - cancelledAt) / 1000).toFixed(1)}s after the job showed cancelled`);
+  });
+
+  console.log(`${clock()}  PASS dashboard.spec (screenshot: ${shot})`);
+} catch (e) {
+  exitCode = 1;
+  console.log(`${clock()}  FAIL ${current}`);
+  console.log(`             ${e instanceof Failure ? e.message : e.stack}`);
+  for (const [i, p] of pages.entries()) {
+    const shot = path.join(shotDir, `failure-page${i + 1}.png`);
+    try {
+      await p.screenshot({ path: shot, fullPage: true, timeout: 5000 });
+      console.log(`             page ${i + 1} (${p.url()}) saved to ${shot}`);
+    } catch { /* the page may be gone */ }
+  }
+} finally {
+  if (browserLog.length) {
+    console.log('browser log (errors, warnings, HTTP >= 400; the 401s before login are expected):');
+    // Identical lines (a re-render repeating one error) are counted, not repeated.
+    const counts = new Map();
+    for (const l of browserLog) {
+      const key = l.length > 300 ? `${l.slice(0, 300)}…` : l;
+      counts.set(key, (counts.get(key) ?? 0) + 1);
+    }
+    for (const [l, n] of [...counts].slice(-40)) console.log(`  ${n > 1 ? `(${n}x) ` : ''}${l}`);
+  }
+  await browser.close().catch(() => {});
+}
+process.exit(exitCode);
