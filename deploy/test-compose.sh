@@ -1,0 +1,179 @@
+#!/usr/bin/env bash
+# Issue 7's compose test (make compose-test): runs the docker-compose farm for real.
+#
+#  1. starts a Docker engine if none answers (installing docker.io, docker-compose and
+#     debootstrap if they are missing), builds the images (deploy/build-images.sh);
+#  2. brings up Redis, coordinator, dashboard and 2 workers under a unique project name,
+#     with random tokens and free host ports;
+#  3. submits the Cornell box (at 128x128) from the host with build/bin/farm, waits, fetches
+#     the EXR and PNG and checks both are byte-identical to `farm render` of the same scene;
+#  4. submits a longer job (256x256, 4 samples), kills one worker container while tiles are
+#     rendering, checks the job still succeeds and is byte-identical too;
+#  5. tears everything down (docker-compose down -v) on success and on failure.
+set -euo pipefail
+deploy="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$deploy/.." && pwd)"
+bin="${FARM_BIN_DIR:-$root/build/bin}"
+export PATH="$PATH:/usr/local/go/bin"
+
+t_start=$EPOCHREALTIME
+t_step=$EPOCHREALTIME
+elapsed() { awk -v a="$1" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1fs", b - a }'; }
+step() { echo "compose-test: $* ($(elapsed "$t_step"))"; t_step=$EPOCHREALTIME; }
+fail() { echo "compose-test: FAIL: $*" >&2; exit 1; }
+
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+
+# 1. A Docker engine and docker-compose.
+missing=()
+command -v docker >/dev/null || missing+=(docker.io)
+command -v dockerd >/dev/null || missing+=(docker.io)
+command -v docker-compose >/dev/null || docker compose version >/dev/null 2>&1 || missing+=(docker-compose)
+command -v debootstrap >/dev/null || missing+=(debootstrap)
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "compose-test: installing ${missing[*]}"
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+if command -v docker-compose >/dev/null; then compose=(docker-compose); else compose=(docker compose); fi
+
+work=$(mktemp -d /tmp/farm-compose-test.XXXXXX)
+dockerd_pid=""
+project="farmtest$$$RANDOM"
+env_file="$work/farm.env"
+up=""
+
+dc() { "${compose[@]}" --env-file "$env_file" -p "$project" -f "$deploy/compose.yaml" "$@"; }
+
+cleanup() {
+  status=$?
+  set +e
+  if [ -n "$up" ]; then
+    if [ "$status" -ne 0 ]; then
+      echo "compose-test: logs of the failed run (last 40 lines a service):" >&2
+      dc logs --no-color --tail=40 >&2
+    fi
+    t=$EPOCHREALTIME
+    dc down -v --remove-orphans -t 10 >/dev/null 2>&1
+    echo "compose-test: down -v ($(elapsed "$t"))"
+  fi
+  if [ -n "$dockerd_pid" ]; then
+    kill "$dockerd_pid" 2>/dev/null && wait "$dockerd_pid" 2>/dev/null
+    echo "compose-test: stopped the dockerd this test started"
+  fi
+  rm -rf "$work"
+  echo "compose-test: $([ "$status" -eq 0 ] && echo PASS || echo FAIL) in $(elapsed "$t_start")"
+  exit "$status"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+if ! docker info >/dev/null 2>&1; then
+  $sudo dockerd >"$work/dockerd.log" 2>&1 &
+  dockerd_pid=$!
+  for _ in $(seq 120); do docker info >/dev/null 2>&1 && break; sleep 0.5; done
+  docker info >/dev/null 2>&1 || { cat "$work/dockerd.log" >&2; fail "dockerd did not start"; }
+  step "started dockerd"
+fi
+
+# 2. Binaries on the host (the reference render and the CLI), then the images.
+[ -x "$bin/farm" ] && [ -x "$bin/farm-worker" ] || fail "no $bin/farm or farm-worker: run make build"
+"$root/deploy/build-images.sh"
+step "images built"
+
+# Random tokens, free host ports, a short lease so that a killed worker's task is
+# requeued quickly.
+rand_hex() { od -An -tx1 -N24 /dev/urandom | tr -d ' \n'; }
+free_port() {
+  local p
+  while :; do
+    p=$((20000 + RANDOM % 20000))
+    (exec 3<>"/dev/tcp/127.0.0.1/$p") 2>/dev/null || { echo "$p"; return; }
+  done
+}
+client_token=$(rand_hex)
+coord_port=$(free_port)
+cat >"$env_file" <<ENV
+FARM_CLIENT_TOKEN=$client_token
+FARM_WORKER_TOKEN=$(rand_hex)
+FARM_BIND=127.0.0.1
+FARM_COORDINATOR_PORT=$coord_port
+FARM_DASHBOARD_PORT=$(free_port)
+FARM_METRICS_PORT=$(free_port)
+FARM_WORKERS=2
+FARM_WORKER_THREADS=1
+FARM_LEASE_DURATION=5s
+FARM_IMAGE_TAG=${FARM_IMAGE_TAG:-local}
+ENV
+. "$env_file"
+
+up=1
+dc up -d --scale worker=2 >"$work/up.log" 2>&1 || { cat "$work/up.log" >&2; fail "docker-compose up"; }
+for _ in $(seq 60); do
+  unhealthy=$(docker ps --filter "label=com.docker.compose.project=$project" \
+    --format '{{.Names}} {{.Status}}' | grep -v '(healthy)' || true)
+  [ -z "$unhealthy" ] && break
+  sleep 1
+done
+[ -z "$unhealthy" ] || fail "not healthy after 60 s: $unhealthy"
+workers=$(dc ps -q worker | wc -l)
+[ "$workers" -eq 2 ] || fail "expected 2 worker containers, got $workers"
+step "farm up and healthy: redis, coordinator, dashboard, $workers workers (project $project)"
+
+export FARM_TOKEN="$client_token" FARM_COORDINATOR="127.0.0.1:$coord_port"
+curl -fsS "http://127.0.0.1:$FARM_METRICS_PORT/metrics" | grep -q '^farm_jobs_submitted_total' ||
+  fail "no farm metrics on 127.0.0.1:$FARM_METRICS_PORT"
+curl -fsS -o /dev/null "http://127.0.0.1:$FARM_DASHBOARD_PORT/" || fail "no dashboard on :$FARM_DASHBOARD_PORT"
+
+# scene NAME WIDTH SPP: a copy of the Cornell box at WIDTHxWIDTH in $work/NAME/.
+scene() {
+  mkdir -p "$work/$1"
+  jq --argjson w "$2" --argjson s "$3" \
+    '.film.width = $w | .film.height = $w | .sampling.samplesPerPixel = $s' \
+    "$root/scenes/cornell-box.json" >"$work/$1/cornell-box.json"
+  echo "$work/$1/cornell-box.json"
+}
+# same DIR_A DIR_B: the EXR and PNG are byte-identical.
+same() {
+  for ext in exr png; do
+    cmp "$1/cornell-box.$ext" "$2/cornell-box.$ext" ||
+      fail "$1/cornell-box.$ext differs from $2/cornell-box.$ext"
+  done
+  echo "compose-test:   byte-identical: cornell-box.exr $(sha256sum <"$1/cornell-box.exr" | cut -c1-16)…," \
+       "cornell-box.png $(sha256sum <"$1/cornell-box.png" | cut -c1-16)…"
+}
+
+# 3. The Cornell box through the compose farm against the embedded farm render.
+small=$(scene small 128 1)
+job=$("$bin/farm" submit "$small")
+"$bin/farm" watch "$job" >"$work/watch1.log" 2>&1 || { cat "$work/watch1.log" >&2; fail "job $job did not succeed"; }
+"$bin/farm" fetch "$job" -o "$work/farm-small" --name cornell-box >/dev/null
+step "compose farm rendered $small as $job: $(grep -o 'took .*' "$work/watch1.log" | tail -1)"
+"$bin/farm" render "$small" -o "$work/host-small" --workers 2 >/dev/null 2>&1 || fail "farm render"
+step "host farm render of the same scene"
+same "$work/farm-small" "$work/host-small"
+
+# 4. Kill a worker container while tiles render.
+big=$(scene big 256 4)
+job=$("$bin/farm" submit "$big")
+killed=""
+for _ in $(seq 600); do
+  if "$bin/farm" tasks "$job" 2>/dev/null | awk '$2 == "render" && $3 == "leased"' | grep -q .; then
+    killed=$(dc ps -q worker | head -n1)
+    docker kill "$killed" >/dev/null
+    break
+  fi
+  state=$("$bin/farm" status "$job" | awk '$1 == "state" {print $2}')
+  [ "$state" = succeeded ] || [ "$state" = failed ] || [ "$state" = cancelled ] && break
+  sleep 0.2
+done
+[ -n "$killed" ] || fail "job $job left the render phase before a worker could be killed"
+left=$("$bin/farm" tasks "$job" | awk '$2 == "render" && $3 != "succeeded"' | wc -l)
+step "killed worker container ${killed:0:12} mid-render ($left render tasks unfinished)"
+"$bin/farm" watch "$job" >"$work/watch2.log" 2>&1 || { cat "$work/watch2.log" >&2; fail "job $job did not survive the kill"; }
+"$bin/farm" fetch "$job" -o "$work/farm-big" --name cornell-box >/dev/null
+retried=$("$bin/farm" tasks "$job" | awk 'NR > 1 && $4 > 1' | wc -l)
+step "job $job succeeded after the kill ($retried tasks took more than one attempt): $(grep -o 'took .*' "$work/watch2.log" | tail -1)"
+"$bin/farm" render "$big" -o "$work/host-big" --workers 2 >/dev/null 2>&1 || fail "farm render"
+step "host farm render of the same scene"
+same "$work/farm-big" "$work/host-big"
