@@ -16,12 +16,14 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// startServing runs a coordinator on a loopback port and returns a connection to it and a
-// stop function that cancels Serve and returns Serve's result (failing the test if Serve
-// has not returned within 5 s). The connection is closed when the test ends.
-func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() error) {
+// listenAndServe runs cfg's coordinator (in a temporary data folder, logging nowhere) on
+// a loopback port and returns its address and a stop function that cancels Serve and
+// returns Serve's result (failing the test if Serve has not returned within 5 s).
+func listenAndServe(t *testing.T, cfg coordinator.Config) (string, func() error) {
 	t.Helper()
-	c, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: lease, Logger: slog.New(slog.DiscardHandler)})
+	cfg.DataDir = t.TempDir()
+	cfg.Logger = slog.New(slog.DiscardHandler)
+	c, err := coordinator.New(cfg)
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -32,12 +34,6 @@ func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() e
 	ctx, cancel := context.WithCancel(context.Background())
 	served := make(chan error, 1)
 	go func() { served <- c.Serve(ctx, lis) }()
-	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		cancel()
-		t.Fatal(err)
-	}
-	t.Cleanup(func() { conn.Close() })
 	stop := func() error {
 		cancel()
 		select {
@@ -48,6 +44,20 @@ func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() e
 			return nil
 		}
 	}
+	return lis.Addr().String(), stop
+}
+
+// startServing runs a coordinator with the given lease duration and returns a
+// connection to it (closed when the test ends) and listenAndServe's stop function.
+func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() error) {
+	t.Helper()
+	addr, stop := listenAndServe(t, coordinator.Config{LeaseDuration: lease})
+	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
+	if err != nil {
+		stop()
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { conn.Close() })
 	return conn, stop
 }
 

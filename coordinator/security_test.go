@@ -9,7 +9,6 @@ import (
 	"crypto/x509"
 	"crypto/x509/pkix"
 	"encoding/pem"
-	"log/slog"
 	"math/big"
 	"net"
 	"os"
@@ -40,26 +39,13 @@ const (
 // address.
 func serve(t *testing.T, cfg coordinator.Config) string {
 	t.Helper()
-	cfg.DataDir = t.TempDir()
-	cfg.Logger = slog.New(slog.DiscardHandler)
-	co, err := coordinator.New(cfg)
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	ctx, cancel := context.WithCancel(context.Background())
-	served := make(chan error, 1)
-	go func() { served <- co.Serve(ctx, lis) }()
+	addr, stop := listenAndServe(t, cfg)
 	t.Cleanup(func() {
-		cancel()
-		if err := <-served; err != nil {
+		if err := stop(); err != nil {
 			t.Errorf("Serve = %v", err)
 		}
 	})
-	return lis.Addr().String()
+	return addr
 }
 
 // as returns a context whose calls carry token ("" for none).

@@ -39,3 +39,16 @@ func CheckLeaseArgs(workerID string, phases []pb.Phase) error {
 	}
 	return nil
 }
+
+// Page checks a listing's page size and decodes its page token: the position the token
+// holds, and whether there was one (false for the first page).
+func Page(prefix byte, pageSize int, pageToken string) (pos uint64, given bool, err error) {
+	if pageSize <= 0 {
+		return 0, false, errs.Field("page_size", "must be > 0, got %d", pageSize)
+	}
+	if pageToken == "" {
+		return 0, false, nil
+	}
+	pos, err = DecodePageToken(prefix, pageToken)
+	return pos, err == nil, err
+}

@@ -183,16 +183,12 @@ func (s *Store) job(id string) (*job, error) {
 
 // ListJobs implements store.Store.
 func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([]*pb.Job, string, error) {
-	if pageSize <= 0 {
-		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
+	before, given, err := store.Page('j', pageSize, pageToken)
+	if err != nil {
+		return nil, "", err
 	}
-	before := uint64(1<<63 - 1)
-	if pageToken != "" {
-		n, err := store.DecodePageToken('j', pageToken)
-		if err != nil {
-			return nil, "", err
-		}
-		before = n
+	if !given {
+		before = 1<<63 - 1
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
@@ -214,16 +210,9 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 
 // ListTasks implements store.Store.
 func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageToken string) ([]*pb.Task, string, error) {
-	if pageSize <= 0 {
-		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
-	}
-	var from uint64
-	if pageToken != "" {
-		n, err := store.DecodePageToken('t', pageToken)
-		if err != nil {
-			return nil, "", err
-		}
-		from = n
+	from, _, err := store.Page('t', pageSize, pageToken)
+	if err != nil {
+		return nil, "", err
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()

@@ -187,16 +187,13 @@ func (s *Store) GetTask(ctx context.Context, taskID string) (*pb.Task, error) {
 
 // ListJobs implements store.Store.
 func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([]*pb.Job, string, error) {
-	if pageSize <= 0 {
-		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
+	before, given, err := store.Page('j', pageSize, pageToken)
+	if err != nil {
+		return nil, "", err
 	}
 	upper := "+inf"
-	if pageToken != "" {
-		n, err := store.DecodePageToken('j', pageToken)
-		if err != nil {
-			return nil, "", err
-		}
-		upper = "(" + strconv.FormatUint(n, 10)
+	if given {
+		upper = "(" + strconv.FormatUint(before, 10)
 	}
 	// One more than a page tells whether another page follows.
 	zs, err := s.rdb.ZRevRangeByScoreWithScores(ctx, s.key("jobs"), &redis.ZRangeBy{
@@ -223,16 +220,9 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 
 // ListTasks implements store.Store.
 func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageToken string) ([]*pb.Task, string, error) {
-	if pageSize <= 0 {
-		return nil, "", errs.Field("page_size", "must be > 0, got %d", pageSize)
-	}
-	var from uint64
-	if pageToken != "" {
-		n, err := store.DecodePageToken('t', pageToken)
-		if err != nil {
-			return nil, "", err
-		}
-		from = n
+	from, _, err := store.Page('t', pageSize, pageToken)
+	if err != nil {
+		return nil, "", err
 	}
 	n, err := s.rdb.HGet(ctx, s.jobKey(jobID), "ntasks").Uint64()
 	if err == redis.Nil {
