@@ -121,7 +121,10 @@ workers=$(dc ps -q worker | wc -l)
 step "farm up and healthy: redis, coordinator, dashboard, $workers workers (project $project)"
 
 export FARM_TOKEN="$client_token" FARM_COORDINATOR="127.0.0.1:$coord_port"
-curl -fsS "http://127.0.0.1:$FARM_METRICS_PORT/metrics" | grep -q '^farm_jobs_submitted_total' ||
+# Read the whole answer before matching: with pipefail, grep -q closing the pipe early
+# would fail curl with SIGPIPE on a large answer.
+metrics=$(curl -fsS "http://127.0.0.1:$FARM_METRICS_PORT/metrics" || true)
+grep -q '^farm_jobs_submitted_total' <<<"$metrics" ||
   fail "no farm metrics on 127.0.0.1:$FARM_METRICS_PORT"
 curl -fsS -o /dev/null "http://127.0.0.1:$FARM_DASHBOARD_PORT/" || fail "no dashboard on :$FARM_DASHBOARD_PORT"
 
@@ -158,7 +161,8 @@ big=$(scene big 256 4)
 job=$("$bin/farm" submit "$big")
 killed=""
 for _ in $(seq 600); do
-  if "$bin/farm" tasks "$job" 2>/dev/null | awk '$2 == "render" && $3 == "leased"' | grep -q .; then
+  leased=$("$bin/farm" tasks "$job" 2>/dev/null | awk '$2 == "render" && $3 == "leased"' || true)
+  if [ -n "$leased" ]; then
     killed=$(dc ps -q worker | head -n1)
     docker kill "$killed" >/dev/null
     break
