@@ -46,10 +46,10 @@ test-go: go
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -p 1 -count=1 -timeout 30m ./...
 
 # Fuzzes scene parsing, validation and planning (what every submitted scene goes through)
-# for a bounded time; failing inputs are kept under coordinator/scene/testdata/fuzz.
+# for a bounded time; failing inputs are kept under contract/scene/testdata/fuzz.
 FUZZTIME ?= 20s
 fuzz:
-	go test -run '^$$' -fuzz FuzzParseValidatePlan -fuzztime $(FUZZTIME) ./coordinator/scene
+	go test -run '^$$' -fuzz FuzzParseValidatePlan -fuzztime $(FUZZTIME) ./contract/scene
 
 # Issue 5's full fault-and-load numbers (20 worker kills, 10 coordinator kills, 100 jobs
 # from 10 clients, lease throughput against Redis); make test runs the same tests with

@@ -9,7 +9,7 @@ import (
 	"path/filepath"
 	"strings"
 
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

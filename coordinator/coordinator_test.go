@@ -12,7 +12,7 @@ import (
 	"google.golang.org/protobuf/types/known/durationpb"
 
 	"photonfarm/coordinator"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

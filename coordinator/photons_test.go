@@ -9,7 +9,7 @@ import (
 
 	"photonfarm/client"
 	"photonfarm/coordinator/photonmap"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -26,7 +26,7 @@ import (
 
 	"photonfarm/client"
 	"photonfarm/coordinator"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

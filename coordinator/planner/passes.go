@@ -5,7 +5,7 @@ import (
 	"strconv"
 	"strings"
 
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -6,8 +6,8 @@ import (
 	"testing"
 
 	"photonfarm/coordinator/planner"
-	"photonfarm/coordinator/scene"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

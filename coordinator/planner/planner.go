@@ -22,7 +22,7 @@ package planner
 import (
 	"math"
 
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

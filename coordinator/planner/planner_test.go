@@ -6,7 +6,7 @@ import (
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/coordinator/planner"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -13,8 +13,8 @@ import (
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/coordinator/blobstore"
-	"photonfarm/coordinator/scene"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -4,7 +4,7 @@ import (
 	"testing"
 	"time"
 
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

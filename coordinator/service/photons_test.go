@@ -7,7 +7,7 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )

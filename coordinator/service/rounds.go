@@ -12,7 +12,7 @@ import (
 
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/planner"
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )

@@ -6,7 +6,7 @@ import (
 
 	"google.golang.org/grpc/codes"
 
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )

@@ -11,7 +11,7 @@ import (
 	"google.golang.org/grpc/status"
 
 	"photonfarm/coordinator/errs"
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 )
 
 // codeOf is the one mapping from internal error kinds to gRPC codes.

@@ -7,7 +7,7 @@ import (
 	"math"
 	"net/http"
 
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

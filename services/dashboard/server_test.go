@@ -12,7 +12,7 @@ import (
 	"google.golang.org/protobuf/encoding/protojson"
 
 	"photonfarm/coordinator"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/services/dashboard"
 )

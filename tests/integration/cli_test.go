@@ -16,7 +16,7 @@ import (
 	"google.golang.org/grpc/status"
 
 	"photonfarm/client"
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )

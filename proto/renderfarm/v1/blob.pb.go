@@ -406,7 +406,7 @@ var File_renderfarm_v1_blob_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_blob_proto_rawDesc = "" +
 	"\n" +
-	"\x18renderfarm/v1/blob.proto\x12\rrenderfarm.v1\"h\n" +
+	"\x18renderfarm/v1/blob.proto\x12\rrenderfarm.v1\x1a\x19renderfarm/v1/rules.proto\"h\n" +
 	"\x11UploadBlobRequest\x123\n" +
 	"\x06header\x18\x01 \x01(\v2\x19.renderfarm.v1.BlobHeaderH\x00R\x06header\x12\x16\n" +
 	"\x05chunk\x18\x02 \x01(\fH\x00R\x05chunkB\x06\n" +
@@ -436,7 +436,7 @@ const file_renderfarm_v1_blob_proto_rawDesc = "" +
 	"\n" +
 	"UploadBlob\x12 .renderfarm.v1.UploadBlobRequest\x1a!.renderfarm.v1.UploadBlobResponse(\x01\x12Y\n" +
 	"\fDownloadBlob\x12\".renderfarm.v1.DownloadBlobRequest\x1a#.renderfarm.v1.DownloadBlobResponse0\x01\x12T\n" +
-	"\vGetBlobInfo\x12!.renderfarm.v1.GetBlobInfoRequest\x1a\".renderfarm.v1.GetBlobInfoResponseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\vGetBlobInfo\x12!.renderfarm.v1.GetBlobInfoRequest\x1a\".renderfarm.v1.GetBlobInfoResponseBH\xb2\xb5\x18\x17\b\x80\x80\x80 \x10\x80\x80\x80\x02\x18\x80\x80@ \x80\x80\x80\x80\x04(\x80 Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_blob_proto_rawDescOnce sync.Once
@@ -480,6 +480,7 @@ func file_renderfarm_v1_blob_proto_init() {
 	if File_renderfarm_v1_blob_proto != nil {
 		return
 	}
+	file_renderfarm_v1_rules_proto_init()
 	file_renderfarm_v1_blob_proto_msgTypes[0].OneofWrappers = []any{
 		(*UploadBlobRequest_Header)(nil),
 		(*UploadBlobRequest_Chunk)(nil),

@@ -9,6 +9,7 @@ package renderfarmv1
 import (
 	protoreflect "google.golang.org/protobuf/reflect/protoreflect"
 	protoimpl "google.golang.org/protobuf/runtime/protoimpl"
+	descriptorpb "google.golang.org/protobuf/types/descriptorpb"
 	timestamppb "google.golang.org/protobuf/types/known/timestamppb"
 	reflect "reflect"
 	sync "sync"
@@ -81,8 +82,10 @@ func (JobState) EnumDescriptor() ([]byte, []int) {
 	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{0}
 }
 
-// A job's phases, in the order they run. A phase's tasks are queued when every task of the
-// previous phase has succeeded.
+// A job's phases. A round runs them in the order they are declared here, not by number
+// (PhaseInfo in rules.proto), so a new phase is declared where it runs and takes the next
+// free number. A phase's tasks are queued when every task of the phase before it in the
+// round has succeeded.
 type Phase int32
 
 const (
@@ -95,7 +98,7 @@ const (
 	Phase_PHASE_PRECOMPUTE Phase = 3
 	// The coordinator merges the irradiance shards into the snapshot.
 	Phase_PHASE_MERGE Phase = 4
-	// Image tiles: trace, shade, upload each as a tile EXR.
+	// Image tiles: trace, shade, upload each as a tile EXR (and its preview).
 	Phase_PHASE_RENDER Phase = 5
 	// The round's tiles stitched and combined with earlier rounds into the image so far (tiled
 	// EXR and PNG preview) and its error estimate.
@@ -392,6 +395,8 @@ type Job struct {
 	Phases []*PhaseProgress `protobuf:"bytes,10,rep,name=phases,proto3" json:"phases,omitempty"`
 	// Why the job failed; empty otherwise.
 	Error string `protobuf:"bytes,11,opt,name=error,proto3" json:"error,omitempty"`
+	// What kind of failure ended it (a permanent kind fails a job at the first report).
+	FailureKind FailureKind `protobuf:"varint,17,opt,name=failure_kind,json=failureKind,proto3,enum=renderfarm.v1.FailureKind" json:"failure_kind,omitempty"`
 	// The final artifacts once the job has succeeded ("image.exr", "preview.png").
 	Outputs []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
 	// Which passes the job runs and which it skips, and why.
@@ -514,6 +519,13 @@ func (x *Job) GetError() string {
 		return x.Error
 	}
 	return ""
+}
+
+func (x *Job) GetFailureKind() FailureKind {
+	if x != nil {
+		return x.FailureKind
+	}
+	return FailureKind_FAILURE_KIND_UNSPECIFIED
 }
 
 func (x *Job) GetOutputs() []*Artifact {
@@ -1029,6 +1041,10 @@ type Task struct {
 	WorkerId string `protobuf:"bytes,7,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
 	// The last failure's message, if any.
 	Error string `protobuf:"bytes,8,opt,name=error,proto3" json:"error,omitempty"`
+	// The last failure's kind.
+	FailureKind FailureKind `protobuf:"varint,19,opt,name=failure_kind,json=failureKind,proto3,enum=renderfarm.v1.FailureKind" json:"failure_kind,omitempty"`
+	// What to do; the spec's task_phase is the task's phase.
+	//
 	// Types that are valid to be assigned to Spec:
 	//
 	//	*Task_RenderTile
@@ -1133,6 +1149,13 @@ func (x *Task) GetError() string {
 		return x.Error
 	}
 	return ""
+}
+
+func (x *Task) GetFailureKind() FailureKind {
+	if x != nil {
+		return x.FailureKind
+	}
+	return FailureKind_FAILURE_KIND_UNSPECIFIED
 }
 
 func (x *Task) GetSpec() isTask_Spec {
@@ -2850,11 +2873,30 @@ func (x *WatchJobResponse) GetTask() *Task {
 	return nil
 }
 
+var file_renderfarm_v1_job_proto_extTypes = []protoimpl.ExtensionInfo{
+	{
+		ExtendedType:  (*descriptorpb.FieldOptions)(nil),
+		ExtensionType: (*Phase)(nil),
+		Field:         50010,
+		Name:          "renderfarm.v1.task_phase",
+		Tag:           "varint,50010,opt,name=task_phase,enum=renderfarm.v1.Phase",
+		Filename:      "renderfarm/v1/job.proto",
+	},
+}
+
+// Extension fields to descriptorpb.FieldOptions.
+var (
+	// The phase whose tasks carry this Task.spec.
+	//
+	// optional renderfarm.v1.Phase task_phase = 50010;
+	E_TaskPhase = &file_renderfarm_v1_job_proto_extTypes[0]
+)
+
 var File_renderfarm_v1_job_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\n" +
-	"\x17renderfarm/v1/job.proto\x12\rrenderfarm.v1\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x19renderfarm/v1/scene.proto\"\xa8\x05\n" +
+	"\x17renderfarm/v1/job.proto\x12\rrenderfarm.v1\x1a\x1fgoogle/protobuf/timestamp.proto\x1a google/protobuf/descriptor.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/scene.proto\"\xe7\x05\n" +
 	"\x03Job\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12!\n" +
 	"\fdisplay_name\x18\x02 \x01(\tR\vdisplayName\x12-\n" +
@@ -2869,7 +2911,8 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06height\x18\t \x01(\rR\x06height\x124\n" +
 	"\x06phases\x18\n" +
 	" \x03(\v2\x1c.renderfarm.v1.PhaseProgressR\x06phases\x12\x14\n" +
-	"\x05error\x18\v \x01(\tR\x05error\x121\n" +
+	"\x05error\x18\v \x01(\tR\x05error\x12=\n" +
+	"\ffailure_kind\x18\x11 \x01(\x0e2\x1a.renderfarm.v1.FailureKindR\vfailureKind\x121\n" +
 	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12'\n" +
 	"\x04plan\x18\r \x01(\v2\x13.renderfarm.v1.PlanR\x04plan\x122\n" +
 	"\x06rounds\x18\x0e \x03(\v2\x1a.renderfarm.v1.RoundReportR\x06rounds\x12\x1a\n" +
@@ -2913,7 +2956,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x01x\x18\x01 \x01(\rR\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\rR\x01y\x12\x14\n" +
 	"\x05width\x18\x03 \x01(\rR\x05width\x12\x16\n" +
-	"\x06height\x18\x04 \x01(\rR\x06height\"\xbf\x06\n" +
+	"\x06height\x18\x04 \x01(\rR\x06height\"\xa2\a\n" +
 	"\x04Task\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12\x15\n" +
 	"\x06job_id\x18\x02 \x01(\tR\x05jobId\x12\x14\n" +
@@ -2922,15 +2965,16 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x05state\x18\x05 \x01(\x0e2\x18.renderfarm.v1.TaskStateR\x05state\x12\x1a\n" +
 	"\battempts\x18\x06 \x01(\rR\battempts\x12\x1b\n" +
 	"\tworker_id\x18\a \x01(\tR\bworkerId\x12\x14\n" +
-	"\x05error\x18\b \x01(\tR\x05error\x12@\n" +
+	"\x05error\x18\b \x01(\tR\x05error\x12=\n" +
+	"\ffailure_kind\x18\x13 \x01(\x0e2\x1a.renderfarm.v1.FailureKindR\vfailureKind\x12F\n" +
 	"\vrender_tile\x18\n" +
-	" \x01(\v2\x1d.renderfarm.v1.RenderTileSpecH\x00R\n" +
-	"renderTile\x12<\n" +
-	"\tcomposite\x18\v \x01(\v2\x1c.renderfarm.v1.CompositeSpecH\x00R\tcomposite\x12C\n" +
-	"\femit_photons\x18\r \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecH\x00R\vemitPhotons\x12M\n" +
-	"\x10build_photon_map\x18\x0e \x01(\v2!.renderfarm.v1.BuildPhotonMapSpecH\x00R\x0ebuildPhotonMap\x12^\n" +
-	"\x15precompute_irradiance\x18\x10 \x01(\v2'.renderfarm.v1.PrecomputeIrradianceSpecH\x00R\x14precomputeIrradiance\x12O\n" +
-	"\x10merge_irradiance\x18\x11 \x01(\v2\".renderfarm.v1.MergeIrradianceSpecH\x00R\x0fmergeIrradiance\x121\n" +
+	" \x01(\v2\x1d.renderfarm.v1.RenderTileSpecB\x04е\x18\x05H\x00R\n" +
+	"renderTile\x12B\n" +
+	"\tcomposite\x18\v \x01(\v2\x1c.renderfarm.v1.CompositeSpecB\x04е\x18\x06H\x00R\tcomposite\x12I\n" +
+	"\femit_photons\x18\r \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecB\x04е\x18\x01H\x00R\vemitPhotons\x12S\n" +
+	"\x10build_photon_map\x18\x0e \x01(\v2!.renderfarm.v1.BuildPhotonMapSpecB\x04е\x18\x02H\x00R\x0ebuildPhotonMap\x12d\n" +
+	"\x15precompute_irradiance\x18\x10 \x01(\v2'.renderfarm.v1.PrecomputeIrradianceSpecB\x04е\x18\x03H\x00R\x14precomputeIrradiance\x12U\n" +
+	"\x10merge_irradiance\x18\x11 \x01(\v2\".renderfarm.v1.MergeIrradianceSpecB\x04е\x18\x04H\x00R\x0fmergeIrradiance\x121\n" +
 	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12\x14\n" +
 	"\x05round\x18\x0f \x01(\rR\x05round\x129\n" +
 	"\n" +
@@ -3041,16 +3085,22 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11JOB_STATE_RUNNING\x10\x02\x12\x17\n" +
 	"\x13JOB_STATE_SUCCEEDED\x10\x03\x12\x14\n" +
 	"\x10JOB_STATE_FAILED\x10\x04\x12\x17\n" +
-	"\x13JOB_STATE_CANCELLED\x10\x05*\x8d\x01\n" +
+	"\x13JOB_STATE_CANCELLED\x10\x05*\xc5\x02\n" +
 	"\x05Phase\x12\x15\n" +
-	"\x11PHASE_UNSPECIFIED\x10\x00\x12\x0e\n" +
+	"\x11PHASE_UNSPECIFIED\x10\x00\x12'\n" +
 	"\n" +
-	"PHASE_EMIT\x10\x01\x12\x0f\n" +
-	"\vPHASE_BUILD\x10\x02\x12\x14\n" +
-	"\x10PHASE_PRECOMPUTE\x10\x03\x12\x0f\n" +
-	"\vPHASE_MERGE\x10\x04\x12\x10\n" +
-	"\fPHASE_RENDER\x10\x05\x12\x13\n" +
-	"\x0fPHASE_COMPOSITE\x10\x06*\xb8\x01\n" +
+	"PHASE_EMIT\x10\x01\x1a\x17\x9a\xb5\x18\x13\n" +
+	"\fEmit photons\x10\x01\"\x01\x01\x12/\n" +
+	"\vPHASE_BUILD\x10\x02\x1a\x1e\x9a\xb5\x18\x1a\n" +
+	"\x10Build photon map\x10\x02\x1a\x01\x01\"\x01\x02\x129\n" +
+	"\x10PHASE_PRECOMPUTE\x10\x03\x1a#\x9a\xb5\x18\x1f\n" +
+	"\x15Precompute irradiance\x10\x01\x1a\x01\x02\"\x01\x03\x120\n" +
+	"\vPHASE_MERGE\x10\x04\x1a\x1f\x9a\xb5\x18\x1b\n" +
+	"\x10Merge irradiance\x10\x02\x1a\x02\x02\x03\"\x01\x02\x12-\n" +
+	"\fPHASE_RENDER\x10\x05\x1a\x1b\x9a\xb5\x18\x17\n" +
+	"\fRender tiles\x10\x01\x1a\x01\x02\"\x02\x04\x05\x12/\n" +
+	"\x0fPHASE_COMPOSITE\x10\x06\x1a\x1a\x9a\xb5\x18\x16\n" +
+	"\tComposite\x10\x01\x1a\x02\x04\b\"\x03\x06\a\b*\xb8\x01\n" +
 	"\tTaskState\x12\x1a\n" +
 	"\x16TASK_STATE_UNSPECIFIED\x10\x00\x12\x16\n" +
 	"\x12TASK_STATE_WAITING\x10\x01\x12\x15\n" +
@@ -3084,7 +3134,9 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\bWatchJob\x12\x1e.renderfarm.v1.WatchJobRequest\x1a\x1f.renderfarm.v1.WatchJobResponse0\x01\x12]\n" +
 	"\x0eSetJobPriority\x12$.renderfarm.v1.SetJobPriorityRequest\x1a%.renderfarm.v1.SetJobPriorityResponse\x12Z\n" +
 	"\rUnblockWorker\x12#.renderfarm.v1.UnblockWorkerRequest\x1a$.renderfarm.v1.UnblockWorkerResponse\x12T\n" +
-	"\vListWorkers\x12!.renderfarm.v1.ListWorkersRequest\x1a\".renderfarm.v1.ListWorkersResponseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\vListWorkers\x12!.renderfarm.v1.ListWorkersRequest\x1a\".renderfarm.v1.ListWorkersResponse:T\n" +
+	"\n" +
+	"task_phase\x12\x1d.google.protobuf.FieldOptions\x18چ\x03 \x01(\x0e2\x14.renderfarm.v1.PhaseR\ttaskPhaseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_job_proto_rawDescOnce sync.Once
@@ -3101,53 +3153,55 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
 var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 39)
 var file_renderfarm_v1_job_proto_goTypes = []any{
-	(JobState)(0),                    // 0: renderfarm.v1.JobState
-	(Phase)(0),                       // 1: renderfarm.v1.Phase
-	(TaskState)(0),                   // 2: renderfarm.v1.TaskState
-	(PhotonMapKind)(0),               // 3: renderfarm.v1.PhotonMapKind
-	(WorkerState)(0),                 // 4: renderfarm.v1.WorkerState
-	(JobEventKind)(0),                // 5: renderfarm.v1.JobEventKind
-	(*Job)(nil),                      // 6: renderfarm.v1.Job
-	(*BlockedWorker)(nil),            // 7: renderfarm.v1.BlockedWorker
-	(*Plan)(nil),                     // 8: renderfarm.v1.Plan
-	(*PlannedPass)(nil),              // 9: renderfarm.v1.PlannedPass
-	(*RoundReport)(nil),              // 10: renderfarm.v1.RoundReport
-	(*PhaseProgress)(nil),            // 11: renderfarm.v1.PhaseProgress
-	(*Artifact)(nil),                 // 12: renderfarm.v1.Artifact
-	(*PixelRect)(nil),                // 13: renderfarm.v1.PixelRect
-	(*Task)(nil),                     // 14: renderfarm.v1.Task
-	(*RenderTileSpec)(nil),           // 15: renderfarm.v1.RenderTileSpec
-	(*PrecomputeIrradianceSpec)(nil), // 16: renderfarm.v1.PrecomputeIrradianceSpec
-	(*MergeIrradianceSpec)(nil),      // 17: renderfarm.v1.MergeIrradianceSpec
-	(*EmitPhotonsSpec)(nil),          // 18: renderfarm.v1.EmitPhotonsSpec
-	(*BuildPhotonMapSpec)(nil),       // 19: renderfarm.v1.BuildPhotonMapSpec
-	(*EmittedShard)(nil),             // 20: renderfarm.v1.EmittedShard
-	(*CompositeSpec)(nil),            // 21: renderfarm.v1.CompositeSpec
-	(*TileInput)(nil),                // 22: renderfarm.v1.TileInput
-	(*SubmitJobRequest)(nil),         // 23: renderfarm.v1.SubmitJobRequest
-	(*SubmitJobResponse)(nil),        // 24: renderfarm.v1.SubmitJobResponse
-	(*SetJobPriorityRequest)(nil),    // 25: renderfarm.v1.SetJobPriorityRequest
-	(*SetJobPriorityResponse)(nil),   // 26: renderfarm.v1.SetJobPriorityResponse
-	(*ListWorkersRequest)(nil),       // 27: renderfarm.v1.ListWorkersRequest
-	(*ListWorkersResponse)(nil),      // 28: renderfarm.v1.ListWorkersResponse
-	(*WorkerInfo)(nil),               // 29: renderfarm.v1.WorkerInfo
-	(*UnblockWorkerRequest)(nil),     // 30: renderfarm.v1.UnblockWorkerRequest
-	(*UnblockWorkerResponse)(nil),    // 31: renderfarm.v1.UnblockWorkerResponse
-	(*PlanSceneRequest)(nil),         // 32: renderfarm.v1.PlanSceneRequest
-	(*PlanSceneResponse)(nil),        // 33: renderfarm.v1.PlanSceneResponse
-	(*GetJobRequest)(nil),            // 34: renderfarm.v1.GetJobRequest
-	(*GetJobResponse)(nil),           // 35: renderfarm.v1.GetJobResponse
-	(*ListJobsRequest)(nil),          // 36: renderfarm.v1.ListJobsRequest
-	(*ListJobsResponse)(nil),         // 37: renderfarm.v1.ListJobsResponse
-	(*ListTasksRequest)(nil),         // 38: renderfarm.v1.ListTasksRequest
-	(*ListTasksResponse)(nil),        // 39: renderfarm.v1.ListTasksResponse
-	(*CancelJobRequest)(nil),         // 40: renderfarm.v1.CancelJobRequest
-	(*CancelJobResponse)(nil),        // 41: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),          // 42: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),         // 43: renderfarm.v1.WatchJobResponse
-	nil,                              // 44: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	(*timestamppb.Timestamp)(nil),    // 45: google.protobuf.Timestamp
-	(*Scene)(nil),                    // 46: renderfarm.v1.Scene
+	(JobState)(0),                     // 0: renderfarm.v1.JobState
+	(Phase)(0),                        // 1: renderfarm.v1.Phase
+	(TaskState)(0),                    // 2: renderfarm.v1.TaskState
+	(PhotonMapKind)(0),                // 3: renderfarm.v1.PhotonMapKind
+	(WorkerState)(0),                  // 4: renderfarm.v1.WorkerState
+	(JobEventKind)(0),                 // 5: renderfarm.v1.JobEventKind
+	(*Job)(nil),                       // 6: renderfarm.v1.Job
+	(*BlockedWorker)(nil),             // 7: renderfarm.v1.BlockedWorker
+	(*Plan)(nil),                      // 8: renderfarm.v1.Plan
+	(*PlannedPass)(nil),               // 9: renderfarm.v1.PlannedPass
+	(*RoundReport)(nil),               // 10: renderfarm.v1.RoundReport
+	(*PhaseProgress)(nil),             // 11: renderfarm.v1.PhaseProgress
+	(*Artifact)(nil),                  // 12: renderfarm.v1.Artifact
+	(*PixelRect)(nil),                 // 13: renderfarm.v1.PixelRect
+	(*Task)(nil),                      // 14: renderfarm.v1.Task
+	(*RenderTileSpec)(nil),            // 15: renderfarm.v1.RenderTileSpec
+	(*PrecomputeIrradianceSpec)(nil),  // 16: renderfarm.v1.PrecomputeIrradianceSpec
+	(*MergeIrradianceSpec)(nil),       // 17: renderfarm.v1.MergeIrradianceSpec
+	(*EmitPhotonsSpec)(nil),           // 18: renderfarm.v1.EmitPhotonsSpec
+	(*BuildPhotonMapSpec)(nil),        // 19: renderfarm.v1.BuildPhotonMapSpec
+	(*EmittedShard)(nil),              // 20: renderfarm.v1.EmittedShard
+	(*CompositeSpec)(nil),             // 21: renderfarm.v1.CompositeSpec
+	(*TileInput)(nil),                 // 22: renderfarm.v1.TileInput
+	(*SubmitJobRequest)(nil),          // 23: renderfarm.v1.SubmitJobRequest
+	(*SubmitJobResponse)(nil),         // 24: renderfarm.v1.SubmitJobResponse
+	(*SetJobPriorityRequest)(nil),     // 25: renderfarm.v1.SetJobPriorityRequest
+	(*SetJobPriorityResponse)(nil),    // 26: renderfarm.v1.SetJobPriorityResponse
+	(*ListWorkersRequest)(nil),        // 27: renderfarm.v1.ListWorkersRequest
+	(*ListWorkersResponse)(nil),       // 28: renderfarm.v1.ListWorkersResponse
+	(*WorkerInfo)(nil),                // 29: renderfarm.v1.WorkerInfo
+	(*UnblockWorkerRequest)(nil),      // 30: renderfarm.v1.UnblockWorkerRequest
+	(*UnblockWorkerResponse)(nil),     // 31: renderfarm.v1.UnblockWorkerResponse
+	(*PlanSceneRequest)(nil),          // 32: renderfarm.v1.PlanSceneRequest
+	(*PlanSceneResponse)(nil),         // 33: renderfarm.v1.PlanSceneResponse
+	(*GetJobRequest)(nil),             // 34: renderfarm.v1.GetJobRequest
+	(*GetJobResponse)(nil),            // 35: renderfarm.v1.GetJobResponse
+	(*ListJobsRequest)(nil),           // 36: renderfarm.v1.ListJobsRequest
+	(*ListJobsResponse)(nil),          // 37: renderfarm.v1.ListJobsResponse
+	(*ListTasksRequest)(nil),          // 38: renderfarm.v1.ListTasksRequest
+	(*ListTasksResponse)(nil),         // 39: renderfarm.v1.ListTasksResponse
+	(*CancelJobRequest)(nil),          // 40: renderfarm.v1.CancelJobRequest
+	(*CancelJobResponse)(nil),         // 41: renderfarm.v1.CancelJobResponse
+	(*WatchJobRequest)(nil),           // 42: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),          // 43: renderfarm.v1.WatchJobResponse
+	nil,                               // 44: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	(*timestamppb.Timestamp)(nil),     // 45: google.protobuf.Timestamp
+	(FailureKind)(0),                  // 46: renderfarm.v1.FailureKind
+	(*Scene)(nil),                     // 47: renderfarm.v1.Scene
+	(*descriptorpb.FieldOptions)(nil), // 48: google.protobuf.FieldOptions
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
@@ -3155,82 +3209,86 @@ var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	45, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
 	45, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
 	11, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	12, // 5: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
-	8,  // 6: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
-	10, // 7: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
-	7,  // 8: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
-	45, // 9: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
-	9,  // 10: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
-	44, // 11: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	1,  // 12: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
-	1,  // 13: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
-	2,  // 14: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	15, // 15: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	21, // 16: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	18, // 17: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
-	19, // 18: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
-	16, // 19: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
-	17, // 20: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
-	12, // 21: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	45, // 22: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
-	13, // 23: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	12, // 24: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 25: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 26: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 27: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
-	3,  // 28: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	20, // 29: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	18, // 30: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	12, // 31: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	22, // 32: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	12, // 33: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	12, // 34: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	13, // 35: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	12, // 36: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	46, // 37: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	6,  // 38: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 39: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
-	29, // 40: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
-	4,  // 41: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
-	45, // 42: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
-	45, // 43: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
-	6,  // 44: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
-	46, // 45: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	8,  // 46: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	11, // 47: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	6,  // 48: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 49: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	14, // 50: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	6,  // 51: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 52: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	45, // 53: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	6,  // 54: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	14, // 55: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	23, // 56: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	34, // 57: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	36, // 58: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	38, // 59: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	40, // 60: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	32, // 61: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	42, // 62: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	25, // 63: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
-	30, // 64: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
-	27, // 65: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
-	24, // 66: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	35, // 67: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	37, // 68: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	39, // 69: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	41, // 70: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	33, // 71: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	43, // 72: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	26, // 73: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
-	31, // 74: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
-	28, // 75: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
-	66, // [66:76] is the sub-list for method output_type
-	56, // [56:66] is the sub-list for method input_type
-	56, // [56:56] is the sub-list for extension type_name
-	56, // [56:56] is the sub-list for extension extendee
-	0,  // [0:56] is the sub-list for field type_name
+	46, // 5: renderfarm.v1.Job.failure_kind:type_name -> renderfarm.v1.FailureKind
+	12, // 6: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
+	8,  // 7: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
+	10, // 8: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
+	7,  // 9: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
+	45, // 10: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
+	9,  // 11: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
+	44, // 12: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	1,  // 13: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
+	1,  // 14: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
+	2,  // 15: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
+	46, // 16: renderfarm.v1.Task.failure_kind:type_name -> renderfarm.v1.FailureKind
+	15, // 17: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	21, // 18: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	18, // 19: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	19, // 20: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	16, // 21: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
+	17, // 22: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
+	12, // 23: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	45, // 24: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
+	13, // 25: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	12, // 26: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 27: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 28: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 29: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 30: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	20, // 31: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	18, // 32: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	12, // 33: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	22, // 34: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	12, // 35: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	12, // 36: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	13, // 37: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	12, // 38: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	47, // 39: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 40: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 41: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
+	29, // 42: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
+	4,  // 43: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
+	45, // 44: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
+	45, // 45: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
+	6,  // 46: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
+	47, // 47: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	8,  // 48: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	11, // 49: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	6,  // 50: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 51: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	14, // 52: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	6,  // 53: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 54: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	45, // 55: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	6,  // 56: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	14, // 57: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	48, // 58: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
+	1,  // 59: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
+	23, // 60: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	34, // 61: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	36, // 62: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	38, // 63: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	40, // 64: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	32, // 65: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	42, // 66: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	25, // 67: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	30, // 68: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	27, // 69: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
+	24, // 70: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	35, // 71: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	37, // 72: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	39, // 73: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	41, // 74: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	33, // 75: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	43, // 76: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	26, // 77: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	31, // 78: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	28, // 79: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
+	70, // [70:80] is the sub-list for method output_type
+	60, // [60:70] is the sub-list for method input_type
+	59, // [59:60] is the sub-list for extension type_name
+	58, // [58:59] is the sub-list for extension extendee
+	0,  // [0:58] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -3238,6 +3296,7 @@ func file_renderfarm_v1_job_proto_init() {
 	if File_renderfarm_v1_job_proto != nil {
 		return
 	}
+	file_renderfarm_v1_rules_proto_init()
 	file_renderfarm_v1_scene_proto_init()
 	file_renderfarm_v1_job_proto_msgTypes[4].OneofWrappers = []any{}
 	file_renderfarm_v1_job_proto_msgTypes[8].OneofWrappers = []any{
@@ -3255,13 +3314,14 @@ func file_renderfarm_v1_job_proto_init() {
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
 			NumEnums:      6,
 			NumMessages:   39,
-			NumExtensions: 0,
+			NumExtensions: 1,
 			NumServices:   1,
 		},
 		GoTypes:           file_renderfarm_v1_job_proto_goTypes,
 		DependencyIndexes: file_renderfarm_v1_job_proto_depIdxs,
 		EnumInfos:         file_renderfarm_v1_job_proto_enumTypes,
 		MessageInfos:      file_renderfarm_v1_job_proto_msgTypes,
+		ExtensionInfos:    file_renderfarm_v1_job_proto_extTypes,
 	}.Build()
 	File_renderfarm_v1_job_proto = out.File
 	file_renderfarm_v1_job_proto_goTypes = nil

@@ -187,7 +187,8 @@ func (Filter) EnumDescriptor() ([]byte, []int) {
 // so one definition serves files and the wire. Lengths are in the scene's own unit (the
 // Cornell box uses millimetres): only ratios matter to the renderer.
 //
-// Limits (refused with INVALID_ARGUMENT naming the field) are documented in docs/limits.md.
+// Every field's rule is the (rule) option beside it (rules.proto); docs/limits.md lists
+// them all. A scene that breaks one is refused with INVALID_ARGUMENT naming the field.
 type Scene struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// Free text shown in job listings.
@@ -444,7 +445,7 @@ type Camera struct {
 	Position *Vec3                  `protobuf:"bytes,1,opt,name=position,proto3" json:"position,omitempty"`
 	LookAt   *Vec3                  `protobuf:"bytes,2,opt,name=look_at,json=lookAt,proto3" json:"look_at,omitempty"`
 	Up       *Vec3                  `protobuf:"bytes,3,opt,name=up,proto3" json:"up,omitempty"`
-	// Full vertical field of view, in (0, 180) degrees.
+	// Full vertical field of view, in degrees.
 	VerticalFovDegrees float64 `protobuf:"fixed64,4,opt,name=vertical_fov_degrees,json=verticalFovDegrees,proto3" json:"vertical_fov_degrees,omitempty"`
 	unknownFields      protoimpl.UnknownFields
 	sizeCache          protoimpl.SizeCache
@@ -514,7 +515,6 @@ type Film struct {
 	Width  uint32                 `protobuf:"varint,1,opt,name=width,proto3" json:"width,omitempty"`
 	Height uint32                 `protobuf:"varint,2,opt,name=height,proto3" json:"height,omitempty"`
 	// Side of the square render tiles in pixels; also the tile size of the final tiled EXR.
-	// 0 selects the default (32).
 	TileSize      uint32 `protobuf:"varint,3,opt,name=tile_size,json=tileSize,proto3" json:"tile_size,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -575,11 +575,11 @@ func (x *Film) GetTileSize() uint32 {
 // sample index), so an image is bit-identical however its tiles are spread over workers.
 type Sampling struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// Camera rays per ordinary pixel (per round); 0 selects 1. Pixels on edges get
+	// Camera rays per ordinary pixel (per round). Pixels on edges get
 	// Antialiasing.edge_samples instead.
 	SamplesPerPixel uint32 `protobuf:"varint,1,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
 	Seed            uint64 `protobuf:"varint,2,opt,name=seed,proto3" json:"seed,omitempty"`
-	// Shadow rays towards area lights per shading point; 0 selects 16.
+	// Shadow rays towards area lights per shading point.
 	LightSamples  uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -641,9 +641,9 @@ func (x *Sampling) GetLightSamples() uint32 {
 type Antialiasing struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
-	// Camera rays for an edge pixel (or every pixel in FULL mode); 0 selects 12.
+	// Camera rays for an edge pixel (or every pixel in FULL mode).
 	EdgeSamples uint32 `protobuf:"varint,2,opt,name=edge_samples,json=edgeSamples,proto3" json:"edge_samples,omitempty"`
-	// A pixel is an edge when the Sobel gradient of log-luminance exceeds this; 0 selects 0.1.
+	// A pixel is an edge when the Sobel gradient of log-luminance exceeds this.
 	EdgeThreshold float64 `protobuf:"fixed64,3,opt,name=edge_threshold,json=edgeThreshold,proto3" json:"edge_threshold,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -704,9 +704,9 @@ func (x *Antialiasing) GetEdgeThreshold() float64 {
 type Indirect struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Mode  IndirectMode           `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.IndirectMode" json:"mode,omitempty"`
-	// Gather rays at a camera path's first diffuse hit; 0 selects 64.
+	// Gather rays at a camera path's first diffuse hit.
 	GatherRays uint32 `protobuf:"varint,2,opt,name=gather_rays,json=gatherRays,proto3" json:"gather_rays,omitempty"`
-	// Gather rays at diffuse hits reached after a glossy bounce; 0 selects 8.
+	// Gather rays at diffuse hits reached after a glossy bounce.
 	SecondaryGatherRays uint32 `protobuf:"varint,3,opt,name=secondary_gather_rays,json=secondaryGatherRays,proto3" json:"secondary_gather_rays,omitempty"`
 	unknownFields       protoimpl.UnknownFields
 	sizeCache           protoimpl.SizeCache
@@ -769,14 +769,15 @@ func (x *Indirect) GetSecondaryGatherRays() uint32 {
 // budget is spent, whichever comes first.
 type Progressive struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// 0 selects 1 (a single round).
+	// 1 is a single round.
 	MaxRounds uint32 `protobuf:"varint,1,opt,name=max_rounds,json=maxRounds,proto3" json:"max_rounds,omitempty"`
 	// Stop once the estimated RMSE of the image is at most this; 0 means no target.
 	TargetError float64 `protobuf:"fixed64,2,opt,name=target_error,json=targetError,proto3" json:"target_error,omitempty"`
-	// Start no new round after this many seconds of the job; 0 means no budget.
+	// Start no new round after this many seconds of the job (7 days at most); 0 means no
+	// budget.
 	TimeBudgetSeconds float64 `protobuf:"fixed64,3,opt,name=time_budget_seconds,json=timeBudgetSeconds,proto3" json:"time_budget_seconds,omitempty"`
-	// Progressive photon mapping's alpha in (0, 1]: round r's search radii are those of round
-	// 1 times sqrt(prod over i < r of (i + alpha) / (i + 1)); 0 selects 0.7.
+	// Progressive photon mapping's alpha: round r's search radii are those of round 1 times
+	// sqrt(prod over i < r of (i + alpha) / (i + 1)).
 	Alpha float64 `protobuf:"fixed64,4,opt,name=alpha,proto3" json:"alpha,omitempty"`
 	// A converged image to measure the error against, as well as the spread between rounds.
 	Reference     *ReferenceImage `protobuf:"bytes,5,opt,name=reference,proto3" json:"reference,omitempty"`
@@ -1155,7 +1156,7 @@ type Glossy struct {
 	state    protoimpl.MessageState `protogen:"open.v1"`
 	Diffuse  *Color                 `protobuf:"bytes,1,opt,name=diffuse,proto3" json:"diffuse,omitempty"`
 	Specular *Color                 `protobuf:"bytes,2,opt,name=specular,proto3" json:"specular,omitempty"`
-	// Phong exponent, in [1, 100000]; larger is shinier.
+	// Phong exponent; larger is shinier.
 	Exponent      float64 `protobuf:"fixed64,3,opt,name=exponent,proto3" json:"exponent,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -1261,7 +1262,7 @@ func (x *Mirror) GetReflectance() *Color {
 // reflection past the critical angle. Light goes in through the front side.
 type Dielectric struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// Index of refraction inside relative to outside, in [1, 10]; glass is about 1.5.
+	// Index of refraction inside relative to outside; glass is about 1.5.
 	Ior float64 `protobuf:"fixed64,1,opt,name=ior,proto3" json:"ior,omitempty"`
 	// Colour filter applied on transmission; unset means (1, 1, 1).
 	Transmittance *Color `protobuf:"bytes,2,opt,name=transmittance,proto3" json:"transmittance,omitempty"`
@@ -1462,7 +1463,7 @@ func (*Light_Sun) isLight_Kind() {}
 type PointLight struct {
 	state    protoimpl.MessageState `protogen:"open.v1"`
 	Position *Vec3                  `protobuf:"bytes,1,opt,name=position,proto3" json:"position,omitempty"`
-	// Radiant intensity (power per steradian) per channel, >= 0.
+	// Radiant intensity (power per steradian) per channel.
 	Intensity     *Color `protobuf:"bytes,2,opt,name=intensity,proto3" json:"intensity,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -1517,7 +1518,7 @@ type SunLight struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// The direction the light travels in (from the sun towards the scene).
 	Direction *Vec3 `protobuf:"bytes,1,opt,name=direction,proto3" json:"direction,omitempty"`
-	// Irradiance on a surface facing the sun, per channel, >= 0.
+	// Irradiance on a surface facing the sun, per channel.
 	Irradiance    *Color `protobuf:"bytes,2,opt,name=irradiance,proto3" json:"irradiance,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -1572,12 +1573,12 @@ func (x *SunLight) GetIrradiance() *Color {
 // (seed, map, photon index), so emission shards may run anywhere, in any order.
 type PhotonMapping struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// Photon paths for the global map (indirect diffuse light); 0 selects 200,000.
+	// Photon paths for the global map (indirect diffuse light).
 	GlobalPhotons uint64 `protobuf:"varint,1,opt,name=global_photons,json=globalPhotons,proto3" json:"global_photons,omitempty"`
-	// Photon paths aimed at specular surfaces for the caustic map; 0 selects 200,000.
-	// Scenes without specular surfaces get no caustic map.
+	// Photon paths aimed at specular surfaces for the caustic map. Scenes without specular
+	// surfaces get no caustic map.
 	CausticPhotons uint64 `protobuf:"varint,2,opt,name=caustic_photons,json=causticPhotons,proto3" json:"caustic_photons,omitempty"`
-	// Photon paths per emission task; 0 selects 100,000.
+	// Photon paths per emission task.
 	PhotonsPerShard uint64            `protobuf:"varint,3,opt,name=photons_per_shard,json=photonsPerShard,proto3" json:"photons_per_shard,omitempty"`
 	GlobalEstimate  *RadianceEstimate `protobuf:"bytes,4,opt,name=global_estimate,json=globalEstimate,proto3" json:"global_estimate,omitempty"`
 	CausticEstimate *RadianceEstimate `protobuf:"bytes,5,opt,name=caustic_estimate,json=causticEstimate,proto3" json:"caustic_estimate,omitempty"`
@@ -1660,7 +1661,7 @@ type RadianceEstimate struct {
 	MaxRadius float64 `protobuf:"fixed64,2,opt,name=max_radius,json=maxRadius,proto3" json:"max_radius,omitempty"`
 	// Default: cone for caustics, none for the global map.
 	Filter Filter `protobuf:"varint,3,opt,name=filter,proto3,enum=renderfarm.v1.Filter" json:"filter,omitempty"`
-	// The cone filter's k (>= 1); 0 selects 1.1.
+	// The cone filter's k (past 1e6 it is a box).
 	ConeK         float64 `protobuf:"fixed64,4,opt,name=cone_k,json=coneK,proto3" json:"cone_k,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -2027,8 +2028,11 @@ func (x *TriangleMesh) GetIndices() []uint32 {
 }
 
 // A Wavefront OBJ mesh. In a scene file, path is relative to the file; the client uploads
-// the file to the blob store and submits its digest instead, so no filesystem is shared
-// between client, coordinator and workers.
+// the file to the blob store and submits its digest, so no filesystem is shared between
+// client, coordinator and workers (path stays, as written, to name the file in messages).
+// The coordinator parses the file on submit and refuses one that does not parse, naming
+// the file, the line and what is wrong (limits: Scene's max_asset_bytes,
+// max_mesh_vertices, max_mesh_triangles).
 type MeshFile struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Path  string                 `protobuf:"bytes,1,opt,name=path,proto3" json:"path,omitempty"`
@@ -2164,20 +2168,20 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\"\xa7\x04\n" +
-	"\x05Scene\x12\x12\n" +
-	"\x04name\x18\x01 \x01(\tR\x04name\x12-\n" +
-	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraR\x06camera\x12'\n" +
-	"\x04film\x18\x03 \x01(\v2\x13.renderfarm.v1.FilmR\x04film\x123\n" +
-	"\bsampling\x18\x04 \x01(\v2\x17.renderfarm.v1.SamplingR\bsampling\x125\n" +
-	"\tmaterials\x18\x05 \x03(\v2\x17.renderfarm.v1.MaterialR\tmaterials\x12,\n" +
-	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeR\x06shapes\x12,\n" +
-	"\x06lights\x18\a \x03(\v2\x14.renderfarm.v1.LightR\x06lights\x126\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x19renderfarm/v1/rules.proto\"\x97\x06\n" +
+	"\x05Scene\x12\x1b\n" +
+	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x125\n" +
+	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraB\x06\x8a\xb5\x18\x020\x01R\x06camera\x12/\n" +
+	"\x04film\x18\x03 \x01(\v2\x13.renderfarm.v1.FilmB\x06\x8a\xb5\x18\x020\x01R\x04film\x123\n" +
+	"\bsampling\x18\x04 \x01(\v2\x17.renderfarm.v1.SamplingR\bsampling\x12>\n" +
+	"\tmaterials\x18\x05 \x03(\v2\x17.renderfarm.v1.MaterialB\a\x8a\xb5\x18\x03@\x80 R\tmaterials\x126\n" +
+	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeB\b\x8a\xb5\x18\x04@\xa0\x8d\x06R\x06shapes\x12\xc9\x01\n" +
+	"\x06lights\x18\a \x03(\v2\x14.renderfarm.v1.LightB\x9a\x01\x8a\xb5\x18\x95\x01@\x80 Z\x8f\x01at least one light in the scene: a point or sun light with a positive component, or a shape whose material is emissive with a positive radianceR\x06lights\x126\n" +
 	"\aphotons\x18\b \x01(\v2\x1c.renderfarm.v1.PhotonMappingR\aphotons\x12?\n" +
 	"\fantialiasing\x18\t \x01(\v2\x1b.renderfarm.v1.AntialiasingR\fantialiasing\x123\n" +
 	"\bindirect\x18\n" +
 	" \x01(\v2\x17.renderfarm.v1.IndirectR\bindirect\x12<\n" +
-	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive\"0\n" +
+	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive:$\x92\xb5\x18 \t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x04(\x80\xe1\xeb\x170\x80\xe1\xeb\x17\"0\n" +
 	"\x04Vec3\x12\f\n" +
 	"\x01x\x18\x01 \x01(\x01R\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\x01R\x01y\x12\f\n" +
@@ -2185,41 +2189,41 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x05Color\x12\f\n" +
 	"\x01r\x18\x01 \x01(\x01R\x01r\x12\f\n" +
 	"\x01g\x18\x02 \x01(\x01R\x01g\x12\f\n" +
-	"\x01b\x18\x03 \x01(\x01R\x01b\"\xbe\x01\n" +
-	"\x06Camera\x12/\n" +
-	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\bposition\x12,\n" +
-	"\alook_at\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3R\x06lookAt\x12#\n" +
-	"\x02up\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3R\x02up\x120\n" +
-	"\x14vertical_fov_degrees\x18\x04 \x01(\x01R\x12verticalFovDegrees\"Q\n" +
-	"\x04Film\x12\x14\n" +
-	"\x05width\x18\x01 \x01(\rR\x05width\x12\x16\n" +
-	"\x06height\x18\x02 \x01(\rR\x06height\x12\x1b\n" +
-	"\ttile_size\x18\x03 \x01(\rR\btileSize\"o\n" +
-	"\bSampling\x12*\n" +
-	"\x11samples_per_pixel\x18\x01 \x01(\rR\x0fsamplesPerPixel\x12\x12\n" +
-	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12#\n" +
-	"\rlight_samples\x18\x03 \x01(\rR\flightSamples\"\x8d\x01\n" +
-	"\fAntialiasing\x123\n" +
-	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeR\x04mode\x12!\n" +
-	"\fedge_samples\x18\x02 \x01(\rR\vedgeSamples\x12%\n" +
-	"\x0eedge_threshold\x18\x03 \x01(\x01R\redgeThreshold\"\x90\x01\n" +
-	"\bIndirect\x12/\n" +
-	"\x04mode\x18\x01 \x01(\x0e2\x1b.renderfarm.v1.IndirectModeR\x04mode\x12\x1f\n" +
-	"\vgather_rays\x18\x02 \x01(\rR\n" +
-	"gatherRays\x122\n" +
-	"\x15secondary_gather_rays\x18\x03 \x01(\rR\x13secondaryGatherRays\"\xd2\x01\n" +
-	"\vProgressive\x12\x1d\n" +
+	"\x01b\x18\x03 \x01(\x01R\x01b\"\xb3\x02\n" +
+	"\x06Camera\x127\n" +
+	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12K\n" +
+	"\alook_at\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1d\x8a\xb5\x18\x190\x01Z\x15differs from positionR\x06lookAt\x12Y\n" +
+	"\x02up\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3B4\x8a\xb5\x1800\x01Z,non-zero, not parallel to look_at - positionR\x02up\x12H\n" +
+	"\x14vertical_fov_degrees\x18\x04 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\x00\x00!\x00\x00\x00\x00\x00\x80f@R\x12verticalFovDegrees\"\xe1\x01\n" +
+	"\x04Film\x12,\n" +
+	"\x05width\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@R\x05width\x12.\n" +
+	"\x06height\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@R\x06height\x12{\n" +
+	"\ttile_size\x18\x03 \x01(\rB^\x8a\xb5\x18Z\t\x00\x00\x00\x00\x00\x00 @\x19\x00\x00\x00\x00\x00\x00p@)\x00\x00\x00\x00\x00\x00@@Z=at most Scene's max_tiles_per_round (65536) tiles in the filmR\btileSize\"\x9f\x01\n" +
+	"\bSampling\x12B\n" +
+	"\x11samples_per_pixel\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xf0@)\x00\x00\x00\x00\x00\x00\xf0?R\x0fsamplesPerPixel\x12\x12\n" +
+	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12;\n" +
+	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\"\xcc\x01\n" +
+	"\fAntialiasing\x12B\n" +
+	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
+	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
+	"\x0eedge_threshold\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00)\x9a\x99\x99\x99\x99\x99\xb9?R\redgeThreshold\"\xcf\x01\n" +
+	"\bIndirect\x12>\n" +
+	"\x04mode\x18\x01 \x01(\x0e2\x1b.renderfarm.v1.IndirectModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x127\n" +
+	"\vgather_rays\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xb0@)\x00\x00\x00\x00\x00\x00P@R\n" +
+	"gatherRays\x12J\n" +
+	"\x15secondary_gather_rays\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xb0@)\x00\x00\x00\x00\x00\x00 @R\x13secondaryGatherRays\"\xb2\x02\n" +
+	"\vProgressive\x125\n" +
 	"\n" +
-	"max_rounds\x18\x01 \x01(\rR\tmaxRounds\x12!\n" +
-	"\ftarget_error\x18\x02 \x01(\x01R\vtargetError\x12.\n" +
-	"\x13time_budget_seconds\x18\x03 \x01(\x01R\x11timeBudgetSeconds\x12\x14\n" +
-	"\x05alpha\x18\x04 \x01(\x01R\x05alpha\x12;\n" +
-	"\treference\x18\x05 \x01(\v2\x1d.renderfarm.v1.ReferenceImageR\treference\"<\n" +
-	"\x0eReferenceImage\x12\x12\n" +
-	"\x04path\x18\x01 \x01(\tR\x04path\x12\x16\n" +
-	"\x06digest\x18\x02 \x01(\tR\x06digest\"\xea\x02\n" +
-	"\bMaterial\x12\x12\n" +
-	"\x04name\x18\x01 \x01(\tR\x04name\x122\n" +
+	"max_rounds\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00@\x8f@)\x00\x00\x00\x00\x00\x00\xf0?R\tmaxRounds\x120\n" +
+	"\ftarget_error\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\vtargetError\x12F\n" +
+	"\x13time_budget_seconds\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00u\"AR\x11timeBudgetSeconds\x125\n" +
+	"\x05alpha\x18\x04 \x01(\x01B\x1f\x8a\xb5\x18\x1b\x11\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?)ffffff\xe6?R\x05alpha\x12;\n" +
+	"\treference\x18\x05 \x01(\v2\x1d.renderfarm.v1.ReferenceImageR\treference\"\xb6\x01\n" +
+	"\x0eReferenceImage\x12\x1b\n" +
+	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12\x86\x01\n" +
+	"\x06digest\x18\x02 \x01(\tBn\x8a\xb5\x18jP\x01Zfset when path is (the client uploads the file at path and sets its digest); the blob is uploaded firstR\x06digest\"\x97\x03\n" +
+	"\bMaterial\x129\n" +
+	"\x04name\x18\x01 \x01(\tB%\x8a\xb5\x18!0\x01H\x80\x02Z\x1aunique among the materialsR\x04name\x122\n" +
 	"\alambert\x18\x02 \x01(\v2\x16.renderfarm.v1.LambertH\x00R\alambert\x125\n" +
 	"\bemissive\x18\x03 \x01(\v2\x17.renderfarm.v1.EmissiveH\x00R\bemissive\x12/\n" +
 	"\x06glossy\x18\x04 \x01(\v2\x15.renderfarm.v1.GlossyH\x00R\x06glossy\x12/\n" +
@@ -2227,80 +2231,80 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
 	"dielectric\x18\x06 \x01(\v2\x19.renderfarm.v1.DielectricH\x00R\n" +
 	"dielectric\x128\n" +
-	"\tconductor\x18\a \x01(\v2\x18.renderfarm.v1.ConductorH\x00R\tconductorB\x06\n" +
-	"\x04kind\"A\n" +
-	"\aLambert\x126\n" +
-	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\vreflectance\"<\n" +
-	"\bEmissive\x120\n" +
-	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\bradiance\"\x86\x01\n" +
-	"\x06Glossy\x12.\n" +
-	"\adiffuse\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\adiffuse\x120\n" +
-	"\bspecular\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\bspecular\x12\x1a\n" +
-	"\bexponent\x18\x03 \x01(\x01R\bexponent\"@\n" +
-	"\x06Mirror\x126\n" +
-	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\vreflectance\"Z\n" +
+	"\tconductor\x18\a \x01(\v2\x18.renderfarm.v1.ConductorH\x00R\tconductorB\f\n" +
+	"\x04kind\x12\x04\xb8\xb5\x18\x01\"[\n" +
+	"\aLambert\x12P\n" +
+	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"M\n" +
+	"\bEmissive\x12A\n" +
+	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\bradiance\"\xfc\x01\n" +
+	"\x06Glossy\x12H\n" +
+	"\adiffuse\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\adiffuse\x12t\n" +
+	"\bspecular\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorBB\x8a\xb5\x18>\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01Z(diffuse + specular <= 1 in every channelR\bspecular\x122\n" +
+	"\bexponent\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00j\xf8@R\bexponent\"Z\n" +
+	"\x06Mirror\x12P\n" +
+	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"\x8a\x01\n" +
 	"\n" +
-	"Dielectric\x12\x10\n" +
-	"\x03ior\x18\x01 \x01(\x01R\x03ior\x12:\n" +
-	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\rtransmittance\"W\n" +
-	"\tConductor\x12&\n" +
-	"\x03eta\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorR\x03eta\x12\"\n" +
-	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\x01k\"\x83\x01\n" +
-	"\x05Light\x12\x12\n" +
-	"\x04name\x18\x01 \x01(\tR\x04name\x121\n" +
+	"Dielectric\x12(\n" +
+	"\x03ior\x18\x01 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00$@R\x03ior\x12R\n" +
+	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\rtransmittance\"\x8b\x01\n" +
+	"\tConductor\x12@\n" +
+	"\x03eta\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\x11\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x03eta\x12<\n" +
+	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x01k\"\x92\x01\n" +
+	"\x05Light\x12\x1b\n" +
+	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x121\n" +
 	"\x05point\x18\x02 \x01(\v2\x19.renderfarm.v1.PointLightH\x00R\x05point\x12+\n" +
-	"\x03sun\x18\x03 \x01(\v2\x17.renderfarm.v1.SunLightH\x00R\x03sunB\x06\n" +
-	"\x04kind\"q\n" +
+	"\x03sun\x18\x03 \x01(\v2\x17.renderfarm.v1.SunLightH\x00R\x03sunB\f\n" +
+	"\x04kind\x12\x04\xb8\xb5\x18\x01\"\x8a\x01\n" +
 	"\n" +
-	"PointLight\x12/\n" +
-	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\bposition\x122\n" +
-	"\tintensity\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\tintensity\"s\n" +
-	"\bSunLight\x121\n" +
-	"\tdirection\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\tdirection\x124\n" +
+	"PointLight\x127\n" +
+	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12C\n" +
+	"\tintensity\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\tintensity\"\x96\x01\n" +
+	"\bSunLight\x12C\n" +
+	"\tdirection\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x10\x8a\xb5\x18\f0\x01Z\bnon-zeroR\tdirection\x12E\n" +
 	"\n" +
-	"irradiance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorR\n" +
-	"irradiance\"\xa1\x02\n" +
-	"\rPhotonMapping\x12%\n" +
-	"\x0eglobal_photons\x18\x01 \x01(\x04R\rglobalPhotons\x12'\n" +
-	"\x0fcaustic_photons\x18\x02 \x01(\x04R\x0ecausticPhotons\x12*\n" +
-	"\x11photons_per_shard\x18\x03 \x01(\x04R\x0fphotonsPerShard\x12H\n" +
+	"irradiance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\n" +
+	"irradiance\"\xae\x03\n" +
+	"\rPhotonMapping\x12=\n" +
+	"\x0eglobal_photons\x18\x01 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\rglobalPhotons\x12?\n" +
+	"\x0fcaustic_photons\x18\x02 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\x0ecausticPhotons\x12\x86\x01\n" +
+	"\x11photons_per_shard\x18\x03 \x01(\x04BZ\x8a\xb5\x18V\t\x00\x00\x00\x00\x00@\x8f@\x19\x00\x00\x00\x00\xd0\x12cA)\x00\x00\x00\x00\x00j\xf8@Z9at most Scene's max_shards_per_map (10000) shards per mapR\x0fphotonsPerShard\x12H\n" +
 	"\x0fglobal_estimate\x18\x04 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0eglobalEstimate\x12J\n" +
-	"\x10caustic_estimate\x18\x05 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0fcausticEstimate\"\x97\x01\n" +
-	"\x10RadianceEstimate\x12\x1e\n" +
+	"\x10caustic_estimate\x18\x05 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0fcausticEstimate\"\x86\x02\n" +
+	"\x10RadianceEstimate\x12]\n" +
 	"\n" +
-	"neighbours\x18\x01 \x01(\rR\n" +
-	"neighbours\x12\x1d\n" +
+	"neighbours\x18\x01 \x01(\rB=\x8a\xb5\x189\x19\x00\x00\x00\x00\x00\x88\xc3@Z.0 selects 100 (global map) or 50 (caustic map)R\n" +
+	"neighbours\x12,\n" +
 	"\n" +
-	"max_radius\x18\x02 \x01(\x01R\tmaxRadius\x12-\n" +
-	"\x06filter\x18\x03 \x01(\x0e2\x15.renderfarm.v1.FilterR\x06filter\x12\x15\n" +
-	"\x06cone_k\x18\x04 \x01(\x01R\x05coneK\"\x8b\x02\n" +
-	"\x05Shape\x12\x12\n" +
-	"\x04name\x18\x01 \x01(\tR\x04name\x12\x1a\n" +
-	"\bmaterial\x18\x02 \x01(\tR\bmaterial\x12/\n" +
+	"max_radius\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\tmaxRadius\x12-\n" +
+	"\x06filter\x18\x03 \x01(\x0e2\x15.renderfarm.v1.FilterR\x06filter\x126\n" +
+	"\x06cone_k\x18\x04 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x80\x84.A)\x9a\x99\x99\x99\x99\x99\xf1?R\x05coneK\"\xb4\x02\n" +
+	"\x05Shape\x12\x1b\n" +
+	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x124\n" +
+	"\bmaterial\x18\x02 \x01(\tB\x18\x8a\xb5\x18\x140\x01Z\x10names a materialR\bmaterial\x12/\n" +
 	"\x06sphere\x18\x03 \x01(\v2\x15.renderfarm.v1.SphereH\x00R\x06sphere\x12)\n" +
 	"\x04quad\x18\x04 \x01(\v2\x13.renderfarm.v1.QuadH\x00R\x04quad\x12;\n" +
 	"\ttriangles\x18\x05 \x01(\v2\x1b.renderfarm.v1.TriangleMeshH\x00R\ttriangles\x12-\n" +
-	"\x04mesh\x18\x06 \x01(\v2\x17.renderfarm.v1.MeshFileH\x00R\x04meshB\n" +
-	"\n" +
-	"\bgeometry\"M\n" +
-	"\x06Sphere\x12+\n" +
-	"\x06center\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\x06center\x12\x16\n" +
-	"\x06radius\x18\x02 \x01(\x01R\x06radius\"\x8b\x01\n" +
-	"\x04Quad\x12+\n" +
-	"\x06origin\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\x06origin\x12*\n" +
-	"\x06edge_u\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3R\x05edgeU\x12*\n" +
-	"\x06edge_v\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3R\x05edgeV\"[\n" +
-	"\fTriangleMesh\x121\n" +
-	"\tpositions\x18\x01 \x03(\v2\x13.renderfarm.v1.Vec3R\tpositions\x12\x18\n" +
-	"\aindices\x18\x02 \x03(\rR\aindices\"n\n" +
-	"\bMeshFile\x12\x12\n" +
-	"\x04path\x18\x01 \x01(\tR\x04path\x12\x16\n" +
-	"\x06digest\x18\x02 \x01(\tR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform\"\xd2\x01\n" +
+	"\x04mesh\x18\x06 \x01(\v2\x17.renderfarm.v1.MeshFileH\x00R\x04meshB\x10\n" +
+	"\bgeometry\x12\x04\xb8\xb5\x18\x01\"d\n" +
+	"\x06Sphere\x123\n" +
+	"\x06center\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\x06center\x12%\n" +
+	"\x06radius\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\x11\x00\x00\x00\x00\x00\x00\x00\x00R\x06radius\"\xcf\x01\n" +
+	"\x04Quad\x123\n" +
+	"\x06origin\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\x06origin\x12<\n" +
+	"\x06edge_u\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x10\x8a\xb5\x18\f0\x01Z\bnon-zeroR\x05edgeU\x12T\n" +
+	"\x06edge_v\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3B(\x8a\xb5\x18$0\x01Z non-zero, not parallel to edge_uR\x05edgeV\"\xb4\x01\n" +
+	"\fTriangleMesh\x12=\n" +
+	"\tpositions\x18\x01 \x03(\v2\x13.renderfarm.v1.Vec3B\n" +
+	"\x8a\xb5\x18\x068\x03@\xc0\x84=R\tpositions\x12e\n" +
+	"\aindices\x18\x02 \x03(\rBK\x8a\xb5\x18G@\xc0\x8d\xb7\x01Z@a non-zero multiple of 3, each less than the number of positionsR\aindices\"\xb7\x01\n" +
+	"\bMeshFile\x12\x1b\n" +
+	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12V\n" +
+	"\x06digest\x18\x02 \x01(\tB>\x8a\xb5\x18:0\x01P\x01Z4the blob is uploaded first and parses as an OBJ meshR\x06digest\x126\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform\"\xa1\x02\n" +
 	"\tTransform\x125\n" +
-	"\vtranslation\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\vtranslation\x12)\n" +
-	"\x05scale\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3R\x05scale\x128\n" +
-	"\rrotation_axis\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3R\frotationAxis\x12)\n" +
+	"\vtranslation\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\vtranslation\x12I\n" +
+	"\x05scale\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1e\x8a\xb5\x18\x1aZ\x18every component non-zeroR\x05scale\x12g\n" +
+	"\rrotation_axis\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3B-\x8a\xb5\x18)Z'non-zero when rotation_degrees is not 0R\frotationAxis\x12)\n" +
 	"\x10rotation_degrees\x18\x04 \x01(\x01R\x0frotationDegrees*\x8a\x01\n" +
 	"\x10AntialiasingMode\x12!\n" +
 	"\x1dANTIALIASING_MODE_UNSPECIFIED\x10\x00\x12\x1b\n" +
@@ -2430,6 +2434,7 @@ func file_renderfarm_v1_scene_proto_init() {
 	if File_renderfarm_v1_scene_proto != nil {
 		return
 	}
+	file_renderfarm_v1_rules_proto_init()
 	file_renderfarm_v1_scene_proto_msgTypes[10].OneofWrappers = []any{
 		(*Material_Lambert)(nil),
 		(*Material_Emissive)(nil),

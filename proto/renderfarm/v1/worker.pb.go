@@ -669,11 +669,13 @@ func (*CompleteTaskResponse) Descriptor() ([]byte, []int) {
 }
 
 type FailTaskRequest struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	WorkerId      string                 `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
-	TaskId        string                 `protobuf:"bytes,2,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
-	Epoch         uint64                 `protobuf:"varint,3,opt,name=epoch,proto3" json:"epoch,omitempty"`
-	Error         string                 `protobuf:"bytes,4,opt,name=error,proto3" json:"error,omitempty"`
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	WorkerId string                 `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
+	TaskId   string                 `protobuf:"bytes,2,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
+	Epoch    uint64                 `protobuf:"varint,3,opt,name=epoch,proto3" json:"epoch,omitempty"`
+	// What went wrong, naming the file and field when the input is at fault.
+	Error         string      `protobuf:"bytes,4,opt,name=error,proto3" json:"error,omitempty"`
+	Kind          FailureKind `protobuf:"varint,5,opt,name=kind,proto3,enum=renderfarm.v1.FailureKind" json:"kind,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -734,6 +736,13 @@ func (x *FailTaskRequest) GetError() string {
 		return x.Error
 	}
 	return ""
+}
+
+func (x *FailTaskRequest) GetKind() FailureKind {
+	if x != nil {
+		return x.Kind
+	}
+	return FailureKind_FAILURE_KIND_UNSPECIFIED
 }
 
 type FailTaskResponse struct {
@@ -952,7 +961,7 @@ var File_renderfarm_v1_worker_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\n" +
-	"\x1arenderfarm/v1/worker.proto\x12\rrenderfarm.v1\x1a\x1egoogle/protobuf/duration.proto\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x17renderfarm/v1/job.proto\"c\n" +
+	"\x1arenderfarm/v1/worker.proto\x12\rrenderfarm.v1\x1a\x1egoogle/protobuf/duration.proto\x1a\x1fgoogle/protobuf/timestamp.proto\x1a\x17renderfarm/v1/job.proto\x1a\x19renderfarm/v1/rules.proto\"c\n" +
 	"\x15RegisterWorkerRequest\x12\x1a\n" +
 	"\bhostname\x18\x01 \x01(\tR\bhostname\x12\x14\n" +
 	"\x05cores\x18\x02 \x01(\rR\x05cores\x12\x18\n" +
@@ -998,12 +1007,13 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
 	"\x0f_reference_rmse\"\x16\n" +
-	"\x14CompleteTaskResponse\"s\n" +
+	"\x14CompleteTaskResponse\"\xa3\x01\n" +
 	"\x0fFailTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
 	"\atask_id\x18\x02 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x03 \x01(\x04R\x05epoch\x12\x14\n" +
-	"\x05error\x18\x04 \x01(\tR\x05error\"\x12\n" +
+	"\x05error\x18\x04 \x01(\tR\x05error\x12.\n" +
+	"\x04kind\x18\x05 \x01(\x0e2\x1a.renderfarm.v1.FailureKindR\x04kind\"\x12\n" +
 	"\x10FailTaskResponse\"`\n" +
 	"\x12ReleaseTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
@@ -1058,6 +1068,7 @@ var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*timestamppb.Timestamp)(nil),    // 19: google.protobuf.Timestamp
 	(*Task)(nil),                     // 20: renderfarm.v1.Task
 	(*Artifact)(nil),                 // 21: renderfarm.v1.Artifact
+	(FailureKind)(0),                 // 22: renderfarm.v1.FailureKind
 }
 var file_renderfarm_v1_worker_proto_depIdxs = []int32{
 	18, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
@@ -1072,25 +1083,26 @@ var file_renderfarm_v1_worker_proto_depIdxs = []int32{
 	21, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
 	9,  // 10: renderfarm.v1.CompleteTaskRequest.metrics:type_name -> renderfarm.v1.RoundMetrics
 	17, // 11: renderfarm.v1.RoundMetrics.layer_reference_rmse:type_name -> renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
-	0,  // 12: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
-	4,  // 13: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
-	6,  // 14: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
-	8,  // 15: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
-	11, // 16: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
-	13, // 17: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
-	15, // 18: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
-	1,  // 19: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
-	5,  // 20: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
-	7,  // 21: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
-	10, // 22: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
-	12, // 23: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
-	14, // 24: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
-	16, // 25: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
-	19, // [19:26] is the sub-list for method output_type
-	12, // [12:19] is the sub-list for method input_type
-	12, // [12:12] is the sub-list for extension type_name
-	12, // [12:12] is the sub-list for extension extendee
-	0,  // [0:12] is the sub-list for field type_name
+	22, // 12: renderfarm.v1.FailTaskRequest.kind:type_name -> renderfarm.v1.FailureKind
+	0,  // 13: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
+	4,  // 14: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
+	6,  // 15: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
+	8,  // 16: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
+	11, // 17: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
+	13, // 18: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
+	15, // 19: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
+	1,  // 20: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
+	5,  // 21: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
+	7,  // 22: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
+	10, // 23: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
+	12, // 24: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
+	14, // 25: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
+	16, // 26: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
+	20, // [20:27] is the sub-list for method output_type
+	13, // [13:20] is the sub-list for method input_type
+	13, // [13:13] is the sub-list for extension type_name
+	13, // [13:13] is the sub-list for extension extendee
+	0,  // [0:13] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_worker_proto_init() }
@@ -1099,6 +1111,7 @@ func file_renderfarm_v1_worker_proto_init() {
 		return
 	}
 	file_renderfarm_v1_job_proto_init()
+	file_renderfarm_v1_rules_proto_init()
 	file_renderfarm_v1_worker_proto_msgTypes[9].OneofWrappers = []any{}
 	type x struct{}
 	out := protoimpl.TypeBuilder{

@@ -50,8 +50,10 @@ type WorkerServiceClient interface {
 	// Reports success with the task's artifacts. Idempotent: repeating a report that was
 	// accepted succeeds. Returns FAILED_PRECONDITION if the lease is no longer held.
 	CompleteTask(ctx context.Context, in *CompleteTaskRequest, opts ...grpc.CallOption) (*CompleteTaskResponse, error)
-	// Reports failure; the task is retried on another lease up to a limit, then the job
-	// fails with this error. Returns FAILED_PRECONDITION if the lease is no longer held.
+	// Reports failure. A failure of a permanent kind (FailureInfo) fails the job at once with
+	// this error and blames no worker; any other is retried on another lease up to a limit,
+	// then the job fails with this error. Returns FAILED_PRECONDITION if the lease is no
+	// longer held.
 	FailTask(ctx context.Context, in *FailTaskRequest, opts ...grpc.CallOption) (*FailTaskResponse, error)
 	// Hands a lease back unfinished (the worker is shutting down); the task is queued again
 	// without counting as a failure.
@@ -160,8 +162,10 @@ type WorkerServiceServer interface {
 	// Reports success with the task's artifacts. Idempotent: repeating a report that was
 	// accepted succeeds. Returns FAILED_PRECONDITION if the lease is no longer held.
 	CompleteTask(context.Context, *CompleteTaskRequest) (*CompleteTaskResponse, error)
-	// Reports failure; the task is retried on another lease up to a limit, then the job
-	// fails with this error. Returns FAILED_PRECONDITION if the lease is no longer held.
+	// Reports failure. A failure of a permanent kind (FailureInfo) fails the job at once with
+	// this error and blames no worker; any other is retried on another lease up to a limit,
+	// then the job fails with this error. Returns FAILED_PRECONDITION if the lease is no
+	// longer held.
 	FailTask(context.Context, *FailTaskRequest) (*FailTaskResponse, error)
 	// Hands a lease back unfinished (the worker is shutting down); the task is queued again
 	// without counting as a failure.

@@ -4,7 +4,7 @@ import (
 	"strings"
 	"testing"
 
-	"photonfarm/coordinator/scene"
+	"photonfarm/contract/scene"
 )
 
 func TestParseJSON(t *testing.T) {

@@ -4,8 +4,8 @@ import (
 	"math"
 	"testing"
 
-	"photonfarm/coordinator/scene"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -5,8 +5,8 @@ import (
 	"strings"
 	"testing"
 
-	"photonfarm/coordinator/scene"
-	"photonfarm/coordinator/scene/scenetest"
+	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

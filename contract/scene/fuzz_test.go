@@ -9,8 +9,8 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/contract/scene"
 	"photonfarm/coordinator/planner"
-	"photonfarm/coordinator/scene"
 )
 
 // FuzzParseValidatePlan feeds arbitrary bytes to the path a submitted scene takes: parse,

@@ -1,0 +1,246 @@
+package rules
+
+import (
+	"fmt"
+	"math"
+	"regexp"
+	"strconv"
+	"strings"
+
+	"google.golang.org/protobuf/proto"
+	"google.golang.org/protobuf/reflect/protoreflect"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// FieldError says which field of a message is wrong and why.
+type FieldError struct {
+	// Field is a path of .proto field names from the checked message: "shapes[2].sphere.radius".
+	Field string
+	// Message says what is wrong: "must be > 0, got -1".
+	Message string
+}
+
+func (e *FieldError) Error() string { return e.Field + ": " + e.Message }
+
+// Errorf returns a *FieldError for field.
+func Errorf(field, format string, args ...any) *FieldError {
+	return &FieldError{Field: field, Message: fmt.Sprintf(format, args...)}
+}
+
+// DigestPattern matches a content digest: "sha256:" and 64 lowercase hex digits.
+var DigestPattern = regexp.MustCompile(`^sha256:[0-9a-f]{64}$`)
+
+// Check returns the first field of m that breaks its rule, or nil: fields in declaration
+// order, depth first, each message's required oneofs after its fields. Only set messages
+// are entered, and of a oneof only its set member. The worker's check walks in the same
+// order with the same messages (worker/contract/rules.cpp).
+func Check(m proto.Message) *FieldError {
+	return checkMessage(m.ProtoReflect(), "", nil)
+}
+
+// checkMessage checks msg, found at path; inherited is the rule of the field that holds
+// it when that rule bounds the components of a value message (Color, Vec3).
+func checkMessage(msg protoreflect.Message, path string, inherited *pb.FieldRule) *FieldError {
+	md := msg.Descriptor()
+	for i := 0; i < md.Fields().Len(); i++ {
+		fd := md.Fields().Get(i)
+		if fd.ContainingOneof() != nil && !msg.Has(fd) {
+			continue
+		}
+		r := Of(fd)
+		if r == nil && inherited != nil && isNumber(fd) {
+			r = inherited
+		}
+		if err := checkField(msg, fd, join(path, string(fd.Name())), r); err != nil {
+			return err
+		}
+	}
+	for i := 0; i < md.Oneofs().Len(); i++ {
+		od := md.Oneofs().Get(i)
+		if OneRequired(od) && msg.WhichOneof(od) == nil {
+			names := make([]string, od.Fields().Len())
+			for j := range names {
+				names[j] = string(od.Fields().Get(j).Name())
+			}
+			return Errorf(path, "exactly one of %s must be set", strings.Join(names, ", "))
+		}
+	}
+	return nil
+}
+
+func checkField(msg protoreflect.Message, fd protoreflect.FieldDescriptor, path string, r *pb.FieldRule) *FieldError {
+	switch {
+	case fd.IsMap():
+		var err *FieldError
+		msg.Get(fd).Map().Range(func(k protoreflect.MapKey, v protoreflect.Value) bool {
+			err = checkValue(fd.MapValue(), v, path+"["+k.String()+"]", r)
+			return err == nil
+		})
+		return err
+	case fd.IsList():
+		list := msg.Get(fd).List()
+		n := uint64(list.Len())
+		if r.MaxItems != nil && n > r.GetMaxItems() {
+			return Errorf(path, "must have at most %d entries, got %d", r.GetMaxItems(), n)
+		}
+		if r.MinItems != nil && n < r.GetMinItems() {
+			return Errorf(path, "must have at least %d entries, got %d", r.GetMinItems(), n)
+		}
+		for i := 0; i < list.Len(); i++ {
+			if err := checkValue(fd, list.Get(i), path+"["+strconv.Itoa(i)+"]", r); err != nil {
+				return err
+			}
+		}
+		return nil
+	case fd.Kind() == protoreflect.MessageKind:
+		if !msg.Has(fd) {
+			if r.GetRequired() {
+				return Errorf(path, "missing")
+			}
+			return nil
+		}
+	}
+	return checkValue(fd, msg.Get(fd), path, r)
+}
+
+// checkValue checks one value of field fd (the field's value, or one element of a list or
+// map) against r.
+func checkValue(fd protoreflect.FieldDescriptor, v protoreflect.Value, path string, r *pb.FieldRule) *FieldError {
+	switch fd.Kind() {
+	case protoreflect.MessageKind, protoreflect.GroupKind:
+		var components *pb.FieldRule
+		if hasBounds(r) {
+			components = r
+		}
+		return checkMessage(v.Message(), path, components)
+	case protoreflect.StringKind:
+		return checkString(path, v.String(), r)
+	case protoreflect.BytesKind:
+		return checkString(path, string(v.Bytes()), r)
+	case protoreflect.EnumKind:
+		if fd.Enum().Values().ByNumber(v.Enum()) == nil {
+			return Errorf(path, "unknown %s value %d", fd.Enum().Name(), v.Enum())
+		}
+		return nil
+	case protoreflect.BoolKind:
+		return nil
+	case protoreflect.FloatKind, protoreflect.DoubleKind:
+		f := v.Float()
+		if math.IsNaN(f) || math.IsInf(f, 0) {
+			return Errorf(path, "must be a finite number, got %s", Number(f))
+		}
+		if limit := Scene.GetMaxMagnitude(); math.Abs(f) > limit {
+			return Errorf(path, "must be within ±%s, got %s", Number(limit), Number(f))
+		}
+		return checkBounds(path, f, Number(f), r)
+	case protoreflect.Uint32Kind, protoreflect.Uint64Kind, protoreflect.Fixed32Kind, protoreflect.Fixed64Kind:
+		return checkBounds(path, float64(v.Uint()), strconv.FormatUint(v.Uint(), 10), r)
+	default: // signed integers
+		return checkBounds(path, float64(v.Int()), strconv.FormatInt(v.Int(), 10), r)
+	}
+}
+
+func checkString(path string, s string, r *pb.FieldRule) *FieldError {
+	n := len(s)
+	if r.GetRequired() && n == 0 {
+		return Errorf(path, "missing")
+	}
+	if r.MaxBytes != nil && uint64(n) > r.GetMaxBytes() {
+		return Errorf(path, "must be at most %d bytes, got %d", r.GetMaxBytes(), n)
+	}
+	if r.GetDigest() && n > 0 && !DigestPattern.MatchString(s) {
+		return Errorf(path, "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", Truncate(s, 80))
+	}
+	return nil
+}
+
+// checkBounds checks number v (shown as shown) against r's bounds; 0 passes when r has a
+// default, which it selects.
+func checkBounds(path string, v float64, shown string, r *pb.FieldRule) *FieldError {
+	if !hasBounds(r) || (v == 0 && r.DefaultValue != nil) {
+		return nil
+	}
+	ok := (r.Gte == nil || v >= r.GetGte()) && (r.Gt == nil || v > r.GetGt()) &&
+		(r.Lte == nil || v <= r.GetLte()) && (r.Lt == nil || v < r.GetLt())
+	if ok {
+		return nil
+	}
+	return Errorf(path, "%s, got %s", Describe(r), shown)
+}
+
+// Describe says in words what numbers r allows: "must be in [8, 256] (0 selects 32)".
+func Describe(r *pb.FieldRule) string {
+	lo, loOpen := bound(r.Gt, r.Gte)
+	hi, hiOpen := bound(r.Lt, r.Lte)
+	var s string
+	switch {
+	case lo != "" && hi != "":
+		s = "must be in " + pick(loOpen, "(", "[") + lo + ", " + hi + pick(hiOpen, ")", "]")
+	case lo != "":
+		s = "must be " + pick(loOpen, "> ", ">= ") + lo
+	default:
+		s = "must be " + pick(hiOpen, "< ", "<= ") + hi
+	}
+	if r.DefaultValue != nil {
+		s += " (0 selects " + Number(r.GetDefaultValue()) + ")"
+	}
+	return s
+}
+
+// bound returns the bound an exclusive or an inclusive limit sets, if either is set, and
+// whether it is exclusive.
+func bound(exclusive, inclusive *float64) (string, bool) {
+	switch {
+	case exclusive != nil:
+		return Number(*exclusive), true
+	case inclusive != nil:
+		return Number(*inclusive), false
+	}
+	return "", false
+}
+
+func pick(c bool, yes, no string) string {
+	if c {
+		return yes
+	}
+	return no
+}
+
+func hasBounds(r *pb.FieldRule) bool {
+	return r.Gte != nil || r.Gt != nil || r.Lte != nil || r.Lt != nil
+}
+
+func isNumber(fd protoreflect.FieldDescriptor) bool {
+	switch fd.Kind() {
+	case protoreflect.FloatKind, protoreflect.DoubleKind, protoreflect.Int32Kind, protoreflect.Int64Kind,
+		protoreflect.Uint32Kind, protoreflect.Uint64Kind, protoreflect.Sint32Kind, protoreflect.Sint64Kind,
+		protoreflect.Fixed32Kind, protoreflect.Fixed64Kind, protoreflect.Sfixed32Kind, protoreflect.Sfixed64Kind:
+		return true
+	}
+	return false
+}
+
+func join(path, name string) string {
+	if path == "" {
+		return name
+	}
+	return path + "." + name
+}
+
+// Number formats v as briefly as it round-trips: 16384, 0.1, 1e+12.
+func Number(v float64) string { return strconv.FormatFloat(v, 'g', -1, 64) }
+
+// Truncate cuts s to at most n bytes (on a rune boundary), marking the cut, so that a
+// hostile value is not echoed back whole.
+func Truncate(s string, n int) string {
+	if len(s) <= n {
+		return s
+	}
+	for n > 0 && !utf8RuneStart(s[n]) {
+		n--
+	}
+	return s[:n] + "…"
+}
+
+func utf8RuneStart(b byte) bool { return b&0xC0 != 0x80 }
