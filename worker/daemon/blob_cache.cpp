@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "contract/digest.h"
 #include "daemon/sha256.h"
 
 namespace farm {
@@ -24,7 +25,7 @@ std::filesystem::path BlobCache::PathOf(std::string_view digest) const {
 }
 
 std::optional<std::string> BlobCache::Get(std::string_view digest) const {
-  if (!IsValidDigest(digest)) return std::nullopt;
+  if (!contract::IsDigest(digest)) return std::nullopt;
   const auto path = PathOf(digest);
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
@@ -38,7 +39,7 @@ std::optional<std::string> BlobCache::Get(std::string_view digest) const {
 }
 
 std::optional<std::filesystem::path> BlobCache::Path(std::string_view digest) const {
-  if (!IsValidDigest(digest)) return std::nullopt;
+  if (!contract::IsDigest(digest)) return std::nullopt;
   auto path = PathOf(digest);
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
@@ -57,7 +58,7 @@ std::optional<std::filesystem::path> BlobCache::Path(std::string_view digest) co
 }
 
 void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
-  if (!IsValidDigest(digest)) {
+  if (!contract::IsDigest(digest)) {
     throw std::invalid_argument("malformed blob digest \"" + std::string(digest) + "\"");
   }
   if (Sha256Digest(bytes) != digest) {

@@ -6,6 +6,7 @@
 #include <stop_token>
 
 #include "daemon/retry.h"
+#include "contract/digest.h"
 #include "daemon/sha256.h"
 
 namespace farm {
@@ -64,7 +65,7 @@ std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop
 
 std::string BlobClient::Download(const std::string& digest, std::stop_token stop,
                                  Progress progress) {
-  if (!IsValidDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
+  if (!contract::IsDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
   std::string bytes;
   std::string problem;  // Set when the bytes arrived but were wrong.
   const grpc::Status status = RetryTransient("download " + digest, stop, kGiveUpAfter, [&] {
