@@ -11,6 +11,11 @@ namespace {
 // Every expectation below is what Go 1.26 prints for the same input (strconv.FormatFloat
 // with 'g' and -1, strconv.Quote, slog.TextHandler).
 
+struct TextCase {
+  std::string_view in;
+  const char* go;
+};
+
 TEST(GoNumber, SpellsNumbersAsStrconvFormatFloatG) {
   const struct {
     double v;
@@ -32,10 +37,7 @@ TEST(GoNumber, SpellsNumbersAsStrconvFormatFloatG) {
 }
 
 TEST(GoQuote, EscapesAsStrconvQuote) {
-  const struct {
-    std::string_view in;
-    const char* go;
-  } cases[] = {
+  const TextCase cases[] = {
       {"", R"("")"},
       {"plain", R"("plain")"},
       {"with space", R"("with space")"},
@@ -55,14 +57,11 @@ TEST(GoQuote, EscapesAsStrconvQuote) {
       {"日本", R"("日本")"},
       {"\U000F0000", R"("\U000f0000")"},
   };
-  for (const auto& c : cases) EXPECT_EQ(GoQuote(c.in), c.go) << c.go;
+  for (const TextCase& c : cases) EXPECT_EQ(GoQuote(c.in), c.go) << c.go;
 }
 
 TEST(SlogText, QuotesOnlyWhatTheTextHandlerQuotes) {
-  const struct {
-    std::string_view in;
-    const char* go;
-  } cases[] = {
+  const TextCase cases[] = {
       {"", R"("")"},
       {"plain", "plain"},
       {"with space", R"("with space")"},
@@ -78,7 +77,7 @@ TEST(SlogText, QuotesOnlyWhatTheTextHandlerQuotes) {
       {"日本", "日本"},
       {"x:y/z-1.2_3", "x:y/z-1.2_3"},
   };
-  for (const auto& c : cases) EXPECT_EQ(SlogText(c.in), c.go) << c.go;
+  for (const TextCase& c : cases) EXPECT_EQ(SlogText(c.in), c.go) << c.go;
 }
 
 TEST(Truncate, CutsOnARuneBoundaryAndMarksTheCut) {

@@ -232,6 +232,15 @@ const pb::FieldRule& Declared(const gp::Descriptor& message, std::string_view na
   return fd->options().GetExtension(pb::rule);
 }
 
+// One number of the rule of field `name` (its default, a bound), which it must declare.
+double DeclaredValue(const gp::Descriptor& message, std::string_view name, bool (pb::FieldRule::*has)() const,
+                     double (pb::FieldRule::*value)() const, const char* what) {
+  const pb::FieldRule& r = Declared(message, name);
+  if (!(r.*has)())
+    throw std::logic_error("contract: " + message.full_name() + "." + std::string(name) + " declares no " + what);
+  return (r.*value)();
+}
+
 std::string Bound(bool exclusive_set, double exclusive, bool inclusive_set, double inclusive,
                   bool& open) {
   open = exclusive_set;
@@ -295,19 +304,12 @@ const pb::RpcLimits& RpcLimits() {
 }
 
 double Default(const gp::Descriptor& message, std::string_view field) {
-  const pb::FieldRule& r = Declared(message, field);
-  if (!r.has_default_value())
-    throw std::logic_error("contract: " + message.full_name() + "." + std::string(field) +
-                           " declares no default_value");
-  return r.default_value();
+  return DeclaredValue(message, field, &pb::FieldRule::has_default_value, &pb::FieldRule::default_value,
+                       "default_value");
 }
 
 double Max(const gp::Descriptor& message, std::string_view field) {
-  const pb::FieldRule& r = Declared(message, field);
-  if (!r.has_lte())
-    throw std::logic_error("contract: " + message.full_name() + "." + std::string(field) +
-                           " declares no lte bound");
-  return r.lte();
+  return DeclaredValue(message, field, &pb::FieldRule::has_lte, &pb::FieldRule::lte, "lte bound");
 }
 
 }  // namespace farm::contract

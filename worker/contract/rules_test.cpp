@@ -1,27 +1,20 @@
 #include "contract/rules.h"
 
-#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
+#include "contract/test_json.h"
 #include "renderfarm/v1/worker.pb.h"
 
 namespace farm::contract {
 namespace {
 
-pb::Scene Parse(const std::string& json) {
-  pb::Scene s;
-  const auto status = google::protobuf::util::JsonStringToMessage(json, &s);
-  EXPECT_TRUE(status.ok()) << status.ToString();
-  return s;
-}
-
 // A scene that breaks no field rule.
 pb::Scene Valid() {
-  return Parse(R"({
+  return testing::FromJson<pb::Scene>(R"({
     "camera": {"position": {"z": -5}, "lookAt": {}, "up": {"y": 1}, "verticalFovDegrees": 40},
     "film": {"width": 64, "height": 48},
     "materials": [{"name": "white", "lambert": {"reflectance": {"r": 0.8, "g": 0.8, "b": 0.8}}}],

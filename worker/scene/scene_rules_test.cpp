@@ -1,8 +1,8 @@
 #include "scene/scene_rules.h"
 
-#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
+#include "contract/test_json.h"
 #include "scene/scene.h"
 
 namespace farm {
@@ -10,16 +10,9 @@ namespace {
 
 namespace pb = renderfarm::v1;
 
-pb::Scene Parse(const std::string& json) {
-  pb::Scene s;
-  const auto status = google::protobuf::util::JsonStringToMessage(json, &s);
-  EXPECT_TRUE(status.ok()) << status.ToString();
-  return s;
-}
-
 // A scene that keeps every rule: a grey sphere on a quad floor under a point light.
 pb::Scene Valid() {
-  return Parse(R"({
+  return testing::FromJson<pb::Scene>(R"({
     "camera": {"position": {"z": -5}, "lookAt": {}, "up": {"y": 1}, "verticalFovDegrees": 40},
     "film": {"width": 64, "height": 48},
     "materials": [
