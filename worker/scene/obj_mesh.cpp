@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "contract/go_text.h"
 #include "contract/rules.h"
 
 namespace farm {
@@ -37,10 +38,11 @@ std::size_t ForEachLine(std::string_view text,
   return number;
 }
 
-// The words of a line, up to a "#" that starts a comment.
-std::vector<std::string_view> Tokens(std::string_view line) {
+// The words of a line, up to a "#" that starts a comment, into `out` (reused across lines:
+// a big mesh has tens of millions of them).
+void Tokens(std::string_view line, std::vector<std::string_view>& out) {
   line = line.substr(0, line.find('#'));
-  std::vector<std::string_view> out;
+  out.clear();
   for (std::size_t at = 0; at < line.size();) {
     at = line.find_first_not_of(" \t", at);
     if (at == std::string_view::npos) break;
@@ -48,7 +50,14 @@ std::vector<std::string_view> Tokens(std::string_view line) {
     out.push_back(line.substr(at, end - at));
     at = end;
   }
-  return out;
+}
+
+// Whether the line's first word is "v" (as Tokens splits it).
+bool IsVertexLine(std::string_view line) {
+  line = line.substr(0, line.find('#'));
+  const std::size_t at = line.find_first_not_of(" \t");
+  return at != std::string_view::npos && line[at] == 'v' &&
+         (at + 1 == line.size() || line[at + 1] == ' ' || line[at + 1] == '\t');
 }
 
 std::string_view WithoutPlus(std::string_view s) {
@@ -75,7 +84,8 @@ std::optional<long long> Integer(std::string_view token) {
   return v;
 }
 
-std::string Quoted(std::string_view token) { return "\"" + std::string(token.substr(0, 40)) + "\""; }
+// A word of the file in a message: quoted, escaped and cut short, since it may be anything.
+std::string Quoted(std::string_view token) { return contract::GoQuote(contract::Truncate(token, 40)); }
 
 // Checks every line against the rules in the header; throws ObjError for the first that
 // breaks one.
@@ -89,20 +99,17 @@ class ObjChecker {
       throw ObjError(0, "the file is " + std::to_string(text_.size()) + " bytes, more than the " +
                             std::to_string(limits.max_asset_bytes()) + " an asset may have");
     // Positive indices may name vertices defined further down: count them all first.
-    ForEachLine(text_, [&](std::size_t, std::string_view line) {
-      const auto tokens = Tokens(line);
-      if (!tokens.empty() && tokens[0] == "v") ++total_vertices_;
-    });
+    ForEachLine(text_, [&](std::size_t, std::string_view line) { total_vertices_ += IsVertexLine(line); });
     const std::size_t lines = ForEachLine(text_, [&](std::size_t n, std::string_view line) { Line(n, line); });
     if (faces_ == 0) throw ObjError(lines, "the file has no faces (f lines)");
   }
 
  private:
   void Line(std::size_t n, std::string_view line) {
-    const auto tokens = Tokens(line);
-    if (tokens.empty()) return;
-    if (tokens[0] == "v") Vertex(n, tokens);
-    if (tokens[0] == "f") Face(n, tokens);
+    Tokens(line, tokens_);
+    if (tokens_.empty()) return;
+    if (tokens_[0] == "v") Vertex(n, tokens_);
+    if (tokens_[0] == "f") Face(n, tokens_);
   }
 
   void Vertex(std::size_t n, const std::vector<std::string_view>& tokens) {
@@ -152,12 +159,13 @@ class ObjChecker {
     if (index > 0 && static_cast<unsigned long long>(index) > total_vertices_)
       throw ObjError(n, "face refers to vertex " + std::to_string(index) + ", but the file has " +
                             std::to_string(total_vertices_) + " vertices");
-    if (index < 0 && static_cast<unsigned long long>(-index) > vertices_)
+    if (index < 0 && index < -static_cast<long long>(vertices_))
       throw ObjError(n, "face refers to vertex " + std::to_string(index) + " (relative), but only " +
                             std::to_string(vertices_) + " vertices come before it");
   }
 
   std::string_view text_;
+  std::vector<std::string_view> tokens_;  // of the current line
   std::uint64_t total_vertices_ = 0;
   std::uint64_t vertices_ = 0;  // so far
   std::uint64_t faces_ = 0;
