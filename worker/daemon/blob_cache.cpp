@@ -1,13 +1,17 @@
 #include "daemon/blob_cache.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
+#include "contract/digest.h"
 #include "daemon/sha256.h"
 
 namespace farm {
@@ -24,7 +28,7 @@ std::filesystem::path BlobCache::PathOf(std::string_view digest) const {
 }
 
 std::optional<std::string> BlobCache::Get(std::string_view digest) const {
-  if (!IsValidDigest(digest)) return std::nullopt;
+  if (!contract::IsDigest(digest)) return std::nullopt;
   const auto path = PathOf(digest);
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
@@ -38,7 +42,7 @@ std::optional<std::string> BlobCache::Get(std::string_view digest) const {
 }
 
 std::optional<std::filesystem::path> BlobCache::Path(std::string_view digest) const {
-  if (!IsValidDigest(digest)) return std::nullopt;
+  if (!contract::IsDigest(digest)) return std::nullopt;
   auto path = PathOf(digest);
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
@@ -57,7 +61,7 @@ std::optional<std::filesystem::path> BlobCache::Path(std::string_view digest) co
 }
 
 void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
-  if (!IsValidDigest(digest)) {
+  if (!contract::IsDigest(digest)) {
     throw std::invalid_argument("malformed blob digest \"" + std::string(digest) + "\"");
   }
   if (Sha256Digest(bytes) != digest) {
@@ -68,22 +72,33 @@ void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
   const auto final_path = PathOf(digest);
   auto temp = final_path;
   temp += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temp, ignored);
-      throw std::runtime_error("cannot write cache file " + temp.string());
+  struct File {  // closed on every way out
+    int fd;
+    ~File() {
+      if (fd >= 0) ::close(fd);
     }
+  } file{::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)};
+  const auto fail = [&temp](const char* what) {
+    const std::error_code error(errno, std::generic_category());
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw std::system_error(error, what + temp.string());
+  };
+  if (file.fd < 0) fail("cannot create cache file ");
+  for (std::size_t at = 0; at < bytes.size();) {
+    const ssize_t n = ::write(file.fd, bytes.data() + at, bytes.size() - at);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail("cannot write cache file ");
+    at += static_cast<std::size_t>(n);
   }
+  const int closed = ::close(std::exchange(file.fd, -1));  // close reports late write errors (NFS)
+  if (closed != 0) fail("cannot write cache file ");
   std::error_code ec;
   std::filesystem::rename(temp, final_path, ec);
   if (ec) {
     std::error_code ignored;
     std::filesystem::remove(temp, ignored);
-    throw std::runtime_error("cannot store cache file " + final_path.string() + ": " + ec.message());
+    throw std::system_error(ec, "cannot store cache file " + final_path.string());
   }
 }
 

@@ -29,7 +29,8 @@ class BlobCache {
 
   // Stores `bytes` under `digest` (atomically: concurrent readers and other worker
   // processes sharing the folder never see a partial file). Throws std::invalid_argument if
-  // the digest is malformed or does not match the bytes, std::runtime_error on I/O errors.
+  // the digest is malformed or does not match the bytes, std::system_error with the
+  // failing call's error code (ENOSPC for a full disk) on I/O errors.
   void Put(std::string_view digest, std::string_view bytes) const;
 
   const std::filesystem::path& dir() const { return dir_; }

@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <string>
+#include <system_error>
 
 using namespace std::string_literals;
 
@@ -37,6 +38,19 @@ TEST_F(BlobCacheTest, PutThenGet) {
   EXPECT_EQ(cache.Get(digest), bytes);
   // Another cache over the same folder (a restarted worker) sees it too.
   EXPECT_EQ(BlobCache(dir_).Get(digest), bytes);
+}
+
+TEST_F(BlobCacheTest, WriteErrorsKeepTheirErrorCode) {
+  BlobCache cache(dir_);
+  // The folder entries go in is a file now: creating one fails with ENOTDIR.
+  std::filesystem::remove_all(dir_ / "sha256");
+  std::ofstream(dir_ / "sha256") << "not a folder";
+  try {
+    cache.Put(Sha256Digest("x"), "x");
+    FAIL() << "stored";
+  } catch (const std::system_error& e) {
+    EXPECT_EQ(e.code(), std::errc::not_a_directory) << e.what();
+  }
 }
 
 TEST_F(BlobCacheTest, RefusesBytesThatDoNotMatchTheDigest) {

@@ -6,6 +6,8 @@
 #include <stop_token>
 
 #include "daemon/retry.h"
+#include "contract/digest.h"
+#include "contract/rules.h"
 #include "daemon/sha256.h"
 
 namespace farm {
@@ -13,13 +15,13 @@ namespace {
 
 namespace pb = renderfarm::v1;
 
-constexpr std::size_t kUploadChunk = 1 << 20;
 // A transfer that has not finished in this long is stuck; big images still fit.
 constexpr auto kTransferDeadline = std::chrono::minutes(10);
+// A download reserves at most this much before the bytes arrive, so that a size the store
+// declares but does not send costs little.
+constexpr std::int64_t kMostReservedUpFront = 64 << 20;
 // How long a blob operation keeps retrying an unreachable store before the task fails.
 constexpr auto kGiveUpAfter = std::chrono::seconds(120);
-// Blobs larger than this are refused before anything is allocated for them.
-constexpr std::int64_t kMaxBlobBytes = std::int64_t{4} << 30;
 
 void PrepareContext(grpc::ClientContext& ctx) {
   ctx.set_deadline(std::chrono::system_clock::now() + kTransferDeadline);
@@ -54,8 +56,9 @@ std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop
     const std::string bytes = Download(digest, stop, progress);
     try {
       cache_->Put(digest, bytes);  // Atomic: a temporary file renamed into place.
-    } catch (const std::exception& e) {
-      throw BlobError("cannot cache blob " + digest + ": " + e.what());
+    } catch (const std::system_error& e) {
+      // Keeps the error's code: a full disk is another kind of failure than a lost blob.
+      throw std::system_error(e.code(), "cannot cache blob " + digest + ": " + e.what());
     }
   }  // The bytes are freed before the file is mapped.
   if (auto path = cache_->Path(digest)) return std::move(*path);
@@ -64,7 +67,7 @@ std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop
 
 std::string BlobClient::Download(const std::string& digest, std::stop_token stop,
                                  Progress progress) {
-  if (!IsValidDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
+  if (!contract::IsDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
   std::string bytes;
   std::string problem;  // Set when the bytes arrived but were wrong.
   const grpc::Status status = RetryTransient("download " + digest, stop, kGiveUpAfter, [&] {
@@ -78,17 +81,19 @@ std::string BlobClient::Download(const std::string& digest, std::stop_token stop
     auto reader = stub_->DownloadBlob(&ctx, request);
     pb::DownloadBlobResponse chunk;
     std::int64_t expected = -1;
+    // Blobs larger than the contract allows are refused before anything is allocated.
+    const auto max_blob = static_cast<std::int64_t>(contract::RpcLimits().max_blob_bytes());
     Sha256 hash;
     while (reader->Read(&chunk)) {
       if (expected < 0) {
         expected = chunk.size_bytes();
-        if (expected < 0 || expected > kMaxBlobBytes) {
+        if (expected < 0 || expected > max_blob) {
           problem = "declared size " + std::to_string(expected) + " is out of range";
           ctx.TryCancel();
           break;
         }
         // Reserve what is declared, up to a point: the rest grows as bytes really arrive.
-        bytes.reserve(static_cast<std::size_t>(std::min<std::int64_t>(expected, 64 << 20)));
+        bytes.reserve(static_cast<std::size_t>(std::min(expected, kMostReservedUpFront)));
       }
       if (static_cast<std::int64_t>(bytes.size() + chunk.chunk().size()) > expected) {
         problem = "more bytes than the declared " + std::to_string(expected);
@@ -131,8 +136,9 @@ std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop,
     part.mutable_header()->set_size_bytes(static_cast<std::int64_t>(bytes.size()));
     part.mutable_header()->set_digest(digest);
     bool ok = writer->Write(part);
-    for (std::size_t at = 0; ok && at < bytes.size(); at += kUploadChunk) {
-      part.set_chunk(std::string(bytes.substr(at, kUploadChunk)));
+    const std::size_t chunk = contract::RpcLimits().max_upload_chunk_bytes();
+    for (std::size_t at = 0; ok && at < bytes.size(); at += chunk) {
+      part.set_chunk(std::string(bytes.substr(at, chunk)));
       ok = writer->Write(part);
       if (ok) progress.Advance(part.chunk().size());
     }

@@ -46,8 +46,8 @@ class BlobClient {
   // Downloads and verifies without caching. Use for blobs read once (tile EXRs).
   std::string Download(const std::string& digest, std::stop_token stop, Progress progress = {});
 
-  // Uploads `bytes` (a header with size and digest, then chunks of at most 1 MiB) and
-  // returns the digest. Uploading a blob the store already has is cheap.
+  // Uploads `bytes` (a header with size and digest, then chunks of the contract's largest
+  // upload chunk) and returns the digest. Uploading a blob the store already has is cheap.
   std::string Upload(std::string_view bytes, std::stop_token stop, Progress progress = {});
 
  private:

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "contract/rules.h"
+
 namespace farm {
 namespace {
 
@@ -60,8 +62,8 @@ std::string ReadFile(const std::filesystem::path& path) {
 
 std::shared_ptr<grpc::Channel> MakeCoordinatorChannel(const WorkerOptions& options) {
   grpc::ChannelArguments args;
-  // Blob chunks are up to 4 MiB, and a composite task lists every tile.
-  args.SetMaxReceiveMessageSize(64 << 20);
+  // The contract's largest message either way (a composite task lists every tile).
+  args.SetMaxReceiveMessageSize(static_cast<int>(contract::RpcLimits().max_message_bytes()));
   // Notice a restarted coordinator within seconds (gRPC's default backoff grows to 2 min).
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 5000);

@@ -46,9 +46,9 @@ grpc::Status RetryTransient(std::string_view what, std::stop_token stop,
         std::chrono::steady_clock::now() + delay - start > give_up_after) {
       return status;
     }
-    LogLine(std::string(what) + ": " + status.error_message() + " (code " +
-            std::to_string(status.error_code()) + "), retrying in " +
-            std::to_string(delay.count()) + " ms");
+    Log(LogLevel::kWarn, "retrying",
+        {{"call", what}, {"err", status.error_message()}, {"code", static_cast<int>(status.error_code())},
+         {"retry_ms", delay.count()}});
     if (!SleepUnlessStopped(delay, stop)) {
       return grpc::Status(grpc::StatusCode::CANCELLED, "stopped");
     }

@@ -4,9 +4,9 @@
 
 #include <stdexcept>
 
-namespace farm {
+#include "contract/digest.h"
 
-constexpr std::string_view kPrefix = "sha256:";
+namespace farm {
 
 struct Sha256::Context {
   struct Free {
@@ -38,7 +38,7 @@ std::string Sha256::Finish() {
     throw std::runtime_error("SHA-256 finish failed");
   }
   static constexpr char kHex[] = "0123456789abcdef";
-  std::string out(kPrefix);
+  std::string out(contract::kDigestPrefix);
   for (unsigned int i = 0; i < len; ++i) {
     out += kHex[md[i] >> 4];
     out += kHex[md[i] & 0xf];
@@ -50,14 +50,6 @@ std::string Sha256Digest(std::string_view bytes) {
   Sha256 h;
   h.Update(bytes);
   return h.Finish();
-}
-
-bool IsValidDigest(std::string_view digest) {
-  if (digest.size() != kPrefix.size() + 64 || !digest.starts_with(kPrefix)) return false;
-  for (char c : digest.substr(kPrefix.size())) {
-    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
-  }
-  return true;
 }
 
 }  // namespace farm

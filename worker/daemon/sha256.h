@@ -1,6 +1,7 @@
 #pragma once
 
-// Content digests as the blob store names blobs: "sha256:" and 64 lowercase hex digits.
+// Content digests as the blob store names blobs: "sha256:" and 64 lowercase hex digits
+// (contract/digest.h checks one).
 
 #include <memory>
 #include <string>
@@ -27,9 +28,5 @@ class Sha256 {
 
 // The digest of `bytes`, as "sha256:<hex>".
 std::string Sha256Digest(std::string_view bytes);
-
-// True if `digest` is "sha256:" and exactly 64 lowercase hex digits. Digests come from the
-// network and name files in the cache, so nothing else may pass.
-bool IsValidDigest(std::string_view digest);
 
 }  // namespace farm

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "contract/digest.h"
+
 namespace farm {
 namespace {
 
@@ -27,14 +29,14 @@ TEST(Sha256, IncrementalEqualsOneShot) {
 }
 
 TEST(Sha256, ValidDigestsOnly) {
-  EXPECT_TRUE(IsValidDigest(Sha256Digest("x")));
-  EXPECT_FALSE(IsValidDigest(""));
-  EXPECT_FALSE(IsValidDigest("sha256:"));
-  EXPECT_FALSE(IsValidDigest("md5:" + std::string(64, 'a')));
-  EXPECT_FALSE(IsValidDigest("sha256:" + std::string(63, 'a')));
-  EXPECT_FALSE(IsValidDigest("sha256:" + std::string(65, 'a')));
-  EXPECT_FALSE(IsValidDigest("sha256:" + std::string(64, 'A')));  // Lowercase only.
-  EXPECT_FALSE(IsValidDigest("sha256:../../" + std::string(58, 'a')));
+  EXPECT_TRUE(contract::IsDigest(Sha256Digest("x")));
+  EXPECT_FALSE(contract::IsDigest(""));
+  EXPECT_FALSE(contract::IsDigest("sha256:"));
+  EXPECT_FALSE(contract::IsDigest("md5:" + std::string(64, 'a')));
+  EXPECT_FALSE(contract::IsDigest("sha256:" + std::string(63, 'a')));
+  EXPECT_FALSE(contract::IsDigest("sha256:" + std::string(65, 'a')));
+  EXPECT_FALSE(contract::IsDigest("sha256:" + std::string(64, 'A')));  // Lowercase only.
+  EXPECT_FALSE(contract::IsDigest("sha256:../../" + std::string(58, 'a')));
 }
 
 }  // namespace

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <filesystem>
 
+#include "contract/failure.h"
+#include "contract/rules.h"
+#include "contract/tasks.h"
 #include "image/composite.h"
 #include "image/round_accumulator.h"
 #include "image/srgb_preview.h"
@@ -14,31 +17,23 @@
 #include "render/tile_renderer.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "scene/scene.h"
+#include "scene/scene_rules.h"
 
 namespace farm {
 namespace {
 
 namespace pb = renderfarm::v1;
 
-// Film.tile_size 0 selects this default (see scene.proto).
-constexpr int kDefaultTileSize = 32;
-// Far beyond any real film; keeps a hostile scene from making us allocate absurd buffers.
-constexpr std::uint32_t kMaxFilmSide = 1 << 16;
-
 struct Film {
   ImageSize size;
   int tile_size = 0;
 };
 
+// The film of a scene that has passed CheckScene.
 Film FilmOf(const pb::Scene& scene) {
   const pb::Film& f = scene.film();
-  if (f.width() == 0 || f.height() == 0 || f.width() > kMaxFilmSide || f.height() > kMaxFilmSide) {
-    throw std::runtime_error("scene film size " + std::to_string(f.width()) + "x" +
-                             std::to_string(f.height()) + " is out of range");
-  }
-  if (f.tile_size() > kMaxFilmSide) throw std::runtime_error("scene film tile_size is out of range");
   return {{static_cast<int>(f.width()), static_cast<int>(f.height())},
-          f.tile_size() == 0 ? kDefaultTileSize : static_cast<int>(f.tile_size())};
+          static_cast<int>(contract::OrDefault<pb::Film>(f.tile_size(), "tile_size"))};
 }
 
 // A rectangle from the wire, checked to be a non-empty part of the film.
@@ -47,7 +42,7 @@ PixelRect RectIn(const pb::PixelRect& r, ImageSize film, const char* field) {
     return extent > 0 && start + extent <= static_cast<std::uint64_t>(limit);
   };
   if (!inside(r.x(), r.width(), film.width) || !inside(r.y(), r.height(), film.height)) {
-    throw std::runtime_error(std::string(field) + " (x " + std::to_string(r.x()) + ", y " +
+    throw BadInputError(std::string(field) + " (x " + std::to_string(r.x()) + ", y " +
                              std::to_string(r.y()) + ", " + std::to_string(r.width()) + "x" +
                              std::to_string(r.height()) + ") is empty or outside the " +
                              std::to_string(film.width) + "x" + std::to_string(film.height) +
@@ -57,9 +52,9 @@ PixelRect RectIn(const pb::PixelRect& r, ImageSize film, const char* field) {
           static_cast<int>(r.height())};
 }
 
-pb::Artifact MakeArtifact(const char* name, const std::string& digest, std::size_t size) {
+pb::Artifact MakeArtifact(pb::ArtifactKind kind, const std::string& digest, std::size_t size) {
   pb::Artifact a;
-  a.set_name(name);
+  a.set_name(contract::ArtifactName(kind));
   a.set_digest(digest);
   a.set_size_bytes(static_cast<std::int64_t>(size));
   return a;
@@ -94,16 +89,16 @@ PhotonShardRequest ShardRequestOf(const pb::Task& task) {
       r.map = PhotonMapKind::kCaustic;
       break;
     default:
-      throw std::runtime_error("emit_photons.map " + std::to_string(spec.map()) + " is not a photon map");
+      throw BadInputError("emit_photons.map " + std::to_string(spec.map()) + " is not a photon map");
   }
   r.total_photons = spec.total_photons();
   const std::uint64_t round = std::max<std::uint32_t>(task.round(), 1);
   if (r.total_photons == 0 || (round - 1) > UINT64_MAX / r.total_photons)
-    throw std::runtime_error("emit_photons: round " + std::to_string(round) + " of " +
+    throw BadInputError("emit_photons: round " + std::to_string(round) + " of " +
                              std::to_string(r.total_photons) + " paths is out of range");
   r.round_offset = (round - 1) * r.total_photons;
   if (spec.first_photon() < r.round_offset)
-    throw std::runtime_error("emit_photons.first_photon " + std::to_string(spec.first_photon()) +
+    throw BadInputError("emit_photons.first_photon " + std::to_string(spec.first_photon()) +
                              " lies before round " + std::to_string(round));
   r.first_photon = spec.first_photon() - r.round_offset;
   r.photon_count = spec.photon_count();
@@ -114,7 +109,7 @@ PhotonShardRequest ShardRequestOf(const pb::Task& task) {
 double RadiusScaleOf(double v) {
   if (v == 0) return 1.0;
   if (!std::isfinite(v) || v < 0 || v > 1) {
-    throw std::runtime_error("radius_scale " + std::to_string(v) + " is not in (0, 1]");
+    throw BadInputError("radius_scale " + std::to_string(v) + " is not in (0, 1]");
   }
   return v;
 }
@@ -167,9 +162,13 @@ TaskResult TaskExecutor::Execute(const pb::LeaseTaskResponse& leased, std::stop_
       return Composite(leased, stop, progress);
     case pb::Task::kEmitPhotons:
       return EmitPhotons(leased, stop, progress);
-    default:
-      throw std::runtime_error("task " + leased.task().id() +
-                               " has a kind this worker does not know (is it out of date?)");
+    default: {
+      const pb::Phase phase = contract::PhaseOf(leased.task());
+      const contract::PhaseEntry* entry = contract::FindPhase(phase);
+      const bool ours = entry && entry->executor == pb::EXECUTOR_WORKER;
+      throw UnsupportedError("task " + leased.task().id() + " is a " + contract::PhaseLabel(phase) + " task, which " +
+                             (ours ? "this worker cannot run (is it out of date?)" : "workers do not run"));
+    }
   }
 }
 
@@ -179,8 +178,9 @@ const pb::Scene& TaskExecutor::Description(const std::string& digest, std::stop_
     const std::string bytes = blobs_.Fetch(digest, stop, progress);
     auto scene = std::make_unique<pb::Scene>();
     if (!scene->ParseFromString(bytes)) {
-      throw std::runtime_error("scene blob " + digest + " is not a binary renderfarm.v1.Scene");
+      throw BadInputError("scene blob " + digest + " is not a binary renderfarm.v1.Scene");
     }
+    CheckScene(*scene);  // every task, even one that needs only the film
     description_ = std::move(scene);
     description_digest_ = digest;
   }
@@ -210,7 +210,7 @@ const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop
     try {
       photons_ = std::make_unique<PhotonSnapshot>(PhotonSnapshot::Open(file));
     } catch (const std::exception& e) {
-      throw std::runtime_error("photon snapshot " + digest + ": " + e.what());
+      throw TaskError(FailureKindOf(e), "photon snapshot " + digest + ": " + e.what());
     }
     photons_digest_ = digest;
   }
@@ -225,14 +225,14 @@ TaskResult TaskExecutor::EmitPhotons(const pb::LeaseTaskResponse& leased, std::s
   const std::string shard = TracePhotonShard(scene, request, stop, progress);
   ThrowIfStopped(stop);  // A stopped trace returns an unfinished shard.
   const std::string digest = blobs_.Upload(shard, stop, progress);
-  return Outputs({MakeArtifact("photons.shard", digest, shard.size())});
+  return Outputs({MakeArtifact(pb::ARTIFACT_KIND_PHOTON_SHARD, digest, shard.size())});
 }
 
 TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& leased,
                                               std::stop_token stop, Progress progress) {
   const pb::PrecomputeIrradianceSpec& spec = leased.task().precompute_irradiance();
   if (!spec.has_photon_snapshot()) {
-    throw std::runtime_error("precompute_irradiance has no photon_snapshot");
+    throw BadInputError("precompute_irradiance has no photon_snapshot");
   }
   const Scene& scene = Built(leased.scene_digest(), stop, progress);
   const PhotonSnapshot& photons = Photons(spec.photon_snapshot().digest(), stop, progress);
@@ -243,7 +243,7 @@ TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& lease
                                                    progress);
   ThrowIfStopped(stop);
   const std::string digest = blobs_.Upload(shard, stop, progress);
-  return Outputs({MakeArtifact("irradiance.shard", digest, shard.size())});
+  return Outputs({MakeArtifact(pb::ARTIFACT_KIND_IRRADIANCE_SHARD, digest, shard.size())});
 }
 
 TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::stop_token stop,
@@ -264,11 +264,11 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   const std::string exr = EncodeTileExr(tile, film.size);
   const std::string digest = blobs_.Upload(exr, stop, progress);
   // The tile's sRGB preview, for the dashboard to show before the image is composited;
-  // the composite reads only tile.exr.
+  // the composite reads only the tile EXR.
   const std::string png = EncodeTilePreviewPng(tile);
   const std::string png_digest = blobs_.Upload(png, stop, progress);
-  return Outputs({MakeArtifact("tile.exr", digest, exr.size()),
-                  MakeArtifact("tile.png", png_digest, png.size())});
+  return Outputs({MakeArtifact(pb::ARTIFACT_KIND_TILE_EXR, digest, exr.size()),
+                  MakeArtifact(pb::ARTIFACT_KIND_TILE_PNG, png_digest, png.size())});
 }
 
 TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,
@@ -283,8 +283,8 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
       tiles.push_back({rect, blobs_.Download(t.tile().digest(), stop, progress)});
     } catch (const BlobError& e) {
       ThrowIfStopped(stop);
-      throw std::runtime_error("tile at x " + std::to_string(rect.x) + ", y " +
-                               std::to_string(rect.y) + ": " + e.what());
+      throw TaskError(FailureKindOf(e),
+                      "tile at x " + std::to_string(rect.x) + ", y " + std::to_string(rect.y) + ": " + e.what());
     }
     ThrowIfStopped(stop);
   }
@@ -304,11 +304,10 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
   const RoundOutputs out = AccumulateRound(in, progress);
   ThrowIfStopped(stop);
   TaskResult result;
-  for (const auto& [name, bytes] : {std::pair<const char*, const std::string*>{"image.exr", &out.image_exr},
-                                    {"preview.png", &out.preview_png},
-                                    {"accumulation.exr", &out.accumulation_exr}}) {
-    result.outputs.push_back(
-        MakeArtifact(name, blobs_.Upload(*bytes, stop, progress), bytes->size()));
+  for (const auto& [kind, bytes] : {std::pair{pb::ARTIFACT_KIND_IMAGE_EXR, &out.image_exr},
+                                    std::pair{pb::ARTIFACT_KIND_PREVIEW_PNG, &out.preview_png},
+                                    std::pair{pb::ARTIFACT_KIND_ACCUMULATION_EXR, &out.accumulation_exr}}) {
+    result.outputs.push_back(MakeArtifact(kind, blobs_.Upload(*bytes, stop, progress), bytes->size()));
   }
   pb::RoundMetrics metrics;
   if (out.error_estimate) metrics.set_error_estimate(*out.error_estimate);

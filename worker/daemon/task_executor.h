@@ -44,8 +44,9 @@ class TaskExecutor {
   ~TaskExecutor();
 
   // Performs the task and returns what to report. Throws TaskCancelled if `stop` was
-  // requested, any other exception (whose message is the reason to report) if the task
-  // failed. Advances `progress` as the work goes: bytes of blobs moved, camera samples
+  // requested, any other exception if the task failed: its message is the reason to report
+  // and FailureKindOf (contract/failure.h) its kind (a bad scene or spec is bad input, a
+  // task this worker cannot run unsupported). Advances `progress` as the work goes: bytes of blobs moved, camera samples
   // rendered, photon paths traced, photons' irradiance computed, tiles stitched (one unit
   // for all, since the coordinator only watches it grow).
   TaskResult Execute(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,

@@ -9,6 +9,10 @@
 #include <stop_token>
 #include <thread>
 
+#include "contract/failure.h"
+#include "contract/go_text.h"
+#include "contract/rules.h"
+#include "contract/tasks.h"
 #include "daemon/blob_cache.h"
 #include "daemon/blob_client.h"
 #include "daemon/channel.h"
@@ -31,8 +35,6 @@ constexpr seconds kLeaseWait{10};
 constexpr seconds kCallDeadline{30};
 // How long shutdown keeps trying to release a lease or say goodbye.
 constexpr seconds kGoodbyeGiveUp{5};
-// The coordinator stores the failure message; a render error never needs more.
-constexpr std::size_t kMaxErrorBytes = 4096;
 
 std::string HostName() {
   char name[256] = "";
@@ -53,19 +55,22 @@ bool IsAuthError(const grpc::Status& status) {
 }
 
 std::string AuthHint(const grpc::Status& status) {
-  return IsAuthError(status) ? " (give the coordinator's worker token with --token or "
-                               "$FARM_WORKER_TOKEN)"
-                             : "";
+  return IsAuthError(status) ? "give the coordinator's worker token with --token or $FARM_WORKER_TOKEN" : "";
 }
 
 void SetDeadline(grpc::ClientContext& ctx, std::chrono::system_clock::duration d) {
   ctx.set_deadline(std::chrono::system_clock::now() + d);
 }
 
-std::string Seconds(std::chrono::steady_clock::duration d) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f s", std::chrono::duration<double>(d).count());
-  return buf;
+// A duration in seconds, to the millisecond.
+double Seconds(std::chrono::steady_clock::duration d) {
+  return static_cast<double>(std::chrono::duration_cast<std::chrono::milliseconds>(d).count()) / 1000;
+}
+
+// FailTaskRequest.error: the reason, cut to what the coordinator keeps.
+std::string ReportedError(const std::string& error) {
+  constexpr std::string_view kCutMark = "…";  // what Truncate appends
+  return contract::Truncate(error, contract::RpcLimits().max_error_bytes() - kCutMark.size());
 }
 
 }  // namespace
@@ -85,12 +90,12 @@ class Worker::Impl {
   int Run();
 
   void Drain() {
-    if (!drain_.stop_requested()) LogLine("shutting down after the current task");
+    if (!drain_.stop_requested()) Log(LogLevel::kInfo, "shutting down after the current task");
     drain_.request_stop();
   }
 
   void Abort() {
-    if (!abort_.stop_requested()) LogLine("abandoning the current task and shutting down");
+    if (!abort_.stop_requested()) Log(LogLevel::kWarn, "abandoning the current task and shutting down");
     drain_.request_stop();
     abort_.request_stop();  // Stops the current task through the callback in RunTask.
   }
@@ -101,8 +106,9 @@ class Worker::Impl {
   void LoseLease(const std::string& reason);  // Needs mu_ held.
   grpc::Status LeaseOnce(pb::LeaseTaskResponse& leased);
   void RunTask(const pb::LeaseTaskResponse& leased);
+  // Each returns what went wrong with the report, or "" once the coordinator has it.
   std::string ReportComplete(const pb::Lease& lease, const TaskResult& result);
-  std::string ReportFailure(const pb::Lease& lease, const std::string& error);
+  std::string ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind);
   void Release(const pb::Lease& lease);
   void Unregister();
   std::string WorkerId() {
@@ -136,7 +142,7 @@ bool Worker::Impl::Register() {
   request.set_cores(cores_);
   request.set_version(kVersion);
   pb::RegisterWorkerResponse response;
-  LogLine("registering with " + coordinator_ + " as " + hostname_);
+  Log(LogLevel::kInfo, "registering", {{"coordinator", coordinator_}, {"hostname", hostname_}});
   // A worker may start before its coordinator: wait for it as long as it takes.
   const grpc::Status status =
       RetryTransient("RegisterWorker with " + coordinator_, drain_.get_token(), seconds(0), [&] {
@@ -148,18 +154,21 @@ bool Worker::Impl::Register() {
       });
   if (!status.ok()) {
     if (!drain_.stop_requested()) {
-      LogLine("coordinator " + coordinator_ + " refused registration: " + status.error_message() +
-              AuthHint(status));
+      Log(LogLevel::kError, "coordinator refused registration",
+          {{"coordinator", coordinator_}, {"err", status.error_message()}, {"hint", AuthHint(status)}});
     }
     return false;
   }
   std::lock_guard lock(mu_);
   worker_id_ = response.worker_id();
   heartbeat_interval_ = std::max(Millis(100), ToMillis(response.heartbeat_interval(), Millis(5000)));
-  LogLine("registered with " + coordinator_ + " as " + worker_id_ + " (" + hostname_ + ", " +
-          std::to_string(cores_) + " cores, heartbeat every " +
-          std::to_string(heartbeat_interval_.count()) + " ms, lease " +
-          std::to_string(ToMillis(response.lease_duration(), Millis(0)).count()) + " ms)");
+  Log(LogLevel::kInfo, "registered",
+      {{"coordinator", coordinator_},
+       {"worker", worker_id_},
+       {"hostname", hostname_},
+       {"cores", cores_},
+       {"heartbeat_ms", heartbeat_interval_.count()},
+       {"lease_ms", ToMillis(response.lease_duration(), Millis(0)).count()}});
   return true;
 }
 
@@ -200,14 +209,14 @@ void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
     } else if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
       // The coordinator forgot us (restarted without state, or we were presumed dead):
       // whatever we hold is no longer ours. Register again before the next lease.
-      LogLine("coordinator does not know worker " + worker_id_ + "; registering again");
+      Log(LogLevel::kWarn, "coordinator does not know this worker; registering again", {{"worker", worker_id_}});
       LoseLease("the coordinator no longer knows this worker");
       reregister_ = true;
     } else if (!stop.stop_requested() && !heartbeat_failing) {
       // Once per outage, not every interval.
-      LogLine("heartbeat failed: " + status.error_message() + " (will keep trying)");
+      Log(LogLevel::kWarn, "heartbeat failed; will keep trying", {{"worker", worker_id_}, {"err", status.error_message()}});
     }
-    if (status.ok() && heartbeat_failing) LogLine("heartbeat works again");
+    if (status.ok() && heartbeat_failing) Log(LogLevel::kInfo, "heartbeat works again", {{"worker", worker_id_}});
     heartbeat_failing = !status.ok();
   }
 }
@@ -249,21 +258,21 @@ int Worker::Impl::Run() {
         if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
           reregister_ = true;
         } else if (IsAuthError(status)) {
-          LogLine("coordinator " + coordinator_ + " refused LeaseTask: " + status.error_message() +
-                  AuthHint(status));
+          Log(LogLevel::kError, "coordinator refused LeaseTask",
+              {{"coordinator", coordinator_}, {"err", status.error_message()}, {"hint", AuthHint(status)}});
           exit_code = 1;
           break;
         } else {
           if (!lease_failing) {  // Once per outage, not every attempt.
-            LogLine("LeaseTask failed: " + status.error_message() + " (code " +
-                    std::to_string(status.error_code()) + "); will keep trying");
+            Log(LogLevel::kWarn, "LeaseTask failed; will keep trying",
+                {{"err", status.error_message()}, {"code", static_cast<int>(status.error_code())}});
           }
           lease_failing = true;
           SleepUnlessStopped(backoff.Next(), drain_.get_token());
         }
         continue;
       }
-      if (lease_failing) LogLine("LeaseTask works again");
+      if (lease_failing) Log(LogLevel::kInfo, "LeaseTask works again");
       lease_failing = false;
       backoff.Reset();
       if (leased.has_lease()) RunTask(leased);
@@ -289,12 +298,17 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   });
 
   TaskResult result;
-  std::string error;
+  std::optional<std::string> error;  // set when the task failed
+  pb::FailureKind kind = pb::FAILURE_KIND_UNSPECIFIED;
   try {
     result = executor_.Execute(leased, task_stop.get_token(), progress);
   } catch (const TaskCancelled&) {
   } catch (const std::exception& e) {
     error = e.what();
+    kind = FailureKindOf(e);
+  } catch (...) {
+    error = "an exception that is not a std::exception";
+    kind = pb::FAILURE_KIND_TRANSIENT;
   }
 
   std::string lost;
@@ -302,23 +316,33 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     std::lock_guard lock(mu_);
     lost = current_->lost;
   }
-  std::string outcome;
+  // One line per task, with the coordinator's names for what identifies it.
+  const pb::Task& task = leased.task();
+  const auto log = [&](LogLevel level, std::string_view msg, std::initializer_list<LogAttr> more) {
+    std::vector<LogAttr> attrs{{"job", task.job_id()},     {"task", lease.task_id()},
+                               {"attempt", task.attempts()}, {"epoch", lease.epoch()},
+                               {"worker", WorkerId()},     {"spec", DescribeTask(task)},
+                               {"seconds", Seconds(std::chrono::steady_clock::now() - start)}};
+    attrs.insert(attrs.end(), more);
+    Log(level, msg, attrs);
+  };
   if (!lost.empty()) {
-    outcome = "dropped (lease lost: " + lost + ")";
+    log(LogLevel::kWarn, "task dropped", {{"reason", "lease lost: " + lost}});
   } else if (task_stop.stop_requested()) {
     Release(lease);
-    outcome = "released unfinished";
-  } else if (!error.empty()) {
-    outcome = ReportFailure(lease, error);
+    log(LogLevel::kInfo, "task released unfinished", {});
+  } else if (error) {
+    const std::string problem = ReportFailure(lease, *error, kind);
+    log(LogLevel::kWarn, "task failed",
+        {{"error", *error}, {"kind", contract::FailureOf(kind).label}, {"report", problem.empty() ? "sent" : problem}});
   } else {
-    outcome = ReportComplete(lease, result);
+    const std::string problem = ReportComplete(lease, result);
+    log(problem.empty() ? LogLevel::kInfo : LogLevel::kWarn, "task done", {{"report", problem.empty() ? "sent" : problem}});
   }
   {
     std::lock_guard lock(mu_);
     current_.reset();
   }
-  LogLine("task " + lease.task_id() + " " + DescribeTask(leased.task()) + " " + outcome +
-          " in " + Seconds(std::chrono::steady_clock::now() - start));
 }
 
 std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result) {
@@ -336,23 +360,24 @@ std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResul
         SetDeadline(ctx, kCallDeadline);
         return stub_->CompleteTask(&ctx, request, &response);
       });
-  if (status.ok()) return "completed";
+  if (status.ok()) return "";
   if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
-    return "result dropped (lease lost: " + status.error_message() + ")";
+    return "result dropped, lease lost: " + status.error_message();
   }
   if (abort_.stop_requested()) {
     Release(lease);
-    return "abandoned while reporting completion";
+    return "abandoned while reporting";
   }
-  return "completion refused: " + status.error_message();
+  return "refused: " + status.error_message();
 }
 
-std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::string& error) {
+std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind) {
   pb::FailTaskRequest request;
   request.set_worker_id(WorkerId());
   request.set_task_id(lease.task_id());
   request.set_epoch(lease.epoch());
-  request.set_error(error.substr(0, kMaxErrorBytes));
+  request.set_error(ReportedError(error));
+  request.set_kind(kind);
   const grpc::Status status =
       RetryTransient("FailTask " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
         pb::FailTaskResponse response;
@@ -360,16 +385,15 @@ std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::strin
         SetDeadline(ctx, kCallDeadline);
         return stub_->FailTask(&ctx, request, &response);
       });
-  const std::string reported = "failed: " + error;
-  if (status.ok()) return reported;
+  if (status.ok()) return "";
   if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
-    return reported + " (not reported, lease lost: " + status.error_message() + ")";
+    return "not reported, lease lost: " + status.error_message();
   }
   if (abort_.stop_requested()) {
     Release(lease);
-    return reported + " (abandoned while reporting)";
+    return "abandoned while reporting";
   }
-  return reported + " (report refused: " + status.error_message() + ")";
+  return "refused: " + status.error_message();
 }
 
 void Worker::Impl::Release(const pb::Lease& lease) {
@@ -386,7 +410,7 @@ void Worker::Impl::Release(const pb::Lease& lease) {
       });
   // If this fails the lease simply expires and the task is queued again.
   if (!status.ok() && status.error_code() != grpc::StatusCode::FAILED_PRECONDITION) {
-    LogLine("cannot release task " + lease.task_id() + ": " + status.error_message());
+    Log(LogLevel::kWarn, "cannot release task", {{"task", lease.task_id()}, {"err", status.error_message()}});
   }
 }
 
@@ -400,9 +424,9 @@ void Worker::Impl::Unregister() {
     return stub_->UnregisterWorker(&ctx, request, &response);
   });
   if (status.ok()) {
-    LogLine("unregistered " + request.worker_id());
+    Log(LogLevel::kInfo, "unregistered", {{"worker", request.worker_id()}});
   } else {
-    LogLine("cannot unregister " + request.worker_id() + ": " + status.error_message());
+    Log(LogLevel::kWarn, "cannot unregister", {{"worker", request.worker_id()}, {"err", status.error_message()}});
   }
 }
 

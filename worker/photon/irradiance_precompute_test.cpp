@@ -119,6 +119,7 @@ TEST(IrradiancePrecompute, ShardsOfASnapshotAreDeterministicAndSplitFree) {
   pb::Scene s = MakeScene(4, 4, {0, 0, -5}, {0, 0, 0}, {0, 1, 0}, 40);
   AddLambert(s, "white", Rgb(0.5f));
   AddQuad(s, "white", {-1, -1, 0}, {2, 0, 0}, {0, 2, 0});
+  AddPointLight(s, {0, 0, -3}, Rgb(1));  // a scene needs one; irradiance comes from the photons
   s.mutable_photons()->mutable_global_estimate()->set_neighbours(20);
   s.mutable_photons()->mutable_global_estimate()->set_max_radius(0.6);
   const Scene scene = Scene::Build(s, NoBlobs());

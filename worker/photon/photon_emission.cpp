@@ -6,6 +6,7 @@
 #include "math/frame.h"
 #include "math/math.h"
 #include "sampling/warps.h"
+#include "util/overloaded.h"
 
 namespace farm {
 namespace {
@@ -55,10 +56,9 @@ std::optional<PhotonRay> AimAtTargetsFromSun(const SceneData& scene, const SunLi
   return PhotonRay{Ray{p, sun.direction}, sun.irradiance / pdf_area};
 }
 
-std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,
-                                      float u_target, Vec2 u_direction) {
-  if (const auto* sun = std::get_if<SunLight>(&light))
-    return AimAtTargetsFromSun(scene, *sun, u_target, u_origin);
+// From a point of a light with an origin of its own (every kind but the sun).
+std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Light& light, Vec2 u_origin,
+                                                float u_target, Vec2 u_direction) {
   const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
   if (!o || !(o->pdf_area > 0)) return std::nullopt;
   const std::vector<BoundingSphere>& targets = scene.specular_targets;
@@ -98,6 +98,17 @@ std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light
   }
   if (!power.IsFinite()) return std::nullopt;
   return PhotonRay{RayFrom(o->p, o->n, w, scene.ray_epsilon), power};
+}
+
+std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,
+                                      float u_target, Vec2 u_direction) {
+  return std::visit(Overloaded{
+                        [&](const SunLight& sun) { return AimAtTargetsFromSun(scene, sun, u_target, u_origin); },
+                        [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight> auto&) {
+                          return AimAtTargetsFromOrigin(scene, light, u_origin, u_target, u_direction);
+                        },
+                    },
+                    light);
 }
 
 }  // namespace

@@ -61,8 +61,9 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
     const Material& material = scene.material_of(*hit);
     const Vec3 wi = -ray.direction;  // towards where the photon came from
 
-    if (!IsSpecular(material)) {
-      if (!Reflects(material)) return;  // emitters absorb
+    const MaterialCapabilities& can = scene.capabilities_of(*hit);
+    if (!can.specular) {
+      if (!can.reflects) return;  // emitters absorb
       // Global: indirect light only (after a diffuse or glossy bounce). Caustic: L S+ D,
       // stored at the first non-specular surface, where the path ends.
       const bool wanted = kind == PhotonMapKind::kCaustic
@@ -71,7 +72,7 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
       if (wanted) {
         // Glossy surfaces keep a photon only with the probability of their diffuse share;
         // the kept ones carry proportionally more power, so the estimate stays unbiased.
-        const float keep = DiffuseFraction(material);
+        const float keep = can.diffuse_fraction;
         if (keep > 0 && u_store < keep)
           out.push_back({hit->p, power / keep, wi, FaceForward(hit->n, wi)});
       }

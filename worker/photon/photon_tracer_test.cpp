@@ -277,13 +277,13 @@ TEST(PhotonTracer, NoPhotonOnASpecularSurfaceAndCausticsOnlyOnDiffuse) {
       // A photon on a diffuse wall may lie close to a sphere where the sphere touches it.
       const bool on_diffuse_wall = std::any_of(data.shapes.begin(), data.shapes.end(), [&](const ShapeRecord& shape) {
         const auto* quad = std::get_if<QuadShape>(&shape.geometry);
-        if (!quad || IsSpecular(data.materials[shape.material])) return false;
+        if (!quad || data.capabilities[shape.material].specular) return false;
         return std::abs(Dot(p.position - quad->origin, quad->normal)) < 1e-3f;
       });
       if (on_diffuse_wall) continue;
       for (const ShapeRecord& shape : data.shapes) {
         const auto* sphere = std::get_if<SphereShape>(&shape.geometry);
-        if (!sphere || !IsSpecular(data.materials[shape.material])) continue;
+        if (!sphere || !data.capabilities[shape.material].specular) continue;
         ASSERT_GT(std::abs(Distance(p.position, sphere->center) - sphere->radius), 1e-2f)
             << "photon on " << shape.label << " at " << p.position;
       }

@@ -99,6 +99,7 @@ TEST(DirectLighting, MissIsBlackWithZeroAlpha) {
   pb::Scene s = MakeScene(2, 2, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 10, 4, 1);
   AddLambert(s, "grey", Rgb(0.5f));
   AddSphere(s, "grey", {0, 0, -10}, 1);  // behind the camera
+  AddPointLight(s, {0, 5, 0}, Rgb(1));
   const Image image = RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 2, 2});
   for (float v : image.data()) EXPECT_EQ(v, 0.0f);
 }

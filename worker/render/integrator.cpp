@@ -63,14 +63,6 @@ Vec2 Point2(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
 // A uniform float from 24 bits of a hash (for the rare choices of specular bounces).
 float HashFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
 
-// What a diffuse gather ray is weighted by: the reflectance of the diffuse lobe (f = kd/pi
-// sampled with density cos/pi).
-Rgb DiffuseReflectance(const Material& m) {
-  if (const auto* l = std::get_if<LambertMaterial>(&m)) return l->reflectance;
-  if (const auto* g = std::get_if<GlossyMaterial>(&m)) return g->diffuse;
-  return {};
-}
-
 // Follows at most kGatherSpecularDepth specular bounces to the first non-specular surface
 // that reflects; nothing if the ray escapes, ends on an emitter or is absorbed. key seeds
 // the Fresnel choices.
@@ -85,9 +77,10 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return std::nullopt;
     const Material& material = scene.material_of(*hit);
+    const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
-    if (!IsSpecular(material)) {
-      if (!Reflects(material)) return std::nullopt;
+    if (!can.specular) {
+      if (!can.reflects) return std::nullopt;
       return DiffuseHit{*hit, throughput, wo};
     }
     const uint64_t h = Hash(key, uint64_t(depth));
@@ -159,8 +152,9 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     }
     result.emitted += throughput * Emitted(material, hit->n, wo);
 
-    if (!IsSpecular(material)) {
-      if (Reflects(material)) {
+    const MaterialCapabilities& can = scene_.capabilities_of(*hit);
+    if (!can.specular) {
+      if (can.reflects) {
         // 2^32 levels from the sample's dimension, hashed so that nearby values give
         // unrelated scrambles.
         const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
@@ -284,7 +278,7 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Vec3& p, const Vec3& geometr
 
 Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
                                           std::vector<PhotonNeighbour>& scratch) const {
-  const auto* glossy = std::get_if<GlossyMaterial>(&at.material);
+  const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
   if (!glossy || glossy->specular.IsBlack()) return {};
   const Frame frame = Frame::FromZ(at.n);
   const Vec3 wo_local = frame.ToLocal(at.wo);

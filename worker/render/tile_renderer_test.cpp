@@ -31,7 +31,7 @@ pb::Scene BoxScene(uint64_t seed, int width = 24, int height = 16) {
   AddQuad(s, "green", {0, 0, 0}, {0, 548, 0}, {0, 0, 559});         // x = 0: right
   AddQuad(s, "lamp", {213, 547, 227}, {130, 0, 0}, {0, 0, 105});   // faces down
   AddSphere(s, "white", {380, 100, 300}, 100);
-  AddMeshFile(s, "white", "sha256:block");
+  AddMeshFile(s, "white", FakeDigest("block"));
   return s;
 }
 
@@ -40,7 +40,7 @@ const std::string kBlockObj =
     "f 1 2 3 4\n";
 
 Scene BuildBox(uint64_t seed, int width = 24, int height = 16) {
-  return Scene::Build(BoxScene(seed, width, height), MapLoader({{"sha256:block", kBlockObj}}));
+  return Scene::Build(BoxScene(seed, width, height), MapLoader({{FakeDigest("block"), kBlockObj}}));
 }
 
 // Pixel values of `part` equal, bit for bit, those of `whole` at the same image pixels.
@@ -72,7 +72,7 @@ TEST(RenderTile, OrdinaryPixelsTakeOneSampleByDefault) {
   pb::Scene s = BoxScene(5);
   s.mutable_sampling()->clear_samples_per_pixel();
   s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
-  const Scene scene = Scene::Build(s, MapLoader({{"sha256:block", kBlockObj}}));
+  const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
   EXPECT_EQ(scene.data().samples_per_pixel, 1u);
   const Image image = RenderTile(scene, nullptr, {0, 0, 24, 16});
   // With one sample a pixel is either fully covered or not at all, and its normal is unit.
@@ -179,7 +179,7 @@ TEST(RenderTile, ProgressCountsEveryCameraSampleOfAOnePassTile) {
     pb::Scene s = BoxScene(2);
     s.mutable_antialiasing()->set_mode(mode);
     s.mutable_antialiasing()->set_edge_samples(6);
-    const Scene scene = Scene::Build(s, MapLoader({{"sha256:block", kBlockObj}}));
+    const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
     ProgressCounter counter{0};
     RenderTile(scene, nullptr, {4, 2, 12, 8}, {}, {}, Progress(counter));
     const std::uint64_t samples = mode == pb::ANTIALIASING_MODE_FULL ? 6 : 4;
@@ -206,7 +206,7 @@ TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSa
 TEST(RenderTile, ProgressReadFromAnotherThreadOnlyGrows) {
   pb::Scene s = BoxScene(4, 48, 32);
   s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
-  const Scene scene = Scene::Build(s, MapLoader({{"sha256:block", kBlockObj}}));
+  const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
   ProgressCounter counter{0};
   std::atomic<bool> done{false};
   std::vector<std::uint64_t> seen;

@@ -1,32 +1,27 @@
 #include "scene/antialiasing_settings.h"
 
-#include <cmath>
-
+#include "contract/failure.h"
+#include "contract/rules.h"
 #include "renderfarm/v1/scene.pb.h"
-#include "scene/scene.h"
 
 namespace farm {
 
 namespace pb = renderfarm::v1;
+using contract::OrDefault;
 
 AntialiasingSettings AntialiasingSettings::FromProto(const pb::Antialiasing& aa) {
   AntialiasingSettings s;
-  switch (aa.mode()) {
-    case pb::ANTIALIASING_MODE_UNSPECIFIED:
+  const pb::AntialiasingMode mode = OrDefault<pb::Antialiasing>(aa.mode(), "mode");
+  switch (mode) {
     case pb::ANTIALIASING_MODE_EDGES: s.mode = AntialiasingMode::kEdges; break;
     case pb::ANTIALIASING_MODE_NONE: s.mode = AntialiasingMode::kNone; break;
     case pb::ANTIALIASING_MODE_FULL: s.mode = AntialiasingMode::kFull; break;
-    default:
-      throw SceneError("antialiasing.mode: unknown value " + std::to_string(aa.mode()));
+    default:  // a mode the contract declares and this worker does not know
+      throw UnsupportedError("antialiasing.mode: " + pb::AntialiasingMode_Name(mode) +
+                             " is not supported by this worker");
   }
-  if (aa.edge_samples() > kMaxEdgeSamples)
-    throw SceneError("antialiasing.edge_samples: at most " + std::to_string(kMaxEdgeSamples) +
-                     ", got " + std::to_string(aa.edge_samples()));
-  s.edge_samples = aa.edge_samples() == 0 ? kDefaultEdgeSamples : aa.edge_samples();
-  if (!std::isfinite(aa.edge_threshold()) || aa.edge_threshold() < 0)
-    throw SceneError("antialiasing.edge_threshold: must be finite and >= 0 (0 selects " +
-                     std::to_string(kDefaultEdgeThreshold) + ")");
-  s.edge_threshold = aa.edge_threshold() == 0 ? kDefaultEdgeThreshold : aa.edge_threshold();
+  s.edge_samples = OrDefault<pb::Antialiasing>(aa.edge_samples(), "edge_samples");
+  s.edge_threshold = OrDefault<pb::Antialiasing>(aa.edge_threshold(), "edge_threshold");
   return s;
 }
 

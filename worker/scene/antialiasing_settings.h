@@ -1,7 +1,8 @@
 #pragma once
 
-// renderfarm.v1.Antialiasing with its defaults applied (scene.proto documents them): which
-// pixels the tile renderer supersamples, and with how many camera samples.
+// renderfarm.v1.Antialiasing with its defaults applied (the default_value of each field's
+// rule in scene.proto, read through worker/contract): which pixels the tile renderer
+// supersamples, and with how many camera samples.
 
 #include <cstdint>
 #include <string>
@@ -12,11 +13,6 @@ class Antialiasing;
 
 namespace farm {
 
-inline constexpr uint32_t kDefaultEdgeSamples = 12;
-inline constexpr double kDefaultEdgeThreshold = 0.1;
-// The coordinator's bound (docs/limits.md), checked again here: scenes are untrusted.
-inline constexpr uint32_t kMaxEdgeSamples = 1024;
-
 enum class AntialiasingMode {
   kEdges,  // supersample pixels whose log-luminance gradient exceeds the threshold
   kNone,   // every pixel keeps samples_per_pixel
@@ -25,11 +21,11 @@ enum class AntialiasingMode {
 
 struct AntialiasingSettings {
   AntialiasingMode mode = AntialiasingMode::kEdges;
-  uint32_t edge_samples = kDefaultEdgeSamples;
+  uint32_t edge_samples = 0;
   // On the Sobel gradient of log-luminance, in log units per pixel (see render/edge_detect.h).
-  double edge_threshold = kDefaultEdgeThreshold;
+  double edge_threshold = 0;
 
-  // Throws SceneError naming the field ("antialiasing.edge_samples") for values out of range.
+  // Reads `aa`, which has passed contract::CheckRules; a field that is 0 takes its default.
   static AntialiasingSettings FromProto(const renderfarm::v1::Antialiasing& aa);
   std::string ToString() const;
 };

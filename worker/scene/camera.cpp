@@ -4,25 +4,14 @@
 
 #include "math/math.h"
 #include "renderfarm/v1/scene.pb.h"
-#include "scene/scene.h"
+#include "scene/proto_values.h"
 
 namespace farm {
 
 Camera::Camera(const Vec3d& position, const Vec3d& look_at, const Vec3d& up,
                double vertical_fov_degrees, int width, int height) {
-  if (!(vertical_fov_degrees > 0 && vertical_fov_degrees < 180))
-    throw SceneError("camera.vertical_fov_degrees: " + std::to_string(vertical_fov_degrees) +
-                     " is outside (0, 180)");
-  if (!IsFinite(position) || !IsFinite(look_at) || !IsFinite(up))
-    throw SceneError("camera: position, look_at and up must be finite");
-  const Vec3d view = look_at - position;
-  if (!(LengthSquared(view) > 0)) throw SceneError("camera.look_at: equals camera.position");
-  const Vec3d forward = Normalize(view);
-  const Vec3d right = Cross(forward, up);
-  // |right| = |up| sin(angle between them); refuse angles below ~1e-6 rad.
-  if (!(LengthSquared(up) > 0) || Length(right) < 1e-6 * Length(up))
-    throw SceneError("camera.up: zero or parallel to the view direction");
-  const Vec3d r = Normalize(right);
+  const Vec3d forward = Normalize(look_at - position);
+  const Vec3d r = Normalize(Cross(forward, up));
   position_ = Vec3(position);
   forward_ = Vec3(forward);
   right_ = Vec3(r);
@@ -34,9 +23,8 @@ Camera::Camera(const Vec3d& position, const Vec3d& look_at, const Vec3d& up,
 }
 
 Camera Camera::FromProto(const renderfarm::v1::Camera& c, int width, int height) {
-  auto v = [](const renderfarm::v1::Vec3& p) { return Vec3d(p.x(), p.y(), p.z()); };
-  return Camera(v(c.position()), v(c.look_at()), v(c.up()), c.vertical_fov_degrees(), width,
-                height);
+  return Camera(Vec3dOf(c.position()), Vec3dOf(c.look_at()), Vec3dOf(c.up()), c.vertical_fov_degrees(),
+                width, height);
 }
 
 Ray Camera::GenerateRay(Vec2 film) const {

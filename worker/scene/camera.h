@@ -19,8 +19,9 @@ namespace farm {
 class Camera {
  public:
   Camera() = default;
-  // Throws SceneError if the view is degenerate (look_at == position, up parallel to the
-  // view direction, field of view outside (0, 180)).
+  // The view must not be degenerate: look_at differs from position, up is not parallel to
+  // the view direction and the field of view lies in (0, 180), as the scene's rules
+  // (scene/scene_rules.h) make sure.
   Camera(const Vec3d& position, const Vec3d& look_at, const Vec3d& up, double vertical_fov_degrees,
          int width, int height);
   static Camera FromProto(const renderfarm::v1::Camera& camera, int width, int height);

@@ -4,7 +4,6 @@
 
 #include <cmath>
 
-#include "scene/scene.h"
 
 namespace farm {
 namespace {
@@ -45,24 +44,6 @@ TEST(Camera, EdgeOfTheFilmIsHalfTheFieldOfViewAway) {
   const Ray side = camera.GenerateRay({200, 50});
   EXPECT_NEAR(side.direction.x / -side.direction.z, 2 * std::tan(fov / 2 * std::numbers::pi / 180),
               1e-5);
-}
-
-TEST(Camera, DegenerateViewsAreSceneErrorsNamingTheField) {
-  auto message = [](auto make) {
-    try {
-      make();
-    } catch (const SceneError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(message([] { Camera({0, 0, 0}, {0, 0, 0}, {0, 1, 0}, 40, 4, 4); }).find("camera.look_at"),
-            std::string::npos);
-  EXPECT_NE(message([] { Camera({0, 0, 0}, {0, 1, 0}, {0, 2, 0}, 40, 4, 4); }).find("camera.up"),
-            std::string::npos);
-  EXPECT_NE(message([] { Camera({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 180, 4, 4); })
-                .find("camera.vertical_fov_degrees"),
-            std::string::npos);
 }
 
 }  // namespace

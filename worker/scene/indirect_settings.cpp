@@ -1,36 +1,27 @@
 #include "scene/indirect_settings.h"
 
+#include "contract/failure.h"
+#include "contract/rules.h"
 #include "renderfarm/v1/scene.pb.h"
-#include "scene/scene.h"
 
 namespace farm {
-namespace {
 
 namespace pb = renderfarm::v1;
-
-uint32_t CountOr(uint32_t value, uint32_t fallback, uint32_t limit, const char* field) {
-  if (value > limit)
-    throw SceneError(std::string(field) + ": at most " + std::to_string(limit) + ", got " +
-                     std::to_string(value));
-  return value == 0 ? fallback : value;
-}
-
-}  // namespace
+using contract::OrDefault;
 
 IndirectSettings IndirectSettings::FromProto(const pb::Scene& scene) {
-  IndirectSettings s;
   const pb::Indirect& in = scene.indirect();
-  switch (in.mode()) {
-    case pb::INDIRECT_MODE_UNSPECIFIED:
+  IndirectSettings s;
+  const pb::IndirectMode mode = OrDefault<pb::Indirect>(in.mode(), "mode");
+  switch (mode) {
     case pb::INDIRECT_MODE_FINAL_GATHER: s.mode = IndirectMode::kFinalGather; break;
     case pb::INDIRECT_MODE_PHOTON_MAP: s.mode = IndirectMode::kPhotonMap; break;
-    default: throw SceneError("indirect.mode: unknown value " + std::to_string(in.mode()));
+    default:  // a mode the contract declares and this worker does not know
+      throw UnsupportedError("indirect.mode: " + pb::IndirectMode_Name(mode) + " is not supported by this worker");
   }
-  s.gather_rays = CountOr(in.gather_rays(), kDefaultGatherRays, kMaxGatherRays, "indirect.gather_rays");
-  s.secondary_gather_rays = CountOr(in.secondary_gather_rays(), kDefaultSecondaryGatherRays,
-                                    kMaxGatherRays, "indirect.secondary_gather_rays");
-  s.light_samples = CountOr(scene.sampling().light_samples(), kDefaultLightSamples,
-                            kMaxLightSamples, "sampling.light_samples");
+  s.gather_rays = OrDefault<pb::Indirect>(in.gather_rays(), "gather_rays");
+  s.secondary_gather_rays = OrDefault<pb::Indirect>(in.secondary_gather_rays(), "secondary_gather_rays");
+  s.light_samples = OrDefault<pb::Sampling>(scene.sampling().light_samples(), "light_samples");
   return s;
 }
 

@@ -1,13 +1,15 @@
 #include "scene/lights.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "math/frame.h"
 #include "math/math.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "sampling/warps.h"
-#include "scene/scene.h"
+#include "scene/proto_values.h"
+#include "util/overloaded.h"
 
 namespace farm {
 namespace {
@@ -43,20 +45,6 @@ std::optional<SurfacePoint> SampleMeshPoint(const TriangleMeshLight& l, Vec2 u) 
   return SurfacePoint{p0 * b.x + p1 * b.y + p2 * b.z, scaled_n / len};
 }
 
-Rgb CheckedColor(const pb::Color& c, const std::string& field) {
-  const Rgb rgb(static_cast<float>(c.r()), static_cast<float>(c.g()), static_cast<float>(c.b()));
-  for (float v : {rgb.r, rgb.g, rgb.b})
-    if (!std::isfinite(v) || v < 0)
-      throw SceneError(field + ": component " + std::to_string(v) + " is not finite and >= 0");
-  return rgb;
-}
-
-Vec3 CheckedVec(const pb::Vec3& v, const std::string& field) {
-  const Vec3d d(v.x(), v.y(), v.z());
-  if (!IsFinite(d) || !IsFinite(Vec3(d))) throw SceneError(field + ": not finite");
-  return Vec3(d);
-}
-
 }  // namespace
 
 TriangleMeshLight TriangleMeshLight::Make(std::shared_ptr<const TriangleMesh> mesh,
@@ -79,23 +67,20 @@ SunLight SunLight::Make(const Vec3& direction, const Rgb& irradiance, const Boun
   return {direction, irradiance, scene.center - direction * (radius * 1.05f), radius};
 }
 
-Light LightFromProto(const pb::Light& light, const BoundingSphere& scene,
-                     const std::string& field) {
+Light LightFromProto(const pb::Light& light, const BoundingSphere& scene) {
   switch (light.kind_case()) {
     case pb::Light::kPoint:
-      return PointLight{CheckedVec(light.point().position(), field + ".point.position"),
-                        CheckedColor(light.point().intensity(), field + ".point.intensity")};
+      return PointLight{Vec3(Vec3dOf(light.point().position())), RgbOf(light.point().intensity())};
     case pb::Light::kSun: {
-      const Vec3 d = CheckedVec(light.sun().direction(), field + ".sun.direction");
-      if (!(LengthSquared(d) > 0)) throw SceneError(field + ".sun.direction: zero");
-      return SunLight::Make(Normalize(d),
-                            CheckedColor(light.sun().irradiance(), field + ".sun.irradiance"),
+      // Scaled first: a tiny non-zero direction (1e-200) is valid, its square is not.
+      const Vec3d d = Vec3dOf(light.sun().direction());
+      return SunLight::Make(Vec3(Normalize(d / MaxComponent(Abs(d)))), RgbOf(light.sun().irradiance()),
                             scene);
     }
     case pb::Light::KIND_NOT_SET:
       break;
   }
-  throw SceneError(field + ": no light kind set (point or sun)");
+  throw std::logic_error("LightFromProto: a light without a kind (CheckRules refuses it)");
 }
 
 std::optional<LightSample> SampleLi(const Light& light, const Vec3& ref, Vec2 u) {
@@ -173,21 +158,31 @@ std::optional<LightOrigin> SampleLightOrigin(const Light& light, Vec2 u) {
 }
 
 std::optional<LightEmission> SampleLe(const Light& light, Vec2 u_origin, Vec2 u_direction) {
-  if (const auto* sun = std::get_if<SunLight>(&light)) {
-    const Frame frame = Frame::FromZ(sun->direction);
-    const Vec2 d = SampleUniformDiskConcentric(u_origin);
-    const Vec3 p = sun->disc_center + (frame.x * d.x + frame.y * d.y) * sun->disc_radius;
-    return LightEmission{p, Vec3(), sun->direction, Power(light)};
-  }
-  const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
-  if (!o || !(o->pdf_area > 0)) return std::nullopt;
-  if (o->is_point)  // uniform over the sphere: I / (1 / 4 pi)
-    return LightEmission{o->p, Vec3(), SampleUniformSphere(u_direction), o->emission * (4 * kPi)};
-  // Cosine-weighted about the front: L cos / (pdf_area * cos / pi) = pi L / pdf_area.
-  const Vec3 local = SampleCosineHemisphere(u_direction);
-  if (!(local.z > 0)) return std::nullopt;
-  const Vec3 w = Frame::FromZ(o->n).FromLocal(local);
-  return LightEmission{o->p, o->n, w, o->emission * (kPi / o->pdf_area)};
+  // Every light but the sun emits from a point of its own (SampleLightOrigin).
+  const auto from_origin = [&]() -> std::optional<LightEmission> {
+    const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
+    if (!o || !(o->pdf_area > 0)) return std::nullopt;
+    if (o->is_point)  // uniform over the sphere: I / (1 / 4 pi)
+      return LightEmission{o->p, Vec3(), SampleUniformSphere(u_direction), o->emission * (4 * kPi)};
+    // Cosine-weighted about the front: L cos / (pdf_area * cos / pi) = pi L / pdf_area.
+    const Vec3 local = SampleCosineHemisphere(u_direction);
+    if (!(local.z > 0)) return std::nullopt;
+    const Vec3 w = Frame::FromZ(o->n).FromLocal(local);
+    return LightEmission{o->p, o->n, w, o->emission * (kPi / o->pdf_area)};
+  };
+  return std::visit(
+      Overloaded{
+          [&](const SunLight& sun) -> std::optional<LightEmission> {
+            const Frame frame = Frame::FromZ(sun.direction);
+            const Vec2 d = SampleUniformDiskConcentric(u_origin);
+            const Vec3 p = sun.disc_center + (frame.x * d.x + frame.y * d.y) * sun.disc_radius;
+            return LightEmission{p, Vec3(), sun.direction, Power(light)};
+          },
+          [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight> auto&) {
+            return from_origin();
+          },
+      },
+      light);
 }
 
 Rgb Power(const Light& light) {
@@ -204,7 +199,11 @@ Rgb Power(const Light& light) {
 }
 
 bool IsDeltaLight(const Light& light) {
-  return std::holds_alternative<PointLight>(light) || std::holds_alternative<SunLight>(light);
+  return std::visit(Overloaded{
+                        [](const OneOf<PointLight, SunLight> auto&) { return true; },
+                        [](const OneOf<SphereLight, QuadLight, TriangleMeshLight> auto&) { return false; },
+                    },
+                    light);
 }
 
 std::string ToString(const Light& light) {

@@ -14,6 +14,11 @@
 //           sphere, so its power is E times the disc's area.
 //
 // Area lights emit constant radiance L from their front only: power = pi * area * L.
+//
+// Every function here dispatches with std::visit and one overload per kind, with no
+// catch-all, so a new kind that one of them does not handle does not compile (the test
+// ExhaustiveDispatch.* compiles lights.cpp with FARM_TEST_UNHANDLED_LIGHT, which adds a
+// kind nothing handles, and requires failure).
 
 #include <memory>
 #include <optional>
@@ -68,12 +73,20 @@ struct SunLight {
   static SunLight Make(const Vec3& direction, const Rgb& irradiance, const BoundingSphere& scene);
 };
 
-using Light = std::variant<SphereLight, QuadLight, TriangleMeshLight, PointLight, SunLight>;
+#ifdef FARM_TEST_UNHANDLED_LIGHT  // test hook only: see the comment at the top
+struct UnhandledLight {};
+#define FARM_LIGHT_TEST_KIND , UnhandledLight
+#else
+#define FARM_LIGHT_TEST_KIND
+#endif
 
-// Throws SceneError naming `field` (e.g. "lights[0]") if no kind is set or a value is out of
-// range. `scene` bounds all geometry (for the sun's disc).
-Light LightFromProto(const renderfarm::v1::Light& light, const BoundingSphere& scene,
-                     const std::string& field);
+using Light = std::variant<SphereLight, QuadLight, TriangleMeshLight, PointLight,
+                           SunLight FARM_LIGHT_TEST_KIND>;
+
+// A light as the contract describes it; `light` has passed contract::CheckRules and the
+// scene's rules (scene/scene_rules.h): its kind is set and a sun's direction is not zero.
+// `scene` bounds all geometry (for the sun's disc).
+Light LightFromProto(const renderfarm::v1::Light& light, const BoundingSphere& scene);
 
 // Light arriving at a shading point from one point of a light.
 struct LightSample {
@@ -119,6 +132,7 @@ std::optional<LightOrigin> SampleLightOrigin(const Light& light, Vec2 u);
 // Total emitted power (radiant flux), per channel.
 Rgb Power(const Light& light);
 
+// Point and sun: light from a single point or direction, without a density.
 bool IsDeltaLight(const Light& light);
 
 std::string ToString(const Light& light);

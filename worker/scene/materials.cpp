@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "math/frame.h"
 #include "math/math.h"
@@ -9,37 +10,13 @@
 #include "sampling/warps.h"
 #include "scene/blinn_phong.h"
 #include "scene/fresnel.h"
-#include "scene/scene.h"
+#include "scene/proto_values.h"
+#include "util/overloaded.h"
 
 namespace farm {
 namespace {
 
 namespace pb = renderfarm::v1;
-
-Rgb ColorFromProto(const pb::Color& c) {
-  return {static_cast<float>(c.r()), static_cast<float>(c.g()), static_cast<float>(c.b())};
-}
-
-void CheckColor(const Rgb& c, float min, float max, const std::string& field) {
-  for (float v : {c.r, c.g, c.b})
-    if (!std::isfinite(v) || v < min || v > max)
-      throw SceneError(field + ": component " + std::to_string(v) + " outside [" +
-                       std::to_string(min) + ", " +
-                       (std::isinf(max) ? std::string("inf") : std::to_string(max)) + "]");
-}
-
-Rgb CheckedColor(const pb::Color& c, float min, float max, const std::string& field) {
-  const Rgb rgb = ColorFromProto(c);
-  CheckColor(rgb, min, max, field);
-  return rgb;
-}
-
-float CheckedScalar(double v, double min, double max, const std::string& field) {
-  if (!std::isfinite(v) || v < min || v > max)
-    throw SceneError(field + ": " + std::to_string(v) + " outside [" + std::to_string(min) +
-                     ", " + std::to_string(max) + "]");
-  return static_cast<float>(v);
-}
 
 // Probability of picking the diffuse lobe of a glossy material.
 float DiffuseLobeProbability(const GlossyMaterial& m) {
@@ -49,75 +26,89 @@ float DiffuseLobeProbability(const GlossyMaterial& m) {
 
 }  // namespace
 
-Material MaterialFromProto(const pb::Material& material, const std::string& field) {
+Material MaterialFromProto(const pb::Material& material) {
   switch (material.kind_case()) {
     case pb::Material::kLambert:
-      return LambertMaterial{
-          CheckedColor(material.lambert().reflectance(), 0, 1, field + ".lambert.reflectance")};
+      return LambertMaterial{RgbOf(material.lambert().reflectance())};
     case pb::Material::kEmissive:
-      return EmissiveMaterial{
-          CheckedColor(material.emissive().radiance(), 0, INFINITY, field + ".emissive.radiance")};
+      return EmissiveMaterial{RgbOf(material.emissive().radiance())};
     case pb::Material::kGlossy: {
       const pb::Glossy& g = material.glossy();
-      GlossyMaterial m;
-      m.diffuse = CheckedColor(g.diffuse(), 0, 1, field + ".glossy.diffuse");
-      m.specular = CheckedColor(g.specular(), 0, 1, field + ".glossy.specular");
-      CheckColor(m.diffuse + m.specular, 0, 1.0f + 1e-6f, field + ".glossy: diffuse + specular");
-      m.exponent = CheckedScalar(g.exponent(), 1, 1e5, field + ".glossy.exponent");
-      return m;
+      return GlossyMaterial{RgbOf(g.diffuse()), RgbOf(g.specular()),
+                            static_cast<float>(g.exponent())};
     }
     case pb::Material::kMirror:
-      return MirrorMaterial{
-          CheckedColor(material.mirror().reflectance(), 0, 1, field + ".mirror.reflectance")};
+      return MirrorMaterial{RgbOf(material.mirror().reflectance())};
     case pb::Material::kDielectric: {
       const pb::Dielectric& d = material.dielectric();
       DielectricMaterial m;
-      m.ior = CheckedScalar(d.ior(), 1, 10, field + ".dielectric.ior");
-      if (d.has_transmittance())
-        m.transmittance =
-            CheckedColor(d.transmittance(), 0, 1, field + ".dielectric.transmittance");
+      m.ior = static_cast<float>(d.ior());
+      if (d.has_transmittance()) m.transmittance = RgbOf(d.transmittance());
       return m;
     }
-    case pb::Material::kConductor: {
-      const pb::Conductor& c = material.conductor();
-      ConductorMaterial m;
-      m.eta = CheckedColor(c.eta(), 1e-3f, 100, field + ".conductor.eta");
-      m.k = CheckedColor(c.k(), 0, 100, field + ".conductor.k");
-      return m;
-    }
+    case pb::Material::kConductor:
+      return ConductorMaterial{RgbOf(material.conductor().eta()),
+                               RgbOf(material.conductor().k())};
     case pb::Material::KIND_NOT_SET:
       break;
   }
-  throw SceneError(field +
-                   ": no material kind set (lambert, emissive, glossy, mirror, dielectric or "
-                   "conductor)");
+  throw std::logic_error("MaterialFromProto: a material without a kind (CheckRules refuses it)");
+}
+
+MaterialCapabilities CapabilitiesOf(const Material& material) {
+  return std::visit(
+      Overloaded{
+          [](const LambertMaterial&) { return MaterialCapabilities{false, true, false, 1}; },
+          [](const GlossyMaterial& m) {
+            return MaterialCapabilities{false, true, false, DiffuseLobeProbability(m)};
+          },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial> auto&) {
+            return MaterialCapabilities{true, false, false, 0};
+          },
+          [](const EmissiveMaterial& m) {
+            return MaterialCapabilities{false, false, !m.radiance.IsBlack(), 0};
+          },
+      },
+      material);
 }
 
 Rgb EvaluateBsdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi) {
   // Non-specular kinds reflect on both sides but never across the surface.
   const bool same_side = (Dot(n, wo) > 0) == (Dot(n, wi) > 0);
   if (!same_side) return {};
-  if (const auto* m = std::get_if<LambertMaterial>(&material)) return m->reflectance * kInvPi;
-  if (const auto* m = std::get_if<GlossyMaterial>(&material)) {
-    const Frame frame = Frame::FromZ(FaceForward(n, wo));
-    const float lobe = BlinnPhongValue(frame.ToLocal(wo), frame.ToLocal(wi), m->exponent);
-    return m->diffuse * kInvPi + m->specular * lobe;
-  }
-  return {};
+  return std::visit(
+      Overloaded{
+          [](const LambertMaterial& m) { return m.reflectance * kInvPi; },
+          [&](const GlossyMaterial& m) {
+            const Frame frame = Frame::FromZ(FaceForward(n, wo));
+            const float lobe = BlinnPhongValue(frame.ToLocal(wo), frame.ToLocal(wi), m.exponent);
+            return m.diffuse * kInvPi + m.specular * lobe;
+          },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
+            return Rgb();
+          },
+      },
+      material);
 }
 
 float BsdfPdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi) {
   const Vec3 ns = FaceForward(n, wo);
   const float cos_i = Dot(ns, wi);
   if (!(cos_i > 0)) return 0;
-  if (std::holds_alternative<LambertMaterial>(material)) return CosineHemispherePdf(cos_i);
-  if (const auto* m = std::get_if<GlossyMaterial>(&material)) {
-    const Frame frame = Frame::FromZ(ns);
-    const float p_diffuse = DiffuseLobeProbability(*m);
-    return p_diffuse * CosineHemispherePdf(cos_i) +
-           (1 - p_diffuse) * BlinnPhongPdf(frame.ToLocal(wo), frame.ToLocal(wi), m->exponent);
-  }
-  return 0;
+  return std::visit(
+      Overloaded{
+          [&](const LambertMaterial&) { return CosineHemispherePdf(cos_i); },
+          [&](const GlossyMaterial& m) {
+            const Frame frame = Frame::FromZ(ns);
+            const float p_diffuse = DiffuseLobeProbability(m);
+            return p_diffuse * CosineHemispherePdf(cos_i) +
+                   (1 - p_diffuse) * BlinnPhongPdf(frame.ToLocal(wo), frame.ToLocal(wi), m.exponent);
+          },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
+            return 0.0f;
+          },
+      },
+      material);
 }
 
 std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, const Vec3& wo,
@@ -197,27 +188,40 @@ std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, co
   return std::visit(Visitor{n, wo, u_lobe, u, mode}, material);
 }
 
+Rgb Emission(const Material& material) {
+  return std::visit(
+      Overloaded{
+          [](const EmissiveMaterial& e) { return e.radiance; },
+          [](const OneOf<LambertMaterial, GlossyMaterial, MirrorMaterial, DielectricMaterial,
+                         ConductorMaterial> auto&) { return Rgb(); },
+      },
+      material);
+}
+
 Rgb Emitted(const Material& material, const Vec3& n, const Vec3& w) {
-  if (const auto* e = std::get_if<EmissiveMaterial>(&material))
-    return Dot(n, w) > 0 ? e->radiance : Rgb();
-  return {};
+  return Dot(n, w) > 0 ? Emission(material) : Rgb();
 }
 
-bool IsSpecular(const Material& material) {
-  return std::holds_alternative<MirrorMaterial>(material) ||
-         std::holds_alternative<DielectricMaterial>(material) ||
-         std::holds_alternative<ConductorMaterial>(material);
+Rgb DiffuseReflectance(const Material& material) {
+  return std::visit(
+      Overloaded{
+          [](const LambertMaterial& m) { return m.reflectance; },
+          [](const GlossyMaterial& m) { return m.diffuse; },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
+            return Rgb();
+          },
+      },
+      material);
 }
 
-bool Reflects(const Material& material) {
-  return std::holds_alternative<LambertMaterial>(material) ||
-         std::holds_alternative<GlossyMaterial>(material);
-}
-
-float DiffuseFraction(const Material& material) {
-  if (std::holds_alternative<LambertMaterial>(material)) return 1;
-  if (const auto* m = std::get_if<GlossyMaterial>(&material)) return DiffuseLobeProbability(*m);
-  return 0;
+std::optional<GlossyLobe> GlossyLobeOf(const Material& material) {
+  return std::visit(
+      Overloaded{
+          [](const GlossyMaterial& m) { return std::optional(GlossyLobe{m.specular, m.exponent}); },
+          [](const OneOf<LambertMaterial, MirrorMaterial, DielectricMaterial, ConductorMaterial,
+                         EmissiveMaterial> auto&) { return std::optional<GlossyLobe>(); },
+      },
+      material);
 }
 
 Rgb Albedo(const Material& material) {

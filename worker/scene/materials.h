@@ -21,6 +21,12 @@
 // Mirror, dielectric and conductor are specular: their BSDF is a delta function, so
 // EvaluateBsdf gives 0 for them and only SampleBsdf moves light across them; photon maps
 // never store photons on them. Lambert and glossy are the non-specular ("diffuse") kinds.
+// What each kind can do is its MaterialCapabilities, computed by one exhaustive visit.
+//
+// Every function here dispatches with std::visit and one overload per kind, with no
+// catch-all: a new kind that one of them does not handle does not compile. The test
+// ExhaustiveDispatch.* (scene/CMakeLists.txt) shows it by compiling this file's .cpp with
+// FARM_TEST_UNHANDLED_MATERIAL, which adds a kind nothing handles, and requiring failure.
 
 #include <optional>
 #include <string>
@@ -63,12 +69,35 @@ struct EmissiveMaterial {
   Rgb radiance;
 };
 
-using Material = std::variant<LambertMaterial, GlossyMaterial, MirrorMaterial, DielectricMaterial,
-                              ConductorMaterial, EmissiveMaterial>;
+#ifdef FARM_TEST_UNHANDLED_MATERIAL  // test hook only: see the comment at the top
+struct UnhandledMaterial {};
+#define FARM_MATERIAL_TEST_KIND , UnhandledMaterial
+#else
+#define FARM_MATERIAL_TEST_KIND
+#endif
 
-// Throws SceneError naming `field` (e.g. "materials[2]") if no kind is set or a value is out
-// of range.
-Material MaterialFromProto(const renderfarm::v1::Material& material, const std::string& field);
+using Material = std::variant<LambertMaterial, GlossyMaterial, MirrorMaterial, DielectricMaterial,
+                              ConductorMaterial, EmissiveMaterial FARM_MATERIAL_TEST_KIND>;
+
+// A material as the contract describes it; `material` has passed contract::CheckRules
+// (scene/scene_rules.h), so its kind is set and its values are in range.
+Material MaterialFromProto(const renderfarm::v1::Material& material);
+
+// What a material can do (Mitsuba's BSDF flags), for the integrators and the photon tracer.
+struct MaterialCapabilities {
+  // A delta BSDF (mirror, dielectric, conductor): only SampleBsdf moves light across it;
+  // caustic photons are aimed at it.
+  bool specular = false;
+  // A non-specular reflection (Lambert, glossy): direct light and photon estimates apply
+  // where it is hit, and the scene needs a global photon map.
+  bool reflects = false;
+  // Emits a positive radiance: a shape with it is an area light.
+  bool emits = false;
+  // The share of the non-specular reflection that is diffuse, in [0, 1] (1 for Lambert):
+  // photons are stored on glossy surfaces with this probability.
+  float diffuse_fraction = 0;
+};
+MaterialCapabilities CapabilitiesOf(const Material& material);
 
 // What a path carries: radiance (camera paths) or flux (photons). They differ at a
 // refraction, where radiance is scaled by (eta_from / eta_to)^2 as the beam's solid angle
@@ -96,20 +125,24 @@ struct BsdfSample {
 std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, const Vec3& wo,
                                      float u_lobe, Vec2 u, TransportMode mode);
 
+// Radiance emitted from the front side (black for everything but emissive materials).
+Rgb Emission(const Material& material);
+
 // Radiance emitted along w (unit, away from the surface) from a surface whose front normal
-// is n: nonzero only on the front side of emissive materials.
+// is n: Emission on the front side, nothing behind.
 Rgb Emitted(const Material& material, const Vec3& n, const Vec3& w);
 
-// Whether the BSDF is a delta function (mirror, dielectric, conductor).
-bool IsSpecular(const Material& material);
+// The reflectance of the diffuse lobe (f = kd / pi): what a diffuse gather ray sampled
+// with density cos / pi is weighted by. Black for kinds without one.
+Rgb DiffuseReflectance(const Material& material);
 
-// Whether the material has a non-specular reflection, so that direct light and photon
-// estimates apply where it is hit (Lambert, glossy).
-bool Reflects(const Material& material);
-
-// The share of a non-specular material's reflection that is diffuse, in [0, 1] (1 for
-// Lambert): photons are stored on glossy surfaces with this probability.
-float DiffuseFraction(const Material& material);
+// Glossy's Blinn-Phong lobe, for the glossy bounce of final gathering; nothing for every
+// other kind.
+struct GlossyLobe {
+  Rgb specular;
+  float exponent = 1;
+};
+std::optional<GlossyLobe> GlossyLobeOf(const Material& material);
 
 // Hemispherical reflectance at normal incidence, for the albedo AOV (transmittance for
 // glass, emitters black).

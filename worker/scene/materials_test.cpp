@@ -11,7 +11,6 @@
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
 #include "scene/fresnel.h"
-#include "scene/scene.h"
 
 namespace farm {
 namespace {
@@ -24,7 +23,7 @@ TEST(Materials, LambertReflectsRhoOverPiOnBothSidesOnly) {
   EXPECT_NEAR(EvaluateBsdf(m, n, -up, -up2).g, 0.5f / kPi, 1e-7);  // two-sided
   EXPECT_TRUE(EvaluateBsdf(m, n, up, -up2).IsBlack());            // no transmission
   EXPECT_TRUE(Emitted(m, n, up).IsBlack());
-  EXPECT_TRUE(Reflects(m));
+  EXPECT_TRUE(CapabilitiesOf(m).reflects);
 }
 
 TEST(Materials, LambertAlbedoIsRho) {
@@ -47,28 +46,28 @@ TEST(Materials, EmissiveEmitsFromTheFrontOnlyAndReflectsNothing) {
   EXPECT_EQ(Emitted(m, n, Vec3(0, 1, 0)), Rgb(4, 5, 6));
   EXPECT_TRUE(Emitted(m, n, Vec3(0, -1, 0)).IsBlack());
   EXPECT_TRUE(EvaluateBsdf(m, n, n, n).IsBlack());
-  EXPECT_FALSE(Reflects(m));
+  EXPECT_FALSE(CapabilitiesOf(m).reflects);
+  EXPECT_TRUE(CapabilitiesOf(m).emits);
+  EXPECT_FALSE(CapabilitiesOf(EmissiveMaterial{Rgb(0)}).emits);  // black: not a light
   EXPECT_EQ(ToString(m), "Emissive{radiance=rgb(4, 5, 6)}");
 }
 
-TEST(Materials, FromProtoValidatesAndNamesTheField) {
+TEST(Materials, FromProtoReadsEveryKind) {
   renderfarm::v1::Material p;
-  p.set_name("m");
-  try {
-    MaterialFromProto(p, "materials[4]");
-    FAIL() << "no error";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("materials[4]"), std::string::npos);
-  }
-  p.mutable_lambert()->mutable_reflectance()->set_r(1.5);
-  try {
-    MaterialFromProto(p, "materials[4]");
-    FAIL() << "no error";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("materials[4].lambert.reflectance"), std::string::npos);
-  }
   p.mutable_lambert()->mutable_reflectance()->set_r(0.5);
-  EXPECT_EQ(ToString(MaterialFromProto(p, "x")), "Lambert{reflectance=rgb(0.5, 0, 0)}");
+  EXPECT_EQ(ToString(MaterialFromProto(p)), "Lambert{reflectance=rgb(0.5, 0, 0)}");
+  p.mutable_dielectric()->set_ior(1.5);
+  const Material glass = MaterialFromProto(p);
+  EXPECT_EQ(std::get<DielectricMaterial>(glass).transmittance, Rgb(1));  // unset means 1
+  EXPECT_EQ(std::get<DielectricMaterial>(glass).ior, 1.5f);
+  p.mutable_conductor()->mutable_eta()->set_r(0.25);
+  p.mutable_conductor()->mutable_k()->set_r(3);
+  EXPECT_EQ(ToString(MaterialFromProto(p)), "Conductor{eta=rgb(0.25, 0, 0), k=rgb(3, 0, 0)}");
+  p.mutable_glossy()->mutable_diffuse()->set_g(0.25);
+  p.mutable_glossy()->set_exponent(10);
+  const GlossyMaterial g = std::get<GlossyMaterial>(MaterialFromProto(p));
+  EXPECT_EQ(g.diffuse, Rgb(0, 0.25f, 0));
+  EXPECT_EQ(g.exponent, 10);
 }
 
 }  // namespace
@@ -84,16 +83,27 @@ Vec3 At(float theta_degrees) {
   return {std::sin(t), 0, std::cos(t)};
 }
 
-TEST(Materials, SpecularKindsAreClassified) {
-  EXPECT_TRUE(IsSpecular(MirrorMaterial{Rgb(1)}));
-  EXPECT_TRUE(IsSpecular(DielectricMaterial{1.5f, Rgb(1)}));
-  EXPECT_TRUE(IsSpecular(ConductorMaterial{Rgb(0.2f), Rgb(3)}));
-  EXPECT_FALSE(IsSpecular(LambertMaterial{Rgb(0.5f)}));
-  EXPECT_FALSE(IsSpecular(GlossyMaterial{Rgb(0.3f), Rgb(0.3f), 20}));
-  EXPECT_FALSE(Reflects(MirrorMaterial{Rgb(1)}));
-  EXPECT_TRUE(Reflects(GlossyMaterial{Rgb(0.3f), Rgb(0.3f), 20}));
-  EXPECT_EQ(DiffuseFraction(LambertMaterial{Rgb(0.5f)}), 1.0f);
-  EXPECT_NEAR(DiffuseFraction(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20}), 0.25f, 1e-6);
+TEST(Materials, CapabilitiesClassifyEveryKind) {
+  for (const Material& m : {Material(MirrorMaterial{Rgb(1)}), Material(DielectricMaterial{1.5f, Rgb(1)}),
+                            Material(ConductorMaterial{Rgb(0.2f), Rgb(3)})}) {
+    const MaterialCapabilities c = CapabilitiesOf(m);
+    EXPECT_TRUE(c.specular) << ToString(m);
+    EXPECT_FALSE(c.reflects) << ToString(m);
+    EXPECT_FALSE(c.emits) << ToString(m);
+    EXPECT_EQ(c.diffuse_fraction, 0) << ToString(m);
+  }
+  const MaterialCapabilities lambert = CapabilitiesOf(LambertMaterial{Rgb(0.5f)});
+  EXPECT_FALSE(lambert.specular);
+  EXPECT_TRUE(lambert.reflects);
+  EXPECT_EQ(lambert.diffuse_fraction, 1.0f);
+  const MaterialCapabilities glossy = CapabilitiesOf(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20});
+  EXPECT_FALSE(glossy.specular);
+  EXPECT_TRUE(glossy.reflects);
+  EXPECT_NEAR(glossy.diffuse_fraction, 0.25f, 1e-6);  // by luminance: 0.2 / (0.2 + 0.6)
+  EXPECT_EQ(DiffuseReflectance(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20}), Rgb(0.2f));
+  EXPECT_EQ(DiffuseReflectance(MirrorMaterial{Rgb(1)}), Rgb());
+  EXPECT_EQ(GlossyLobeOf(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20})->exponent, 20);
+  EXPECT_FALSE(GlossyLobeOf(LambertMaterial{Rgb(0.5f)}));
   EXPECT_TRUE(EvaluateBsdf(MirrorMaterial{Rgb(1)}, kUp, At(30), At(-30)).IsBlack());
 }
 
@@ -180,29 +190,6 @@ TEST(Materials, GlossyWhiteFurnaceAndPdfConsistency) {
     EXPECT_GT(mean_weight, 0.5) << theta;
     EXPECT_NEAR(pdf_integral, double(accepted) / count, 5e-3) << theta;
   }
-}
-
-TEST(Materials, NewKindsFromProtoValidateRanges) {
-  renderfarm::v1::Material p;
-  p.mutable_dielectric()->set_ior(1.5);
-  const Material glass = MaterialFromProto(p, "m");
-  EXPECT_EQ(std::get<DielectricMaterial>(glass).transmittance, Rgb(1));  // unset means 1
-  p.mutable_dielectric()->set_ior(0.5);
-  EXPECT_THROW(MaterialFromProto(p, "m"), SceneError);
-  p.mutable_glossy()->mutable_diffuse()->set_r(0.7);
-  p.mutable_glossy()->mutable_specular()->set_r(0.7);
-  p.mutable_glossy()->set_exponent(10);
-  try {
-    MaterialFromProto(p, "materials[1]");
-    FAIL() << "no error";
-  } catch (const SceneError& e) {
-    EXPECT_NE(std::string(e.what()).find("materials[1].glossy"), std::string::npos) << e.what();
-  }
-  p.mutable_conductor()->mutable_eta()->set_r(0.2);
-  p.mutable_conductor()->mutable_eta()->set_g(0.2);
-  p.mutable_conductor()->mutable_eta()->set_b(0.2);
-  p.mutable_conductor()->mutable_k()->set_r(3);
-  EXPECT_EQ(ToString(MaterialFromProto(p, "m")).substr(0, 10), "Conductor{");
 }
 
 }  // namespace

@@ -1,40 +1,39 @@
 #include "scene/photon_settings.h"
 
-#include <cmath>
-
+#include "contract/failure.h"
+#include "contract/rules.h"
 #include "renderfarm/v1/scene.pb.h"
-#include "scene/scene.h"
 
 namespace farm {
 namespace {
 
 namespace pb = renderfarm::v1;
+using contract::OrDefault;
 
-// A bound that keeps one estimate's neighbour list small enough for a worker thread's stack
-// of scratch memory; Jensen's renderings use 50 to 500.
-constexpr uint32_t kMaxNeighbours = 100'000;
+// What 0 selects for a map's estimate where the field's rule has no single default (the
+// notes of RadianceEstimate.neighbours, max_radius and filter in scene.proto).
+struct MapDefaults {
+  int neighbours;
+  float diagonal_over_radius;  // the default radius is the scene's diagonal over this
+  EstimateFilter filter;
+};
+constexpr MapDefaults kGlobalMap{100, 20, EstimateFilter::kBox};
+constexpr MapDefaults kCausticMap{50, 100, EstimateFilter::kCone};
 
-EstimateSettings EstimateFromProto(const pb::RadianceEstimate& e, int default_k,
-                                   float default_radius, EstimateFilter default_filter,
-                                   const std::string& field) {
+EstimateSettings EstimateFromProto(const pb::RadianceEstimate& e, const MapDefaults& map,
+                                   float diagonal) {
   EstimateSettings s;
-  if (e.neighbours() > kMaxNeighbours)
-    throw SceneError(field + ".neighbours: at most " + std::to_string(kMaxNeighbours) + ", got " +
-                     std::to_string(e.neighbours()));
-  s.neighbours = e.neighbours() == 0 ? default_k : static_cast<int>(e.neighbours());
-  if (!std::isfinite(e.max_radius()) || e.max_radius() < 0)
-    throw SceneError(field + ".max_radius: must be finite and >= 0");
-  s.max_radius = e.max_radius() == 0 ? default_radius : static_cast<float>(e.max_radius());
+  s.neighbours = e.neighbours() == 0 ? map.neighbours : static_cast<int>(e.neighbours());
+  s.max_radius = e.max_radius() == 0 ? diagonal / map.diagonal_over_radius : static_cast<float>(e.max_radius());
   switch (e.filter()) {
-    case pb::FILTER_UNSPECIFIED: s.filter = default_filter; break;
+    case pb::FILTER_UNSPECIFIED: s.filter = map.filter; break;
     case pb::FILTER_BOX: s.filter = EstimateFilter::kBox; break;
     case pb::FILTER_CONE: s.filter = EstimateFilter::kCone; break;
     case pb::FILTER_GAUSSIAN: s.filter = EstimateFilter::kGaussian; break;
-    default: throw SceneError(field + ".filter: unknown value " + std::to_string(e.filter()));
+    default:  // a filter the contract declares and this worker does not know
+      throw UnsupportedError("photons filter " + pb::Filter_Name(e.filter()) + " is not supported by this worker");
   }
-  if (!std::isfinite(e.cone_k()) || (e.cone_k() != 0 && e.cone_k() < 1))
-    throw SceneError(field + ".cone_k: must be >= 1 (or 0 for the default)");
-  s.cone_k = e.cone_k() == 0 ? 1.1f : static_cast<float>(e.cone_k());
+  s.cone_k = static_cast<float>(OrDefault<pb::RadianceEstimate>(e.cone_k(), "cone_k"));
   return s;
 }
 
@@ -51,15 +50,13 @@ const char* FilterName(EstimateFilter f) {
 
 PhotonSettings PhotonSettings::FromProto(const pb::PhotonMapping& p, float scene_diagonal) {
   PhotonSettings s;
-  if (p.global_photons() != 0) s.global_photons = p.global_photons();
-  if (p.caustic_photons() != 0) s.caustic_photons = p.caustic_photons();
-  if (p.photons_per_shard() != 0) s.photons_per_shard = p.photons_per_shard();
+  s.global_photons = OrDefault<pb::PhotonMapping>(p.global_photons(), "global_photons");
+  s.caustic_photons = OrDefault<pb::PhotonMapping>(p.caustic_photons(), "caustic_photons");
+  s.photons_per_shard = OrDefault<pb::PhotonMapping>(p.photons_per_shard(), "photons_per_shard");
   // A scene without geometry has no diagonal; any positive radius will do there.
   const float diagonal = scene_diagonal > 0 ? scene_diagonal : 1.0f;
-  s.global_estimate = EstimateFromProto(p.global_estimate(), 100, diagonal / 20,
-                                        EstimateFilter::kBox, "photons.global_estimate");
-  s.caustic_estimate = EstimateFromProto(p.caustic_estimate(), 50, diagonal / 100,
-                                         EstimateFilter::kCone, "photons.caustic_estimate");
+  s.global_estimate = EstimateFromProto(p.global_estimate(), kGlobalMap, diagonal);
+  s.caustic_estimate = EstimateFromProto(p.caustic_estimate(), kCausticMap, diagonal);
   return s;
 }
 

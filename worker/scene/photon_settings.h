@@ -1,7 +1,9 @@
 #pragma once
 
-// renderfarm.v1.PhotonMapping with its defaults applied (scene.proto documents them per
-// field): how many photon paths each map gets and how radiance is estimated from them.
+// renderfarm.v1.PhotonMapping with its defaults applied: how many photon paths each map
+// gets and how radiance is estimated from them. Counts and cone_k take the default_value
+// of their field's rule (scene.proto, through worker/contract); the neighbours, radius and
+// filter defaults depend on the map, as the fields' notes say.
 
 #include <cstdint>
 #include <string>
@@ -12,30 +14,26 @@ class PhotonMapping;
 
 namespace farm {
 
-inline constexpr uint64_t kDefaultGlobalPhotons = 200'000;
-inline constexpr uint64_t kDefaultCausticPhotons = 200'000;
-inline constexpr uint64_t kDefaultPhotonsPerShard = 100'000;
-
 enum class EstimateFilter { kBox, kCone, kGaussian };
 
 struct EstimateSettings {
-  int neighbours = 100;
-  float max_radius = 1;  // scene units
+  int neighbours = 0;
+  float max_radius = 0;  // scene units
   EstimateFilter filter = EstimateFilter::kBox;
-  float cone_k = 1.1f;
+  float cone_k = 1;
 
   std::string ToString() const;
 };
 
 struct PhotonSettings {
-  uint64_t global_photons = kDefaultGlobalPhotons;
-  uint64_t caustic_photons = kDefaultCausticPhotons;
-  uint64_t photons_per_shard = kDefaultPhotonsPerShard;
+  uint64_t global_photons = 0;
+  uint64_t caustic_photons = 0;
+  uint64_t photons_per_shard = 0;
   EstimateSettings global_estimate;
   EstimateSettings caustic_estimate;
 
-  // Defaults depend on the scene's bounding box diagonal (search radii). Throws SceneError
-  // naming the field ("photons.caustic_estimate.cone_k") for values out of range.
+  // Reads `photons`, which has passed contract::CheckRules. The default search radii are
+  // fractions of the scene's bounding box diagonal.
   static PhotonSettings FromProto(const renderfarm::v1::PhotonMapping& photons,
                                   float scene_diagonal);
   std::string ToString() const;

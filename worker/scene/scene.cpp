@@ -1,25 +1,24 @@
 #include "scene/scene.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <unordered_map>
 
+#include "contract/go_text.h"
+#include "contract/rules.h"
 #include "math/transform.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "scene/obj_mesh.h"
+#include "scene/proto_values.h"
 #include "scene/scene_data.h"
+#include "scene/scene_rules.h"
 
 namespace farm {
 namespace {
 
 namespace pb = renderfarm::v1;
 
-Vec3d FromProto(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-Vec3 CheckedPoint(const pb::Vec3& v, const std::string& field) {
-  const Vec3d p = FromProto(v);
-  if (!IsFinite(p)) throw SceneError(field + ": not finite");
-  return Vec3(p);
-}
+Vec3 PointOf(const pb::Vec3& v) { return Vec3(Vec3dOf(v)); }
 
 std::string ShapeLabel(int index, const pb::Shape& shape) {
   std::string label = "shapes[" + std::to_string(index) + "]";
@@ -27,37 +26,22 @@ std::string ShapeLabel(int index, const pb::Shape& shape) {
   return label;
 }
 
-std::shared_ptr<const TriangleMesh> InlineMesh(const pb::TriangleMesh& t, const std::string& field) {
+std::shared_ptr<const TriangleMesh> InlineMesh(const pb::TriangleMesh& t) {
   auto mesh = std::make_shared<TriangleMesh>();
-  for (int i = 0; i < t.positions_size(); ++i)
-    mesh->positions.push_back(
-        CheckedPoint(t.positions(i), field + ".positions[" + std::to_string(i) + "]"));
-  if (t.indices_size() == 0) throw SceneError(field + ".indices: no triangles");
-  if (t.indices_size() % 3 != 0)
-    throw SceneError(field + ".indices: " + std::to_string(t.indices_size()) +
-                     " indices is not a multiple of 3");
-  for (int i = 0; i < t.indices_size(); ++i) {
-    if (t.indices(i) >= mesh->positions.size())
-      throw SceneError(field + ".indices[" + std::to_string(i) + "]: " +
-                       std::to_string(t.indices(i)) + " is out of range (" +
-                       std::to_string(mesh->positions.size()) + " positions)");
-    mesh->indices.push_back(t.indices(i));
-  }
+  for (const pb::Vec3& p : t.positions()) mesh->positions.push_back(PointOf(p));
+  mesh->indices.assign(t.indices().begin(), t.indices().end());
   return mesh;
 }
 
-Affine3d TransformFromProto(const pb::Transform& t, const std::string& field) {
-  const Vec3d scale = t.has_scale() ? FromProto(t.scale()) : Vec3d(1, 1, 1);
-  const Vec3d axis = FromProto(t.rotation_axis());
-  const Vec3d translation = FromProto(t.translation());
-  if (!IsFinite(scale) || !IsFinite(axis) || !IsFinite(translation) ||
-      !std::isfinite(t.rotation_degrees()))
-    throw SceneError(field + ": not finite");
-  if (scale.x == 0 || scale.y == 0 || scale.z == 0)
-    throw SceneError(field + ".scale: a zero component flattens the mesh");
-  if (t.rotation_degrees() != 0 && !(LengthSquared(axis) > 0))
-    throw SceneError(field + ".rotation_axis: zero, but rotation_degrees is not");
-  return Affine3d::ScaleRotateTranslate(scale, axis, t.rotation_degrees(), translation);
+Affine3d TransformFromProto(const pb::Transform& t) {
+  const Vec3d scale = t.has_scale() ? Vec3dOf(t.scale()) : Vec3d(1, 1, 1);
+  return Affine3d::ScaleRotateTranslate(scale, Vec3dOf(t.rotation_axis()), t.rotation_degrees(),
+                                        Vec3dOf(t.translation()));
+}
+
+// How a message names a mesh file: its path in the scene file, else its digest.
+std::string FileName(const pb::MeshFile& file) {
+  return contract::GoQuote(file.path().empty() ? file.digest() : file.path());
 }
 
 std::shared_ptr<const TriangleMesh> FileMesh(const pb::MeshFile& file, const std::string& field,
@@ -66,13 +50,19 @@ std::shared_ptr<const TriangleMesh> FileMesh(const pb::MeshFile& file, const std
   try {
     bytes = load_blob(file.digest());
   } catch (const std::exception& e) {
-    throw SceneError(field + ".digest: cannot load blob \"" + file.digest() + "\": " + e.what());
+    // Of the kind the loader's error is (the blob store being away is not the scene's fault).
+    throw TaskError(FailureKindOf(e), field + ".digest: cannot load mesh " + FileName(file) + ": " + e.what());
   }
-  const Affine3d transform = TransformFromProto(file.transform(), field + ".transform");
-  TriangleMesh mesh = ParseObjMesh(bytes, field);
+  const Affine3d transform = TransformFromProto(file.transform());
+  TriangleMesh mesh;
+  try {
+    mesh = ParseObjMesh(bytes);
+  } catch (const ObjError& e) {
+    throw SceneError(field + ": OBJ file " + FileName(file) + " " + e.what());
+  }
   for (Vec3& p : mesh.positions) {
     p = Vec3(transform.Apply(Vec3d(p)));
-    if (!IsFinite(p)) throw SceneError(field + ".transform: moves a vertex out of float range");
+    if (!IsFinite(p)) throw SceneError(field + ".transform: moves a vertex of " + FileName(file) + " out of float range");
   }
   // A mirroring transform (negative determinant) would turn every face inside out.
   if (transform.Determinant() < 0)
@@ -83,35 +73,25 @@ std::shared_ptr<const TriangleMesh> FileMesh(const pb::MeshFile& file, const std
 ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field,
                                 const BlobLoader& load_blob) {
   switch (shape.geometry_case()) {
-    case pb::Shape::kSphere: {
-      const Vec3 center = CheckedPoint(shape.sphere().center(), field + ".sphere.center");
-      const double radius = shape.sphere().radius();
-      if (!(radius > 0) || !std::isfinite(radius))
-        throw SceneError(field + ".sphere.radius: must be positive, got " + std::to_string(radius));
-      return SphereShape{center, static_cast<float>(radius)};
-    }
-    case pb::Shape::kQuad: {
-      const Vec3 o = CheckedPoint(shape.quad().origin(), field + ".quad.origin");
-      const Vec3 u = CheckedPoint(shape.quad().edge_u(), field + ".quad.edge_u");
-      const Vec3 v = CheckedPoint(shape.quad().edge_v(), field + ".quad.edge_v");
-      if (!(LengthSquared(Cross(u, v)) > 0))
-        throw SceneError(field + ".quad: edge_u and edge_v are zero or parallel");
-      return QuadShape::Make(o, u, v);
-    }
+    case pb::Shape::kSphere:
+      return SphereShape{PointOf(shape.sphere().center()), static_cast<float>(shape.sphere().radius())};
+    case pb::Shape::kQuad:
+      return QuadShape::Make(PointOf(shape.quad().origin()), PointOf(shape.quad().edge_u()),
+                             PointOf(shape.quad().edge_v()));
     case pb::Shape::kTriangles:
-      return InlineMesh(shape.triangles(), field + ".triangles");
+      return InlineMesh(shape.triangles());
     case pb::Shape::kMesh:
       return FileMesh(shape.mesh(), field + ".mesh", load_blob);
     case pb::Shape::GEOMETRY_NOT_SET:
       break;
   }
-  throw SceneError(field + ": no geometry set (sphere, quad, triangles or mesh)");
+  throw std::logic_error("GeometryFromProto: a shape without geometry (CheckRules refuses it)");
 }
 
 // An area light for an emissive shape, or nothing if it emits no light at all.
 std::optional<Light> LightFor(const ShapeGeometry& geometry, const Material& material) {
-  const auto* emissive = std::get_if<EmissiveMaterial>(&material);
-  if (!emissive || emissive->radiance.IsBlack()) return std::nullopt;
+  const Rgb radiance = Emission(material);
+  if (radiance.IsBlack()) return std::nullopt;
   struct Visitor {
     Rgb radiance;
     Light operator()(const SphereShape& s) const { return SphereLight{s, radiance}; }
@@ -120,7 +100,7 @@ std::optional<Light> LightFor(const ShapeGeometry& geometry, const Material& mat
       return TriangleMeshLight::Make(m, radiance);
     }
   };
-  return std::visit(Visitor{emissive->radiance}, geometry);
+  return std::visit(Visitor{radiance}, geometry);
 }
 
 // Largest absolute coordinate of any geometry: sets the absolute floor of ray offsets.
@@ -149,20 +129,16 @@ float SceneExtent(const std::vector<ShapeRecord>& shapes) {
 }  // namespace
 
 Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
+  CheckScene(description);
   auto data = std::make_unique<SceneData>();
   SceneData& d = *data;
 
+  using contract::OrDefault;
   const pb::Film& film = description.film();
-  if (film.width() == 0) throw SceneError("film.width: must be positive");
-  if (film.height() == 0) throw SceneError("film.height: must be positive");
-  if (film.width() > 1u << 16) throw SceneError("film.width: larger than 65536");
-  if (film.height() > 1u << 16) throw SceneError("film.height: larger than 65536");
   d.width = static_cast<int>(film.width());
   d.height = static_cast<int>(film.height());
-  d.tile_size = film.tile_size() == 0 ? kDefaultTileSize : static_cast<int>(film.tile_size());
-  d.samples_per_pixel = description.sampling().samples_per_pixel() == 0
-                            ? kDefaultSamplesPerPixel
-                            : description.sampling().samples_per_pixel();
+  d.tile_size = static_cast<int>(OrDefault<pb::Film>(film.tile_size(), "tile_size"));
+  d.samples_per_pixel = OrDefault<pb::Sampling>(description.sampling().samples_per_pixel(), "samples_per_pixel");
   d.seed = description.sampling().seed();
   d.antialiasing = AntialiasingSettings::FromProto(description.antialiasing());
   d.indirect = IndirectSettings::FromProto(description);
@@ -171,10 +147,9 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
   std::unordered_map<std::string, int> material_index;
   for (int i = 0; i < description.materials_size(); ++i) {
     const pb::Material& m = description.materials(i);
-    const std::string field = "materials[" + std::to_string(i) + "]";
-    if (!material_index.emplace(m.name(), i).second)
-      throw SceneError(field + ".name: \"" + m.name() + "\" is defined twice");
-    d.materials.push_back(MaterialFromProto(m, field));
+    material_index.emplace(m.name(), i);
+    d.materials.push_back(MaterialFromProto(m));
+    d.capabilities.push_back(CapabilitiesOf(d.materials.back()));
     d.material_names.push_back(m.name());
   }
 
@@ -184,10 +159,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
     const std::string field = "shapes[" + std::to_string(i) + "]";
     ShapeRecord record;
     record.label = ShapeLabel(i, shape);
-    const auto it = material_index.find(shape.material());
-    if (it == material_index.end())
-      throw SceneError(field + ".material: no material named \"" + shape.material() + "\"");
-    record.material = it->second;
+    record.material = material_index.at(shape.material());
     try {
       record.geometry = GeometryFromProto(shape, field, load_blob);
     } catch (const SceneError& e) {
@@ -205,12 +177,11 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
 
   for (const ShapeRecord& shape : d.shapes) {
     d.bounds.Extend(BoundsOf(shape.geometry));
-    if (IsSpecular(d.materials[shape.material]))
+    if (d.capabilities[shape.material].specular)
       d.specular_targets.push_back(BoundingSphereOf(shape.geometry));
   }
   for (int i = 0; i < description.lights_size(); ++i)
-    d.lights.push_back(LightFromProto(description.lights(i), BoundingSphere::Of(d.bounds),
-                                      "lights[" + std::to_string(i) + "]"));
+    d.lights.push_back(LightFromProto(description.lights(i), BoundingSphere::Of(d.bounds)));
   d.photons = PhotonSettings::FromProto(description.photons(), d.bounds.Diagonal());
 
   std::vector<float> power;

@@ -5,17 +5,21 @@
 #include <stdexcept>
 #include <string>
 
+#include "contract/failure.h"
+
 namespace renderfarm::v1 {
 class Scene;
 }
 
 namespace farm {
 
-// Thrown when a scene description cannot be turned into a renderable scene (a mesh that
-// does not parse, a material name that does not exist, ...). The message names the field.
-class SceneError : public std::runtime_error {
+// Thrown when a scene description cannot be turned into a renderable scene (a value out of
+// range, a material name that does not exist, a mesh that does not parse, ...): bad input.
+// The message starts with the field's path and ": " ("shapes[3].mesh: ..."), as the
+// coordinator's refusals do.
+class SceneError : public BadInputError {
  public:
-  using std::runtime_error::runtime_error;
+  using BadInputError::BadInputError;
 };
 
 // Returns the bytes of a blob (a mesh file) by its content digest; the daemon fetches and
@@ -28,6 +32,9 @@ struct SceneData;
 // geometry. Built once per job on a worker, then shared read-only by all render threads.
 class Scene {
  public:
+  // Checks the description as the coordinator does (scene/scene_rules.h), then builds it.
+  // Throws SceneError; a mesh that does not parse is named by its shape's field, its path
+  // in the scene file and the line that breaks it.
   static Scene Build(const renderfarm::v1::Scene& description, const BlobLoader& load_blob);
 
   Scene(Scene&&) noexcept;

@@ -24,10 +24,6 @@
 
 namespace farm {
 
-inline constexpr int kDefaultTileSize = 32;
-// Ordinary pixels; edge pixels get AntialiasingSettings::edge_samples.
-inline constexpr uint32_t kDefaultSamplesPerPixel = 1;
-
 struct ShapeRecord {
   std::string label;  // "shapes[3]", or "shapes[3] (\"floor\")" when named: for messages
   ShapeGeometry geometry;
@@ -50,14 +46,16 @@ std::string ToString(const SurfaceHit& hit);
 struct SceneData {
   int width = 0;
   int height = 0;
-  int tile_size = kDefaultTileSize;
-  uint32_t samples_per_pixel = kDefaultSamplesPerPixel;
+  int tile_size = 0;
+  // Ordinary pixels; edge pixels get AntialiasingSettings::edge_samples.
+  uint32_t samples_per_pixel = 0;
   uint64_t seed = 0;
   AntialiasingSettings antialiasing;
   IndirectSettings indirect;  // also holds sampling.light_samples
 
   Camera camera;
   std::vector<Material> materials;
+  std::vector<MaterialCapabilities> capabilities;  // of each material, by index
   std::vector<std::string> material_names;
   std::vector<ShapeRecord> shapes;
   std::vector<Light> lights;  // emissive shapes first, then Scene.lights in order
@@ -88,6 +86,9 @@ struct SceneData {
 
   const Material& material_of(const SurfaceHit& hit) const {
     return materials[shapes[hit.shape].material];
+  }
+  const MaterialCapabilities& capabilities_of(const SurfaceHit& hit) const {
+    return capabilities[shapes[hit.shape].material];
   }
 
   std::string ToString() const;

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "math/rgb.h"
 #include "math/vec3.h"
@@ -73,6 +74,26 @@ inline pb::Shape* AddQuad(pb::Scene& s, const std::string& material, const Vec3d
   Set(shape->mutable_quad()->mutable_edge_u(), edge_u);
   Set(shape->mutable_quad()->mutable_edge_v(), edge_v);
   return shape;
+}
+
+inline pb::Light* AddPointLight(pb::Scene& s, const Vec3d& position, const Rgb& intensity) {
+  pb::Light* light = s.add_lights();
+  Set(light->mutable_point()->mutable_position(), position);
+  Set(light->mutable_point()->mutable_intensity(), intensity);
+  return light;
+}
+
+// A digest of the contract's form ("sha256:" and 64 hex digits) naming a test blob; not
+// the blob's hash (MapLoader does not check it).
+inline std::string FakeDigest(std::string_view name) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string digest = "sha256:";
+  for (std::size_t i = 0; i < 32; ++i) {
+    const auto c = static_cast<unsigned char>(i < name.size() ? name[i] : 0);
+    digest += kHex[c >> 4];
+    digest += kHex[c & 15];
+  }
+  return digest;
 }
 
 inline pb::Shape* AddMeshFile(pb::Scene& s, const std::string& material,

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "daemon/flags.h"
+#include "daemon/log.h"
 #include "daemon/signals.h"
 #include "daemon/worker.h"
 
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
     });
     return worker.Run();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "farm-worker: %s\n", e.what());
+    farm::Log(farm::LogLevel::kError, "cannot start", {{"err", e.what()}});
     return 1;
   }
 }
