@@ -49,8 +49,11 @@ func checkMessage(msg protoreflect.Message, path string, inherited *pb.FieldRule
 			continue
 		}
 		r := Of(fd)
-		if r == nil && inherited != nil && isNumber(fd) {
+		switch {
+		case r == nil && inherited != nil && isNumber(fd):
 			r = inherited
+		case r == nil:
+			r = noRule
 		}
 		if err := checkField(msg, fd, join(path, string(fd.Name())), r); err != nil {
 			return err
@@ -68,6 +71,9 @@ func checkMessage(msg protoreflect.Message, path string, inherited *pb.FieldRule
 	}
 	return nil
 }
+
+// noRule stands for the rule of a field that declares none, so that checks read one.
+var noRule = &pb.FieldRule{}
 
 func checkField(msg protoreflect.Message, fd protoreflect.FieldDescriptor, path string, r *pb.FieldRule) *FieldError {
 	switch {
@@ -169,8 +175,12 @@ func checkBounds(path string, v float64, shown string, r *pb.FieldRule) *FieldEr
 	return Errorf(path, "%s, got %s", Describe(r), shown)
 }
 
-// Describe says in words what numbers r allows: "must be in [8, 256] (0 selects 32)".
+// Describe says in words what numbers r allows: "must be in [8, 256] (0 selects 32)", or
+// "" when r has no bounds.
 func Describe(r *pb.FieldRule) string {
+	if !hasBounds(r) {
+		return ""
+	}
 	lo, loOpen := bound(r.Gt, r.Gte)
 	hi, hiOpen := bound(r.Lt, r.Lte)
 	var s string
@@ -228,8 +238,14 @@ func join(path, name string) string {
 	return path + "." + name
 }
 
-// Number formats v as briefly as it round-trips: 16384, 0.1, 1e+12.
-func Number(v float64) string { return strconv.FormatFloat(v, 'g', -1, 64) }
+// Number formats v as briefly as it round-trips, but whole numbers below a billion in
+// full: 16384, 50000000, 0.1, 1e+12.
+func Number(v float64) string {
+	if v == math.Trunc(v) && math.Abs(v) < 1e9 {
+		return strconv.FormatFloat(v, 'f', -1, 64)
+	}
+	return strconv.FormatFloat(v, 'g', -1, 64)
+}
 
 // Truncate cuts s to at most n bytes (on a rune boundary), marking the cut, so that a
 // hostile value is not echoed back whole.
