@@ -7,6 +7,7 @@ import (
 	"strings"
 	"testing"
 
+	"google.golang.org/protobuf/encoding/protojson"
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/rules"
@@ -20,8 +21,8 @@ import (
 // the bytes, nothing may panic; a refusal must name what is wrong; an accepted scene must
 // survive a binary round trip, still validate once its defaults are filled in (which
 // changes nothing a second time or in its plan) and plan at least one task. `go test` runs
-// the seeds (every scene in scenes/, a few broken ones and what earlier fuzzing found,
-// testdata/fuzz); `make fuzz` (scripts/fuzz.sh, part of `make test`) fuzzes for a bounded
+// the seeds (every scene in scenes/, the scene of every shared vector, a few broken ones
+// and what earlier fuzzing found, testdata/fuzz); `make fuzz` (scripts/fuzz.sh, part of `make test`) fuzzes for a bounded
 // time.
 func FuzzParseValidatePlan(f *testing.F) {
 	seeds, _ := filepath.Glob("../../scenes/*.json")
@@ -29,6 +30,22 @@ func FuzzParseValidatePlan(f *testing.F) {
 	for _, path := range append(seeds, stiff...) {
 		data, err := os.ReadFile(path)
 		if err != nil {
+			f.Fatal(err)
+		}
+		f.Add(data)
+	}
+	// Every shared vector's scene (not grown), so that each rule is reached from the start.
+	vectors, _ := filepath.Glob(filepath.Join(vectorDir, "*.json"))
+	for _, path := range vectors {
+		data, err := os.ReadFile(path)
+		vec := &pb.SceneVector{}
+		if err == nil {
+			err = protojson.Unmarshal(data, vec)
+		}
+		if err != nil {
+			f.Fatalf("%s: %v", path, err)
+		}
+		if data, err = protojson.Marshal(vec.GetScene()); err != nil {
 			f.Fatal(err)
 		}
 		f.Add(data)
