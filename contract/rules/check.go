@@ -218,7 +218,7 @@ func checkBounds(v float64, raw protoreflect.Value, r *pb.FieldRule) *FieldError
 }
 
 // Describe says in words what numbers r allows: "must be in [8, 256] (0 selects 32)", or
-// "" when r has no bounds.
+// "" when r (which may be nil) has no bounds.
 func Describe(r *pb.FieldRule) string {
 	if !hasBounds(r) {
 		return ""
@@ -260,7 +260,7 @@ func pick(c bool, yes, no string) string {
 }
 
 func hasBounds(r *pb.FieldRule) bool {
-	return r.Gte != nil || r.Gt != nil || r.Lte != nil || r.Lt != nil
+	return r != nil && (r.Gte != nil || r.Gt != nil || r.Lte != nil || r.Lt != nil)
 }
 
 func isNumber(fd protoreflect.FieldDescriptor) bool {

@@ -169,6 +169,7 @@ func TestDescribe(t *testing.T) {
 		{&pb.FieldRule{Lt: f(5)}, "must be < 5"},
 		{&pb.FieldRule{DefaultValue: f(3), MaxItems: proto.Uint64(2)}, ""},
 		{&pb.FieldRule{}, ""},
+		{nil, ""},
 	}
 	for _, tt := range tests {
 		if got := rules.Describe(tt.rule); got != tt.want {
