@@ -22,45 +22,39 @@ func Defaults(s *pb.Scene) *pb.Scene {
 }
 
 // The effective values of the fields the coordinator reads: the field, or the value its
-// 0 selects. Each reads its default from scene.proto.
+// 0 selects (scene.proto's default_value, read once).
+var (
+	TileSize        = effective((*pb.Scene).GetFilm, (*pb.Film).GetTileSize, "tile_size")
+	SamplesPerPixel = effective((*pb.Scene).GetSampling, (*pb.Sampling).GetSamplesPerPixel, "samples_per_pixel")
+	LightSamples    = effective((*pb.Scene).GetSampling, (*pb.Sampling).GetLightSamples, "light_samples")
+	GlobalPhotons   = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetGlobalPhotons, "global_photons")
+	CausticPhotons  = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetCausticPhotons, "caustic_photons")
+	PhotonsPerShard = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetPhotonsPerShard, "photons_per_shard")
+	// AntialiasingMode, EdgeSamples (camera rays per edge pixel) and EdgeThreshold.
+	AntialiasingMode = effective((*pb.Scene).GetAntialiasing, (*pb.Antialiasing).GetMode, "mode")
+	EdgeSamples      = effective((*pb.Scene).GetAntialiasing, (*pb.Antialiasing).GetEdgeSamples, "edge_samples")
+	EdgeThreshold    = effective((*pb.Scene).GetAntialiasing, (*pb.Antialiasing).GetEdgeThreshold, "edge_threshold")
+	// IndirectMode, and the gather rays at a first diffuse hit and after a glossy bounce.
+	IndirectMode        = effective((*pb.Scene).GetIndirect, (*pb.Indirect).GetMode, "mode")
+	GatherRays          = effective((*pb.Scene).GetIndirect, (*pb.Indirect).GetGatherRays, "gather_rays")
+	SecondaryGatherRays = effective((*pb.Scene).GetIndirect, (*pb.Indirect).GetSecondaryGatherRays, "secondary_gather_rays")
+	// Rounds is the most progressive rounds a job runs; Alpha is progressive photon
+	// mapping's alpha.
+	Rounds = effective((*pb.Scene).GetProgressive, (*pb.Progressive).GetMaxRounds, "max_rounds")
+	Alpha  = effective((*pb.Scene).GetProgressive, (*pb.Progressive).GetAlpha, "alpha")
+)
 
-func TileSize(s *pb.Scene) uint32 { return or(s.GetFilm().GetTileSize(), (*pb.Film)(nil), "tile_size") }
-
-func SamplesPerPixel(s *pb.Scene) uint32 {
-	return or(s.GetSampling().GetSamplesPerPixel(), (*pb.Sampling)(nil), "samples_per_pixel")
-}
-
-func LightSamples(s *pb.Scene) uint32 {
-	return or(s.GetSampling().GetLightSamples(), (*pb.Sampling)(nil), "light_samples")
-}
-
-func GlobalPhotons(s *pb.Scene) uint64 {
-	return or(s.GetPhotons().GetGlobalPhotons(), (*pb.PhotonMapping)(nil), "global_photons")
-}
-
-func CausticPhotons(s *pb.Scene) uint64 {
-	return or(s.GetPhotons().GetCausticPhotons(), (*pb.PhotonMapping)(nil), "caustic_photons")
-}
-
-func PhotonsPerShard(s *pb.Scene) uint64 {
-	return or(s.GetPhotons().GetPhotonsPerShard(), (*pb.PhotonMapping)(nil), "photons_per_shard")
-}
-
-func AntialiasingMode(s *pb.Scene) pb.AntialiasingMode {
-	return or(s.GetAntialiasing().GetMode(), (*pb.Antialiasing)(nil), "mode")
-}
-
-// EdgeSamples is the camera rays per edge pixel.
-func EdgeSamples(s *pb.Scene) uint32 {
-	return or(s.GetAntialiasing().GetEdgeSamples(), (*pb.Antialiasing)(nil), "edge_samples")
-}
-
-func EdgeThreshold(s *pb.Scene) float64 {
-	return or(s.GetAntialiasing().GetEdgeThreshold(), (*pb.Antialiasing)(nil), "edge_threshold")
-}
-
-func IndirectMode(s *pb.Scene) pb.IndirectMode {
-	return or(s.GetIndirect().GetMode(), (*pb.Indirect)(nil), "mode")
+// effective returns the getter of the effective value of field name of the message part
+// of a scene: the field if it is not 0, else its default.
+func effective[M proto.Message, T ~uint32 | ~uint64 | ~int32 | ~float64](part func(*pb.Scene) M, field func(M) T, name protoreflect.Name) func(*pb.Scene) T {
+	var zero M // a nil message of the part's type, which has its descriptor
+	def := T(rules.Default(zero, name))
+	return func(s *pb.Scene) T {
+		if v := field(part(s)); v != 0 {
+			return v
+		}
+		return def
+	}
 }
 
 // FinalGather reports whether the scene asks for final gathering (the default) rather than
@@ -69,31 +63,5 @@ func FinalGather(s *pb.Scene) bool {
 	return IndirectMode(s) == pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER
 }
 
-func GatherRays(s *pb.Scene) uint32 {
-	return or(s.GetIndirect().GetGatherRays(), (*pb.Indirect)(nil), "gather_rays")
-}
-
-func SecondaryGatherRays(s *pb.Scene) uint32 {
-	return or(s.GetIndirect().GetSecondaryGatherRays(), (*pb.Indirect)(nil), "secondary_gather_rays")
-}
-
-// Rounds is the most progressive rounds the job runs.
-func Rounds(s *pb.Scene) uint32 {
-	return or(s.GetProgressive().GetMaxRounds(), (*pb.Progressive)(nil), "max_rounds")
-}
-
-// Alpha is progressive photon mapping's alpha.
-func Alpha(s *pb.Scene) float64 {
-	return or(s.GetProgressive().GetAlpha(), (*pb.Progressive)(nil), "alpha")
-}
-
 // ReferenceDigest returns the digest of the scene's reference image, or "".
 func ReferenceDigest(s *pb.Scene) string { return s.GetProgressive().GetReference().GetDigest() }
-
-// or returns v, or the value 0 selects for field of message type m when v is 0.
-func or[T ~uint32 | ~uint64 | ~int32 | ~float64](v T, m proto.Message, field protoreflect.Name) T {
-	if v != 0 {
-		return v
-	}
-	return T(rules.Default(m, field))
-}

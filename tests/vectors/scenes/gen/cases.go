@@ -1,6 +1,7 @@
 package main
 
 import (
+	"math"
 	"strings"
 
 	pb "photonfarm/proto/renderfarm/v1"
@@ -25,6 +26,20 @@ func refuse(name, field, covers string, mutate func(*pb.Scene), grow ...*pb.Grow
 
 func accept(name, covers string, mutate func(*pb.Scene), grow ...*pb.GrowField) vectorCase {
 	return vectorCase{name: name, covers: strings.Fields(covers), mutate: mutate, grow: grow}
+}
+
+// nonFinite returns the refusals of a double field (field, set by set) that is NaN,
+// infinite or past max_magnitude, named prefix-nan, prefix-infinite and
+// prefix-past-max-magnitude, covering key's nan, inf and magnitude checks.
+func nonFinite(prefix, field, key string, set func(*pb.Scene, float64)) []vectorCase {
+	var cases []vectorCase
+	for _, c := range []struct {
+		suffix, check string
+		value         float64
+	}{{"nan", "nan", math.NaN()}, {"infinite", "inf", math.Inf(1)}, {"past-max-magnitude", "magnitude", -2e12}} {
+		cases = append(cases, refuse(prefix+"-"+c.suffix, field, key+":"+c.check, func(s *pb.Scene) { set(s, c.value) }))
+	}
+	return cases
 }
 
 func grow(path string, count uint64) *pb.GrowField { return &pb.GrowField{Path: path, Count: count} }
