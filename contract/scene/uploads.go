@@ -10,14 +10,15 @@ import (
 // with a path but no digest is one the client has not finished: the error says so.
 const notUploaded = "missing; clients upload the file named by path and set its digest"
 
-// meshNotUploaded: a mesh with a path has its digest (shapes[i].mesh.digest).
-func meshNotUploaded(s *pb.Scene) *FieldError {
+// explainUpload returns err, a refusal of rules.Check, saying whose job the digest is when
+// it refuses a missing mesh digest beside a path (shapes[i].mesh.digest).
+func explainUpload(s *pb.Scene, err *FieldError) *FieldError {
 	for i, sh := range s.GetShapes() {
-		if m := sh.GetMesh(); m != nil && m.GetPath() != "" && m.GetDigest() == "" {
-			return rules.Errorf(index("shapes", i)+".mesh.digest", notUploaded)
+		if m := sh.GetMesh(); m != nil && m.GetPath() != "" && m.GetDigest() == "" && err.Field == index("shapes", i)+".mesh.digest" {
+			err.Message = notUploaded
 		}
 	}
-	return nil
+	return err
 }
 
 // checkReference: a reference image with a path has its digest

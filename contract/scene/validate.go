@@ -18,12 +18,8 @@ func Validate(s *pb.Scene) error {
 	if s == nil {
 		return rules.Errorf("scene", "missing")
 	}
-	// Said before the generic "missing", which would not say whose job the digest is.
-	if err := meshNotUploaded(s); err != nil {
-		return err
-	}
 	if err := rules.Check(s); err != nil {
-		return err
+		return explainUpload(s, err)
 	}
 	for _, rule := range structural {
 		if err := rule(s); err != nil {

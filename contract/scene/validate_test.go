@@ -106,6 +106,10 @@ func TestValidateRefusesNamingTheField(t *testing.T) {
 		}, "shapes[0].triangles.positions", "must have at most 1000000 entries, got 1000001"},
 		{"mesh path without digest", func(s *pb.Scene) { s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Path: "bunny.obj"})) },
 			"shapes[3].mesh.digest", "missing; clients upload the file named by path and set its digest"},
+		{"an earlier fault before a mesh not uploaded", func(s *pb.Scene) {
+			s.Shapes[2].GetQuad().Origin = nil
+			s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Path: "bunny.obj"}))
+		}, "shapes[2].quad.origin", "missing"},
 		{"mesh bad digest", func(s *pb.Scene) { s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Digest: "sha256:ABC"})) },
 			"shapes[3].mesh.digest", "64 lowercase hex"},
 		{"mesh zero scale", func(s *pb.Scene) {
