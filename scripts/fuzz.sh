@@ -62,7 +62,11 @@ for entry in "${targets[@]}"; do
   elapsed=$(($(seconds "$(sed -E 's/.*elapsed: ([0-9hms]+),.*/\1/' <<<"$last")") - $(seconds "${started:-0s}")))
   rate=$(awk -v n="$execs" -v s="$elapsed" 'BEGIN { printf "%d", (s > 0 ? n / s : 0) }')
   verdict=ok
-  if ((status != 0)); then
+  if ((status != 0)) && ! grep -q 'Failing input written to' "$log" && grep -q 'context deadline exceeded' "$log"; then
+    # Go's engine sometimes fails at the end of -fuzztime with no input to show for it
+    # (golang/go#51484): a finding always writes one, so this is not a finding.
+    verdict="ok (go test exit status $status at the deadline, no failing input: Go's flake)"
+  elif ((status != 0)); then
     verdict="FAIL (go test exit status $status)"
     failed=1
   elif ((rate < min_rate)); then

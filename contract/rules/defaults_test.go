@@ -1,6 +1,7 @@
 package rules_test
 
 import (
+	"math"
 	"testing"
 
 	"google.golang.org/protobuf/encoding/prototext"
@@ -29,6 +30,7 @@ func TestApplyDefaults(t *testing.T) {
 			Indirect:     &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER, GatherRays: 64, SecondaryGatherRays: 8},
 			Progressive:  &pb.Progressive{MaxRounds: 1, Alpha: 0.7},
 		}},
+		{"-0 is 0, as Check reads it", &pb.Progressive{Alpha: math.Copysign(0, -1)}, &pb.Progressive{MaxRounds: 1, Alpha: 0.7}},
 		{"set values stay", &pb.Progressive{MaxRounds: 5, Alpha: 0.25, TargetError: 0}, &pb.Progressive{MaxRounds: 5, Alpha: 0.25}},
 		{"fields without a default stay 0, messages without one stay unset", &pb.Progressive{}, &pb.Progressive{MaxRounds: 1, Alpha: 0.7}},
 		{"a set enum stays", &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}, &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP, GatherRays: 64, SecondaryGatherRays: 8}},
@@ -37,7 +39,7 @@ func TestApplyDefaults(t *testing.T) {
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
-			got := proto.Clone(tt.in)
+			got := tt.in // not a clone: proto.Clone drops a -0
 			rules.ApplyDefaults(got)
 			if !proto.Equal(got, tt.want) {
 				t.Errorf("ApplyDefaults = {%v}, want {%v}", prototext.Format(got), prototext.Format(tt.want))
