@@ -6,6 +6,7 @@ import (
 	"regexp"
 	"strconv"
 	"strings"
+	"sync"
 
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/reflect/protoreflect"
@@ -36,24 +37,42 @@ var DigestPattern = regexp.MustCompile(`^sha256:[0-9a-f]{64}$`)
 // are entered, and of a oneof only its set member. The worker's check walks in the same
 // order with the same messages (worker/contract/rules.cpp).
 func Check(m proto.Message) *FieldError {
-	return checkMessage(m.ProtoReflect(), "", nil)
+	return checkMessage(m.ProtoReflect(), nil)
 }
 
-// checkMessage checks msg, found at path; inherited is the rule of the field that holds
-// it when that rule bounds the components of a value message (Color, Vec3).
-func checkMessage(msg protoreflect.Message, path string, inherited *pb.FieldRule) *FieldError {
+// The walk makes an error with the path below the value it checks and each level puts its
+// own part in front on the way out (under), so that a path is spelled out only for an
+// error and a large list costs no strings.
+
+func fail(format string, args ...any) *FieldError { return Errorf("", format, args...) }
+
+// under returns err, found in part ("name" of a field, or "[3]" of an element), with part
+// in front of its path.
+func under(part string, err *FieldError) *FieldError {
+	switch {
+	case err.Field == "" || err.Field[0] == '[':
+		err.Field = part + err.Field
+	default:
+		err.Field = part + "." + err.Field
+	}
+	return err
+}
+
+// checkMessage checks msg; inherited is the rule of the field that holds it when that
+// rule bounds the components of a value message (Color, Vec3).
+func checkMessage(msg protoreflect.Message, inherited *pb.FieldRule) *FieldError {
 	md := msg.Descriptor()
 	for i := 0; i < md.Fields().Len(); i++ {
 		fd := md.Fields().Get(i)
 		if fd.ContainingOneof() != nil && !msg.Has(fd) {
 			continue
 		}
-		r := Of(fd)
-		if r == nil && inherited != nil && isNumber(fd) {
+		r := cachedRule(fd)
+		if r == noRule && inherited != nil && isNumber(fd) {
 			r = inherited
 		}
-		if err := checkField(msg, fd, join(path, string(fd.Name())), r); err != nil {
-			return err
+		if err := checkField(msg, fd, r); err != nil {
+			return under(string(fd.Name()), err)
 		}
 	}
 	for i := 0; i < md.Oneofs().Len(); i++ {
@@ -63,18 +82,38 @@ func checkMessage(msg protoreflect.Message, path string, inherited *pb.FieldRule
 			for j := range names {
 				names[j] = string(od.Fields().Get(j).Name())
 			}
-			return Errorf(path, "exactly one of %s must be set", strings.Join(names, ", "))
+			return fail("exactly one of %s must be set", strings.Join(names, ", "))
 		}
 	}
 	return nil
 }
 
-func checkField(msg protoreflect.Message, fd protoreflect.FieldDescriptor, path string, r *pb.FieldRule) *FieldError {
+// noRule stands for the rule of a field that declares none, so that checks read one.
+var noRule = &pb.FieldRule{}
+
+var ruleCache sync.Map // protoreflect.FieldDescriptor -> *pb.FieldRule
+
+// cachedRule is Of(fd), or noRule, read from the descriptor once.
+func cachedRule(fd protoreflect.FieldDescriptor) *pb.FieldRule {
+	if r, ok := ruleCache.Load(fd); ok {
+		return r.(*pb.FieldRule)
+	}
+	r := Of(fd)
+	if r == nil {
+		r = noRule
+	}
+	ruleCache.Store(fd, r)
+	return r
+}
+
+func checkField(msg protoreflect.Message, fd protoreflect.FieldDescriptor, r *pb.FieldRule) *FieldError {
 	switch {
 	case fd.IsMap():
 		var err *FieldError
 		msg.Get(fd).Map().Range(func(k protoreflect.MapKey, v protoreflect.Value) bool {
-			err = checkValue(fd.MapValue(), v, path+"["+k.String()+"]", r)
+			if err = checkValue(fd.MapValue(), v, r); err != nil {
+				err = under("["+k.String()+"]", err)
+			}
 			return err == nil
 		})
 		return err
@@ -82,45 +121,45 @@ func checkField(msg protoreflect.Message, fd protoreflect.FieldDescriptor, path 
 		list := msg.Get(fd).List()
 		n := uint64(list.Len())
 		if r.MaxItems != nil && n > r.GetMaxItems() {
-			return Errorf(path, "must have at most %d entries, got %d", r.GetMaxItems(), n)
+			return fail("must have at most %d entries, got %d", r.GetMaxItems(), n)
 		}
 		if r.MinItems != nil && n < r.GetMinItems() {
-			return Errorf(path, "must have at least %d entries, got %d", r.GetMinItems(), n)
+			return fail("must have at least %d entries, got %d", r.GetMinItems(), n)
 		}
 		for i := 0; i < list.Len(); i++ {
-			if err := checkValue(fd, list.Get(i), path+"["+strconv.Itoa(i)+"]", r); err != nil {
-				return err
+			if err := checkValue(fd, list.Get(i), r); err != nil {
+				return under("["+strconv.Itoa(i)+"]", err)
 			}
 		}
 		return nil
 	case fd.Kind() == protoreflect.MessageKind:
 		if !msg.Has(fd) {
 			if r.GetRequired() {
-				return Errorf(path, "missing")
+				return fail("missing")
 			}
 			return nil
 		}
 	}
-	return checkValue(fd, msg.Get(fd), path, r)
+	return checkValue(fd, msg.Get(fd), r)
 }
 
 // checkValue checks one value of field fd (the field's value, or one element of a list or
 // map) against r.
-func checkValue(fd protoreflect.FieldDescriptor, v protoreflect.Value, path string, r *pb.FieldRule) *FieldError {
+func checkValue(fd protoreflect.FieldDescriptor, v protoreflect.Value, r *pb.FieldRule) *FieldError {
 	switch fd.Kind() {
 	case protoreflect.MessageKind, protoreflect.GroupKind:
 		var components *pb.FieldRule
 		if hasBounds(r) {
 			components = r
 		}
-		return checkMessage(v.Message(), path, components)
+		return checkMessage(v.Message(), components)
 	case protoreflect.StringKind:
-		return checkString(path, v.String(), r)
+		return checkString(v.String(), r)
 	case protoreflect.BytesKind:
-		return checkString(path, string(v.Bytes()), r)
+		return checkString(string(v.Bytes()), r)
 	case protoreflect.EnumKind:
 		if fd.Enum().Values().ByNumber(v.Enum()) == nil {
-			return Errorf(path, "unknown %s value %d", fd.Enum().Name(), v.Enum())
+			return fail("unknown %s value %d", fd.Enum().Name(), v.Enum())
 		}
 		return nil
 	case protoreflect.BoolKind:
@@ -128,36 +167,36 @@ func checkValue(fd protoreflect.FieldDescriptor, v protoreflect.Value, path stri
 	case protoreflect.FloatKind, protoreflect.DoubleKind:
 		f := v.Float()
 		if math.IsNaN(f) || math.IsInf(f, 0) {
-			return Errorf(path, "must be a finite number, got %s", Number(f))
+			return fail("must be a finite number, got %s", Number(f))
 		}
 		if limit := Scene.GetMaxMagnitude(); math.Abs(f) > limit {
-			return Errorf(path, "must be within ±%s, got %s", Number(limit), Number(f))
+			return fail("must be within ±%s, got %s", Number(limit), Number(f))
 		}
-		return checkBounds(path, f, Number(f), r)
+		return checkBounds(f, v, r)
 	case protoreflect.Uint32Kind, protoreflect.Uint64Kind, protoreflect.Fixed32Kind, protoreflect.Fixed64Kind:
-		return checkBounds(path, float64(v.Uint()), strconv.FormatUint(v.Uint(), 10), r)
+		return checkBounds(float64(v.Uint()), v, r)
 	default: // signed integers
-		return checkBounds(path, float64(v.Int()), strconv.FormatInt(v.Int(), 10), r)
+		return checkBounds(float64(v.Int()), v, r)
 	}
 }
 
-func checkString(path string, s string, r *pb.FieldRule) *FieldError {
+func checkString(s string, r *pb.FieldRule) *FieldError {
 	n := len(s)
 	if r.GetRequired() && n == 0 {
-		return Errorf(path, "missing")
+		return fail("missing")
 	}
 	if r.MaxBytes != nil && uint64(n) > r.GetMaxBytes() {
-		return Errorf(path, "must be at most %d bytes, got %d", r.GetMaxBytes(), n)
+		return fail("must be at most %d bytes, got %d", r.GetMaxBytes(), n)
 	}
 	if r.GetDigest() && n > 0 && !DigestPattern.MatchString(s) {
-		return Errorf(path, "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", Truncate(s, 80))
+		return fail("must be \"sha256:\" followed by 64 lowercase hex digits, got %q", Truncate(s, 80))
 	}
 	return nil
 }
 
-// checkBounds checks number v (shown as shown) against r's bounds; 0 passes when r has a
-// default, which it selects.
-func checkBounds(path string, v float64, shown string, r *pb.FieldRule) *FieldError {
+// checkBounds checks number v (the value of raw, shown as it is written) against r's
+// bounds; 0 passes when r has a default, which it selects.
+func checkBounds(v float64, raw protoreflect.Value, r *pb.FieldRule) *FieldError {
 	if !hasBounds(r) || (v == 0 && r.DefaultValue != nil) {
 		return nil
 	}
@@ -166,11 +205,24 @@ func checkBounds(path string, v float64, shown string, r *pb.FieldRule) *FieldEr
 	if ok {
 		return nil
 	}
-	return Errorf(path, "%s, got %s", Describe(r), shown)
+	var shown string
+	switch x := raw.Interface().(type) {
+	case float64:
+		shown = Number(x)
+	case float32:
+		shown = Number(float64(x))
+	default: // an integer, in full
+		shown = fmt.Sprint(x)
+	}
+	return fail("%s, got %s", Describe(r), shown)
 }
 
-// Describe says in words what numbers r allows: "must be in [8, 256] (0 selects 32)".
+// Describe says in words what numbers r allows: "must be in [8, 256] (0 selects 32)", or
+// "" when r (which may be nil) has no bounds.
 func Describe(r *pb.FieldRule) string {
+	if !hasBounds(r) {
+		return ""
+	}
 	lo, loOpen := bound(r.Gt, r.Gte)
 	hi, hiOpen := bound(r.Lt, r.Lte)
 	var s string
@@ -208,7 +260,7 @@ func pick(c bool, yes, no string) string {
 }
 
 func hasBounds(r *pb.FieldRule) bool {
-	return r.Gte != nil || r.Gt != nil || r.Lte != nil || r.Lt != nil
+	return r != nil && (r.Gte != nil || r.Gt != nil || r.Lte != nil || r.Lt != nil)
 }
 
 func isNumber(fd protoreflect.FieldDescriptor) bool {
@@ -221,15 +273,14 @@ func isNumber(fd protoreflect.FieldDescriptor) bool {
 	return false
 }
 
-func join(path, name string) string {
-	if path == "" {
-		return name
+// Number formats v as briefly as it round-trips, but whole numbers below a billion in
+// full: 16384, 50000000, 0.1, 1e+12.
+func Number(v float64) string {
+	if v == math.Trunc(v) && math.Abs(v) < 1e9 {
+		return strconv.FormatFloat(v, 'f', -1, 64)
 	}
-	return path + "." + name
+	return strconv.FormatFloat(v, 'g', -1, 64)
 }
-
-// Number formats v as briefly as it round-trips: 16384, 0.1, 1e+12.
-func Number(v float64) string { return strconv.FormatFloat(v, 'g', -1, 64) }
 
 // Truncate cuts s to at most n bytes (on a rune boundary), marking the cut, so that a
 // hostile value is not echoed back whole.

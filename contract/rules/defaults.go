@@ -7,7 +7,7 @@ import (
 	"google.golang.org/protobuf/reflect/protoreflect"
 )
 
-// ApplyDefaults sets every number and enum field of m that is 0 and whose rule has a
+// ApplyDefaults sets every number and enum field of m that is 0 (or -0) and whose rule has a
 // default_value to that value: in m, in its set messages, and in unset singular messages
 // (which it creates) that hold such a field somewhere below them. Repeated fields and
 // oneof members are filled only where present, so that nothing is set that was not asked
@@ -33,12 +33,26 @@ func applyDefaults(msg protoreflect.Message) {
 			}
 		default:
 			r := Of(fd)
-			if r == nil || r.DefaultValue == nil || msg.Has(fd) {
+			if r == nil || r.DefaultValue == nil || !isZero(fd, msg.Get(fd)) {
 				continue
 			}
 			msg.Set(fd, numberValue(fd, r.GetDefaultValue()))
 		}
 	}
+}
+
+// isZero reports whether number v of field fd is 0, as Check reads it: -0 too (which a
+// protobuf message holds as set).
+func isZero(fd protoreflect.FieldDescriptor, v protoreflect.Value) bool {
+	switch fd.Kind() {
+	case protoreflect.FloatKind, protoreflect.DoubleKind:
+		return v.Float() == 0
+	case protoreflect.EnumKind:
+		return v.Enum() == 0
+	case protoreflect.Uint32Kind, protoreflect.Uint64Kind, protoreflect.Fixed32Kind, protoreflect.Fixed64Kind:
+		return v.Uint() == 0
+	}
+	return v.Int() == 0
 }
 
 // numberValue converts a default to field fd's kind.

@@ -71,6 +71,15 @@ func Max(m proto.Message, name protoreflect.Name) float64 {
 	return r.GetLte()
 }
 
+// Min returns field name's lower bound (its rule's gte), and panics if it declares none.
+func Min(m proto.Message, name protoreflect.Name) float64 {
+	r := declared(m, name)
+	if r.Gte == nil {
+		panic("rules: " + fieldName(m, name) + " declares no gte bound")
+	}
+	return r.GetGte()
+}
+
 func declared(m proto.Message, name protoreflect.Name) *pb.FieldRule {
 	fd := m.ProtoReflect().Descriptor().Fields().ByName(name)
 	if fd == nil || Of(fd) == nil {

@@ -20,10 +20,7 @@ type Interreflection struct {
 
 // InterreflectionOf inspects s, which must have passed Validate.
 func InterreflectionOf(s *pb.Scene) Interreflection {
-	mats := make(map[string]*pb.Material, len(s.GetMaterials()))
-	for _, m := range s.GetMaterials() {
-		mats[m.GetName()] = m
-	}
+	mats := materialsByName(s)
 	var planes []plane
 	var sphere *pb.Sphere
 	spheres, others := 0, 0

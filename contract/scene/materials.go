@@ -1,80 +1,61 @@
 package scene
 
 import (
-	"math"
-
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// validateSurface checks the reflecting materials beyond Lambert: glossy, mirror,
-// dielectric and conductor (scene.proto states each one's ranges).
-func validateSurface(p string, m *pb.Material) error {
-	switch k := m.GetKind().(type) {
-	case *pb.Material_Glossy:
-		return validateGlossy(p+".glossy", k.Glossy)
-	case *pb.Material_Mirror:
-		return checkColor(p+".mirror.reflectance", k.Mirror.GetReflectance(), 1)
-	case *pb.Material_Dielectric:
-		return validateDielectric(p+".dielectric", k.Dielectric)
-	case *pb.Material_Conductor:
-		return validateConductor(p+".conductor", k.Conductor)
-	}
-	return fe(p, "exactly one kind (lambert, emissive, glossy, mirror, dielectric, conductor) must be set")
-}
-
-func validateGlossy(p string, g *pb.Glossy) error {
-	if err := checkColor(p+".diffuse", g.GetDiffuse(), 1); err != nil {
-		return err
-	}
-	if err := checkColor(p+".specular", g.GetSpecular(), 1); err != nil {
-		return err
-	}
-	d, s := g.GetDiffuse(), g.GetSpecular()
-	for _, c := range []struct {
-		n    string
-		d, s float64
-	}{{"r", d.GetR(), s.GetR()}, {"g", d.GetG(), s.GetG()}, {"b", d.GetB(), s.GetB()}} {
-		if c.d+c.s > 1 {
-			return fe(p+".specular."+c.n, "diffuse + specular must be <= 1 (energy conservation), got %s + %s",
-				fmtNum(c.d), fmtNum(c.s))
+// checkMaterialNames: shapes name materials, so no two may share a name
+// (materials[i].name).
+func checkMaterialNames(s *pb.Scene) *FieldError {
+	first := make(map[string]int, len(s.GetMaterials()))
+	for i, m := range s.GetMaterials() {
+		if j, dup := first[m.GetName()]; dup {
+			return rules.Errorf(index("materials", i)+".name", "duplicate material name %q (also materials[%d])", rules.Truncate(m.GetName(), 80), j)
 		}
-	}
-	e := g.GetExponent()
-	if err := checkFinite(p+".exponent", e); err != nil {
-		return err
-	}
-	if e < MinGlossyExponent || e > MaxGlossyExponent {
-		return fe(p+".exponent", "must be in [%s, %s], got %s", fmtNum(MinGlossyExponent), fmtNum(MaxGlossyExponent), fmtNum(e))
+		first[m.GetName()] = i
 	}
 	return nil
 }
 
-func validateDielectric(p string, d *pb.Dielectric) error {
-	ior := d.GetIor()
-	if err := checkFinite(p+".ior", ior); err != nil {
-		return err
-	}
-	if ior < MinIOR || ior > MaxIOR {
-		return fe(p+".ior", "must be in [%s, %s], got %s", fmtNum(MinIOR), fmtNum(MaxIOR), fmtNum(ior))
-	}
-	if t := d.GetTransmittance(); t != nil {
-		return checkColor(p+".transmittance", t, 1)
+// checkShapeMaterials: every shape's material exists (shapes[i].material).
+func checkShapeMaterials(s *pb.Scene) *FieldError {
+	names := materialsByName(s)
+	for i, sh := range s.GetShapes() {
+		if _, ok := names[sh.GetMaterial()]; !ok {
+			return rules.Errorf(index("shapes", i)+".material", "no material named %q", rules.Truncate(sh.GetMaterial(), 80))
+		}
 	}
 	return nil
 }
 
-func validateConductor(p string, c *pb.Conductor) error {
-	eta := c.GetEta()
-	if err := checkColor(p+".eta", eta, math.Inf(1)); err != nil {
-		return err
-	}
-	for _, comp := range []struct {
-		n string
-		v float64
-	}{{"r", eta.GetR()}, {"g", eta.GetG()}, {"b", eta.GetB()}} {
-		if comp.v <= 0 {
-			return fe(p+".eta."+comp.n, "must be > 0, got %s", fmtNum(comp.v))
+// checkGlossyEnergy: a glossy surface reflects no more than it receives
+// (materials[i].glossy.specular.r, .g or .b).
+func checkGlossyEnergy(s *pb.Scene) *FieldError {
+	for i, m := range s.GetMaterials() {
+		g := m.GetGlossy()
+		if g == nil {
+			continue
+		}
+		d, sp := g.GetDiffuse(), g.GetSpecular()
+		for _, c := range []struct {
+			name          string
+			diffuse, spec float64
+		}{{"r", d.GetR(), sp.GetR()}, {"g", d.GetG(), sp.GetG()}, {"b", d.GetB(), sp.GetB()}} {
+			if c.diffuse+c.spec > 1 {
+				return rules.Errorf(index("materials", i)+".glossy.specular."+c.name,
+					"diffuse + specular must be <= 1 (energy conservation), got %s + %s", rules.Number(c.diffuse), rules.Number(c.spec))
+			}
 		}
 	}
-	return checkColor(p+".k", c.GetK(), math.Inf(1))
+	return nil
+}
+
+// materialsByName indexes s's materials by name.
+func materialsByName(s *pb.Scene) map[string]*pb.Material {
+	byName := make(map[string]*pb.Material, len(s.GetMaterials()))
+	for _, m := range s.GetMaterials() {
+		byName[m.GetName()] = m
+	}
+	return byName
 }

@@ -4,6 +4,7 @@ import (
 	"math"
 	"testing"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -42,6 +43,9 @@ func addMaterial(m *pb.Material) func(*pb.Scene) {
 	return func(s *pb.Scene) { s.Materials = append(s.Materials, m) }
 }
 
+// maxPhotons is the most photon paths a map may have.
+var maxPhotons = uint64(rules.Max(&pb.PhotonMapping{}, "global_photons"))
+
 func TestValidateAcceptsMaterialsLightsAndPhotonSettings(t *testing.T) {
 	tests := []variant{
 		{"glossy at the energy bound", addMaterial(glossy(rgb(0.5, 0.2, 0), rgb(0.5, 0.8, 1), 1))},
@@ -62,12 +66,14 @@ func TestValidateAcceptsMaterialsLightsAndPhotonSettings(t *testing.T) {
 		}},
 		{"a dark point light next to an area light", func(s *pb.Scene) { s.Lights = []*pb.Light{point(scenetest.V(0, 3, 0), rgb(0, 0, 0))} }},
 		{"photon limits", func(s *pb.Scene) {
-			s.Photons = &pb.PhotonMapping{GlobalPhotons: scene.MaxPhotonsPerMap, CausticPhotons: 1, PhotonsPerShard: scene.MaxPhotonsPerShard}
+			s.Photons = &pb.PhotonMapping{GlobalPhotons: maxPhotons, CausticPhotons: 1, PhotonsPerShard: uint64(rules.Max(&pb.PhotonMapping{}, "photons_per_shard"))}
 		}},
-		{"smallest shard", func(s *pb.Scene) { s.Photons = &pb.PhotonMapping{PhotonsPerShard: scene.MinPhotonsPerShard} }},
+		{"smallest shard", func(s *pb.Scene) {
+			s.Photons = &pb.PhotonMapping{PhotonsPerShard: uint64(rules.Min(&pb.PhotonMapping{}, "photons_per_shard"))}
+		}},
 		{"estimates", func(s *pb.Scene) {
 			s.Photons = &pb.PhotonMapping{
-				GlobalEstimate:  &pb.RadianceEstimate{Neighbours: scene.MaxNeighbours, MaxRadius: 0.5, Filter: pb.Filter_FILTER_GAUSSIAN},
+				GlobalEstimate:  &pb.RadianceEstimate{Neighbours: uint32(rules.Max(&pb.RadianceEstimate{}, "neighbours")), MaxRadius: 0.5, Filter: pb.Filter_FILTER_GAUSSIAN},
 				CausticEstimate: &pb.RadianceEstimate{Neighbours: 1, Filter: pb.Filter_FILTER_CONE, ConeK: 1},
 			}
 		}},
@@ -83,23 +89,23 @@ func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 	tests := []refusal{
 		{"glossy over 1", addMaterial(glossy(rgb(0.5, 0.6, 0), rgb(0.5, 0.5, 0), 10)), "materials[2].glossy.specular.g", "diffuse + specular must be <= 1"},
 		{"glossy specular missing", addMaterial(glossy(rgb(0.5, 0.5, 0.5), nil, 10)), "materials[2].glossy.specular", "missing"},
-		{"glossy diffuse negative", addMaterial(glossy(rgb(-0.1, 0, 0), rgb(0, 0, 0), 10)), "materials[2].glossy.diffuse.r", ">= 0"},
+		{"glossy diffuse negative", addMaterial(glossy(rgb(-0.1, 0, 0), rgb(0, 0, 0), 10)), "materials[2].glossy.diffuse.r", "[0, 1], got -0.1"},
 		{"glossy exponent 0", addMaterial(glossy(rgb(0, 0, 0), rgb(0, 0, 0), 0)), "materials[2].glossy.exponent", "[1, 100000], got 0"},
 		{"glossy exponent too big", addMaterial(glossy(rgb(0, 0, 0), rgb(0, 0, 0), 100001)), "materials[2].glossy.exponent", "got 100001"},
 		{"glossy exponent NaN", addMaterial(glossy(rgb(0, 0, 0), rgb(0, 0, 0), nan)), "materials[2].glossy.exponent", "finite"},
-		{"mirror over 1", addMaterial(mirror(rgb(1.01, 0, 0))), "materials[2].mirror.reflectance.r", "<= 1"},
+		{"mirror over 1", addMaterial(mirror(rgb(1.01, 0, 0))), "materials[2].mirror.reflectance.r", "[0, 1], got 1.01"},
 		{"mirror missing", addMaterial(mirror(nil)), "materials[2].mirror.reflectance", "missing"},
 		{"ior below 1", addMaterial(dielectric(0.9, nil)), "materials[2].dielectric.ior", "[1, 10], got 0.9"},
 		{"ior unset", addMaterial(dielectric(0, nil)), "materials[2].dielectric.ior", "got 0"},
 		{"ior too big", addMaterial(dielectric(10.5, nil)), "materials[2].dielectric.ior", "got 10.5"},
 		{"ior Inf", addMaterial(dielectric(inf, nil)), "materials[2].dielectric.ior", "finite"},
-		{"transmittance over 1", addMaterial(dielectric(1.5, rgb(1, 1, 2))), "materials[2].dielectric.transmittance.b", "<= 1"},
-		{"eta 0", addMaterial(conductor(rgb(1, 0, 1), rgb(1, 1, 1))), "materials[2].conductor.eta.g", "> 0"},
+		{"transmittance over 1", addMaterial(dielectric(1.5, rgb(1, 1, 2))), "materials[2].dielectric.transmittance.b", "[0, 1], got 2"},
+		{"eta 0", addMaterial(conductor(rgb(1, 0, 1), rgb(1, 1, 1))), "materials[2].conductor.eta.g", "(0, 100], got 0"},
 		{"eta missing", addMaterial(conductor(nil, rgb(1, 1, 1))), "materials[2].conductor.eta", "missing"},
-		{"k negative", addMaterial(conductor(rgb(1, 1, 1), rgb(0, 0, -1))), "materials[2].conductor.k.b", ">= 0"},
+		{"k negative", addMaterial(conductor(rgb(1, 1, 1), rgb(0, 0, -1))), "materials[2].conductor.k.b", "[0, 100], got -1"},
 		{"k Inf", addMaterial(conductor(rgb(1, 1, 1), rgb(inf, 0, 0))), "materials[2].conductor.k.r", "finite"},
 		{"k NaN", addMaterial(conductor(rgb(1, 1, 1), rgb(0, nan, 0))), "materials[2].conductor.k.g", "finite"},
-		{"light without kind", lights(&pb.Light{Name: "x"}), "lights[0]", "exactly one kind (point, sun)"},
+		{"light without kind", lights(&pb.Light{Name: "x"}), "lights[0]", "exactly one of point, sun must be set"},
 		{"point without position", lights(point(nil, rgb(1, 1, 1))), "lights[0].point.position", "missing"},
 		{"point NaN position", lights(point(scenetest.V(0, nan, 0), rgb(1, 1, 1))), "lights[0].point.position.y", "finite"},
 		{"point negative intensity", lights(point(scenetest.V(0, 1, 0), rgb(1, -1, 1))), "lights[0].point.intensity.g", ">= 0"},
@@ -113,10 +119,10 @@ func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 			withoutLamp(s)
 			s.Lights = []*pb.Light{point(scenetest.V(0, 1, 0), rgb(0, 0, 0)), sun(scenetest.V(0, -1, 0), rgb(0, 0, 0))}
 		}, "lights", "needs a light"},
-		{"global photons too many", photons(&pb.PhotonMapping{GlobalPhotons: scene.MaxPhotonsPerMap + 1}), "photons.global_photons", "<= 50000000"},
+		{"global photons too many", photons(&pb.PhotonMapping{GlobalPhotons: maxPhotons + 1}), "photons.global_photons", "<= 50000000"},
 		{"caustic photons too many", photons(&pb.PhotonMapping{CausticPhotons: 1 << 40}), "photons.caustic_photons", "<= 50000000"},
-		{"shard too small", photons(&pb.PhotonMapping{PhotonsPerShard: 999}), "photons.photons_per_shard", "[1000, 10000000], got 999"},
-		{"shard too big", photons(&pb.PhotonMapping{PhotonsPerShard: scene.MaxPhotonsPerShard + 1}), "photons.photons_per_shard", "got 10000001"},
+		{"shard too small", photons(&pb.PhotonMapping{PhotonsPerShard: 999}), "photons.photons_per_shard", "[1000, 10000000] (0 selects 100000), got 999"},
+		{"shard too big", photons(&pb.PhotonMapping{PhotonsPerShard: 10000001}), "photons.photons_per_shard", "got 10000001"},
 		{"too many neighbours", photons(&pb.PhotonMapping{GlobalEstimate: &pb.RadianceEstimate{Neighbours: 10001}}), "photons.global_estimate.neighbours", "<= 10000"},
 		{"negative radius", photons(&pb.PhotonMapping{CausticEstimate: &pb.RadianceEstimate{MaxRadius: -1}}), "photons.caustic_estimate.max_radius", ">= 0"},
 		{"NaN radius", photons(&pb.PhotonMapping{CausticEstimate: &pb.RadianceEstimate{MaxRadius: nan}}), "photons.caustic_estimate.max_radius", "finite"},
@@ -124,7 +130,7 @@ func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 		{"cone k below 1", photons(&pb.PhotonMapping{CausticEstimate: &pb.RadianceEstimate{ConeK: 0.5}}), "photons.caustic_estimate.cone_k", "got 0.5"},
 		{"cone k negative", photons(&pb.PhotonMapping{CausticEstimate: &pb.RadianceEstimate{ConeK: -2}}), "photons.caustic_estimate.cone_k", "got -2"},
 		{"cone k NaN", photons(&pb.PhotonMapping{CausticEstimate: &pb.RadianceEstimate{ConeK: nan}}), "photons.caustic_estimate.cone_k", "finite"},
-		{"unknown filter", photons(&pb.PhotonMapping{GlobalEstimate: &pb.RadianceEstimate{Filter: 9}}), "photons.global_estimate.filter", "unknown filter 9"},
+		{"unknown filter", photons(&pb.PhotonMapping{GlobalEstimate: &pb.RadianceEstimate{Filter: 9}}), "photons.global_estimate.filter", "unknown Filter value 9"},
 	}
 	expectRefused(t, tests)
 }

@@ -13,10 +13,7 @@ type Surfaces struct {
 
 // SurfacesOf classifies the materials used by s's shapes. s must have passed Validate.
 func SurfacesOf(s *pb.Scene) Surfaces {
-	kinds := make(map[string]*pb.Material, len(s.GetMaterials()))
-	for _, m := range s.GetMaterials() {
-		kinds[m.GetName()] = m
-	}
+	kinds := materialsByName(s)
 	var out Surfaces
 	for _, sh := range s.GetShapes() {
 		switch kinds[sh.GetMaterial()].GetKind().(type) {

@@ -4,6 +4,7 @@ import (
 	"math"
 	"testing"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -18,9 +19,12 @@ func meshShape(m *pb.MeshFile) *pb.Shape {
 func TestValidateAcceptsValidScenes(t *testing.T) {
 	tests := []variant{
 		{"as built", func(*pb.Scene) {}},
-		{"explicit tile size and spp", func(s *pb.Scene) { s.Film.TileSize = 8; s.Sampling.SamplesPerPixel = scene.MaxSamplesPerPixel }},
+		{"explicit tile size and spp", func(s *pb.Scene) {
+			s.Film.TileSize = 8
+			s.Sampling.SamplesPerPixel = uint32(rules.Max(&pb.Sampling{}, "samples_per_pixel"))
+		}},
 		{"no sampling message", func(s *pb.Scene) { s.Sampling = nil }},
-		{"max film", func(s *pb.Scene) { s.Film.Width, s.Film.Height = scene.MaxFilmSide, 1 }},
+		{"max film", func(s *pb.Scene) { s.Film.Width, s.Film.Height = uint32(rules.Max(&pb.Film{}, "width")), 1 }},
 		{"triangles", func(s *pb.Scene) {
 			s.Shapes = append(s.Shapes, &pb.Shape{Material: "white", Geometry: &pb.Shape_Triangles{Triangles: &pb.TriangleMesh{
 				Positions: []*pb.Vec3{scenetest.V(0, 0, 0), scenetest.V(1, 0, 0), scenetest.V(0, 1, 0)}, Indices: []uint32{0, 1, 2}}}})
@@ -73,17 +77,17 @@ func TestValidateRefusesNamingTheField(t *testing.T) {
 		{"tile too small", func(s *pb.Scene) { s.Film.TileSize = 4 }, "film.tile_size", "got 4"},
 		{"tile too big", func(s *pb.Scene) { s.Film.TileSize = 257 }, "film.tile_size", "got 257"},
 		{"spp too many", func(s *pb.Scene) { s.Sampling.SamplesPerPixel = 65537 }, "sampling.samples_per_pixel", "<= 65536"},
-		{"material no name", func(s *pb.Scene) { s.Materials[0].Name = "" }, "materials[0].name", "non-empty"},
-		{"material duplicate", func(s *pb.Scene) { s.Materials[1].Name = "white" }, "materials[1].name", "duplicate"},
-		{"material no kind", func(s *pb.Scene) { s.Materials[0].Kind = nil }, "materials[0]", "exactly one kind"},
-		{"reflectance > 1", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.G = 1.5 }, "materials[0].lambert.reflectance.g", "<= 1, got 1.5"},
-		{"reflectance < 0", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.R = -0.1 }, "materials[0].lambert.reflectance.r", ">= 0"},
+		{"material no name", func(s *pb.Scene) { s.Materials[0].Name = "" }, "materials[0].name", "missing"},
+		{"material duplicate", func(s *pb.Scene) { s.Materials[1].Name = "white" }, "materials[1].name", "duplicate material name \"white\" (also materials[0])"},
+		{"material no kind", func(s *pb.Scene) { s.Materials[0].Kind = nil }, "materials[0]", "exactly one of lambert, emissive, glossy, mirror, dielectric, conductor must be set"},
+		{"reflectance > 1", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.G = 1.5 }, "materials[0].lambert.reflectance.g", "[0, 1], got 1.5"},
+		{"reflectance < 0", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance.R = -0.1 }, "materials[0].lambert.reflectance.r", "[0, 1], got -0.1"},
 		{"reflectance missing", func(s *pb.Scene) { s.Materials[0].GetLambert().Reflectance = nil }, "materials[0].lambert.reflectance", "missing"},
 		{"radiance negative", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance.B = -1 }, "materials[1].emissive.radiance.b", ">= 0"},
 		{"radiance Inf", func(s *pb.Scene) { s.Materials[1].GetEmissive().Radiance.R = inf }, "materials[1].emissive.radiance.r", "finite"},
 		{"unknown material", func(s *pb.Scene) { s.Shapes[1].Material = "chrome" }, "shapes[1].material", `"chrome"`},
-		{"empty material", func(s *pb.Scene) { s.Shapes[1].Material = "" }, "shapes[1].material", "must name"},
-		{"no geometry", func(s *pb.Scene) { s.Shapes[0].Geometry = nil }, "shapes[0]", "exactly one geometry"},
+		{"empty material", func(s *pb.Scene) { s.Shapes[1].Material = "" }, "shapes[1].material", "missing"},
+		{"no geometry", func(s *pb.Scene) { s.Shapes[0].Geometry = nil }, "shapes[0]", "exactly one of sphere, quad, triangles, mesh must be set"},
 		{"negative radius", func(s *pb.Scene) { s.Shapes[0].GetSphere().Radius = -1 }, "shapes[0].sphere.radius", "must be > 0, got -1"},
 		{"NaN center", func(s *pb.Scene) { s.Shapes[0].GetSphere().Center.X = nan }, "shapes[0].sphere.center.x", "finite"},
 		{"zero quad edge", func(s *pb.Scene) { s.Shapes[1].GetQuad().EdgeU = scenetest.V(0, 0, 0) }, "shapes[1].quad.edge_u", "non-zero"},
@@ -98,10 +102,14 @@ func TestValidateRefusesNamingTheField(t *testing.T) {
 		}, "shapes[0].triangles.indices[2]", "must be < 3"},
 		{"too many positions", func(s *pb.Scene) {
 			s.Shapes[0].Geometry = &pb.Shape_Triangles{Triangles: &pb.TriangleMesh{
-				Positions: make([]*pb.Vec3, scene.MaxMeshPositions+1), Indices: []uint32{0, 1, 2}}}
-		}, "shapes[0].triangles.positions", "at most 1000000"},
+				Positions: make([]*pb.Vec3, 1000001), Indices: []uint32{0, 1, 2}}}
+		}, "shapes[0].triangles.positions", "must have at most 1000000 entries, got 1000001"},
 		{"mesh path without digest", func(s *pb.Scene) { s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Path: "bunny.obj"})) },
 			"shapes[3].mesh.digest", "missing; clients upload the file named by path and set its digest"},
+		{"an earlier fault before a mesh not uploaded", func(s *pb.Scene) {
+			s.Shapes[2].GetQuad().Origin = nil
+			s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Path: "bunny.obj"}))
+		}, "shapes[2].quad.origin", "missing"},
 		{"mesh bad digest", func(s *pb.Scene) { s.Shapes = append(s.Shapes, meshShape(&pb.MeshFile{Digest: "sha256:ABC"})) },
 			"shapes[3].mesh.digest", "64 lowercase hex"},
 		{"mesh zero scale", func(s *pb.Scene) {
@@ -143,5 +151,47 @@ func TestDefaults(t *testing.T) {
 	s.Photons = &pb.PhotonMapping{GlobalPhotons: 5000, PhotonsPerShard: 1000}
 	if ph := scene.Defaults(s).Photons; ph.GlobalPhotons != 5000 || ph.CausticPhotons != 200000 || ph.PhotonsPerShard != 1000 {
 		t.Errorf("Defaults with explicit photon counts: %v", ph)
+	}
+}
+
+// TestEffectiveValuesAreTheDefaults checks each getter of an effective value against the
+// field Defaults fills in, on a scene that sets none of them and on one that sets all.
+func TestEffectiveValuesAreTheDefaults(t *testing.T) {
+	unset := scenetest.Valid(10, 10)
+	set := scenetest.Valid(10, 10)
+	set.Film.TileSize = 8
+	set.Sampling = &pb.Sampling{SamplesPerPixel: 3, LightSamples: 5}
+	set.Photons = &pb.PhotonMapping{GlobalPhotons: 7, CausticPhotons: 9, PhotonsPerShard: 1000}
+	set.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_FULL, EdgeSamples: 2, EdgeThreshold: 0.5}
+	set.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP, GatherRays: 4, SecondaryGatherRays: 6}
+	set.Progressive = &pb.Progressive{MaxRounds: 11, Alpha: 0.25}
+	for name, s := range map[string]*pb.Scene{"unset": unset, "set": set} {
+		d := scene.Defaults(s)
+		got := []any{scene.TileSize(s), scene.SamplesPerPixel(s), scene.LightSamples(s), scene.GlobalPhotons(s), scene.CausticPhotons(s),
+			scene.PhotonsPerShard(s), scene.AntialiasingMode(s), scene.EdgeSamples(s), scene.EdgeThreshold(s), scene.IndirectMode(s),
+			scene.GatherRays(s), scene.SecondaryGatherRays(s), scene.Rounds(s), scene.Alpha(s)}
+		want := []any{d.Film.TileSize, d.Sampling.SamplesPerPixel, d.Sampling.LightSamples, d.Photons.GlobalPhotons, d.Photons.CausticPhotons,
+			d.Photons.PhotonsPerShard, d.Antialiasing.Mode, d.Antialiasing.EdgeSamples, d.Antialiasing.EdgeThreshold, d.Indirect.Mode,
+			d.Indirect.GatherRays, d.Indirect.SecondaryGatherRays, d.Progressive.MaxRounds, d.Progressive.Alpha}
+		for i := range got {
+			if got[i] != want[i] {
+				t.Errorf("%s: getter %d = %v, Defaults says %v", name, i, got[i], want[i])
+			}
+		}
+		if scene.FinalGather(s) != (d.Indirect.Mode == pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER) {
+			t.Errorf("%s: FinalGather = %v with mode %v", name, scene.FinalGather(s), d.Indirect.Mode)
+		}
+	}
+}
+
+func TestDefaultsDropsAReferenceWithoutDigest(t *testing.T) {
+	s := scenetest.Valid(10, 10)
+	s.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{}}
+	if r := scene.Defaults(s).GetProgressive().GetReference(); r != nil {
+		t.Errorf("reference without digest kept: %v", r)
+	}
+	s.Progressive.Reference = &pb.ReferenceImage{Path: "ref.exr", Digest: goodDigest}
+	if r := scene.Defaults(s).GetProgressive().GetReference(); r.GetDigest() != goodDigest || r.GetPath() != "ref.exr" {
+		t.Errorf("reference = %v, want it kept as given", r)
 	}
 }

@@ -23,8 +23,8 @@ const (
 // Passes returns every pass the renderer knows for s, each run or skipped with the reason.
 // s must have passed scene.Validate.
 func Passes(s *pb.Scene) *pb.Plan {
-	var global, caustic *MapPlan
-	for _, m := range Maps(s) {
+	var global, caustic *scene.PhotonMap
+	for _, m := range scene.PhotonMaps(s) {
 		switch m.Kind {
 		case pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL:
 			global = &m
@@ -32,8 +32,7 @@ func Passes(s *pb.Scene) *pb.Plan {
 			caustic = &m
 		}
 	}
-	per := scene.PhotonsPerShard(s)
-	shards := func(n uint64) uint64 { return (n + per - 1) / per }
+	shards := func(n uint64) uint64 { return scene.ShardsPerMap(s, n) }
 	plan := &pb.Plan{}
 	add := func(name string, enabled bool, format string, args ...any) {
 		plan.Passes = append(plan.Passes, &pb.PlannedPass{Name: name, Enabled: enabled, Reason: fmt.Sprintf(format, args...)})
@@ -67,10 +66,10 @@ func Passes(s *pb.Scene) *pb.Plan {
 	default:
 		add(PassPrecompute, true, "irradiance at the global map's photons in %d shards per round, merged into the snapshot", PrecomputeShards(s))
 		add(PassFinalGather, true, "%d gather rays at a camera path's first diffuse hit, %d after a glossy bounce",
-			gatherRays(s), secondaryGatherRays(s))
+			scene.GatherRays(s), scene.SecondaryGatherRays(s))
 	}
 
-	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightCount(s), lightSamples(s))
+	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightCount(s), scene.LightSamples(s))
 
 	switch scene.AntialiasingMode(s) {
 	case pb.AntialiasingMode_ANTIALIASING_MODE_NONE:
@@ -79,7 +78,7 @@ func Passes(s *pb.Scene) *pb.Plan {
 		add(PassEdgeAA, true, "FULL: every pixel gets %d samples (the costly baseline edge antialiasing is measured against)", scene.EdgeSamples(s))
 	default:
 		add(PassEdgeAA, true, "%d samples on edge pixels (Sobel gradient of log-luminance above %s), %d elsewhere",
-			scene.EdgeSamples(s), strconv.FormatFloat(edgeThreshold(s), 'g', -1, 64), scene.SamplesPerPixel(s))
+			scene.EdgeSamples(s), strconv.FormatFloat(scene.EdgeThreshold(s), 'g', -1, 64), scene.SamplesPerPixel(s))
 	}
 
 	add(PassRounds, scene.Rounds(s) > 1, "%s", roundsReason(s))
@@ -135,32 +134,4 @@ func lightCount(s *pb.Scene) string {
 		return "1 light"
 	}
 	return strconv.Itoa(n) + " lights"
-}
-
-func gatherRays(s *pb.Scene) uint32 {
-	if n := s.GetIndirect().GetGatherRays(); n != 0 {
-		return n
-	}
-	return scene.DefaultGatherRays
-}
-
-func secondaryGatherRays(s *pb.Scene) uint32 {
-	if n := s.GetIndirect().GetSecondaryGatherRays(); n != 0 {
-		return n
-	}
-	return scene.DefaultSecondaryGatherRays
-}
-
-func lightSamples(s *pb.Scene) uint32 {
-	if n := s.GetSampling().GetLightSamples(); n != 0 {
-		return n
-	}
-	return scene.DefaultLightSamples
-}
-
-func edgeThreshold(s *pb.Scene) float64 {
-	if v := s.GetAntialiasing().GetEdgeThreshold(); v != 0 {
-		return v
-	}
-	return scene.DefaultEdgeThreshold
 }

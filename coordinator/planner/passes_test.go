@@ -5,9 +5,9 @@ import (
 	"strings"
 	"testing"
 
-	"photonfarm/coordinator/planner"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/planner"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

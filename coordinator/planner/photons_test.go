@@ -5,9 +5,12 @@ import (
 	"strings"
 	"testing"
 
-	"photonfarm/coordinator/planner"
+	"google.golang.org/protobuf/proto"
+
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/planner"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -120,16 +123,49 @@ func TestPlanPhotonPhases(t *testing.T) {
 	}
 }
 
-func TestPlanLargestMapStaysWithinLimits(t *testing.T) {
-	s := scenetest.Valid(8, 8)
-	s.Photons = &pb.PhotonMapping{GlobalPhotons: scene.MaxPhotonsPerMap, PhotonsPerShard: scene.MinPhotonsPerShard}
-	tasks := planner.Plan(s)
-	var sum uint64
-	for _, task := range tasks {
-		sum += task.GetEmitPhotons().GetPhotonCount()
+// TestPlanLargestRoundStaysWithinLimits plans the largest round Validate accepts: the most
+// tiles (max_tiles_per_round) and, for both maps, the most emission shards
+// (max_shards_per_map); one tile or one shard more is refused. Planning cost is bounded by
+// these two limits (docs/limits.md).
+func TestPlanLargestRoundStaysWithinLimits(t *testing.T) {
+	maxTiles, maxShards := rules.Scene.GetMaxTilesPerRound(), rules.Scene.GetMaxShardsPerMap()
+	perShard := uint64(rules.Min(&pb.PhotonMapping{}, "photons_per_shard"))
+	s := scenetest.Valid(16384, 16384)
+	s.Film.TileSize = 64
+	shapes("mirror", "white")(s)
+	s.Photons = &pb.PhotonMapping{GlobalPhotons: maxShards * perShard, CausticPhotons: maxShards * perShard, PhotonsPerShard: perShard}
+	if err := scene.Validate(s); err != nil {
+		t.Fatal(err)
 	}
-	// Shards, a build, as many precompute tasks as shards, a merge, a tile and a composite.
-	if want := 2*scene.MaxPhotonsPerMap/scene.MinPhotonsPerShard + 4; len(tasks) != want || sum != scene.MaxPhotonsPerMap {
-		t.Errorf("%d tasks covering %d photons, want %d tasks covering %d", len(tasks), sum, want, scene.MaxPhotonsPerMap)
+	if got := scene.TilesPerRound(s); got != maxTiles {
+		t.Fatalf("%d tiles, want the limit %d (choose another film)", got, maxTiles)
+	}
+	tasks := planner.Plan(s)
+	counts := map[pb.Phase]uint64{}
+	var photons uint64
+	for _, task := range tasks {
+		counts[task.Phase]++
+		photons += task.GetEmitPhotons().GetPhotonCount()
+	}
+	want := map[pb.Phase]uint64{pb.Phase_PHASE_EMIT: 2 * maxShards, pb.Phase_PHASE_BUILD: 1, pb.Phase_PHASE_PRECOMPUTE: maxShards,
+		pb.Phase_PHASE_MERGE: 1, pb.Phase_PHASE_RENDER: maxTiles, pb.Phase_PHASE_COMPOSITE: 1}
+	if fmt.Sprint(counts) != fmt.Sprint(want) || photons != 2*maxShards*perShard {
+		t.Errorf("tasks per phase %v covering %d photons, want %v covering %d", counts, photons, want, 2*maxShards*perShard)
+	}
+
+	for _, tt := range []struct {
+		name   string
+		mutate func(*pb.Scene)
+		field  string
+	}{
+		{"one global photon more", func(s *pb.Scene) { s.Photons.GlobalPhotons++ }, "photons.photons_per_shard"},
+		{"one caustic photon more", func(s *pb.Scene) { s.Photons.CausticPhotons++ }, "photons.photons_per_shard"},
+		{"smaller tiles", func(s *pb.Scene) { s.Film.TileSize-- }, "film.tile_size"},
+	} {
+		over := proto.Clone(s).(*pb.Scene)
+		tt.mutate(over)
+		if err, ok := scene.Validate(over).(*scene.FieldError); !ok || err.Field != tt.field {
+			t.Errorf("%s: Validate = %v, want an error at %s", tt.name, err, tt.field)
+		}
 	}
 }

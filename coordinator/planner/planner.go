@@ -58,41 +58,21 @@ func PrecomputeShards(s *pb.Scene) int {
 	if !scene.FinalGather(s) {
 		return 0
 	}
-	for _, m := range Maps(s) {
+	for _, m := range scene.PhotonMaps(s) {
 		if m.Kind == pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL {
-			per := scene.PhotonsPerShard(s)
-			return int((m.Photons + per - 1) / per)
+			return int(scene.ShardsPerMap(s, m.Photons))
 		}
 	}
 	return 0
 }
 
-// Maps returns the photon maps a scene gets, in plan order, with their photon path counts
-// per round.
-func Maps(s *pb.Scene) []MapPlan {
-	var maps []MapPlan
-	if n := scene.GlobalPhotons(s); n > 0 && scene.InterreflectionOf(s).Possible {
-		maps = append(maps, MapPlan{Kind: pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL, Photons: n})
-	}
-	if n := scene.CausticPhotons(s); n > 0 && scene.SurfacesOf(s).Specular {
-		maps = append(maps, MapPlan{Kind: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, Photons: n})
-	}
-	return maps
-}
-
 // PhotonsPerRound returns the photon paths one round emits, all maps together.
 func PhotonsPerRound(s *pb.Scene) uint64 {
 	var n uint64
-	for _, m := range Maps(s) {
+	for _, m := range scene.PhotonMaps(s) {
 		n += m.Photons
 	}
 	return n
-}
-
-// MapPlan is one photon map of a job: its kind and the photon paths emitted for it.
-type MapPlan struct {
-	Kind    pb.PhotonMapKind
-	Photons uint64
 }
 
 // RadiusScale is progressive photon mapping's shrinking of the search radii in round r
@@ -119,7 +99,7 @@ func (p *plan) add(t *pb.Task) {
 
 func (p *plan) emit(s *pb.Scene) {
 	per := scene.PhotonsPerShard(s)
-	for _, m := range Maps(s) {
+	for _, m := range scene.PhotonMaps(s) {
 		base := uint64(p.round-1) * m.Photons
 		for first := uint64(0); first < m.Photons; first += per {
 			p.add(&pb.Task{Phase: pb.Phase_PHASE_EMIT, Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{

@@ -5,8 +5,8 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
-	"photonfarm/coordinator/planner"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/planner"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

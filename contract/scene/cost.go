@@ -1,0 +1,51 @@
+package scene
+
+import (
+	"photonfarm/contract/rules"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// The planner makes a task per tile and per emission shard of every round, so these two
+// limits (scene.proto's scene_limits) bound the cost of planning a round and the size of
+// the requests that list its tasks.
+
+// TilesPerRound returns how many render tiles one round of s has: ceil(width / t) ·
+// ceil(height / t) for the effective tile size t.
+func TilesPerRound(s *pb.Scene) uint64 {
+	t := uint64(TileSize(s))
+	w, h := uint64(s.GetFilm().GetWidth()), uint64(s.GetFilm().GetHeight())
+	return ceilDiv(w, t) * ceilDiv(h, t)
+}
+
+// ShardsPerMap returns how many emission shards a photon map of the given number of paths
+// has in one round of s.
+func ShardsPerMap(s *pb.Scene, photons uint64) uint64 { return ceilDiv(photons, PhotonsPerShard(s)) }
+
+// checkTiles: at most max_tiles_per_round tiles (film.tile_size).
+func checkTiles(s *pb.Scene) *FieldError {
+	if n, limit := TilesPerRound(s), rules.Scene.GetMaxTilesPerRound(); n > limit {
+		f := s.GetFilm()
+		return rules.Errorf("film.tile_size", "%d-pixel tiles make %d tiles of a %dx%d film per round, more than %d: use larger tiles",
+			TileSize(s), n, f.GetWidth(), f.GetHeight(), limit)
+	}
+	return nil
+}
+
+// checkShards: at most max_shards_per_map emission shards for each photon map the scene
+// gets (photons.photons_per_shard). Whether it gets a map (PhotonMaps) is only worked out
+// when the count is over the limit.
+func checkShards(s *pb.Scene) *FieldError {
+	limit := rules.Scene.GetMaxShardsPerMap()
+	if ShardsPerMap(s, GlobalPhotons(s)) <= limit && ShardsPerMap(s, CausticPhotons(s)) <= limit {
+		return nil
+	}
+	for _, m := range PhotonMaps(s) {
+		if n := ShardsPerMap(s, m.Photons); n > limit {
+			return rules.Errorf("photons.photons_per_shard", "%d photons per shard make %d emission shards of the %s map (%d photons) per round, more than %d: use more photons per shard",
+				PhotonsPerShard(s), n, m.Name(), m.Photons, limit)
+		}
+	}
+	return nil
+}
+
+func ceilDiv(a, b uint64) uint64 { return (a + b - 1) / b }

@@ -1,0 +1,107 @@
+package scene
+
+import (
+	"fmt"
+	"strconv"
+
+	"photonfarm/contract/rules"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// checkView: the camera looks somewhere (camera.look_at) and knows which way is up
+// (camera.up).
+func checkView(s *pb.Scene) *FieldError {
+	c := s.GetCamera()
+	pos, at, up := toVec(c.GetPosition()), toVec(c.GetLookAt()), toVec(c.GetUp())
+	view := at.sub(pos)
+	switch {
+	case view.isZero():
+		return rules.Errorf("camera.look_at", "must differ from camera.position, both are %s", pos)
+	case up.isZero():
+		return rules.Errorf("camera.up", "must be non-zero")
+	case parallel(view, up):
+		return rules.Errorf("camera.up", "must not be parallel to the view direction look_at - position = %s, got %s", view, up)
+	}
+	return nil
+}
+
+// checkShapes checks each shape's geometry beyond its bounds: quads that span an area,
+// triangle lists that name their corners, mesh transforms that can be inverted.
+func checkShapes(s *pb.Scene) *FieldError {
+	for i, sh := range s.GetShapes() {
+		p := index("shapes", i)
+		var err *FieldError
+		switch g := sh.GetGeometry().(type) {
+		case *pb.Shape_Quad:
+			err = checkQuad(p+".quad", g.Quad)
+		case *pb.Shape_Triangles:
+			err = checkTriangles(p+".triangles", g.Triangles)
+		case *pb.Shape_Mesh:
+			err = checkTransform(p+".mesh.transform", g.Mesh.GetTransform())
+		case *pb.Shape_Sphere:
+			// rules.Check has bounded its radius; a centre may be anywhere.
+		default:
+			panic(fmt.Sprintf("scene: checkShapes does not know geometry %T", g))
+		}
+		if err != nil {
+			return err
+		}
+	}
+	return nil
+}
+
+func checkQuad(p string, q *pb.Quad) *FieldError {
+	u, v := toVec(q.GetEdgeU()), toVec(q.GetEdgeV())
+	switch {
+	case u.isZero():
+		return rules.Errorf(p+".edge_u", "must be non-zero")
+	case v.isZero():
+		return rules.Errorf(p+".edge_v", "must be non-zero")
+	case parallel(u, v):
+		return rules.Errorf(p+".edge_v", "must not be parallel to edge_u %s, got %s", u, v)
+	}
+	return nil
+}
+
+func checkTriangles(p string, t *pb.TriangleMesh) *FieldError {
+	n, ind := len(t.GetPositions()), t.GetIndices()
+	if len(ind) == 0 || len(ind)%3 != 0 {
+		return rules.Errorf(p+".indices", "count must be a non-zero multiple of 3, got %d", len(ind))
+	}
+	for j, v := range ind {
+		if int64(v) >= int64(n) {
+			return rules.Errorf(index(p+".indices", j), "must be < %d (the number of positions), got %d", n, v)
+		}
+	}
+	return nil
+}
+
+// checkTransform checks a mesh's transform, which may be unset (the identity).
+func checkTransform(p string, t *pb.Transform) *FieldError {
+	if sc := t.GetScale(); sc != nil {
+		for _, c := range []struct {
+			name string
+			v    float64
+		}{{"x", sc.GetX()}, {"y", sc.GetY()}, {"z", sc.GetZ()}} {
+			if c.v == 0 {
+				return rules.Errorf(p+".scale."+c.name, "must be non-zero")
+			}
+		}
+	}
+	if deg := t.GetRotationDegrees(); deg != 0 && toVec(t.GetRotationAxis()).isZero() {
+		return rules.Errorf(p+".rotation_axis", "must be non-zero when rotation_degrees is %s", rules.Number(deg))
+	}
+	return nil
+}
+
+// checkSuns: a sun shines from somewhere (lights[i].sun.direction).
+func checkSuns(s *pb.Scene) *FieldError {
+	for i, l := range s.GetLights() {
+		if sun := l.GetSun(); sun != nil && toVec(sun.GetDirection()).isZero() {
+			return rules.Errorf(index("lights", i)+".sun.direction", "must be non-zero")
+		}
+	}
+	return nil
+}
+
+func index(list string, i int) string { return list + "[" + strconv.Itoa(i) + "]" }

@@ -1,0 +1,174 @@
+package main
+
+import (
+	"fmt"
+	"math/bits"
+	"strings"
+
+	"google.golang.org/protobuf/reflect/protoreflect"
+
+	"photonfarm/contract/rules"
+	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// example is a refusal as the coordinator words it.
+func example() string {
+	s := scenetest.Valid(64, 48)
+	s.Film.Width = 20000
+	return fmt.Sprintf("```\n%v\n```", scene.Validate(s))
+}
+
+// sceneFields is a table of every field of a scene that has a rule (or is an enum, whose
+// value must be declared) and every required oneof, by the path errors name them by.
+func sceneFields() string {
+	var b strings.Builder
+	b.WriteString("| Field | Rule | Checked by hand |\n|---|---|---|\n")
+	var walk func(md protoreflect.MessageDescriptor, path string)
+	walk = func(md protoreflect.MessageDescriptor, path string) {
+		for i := 0; i < md.Fields().Len(); i++ {
+			fd := md.Fields().Get(i)
+			p := join(path, string(fd.Name()))
+			if rule := describe(fd); rule != "" || rules.Of(fd).GetNote() != "" {
+				fmt.Fprintf(&b, "| `%s` | %s | %s |\n", p, rule, rules.Of(fd).GetNote())
+			}
+			if fd.Kind() == protoreflect.MessageKind {
+				if fd.IsList() {
+					p += "[i]"
+				}
+				walk(fd.Message(), p)
+			}
+		}
+		for i := 0; i < md.Oneofs().Len(); i++ {
+			if od := md.Oneofs().Get(i); rules.OneRequired(od) {
+				var names []string
+				for j := 0; j < od.Fields().Len(); j++ {
+					names = append(names, "`"+string(od.Fields().Get(j).Name())+"`")
+				}
+				fmt.Fprintf(&b, "| `%s` | exactly one of %s | |\n", path, strings.Join(names, ", "))
+			}
+		}
+	}
+	walk((*pb.Scene)(nil).ProtoReflect().Descriptor(), "")
+	return b.String()
+}
+
+// describe says in words what field fd's rule (and, for an enum, its type) allows.
+func describe(fd protoreflect.FieldDescriptor) string {
+	r := rules.Of(fd)
+	if r == nil {
+		r = &pb.FieldRule{}
+	}
+	var parts []string
+	if r.GetRequired() {
+		parts = append(parts, "required")
+	}
+	if d := strings.TrimPrefix(rules.Describe(r), "must be "); d != "" {
+		if fd.Kind() == protoreflect.MessageKind {
+			d = "each component " + d
+		}
+		parts = append(parts, d)
+	}
+	if fd.Kind() == protoreflect.EnumKind {
+		e := "a declared `" + string(fd.Enum().Name()) + "` value"
+		if r.DefaultValue != nil {
+			e += "; unset selects `" + string(fd.Enum().Values().ByNumber(protoreflect.EnumNumber(r.GetDefaultValue())).Name()) + "`"
+		}
+		parts = append(parts, e)
+	}
+	if r.MinItems != nil {
+		parts = append(parts, fmt.Sprintf("at least %d entries", r.GetMinItems()))
+	}
+	if r.MaxItems != nil {
+		parts = append(parts, fmt.Sprintf("at most %d entries", r.GetMaxItems()))
+	}
+	if r.MaxBytes != nil {
+		parts = append(parts, fmt.Sprintf("at most %d bytes", r.GetMaxBytes()))
+	}
+	if r.GetDigest() {
+		parts = append(parts, "`sha256:` and 64 lowercase hex digits")
+	}
+	return strings.Join(parts, "; ")
+}
+
+// sceneLimits is a table of the scene_limits option of Scene.
+func sceneLimits() string {
+	return optionTable(rules.Scene.ProtoReflect(), map[string]string{
+		"max_magnitude":       "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
+		"max_tiles_per_round": "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
+		"max_shards_per_map":  "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for each map the scene gets (refused as `photons.photons_per_shard`)",
+		"max_asset_bytes":     "largest mesh file (and any other asset) a scene names",
+		"max_mesh_vertices":   "most vertices in one mesh file",
+		"max_mesh_triangles":  "most triangles in one mesh file, after splitting polygons",
+	})
+}
+
+// rpcLimits is a table of the rpc_limits option of blob.proto.
+func rpcLimits() string {
+	return optionTable(rules.RPC.ProtoReflect(), map[string]string{
+		"max_message_bytes":        "largest gRPC message either way (room for a chunk and for scenes with inline meshes)",
+		"max_upload_chunk_bytes":   "largest `UploadBlob` chunk",
+		"max_download_chunk_bytes": "largest `DownloadBlob` chunk",
+		"max_blob_bytes":           "largest blob (`RESOURCE_EXHAUSTED` past it)",
+		"max_error_bytes":          "longest `FailTaskRequest.error` kept; longer ones are truncated",
+	})
+}
+
+// optionTable lists every field of an options message with its value and meaning; it
+// panics for a field with no meaning, so that a new limit cannot go undocumented.
+func optionTable(m protoreflect.Message, meanings map[string]string) string {
+	var b strings.Builder
+	b.WriteString("| Limit | Value | What |\n|---|---|---|\n")
+	fields := m.Descriptor().Fields()
+	for i := 0; i < fields.Len(); i++ {
+		fd := fields.Get(i)
+		meaning, ok := meanings[string(fd.Name())]
+		if !ok {
+			panic("docs/gen: say what " + string(fd.FullName()) + " means")
+		}
+		var value string
+		switch v := m.Get(fd); fd.Kind() {
+		case protoreflect.DoubleKind:
+			value = rules.Number(v.Float())
+		default:
+			value = amount(v.Uint(), strings.HasSuffix(string(fd.Name()), "_bytes"))
+		}
+		fmt.Fprintf(&b, "| `%s` | %s | %s |\n", fd.Name(), value, meaning)
+	}
+	return b.String()
+}
+
+// amount writes n, in MiB or GiB when it is bytes and a whole number of them.
+func amount(n uint64, isBytes bool) string {
+	if !isBytes {
+		return fmt.Sprint(n)
+	}
+	for _, u := range []struct {
+		name  string
+		shift int
+	}{{"GiB", 30}, {"MiB", 20}} {
+		if n >= 1<<u.shift && bits.TrailingZeros64(n) >= u.shift {
+			return fmt.Sprintf("%d %s", n>>u.shift, u.name)
+		}
+	}
+	return fmt.Sprintf("%d bytes", n)
+}
+
+// planning says what the limits make of a job's size.
+func planning() string {
+	tiles, shards := rules.Scene.GetMaxTilesPerRound(), rules.Scene.GetMaxShardsPerMap()
+	rounds := uint64(rules.Max((*pb.Progressive)(nil), "max_rounds"))
+	return fmt.Sprintf("Planning a round makes a task per render tile and per emission shard, so these limits bound it: "+
+		"a round has at most %d render tiles and a composite, and per photon map (global, caustic) at most %d emission shards, "+
+		"then a build, %d irradiance precompute tasks (one per global shard) and a merge: %d tasks at most "+
+		"(`TestPlanLargestRoundStaysWithinLimits` plans that round). A job has at most %d rounds; each is planned when the one before has ended.",
+		tiles, shards, shards, tiles+1+2*shards+1+shards+1, rounds)
+}
+
+func join(path, name string) string {
+	if path == "" {
+		return name
+	}
+	return path + "." + name
+}

@@ -1,0 +1,122 @@
+package main
+
+import pb "photonfarm/proto/renderfarm/v1"
+
+// accepted lists the scenes every side must accept: each inclusive bound hit exactly, and
+// 0 wherever a default applies (0 is not written in JSON: such a case is base without the
+// field). The scene files of scenes/ are accepted too (sceneFiles).
+var accepted = []vectorCase{
+	accept("accept-base", "TriangleMesh.positions:min_items=", unchanged),
+	accept("accept-mesh-named-by-path-and-digest", "", func(s *pb.Scene) { withMesh(s) }),
+	accept("accept-coordinates-at-max-magnitude", "Scene:max_magnitude=", func(s *pb.Scene) {
+		sphere(s).Center, sphere(s).Radius = v(1e12, -1e12, 0), 1e12
+	}),
+
+	// Names and paths at their longest.
+	accept("accept-scene-name-of-256-bytes", "Scene.name:max_bytes=", func(s *pb.Scene) { s.Name = long(256) }),
+	accept("accept-material-name-of-256-bytes", "Material.name:max_bytes=", func(s *pb.Scene) {
+		s.Materials[3].Name, s.Shapes[4].Material = long(256), long(256)
+	}),
+	accept("accept-shape-name-of-256-bytes", "Shape.name:max_bytes=", func(s *pb.Scene) { s.Shapes[2].Name = long(256) }),
+	accept("accept-light-name-of-256-bytes", "Light.name:max_bytes=", func(s *pb.Scene) { s.Lights[1].Name = long(256) }),
+	accept("accept-mesh-path-of-4096-bytes", "MeshFile.path:max_bytes=", func(s *pb.Scene) { withMesh(s).Path = long(4096) }),
+	accept("accept-reference-path-of-4096-bytes", "ReferenceImage.path:max_bytes=", func(s *pb.Scene) {
+		s.Progressive.Reference = &pb.ReferenceImage{Path: long(4096), Digest: absentDigest}
+	}),
+
+	// Lists at their longest.
+	accept("accept-100000-shapes", "Scene.shapes:max_items=", unchanged, grow("shapes", 100000)),
+	accept("accept-4096-lights", "Scene.lights:max_items=", unchanged, grow("lights", 4096)),
+	accept("accept-triangles-with-1000000-positions-and-3000000-indices", "TriangleMesh.positions:max_items= TriangleMesh.indices:max_items=", unchanged,
+		grow("shapes[3].triangles.positions", 1000000), grow("shapes[3].triangles.indices", 3000000)),
+
+	// Film and sampling.
+	accept("accept-film-of-1-pixel", "Film.width:gte= Film.height:gte=", func(s *pb.Scene) { s.Film.Width, s.Film.Height = 1, 1 }),
+	accept("accept-largest-film-in-65536-tiles", "Film.width:lte= Film.height:lte= Scene:max_tiles_per_round=", func(s *pb.Scene) {
+		s.Film.Width, s.Film.Height, s.Film.TileSize = 16384, 16384, 64
+	}),
+	accept("accept-65536-tiles-per-round-at-the-default-tile-size", "Scene:max_tiles_per_round= Film.tile_size:default", func(s *pb.Scene) {
+		s.Film.Width, s.Film.Height, s.Film.TileSize = 8192, 8192, 0
+	}),
+	accept("accept-tile-size-8", "Film.tile_size:gte=", func(s *pb.Scene) { s.Film.TileSize = 8 }),
+	accept("accept-tile-size-256", "Film.tile_size:lte=", func(s *pb.Scene) { s.Film.TileSize = 256 }),
+	accept("accept-tile-size-0", "Film.tile_size:default", func(s *pb.Scene) { s.Film.TileSize = 0 }),
+	accept("accept-samples-per-pixel-65536", "Sampling.samples_per_pixel:lte=", func(s *pb.Scene) { s.Sampling.SamplesPerPixel = 65536 }),
+	accept("accept-samples-per-pixel-0", "Sampling.samples_per_pixel:default", func(s *pb.Scene) { s.Sampling.SamplesPerPixel = 0 }),
+	accept("accept-light-samples-1024", "Sampling.light_samples:lte=", func(s *pb.Scene) { s.Sampling.LightSamples = 1024 }),
+	accept("accept-light-samples-0", "Sampling.light_samples:default", func(s *pb.Scene) { s.Sampling.LightSamples = 0 }),
+
+	// Materials at their bounds.
+	accept("accept-lambert-reflectance-0-and-1", "Lambert.reflectance:gte= Lambert.reflectance:lte=", func(s *pb.Scene) { lambert(s).Reflectance = rgb(0, 1, 0) }),
+	accept("accept-emissive-radiance-0-in-one-channel", "Emissive.radiance:gte=", func(s *pb.Scene) { emissive(s).Radiance.B = 0 }),
+	accept("accept-glossy-diffuse-0-and-1", "Glossy.diffuse:gte= Glossy.diffuse:lte=", func(s *pb.Scene) {
+		glossy(s).Diffuse, glossy(s).Specular = rgb(1, 0, 0.5), rgb(0, 0.5, 0.5)
+	}),
+	accept("accept-glossy-specular-0-and-1", "Glossy.specular:gte= Glossy.specular:lte=", func(s *pb.Scene) {
+		glossy(s).Diffuse, glossy(s).Specular = rgb(0, 0.5, 0.5), rgb(1, 0, 0.5)
+	}),
+	accept("accept-glossy-diffuse-plus-specular-exactly-1", "", func(s *pb.Scene) { glossy(s).Diffuse = rgb(0.5, 0.25, 0.5) }),
+	accept("accept-glossy-exponent-1", "Glossy.exponent:gte=", func(s *pb.Scene) { glossy(s).Exponent = 1 }),
+	accept("accept-glossy-exponent-100000", "Glossy.exponent:lte=", func(s *pb.Scene) { glossy(s).Exponent = 100000 }),
+	accept("accept-mirror-reflectance-0-and-1", "Mirror.reflectance:gte= Mirror.reflectance:lte=", func(s *pb.Scene) { mirror(s).Reflectance = rgb(1, 0, 1) }),
+	accept("accept-ior-1", "Dielectric.ior:gte=", func(s *pb.Scene) { dielectric(s).Ior = 1 }),
+	accept("accept-ior-10", "Dielectric.ior:lte=", func(s *pb.Scene) { dielectric(s).Ior = 10 }),
+	accept("accept-transmittance-0-and-1", "Dielectric.transmittance:gte= Dielectric.transmittance:lte=", func(s *pb.Scene) {
+		dielectric(s).Transmittance = rgb(0, 1, 0)
+	}),
+	accept("accept-dielectric-without-transmittance", "", func(s *pb.Scene) { dielectric(s).Transmittance = nil }),
+	accept("accept-conductor-eta-100", "Conductor.eta:lte=", func(s *pb.Scene) { conductor(s).Eta.B = 100 }),
+	accept("accept-conductor-k-0-and-100", "Conductor.k:gte= Conductor.k:lte=", func(s *pb.Scene) { conductor(s).K = rgb(0, 100, 1) }),
+
+	// Lights at their bounds.
+	accept("accept-point-intensity-0", "PointLight.intensity:gte=", func(s *pb.Scene) { point(s).Intensity = rgb(0, 0, 0) }),
+	accept("accept-sun-irradiance-0", "SunLight.irradiance:gte=", func(s *pb.Scene) { sun(s).Irradiance = rgb(0, 0, 0) }),
+	accept("accept-only-a-point-light", "", func(s *pb.Scene) {
+		s.Lights = s.Lights[:1]
+		s.Shapes[2].Material = "white"
+	}),
+
+	// Photon mapping.
+	accept("accept-50000000-photons-per-map-in-shards-of-10000000", "PhotonMapping.global_photons:lte= PhotonMapping.caustic_photons:lte= PhotonMapping.photons_per_shard:lte=", func(s *pb.Scene) {
+		s.Photons.GlobalPhotons, s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 50000000, 50000000, 10000000
+	}),
+	accept("accept-photons-per-shard-1000", "PhotonMapping.photons_per_shard:gte=", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 1000 }),
+	accept("accept-10000-shards-per-map", "Scene:max_shards_per_map=", func(s *pb.Scene) {
+		s.Photons.GlobalPhotons, s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 10000000, 9999001, 1000
+	}),
+	accept("accept-caustic-photons-past-the-shard-limit-without-a-specular-surface", "", func(s *pb.Scene) {
+		// No shape is specular, so the scene gets no caustic map and its photons are not
+		// traced: only the maps a scene gets count.
+		withoutSpecular(s)
+		s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 50000000, 1000
+	}),
+	accept("accept-global-photons-0", "PhotonMapping.global_photons:default", func(s *pb.Scene) { s.Photons.GlobalPhotons = 0 }),
+	accept("accept-caustic-photons-0", "PhotonMapping.caustic_photons:default", func(s *pb.Scene) { s.Photons.CausticPhotons = 0 }),
+	accept("accept-photons-per-shard-0", "PhotonMapping.photons_per_shard:default", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 0 }),
+	accept("accept-no-photon-settings", "", func(s *pb.Scene) { s.Photons = nil }),
+	accept("accept-neighbours-10000", "RadianceEstimate.neighbours:lte=", func(s *pb.Scene) { estimate(s).Neighbours = 10000 }),
+	accept("accept-max-radius-0", "RadianceEstimate.max_radius:gte=", func(s *pb.Scene) { estimate(s).MaxRadius = 0 }),
+	accept("accept-cone-k-1", "RadianceEstimate.cone_k:gte=", func(s *pb.Scene) { estimate(s).ConeK = 1 }),
+	accept("accept-cone-k-1000000", "RadianceEstimate.cone_k:lte=", func(s *pb.Scene) { estimate(s).ConeK = 1000000 }),
+	accept("accept-cone-k-0", "RadianceEstimate.cone_k:default", func(s *pb.Scene) { estimate(s).ConeK = 0 }),
+
+	// Antialiasing and indirect light.
+	accept("accept-antialiasing-mode-unset", "Antialiasing.mode:default", func(s *pb.Scene) { s.Antialiasing.Mode = 0 }),
+	accept("accept-edge-samples-1024", "Antialiasing.edge_samples:lte=", func(s *pb.Scene) { s.Antialiasing.EdgeSamples = 1024 }),
+	accept("accept-edge-samples-0", "Antialiasing.edge_samples:default", func(s *pb.Scene) { s.Antialiasing.EdgeSamples = 0 }),
+	accept("accept-edge-threshold-0", "Antialiasing.edge_threshold:gte= Antialiasing.edge_threshold:default", func(s *pb.Scene) { s.Antialiasing.EdgeThreshold = 0 }),
+	accept("accept-indirect-mode-unset", "Indirect.mode:default", func(s *pb.Scene) { s.Indirect.Mode = 0 }),
+	accept("accept-gather-rays-4096", "Indirect.gather_rays:lte=", func(s *pb.Scene) { s.Indirect.GatherRays = 4096 }),
+	accept("accept-gather-rays-0", "Indirect.gather_rays:default", func(s *pb.Scene) { s.Indirect.GatherRays = 0 }),
+	accept("accept-secondary-gather-rays-4096", "Indirect.secondary_gather_rays:lte=", func(s *pb.Scene) { s.Indirect.SecondaryGatherRays = 4096 }),
+	accept("accept-secondary-gather-rays-0", "Indirect.secondary_gather_rays:default", func(s *pb.Scene) { s.Indirect.SecondaryGatherRays = 0 }),
+
+	// Progressive rounds.
+	accept("accept-max-rounds-1000", "Progressive.max_rounds:lte=", func(s *pb.Scene) { s.Progressive.MaxRounds = 1000 }),
+	accept("accept-max-rounds-0", "Progressive.max_rounds:default", func(s *pb.Scene) { s.Progressive.MaxRounds = 0 }),
+	accept("accept-target-error-0", "Progressive.target_error:gte=", func(s *pb.Scene) { s.Progressive.TargetError = 0 }),
+	accept("accept-time-budget-0", "Progressive.time_budget_seconds:gte=", func(s *pb.Scene) { s.Progressive.TimeBudgetSeconds = 0 }),
+	accept("accept-time-budget-of-a-week", "Progressive.time_budget_seconds:lte=", func(s *pb.Scene) { s.Progressive.TimeBudgetSeconds = 604800 }),
+	accept("accept-alpha-1", "Progressive.alpha:lte=", func(s *pb.Scene) { s.Progressive.Alpha = 1 }),
+	accept("accept-alpha-0", "Progressive.alpha:default", func(s *pb.Scene) { s.Progressive.Alpha = 0 }),
+}
