@@ -131,14 +131,16 @@ std::string Disagreement(const fs::path& file) {
   const BlobLoader load = AssetLoader(v, file.parent_path());
   try {
     Scene::Build(v.scene(), load);
-  } catch (const SceneError& e) {
+  } catch (const TaskError& e) {
+    // A refusal of the scene (SceneError) or of one of its assets (a blob the store does
+    // not have): either names the field.
     const std::string what = e.what();
     const std::string field = what.substr(0, what.find(": "));
     if (v.refused_field().empty()) return "refused, but every side must accept it: " + what;
     if (field != v.refused_field()) return "refused naming " + field + ", not " + v.refused_field() + ": " + what;
     return "";
   } catch (const std::exception& e) {
-    return std::string("failed with an error that is not a SceneError: ") + e.what();
+    return std::string("failed with an error that names no field: ") + e.what();
   }
   if (!v.refused_field().empty()) return "accepted, but every side must refuse it naming " + v.refused_field();
   return "";
