@@ -31,18 +31,19 @@ func checkTiles(s *pb.Scene) *FieldError {
 	return nil
 }
 
-// checkShards: at most max_shards_per_map emission shards for each photon map the scene
-// gets (photons.photons_per_shard). Whether it gets a map (PhotonMaps) is only worked out
-// when the count is over the limit.
+// checkShards: at most max_shards_per_map emission shards for the global and for the
+// caustic photon count (photons.photons_per_shard), whether or not the scene gets that map:
+// a rule about the settings alone, so that the worker, which does not plan, checks it the
+// same way.
 func checkShards(s *pb.Scene) *FieldError {
 	limit := rules.Scene.GetMaxShardsPerMap()
-	if ShardsPerMap(s, GlobalPhotons(s)) <= limit && ShardsPerMap(s, CausticPhotons(s)) <= limit {
-		return nil
-	}
-	for _, m := range PhotonMaps(s) {
-		if n := ShardsPerMap(s, m.Photons); n > limit {
+	for _, m := range []struct {
+		name    string
+		photons uint64
+	}{{"global", GlobalPhotons(s)}, {"caustic", CausticPhotons(s)}} {
+		if n := ShardsPerMap(s, m.photons); n > limit {
 			return rules.Errorf("photons.photons_per_shard", "%d photons per shard make %d emission shards of the %s map (%d photons) per round, more than %d: use more photons per shard",
-				PhotonsPerShard(s), n, m.Name(), m.Photons, limit)
+				PhotonsPerShard(s), n, m.name, m.photons, limit)
 		}
 	}
 	return nil

@@ -127,33 +127,19 @@ void CheckTransform(const std::string& p, const pb::Transform& t) {
     Refuse(p + ".rotation_axis", "must be non-zero when rotation_degrees is " + GoNumber(t.rotation_degrees()));
 }
 
-// What the shapes' materials need and give: the photon maps, and whether a shape emits
-// (in double precision, as in Go: a radiance too small for float still counts).
-struct Surfaces {
-  bool diffuse = false;
-  bool specular = false;
-  bool emits = false;
-};
-
-struct MaterialFacts {
-  MaterialCapabilities capabilities;
-  bool emits = false;
-};
-
-Surfaces CheckShapes(const pb::Scene& s) {
-  std::unordered_map<std::string, MaterialFacts> materials;
+// Checks the shapes and returns whether one of them emits (in double precision, as in Go:
+// a radiance too small for float still counts).
+bool CheckShapes(const pb::Scene& s) {
+  std::unordered_map<std::string, bool> emits;  // material name -> emits
   for (const pb::Material& m : s.materials())
-    materials.emplace(m.name(), MaterialFacts{CapabilitiesOf(MaterialFromProto(m)),
-                                              m.has_emissive() && Positive(m.emissive().radiance())});
-  Surfaces out;
+    emits.emplace(m.name(), m.has_emissive() && Positive(m.emissive().radiance()));
+  bool any_emits = false;
   for (int i = 0; i < s.shapes_size(); ++i) {
     const pb::Shape& shape = s.shapes(i);
     const std::string p = Index("shapes", i);
-    const auto it = materials.find(shape.material());
-    if (it == materials.end()) Refuse(p + ".material", "no material named " + GoQuote(shape.material()));
-    out.diffuse |= it->second.capabilities.reflects;
-    out.specular |= it->second.capabilities.specular;
-    out.emits |= it->second.emits;
+    const auto it = emits.find(shape.material());
+    if (it == emits.end()) Refuse(p + ".material", "no material named " + GoQuote(shape.material()));
+    any_emits |= it->second;
     switch (shape.geometry_case()) {
       case pb::Shape::kQuad: CheckQuad(p + ".quad", shape.quad()); break;
       case pb::Shape::kTriangles: CheckTriangles(p + ".triangles", shape.triangles()); break;
@@ -162,23 +148,24 @@ Surfaces CheckShapes(const pb::Scene& s) {
       case pb::Shape::GEOMETRY_NOT_SET: break;
     }
   }
-  return out;
+  return any_emits;
 }
 
-void CheckShards(const pb::PhotonMapping& photons, const Surfaces& surfaces) {
+// Both photon counts, whether or not the scene gets that map: a rule about the settings
+// alone, which the coordinator checks the same way without planning.
+void CheckShards(const pb::PhotonMapping& photons) {
   using contract::OrDefault;
   const std::uint64_t per = OrDefault<pb::PhotonMapping>(photons.photons_per_shard(), "photons_per_shard");
   const std::uint64_t limit = contract::SceneLimits().max_shards_per_map();
   const struct {
     const char* map;
-    bool used;
     std::uint64_t paths;
   } maps[] = {
-      {"global", surfaces.diffuse, OrDefault<pb::PhotonMapping>(photons.global_photons(), "global_photons")},
-      {"caustic", surfaces.specular, OrDefault<pb::PhotonMapping>(photons.caustic_photons(), "caustic_photons")},
+      {"global", OrDefault<pb::PhotonMapping>(photons.global_photons(), "global_photons")},
+      {"caustic", OrDefault<pb::PhotonMapping>(photons.caustic_photons(), "caustic_photons")},
   };
   for (const auto& m : maps)
-    if (m.used && CeilDiv(m.paths, per) > limit)
+    if (CeilDiv(m.paths, per) > limit)
       Refuse("photons.photons_per_shard",
              "makes " + std::to_string(CeilDiv(m.paths, per)) + " shards of the " + m.map + " map's " +
                  std::to_string(m.paths) + " photon paths, more than the " + std::to_string(limit) +
@@ -193,12 +180,12 @@ void CheckScene(const pb::Scene& scene) {
   CheckFilm(scene.film());
   CheckMaterials(scene);
   const bool lights_emit = CheckLights(scene);
-  const Surfaces surfaces = CheckShapes(scene);
-  if (!lights_emit && !surfaces.emits)
+  const bool shapes_emit = CheckShapes(scene);
+  if (!lights_emit && !shapes_emit)
     Refuse("lights",
            "the scene needs a light: a point or sun light with a positive power, or a shape whose material is "
            "emissive with a positive radiance");
-  CheckShards(scene.photons(), surfaces);
+  CheckShards(scene.photons());
   const pb::ReferenceImage& ref = scene.progressive().reference();
   if (ref.digest().empty() && !ref.path().empty())
     Refuse("progressive.reference.digest",

@@ -84,12 +84,6 @@ var accepted = []vectorCase{
 	accept("accept-10000-shards-per-map", "Scene:max_shards_per_map=", func(s *pb.Scene) {
 		s.Photons.GlobalPhotons, s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 10000000, 9999001, 1000
 	}),
-	accept("accept-caustic-photons-past-the-shard-limit-without-a-specular-surface", "", func(s *pb.Scene) {
-		// No shape is specular, so the scene gets no caustic map and its photons are not
-		// traced: only the maps a scene gets count.
-		withoutSpecular(s)
-		s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 50000000, 1000
-	}),
 	accept("accept-global-photons-0", "PhotonMapping.global_photons:default", func(s *pb.Scene) { s.Photons.GlobalPhotons = 0 }),
 	accept("accept-caustic-photons-0", "PhotonMapping.caustic_photons:default", func(s *pb.Scene) { s.Photons.CausticPhotons = 0 }),
 	accept("accept-photons-per-shard-0", "PhotonMapping.photons_per_shard:default", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 0 }),

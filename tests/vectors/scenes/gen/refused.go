@@ -189,6 +189,11 @@ var refused = slices.Concat([]vectorCase{
 	refuse("refuse-caustic-map-of-10001-shards", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:note", func(s *pb.Scene) {
 		s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 10000001, 1000
 	}),
+	refuse("refuse-caustic-photons-past-the-shard-limit-without-a-specular-surface", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:note", func(s *pb.Scene) {
+		// The limit is on the settings: both counts, whether or not the scene gets the map.
+		withoutSpecular(s)
+		s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 50000000, 1000
+	}),
 	refuse("refuse-neighbours-10001", "photons.global_estimate.neighbours", "RadianceEstimate.neighbours:lte", func(s *pb.Scene) { estimate(s).Neighbours = 10001 }),
 	refuse("refuse-max-radius-negative", "photons.caustic_estimate.max_radius", "RadianceEstimate.max_radius:gte", func(s *pb.Scene) { s.Photons.CausticEstimate.MaxRadius = -1 }),
 	refuse("refuse-unknown-filter", "photons.caustic_estimate.filter", "RadianceEstimate.filter:enum", func(s *pb.Scene) { s.Photons.CausticEstimate.Filter = 9 }),
