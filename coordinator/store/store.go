@@ -65,6 +65,7 @@ import (
 	"strings"
 	"time"
 
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/errs"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -170,17 +171,22 @@ type RoundEnd struct {
 	Final []*pb.Artifact
 }
 
-// Stage orders a job's tasks: by round (0 counts as 1), then by phase. A stage's tasks are
-// queued once every task of the stage before has succeeded.
-func Stage(t *pb.Task) uint64 {
-	return uint64(max(t.GetRound(), 1))<<8 | uint64(t.GetPhase())
+// Stage orders a job's tasks: by round (0 counts as 1), then by the rank of the phase in
+// the contract's table (the order job.proto declares the phases in, not their numbers).
+// A stage's tasks are queued once every task of the stage before has succeeded.
+func Stage(t *pb.Task) uint64 { return StageIn(tasks.Phases, t.GetRound(), t.GetPhase()) }
+
+// StageIn is the stage of a task of phase in round under the phase table table: the round
+// in the high bits, the phase's rank (from 1; 0 for a phase the table lacks) in the low 8.
+func StageIn(table tasks.Table, round uint32, phase pb.Phase) uint64 {
+	return uint64(max(round, 1))<<8 | uint64(table.Rank(phase))
 }
 
-// The phases each kind of lessee takes: workers never lease BUILD or MERGE, which the
-// coordinator's builder does itself.
+// The phases each kind of lessee takes, as the contract declares their executors: workers
+// never lease BUILD or MERGE, which the coordinator's builder does itself.
 var (
-	WorkerPhases  = []pb.Phase{pb.Phase_PHASE_EMIT, pb.Phase_PHASE_PRECOMPUTE, pb.Phase_PHASE_RENDER, pb.Phase_PHASE_COMPOSITE}
-	BuilderPhases = []pb.Phase{pb.Phase_PHASE_BUILD, pb.Phase_PHASE_MERGE}
+	WorkerPhases  = tasks.Phases.RunBy(pb.Executor_EXECUTOR_WORKER)
+	BuilderPhases = tasks.Phases.RunBy(pb.Executor_EXECUTOR_COORDINATOR)
 )
 
 // LeaseRef names the lease a report is made under.

@@ -222,10 +222,11 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 			return store.Change{}, errs.E(errs.Internal, "task %s is not the last task of its round", t.pb.Id)
 		}
 	}
-	for i, n := range end.Next {
-		if n.GetIndex() != uint32(i) || (i > 0 && store.Stage(n) < store.Stage(end.Next[i-1])) || store.Stage(n) <= stage {
-			return store.Change{}, errs.E(errs.Internal, "next round's task %d is out of order", i)
-		}
+	if err := store.CheckPlan(end.Next); err != nil {
+		return store.Change{}, errs.Wrap(errs.Internal, err, "next round")
+	}
+	if len(end.Next) > 0 && store.Stage(end.Next[0]) <= stage {
+		return store.Change{}, errs.E(errs.Internal, "next round's task 0 is out of order")
 	}
 	s.succeed(t, end.Outputs)
 	j.pb.Rounds = append(j.pb.Rounds, proto.Clone(end.Report).(*pb.RoundReport))

@@ -29,7 +29,7 @@ import (
 //
 // A task record (hash t:{job}.{index}) keeps the planner's task as "spec" (the pb.Task
 // without id, job, index, state, attempts, worker, error or outputs) and: job, idx, phase,
-// round, state, epoch (the fencing token; only grows), attempts, failures, expiries,
+// round, stage (store.Stage), state, epoch (the fencing token; only grows), attempts, failures, expiries,
 // worker, error, outputs, expire (µs), retry (µs, or empty: Task.retry_time), progress
 // (the lease's largest HeldLease.progress, decimal) and ptime (µs, when it last grew).
 
@@ -48,8 +48,8 @@ func decodeArtifacts(b string) ([]*pb.Artifact, error) {
 	return t.Outputs, nil
 }
 
-// taskArgs is the append section the scripts read: the count, then spec, phase and
-// round of each task.
+// taskArgs is the append section the scripts read: the count, then spec, phase, round
+// and stage (store.Stage) of each task.
 func taskArgs(tasks []*pb.Task) ([]any, error) {
 	args := []any{len(tasks)}
 	for _, t := range tasks {
@@ -60,7 +60,7 @@ func taskArgs(tasks []*pb.Task) ([]any, error) {
 		if err != nil {
 			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("encode task %d", t.GetIndex()))
 		}
-		args = append(args, b, int32(t.GetPhase()), t.GetRound())
+		args = append(args, b, int32(t.GetPhase()), t.GetRound(), strconv.FormatUint(store.Stage(t), 10))
 	}
 	return args, nil
 }
@@ -92,7 +92,7 @@ func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
 	p, _ := strconv.ParseInt(h["prio"], 10, 32)
 	j.Priority = int32(p)
 	for k, v := range h {
-		if w, ok := strings.CutPrefix(k, "b:"); ok {
+		if w, ok := strings.CutPrefix(k, blockedField); ok {
 			at, reason, _ := strings.Cut(v, " ")
 			j.BlockedWorkers = append(j.BlockedWorkers, &pb.BlockedWorker{WorkerId: w, Reason: reason, BlockTime: timestamp(at)})
 		}

@@ -118,10 +118,8 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 		return store.Change{}, errs.E(errs.Internal, "CompleteRound needs the round's report")
 	}
 	// The script checks that the next round starts after the composite's stage.
-	for i, n := range end.Next {
-		if n.GetIndex() != uint32(i) || (i > 0 && store.Stage(n) < store.Stage(end.Next[i-1])) {
-			return store.Change{}, errs.E(errs.Internal, "next round's task %d is out of order", i)
-		}
+	if err := store.CheckPlan(end.Next); err != nil {
+		return store.Change{}, errs.Wrap(errs.Internal, err, "next round")
 	}
 	outs, err := encodeArtifacts(end.Outputs)
 	if err != nil {

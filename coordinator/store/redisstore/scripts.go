@@ -4,8 +4,9 @@ import "github.com/redis/go-redis/v9"
 
 // Every script gets ARGV[1] = the key prefix and ARGV[2] = now (Unix microseconds, from
 // Options.Clock), then its own arguments. KEYS[1] is the prefix's "jobs" key and only
-// routes the call; the scripts build the other keys from the prefix (see keys.go for
-// the layout, which this library must match).
+// routes the call; the scripts build the other keys from the prefix with the functions
+// the preamble (preamble.go) declares from keys.go, and name task and job states by the
+// preamble's locals (WAITING ... CANCELLED, JQUEUED ... JCANCELLED).
 //
 // Times and epochs are stored as the strings Go sent and compared with tonumber:
 // microseconds since 1970 stay below 2^53, so the comparison is exact, while Lua would
@@ -27,22 +28,6 @@ import "github.com/redis/go-redis/v9"
 // their job's queue, so they never hide a leasable job; each lease first moves the due
 // ones back (promote).
 const lib = `
-local P = ARGV[1]
-local NOW_S = ARGV[2]
-local NOW = tonumber(NOW_S)
-local WAITING, QUEUED, LEASED, SUCCEEDED, FAILED, CANCELLED = 1, 2, 3, 4, 5, 6
-local TASK_STATES = {'WAITING', 'QUEUED', 'LEASED', 'SUCCEEDED', 'FAILED', 'CANCELLED'}
-local JQUEUED, JRUNNING, JSUCCEEDED, JFAILED, JCANCELLED = 1, 2, 3, 4, 5
-local JOB_STATES = {'QUEUED', 'RUNNING', 'SUCCEEDED', 'FAILED', 'CANCELLED'}
-local LEASES = P .. 'leases'
-local DELAYED = P .. 'delayed'
-
-local function jkey(jid) return P .. 'j:' .. jid end
-local function rkey(jid) return P .. 'r:' .. jid end
-local function skey(jid) return P .. 's:' .. jid end
-local function tkey(t) return P .. 't:' .. t end
-local function qkey(jid, phase) return P .. 'q:' .. jid .. ':' .. phase end
-local function readykey(phase) return P .. 'ready:' .. phase end
 local function tid(jid, i) return jid .. '.' .. i end
 local function num(key, field) return tonumber(redis.call('HGET', key, field) or '0') end
 
@@ -131,14 +116,14 @@ local function openstage(jid, start)
   place(jid)
 end
 
--- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round per
--- task) after the job's last task, records their stages and the progress of the latest
--- round, and queues their first stage.
+-- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round and
+-- stage per task: store.Stage, computed by Go) after the job's last task, records their
+-- stages and the progress of the latest round, and queues their first stage.
 local function append(jid, a)
   local jk = jkey(jid)
   local n = tonumber(ARGV[a])
   local base = num(jk, 'ntasks')
-  local R = ARGV[a + 3 * n]
+  local R = ARGV[a + 4 * n - 1]
   if redis.call('HGET', jk, 'pround') ~= R then
     for ph in string.gmatch(redis.call('HGET', jk, 'pphases') or '', '%d+') do
       redis.call('HDEL', jk, 'pt:' .. ph, 'ps:' .. ph)
@@ -148,12 +133,11 @@ local function append(jid, a)
   local plist = redis.call('HGET', jk, 'pphases')
   local stage, stageStart
   for i = 0, n - 1 do
-    local spec, phase, round = ARGV[a + 1 + 3 * i], ARGV[a + 2 + 3 * i], ARGV[a + 3 + 3 * i]
+    local spec, phase, round, st = ARGV[a + 1 + 4 * i], ARGV[a + 2 + 4 * i], ARGV[a + 3 + 4 * i], ARGV[a + 4 + 4 * i]
     local idx = base + i
     redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', spec, 'phase', phase, 'round', round,
-      'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
+      'stage', st, 'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
       'outputs', '', 'expire', 0, 'retry', '', 'progress', '0', 'ptime', 0)
-    local st = math.max(tonumber(round), 1) * 256 + tonumber(phase)
     if st ~= stage then
       if stage then redis.call('HSET', skey(jid), stageStart, idx) end
       stage, stageStart = st, idx
@@ -254,9 +238,9 @@ local function fail(t, worker, msg, pol)
   local jk = jkey(jid)
   local failures = redis.call('HINCRBY', k, 'failures', 1)
   redis.call('HSET', k, 'error', msg)
-  local n = redis.call('HINCRBY', jk, 'f:' .. worker, 1)
-  if n >= pol.block and redis.call('HEXISTS', jk, 'b:' .. worker) == 0 then
-    redis.call('HSET', jk, 'b:' .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg)
+  local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
+  if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
+    redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg)
   end
   if failures >= pol.attempts then return failjob(t, jid, failures) end
   local retry = string.format('%.0f', NOW + math.min(pol.base * 2 ^ (failures - 1), pol.cap))
@@ -270,15 +254,15 @@ end
 var createScript = newScript(`
 local jid, req = ARGV[3], ARGV[4]
 if req ~= '' then
-  local old = redis.call('HGET', P .. 'req', req)
+  local old = redis.call('HGET', REQUESTS, req)
   if old then return ok(0, 0, old, nil) end
 end
 if redis.call('EXISTS', jkey(jid)) == 1 then return refuse('internal', '', 'job id ' .. jid .. ' is taken') end
-local seq = redis.call('INCR', P .. 'seq')
+local seq = redis.call('INCR', SEQ)
 redis.call('HSET', jkey(jid), 'static', ARGV[5], 'seq', seq, 'state', JQUEUED, 'update', NOW_S,
   'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0)
-redis.call('ZADD', P .. 'jobs', seq, jid)
-if req ~= '' then redis.call('HSET', P .. 'req', req, jid) end
+redis.call('ZADD', JOBS, seq, jid)
+if req ~= '' then redis.call('HSET', REQUESTS, req, jid) end
 append(jid, 7)
 return ok(0, 0, jid, nil)
 `)
@@ -297,7 +281,7 @@ local function first(key)
     local r = redis.call('ZRANGE', key, from, from + 15, 'WITHSCORES')
     if #r == 0 then return nil end
     for k = 1, #r, 2 do
-      if redis.call('HEXISTS', jkey(jobof(r[k])), 'b:' .. worker) == 0 then return r[k], tonumber(r[k + 1]) end
+      if redis.call('HEXISTS', jkey(jobof(r[k])), BLOCKED .. worker) == 0 then return r[k], tonumber(r[k + 1]) end
     end
     from = from + 16
   end
@@ -364,14 +348,14 @@ local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
 if repeated(t, worker, epoch) then return {'NOOP'} end
 local e = held(t, worker, epoch)
 if e then return e end
-local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'phase', 'round')
+local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'stage')
 local jid, idx = h[1], tonumber(h[2])
 local jk = jkey(jid)
 if num(jk, 'cur') ~= idx or num(jk, 'ntasks') ~= idx + 1 then
   return refuse('internal', '', 'task ' .. t .. ' is not the last task of its round')
 end
 local n = tonumber(ARGV[9])
-if n > 0 and math.max(tonumber(ARGV[12]), 1) * 256 + tonumber(ARGV[11]) <= math.max(tonumber(h[4]), 1) * 256 + tonumber(h[3]) then
+if n > 0 and tonumber(ARGV[13]) <= tonumber(h[3]) then
   return refuse('internal', '', 'next round\'s task 0 is out of order')
 end
 succeed(t, ARGV[6])
@@ -494,17 +478,17 @@ if redis.call('EXISTS', jk) == 0 then return refuse('notfound', 'job_id', 'no jo
 local drop, unblocked = {}, 0
 if worker == '' then
   for _, f in ipairs(redis.call('HKEYS', jk)) do
-    local kind = string.sub(f, 1, 2)
-    if kind == 'b:' or kind == 'f:' then drop[#drop + 1] = f end
-    if kind == 'b:' then unblocked = 1 end
+    local blocked = string.sub(f, 1, #BLOCKED) == BLOCKED
+    if blocked or string.sub(f, 1, #FAILURES) == FAILURES then drop[#drop + 1] = f end
+    if blocked then unblocked = 1 end
   end
 else
-  drop = {'b:' .. worker, 'f:' .. worker}
-  unblocked = redis.call('HEXISTS', jk, 'b:' .. worker)
+  drop = {BLOCKED .. worker, FAILURES .. worker}
+  unblocked = redis.call('HEXISTS', jk, BLOCKED .. worker)
 end
 if #drop > 0 then redis.call('HDEL', jk, unpack(drop)) end
 if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
 return ok(0, unblocked, jid, nil)
 `)
 
-func newScript(body string) *redis.Script { return redis.NewScript(lib + body) }
+func newScript(body string) *redis.Script { return redis.NewScript(preamble + lib + body) }
