@@ -2,7 +2,6 @@ package service
 
 import (
 	"context"
-	"encoding/binary"
 	"fmt"
 	"io"
 	"math"
@@ -10,9 +9,11 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
-	"photonfarm/coordinator/errs"
-	"photonfarm/coordinator/planner"
 	"photonfarm/contract/scene"
+	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/photonmap"
+	"photonfarm/coordinator/planner"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -35,7 +36,7 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 			if t.GetComposite() == nil {
 				return nil
 			}
-			a, err := output(t, AccumulationArtifact)
+			a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
 			spec.PreviousAccumulation = a
 			return err
 		})
@@ -106,7 +107,7 @@ func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIr
 		if t.GetPrecomputeIrradiance() == nil {
 			return nil
 		}
-		a, err := output(t, IrradianceArtifact)
+		a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD)
 		if err == nil {
 			spec.IrradianceShards = append(spec.IrradianceShards, a)
 		}
@@ -117,27 +118,18 @@ func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIr
 // globalPhotons reads the stored photon count of a snapshot's global map from its header
 // and directory (0 if it has none).
 func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64, error) {
-	r, _, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
+	r, info, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
 	if err != nil {
 		return 0, err
 	}
 	defer r.Close()
-	const header, entry = 64, 64
-	buf := make([]byte, header+2*entry)
-	n, err := io.ReadFull(r, buf)
-	if err != nil && err != io.ErrUnexpectedEOF {
-		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("read snapshot %s", snap.GetDigest()))
+	maps, err := photonmap.ReadMaps(r, info.Size)
+	if err != nil {
+		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", snap.GetDigest()))
 	}
-	buf = buf[:n]
-	le := binary.LittleEndian
-	if n < header || string(buf[:8]) != "PFPHOTON" {
-		return 0, errs.E(errs.Internal, "snapshot %s has no snapshot header", snap.GetDigest())
-	}
-	maps := int(le.Uint32(buf[16:]))
-	for m := 0; m < maps && header+(m+1)*entry <= n; m++ {
-		e := buf[header+m*entry:]
-		if le.Uint32(e) == 1 {
-			return uint64(le.Uint32(e[4:])), nil
+	for _, m := range maps {
+		if m.Kind == photonmap.Global {
+			return m.Photons, nil
 		}
 	}
 	return 0, nil
@@ -240,7 +232,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		return end, "", nil
 	}
 	for _, o := range outputs {
-		if o.GetName() != AccumulationArtifact {
+		if o.GetName() != tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR) {
 			end.Final = append(end.Final, o)
 		}
 	}

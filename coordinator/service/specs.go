@@ -5,23 +5,10 @@ import (
 	"context"
 	"strconv"
 
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
-)
-
-// Artifact names of the photon phases (docs/photon-snapshot.md).
-const (
-	ShardArtifact    = "photons.shard"
-	SnapshotArtifact = "photons.snapshot"
-	TileArtifact     = "tile.exr"
-	// IrradianceArtifact is a precompute task's output (docs/photon-snapshot.md).
-	IrradianceArtifact = "irradiance.shard"
-	// The composite's outputs: the image so far, its preview, and the running sums the
-	// next round's composite extends.
-	ImageArtifact        = "image.exr"
-	PreviewArtifact      = "preview.png"
-	AccumulationArtifact = "accumulation.exr"
 )
 
 // fillSpec fills in what a leased task needs from the stages before it, all of its own
@@ -85,17 +72,15 @@ func (s *Service) eachTask(ctx context.Context, jobID string, fn func(*pb.Task) 
 	}
 }
 
-// output returns a succeeded task's artifact called name.
-func output(t *pb.Task, name string) (*pb.Artifact, error) {
+// output returns a succeeded task's artifact of kind k.
+func output(t *pb.Task, k pb.ArtifactKind) (*pb.Artifact, error) {
 	if t.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
 		return nil, errs.E(errs.Internal, "task %s is %s, not succeeded, though a later phase was leased", t.GetId(), t.GetState())
 	}
-	for _, o := range t.GetOutputs() {
-		if o.GetName() == name {
-			return o, nil
-		}
+	if a := tasks.Find(t.GetOutputs(), k); a != nil {
+		return a, nil
 	}
-	return nil, errs.E(errs.Internal, "task %s succeeded without a %q output", t.GetId(), name)
+	return nil, errs.E(errs.Internal, "task %s succeeded without a %q output", t.GetId(), tasks.ArtifactName(k))
 }
 
 // roundTasks calls fn with the tasks of one round of a job, in plan order.
@@ -119,7 +104,7 @@ func (s *Service) tiles(ctx context.Context, jobID string, round uint32) ([]*pb.
 		if rt == nil {
 			return nil
 		}
-		tile, err := output(t, TileArtifact)
+		tile, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR)
 		if err != nil {
 			return err
 		}
@@ -137,7 +122,7 @@ func (s *Service) shards(ctx context.Context, jobID string, round uint32) ([]*pb
 		if e == nil {
 			return nil
 		}
-		shard, err := output(t, ShardArtifact)
+		shard, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD)
 		if err != nil {
 			return err
 		}
@@ -154,7 +139,7 @@ func (s *Service) builtSnapshot(ctx context.Context, jobID string, round uint32)
 		if t.GetBuildPhotonMap() == nil {
 			return nil
 		}
-		a, err := output(t, SnapshotArtifact)
+		a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 		snap = a
 		return err
 	})
@@ -177,9 +162,9 @@ func (s *Service) snapshot(ctx context.Context, jobID string, round uint32) (*pb
 		var err error
 		switch {
 		case t.GetBuildPhotonMap() != nil:
-			built, err = output(t, SnapshotArtifact)
+			built, err = output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 		case t.GetMergeIrradiance() != nil:
-			merged, err = output(t, SnapshotArtifact)
+			merged, err = output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 		}
 		return err
 	})
