@@ -11,6 +11,7 @@ import (
 
 	"google.golang.org/grpc/codes"
 
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -221,7 +222,7 @@ func (c *Client) FetchAs(ctx context.Context, jobID, outDir, base string) ([]str
 	}
 	if job.GetState() != pb.JobState_JOB_STATE_SUCCEEDED {
 		return nil, &Error{Code: codes.FailedPrecondition,
-			Message: fmt.Sprintf("job %s has no outputs: it is %s", jobID, StateName(job.GetState()))}
+			Message: fmt.Sprintf("job %s has no outputs: it is %s", jobID, tasks.JobStateName(job.GetState()))}
 	}
 	if base == "" {
 		base = SafeFileName(job.GetDisplayName())
@@ -280,19 +281,4 @@ func RoundError(r *pb.RoundReport) (float64, bool) {
 		return r.GetErrorEstimate(), true
 	}
 	return 0, false
-}
-
-// StateName is a job state for people: "succeeded", "running".
-func StateName(s pb.JobState) string {
-	return strings.ToLower(strings.TrimPrefix(s.String(), "JOB_STATE_"))
-}
-
-// TaskStateName is a task state for people: "leased", "succeeded".
-func TaskStateName(s pb.TaskState) string {
-	return strings.ToLower(strings.TrimPrefix(s.String(), "TASK_STATE_"))
-}
-
-// PhaseName is a phase for people: "render", "composite".
-func PhaseName(p pb.Phase) string {
-	return strings.ToLower(strings.TrimPrefix(p.String(), "PHASE_"))
 }

@@ -78,6 +78,10 @@ type Config struct {
 	RedisPrefix string
 }
 
+// The service is the builder's task service: the builder declares what it needs of it
+// rather than importing it.
+var _ builder.Tasks = (*service.Service)(nil)
+
 // DefaultRedisPrefix is Config.RedisPrefix's default.
 const DefaultRedisPrefix = "farm:"
 

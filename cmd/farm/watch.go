@@ -6,6 +6,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -47,5 +48,5 @@ func jobOutcome(job *pb.Job) error {
 	case pb.JobState_JOB_STATE_FAILED:
 		return &exitError{code: exitFailure, err: fmt.Errorf("job %s failed: %s", job.GetId(), job.GetError())}
 	}
-	return &exitError{code: exitFailure, err: fmt.Errorf("job %s ended %s", job.GetId(), client.StateName(job.GetState()))}
+	return &exitError{code: exitFailure, err: fmt.Errorf("job %s ended %s", job.GetId(), tasks.JobStateName(job.GetState()))}
 }

@@ -17,14 +17,16 @@ import (
 	"log/slog"
 	"time"
 
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/photonmap"
-	"photonfarm/coordinator/service"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// Tasks is what the builder needs of the task service (service.Service).
+// Tasks is what the builder needs of the task service: service.Service, as the
+// coordinator's wiring asserts (the builder does not import the service, which would
+// tie the coordinator's own worker to the gRPC layer).
 type Tasks interface {
 	Lease(ctx context.Context, workerID string, phases []pb.Phase, wait time.Duration) (*pb.LeaseTaskResponse, error)
 	Extend(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error)
@@ -38,10 +40,7 @@ type Blobs interface {
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 }
 
-var (
-	_ Tasks = (*service.Service)(nil)
-	_ Blobs = (*blobstore.Store)(nil)
-)
+var _ Blobs = (*blobstore.Store)(nil)
 
 // Defaults for Config.
 const (
@@ -236,7 +235,7 @@ func (b *Builder) store(ctx context.Context, snap []byte) (*pb.Artifact, error) 
 	if err != nil {
 		return nil, fmt.Errorf("store photon snapshot: %w", err)
 	}
-	return &pb.Artifact{Name: service.SnapshotArtifact, Digest: info.Digest, SizeBytes: info.Size}, nil
+	return &pb.Artifact{Name: tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT), Digest: info.Digest, SizeBytes: info.Size}, nil
 }
 
 func (b *Builder) download(ctx context.Context, a *pb.Artifact) ([]byte, error) {
