@@ -14,12 +14,12 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// UploadChunkSize is the size of the chunks blobs are uploaded in (the contract allows up
-// to 4 MiB).
-const UploadChunkSize = 1 << 20
+// UploadChunkSize is the size of the chunks blobs are uploaded in: the contract's largest.
+var UploadChunkSize = int(rules.RPC.GetMaxUploadChunkBytes())
 
 // Digest returns the content digest of data: "sha256:" and 64 lowercase hex digits.
 func Digest(data []byte) string {

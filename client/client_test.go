@@ -18,6 +18,7 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -177,7 +178,7 @@ func startFake(t *testing.T, opts ...Option) (*Client, *fakeBlobs, *fakeJobs) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	srv := grpc.NewServer()
+	srv := grpc.NewServer(grpc.MaxRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())))
 	blobs := &fakeBlobs{blobs: map[string][]byte{}}
 	jobs := &fakeJobs{}
 	pb.RegisterBlobServiceServer(srv, blobs)

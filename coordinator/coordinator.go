@@ -135,7 +135,7 @@ func New(cfg Config) (*Coordinator, error) {
 			cfg.TLS.MinVersion = tls.VersionTLS12
 		}
 	}
-	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), blobstore.DefaultMaxSize)
+	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), 0)
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
 	}

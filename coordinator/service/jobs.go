@@ -7,9 +7,9 @@ import (
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
+	"photonfarm/contract/scene"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/planner"
-	"photonfarm/contract/scene"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )

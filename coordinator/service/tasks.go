@@ -5,6 +5,7 @@ import (
 	"fmt"
 	"time"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -176,15 +177,13 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 	return nil
 }
 
-// Fail records a task's failure; message is truncated to MaxErrorMessage bytes.
+// Fail records a task's failure; message is truncated to the contract's max_error_bytes.
 func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) error {
 	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
 	if message == "" {
 		return errs.Field("error", "must say why the task failed")
 	}
-	if len(message) > MaxErrorMessage {
-		message = message[:MaxErrorMessage] + "…"
-	}
+	message = rules.Truncate(message, int(rules.RPC.GetMaxErrorBytes()))
 	c, err := s.cfg.Store.FailTask(ctx, ref, message)
 	if err != nil {
 		return err

@@ -17,12 +17,14 @@ import (
 
 	"google.golang.org/grpc"
 
-	"photonfarm/coordinator/service"
+	"photonfarm/contract/rules"
+
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// MaxBodyBytes limits request bodies (a scene with inline meshes).
-const MaxBodyBytes = 64 << 20
+// MaxBodyBytes limits request bodies (a scene with inline meshes): as large as a gRPC
+// message may be.
+var MaxBodyBytes = int64(rules.RPC.GetMaxMessageBytes())
 
 // Defaults of Config's intervals and limits (API.md).
 const (
@@ -41,8 +43,8 @@ const (
 // credentials: each call carries its request's token.
 func DialOptions() []grpc.DialOption {
 	return []grpc.DialOption{grpc.WithDefaultCallOptions(
-		grpc.MaxCallRecvMsgSize(service.MaxMessageSize),
-		grpc.MaxCallSendMsgSize(service.MaxMessageSize))}
+		grpc.MaxCallRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())),
+		grpc.MaxCallSendMsgSize(int(rules.RPC.GetMaxMessageBytes())))}
 }
 
 //go:embed web/dist

@@ -11,8 +11,8 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/protobuf/encoding/protojson"
 
-	"photonfarm/coordinator"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/services/dashboard"
 )
@@ -234,7 +234,7 @@ func TestSubmitRefusesBadScenes(t *testing.T) {
 	withPath, _ := json.Marshal(m)
 	wantStatus(t, "mesh by path", f.do(b, "POST", "/api/jobs", string(withPath)), http.StatusBadRequest)
 
-	big := bytes.Repeat([]byte(" "), dashboard.MaxBodyBytes+1)
+	big := bytes.Repeat([]byte(" "), int(dashboard.MaxBodyBytes)+1)
 	wantStatus(t, "a body over 64 MiB", f.do(b, "POST", "/api/jobs", string(big)), http.StatusRequestEntityTooLarge)
 	jobs, err := f.c.ListJobs(f.ctx)
 	if err != nil || len(jobs) != 0 {
