@@ -25,8 +25,8 @@ import (
 	"google.golang.org/protobuf/types/known/durationpb"
 
 	"photonfarm/client"
-	"photonfarm/coordinator"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -10,8 +10,8 @@ import (
 )
 
 // preamble is the head of every script: the facts the Lua library shares with Go, written
-// out from Go so that the two cannot drift. The task and job state numbers and names come
-// from the pb enums, the key names and the job record's field prefixes from keys.go. (Stages are not among them: Go computes
+// out from Go so that the two cannot drift. The task and job state numbers and names and the
+// failure kind numbers come from the pb enums, the key names and the job record's field prefixes from keys.go. (Stages are not among them: Go computes
 // each task's stage, store.Stage, and passes it with the task, so Lua only compares them.)
 //
 // Why a generated preamble rather than KEYS and ARGV alone: a lease discovers the keys it
@@ -26,6 +26,7 @@ func buildPreamble() string {
 	b.WriteString("local P = ARGV[1]\nlocal NOW_S = ARGV[2]\nlocal NOW = tonumber(NOW_S)\n")
 	enumLocals(&b, pb.TaskState(0).Descriptor(), "TASK_STATE_", "", "TASK_STATES")
 	enumLocals(&b, pb.JobState(0).Descriptor(), "JOB_STATE_", "J", "JOB_STATES")
+	enumLocals(&b, pb.FailureKind(0).Descriptor(), "FAILURE_KIND_", "F", "")
 	for _, k := range []struct{ local, name string }{
 		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey},
 	} {
@@ -42,8 +43,8 @@ func buildPreamble() string {
 }
 
 // enumLocals declares a Lua local per value of enum ed but 0, named prefix + the value's
-// name without trim ("LEASED", "JRUNNING"), and a table names of the trimmed names by
-// number, for messages.
+// name without trim ("LEASED", "JRUNNING"), and, unless names is empty, a table names of
+// the trimmed names by number, for messages.
 func enumLocals(b *strings.Builder, ed protoreflect.EnumDescriptor, trim, prefix, names string) {
 	var locals, numbers, entries []string
 	values := ed.Values()
@@ -58,7 +59,9 @@ func enumLocals(b *strings.Builder, ed protoreflect.EnumDescriptor, trim, prefix
 		entries = append(entries, fmt.Sprintf("[%d] = %s", v.Number(), lua(name)))
 	}
 	fmt.Fprintf(b, "local %s = %s\n", strings.Join(locals, ", "), strings.Join(numbers, ", "))
-	fmt.Fprintf(b, "local %s = {%s}\n", names, strings.Join(entries, ", "))
+	if names != "" {
+		fmt.Fprintf(b, "local %s = {%s}\n", names, strings.Join(entries, ", "))
+	}
 }
 
 // lua quotes s as a Lua string literal; the names quoted here are plain ASCII.

@@ -199,11 +199,12 @@ local function succeedjob(jid, outputs)
   redis.call('HSET', jkey(jid), 'state', JSUCCEEDED, 'end', NOW_S, 'outputs', outputs)
 end
 
--- endjob moves a job to a terminal state, empties its queue and cancels its unfinished
--- tasks. Only the current stage and those after it can be unfinished.
-local function endjob(jid, state, msg)
+-- endjob moves a job to a terminal state (with why and the failure kind for JFAILED),
+-- empties its queue and cancels its unfinished tasks. Only the current stage and those
+-- after it can be unfinished.
+local function endjob(jid, state, msg, kind)
   local jk = jkey(jid)
-  redis.call('HSET', jk, 'state', state, 'error', msg, 'end', NOW_S, 'update', NOW_S, 'held', 0)
+  redis.call('HSET', jk, 'state', state, 'error', msg, 'fkind', kind, 'end', NOW_S, 'update', NOW_S, 'held', 0)
   local cur, n = num(jk, 'cur'), num(jk, 'ntasks')
   redis.call('DEL', qkey(jid, redis.call('HGET', tkey(tid(jid, cur)), 'phase')))
   place(jid)
@@ -218,31 +219,37 @@ local function endjob(jid, state, msg)
   end
 end
 
--- failjob fails leased task t, which failed n times, and its job with t's last error
--- (store.JobFailure).
-local function failjob(t, jid, n)
+-- failjob fails leased task t and its job with msg, of the kind of t's last failure.
+local function failjob(t, jid, msg)
   local k = tkey(t)
   redis.call('HSET', k, 'state', FAILED)
   redis.call('ZREM', LEASES, t)
-  endjob(jid, JFAILED, 'task ' .. t .. ' failed ' .. n .. ' times; last error: ' .. redis.call('HGET', k, 'error'))
+  endjob(jid, JFAILED, msg, redis.call('HGET', k, 'fkind'))
   return ok(1, 0, jid, t)
 end
 
--- fail counts a failed attempt at t's live lease by worker (FailTask, a stuck lease)
--- under pol (policy): the worker is blocked from the job at pol.block failures (reason as
--- store.BlockReason, stored as "µs reason"); the task goes back after
--- store.Options.Backoff, or at pol.attempts fails with its job.
-local function fail(t, worker, msg, pol)
+-- limitfailure is the job's error when t reached a limit after n failures
+-- (store.JobFailure).
+local function limitfailure(t, n)
+  return 'task ' .. t .. ' failed ' .. n .. ' times; last error: ' .. redis.call('HGET', tkey(t), 'error')
+end
+
+-- fail counts a transient failed attempt of kind at t's live lease by worker (FailTask,
+-- a stuck lease) under pol (policy): the worker is blocked from the job at pol.block
+-- failures (reason as store.BlockReason, stored as "µs reason"; the kind as the job's
+-- bkind); the task goes back after store.Options.Backoff, or at pol.attempts fails with
+-- its job.
+local function fail(t, worker, msg, pol, kind)
   local k = tkey(t)
   local jid = redis.call('HGET', k, 'job')
   local jk = jkey(jid)
   local failures = redis.call('HINCRBY', k, 'failures', 1)
-  redis.call('HSET', k, 'error', msg)
+  redis.call('HSET', k, 'error', msg, 'fkind', kind)
   local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
   if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
-    redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg)
+    redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg, 'bkind', kind)
   end
-  if failures >= pol.attempts then return failjob(t, jid, failures) end
+  if failures >= pol.attempts then return failjob(t, jid, limitfailure(t, failures)) end
   local retry = string.format('%.0f', NOW + math.min(pol.base * 2 ^ (failures - 1), pol.cap))
   return ok(0, 0, requeue(t, retry), t)
 end
@@ -368,12 +375,44 @@ succeedjob(jid, ARGV[8])
 return ok(1, 0, jid, t)
 `)
 
-// failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] policy.
+// failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] policy, [8] failure
+// kind, [9] the job's error if the failure is permanent (store.PermanentFailure), else
+// empty: a permanent failure fails the task and the job at once and blames no worker.
 var failScript = newScript(`
-local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
+local t, worker, epoch, kind = ARGV[3], ARGV[4], ARGV[5], ARGV[8]
 local e = held(t, worker, epoch)
 if e then return e end
-return fail(t, worker, ARGV[6], policy(ARGV[7]))
+if ARGV[9] == '' then return fail(t, worker, ARGV[6], policy(ARGV[7]), kind) end
+redis.call('HSET', tkey(t), 'error', ARGV[6], 'fkind', kind)
+return failjob(t, redis.call('HGET', tkey(t), 'job'), ARGV[9])
+`)
+
+// failBlockedScript: ARGV[3] job id, [4] the job's error up to the latest block's reason
+// (store.BlockedJobFailure with an empty reason), [5...] the workers. It fails the job if
+// it has not ended and every one of the workers is blocked from it, else changes nothing.
+var failBlockedScript = newScript(`
+local jid = ARGV[3]
+local jk = jkey(jid)
+local st = redis.call('HGET', jk, 'state')
+if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+st = tonumber(st)
+if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED or #ARGV < 5 then return {'NOOP'} end
+for i = 5, #ARGV do
+  if redis.call('HEXISTS', jk, BLOCKED .. ARGV[i]) == 0 then return {'NOOP'} end
+end
+-- The latest block, ordered as store.SortBlocked orders them: by time, then worker.
+local lastAt, lastWorker, lastReason
+local h = redis.call('HGETALL', jk)
+for i = 1, #h, 2 do
+  if string.sub(h[i], 1, #BLOCKED) == BLOCKED then
+    local w = string.sub(h[i], #BLOCKED + 1)
+    local at, reason = string.match(h[i + 1], '^(%d+) (.*)$')
+    at = tonumber(at)
+    if not lastAt or at > lastAt or (at == lastAt and w > lastWorker) then lastAt, lastWorker, lastReason = at, w, reason end
+  end
+end
+endjob(jid, JFAILED, ARGV[4] .. lastReason, redis.call('HGET', jk, 'bkind'))
+return ok(1, 0, jid, nil)
 `)
 
 // releaseScript: ARGV[3] task, [4] worker, [5] epoch.
@@ -408,7 +447,7 @@ for i = 9, #ARGV, 3 do
       stuck = not exempt[h[3]] and tonumber(h[2] or NOW_S) <= cutoff
     end
     if stuck then
-      out[#out + 1] = fail(t, worker, ARGV[6], policy(ARGV[7]))
+      out[#out + 1] = fail(t, worker, ARGV[6], policy(ARGV[7]), FTRANSIENT)
     else
       redis.call('HSET', k, 'expire', expire)
       redis.call('ZADD', LEASES, expire, t)
@@ -429,9 +468,9 @@ for _, t in ipairs(redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S)) do
   -- An earlier failure in this loop may have ended the job, cancelling the lease.
   if tonumber(redis.call('HGET', k, 'state')) == LEASED then
     local n = redis.call('HINCRBY', k, 'expiries', 1)
-    redis.call('HSET', k, 'error', ARGV[4])
+    redis.call('HSET', k, 'error', ARGV[4], 'fkind', FTRANSIENT)
     if n >= tonumber(ARGV[3]) then
-      out[#out + 1] = failjob(t, redis.call('HGET', k, 'job'), n)
+      out[#out + 1] = failjob(t, redis.call('HGET', k, 'job'), limitfailure(t, n))
     else
       out[#out + 1] = ok(0, 1, requeue(t), t)
     end
@@ -455,7 +494,7 @@ var cancelScript = newScript(`
 local jid = ARGV[3]
 local e = live(jid)
 if e then return e end
-endjob(jid, JCANCELLED, '')
+endjob(jid, JCANCELLED, '', 0)
 return ok(1, 0, jid, nil)
 `)
 
