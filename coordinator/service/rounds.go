@@ -5,7 +5,6 @@ import (
 	"fmt"
 	"io"
 	"math"
-	"sync"
 
 	"google.golang.org/protobuf/proto"
 
@@ -135,21 +134,10 @@ func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64,
 	return 0, nil
 }
 
-// sceneCache remembers parsed scenes by digest (they are immutable).
-type sceneCache struct {
-	mu sync.Mutex
-	m  map[string]*pb.Scene
-}
-
-const maxRememberedScenes = 64
-
-// scene returns the stored scene with this digest (defaults filled in at submit).
+// scene returns the stored scene with this digest (defaults filled in at submit),
+// remembered by digest: a stored scene never changes.
 func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
-	c := &s.scenes
-	c.mu.Lock()
-	sc, ok := c.m[digest]
-	c.mu.Unlock()
-	if ok {
+	if sc, ok := s.scenes.get(digest); ok {
 		return sc, nil
 	}
 	r, info, err := s.cfg.Blobs.Open(ctx, digest)
@@ -161,16 +149,11 @@ func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	if _, err := io.ReadFull(r, data); err != nil {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("read scene %s", digest))
 	}
-	sc = &pb.Scene{}
+	sc := &pb.Scene{}
 	if err := proto.Unmarshal(data, sc); err != nil {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("scene %s", digest))
 	}
-	c.mu.Lock()
-	defer c.mu.Unlock()
-	if c.m == nil || len(c.m) >= maxRememberedScenes {
-		c.m = make(map[string]*pb.Scene)
-	}
-	c.m[digest] = sc
+	s.scenes.put(digest, sc)
 	return sc, nil
 }
 

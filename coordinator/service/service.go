@@ -17,6 +17,7 @@ import (
 	"google.golang.org/grpc"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
+	"photonfarm/contract/assets"
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/clock"
@@ -70,10 +71,12 @@ type Service struct {
 	queued    notifier
 	retries   retries
 	workers   registry
-	snapshots snapshotCache
-	scenes    sceneCache
-	done      chan struct{}
-	once      sync.Once
+	snapshots *cache[*pb.Artifact] // by job and round
+	scenes    *cache[*pb.Scene]    // by digest
+	// meshes holds the digests of mesh blobs that passed assets.CheckOBJ.
+	meshes *cache[assets.Mesh]
+	done   chan struct{}
+	once   sync.Once
 }
 
 // New returns a Service; Store, Blobs and Events are required.
@@ -91,11 +94,14 @@ func New(cfg Config) *Service {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
 	return &Service{
-		cfg:     cfg,
-		log:     cfg.Logger,
-		queued:  newNotifier(),
-		workers: registry{m: make(map[string]*worker)},
-		done:    make(chan struct{}),
+		cfg:       cfg,
+		log:       cfg.Logger,
+		queued:    newNotifier(),
+		workers:   registry{m: make(map[string]*worker)},
+		snapshots: newCache[*pb.Artifact](1024),
+		scenes:    newCache[*pb.Scene](64),
+		meshes:    newCache[assets.Mesh](4096),
+		done:      make(chan struct{}),
 	}
 }
 

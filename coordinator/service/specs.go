@@ -5,6 +5,8 @@ import (
 	"context"
 	"strconv"
 
+	"google.golang.org/protobuf/proto"
+
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -155,7 +157,7 @@ func (s *Service) builtSnapshot(ctx context.Context, jobID string, round uint32)
 func (s *Service) snapshot(ctx context.Context, jobID string, round uint32) (*pb.Artifact, error) {
 	key := jobID + "/" + strconv.FormatUint(uint64(round), 10)
 	if a, ok := s.snapshots.get(key); ok {
-		return a, nil
+		return proto.Clone(a).(*pb.Artifact), nil // the caller puts it in a spec
 	}
 	var built, merged *pb.Artifact
 	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
@@ -175,6 +177,6 @@ func (s *Service) snapshot(ctx context.Context, jobID string, round uint32) (*pb
 	if snap == nil {
 		return nil, errs.E(errs.Internal, "job %s round %d has a build phase but no build task", jobID, round)
 	}
-	s.snapshots.put(key, snap)
+	s.snapshots.put(key, proto.Clone(snap).(*pb.Artifact))
 	return snap, nil
 }
