@@ -2,6 +2,7 @@ package client
 
 import (
 	"context"
+	"crypto/rand"
 	"errors"
 	"fmt"
 	"io"
@@ -23,6 +24,16 @@ type SubmitOption func(*pb.SubmitJobRequest)
 func WithPriority(p int32) SubmitOption {
 	return func(r *pb.SubmitJobRequest) { r.Priority = p }
 }
+
+// WithRequestID names the submission (at most 128 printable ASCII characters, NewRequestID
+// makes one): a repeated Submit with the same id returns the job the first one created, so
+// a caller may retry a submit whose answer it lost.
+func WithRequestID(id string) SubmitOption {
+	return func(r *pb.SubmitJobRequest) { r.RequestId = id }
+}
+
+// NewRequestID returns a fresh random request id (128 random bits).
+func NewRequestID() string { return rand.Text() }
 
 // Submit queues scene as a new job. The scene's meshes must be in the blob store already
 // (LoadSceneFile does that). A malformed scene (or priority) gives an *Error with code

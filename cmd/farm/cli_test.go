@@ -164,9 +164,9 @@ func TestProgressPlainLines(t *testing.T) {
 	p.draw(true)
 
 	want := []string{
-		"job j1: render 0/48 tiles (0%), elapsed 0s",
-		"job j1: render 24/48 tiles (50%), elapsed 4s, ETA 4s",
-		"job j1: composite 0/1 tasks (0%), elapsed 8s",
+		"job j1: Render tiles 0/48 tiles (0%), elapsed 0s",
+		"job j1: Render tiles 24/48 tiles (50%), elapsed 4s, ETA 4s",
+		"job j1: Composite 0/1 tasks (0%), elapsed 8s",
 		"job j1: succeeded (render 48/48, composite 1/1), took 8.5s",
 	}
 	got := strings.Split(strings.TrimRight(out.String(), "\n"), "\n")
@@ -189,7 +189,7 @@ func TestProgressBarRedrawsInPlace(t *testing.T) {
 		t.Fatalf("output %q: want two frames, each starting with \\r, no newline", s)
 	}
 	last := frames[1]
-	for _, want := range []string{"render", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
+	for _, want := range []string{"Render tiles", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
 		if !strings.Contains(last, want) {
 			t.Errorf("frame %q lacks %q", last, want)
 		}

@@ -28,7 +28,7 @@ func runPlan(ctx context.Context, e *env, args []string) error {
 	}
 	defer c.Close()
 	// The files a scene names are hashed, not uploaded: planning does not need them.
-	sf, err := client.ReadSceneFile(pos[0], client.WithAssetRoot(*assetRoot))
+	sf, err := client.ReadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}

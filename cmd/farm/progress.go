@@ -126,7 +126,7 @@ func currentAt(job *pb.Job) (name string, done, total uint32, at int) {
 		}
 	}
 	ph := phases[at]
-	return tasks.Name(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal(), at + 1
+	return tasks.Label(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal(), at + 1
 }
 
 // phaseOf returns the progress of phase p in job, if the job has that phase.
@@ -166,12 +166,12 @@ func roundLabel(job *pb.Job) string {
 	return label + " "
 }
 
-// unit names what a phase's tasks are.
-func unit(phase string) string {
-	switch phase {
-	case "emit":
+// unit names what the tasks of the phase labelled label are.
+func unit(label string) string {
+	switch label {
+	case tasks.Label(pb.Phase_PHASE_EMIT):
 		return "shards"
-	case "render":
+	case tasks.Label(pb.Phase_PHASE_RENDER):
 		return "tiles"
 	}
 	return "tasks"
@@ -235,7 +235,7 @@ func (p *progress) drawTTY(final bool) {
 	state := p.job.GetState()
 	if ph, ok := phaseOf(p.job, pb.Phase_PHASE_RENDER); ok && state == pb.JobState_JOB_STATE_SUCCEEDED {
 		// Done: show the tiles rendered, not the one composite task.
-		phase, done, total = tasks.Name(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
+		phase, done, total = tasks.Label(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
 	}
 	name := phase
 	if n := len(p.job.GetPhases()); n > 0 {

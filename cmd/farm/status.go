@@ -81,7 +81,7 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 			b.GetBlockTime().AsTime().Local().Format(time.DateTime))
 	}
 	if job.GetError() != "" {
-		fmt.Fprintf(tw, "error\t%s\n", job.GetError())
+		fmt.Fprintf(tw, "error\t%s\n", oneLine(jobFailure(job)))
 	}
 	tw.Flush()
 }

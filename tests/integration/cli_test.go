@@ -123,7 +123,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 			if err != nil {
 				t.Fatalf("the scene does not parse: %v", err)
 			}
-			sf, err := client.ReadSceneFile(path, client.WithAssetRoot(scenesRoot())) // mesh path -> digest, as a client would
+			sf, err := client.ReadSceneFile(context.Background(), path, client.WithAssetRoot(scenesRoot())) // mesh path -> digest, as a client would
 			if err != nil {
 				t.Fatal(err)
 			}
