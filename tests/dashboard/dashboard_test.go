@@ -13,7 +13,12 @@ import (
 	"testing"
 	"time"
 
+	"google.golang.org/grpc"
+	"google.golang.org/grpc/credentials/insecure"
+	"google.golang.org/grpc/metadata"
+
 	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
 
@@ -32,6 +37,8 @@ func TestDashboardInABrowser(t *testing.T) {
 	node := browserTools(t, e2e)
 
 	f := farmtest.StartFarm(t, tokenFlags(t), client.WithToken(clientToken))
+	// Before the workers start, so that no real worker leases its task first.
+	failedJob := failAsBadInput(t, f)
 	for range 2 {
 		w := f.StartWorker(t, "--token", workerToken)
 		if w.WorkerID(t, 15*time.Second) == "" {
@@ -58,6 +65,8 @@ func TestDashboardInABrowser(t *testing.T) {
 		"SCENE_PATH="+filepath.Join(e2e, "scene.json"),
 		"SCREENSHOT_DIR="+shots,
 		"CHROMIUM="+chromium,
+		"FAILED_JOB_ID="+failedJob,
+		"FAILED_REASON="+badInputReason,
 		"PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1",
 	)
 	var out bytes.Buffer
@@ -71,6 +80,45 @@ func TestDashboardInABrowser(t *testing.T) {
 	}
 	t.Logf("dashboard.spec.mjs:\n%s", out.String())
 	t.Logf("job page screenshot: %s", filepath.Join(shots, "job-page.png"))
+}
+
+// badInputReason is what failAsBadInput's worker reports.
+const badInputReason = "shapes[3].mesh: line 5: face refers to vertex 7 but the file has 3 vertices"
+
+// failAsBadInput submits a small scene and, as a worker that says what kind of failure it
+// had (standing in for a farm-worker reporting a broken mesh), fails its first task as bad
+// input, which fails the job at once; the worker then unregisters. It returns the job's id.
+func failAsBadInput(t *testing.T, f *farmtest.Farm) string {
+	t.Helper()
+	job := f.Submit(t, f.TestScene(t, 32, 32, 16, 1))
+	conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer conn.Close()
+	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
+	defer cancel()
+	asWorker := metadata.AppendToOutgoingContext(ctx, "authorization", "Bearer "+workerToken)
+	w := pb.NewWorkerServiceClient(conn)
+	reg, err := w.RegisterWorker(asWorker, &pb.RegisterWorkerRequest{Hostname: "bad-input-reporter"})
+	if err != nil {
+		t.Fatal(err)
+	}
+	l, err := w.LeaseTask(asWorker, &pb.LeaseTaskRequest{WorkerId: reg.GetWorkerId()})
+	if err != nil || l.GetLease() == nil {
+		t.Fatalf("LeaseTask = %v, %v", l, err)
+	}
+	if _, err := w.FailTask(asWorker, &pb.FailTaskRequest{WorkerId: reg.GetWorkerId(), TaskId: l.GetLease().GetTaskId(),
+		Epoch: l.GetLease().GetEpoch(), Error: badInputReason, Kind: pb.FailureKind_FAILURE_KIND_BAD_INPUT}); err != nil {
+		t.Fatal(err)
+	}
+	if _, err := w.UnregisterWorker(asWorker, &pb.UnregisterWorkerRequest{WorkerId: reg.GetWorkerId()}); err != nil {
+		t.Fatal(err)
+	}
+	if got, err := f.Client.GetJob(ctx, job.GetId()); err != nil || got.GetState() != pb.JobState_JOB_STATE_FAILED {
+		t.Fatalf("job after the bad-input report: %v, %v; want it failed", got, err)
+	}
+	return job.GetId()
 }
 
 // browserTools checks that node, chromium and the pinned playwright-core are installed and
