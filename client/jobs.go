@@ -12,6 +12,7 @@ import (
 
 	"google.golang.org/grpc/codes"
 
+	"photonfarm/contract/pages"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -89,36 +90,37 @@ func (c *Client) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	return resp.GetJob(), nil
 }
 
+// Page sizes the SDK asks for: the coordinator's largest (job.proto).
+const (
+	jobsPage  = 1000
+	tasksPage = 10000
+)
+
 // ListJobs returns every job, newest first, following the pages.
 func (c *Client) ListJobs(ctx context.Context) ([]*pb.Job, error) {
-	var jobs []*pb.Job
-	token := ""
-	for {
-		resp, err := c.jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: 1000, PageToken: token})
-		if err != nil {
-			return nil, fromRPC("list jobs", err)
-		}
-		jobs = append(jobs, resp.GetJobs()...)
-		if token = resp.GetNextPageToken(); token == "" {
-			return jobs, nil
-		}
-	}
+	return AllJobs(ctx, c.jobs)
 }
 
 // ListTasks returns every task of the job, in plan order, following the pages.
 func (c *Client) ListTasks(ctx context.Context, jobID string) ([]*pb.Task, error) {
-	var tasks []*pb.Task
-	token := ""
-	for {
-		resp, err := c.jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: 10000, PageToken: token})
-		if err != nil {
-			return nil, fromRPC("list tasks", err)
-		}
-		tasks = append(tasks, resp.GetTasks()...)
-		if token = resp.GetNextPageToken(); token == "" {
-			return tasks, nil
-		}
-	}
+	return AllTasks(ctx, c.jobs, jobID)
+}
+
+// AllJobs lists every job through jobs (a JobService client of the caller's, such as the
+// dashboard's, whose calls carry per-request credentials), newest first.
+func AllJobs(ctx context.Context, jobs pb.JobServiceClient) ([]*pb.Job, error) {
+	return pages.All(func(token string) ([]*pb.Job, string, error) {
+		resp, err := jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: jobsPage, PageToken: token})
+		return resp.GetJobs(), resp.GetNextPageToken(), fromRPC("list jobs", err)
+	})
+}
+
+// AllTasks lists every task of a job through jobs, in plan order.
+func AllTasks(ctx context.Context, jobs pb.JobServiceClient, jobID string) ([]*pb.Task, error) {
+	return pages.All(func(token string) ([]*pb.Task, string, error) {
+		resp, err := jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: tasksPage, PageToken: token})
+		return resp.GetTasks(), resp.GetNextPageToken(), fromRPC("list tasks", err)
+	})
 }
 
 // ListWorkers returns the workers registered with the coordinator, oldest first, with

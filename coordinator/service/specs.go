@@ -7,6 +7,7 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/contract/pages"
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -55,23 +56,9 @@ func hasPhase(j *pb.Job, p pb.Phase) bool {
 
 // eachTask calls fn with a job's tasks in plan order until it returns false.
 func (s *Service) eachTask(ctx context.Context, jobID string, fn func(*pb.Task) (more bool, err error)) error {
-	token := ""
-	for {
-		tasks, next, err := s.cfg.Store.ListTasks(ctx, jobID, MaxTasksPage, token)
-		if err != nil {
-			return err
-		}
-		for _, t := range tasks {
-			more, err := fn(t)
-			if err != nil || !more {
-				return err
-			}
-		}
-		if next == "" {
-			return nil
-		}
-		token = next
-	}
+	return pages.Each(func(token string) ([]*pb.Task, string, error) {
+		return s.cfg.Store.ListTasks(ctx, jobID, MaxTasksPage, token)
+	}, fn)
 }
 
 // output returns a succeeded task's artifact of kind k.
