@@ -2,7 +2,6 @@ package main
 
 import (
 	"context"
-	"net"
 	"os"
 	"path/filepath"
 	"strings"
@@ -12,6 +11,7 @@ import (
 	"google.golang.org/protobuf/types/known/timestamppb"
 
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 func runForTest(t *testing.T, vars map[string]string, args ...string) (code int, stdout, stderr string) {
@@ -91,15 +91,7 @@ func TestCoordinatorAddress(t *testing.T) {
 }
 
 // closedAddress is a loopback address where nothing listens.
-func closedAddress(t *testing.T) string {
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	addr := lis.Addr().String()
-	lis.Close()
-	return addr
-}
+func closedAddress(t *testing.T) string { return farmtest.ClosedAddress(t) }
 
 func TestSubmitReportsSceneErrorsBeforeTheNetwork(t *testing.T) {
 	dir := t.TempDir()

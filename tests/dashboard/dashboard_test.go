@@ -13,10 +13,6 @@ import (
 	"testing"
 	"time"
 
-	"google.golang.org/grpc"
-	"google.golang.org/grpc/credentials/insecure"
-	"google.golang.org/grpc/metadata"
-
 	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
@@ -85,37 +81,13 @@ func TestDashboardInABrowser(t *testing.T) {
 // badInputReason is what failAsBadInput's worker reports.
 const badInputReason = "shapes[3].mesh: line 5: face refers to vertex 7 but the file has 3 vertices"
 
-// failAsBadInput submits a small scene and, as a worker that says what kind of failure it
-// had (standing in for a farm-worker reporting a broken mesh), fails its first task as bad
-// input, which fails the job at once; the worker then unregisters. It returns the job's id.
+// failAsBadInput submits a small scene whose first task a worker fails as bad input
+// (farmtest.FailNextTask), which fails the job at once, and returns the job's id.
 func failAsBadInput(t *testing.T, f *farmtest.Farm) string {
 	t.Helper()
 	job := f.Submit(t, f.TestScene(t, 32, 32, 16, 1))
-	conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
-	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
-	defer cancel()
-	asWorker := metadata.AppendToOutgoingContext(ctx, "authorization", "Bearer "+workerToken)
-	w := pb.NewWorkerServiceClient(conn)
-	reg, err := w.RegisterWorker(asWorker, &pb.RegisterWorkerRequest{Hostname: "bad-input-reporter"})
-	if err != nil {
-		t.Fatal(err)
-	}
-	l, err := w.LeaseTask(asWorker, &pb.LeaseTaskRequest{WorkerId: reg.GetWorkerId()})
-	if err != nil || l.GetLease() == nil {
-		t.Fatalf("LeaseTask = %v, %v", l, err)
-	}
-	if _, err := w.FailTask(asWorker, &pb.FailTaskRequest{WorkerId: reg.GetWorkerId(), TaskId: l.GetLease().GetTaskId(),
-		Epoch: l.GetLease().GetEpoch(), Error: badInputReason, Kind: pb.FailureKind_FAILURE_KIND_BAD_INPUT}); err != nil {
-		t.Fatal(err)
-	}
-	if _, err := w.UnregisterWorker(asWorker, &pb.UnregisterWorkerRequest{WorkerId: reg.GetWorkerId()}); err != nil {
-		t.Fatal(err)
-	}
-	if got, err := f.Client.GetJob(ctx, job.GetId()); err != nil || got.GetState() != pb.JobState_JOB_STATE_FAILED {
+	f.FailNextTask(t, workerToken, pb.FailureKind_FAILURE_KIND_BAD_INPUT, badInputReason)
+	if got, err := f.Client.GetJob(context.Background(), job.GetId()); err != nil || got.GetState() != pb.JobState_JOB_STATE_FAILED {
 		t.Fatalf("job after the bad-input report: %v, %v; want it failed", got, err)
 	}
 	return job.GetId()

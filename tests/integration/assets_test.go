@@ -3,7 +3,6 @@ package integration
 import (
 	"context"
 	"encoding/json"
-	"net"
 	"os"
 	"path/filepath"
 	"regexp"
@@ -13,9 +12,7 @@ import (
 	"time"
 
 	"google.golang.org/genproto/googleapis/rpc/errdetails"
-	"google.golang.org/grpc"
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/grpc/status"
 
 	pb "photonfarm/proto/renderfarm/v1"
@@ -104,33 +101,15 @@ func TestCoordinatorRefusesABrokenMeshBlob(t *testing.T) {
 	}
 }
 
-// TestPermanentFailureFailsTheJobAtOnceAndTheCLISaysWhy has a worker (a client of
-// WorkerService, standing in for a farm-worker that reports a kind) fail a task as bad
-// input: the job fails at that one report, and farm status and farm watch say why.
+// TestPermanentFailureFailsTheJobAtOnceAndTheCLISaysWhy has a worker that reports a kind
+// (farmtest.FailNextTask) fail a task as bad input: the job fails at that one report,
+// and farm status and farm watch say why.
 func TestPermanentFailureFailsTheJobAtOnceAndTheCLISaysWhy(t *testing.T) {
 	f := farmtest.StartFarm(t, nil)
-	ctx := context.Background()
 	job := f.Submit(t, f.TestScene(t, 32, 32, 16, 1))
-	conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
-	workers := pb.NewWorkerServiceClient(conn)
-	reg, err := workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "test"})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lease, err := workers.LeaseTask(ctx, &pb.LeaseTaskRequest{WorkerId: reg.GetWorkerId()})
-	if err != nil || lease.GetLease() == nil {
-		t.Fatalf("LeaseTask = %v, %v", lease, err)
-	}
 	const reason = "shapes[3].mesh: OBJ parse error: line 5: face refers to vertex 7 but the file has 3 vertices"
-	if _, err := workers.FailTask(ctx, &pb.FailTaskRequest{WorkerId: reg.GetWorkerId(), TaskId: lease.GetLease().GetTaskId(),
-		Epoch: lease.GetLease().GetEpoch(), Error: reason, Kind: pb.FailureKind_FAILURE_KIND_BAD_INPUT}); err != nil {
-		t.Fatal(err)
-	}
-	want := "bad input: task " + lease.GetLease().GetTaskId() + " failed: " + reason
+	task := f.FailNextTask(t, "", pb.FailureKind_FAILURE_KIND_BAD_INPUT, reason)
+	want := "bad input: task " + task + " failed: " + reason
 	code, stdout, _ := farmtest.RunFarm(t, 10*time.Second, nil, "status", job.GetId(), "--coordinator", f.Addr)
 	if code != 0 || !regexp.MustCompile(`(?m)^state +failed$`).MatchString(stdout) || !regexp.MustCompile(`(?m)^error +`+regexp.QuoteMeta(want)+`$`).MatchString(stdout) {
 		t.Errorf("farm status: exit %d\n%s\nwant the job failed with %q", code, stdout, want)
@@ -153,7 +132,7 @@ func TestSubmitStopsAtSIGTERMWhileReadingALargeMesh(t *testing.T) {
 	fh.Truncate(1 << 30) // at the size limit, so it is read
 	fh.Close()
 	os.WriteFile(filepath.Join(dir, "s.json"), []byte(`{"shapes": [{"mesh": {"path": "big.obj"}}]}`), 0o644)
-	cmd, _, stderr, _ := farmCommand(t, "submit", filepath.Join(dir, "s.json"), "--coordinator", closedAddress(t))
+	cmd, _, stderr, _ := farmCommand(t, "submit", filepath.Join(dir, "s.json"), "--coordinator", farmtest.ClosedAddress(t))
 	time.Sleep(300 * time.Millisecond)
 	start := time.Now()
 	syscall.Kill(cmd.Process.Pid, syscall.SIGTERM)
@@ -162,16 +141,4 @@ func TestSubmitStopsAtSIGTERMWhileReadingALargeMesh(t *testing.T) {
 	if code != 130 || time.Since(start) > 2*time.Second {
 		t.Errorf("farm submit after SIGTERM: exit %d after %v, want 130 within 2s; stderr %q", code, time.Since(start), stderr)
 	}
-}
-
-// closedAddress is a loopback address nothing listens on.
-func closedAddress(t *testing.T) string {
-	t.Helper()
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	addr := lis.Addr().String()
-	lis.Close()
-	return addr
 }
