@@ -17,8 +17,8 @@ import (
 
 	"google.golang.org/grpc"
 
+	"photonfarm/client"
 	"photonfarm/contract/rules"
-
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -41,11 +41,7 @@ const (
 // its transport credentials: message limits as large as the coordinator's (a job's
 // 10,000 tasks, a scene with large inline meshes). Give the connection no per-RPC
 // credentials: each call carries its request's token.
-func DialOptions() []grpc.DialOption {
-	return []grpc.DialOption{grpc.WithDefaultCallOptions(
-		grpc.MaxCallRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())),
-		grpc.MaxCallSendMsgSize(int(rules.RPC.GetMaxMessageBytes())))}
-}
+func DialOptions() []grpc.DialOption { return []grpc.DialOption{client.CallLimits()} }
 
 //go:embed web/dist
 var webFiles embed.FS
