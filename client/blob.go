@@ -9,17 +9,19 @@ import (
 	"fmt"
 	"hash"
 	"io"
+	"io/fs"
 	"os"
+	"syscall"
 
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// UploadChunkSize is the size of the chunks blobs are uploaded in (the contract allows up
-// to 4 MiB).
-const UploadChunkSize = 1 << 20
+// UploadChunkSize is the size of the chunks blobs are uploaded in: the contract's largest.
+var UploadChunkSize = int(rules.RPC.GetMaxUploadChunkBytes())
 
 // Digest returns the content digest of data: "sha256:" and 64 lowercase hex digits.
 func Digest(data []byte) string {
@@ -29,19 +31,66 @@ func Digest(data []byte) string {
 
 func digestOf(h hash.Hash) string { return "sha256:" + hex.EncodeToString(h.Sum(nil)) }
 
-// fileDigest returns the digest and size of the file at path.
-func fileDigest(path string) (digest string, size int64, err error) {
-	f, err := os.Open(path)
+// fileDigest returns the digest and size of the file at path, which must be a regular
+// file of at most limit bytes (a device or a pipe could be read for ever); it stops with
+// ctx's error when ctx ends.
+func fileDigest(ctx context.Context, path string, limit uint64) (digest string, size int64, err error) {
+	f, err := openRegular(path, limit)
 	if err != nil {
 		return "", 0, err
 	}
 	defer f.Close()
 	h := sha256.New()
-	size, err = io.Copy(h, f)
+	size, err = io.Copy(h, ctxReader{ctx, f})
 	if err != nil {
 		return "", 0, err
 	}
 	return digestOf(h), size, nil
+}
+
+// openRegular opens path if it is a regular file of at most limit bytes. It opens
+// without blocking (a pipe's open would wait for a writer) and checks what it opened.
+func openRegular(path string, limit uint64) (*os.File, error) {
+	f, err := os.OpenFile(path, os.O_RDONLY|syscall.O_NONBLOCK, 0)
+	if err != nil {
+		return nil, err
+	}
+	st, err := f.Stat()
+	switch {
+	case err != nil:
+	case !st.Mode().IsRegular():
+		err = &fs.PathError{Op: "read", Path: path, Err: errors.New("not a regular file (a folder, a device or a pipe)")}
+	case uint64(st.Size()) > limit:
+		err = &fs.PathError{Op: "read", Path: path, Err: fmt.Errorf("%d bytes, more than the limit of %d", st.Size(), limit)}
+	}
+	if err != nil {
+		f.Close()
+		return nil, err
+	}
+	return f, nil
+}
+
+// readSmallFile reads a regular file (a scene file) of at most the largest message.
+func readSmallFile(path string) ([]byte, error) {
+	f, err := openRegular(path, rules.RPC.GetMaxMessageBytes())
+	if err != nil {
+		return nil, err
+	}
+	defer f.Close()
+	return io.ReadAll(f)
+}
+
+// ctxReader reads from r until ctx ends.
+type ctxReader struct {
+	ctx context.Context
+	r   io.Reader
+}
+
+func (c ctxReader) Read(p []byte) (int, error) {
+	if err := c.ctx.Err(); err != nil {
+		return 0, err
+	}
+	return c.r.Read(p)
 }
 
 // BlobExists reports whether the blob store holds digest.
@@ -67,16 +116,17 @@ func (c *Client) UploadBytes(ctx context.Context, data []byte) (string, error) {
 // returns its digest. The file is read twice (to hash it, then to send it), never held in
 // memory whole.
 func (c *Client) UploadFile(ctx context.Context, path string) (string, error) {
-	digest, size, err := fileDigest(path)
+	limit := rules.RPC.GetMaxBlobBytes()
+	digest, size, err := fileDigest(ctx, path, limit)
 	if err != nil {
 		return "", err
 	}
-	f, err := os.Open(path)
+	f, err := openRegular(path, limit)
 	if err != nil {
 		return "", err
 	}
 	defer f.Close()
-	return digest, c.upload(ctx, f, size, digest)
+	return digest, c.upload(ctx, ctxReader{ctx, f}, size, digest)
 }
 
 // upload streams size bytes from r as the blob digest: a header, then chunks. It skips the

@@ -20,6 +20,7 @@ import (
 	"google.golang.org/grpc/credentials"
 	"google.golang.org/grpc/credentials/insecure"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -93,7 +94,7 @@ func Dial(addr string, opts ...Option) (*Client, error) {
 		}
 		o.perRPC = bearerToken{token: o.token, requireTLS: o.secure}
 	}
-	dopts := []grpc.DialOption{grpc.WithTransportCredentials(o.creds)}
+	dopts := []grpc.DialOption{grpc.WithTransportCredentials(o.creds), CallLimits()}
 	if o.perRPC != nil {
 		dopts = append(dopts, grpc.WithPerRPCCredentials(o.perRPC))
 	}
@@ -106,6 +107,15 @@ func Dial(addr string, opts ...Option) (*Client, error) {
 	c.owned = true
 	c.chunkLen = o.chunkLen
 	return c, nil
+}
+
+// CallLimits lets calls on a connection send and receive messages as large as the
+// contract allows (rules.RPC: a job's 10,000 tasks, a scene with large inline meshes);
+// gRPC's default would refuse answers over 4 MiB. Dial sets it; give it to connections
+// made elsewhere (the dashboard's).
+func CallLimits() grpc.DialOption {
+	n := int(rules.RPC.GetMaxMessageBytes())
+	return grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(n), grpc.MaxCallSendMsgSize(n))
 }
 
 // New returns a Client using an existing connection, which Close leaves open.

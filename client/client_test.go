@@ -18,6 +18,7 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -177,7 +178,7 @@ func startFake(t *testing.T, opts ...Option) (*Client, *fakeBlobs, *fakeJobs) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	srv := grpc.NewServer()
+	srv := grpc.NewServer(grpc.MaxRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())))
 	blobs := &fakeBlobs{blobs: map[string][]byte{}}
 	jobs := &fakeJobs{}
 	pb.RegisterBlobServiceServer(srv, blobs)
@@ -222,8 +223,8 @@ func TestLoadSceneFileUploadsMeshesOnceAndSubmitsDigests(t *testing.T) {
 	want := Digest([]byte(tetrahedron))
 	for _, i := range []int{1, 2} {
 		m := sc.GetShapes()[i].GetMesh()
-		if m.GetDigest() != want || m.GetPath() != "" {
-			t.Errorf("shapes[%d].mesh = digest %q path %q, want digest %q and no path", i, m.GetDigest(), m.GetPath(), want)
+		if m.GetDigest() != want || m.GetPath() != "meshes/tet.obj" {
+			t.Errorf("shapes[%d].mesh = digest %q path %q, want digest %q and the path as written", i, m.GetDigest(), m.GetPath(), want)
 		}
 	}
 	if blobs.uploads != 1 {
@@ -273,7 +274,7 @@ func TestReadSceneFileErrorsNameTheField(t *testing.T) {
 		{"bad json", `{"shapes": [`, "scene: "},
 	} {
 		t.Run(tc.name, func(t *testing.T) {
-			_, err := ReadSceneFile(writeScene(t, dir, tc.body))
+			_, err := ReadSceneFile(context.Background(), writeScene(t, dir, tc.body))
 			if err == nil {
 				t.Fatal("no error")
 			}
@@ -285,7 +286,7 @@ func TestReadSceneFileErrorsNameTheField(t *testing.T) {
 			}
 		})
 	}
-	_, err := ReadSceneFile(filepath.Join(dir, "absent.json"))
+	_, err := ReadSceneFile(context.Background(), filepath.Join(dir, "absent.json"))
 	if err == nil || !strings.Contains(err.Error(), "absent.json") {
 		t.Errorf("missing scene file: error %v does not name it", err)
 	}

@@ -2,6 +2,7 @@ package client
 
 import (
 	"context"
+	"crypto/rand"
 	"errors"
 	"fmt"
 	"io"
@@ -11,6 +12,8 @@ import (
 
 	"google.golang.org/grpc/codes"
 
+	"photonfarm/contract/pages"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -22,6 +25,16 @@ type SubmitOption func(*pb.SubmitJobRequest)
 func WithPriority(p int32) SubmitOption {
 	return func(r *pb.SubmitJobRequest) { r.Priority = p }
 }
+
+// WithRequestID names the submission (at most 128 printable ASCII characters, NewRequestID
+// makes one): a repeated Submit with the same id returns the job the first one created, so
+// a caller may retry a submit whose answer it lost.
+func WithRequestID(id string) SubmitOption {
+	return func(r *pb.SubmitJobRequest) { r.RequestId = id }
+}
+
+// NewRequestID returns a fresh random request id (128 random bits).
+func NewRequestID() string { return rand.Text() }
 
 // Submit queues scene as a new job. The scene's meshes must be in the blob store already
 // (LoadSceneFile does that). A malformed scene (or priority) gives an *Error with code
@@ -77,36 +90,37 @@ func (c *Client) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	return resp.GetJob(), nil
 }
 
+// Page sizes the SDK asks for: the coordinator's largest (job.proto).
+const (
+	jobsPage  = 1000
+	tasksPage = 10000
+)
+
 // ListJobs returns every job, newest first, following the pages.
 func (c *Client) ListJobs(ctx context.Context) ([]*pb.Job, error) {
-	var jobs []*pb.Job
-	token := ""
-	for {
-		resp, err := c.jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: 1000, PageToken: token})
-		if err != nil {
-			return nil, fromRPC("list jobs", err)
-		}
-		jobs = append(jobs, resp.GetJobs()...)
-		if token = resp.GetNextPageToken(); token == "" {
-			return jobs, nil
-		}
-	}
+	return AllJobs(ctx, c.jobs)
 }
 
 // ListTasks returns every task of the job, in plan order, following the pages.
 func (c *Client) ListTasks(ctx context.Context, jobID string) ([]*pb.Task, error) {
-	var tasks []*pb.Task
-	token := ""
-	for {
-		resp, err := c.jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: 10000, PageToken: token})
-		if err != nil {
-			return nil, fromRPC("list tasks", err)
-		}
-		tasks = append(tasks, resp.GetTasks()...)
-		if token = resp.GetNextPageToken(); token == "" {
-			return tasks, nil
-		}
-	}
+	return AllTasks(ctx, c.jobs, jobID)
+}
+
+// AllJobs lists every job through jobs (a JobService client of the caller's, such as the
+// dashboard's, whose calls carry per-request credentials), newest first.
+func AllJobs(ctx context.Context, jobs pb.JobServiceClient) ([]*pb.Job, error) {
+	return pages.All(func(token string) ([]*pb.Job, string, error) {
+		resp, err := jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: jobsPage, PageToken: token})
+		return resp.GetJobs(), resp.GetNextPageToken(), fromRPC("list jobs", err)
+	})
+}
+
+// AllTasks lists every task of a job through jobs, in plan order.
+func AllTasks(ctx context.Context, jobs pb.JobServiceClient, jobID string) ([]*pb.Task, error) {
+	return pages.All(func(token string) ([]*pb.Task, string, error) {
+		resp, err := jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: tasksPage, PageToken: token})
+		return resp.GetTasks(), resp.GetNextPageToken(), fromRPC("list tasks", err)
+	})
 }
 
 // ListWorkers returns the workers registered with the coordinator, oldest first, with
@@ -221,7 +235,7 @@ func (c *Client) FetchAs(ctx context.Context, jobID, outDir, base string) ([]str
 	}
 	if job.GetState() != pb.JobState_JOB_STATE_SUCCEEDED {
 		return nil, &Error{Code: codes.FailedPrecondition,
-			Message: fmt.Sprintf("job %s has no outputs: it is %s", jobID, StateName(job.GetState()))}
+			Message: fmt.Sprintf("job %s has no outputs: it is %s", jobID, tasks.JobStateName(job.GetState()))}
 	}
 	if base == "" {
 		base = SafeFileName(job.GetDisplayName())
@@ -280,19 +294,4 @@ func RoundError(r *pb.RoundReport) (float64, bool) {
 		return r.GetErrorEstimate(), true
 	}
 	return 0, false
-}
-
-// StateName is a job state for people: "succeeded", "running".
-func StateName(s pb.JobState) string {
-	return strings.ToLower(strings.TrimPrefix(s.String(), "JOB_STATE_"))
-}
-
-// TaskStateName is a task state for people: "leased", "succeeded".
-func TaskStateName(s pb.TaskState) string {
-	return strings.ToLower(strings.TrimPrefix(s.String(), "TASK_STATE_"))
-}
-
-// PhaseName is a phase for people: "render", "composite".
-func PhaseName(p pb.Phase) string {
-	return strings.ToLower(strings.TrimPrefix(p.String(), "PHASE_"))
 }

@@ -4,22 +4,26 @@ import (
 	"context"
 	"errors"
 	"fmt"
+	"io"
 	"io/fs"
 	"os"
 	"path/filepath"
 	"strings"
 
+	"photonfarm/contract/assets"
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// SceneFile is a scene read from disk, with the mesh files it references resolved and
-// hashed but not uploaded yet.
+// SceneFile is a scene read from disk, with the mesh files it references resolved,
+// checked and hashed but not uploaded yet.
 type SceneFile struct {
 	// Path is the scene file as given.
 	Path string
-	// Scene has every mesh's digest set and path cleared, ready to submit once Meshes are
-	// uploaded.
+	// Scene has every mesh's digest set, ready to submit once Meshes are uploaded. A
+	// mesh's path stays as the scene file writes it, so that the coordinator's messages
+	// name the file as the user knows it; the reference image's path is cleared.
 	Scene *pb.Scene
 	// Meshes are the distinct files the scene references: its mesh files, then its
 	// reference image (progressive.reference.path), if any.
@@ -54,16 +58,20 @@ func WithAssetRoot(dir string) SceneOption {
 // ReadSceneFile parses the scene file at path (protobuf's JSON mapping of
 // renderfarm.v1.Scene) and reads the mesh files it references, relative to the scene
 // file's folder. Every file it names must lie inside the asset root (WithAssetRoot; by
-// default the scene file's folder), symbolic links resolved. Every error that is the
-// file's fault is an *Error with code InvalidArgument naming the field:
-// "shapes[3].mesh.path: open meshes/x.obj: no such file or directory". The scene is not
-// validated here; the coordinator does that on submit.
-func ReadSceneFile(path string, opts ...SceneOption) (*SceneFile, error) {
+// default the scene file's folder), symbolic links resolved, and be a regular file of at
+// most the contract's max_asset_bytes; each mesh is checked as the coordinator will check
+// it (contract/assets), so a broken one fails here, before anything is uploaded. Every
+// error that is the file's fault is an *Error with code InvalidArgument naming the field:
+// "shapes[3].mesh.path: open meshes/x.obj: no such file or directory", "shapes[8].mesh:
+// meshes/broken.obj: line 5: face refers to vertex 7 but the file has 3 vertices". The
+// rest of the scene is not validated here; the coordinator does that on submit. Reading
+// stops with ctx's error when ctx ends.
+func ReadSceneFile(ctx context.Context, path string, opts ...SceneOption) (*SceneFile, error) {
 	var o sceneOptions
 	for _, opt := range opts {
 		opt(&o)
 	}
-	data, err := os.ReadFile(path)
+	data, err := readSmallFile(path)
 	if err != nil {
 		return nil, invalid("", err.Error(), err)
 	}
@@ -93,14 +101,9 @@ func ReadSceneFile(path string, opts ...SceneOption) (*SceneFile, error) {
 		}
 		j, ok := seen[file]
 		if !ok {
-			digest, size, err := fileDigest(file)
+			digest, size, err := readAsset(ctx, field, file, m.GetPath())
 			if err != nil {
-				// Name the file as the scene does, not as resolved.
-				var pe *fs.PathError
-				if errors.As(err, &pe) {
-					pe.Path = m.GetPath()
-				}
-				return nil, invalid(field+".path", err.Error(), err)
+				return nil, err
 			}
 			j = len(sf.Meshes)
 			seen[file] = j
@@ -112,9 +115,8 @@ func ReadSceneFile(path string, opts ...SceneOption) (*SceneFile, error) {
 				fmt.Sprintf("is %s but the file at path %q has digest %s; set only one of path and digest", d, m.GetPath(), digest), nil)
 		}
 		m.Digest = digest
-		m.Path = ""
 	}
-	if err := sf.resolveReference(root, dir); err != nil {
+	if err := sf.resolveReference(ctx, root, dir); err != nil {
 		return nil, err
 	}
 	return sf, nil
@@ -167,14 +169,12 @@ func (r *assetRoot) resolve(field, dir, p string) (string, error) {
 	resolved, err := filepath.EvalSymlinks(abs)
 	if err != nil {
 		// Report it as opening the file would, naming the path as the scene does.
-		if _, _, oerr := fileDigest(abs); oerr != nil {
+		if f, oerr := os.Open(abs); oerr != nil {
 			err = oerr
+		} else {
+			f.Close()
 		}
-		var pe *fs.PathError
-		if errors.As(err, &pe) {
-			pe.Path = p
-		}
-		return "", invalid(field, err.Error(), err)
+		return "", invalid(field, asWritten(err, p).Error(), err)
 	}
 	if !within(r.resolved, resolved) {
 		return "", invalid(field, fmt.Sprintf("%q leads through a symbolic link to %s, outside the asset root %s; move the file into the root or choose a wider root (farm: --asset-root DIR)", p, resolved, r.resolved), nil)
@@ -185,7 +185,7 @@ func (r *assetRoot) resolve(field, dir, p string) (string, error) {
 // resolveReference hashes the reference image a progressive scene names by path (relative
 // to the scene file, inside the asset root) and sets its digest; the file is uploaded with
 // the meshes.
-func (sf *SceneFile) resolveReference(root *assetRoot, dir string) error {
+func (sf *SceneFile) resolveReference(ctx context.Context, root *assetRoot, dir string) error {
 	ref := sf.Scene.GetProgressive().GetReference()
 	if ref.GetPath() == "" {
 		return nil
@@ -195,13 +195,9 @@ func (sf *SceneFile) resolveReference(root *assetRoot, dir string) error {
 	if err != nil {
 		return err
 	}
-	digest, size, err := fileDigest(file)
+	digest, size, err := fileDigest(ctx, file, rules.Scene.GetMaxAssetBytes())
 	if err != nil {
-		var pe *fs.PathError
-		if errors.As(err, &pe) {
-			pe.Path = ref.GetPath()
-		}
-		return invalid(field+".path", err.Error(), err)
+		return invalid(field+".path", asWritten(err, ref.GetPath()).Error(), err)
 	}
 	if d := ref.GetDigest(); d != "" && d != digest {
 		return invalid(field+".digest",
@@ -211,6 +207,46 @@ func (sf *SceneFile) resolveReference(root *assetRoot, dir string) error {
 	ref.Digest = digest
 	ref.Path = ""
 	return nil
+}
+
+// readAsset checks and hashes the mesh file at file, which the scene at field
+// ("shapes[3].mesh") names as written: a regular file within the contract's size limit
+// (a device such as /dev/zero would never end) that contract/assets accepts.
+func readAsset(ctx context.Context, field, file, written string) (digest string, size int64, err error) {
+	lim := assets.SceneLimits()
+	digest, size, err = fileDigest(ctx, file, lim.MaxBytes)
+	if err != nil {
+		if ctx.Err() != nil {
+			return "", 0, ctx.Err()
+		}
+		return "", 0, invalid(field+".path", asWritten(err, written).Error(), err)
+	}
+	_, err = assets.CheckOBJ(ctx, func() (io.ReadCloser, error) {
+		f, err := openRegular(file, lim.MaxBytes)
+		if err != nil {
+			return nil, err
+		}
+		return f, nil
+	}, lim)
+	var bad *assets.Error
+	switch {
+	case errors.As(err, &bad):
+		return "", 0, invalid(field, written+": "+bad.Error(), err)
+	case err != nil && ctx.Err() != nil:
+		return "", 0, ctx.Err()
+	case err != nil:
+		return "", 0, invalid(field+".path", asWritten(err, written).Error(), err)
+	}
+	return digest, size, nil
+}
+
+// asWritten names the file in err as the scene does, not as resolved.
+func asWritten(err error, written string) error {
+	var pe *fs.PathError
+	if errors.As(err, &pe) {
+		pe.Path = written
+	}
+	return err
 }
 
 // Upload stores the scene's mesh files in the coordinator's blob store (skipping those it
@@ -231,11 +267,11 @@ func (c *Client) Upload(ctx context.Context, sf *SceneFile) error {
 	return nil
 }
 
-// LoadSceneFile reads the scene file at path (see ReadSceneFile for the options and the
-// asset root), uploads the mesh files and reference image it references and returns the
-// scene ready to submit: each has its digest set and its path cleared.
+// LoadSceneFile reads the scene file at path (see ReadSceneFile for the options, the asset
+// root and the checks), uploads the mesh files and reference image it references and
+// returns the scene ready to submit: each has its digest set.
 func (c *Client) LoadSceneFile(ctx context.Context, path string, opts ...SceneOption) (*pb.Scene, error) {
-	sf, err := ReadSceneFile(path, opts...)
+	sf, err := ReadSceneFile(ctx, path, opts...)
 	if err != nil {
 		return nil, err
 	}

@@ -1,6 +1,7 @@
 package client
 
 import (
+	"context"
 	"errors"
 	"os"
 	"path/filepath"
@@ -89,7 +90,7 @@ func TestAssetRootRefusesPathsThatLeaveIt(t *testing.T) {
 			if tc.setup != nil {
 				tc.setup(filepath.Join(tree, "scenes"))
 			}
-			_, err := ReadSceneFile(scene)
+			_, err := ReadSceneFile(context.Background(), scene)
 			if err == nil {
 				t.Fatal("a mesh outside the asset root was accepted")
 			}
@@ -108,7 +109,7 @@ func TestAssetRootAcceptsFilesInside(t *testing.T) {
 	if err := os.Symlink(filepath.Join(tree, "scenes", "meshes", "tet.obj"), filepath.Join(tree, "scenes", "alias.obj")); err != nil {
 		t.Fatal(err)
 	}
-	sf, err := ReadSceneFile(scene)
+	sf, err := ReadSceneFile(context.Background(), scene)
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -117,17 +118,17 @@ func TestAssetRootAcceptsFilesInside(t *testing.T) {
 	}
 	_, aliased := assetTree(t, "alias.obj")
 	os.Symlink(filepath.Join(filepath.Dir(aliased), "meshes", "tet.obj"), filepath.Join(filepath.Dir(aliased), "alias.obj"))
-	if _, err := ReadSceneFile(aliased); err != nil {
+	if _, err := ReadSceneFile(context.Background(), aliased); err != nil {
 		t.Errorf("symlink inside the root: %v", err)
 	}
 	// A wider root admits ../outside.obj.
 	_, up := assetTree(t, "../outside.obj")
-	if _, err := ReadSceneFile(up, WithAssetRoot(filepath.Dir(filepath.Dir(up)))); err != nil {
+	if _, err := ReadSceneFile(context.Background(), up, WithAssetRoot(filepath.Dir(filepath.Dir(up)))); err != nil {
 		t.Errorf("with the parent folder as asset root: %v", err)
 	}
 	// A missing file inside the root is still reported as missing.
 	_, missing := assetTree(t, "meshes/absent.obj")
-	if _, err := ReadSceneFile(missing); err == nil || !strings.Contains(err.Error(), "open meshes/absent.obj: no such file or directory") {
+	if _, err := ReadSceneFile(context.Background(), missing); err == nil || !strings.Contains(err.Error(), "open meshes/absent.obj: no such file or directory") {
 		t.Errorf("missing mesh: %v", err)
 	}
 }
@@ -138,7 +139,7 @@ func TestAssetRootAppliesToTheReferenceImage(t *testing.T) {
 	os.MkdirAll(scenes, 0o755)
 	os.WriteFile(filepath.Join(root, "ref.exr"), []byte("not really"), 0o644)
 	scene := writeScene(t, scenes, `{"shapes": [{"sphere": {"radius": 1}}], "progressive": {"reference": {"path": "../ref.exr"}}}`)
-	_, err := ReadSceneFile(scene)
+	_, err := ReadSceneFile(context.Background(), scene)
 	if err == nil || !strings.Contains(err.Error(), "progressive.reference.path") || !strings.Contains(err.Error(), "outside the asset root") {
 		t.Errorf("reference outside the root: %v", err)
 	}

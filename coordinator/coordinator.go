@@ -78,6 +78,10 @@ type Config struct {
 	RedisPrefix string
 }
 
+// The service is the builder's task service: the builder declares what it needs of it
+// rather than importing it.
+var _ builder.Tasks = (*service.Service)(nil)
+
 // DefaultRedisPrefix is Config.RedisPrefix's default.
 const DefaultRedisPrefix = "farm:"
 
@@ -131,7 +135,7 @@ func New(cfg Config) (*Coordinator, error) {
 			cfg.TLS.MinVersion = tls.VersionTLS12
 		}
 	}
-	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), blobstore.DefaultMaxSize)
+	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), 0)
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
 	}

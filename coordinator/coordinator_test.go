@@ -11,8 +11,8 @@ import (
 	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/protobuf/types/known/durationpb"
 
-	"photonfarm/coordinator"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

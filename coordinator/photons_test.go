@@ -8,8 +8,8 @@ import (
 	"google.golang.org/protobuf/types/known/durationpb"
 
 	"photonfarm/client"
-	"photonfarm/coordinator/photonmap"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/photonmap"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

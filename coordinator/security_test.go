@@ -2,17 +2,7 @@ package coordinator_test
 
 import (
 	"context"
-	"crypto/ecdsa"
-	"crypto/elliptic"
-	"crypto/rand"
 	"crypto/tls"
-	"crypto/x509"
-	"crypto/x509/pkix"
-	"encoding/pem"
-	"math/big"
-	"net"
-	"os"
-	"path/filepath"
 	"strings"
 	"testing"
 	"time"
@@ -25,8 +15,9 @@ import (
 	"google.golang.org/protobuf/types/known/durationpb"
 
 	"photonfarm/client"
-	"photonfarm/coordinator"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator"
+	"photonfarm/coordinator/tlstest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -160,49 +151,9 @@ func TestClientSDKSendsTheToken(t *testing.T) {
 	}
 }
 
-// selfSigned writes a self-signed ECDSA certificate for 127.0.0.1 and localhost to dir and
-// returns it as a TLS certificate and the path of its PEM (the CA a client must trust).
-func selfSigned(t *testing.T, dir string) (tls.Certificate, string) {
-	t.Helper()
-	key, err := ecdsa.GenerateKey(elliptic.P256(), rand.Reader)
-	if err != nil {
-		t.Fatal(err)
-	}
-	tmpl := &x509.Certificate{
-		SerialNumber:          big.NewInt(1),
-		Subject:               pkix.Name{CommonName: "photonfarm test coordinator"},
-		NotBefore:             time.Now().Add(-time.Hour),
-		NotAfter:              time.Now().Add(time.Hour),
-		KeyUsage:              x509.KeyUsageDigitalSignature | x509.KeyUsageCertSign,
-		ExtKeyUsage:           []x509.ExtKeyUsage{x509.ExtKeyUsageServerAuth},
-		BasicConstraintsValid: true,
-		IsCA:                  true,
-		IPAddresses:           []net.IP{net.ParseIP("127.0.0.1")},
-		DNSNames:              []string{"localhost"},
-	}
-	der, err := x509.CreateCertificate(rand.Reader, tmpl, tmpl, &key.PublicKey, key)
-	if err != nil {
-		t.Fatal(err)
-	}
-	keyDER, err := x509.MarshalECPrivateKey(key)
-	if err != nil {
-		t.Fatal(err)
-	}
-	certPEM := pem.EncodeToMemory(&pem.Block{Type: "CERTIFICATE", Bytes: der})
-	keyPEM := pem.EncodeToMemory(&pem.Block{Type: "EC PRIVATE KEY", Bytes: keyDER})
-	cert, err := tls.X509KeyPair(certPEM, keyPEM)
-	if err != nil {
-		t.Fatal(err)
-	}
-	caFile := filepath.Join(dir, "ca.pem")
-	if err := os.WriteFile(caFile, certPEM, 0o600); err != nil {
-		t.Fatal(err)
-	}
-	return cert, caFile
-}
-
 func TestTLSNeedsTheCA(t *testing.T) {
-	cert, caFile := selfSigned(t, t.TempDir())
+	tc := tlstest.SelfSigned(t, t.TempDir())
+	cert, caFile := tc.TLS, tc.CertFile
 	addr := serve(t, coordinator.Config{
 		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken},
 		TLS: &tls.Config{Certificates: []tls.Certificate{cert}},

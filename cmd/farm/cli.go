@@ -355,7 +355,8 @@ sha256 digest before it replaces a file.
 	"plan": `Reads SCENE (JSON), has the coordinator validate and plan it without creating a job,
 and prints one line per pass the renderer knows (run or skip, and why: e.g. "skip caustic
 photon map: no specular surface"), then the tasks per phase of the first round. Mesh and
-reference files are hashed, not uploaded.
+reference files are hashed and meshes checked (a broken OBJ is refused with its file, line
+and reason), not uploaded.
 `,
 	"report": `Prints a job's progressive rounds as a table: seconds since the job was submitted,
 photon paths and samples per pixel so far, the error estimated from the spread between
@@ -372,10 +373,13 @@ holding the fewest leases goes next). Leases granted already stand. N may be neg
 blocked workers and why). unblock lets WORKER, or without it every blocked worker, lease
 the job's tasks again, with its failure count reset.
 `,
-	"submit": `Reads SCENE (JSON), uploads the mesh files it names (paths relative to the scene file),
-submits it and prints the job id on stdout. --priority N (in [-1000, 1000], default 0)
-puts it ahead of (or behind) jobs of lower (higher) priority. A malformed scene is refused with the field
-at fault and exit status 2, and so is a file outside the asset root (--asset-root, by
-default the scene file's folder: no "..", absolute path or symbolic link leading out).
+	"submit": `Reads SCENE (JSON), checks the mesh files it names (paths relative to the scene file)
+and uploads them, submits it and prints the job id on stdout. --priority N (in [-1000,
+1000], default 0) puts it ahead of (or behind) jobs of lower (higher) priority. A malformed
+scene is refused with the field at fault and exit status 2, and so is a mesh that does not
+parse (naming the file, the line and the reason), a path that is not a regular file, and
+a file outside the asset root (--asset-root, by default the scene file's folder: no "..",
+absolute path or symbolic link leading out). The submission carries a request id, so the
+coordinator makes one job of it however often the call is retried.
 `,
 }

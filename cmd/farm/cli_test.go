@@ -2,7 +2,6 @@ package main
 
 import (
 	"context"
-	"net"
 	"os"
 	"path/filepath"
 	"strings"
@@ -12,6 +11,7 @@ import (
 	"google.golang.org/protobuf/types/known/timestamppb"
 
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
 )
 
 func runForTest(t *testing.T, vars map[string]string, args ...string) (code int, stdout, stderr string) {
@@ -91,15 +91,7 @@ func TestCoordinatorAddress(t *testing.T) {
 }
 
 // closedAddress is a loopback address where nothing listens.
-func closedAddress(t *testing.T) string {
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	addr := lis.Addr().String()
-	lis.Close()
-	return addr
-}
+func closedAddress(t *testing.T) string { return farmtest.ClosedAddress(t) }
 
 func TestSubmitReportsSceneErrorsBeforeTheNetwork(t *testing.T) {
 	dir := t.TempDir()
@@ -164,9 +156,9 @@ func TestProgressPlainLines(t *testing.T) {
 	p.draw(true)
 
 	want := []string{
-		"job j1: render 0/48 tiles (0%), elapsed 0s",
-		"job j1: render 24/48 tiles (50%), elapsed 4s, ETA 4s",
-		"job j1: composite 0/1 tasks (0%), elapsed 8s",
+		"job j1: Render tiles 0/48 tiles (0%), elapsed 0s",
+		"job j1: Render tiles 24/48 tiles (50%), elapsed 4s, ETA 4s",
+		"job j1: Composite 0/1 tasks (0%), elapsed 8s",
 		"job j1: succeeded (render 48/48, composite 1/1), took 8.5s",
 	}
 	got := strings.Split(strings.TrimRight(out.String(), "\n"), "\n")
@@ -189,7 +181,7 @@ func TestProgressBarRedrawsInPlace(t *testing.T) {
 		t.Fatalf("output %q: want two frames, each starting with \\r, no newline", s)
 	}
 	last := frames[1]
-	for _, want := range []string{"render", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
+	for _, want := range []string{"Render tiles", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
 		if !strings.Contains(last, want) {
 			t.Errorf("frame %q lacks %q", last, want)
 		}

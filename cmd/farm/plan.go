@@ -8,6 +8,7 @@ import (
 	"text/tabwriter"
 
 	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -27,7 +28,7 @@ func runPlan(ctx context.Context, e *env, args []string) error {
 	}
 	defer c.Close()
 	// The files a scene names are hashed, not uploaded: planning does not need them.
-	sf, err := client.ReadSceneFile(pos[0], client.WithAssetRoot(*assetRoot))
+	sf, err := client.ReadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}
@@ -57,7 +58,7 @@ func printPlan(w io.Writer, plan *pb.Plan, phases []*pb.PhaseProgress) {
 	}
 	var parts []string
 	for _, ph := range phases {
-		parts = append(parts, fmt.Sprintf("%s %d", client.PhaseName(ph.GetPhase()), ph.GetTasksTotal()))
+		parts = append(parts, fmt.Sprintf("%s %d", tasks.Name(ph.GetPhase()), ph.GetTasksTotal()))
 	}
 	fmt.Fprintf(w, "tasks per phase (round 1): %s\n", strings.Join(parts, ", "))
 }

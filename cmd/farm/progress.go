@@ -8,6 +8,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -115,7 +116,7 @@ func current(job *pb.Job) (name string, done, total uint32) {
 func currentAt(job *pb.Job) (name string, done, total uint32, at int) {
 	phases := job.GetPhases()
 	if len(phases) == 0 {
-		return client.StateName(job.GetState()), 0, 0, 0
+		return tasks.JobStateName(job.GetState()), 0, 0, 0
 	}
 	at = len(phases) - 1
 	for i, x := range phases {
@@ -125,7 +126,7 @@ func currentAt(job *pb.Job) (name string, done, total uint32, at int) {
 		}
 	}
 	ph := phases[at]
-	return client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal(), at + 1
+	return tasks.Label(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal(), at + 1
 }
 
 // phaseOf returns the progress of phase p in job, if the job has that phase.
@@ -165,12 +166,12 @@ func roundLabel(job *pb.Job) string {
 	return label + " "
 }
 
-// unit names what a phase's tasks are.
-func unit(phase string) string {
-	switch phase {
-	case "emit":
+// unit names what the tasks of the phase labelled label are.
+func unit(label string) string {
+	switch label {
+	case tasks.Label(pb.Phase_PHASE_EMIT):
 		return "shards"
-	case "render":
+	case tasks.Label(pb.Phase_PHASE_RENDER):
 		return "tiles"
 	}
 	return "tasks"
@@ -234,7 +235,7 @@ func (p *progress) drawTTY(final bool) {
 	state := p.job.GetState()
 	if ph, ok := phaseOf(p.job, pb.Phase_PHASE_RENDER); ok && state == pb.JobState_JOB_STATE_SUCCEEDED {
 		// Done: show the tiles rendered, not the one composite task.
-		phase, done, total = client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
+		phase, done, total = tasks.Label(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()
 	}
 	name := phase
 	if n := len(p.job.GetPhases()); n > 0 {
@@ -244,7 +245,7 @@ func (p *progress) drawTTY(final bool) {
 	case state == pb.JobState_JOB_STATE_QUEUED:
 		name = "queued"
 	case client.JobEnded(state):
-		name = client.StateName(state)
+		name = tasks.JobStateName(state)
 	}
 	name = roundLabel(p.job) + name
 	var b strings.Builder
@@ -279,7 +280,7 @@ func (p *progress) drawPlain(final bool) {
 	var text string
 	switch state := job.GetState(); {
 	case client.JobEnded(state):
-		text = fmt.Sprintf("job %s: %s%s", job.GetId(), roundLabel(job), client.StateName(state))
+		text = fmt.Sprintf("job %s: %s%s", job.GetId(), roundLabel(job), tasks.JobStateName(state))
 		if s := phaseSummary(job); s != "" {
 			text += " (" + s + ")"
 		}

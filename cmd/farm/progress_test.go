@@ -45,10 +45,10 @@ func TestProgressPlainLinesShowEveryPhase(t *testing.T) {
 	p.draw(true)
 
 	want := []string{
-		"job j2: emit 0/4 shards (0%), elapsed 0s",
-		"job j2: build 0/1 tasks (0%), elapsed 2s",
-		"job j2: render 0/48 tiles (0%), elapsed 3s",
-		"job j2: composite 0/1 tasks (0%), elapsed 5s",
+		"job j2: Emit photons 0/4 shards (0%), elapsed 0s",
+		"job j2: Build photon map 0/1 tasks (0%), elapsed 2s",
+		"job j2: Render tiles 0/48 tiles (0%), elapsed 3s",
+		"job j2: Composite 0/1 tasks (0%), elapsed 5s",
 		"job j2: succeeded (emit 4/4, build 1/1, render 48/48, composite 1/1), took 6s",
 	}
 	if got := strings.TrimRight(out.String(), "\n"); got != strings.Join(want, "\n") {
@@ -63,9 +63,9 @@ func TestProgressBarNamesThePhaseAndItsPlace(t *testing.T) {
 		job  *pb.Job
 		want []string
 	}{
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 1, 0, 0, 0), []string{"emit 1/4", "1/4", "shards", "25%"}},
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 4, 0, 0, 0), []string{"build 2/4", "0/1", "tasks"}},
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 4, 1, 12, 0), []string{"render 3/4", "12/48", "tiles", "25%"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 1, 0, 0, 0), []string{"Emit photons 1/4", "1/4", "shards", "25%"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 4, 0, 0, 0), []string{"Build photon map 2/4", "0/1", "tasks"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 4, 1, 12, 0), []string{"Render tiles 3/4", "12/48", "tiles", "25%"}},
 		{photonJob(pb.JobState_JOB_STATE_SUCCEEDED, t0, 4, 1, 48, 1), []string{"succeeded", "48/48", "tiles", "100%"}},
 	}
 	for _, tt := range tests {

@@ -60,7 +60,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	scenePath := pos[0]
 
 	// Everything that can be checked without a farm is checked first.
-	sf, err := client.ReadSceneFile(scenePath, client.WithAssetRoot(*assetRoot))
+	sf, err := client.ReadSceneFile(ctx, scenePath, client.WithAssetRoot(*assetRoot))
 	if err != nil {
 		return err
 	}
@@ -123,7 +123,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	if err := c.Upload(jobCtx, sf); err != nil {
 		return cause(err)
 	}
-	job, err := c.Submit(jobCtx, sf.Scene)
+	job, err := c.Submit(jobCtx, sf.Scene, client.WithRequestID(client.NewRequestID()))
 	if err != nil {
 		return cause(err)
 	}

@@ -106,7 +106,7 @@ func TestSubmitRefusesAMeshOutsideTheAssetRoot(t *testing.T) {
 	root := t.TempDir()
 	scenes := filepath.Join(root, "scenes")
 	os.MkdirAll(scenes, 0o755)
-	os.WriteFile(filepath.Join(root, "x.obj"), []byte("v 0 0 0\n"), 0o644)
+	os.WriteFile(filepath.Join(root, "x.obj"), []byte("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), 0o644)
 	path := filepath.Join(scenes, "s.json")
 	os.WriteFile(path, []byte(`{"shapes": [{"mesh": {"path": "../x.obj"}}]}`), 0o644)
 	code, _, stderr := runForTest(t, nil, "plan", path, "--coordinator", closedAddress(t))

@@ -8,7 +8,7 @@ import (
 	"text/tabwriter"
 	"time"
 
-	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -59,7 +59,7 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', 0)
 	fmt.Fprintf(tw, "job\t%s\n", job.GetId())
 	fmt.Fprintf(tw, "name\t%s\n", job.GetDisplayName())
-	fmt.Fprintf(tw, "state\t%s\n", client.StateName(job.GetState()))
+	fmt.Fprintf(tw, "state\t%s\n", tasks.JobStateName(job.GetState()))
 	fmt.Fprintf(tw, "priority\t%d\n", job.GetPriority())
 	fmt.Fprintf(tw, "image\t%dx%d\n", job.GetWidth(), job.GetHeight())
 	if t := job.GetCreateTime(); t != nil {
@@ -71,7 +71,7 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 		fmt.Fprintf(tw, "age\t%s\n", now.Sub(t.AsTime()).Round(time.Second))
 	}
 	for _, ph := range job.GetPhases() {
-		fmt.Fprintf(tw, "phase %s\t%d/%d tasks\n", client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal())
+		fmt.Fprintf(tw, "phase %s\t%d/%d tasks\n", tasks.Name(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal())
 	}
 	for _, a := range job.GetOutputs() {
 		fmt.Fprintf(tw, "output %s\t%s (%d bytes)\n", a.GetName(), a.GetDigest(), a.GetSizeBytes())
@@ -81,7 +81,7 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 			b.GetBlockTime().AsTime().Local().Format(time.DateTime))
 	}
 	if job.GetError() != "" {
-		fmt.Fprintf(tw, "error\t%s\n", job.GetError())
+		fmt.Fprintf(tw, "error\t%s\n", oneLine(jobFailure(job)))
 	}
 	tw.Flush()
 }
@@ -105,7 +105,7 @@ func runList(ctx context.Context, e *env, args []string) error {
 			created = t.AsTime().Local().Format(time.DateTime)
 		}
 		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
-			client.StateName(j.GetState()), j.GetPriority(), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
+			tasks.JobStateName(j.GetState()), j.GetPriority(), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
 	}
 	return tw.Flush()
 }
@@ -114,7 +114,7 @@ func runList(ctx context.Context, e *env, args []string) error {
 func phaseSummary(j *pb.Job) string {
 	var parts []string
 	for _, ph := range j.GetPhases() {
-		parts = append(parts, fmt.Sprintf("%s %d/%d", client.PhaseName(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()))
+		parts = append(parts, fmt.Sprintf("%s %d/%d", tasks.Name(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal()))
 	}
 	return strings.Join(parts, ", ")
 }
@@ -126,15 +126,15 @@ func runTasks(ctx context.Context, e *env, args []string) error {
 		return err
 	}
 	defer c.Close()
-	tasks, err := c.ListTasks(ctx, pos[0])
+	list, err := c.ListTasks(ctx, pos[0])
 	if err != nil {
 		return err
 	}
 	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
 	fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tWORK\tERROR")
-	for _, t := range tasks {
-		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), client.PhaseName(t.GetPhase()),
-			client.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), taskWork(t), oneLine(t.GetError()))
+	for _, t := range list {
+		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), tasks.Name(t.GetPhase()),
+			tasks.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), taskWork(t), oneLine(t.GetError()))
 	}
 	return tw.Flush()
 }
@@ -163,6 +163,6 @@ func runCancel(ctx context.Context, e *env, args []string) error {
 	if err != nil {
 		return err
 	}
-	fmt.Fprintf(e.stdout, "job %s %s\n", job.GetId(), client.StateName(job.GetState()))
+	fmt.Fprintf(e.stdout, "job %s %s\n", job.GetId(), tasks.JobStateName(job.GetState()))
 	return nil
 }

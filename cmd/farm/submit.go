@@ -32,7 +32,7 @@ func runSubmit(ctx context.Context, e *env, args []string) error {
 	if err != nil {
 		return err
 	}
-	job, err := c.Submit(ctx, sc, prio)
+	job, err := c.Submit(ctx, sc, prio, client.WithRequestID(client.NewRequestID()))
 	if err != nil {
 		return err
 	}

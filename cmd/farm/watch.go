@@ -6,6 +6,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -39,13 +40,22 @@ func watchJob(ctx context.Context, e *env, c *client.Client, jobID string) error
 	return jobOutcome(job)
 }
 
+// jobFailure is a failed job's reason for people, its failure kind's label first when the
+// coordinator says it: "bad input: task j-1.3 failed: shapes[8].mesh: ...".
+func jobFailure(job *pb.Job) string {
+	if k := job.GetFailureKind(); k != pb.FailureKind_FAILURE_KIND_UNSPECIFIED {
+		return tasks.FailureOf(k).Label + ": " + job.GetError()
+	}
+	return job.GetError()
+}
+
 // jobOutcome is nil for a succeeded job and an error saying how it ended otherwise.
 func jobOutcome(job *pb.Job) error {
 	switch job.GetState() {
 	case pb.JobState_JOB_STATE_SUCCEEDED:
 		return nil
 	case pb.JobState_JOB_STATE_FAILED:
-		return &exitError{code: exitFailure, err: fmt.Errorf("job %s failed: %s", job.GetId(), job.GetError())}
+		return &exitError{code: exitFailure, err: fmt.Errorf("job %s failed: %s", job.GetId(), jobFailure(job))}
 	}
-	return &exitError{code: exitFailure, err: fmt.Errorf("job %s ended %s", job.GetId(), client.StateName(job.GetState()))}
+	return &exitError{code: exitFailure, err: fmt.Errorf("job %s ended %s", job.GetId(), tasks.JobStateName(job.GetState()))}
 }

@@ -19,11 +19,12 @@ import (
 	"path/filepath"
 	"regexp"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/errs"
 )
 
-// DefaultMaxSize is the default size limit of one blob: 1 GiB (docs/limits.md).
-const DefaultMaxSize int64 = 1 << 30
+// DefaultMaxSize is the default size limit of one blob: the contract's max_blob_bytes.
+var DefaultMaxSize = int64(rules.RPC.GetMaxBlobBytes())
 
 var digestRE = regexp.MustCompile(`^sha256:[0-9a-f]{64}$`)
 

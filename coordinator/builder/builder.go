@@ -4,8 +4,9 @@
 // shards the lease names and merges them with photonmap.Build into a kd-tree snapshot; a
 // merge downloads the round's snapshot and irradiance shards and adds the irradiance with
 // photonmap.MergeIrradiance. Either stores the result in the blob store and completes the
-// task with it as "photons.snapshot". Malformed shards fail the task with the builder's
-// error.
+// task with it as "photons.snapshot". Malformed shards (or a malformed snapshot) fail the
+// task as bad input, which fails the job at once: another attempt would read the same
+// bytes. Anything else that goes wrong (a blob that cannot be read) is transient.
 package builder
 
 import (
@@ -17,19 +18,21 @@ import (
 	"log/slog"
 	"time"
 
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/photonmap"
-	"photonfarm/coordinator/service"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// Tasks is what the builder needs of the task service (service.Service).
+// Tasks is what the builder needs of the task service: service.Service, as the
+// coordinator's wiring asserts (the builder does not import the service, which would
+// tie the coordinator's own worker to the gRPC layer).
 type Tasks interface {
 	Lease(ctx context.Context, workerID string, phases []pb.Phase, wait time.Duration) (*pb.LeaseTaskResponse, error)
 	Extend(ctx context.Context, workerID string, held []*pb.HeldLease) ([]*pb.Lease, []*pb.HeldLease, error)
 	Complete(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) error
-	Fail(ctx context.Context, ref store.LeaseRef, message string) error
+	Fail(ctx context.Context, ref store.LeaseRef, f store.Failure) error
 }
 
 // Blobs is what the builder needs of the blob store.
@@ -38,10 +41,7 @@ type Blobs interface {
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 }
 
-var (
-	_ Tasks = (*service.Service)(nil)
-	_ Blobs = (*blobstore.Store)(nil)
-)
+var _ Blobs = (*blobstore.Store)(nil)
 
 // Defaults for Config.
 const (
@@ -139,15 +139,19 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 	case *pb.Task_MergeIrradiance:
 		out, err = b.merge(taskCtx, spec.MergeIrradiance)
 	default:
-		err = fmt.Errorf("the coordinator's builder cannot do task %s (%T)", ref.TaskID, spec)
+		err = badInput{fmt.Errorf("the coordinator's builder cannot do task %s (%T)", ref.TaskID, spec)}
 	}
 	if cause := context.Cause(taskCtx); cause != nil {
 		b.log.Info("builder: build abandoned", "task", ref.TaskID, "why", cause)
 		return
 	}
 	if err != nil {
-		b.log.Warn("builder: build failed", "task", ref.TaskID, "err", err)
-		if ferr := b.cfg.Tasks.Fail(ctx, ref, err.Error()); ferr != nil {
+		kind := pb.FailureKind_FAILURE_KIND_TRANSIENT
+		if errors.As(err, new(badInput)) {
+			kind = pb.FailureKind_FAILURE_KIND_BAD_INPUT
+		}
+		b.log.Warn("builder: build failed", "task", ref.TaskID, "kind", kind.String(), "err", err)
+		if ferr := b.cfg.Tasks.Fail(ctx, ref, store.Failure{Message: err.Error(), Kind: kind}); ferr != nil {
 			b.log.Error("builder: reporting failure", "task", ref.TaskID, "err", ferr)
 		}
 		return
@@ -159,6 +163,12 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 	b.log.Info("photon map built", "task", ref.TaskID, "phase", l.GetTask().GetPhase().String(),
 		"bytes", out.GetSizeBytes(), "snapshot", out.GetDigest(), "took", time.Since(start).Round(time.Millisecond))
 }
+
+// badInput marks an error in what the task's inputs hold (a malformed shard): every
+// attempt would fail the same way.
+type badInput struct{ error }
+
+func (e badInput) Unwrap() error { return e.error }
 
 // errLeaseLost is the cause of a build's cancellation when its lease was revoked.
 var errLeaseLost = errors.New("lease lost")
@@ -202,7 +212,7 @@ func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec) (*pb.A
 	}
 	snap, err := b.cfg.Build(shards)
 	if err != nil {
-		return nil, fmt.Errorf("build photon map: %w", err)
+		return nil, badInput{fmt.Errorf("build photon map: %w", err)}
 	}
 	return b.store(ctx, snap)
 }
@@ -222,7 +232,7 @@ func (b *Builder) merge(ctx context.Context, spec *pb.MergeIrradianceSpec) (*pb.
 	}
 	merged, err := b.cfg.Merge(snap, shards)
 	if err != nil {
-		return nil, fmt.Errorf("merge irradiance: %w", err)
+		return nil, badInput{fmt.Errorf("merge irradiance: %w", err)}
 	}
 	return b.store(ctx, merged)
 }
@@ -236,7 +246,7 @@ func (b *Builder) store(ctx context.Context, snap []byte) (*pb.Artifact, error) 
 	if err != nil {
 		return nil, fmt.Errorf("store photon snapshot: %w", err)
 	}
-	return &pb.Artifact{Name: service.SnapshotArtifact, Digest: info.Digest, SizeBytes: info.Size}, nil
+	return &pb.Artifact{Name: tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT), Digest: info.Digest, SizeBytes: info.Size}, nil
 }
 
 func (b *Builder) download(ctx context.Context, a *pb.Artifact) ([]byte, error) {

@@ -10,14 +10,14 @@ import (
 	"testing"
 	"time"
 
+	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/builder"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/events"
 	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/planner"
-	"photonfarm/contract/scene"
-	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/service"
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/memstore"
@@ -161,7 +161,7 @@ func TestBuilderMergesShardsIntoTheSnapshotTilesGet(t *testing.T) {
 	}
 }
 
-func TestBuilderFailsTheTaskOnMalformedShards(t *testing.T) {
+func TestBuilderFailsTheJobAtOnceOnMalformedShards(t *testing.T) {
 	f := newFixture(t, nil)
 	j := f.createJob(2)
 	f.emit(func(i int, spec *pb.EmitPhotonsSpec) []byte {
@@ -176,6 +176,12 @@ func TestBuilderFailsTheTaskOnMalformedShards(t *testing.T) {
 	}
 	if !strings.Contains(build.Error, "shards[1]") || !strings.Contains(job.Error, build.Error) {
 		t.Errorf("build error %q, job error %q; want the builder's error naming shards[1]", build.Error, job.Error)
+	}
+	// Bad input: one attempt, no retry, nobody blamed.
+	bad := pb.FailureKind_FAILURE_KIND_BAD_INPUT
+	if build.Attempts != 1 || build.FailureKind != bad || job.FailureKind != bad || len(job.BlockedWorkers) != 0 {
+		t.Errorf("build took %d attempts, kinds %v / %v, blocked %v; want one attempt failed as bad input",
+			build.Attempts, build.FailureKind, job.FailureKind, job.BlockedWorkers)
 	}
 }
 

@@ -13,7 +13,7 @@ import (
 	"github.com/prometheus/client_golang/prometheus/collectors"
 	"github.com/prometheus/client_golang/prometheus/promhttp"
 
-	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -90,7 +90,7 @@ func (m *Metrics) Handler() http.Handler {
 // LeaseGranted counts a lease of a task of phase.
 func (m *Metrics) LeaseGranted(phase pb.Phase) {
 	if m != nil {
-		m.leases.WithLabelValues(client.PhaseName(phase)).Inc()
+		m.leases.WithLabelValues(tasks.Name(phase)).Inc()
 	}
 }
 
@@ -111,7 +111,7 @@ func (m *Metrics) TaskFailed() {
 // TaskCompleted counts a completed task of phase.
 func (m *Metrics) TaskCompleted(phase pb.Phase) {
 	if m != nil {
-		m.completions.WithLabelValues(client.PhaseName(phase)).Inc()
+		m.completions.WithLabelValues(tasks.Name(phase)).Inc()
 	}
 }
 

@@ -5,7 +5,7 @@ import (
 
 	"github.com/prometheus/client_golang/prometheus"
 
-	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -44,13 +44,13 @@ func (c *stateCollector) Collect(ch chan<- prometheus.Metric) {
 		if s == pb.JobState_JOB_STATE_UNSPECIFIED {
 			continue
 		}
-		ch <- prometheus.MustNewConstMetric(jobsDesc, prometheus.GaugeValue, float64(counts.Jobs[s]), client.StateName(s))
+		ch <- prometheus.MustNewConstMetric(jobsDesc, prometheus.GaugeValue, float64(counts.Jobs[s]), tasks.JobStateName(s))
 	}
 	for v := range pb.TaskState_name {
 		s := pb.TaskState(v)
 		if s == pb.TaskState_TASK_STATE_UNSPECIFIED {
 			continue
 		}
-		ch <- prometheus.MustNewConstMetric(tasksDesc, prometheus.GaugeValue, float64(counts.Tasks[s]), client.TaskStateName(s))
+		ch <- prometheus.MustNewConstMetric(tasksDesc, prometheus.GaugeValue, float64(counts.Tasks[s]), tasks.TaskStateName(s))
 	}
 }

@@ -2,6 +2,7 @@ package photonmap
 
 import (
 	"fmt"
+	"io"
 	"math"
 )
 
@@ -57,11 +58,15 @@ func snapErr(format string, args ...any) error {
 
 // parseLayout checks everything about a snapshot but its records, in O(maps): sizes,
 // offsets, alignment, counts, power scales and the irradiance section.
-func parseLayout(data []byte) (snapshotLayout, error) {
+func parseLayout(data []byte) (snapshotLayout, error) { return parseHead(data, uint64(len(data))) }
+
+// parseHead is parseLayout for a snapshot of size bytes of which data holds at least the
+// header and the directory: nothing it checks lies past them.
+func parseHead(data []byte, size uint64) (snapshotLayout, error) {
 	var l snapshotLayout
 	bad := snapErr
-	if len(data) < headerSize {
-		return l, bad("%d bytes is shorter than the header", len(data))
+	if size < headerSize || len(data) < headerSize {
+		return l, bad("%d bytes is shorter than the header", size)
 	}
 	if string(data[:8]) != snapshotMagic {
 		return l, bad("bad magic %q", data[:8])
@@ -79,11 +84,11 @@ func parseLayout(data []byte) (snapshotLayout, error) {
 	if e := le.Uint32(data[20:]); e != dirEntrySize {
 		return l, bad("directory_entry_size %d, want %d", e, dirEntrySize)
 	}
-	if fs := le.Uint64(data[24:]); fs != uint64(len(data)) {
-		return l, bad("file_size %d, but %d bytes", fs, len(data))
+	if fs := le.Uint64(data[24:]); fs != size {
+		return l, bad("file_size %d, but %d bytes", fs, size)
 	}
 	dirEnd := uint64(headerSize + dirEntrySize*int(count))
-	if dirEnd > uint64(len(data)) {
+	if dirEnd > size || dirEnd > uint64(len(data)) {
 		return l, bad("directory runs past the end")
 	}
 	end := dirEnd
@@ -98,9 +103,9 @@ func parseLayout(data []byte) (snapshotLayout, error) {
 			return l, bad("map %d: kinds not increasing", i)
 		case m.count > maxMapPhotons:
 			return l, bad("map %d: photon_count %d over the limit", i, m.count)
-		case m.offset%mapAlignment != 0 || m.offset < end || m.offset > uint64(len(data)):
+		case m.offset%mapAlignment != 0 || m.offset < end || m.offset > size:
 			return l, bad("map %d: offset %d not 64-aligned after byte %d", i, m.offset, end)
-		case m.count > (uint64(len(data))-m.offset)/recordSize:
+		case m.count > (size-m.offset)/recordSize:
 			return l, bad("map %d: %d photons run past the end", i, m.count)
 		case !(scale > 0) || math.IsInf(float64(scale), 0):
 			return l, bad("map %d: power_scale %g", i, scale)
@@ -127,17 +132,49 @@ func parseLayout(data []byte) (snapshotLayout, error) {
 			return l, bad("irradiance_count %d, but the global map has %d photons", l.irrCount, l.maps[0].count)
 		case !(l.irrScale > 0) || math.IsInf(float64(l.irrScale), 0):
 			return l, bad("irradiance_scale %g", l.irrScale)
-		case l.irrOffset%mapAlignment != 0 || l.irrOffset < end || l.irrOffset > uint64(len(data)):
+		case l.irrOffset%mapAlignment != 0 || l.irrOffset < end || l.irrOffset > size:
 			return l, bad("irradiance_offset %d not 64-aligned after byte %d", l.irrOffset, end)
-		case l.irrCount > (uint64(len(data))-l.irrOffset)/irrRecordSize:
+		case l.irrCount > (size-l.irrOffset)/irrRecordSize:
 			return l, bad("irradiance runs past the end")
 		}
 		end = l.irrOffset + l.irrCount*irrRecordSize
 	}
-	if end != uint64(len(data)) {
-		return l, bad("%d trailing bytes", uint64(len(data))-end)
+	if end != size {
+		return l, bad("%d trailing bytes", size-end)
 	}
 	return l, nil
+}
+
+// MapInfo is what a snapshot's directory says of one of its maps.
+type MapInfo struct {
+	Kind    Kind
+	Photons uint64
+}
+
+// ReadMaps reads the header and directory at the start of r, a snapshot of size bytes,
+// checks them as Decode does (everything but the records, which it does not read) and
+// returns its maps in directory order. The coordinator uses it to learn how many photons
+// a built map holds without loading the snapshot.
+func ReadMaps(r io.Reader, size int64) ([]MapInfo, error) {
+	head := make([]byte, headerSize, headerSize+2*dirEntrySize)
+	if _, err := io.ReadFull(r, head); err != nil {
+		return nil, snapErr("reading the header: %v", err)
+	}
+	if count := le.Uint32(head[16:]); count <= 2 {
+		head = head[:headerSize+dirEntrySize*int(count)]
+		if _, err := io.ReadFull(r, head[headerSize:]); err != nil {
+			return nil, snapErr("reading the directory: %v", err)
+		}
+	}
+	l, err := parseHead(head, uint64(max(size, 0)))
+	if err != nil {
+		return nil, err
+	}
+	maps := make([]MapInfo, len(l.maps))
+	for i, m := range l.maps {
+		maps[i] = MapInfo{Kind: m.kind, Photons: m.count}
+	}
+	return maps, nil
 }
 
 // Decode parses and validates a snapshot; tests and tools use it to check what Build wrote.

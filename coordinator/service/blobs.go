@@ -5,6 +5,7 @@ import (
 	"errors"
 	"io"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -63,8 +64,8 @@ func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
 		if msg.GetHeader() != nil {
 			return errs.Field("header", "sent twice; only the first message is a header")
 		}
-		if len(msg.GetChunk()) > MaxUploadChunk {
-			return errs.Field("chunk", "%d bytes exceeds the %d byte chunk limit", len(msg.GetChunk()), MaxUploadChunk)
+		if n := uint64(len(msg.GetChunk())); n > rules.RPC.GetMaxUploadChunkBytes() {
+			return errs.Field("chunk", "%d bytes exceeds the %d byte chunk limit", n, rules.RPC.GetMaxUploadChunkBytes())
 		}
 		if _, err := w.Write(msg.GetChunk()); err != nil {
 			return inHeader(err)
@@ -78,7 +79,7 @@ func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
 	return stream.SendAndClose(&pb.UploadBlobResponse{Digest: info.Digest, SizeBytes: info.Size})
 }
 
-// DownloadBlob streams a blob in chunks of at most DownloadChunk bytes.
+// DownloadBlob streams a blob in chunks of the contract's download chunk size.
 func (b *blobServer) DownloadBlob(req *pb.DownloadBlobRequest, stream pb.BlobService_DownloadBlobServer) error {
 	if err := checkDigest(req.GetDigest()); err != nil {
 		return err
@@ -88,7 +89,7 @@ func (b *blobServer) DownloadBlob(req *pb.DownloadBlobRequest, stream pb.BlobSer
 		return err
 	}
 	defer r.Close()
-	buf := make([]byte, DownloadChunk)
+	buf := make([]byte, rules.RPC.GetMaxDownloadChunkBytes())
 	first := true
 	for {
 		n, err := io.ReadFull(r, buf)

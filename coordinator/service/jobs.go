@@ -7,9 +7,9 @@ import (
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
+	"photonfarm/contract/scene"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/planner"
-	"photonfarm/contract/scene"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -67,8 +67,9 @@ func pageSize(field string, n int32, def, max int) (int, error) {
 	return int(n), nil
 }
 
-// SubmitJob validates the scene, checks its meshes exist, stores the scene (defaults
-// filled in) as a blob, plans it and creates the job. Nothing is stored for a bad scene.
+// SubmitJob validates the scene, checks that the files it names are in the blob store and
+// that its meshes parse (checkMeshes), stores the scene (defaults filled in) as a blob,
+// plans it and creates the job. Nothing is stored for a bad scene.
 func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*pb.SubmitJobResponse, error) {
 	s := j.s
 	sc := req.GetScene()
@@ -85,6 +86,9 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 		return nil, err
 	}
 	if err := s.checkInputBlobs(ctx, sc); err != nil {
+		return nil, err
+	}
+	if err := s.checkMeshes(ctx, sc); err != nil {
 		return nil, err
 	}
 	sc = scene.Defaults(sc)
@@ -134,13 +138,18 @@ func (s *Service) checkInputBlobs(ctx context.Context, sc *pb.Scene) error {
 	return nil
 }
 
-// PlanScene validates and plans a scene as SubmitJob would, without storing anything.
+// PlanScene validates and plans a scene as SubmitJob would, without storing anything. The
+// meshes already in the blob store are checked; planning does not need the others, so a
+// client may plan before uploading.
 func (j *jobServer) PlanScene(ctx context.Context, req *pb.PlanSceneRequest) (*pb.PlanSceneResponse, error) {
 	sc := req.GetScene()
 	if sc == nil {
 		return nil, errs.Field("scene", "missing")
 	}
 	if err := scene.Validate(sc); err != nil {
+		return nil, err
+	}
+	if err := j.s.checkMeshes(ctx, sc); err != nil {
 		return nil, err
 	}
 	sc = scene.Defaults(sc)

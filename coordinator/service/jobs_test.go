@@ -12,9 +12,9 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/protobuf/proto"
 
-	"photonfarm/coordinator/blobstore"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/blobstore"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 

@@ -2,17 +2,17 @@ package service
 
 import (
 	"context"
-	"encoding/binary"
 	"fmt"
 	"io"
 	"math"
-	"sync"
 
 	"google.golang.org/protobuf/proto"
 
-	"photonfarm/coordinator/errs"
-	"photonfarm/coordinator/planner"
 	"photonfarm/contract/scene"
+	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/photonmap"
+	"photonfarm/coordinator/planner"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -35,7 +35,7 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 			if t.GetComposite() == nil {
 				return nil
 			}
-			a, err := output(t, AccumulationArtifact)
+			a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
 			spec.PreviousAccumulation = a
 			return err
 		})
@@ -106,7 +106,7 @@ func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIr
 		if t.GetPrecomputeIrradiance() == nil {
 			return nil
 		}
-		a, err := output(t, IrradianceArtifact)
+		a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD)
 		if err == nil {
 			spec.IrradianceShards = append(spec.IrradianceShards, a)
 		}
@@ -117,47 +117,27 @@ func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIr
 // globalPhotons reads the stored photon count of a snapshot's global map from its header
 // and directory (0 if it has none).
 func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64, error) {
-	r, _, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
+	r, info, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
 	if err != nil {
 		return 0, err
 	}
 	defer r.Close()
-	const header, entry = 64, 64
-	buf := make([]byte, header+2*entry)
-	n, err := io.ReadFull(r, buf)
-	if err != nil && err != io.ErrUnexpectedEOF {
-		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("read snapshot %s", snap.GetDigest()))
+	maps, err := photonmap.ReadMaps(r, info.Size)
+	if err != nil {
+		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", snap.GetDigest()))
 	}
-	buf = buf[:n]
-	le := binary.LittleEndian
-	if n < header || string(buf[:8]) != "PFPHOTON" {
-		return 0, errs.E(errs.Internal, "snapshot %s has no snapshot header", snap.GetDigest())
-	}
-	maps := int(le.Uint32(buf[16:]))
-	for m := 0; m < maps && header+(m+1)*entry <= n; m++ {
-		e := buf[header+m*entry:]
-		if le.Uint32(e) == 1 {
-			return uint64(le.Uint32(e[4:])), nil
+	for _, m := range maps {
+		if m.Kind == photonmap.Global {
+			return m.Photons, nil
 		}
 	}
 	return 0, nil
 }
 
-// sceneCache remembers parsed scenes by digest (they are immutable).
-type sceneCache struct {
-	mu sync.Mutex
-	m  map[string]*pb.Scene
-}
-
-const maxRememberedScenes = 64
-
-// scene returns the stored scene with this digest (defaults filled in at submit).
+// scene returns the stored scene with this digest (defaults filled in at submit),
+// remembered by digest: a stored scene never changes.
 func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
-	c := &s.scenes
-	c.mu.Lock()
-	sc, ok := c.m[digest]
-	c.mu.Unlock()
-	if ok {
+	if sc, ok := s.scenes.get(digest); ok {
 		return sc, nil
 	}
 	r, info, err := s.cfg.Blobs.Open(ctx, digest)
@@ -169,16 +149,11 @@ func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	if _, err := io.ReadFull(r, data); err != nil {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("read scene %s", digest))
 	}
-	sc = &pb.Scene{}
+	sc := &pb.Scene{}
 	if err := proto.Unmarshal(data, sc); err != nil {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("scene %s", digest))
 	}
-	c.mu.Lock()
-	defer c.mu.Unlock()
-	if c.m == nil || len(c.m) >= maxRememberedScenes {
-		c.m = make(map[string]*pb.Scene)
-	}
-	c.m[digest] = sc
+	s.scenes.put(digest, sc)
 	return sc, nil
 }
 
@@ -240,7 +215,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		return end, "", nil
 	}
 	for _, o := range outputs {
-		if o.GetName() != AccumulationArtifact {
+		if o.GetName() != tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR) {
 			end.Final = append(end.Final, o)
 		}
 	}

@@ -17,6 +17,8 @@ import (
 	"google.golang.org/grpc"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
+	"photonfarm/contract/assets"
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/events"
@@ -43,20 +45,9 @@ type Events interface {
 
 var _ Events = (*events.Broker)(nil)
 
-// Limits of the RPCs (docs/limits.md).
-const (
-	// MaxUploadChunk is the largest chunk UploadBlob accepts.
-	MaxUploadChunk = 4 << 20
-	// DownloadChunk is the chunk size DownloadBlob sends.
-	DownloadChunk = 1 << 20
-	// MaxMessageSize is the gRPC message size limit: a 4 MiB chunk plus framing, and
-	// scenes with large inline meshes.
-	MaxMessageSize = 64 << 20
-	// MaxLeaseWait bounds LeaseTaskRequest.wait_timeout.
-	MaxLeaseWait = 30 * time.Second
-	// MaxErrorMessage is where FailTask truncates a worker's error message, in bytes.
-	MaxErrorMessage = 4096
-)
+// MaxLeaseWait bounds LeaseTaskRequest.wait_timeout (docs/limits.md). The RPC layer's
+// byte limits (messages, chunks, blobs, error messages) are the contract's: rules.RPC.
+const MaxLeaseWait = 30 * time.Second
 
 // Config wires a Service.
 type Config struct {
@@ -80,10 +71,12 @@ type Service struct {
 	queued    notifier
 	retries   retries
 	workers   registry
-	snapshots snapshotCache
-	scenes    sceneCache
-	done      chan struct{}
-	once      sync.Once
+	snapshots *cache[*pb.Artifact] // by job and round
+	scenes    *cache[*pb.Scene]    // by digest
+	// meshes holds the digests of mesh blobs that passed assets.CheckOBJ.
+	meshes *cache[assets.Mesh]
+	done   chan struct{}
+	once   sync.Once
 }
 
 // New returns a Service; Store, Blobs and Events are required.
@@ -101,11 +94,14 @@ func New(cfg Config) *Service {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
 	return &Service{
-		cfg:     cfg,
-		log:     cfg.Logger,
-		queued:  newNotifier(),
-		workers: registry{m: make(map[string]*worker)},
-		done:    make(chan struct{}),
+		cfg:       cfg,
+		log:       cfg.Logger,
+		queued:    newNotifier(),
+		workers:   registry{m: make(map[string]*worker)},
+		snapshots: newCache[*pb.Artifact](1024),
+		scenes:    newCache[*pb.Scene](64),
+		meshes:    newCache[assets.Mesh](4096),
+		done:      make(chan struct{}),
 	}
 }
 
@@ -113,8 +109,8 @@ func New(cfg Config) *Service {
 // mapping interceptors installed and message limits set; opts are appended.
 func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	base := []grpc.ServerOption{
-		grpc.MaxRecvMsgSize(MaxMessageSize),
-		grpc.MaxSendMsgSize(MaxMessageSize),
+		grpc.MaxRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())),
+		grpc.MaxSendMsgSize(int(rules.RPC.GetMaxMessageBytes())),
 		grpc.ChainUnaryInterceptor(s.unaryErrors),
 		grpc.ChainStreamInterceptor(s.streamErrors),
 	}

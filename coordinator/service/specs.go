@@ -5,23 +5,13 @@ import (
 	"context"
 	"strconv"
 
+	"google.golang.org/protobuf/proto"
+
+	"photonfarm/contract/pages"
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
-)
-
-// Artifact names of the photon phases (docs/photon-snapshot.md).
-const (
-	ShardArtifact    = "photons.shard"
-	SnapshotArtifact = "photons.snapshot"
-	TileArtifact     = "tile.exr"
-	// IrradianceArtifact is a precompute task's output (docs/photon-snapshot.md).
-	IrradianceArtifact = "irradiance.shard"
-	// The composite's outputs: the image so far, its preview, and the running sums the
-	// next round's composite extends.
-	ImageArtifact        = "image.exr"
-	PreviewArtifact      = "preview.png"
-	AccumulationArtifact = "accumulation.exr"
 )
 
 // fillSpec fills in what a leased task needs from the stages before it, all of its own
@@ -66,36 +56,20 @@ func hasPhase(j *pb.Job, p pb.Phase) bool {
 
 // eachTask calls fn with a job's tasks in plan order until it returns false.
 func (s *Service) eachTask(ctx context.Context, jobID string, fn func(*pb.Task) (more bool, err error)) error {
-	token := ""
-	for {
-		tasks, next, err := s.cfg.Store.ListTasks(ctx, jobID, MaxTasksPage, token)
-		if err != nil {
-			return err
-		}
-		for _, t := range tasks {
-			more, err := fn(t)
-			if err != nil || !more {
-				return err
-			}
-		}
-		if next == "" {
-			return nil
-		}
-		token = next
-	}
+	return pages.Each(func(token string) ([]*pb.Task, string, error) {
+		return s.cfg.Store.ListTasks(ctx, jobID, MaxTasksPage, token)
+	}, fn)
 }
 
-// output returns a succeeded task's artifact called name.
-func output(t *pb.Task, name string) (*pb.Artifact, error) {
+// output returns a succeeded task's artifact of kind k.
+func output(t *pb.Task, k pb.ArtifactKind) (*pb.Artifact, error) {
 	if t.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
 		return nil, errs.E(errs.Internal, "task %s is %s, not succeeded, though a later phase was leased", t.GetId(), t.GetState())
 	}
-	for _, o := range t.GetOutputs() {
-		if o.GetName() == name {
-			return o, nil
-		}
+	if a := tasks.Find(t.GetOutputs(), k); a != nil {
+		return a, nil
 	}
-	return nil, errs.E(errs.Internal, "task %s succeeded without a %q output", t.GetId(), name)
+	return nil, errs.E(errs.Internal, "task %s succeeded without a %q output", t.GetId(), tasks.ArtifactName(k))
 }
 
 // roundTasks calls fn with the tasks of one round of a job, in plan order.
@@ -119,7 +93,7 @@ func (s *Service) tiles(ctx context.Context, jobID string, round uint32) ([]*pb.
 		if rt == nil {
 			return nil
 		}
-		tile, err := output(t, TileArtifact)
+		tile, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR)
 		if err != nil {
 			return err
 		}
@@ -137,7 +111,7 @@ func (s *Service) shards(ctx context.Context, jobID string, round uint32) ([]*pb
 		if e == nil {
 			return nil
 		}
-		shard, err := output(t, ShardArtifact)
+		shard, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD)
 		if err != nil {
 			return err
 		}
@@ -154,7 +128,7 @@ func (s *Service) builtSnapshot(ctx context.Context, jobID string, round uint32)
 		if t.GetBuildPhotonMap() == nil {
 			return nil
 		}
-		a, err := output(t, SnapshotArtifact)
+		a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 		snap = a
 		return err
 	})
@@ -170,16 +144,16 @@ func (s *Service) builtSnapshot(ctx context.Context, jobID string, round uint32)
 func (s *Service) snapshot(ctx context.Context, jobID string, round uint32) (*pb.Artifact, error) {
 	key := jobID + "/" + strconv.FormatUint(uint64(round), 10)
 	if a, ok := s.snapshots.get(key); ok {
-		return a, nil
+		return proto.Clone(a).(*pb.Artifact), nil // the caller puts it in a spec
 	}
 	var built, merged *pb.Artifact
 	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
 		var err error
 		switch {
 		case t.GetBuildPhotonMap() != nil:
-			built, err = output(t, SnapshotArtifact)
+			built, err = output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 		case t.GetMergeIrradiance() != nil:
-			merged, err = output(t, SnapshotArtifact)
+			merged, err = output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 		}
 		return err
 	})
@@ -190,6 +164,6 @@ func (s *Service) snapshot(ctx context.Context, jobID string, round uint32) (*pb
 	if snap == nil {
 		return nil, errs.E(errs.Internal, "job %s round %d has a build phase but no build task", jobID, round)
 	}
-	s.snapshots.put(key, snap)
+	s.snapshots.put(key, proto.Clone(snap).(*pb.Artifact))
 	return snap, nil
 }

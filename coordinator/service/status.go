@@ -10,8 +10,8 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
-	"photonfarm/coordinator/errs"
 	"photonfarm/contract/scene"
+	"photonfarm/coordinator/errs"
 )
 
 // codeOf is the one mapping from internal error kinds to gRPC codes.

@@ -3,8 +3,11 @@ package service
 import (
 	"context"
 	"fmt"
+	"slices"
 	"time"
 
+	"photonfarm/contract/rules"
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -92,8 +95,11 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 	for _, c := range hb.Changes {
 		s.workers.ended(workerID, c.Task.GetId(), false)
 		s.cfg.Metrics.TaskFailed()
-		s.log.Warn("task failed", "task", c.Task.GetId(), "worker", workerID, "error", c.Task.GetError())
+		s.log.Warn("task failed", "task", c.Task.GetId(), "job", c.Job.GetId(), "worker", workerID, "error", c.Task.GetError())
 		s.publish(c)
+		if err := s.failIfEveryWorkerBlocked(ctx, c, workerID); err != nil {
+			return nil, nil, err
+		}
 	}
 	for _, r := range hb.Revoked {
 		s.workers.dropped(workerID, r.GetTaskId())
@@ -176,24 +182,26 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 	return nil
 }
 
-// Fail records a task's failure; message is truncated to MaxErrorMessage bytes.
-func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, message string) error {
+// Fail records a task's failure; its message is truncated to the contract's
+// max_error_bytes. A permanent kind fails the job at once; a transient one (or none, or
+// one this coordinator does not know, from a newer worker) is retried, and if it blocks the worker from the job and every worker is then blocked,
+// the job fails (failIfEveryWorkerBlocked).
+func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure) error {
 	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
-	if message == "" {
+	if f.Message == "" {
 		return errs.Field("error", "must say why the task failed")
 	}
-	if len(message) > MaxErrorMessage {
-		message = message[:MaxErrorMessage] + "…"
-	}
-	c, err := s.cfg.Store.FailTask(ctx, ref, message)
+	f.Message = rules.Truncate(f.Message, int(rules.RPC.GetMaxErrorBytes()))
+	c, err := s.cfg.Store.FailTask(ctx, ref, f)
 	if err != nil {
 		return err
 	}
 	s.workers.ended(ref.WorkerID, ref.TaskID, false)
 	s.cfg.Metrics.TaskFailed()
-	s.log.Warn("task failed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch, "error", message)
+	s.log.Warn("task failed", "task", ref.TaskID, "job", c.Job.GetId(), "worker", ref.WorkerID, "epoch", ref.Epoch,
+		"kind", tasks.FailureOf(f.Kind).Label, "permanent", f.Permanent(), "error", f.Message)
 	s.publish(c)
-	return nil
+	return s.failIfEveryWorkerBlocked(ctx, c, ref.WorkerID)
 }
 
 // Release queues a leased task again without counting a failure.
@@ -204,5 +212,32 @@ func (s *Service) Release(ctx context.Context, ref store.LeaseRef) error {
 		return err
 	}
 	s.publish(c)
+	return nil
+}
+
+// failIfEveryWorkerBlocked fails c's job when the failure c records has blocked workerID
+// from it and every eligible worker is now blocked: the job would otherwise wait for
+// ever. Eligible are the workers this coordinator knows, registered and not lost, that
+// lease the phase of c's task (every worker leases every worker phase, so all of them
+// for a worker phase; the builder's phases have no workers to run out of).
+func (s *Service) failIfEveryWorkerBlocked(ctx context.Context, c store.Change, workerID string) error {
+	job := c.Job
+	if job == nil || store.Ended(job.GetState()) || !slices.ContainsFunc(job.GetBlockedWorkers(), func(b *pb.BlockedWorker) bool {
+		return b.GetWorkerId() == workerID
+	}) {
+		return nil
+	}
+	if ph, ok := tasks.Phases.Of(c.Task.GetPhase()); !ok || ph.Executor != pb.Executor_EXECUTOR_WORKER {
+		return nil
+	}
+	live := s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration)
+	failed, err := s.cfg.Store.FailBlockedJob(ctx, job.GetId(), live)
+	if err != nil {
+		return err
+	}
+	if failed.Job != nil {
+		s.log.Warn("job failed: every worker is blocked", "job", job.GetId(), "workers", len(live), "error", failed.Job.GetError())
+		s.publish(failed)
+	}
 	return nil
 }

@@ -158,6 +158,20 @@ func (r *registry) list(now time.Time, lost time.Duration) []*pb.WorkerInfo {
 	return out
 }
 
+// live returns the ids of the workers heard from within lost: registered and not LOST.
+func (r *registry) live(now time.Time, lost time.Duration) []string {
+	r.mu.Lock()
+	defer r.mu.Unlock()
+	var ids []string
+	for id, w := range r.m {
+		if now.Sub(w.lastSeen) <= lost {
+			ids = append(ids, id)
+		}
+	}
+	slices.Sort(ids)
+	return ids
+}
+
 // remove forgets a worker; NotFound if it was not registered.
 func (r *registry) remove(id string) error {
 	r.mu.Lock()
@@ -271,7 +285,7 @@ func (ws *workerServer) FailTask(ctx context.Context, req *pb.FailTaskRequest) (
 	if err != nil {
 		return nil, err
 	}
-	if err := ws.s.Fail(ctx, ref, req.GetError()); err != nil {
+	if err := ws.s.Fail(ctx, ref, store.Failure{Message: req.GetError(), Kind: req.GetKind()}); err != nil {
 		return nil, err
 	}
 	return &pb.FailTaskResponse{}, nil

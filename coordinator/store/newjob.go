@@ -4,7 +4,9 @@ import (
 	"crypto/rand"
 	"encoding/hex"
 
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/errs"
+	pb "photonfarm/proto/renderfarm/v1"
 )
 
 // NewJobID returns a fresh random job id: "j-" and 16 hex digits.
@@ -15,7 +17,7 @@ func NewJobID() string {
 }
 
 // Check refuses a NewJob no store should create: without tasks, with a priority out of
-// range, or with tasks out of plan order (a planner bug, so Internal).
+// range, or with tasks that are not a plan (CheckPlan).
 func (nj NewJob) Check() error {
 	if len(nj.Tasks) == 0 {
 		return errs.E(errs.InvalidArgument, "a job needs at least one task")
@@ -23,11 +25,21 @@ func (nj NewJob) Check() error {
 	if err := CheckPriority(nj.Priority); err != nil {
 		return err
 	}
-	for i, t := range nj.Tasks {
+	return CheckPlan(nj.Tasks)
+}
+
+// CheckPlan refuses tasks that are not numbered from 0 in order, whose phase is not the
+// one their spec implies (the spec's task_phase), or whose stages go backwards: a planner
+// bug, so Internal.
+func CheckPlan(ts []*pb.Task) error {
+	for i, t := range ts {
 		if t.GetIndex() != uint32(i) {
 			return errs.E(errs.Internal, "task %d has index %d", i, t.GetIndex())
 		}
-		if i > 0 && Stage(t) < Stage(nj.Tasks[i-1]) {
+		if spec := tasks.PhaseOf(t); spec != t.GetPhase() {
+			return errs.E(errs.Internal, "task %d is of phase %s but its spec is of %s", i, t.GetPhase(), spec)
+		}
+		if i > 0 && Stage(t) < Stage(ts[i-1]) {
 			return errs.E(errs.Internal, "task %d: phases out of order", i)
 		}
 	}

@@ -15,7 +15,8 @@
 //     (it is redone after its lease expires, and decided again) or the round fully
 //     recorded, never a completed round without a successor or an end;
 //   - FailTask requeues the task after a backoff or, after Options.MaxAttempts failures,
-//     fails the job;
+//     fails the job; a failure of a permanent kind fails the job at once;
+//   - FailBlockedJob fails a job that every worker the caller knows is blocked from;
 //   - ReleaseTask and ReleaseWorker requeue without counting a failure;
 //   - CancelJob drops queued tasks and revokes held leases;
 //   - SetJobPriority reorders a job; UnblockWorker takes workers off its blocklist.
@@ -29,12 +30,20 @@
 // Retries: what happens to a leased task that does not succeed.
 //
 //	event                      counts toward   requeued                    blocklist
-//	FailTask                   MaxAttempts     after Backoff(failures)     counts
+//	FailTask, transient kind   MaxAttempts     after Backoff(failures)     counts
+//	FailTask, permanent kind   (fails the job at once: retrying cannot help) does not count
 //	stuck (no progress for     MaxAttempts     after Backoff(failures)     counts
 //	  StuckTimeout)
 //	lease expired              MaxExpiries     at once (a lease duration   does not count
 //	                                           has passed already)
 //	ReleaseTask, cancel        nothing         at once                     does not count
+//
+// A failure's kind (FailTaskRequest.kind) is permanent or not as its failure_info in the
+// contract says (contract/tasks.FailureOf): bad input and unsupported are, so the job
+// fails with Job.error "task T failed: E" and Job.failure_kind set, and no worker is
+// blamed; any other kind, an unset one included, is transient. Task.failure_kind is the
+// kind of the task's last failure (TRANSIENT for stuck and expired leases), and a job that
+// fails at a limit takes its last failure's kind.
 //
 // A task in backoff is QUEUED with Task.retry_time set and is not leased before then
 // (retry_time stays set until the task is leased again). Reaching either limit fails the
@@ -49,8 +58,9 @@
 // Blocklist: a worker whose failed attempts at one job's tasks reach BlockAfterFailures
 // is added to Job.blocked_workers (reason: the count and its last error) and never leases
 // that job's tasks again; the leases it holds stand. UnblockWorker clears it and its
-// count. A job every worker is blocked from just waits (for UnblockWorker or a new
-// worker).
+// count. The store does not know which workers exist; the caller does, and
+// FailBlockedJob fails a job once every worker it knows is on the job's blocklist (the
+// job would otherwise wait for ever).
 //
 // Reports about a task (complete, fail, release) name a LeaseRef; one under a retired
 // epoch, by another worker, or after the lease expired is refused with an
@@ -65,6 +75,7 @@ import (
 	"strings"
 	"time"
 
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/errs"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -108,10 +119,16 @@ type Store interface {
 	CompleteRound(ctx context.Context, ref LeaseRef, end RoundEnd) (Change, error)
 	// GetTask returns a task; errs.NotFound if it does not exist.
 	GetTask(ctx context.Context, taskID string) (*pb.Task, error)
-	// FailTask records a failure: the task is queued again after a backoff, or after
-	// MaxAttempts failures it fails and so does its job, with message as the job's error.
-	// The failure counts toward the worker's blocklist threshold for the job.
-	FailTask(ctx context.Context, ref LeaseRef, message string) (Change, error)
+	// FailTask records a failure. A permanent one (Failure.Permanent) fails the task and
+	// its job at once (PermanentFailure) and counts against no worker. Any other is queued
+	// again after a backoff, or after MaxAttempts failures fails with its job (JobFailure),
+	// and counts toward the worker's blocklist threshold for the job.
+	FailTask(ctx context.Context, ref LeaseRef, f Failure) (Change, error)
+	// FailBlockedJob fails the job if workers is not empty and every one of them is on its
+	// blocklist (BlockedJobFailure: the count and the latest block's reason; the failure
+	// kind is that of the failure that made the latest block); otherwise, or if the job
+	// has ended, it changes nothing. It returns errs.NotFound for an unknown job.
+	FailBlockedJob(ctx context.Context, jobID string, workers []string) (Change, error)
 	// ReleaseTask queues a leased task again without counting a failure.
 	ReleaseTask(ctx context.Context, ref LeaseRef) (Change, error)
 	// ReleaseWorker releases every lease workerID holds.
@@ -170,18 +187,38 @@ type RoundEnd struct {
 	Final []*pb.Artifact
 }
 
-// Stage orders a job's tasks: by round (0 counts as 1), then by phase. A stage's tasks are
-// queued once every task of the stage before has succeeded.
-func Stage(t *pb.Task) uint64 {
-	return uint64(max(t.GetRound(), 1))<<8 | uint64(t.GetPhase())
+// Stage orders a job's tasks: by round (0 counts as 1), then by the rank of the phase in
+// the contract's table (the order job.proto declares the phases in, not their numbers).
+// A stage's tasks are queued once every task of the stage before has succeeded.
+func Stage(t *pb.Task) uint64 { return StageIn(tasks.Phases, t.GetRound(), t.GetPhase()) }
+
+// StageIn is the stage of a task of phase in round under the phase table table: the round
+// in the high bits, the phase's rank (from 1; 0 for a phase the table lacks) in the low 8.
+func StageIn(table tasks.Table, round uint32, phase pb.Phase) uint64 {
+	return uint64(max(round, 1))<<8 | uint64(table.Rank(phase))
 }
 
-// The phases each kind of lessee takes: workers never lease BUILD or MERGE, which the
-// coordinator's builder does itself.
+// The phases each kind of lessee takes, as the contract declares their executors: workers
+// never lease BUILD or MERGE, which the coordinator's builder does itself.
 var (
-	WorkerPhases  = []pb.Phase{pb.Phase_PHASE_EMIT, pb.Phase_PHASE_PRECOMPUTE, pb.Phase_PHASE_RENDER, pb.Phase_PHASE_COMPOSITE}
-	BuilderPhases = []pb.Phase{pb.Phase_PHASE_BUILD, pb.Phase_PHASE_MERGE}
+	WorkerPhases  = tasks.Phases.RunBy(pb.Executor_EXECUTOR_WORKER)
+	BuilderPhases = tasks.Phases.RunBy(pb.Executor_EXECUTOR_COORDINATOR)
 )
+
+// Failure is what a failed attempt reports (FailTaskRequest): why, and of what kind.
+type Failure struct {
+	Message string
+	Kind    pb.FailureKind
+}
+
+// Permanent reports whether retrying cannot help, as the kind's failure_info says; an
+// unset or unknown kind is transient.
+func (f Failure) Permanent() bool { return tasks.FailureOf(f.Kind).Permanent }
+
+// Transient is a failure of the transient kind: what stuck and expired leases record.
+func Transient(message string) Failure {
+	return Failure{Message: message, Kind: pb.FailureKind_FAILURE_KIND_TRANSIENT}
+}
 
 // LeaseRef names the lease a report is made under.
 type LeaseRef struct {
@@ -295,6 +332,17 @@ const ExpiredMessage = "lease expired (worker lost)"
 // JobFailure is the job's error when its task taskID reached a limit after n failures.
 func JobFailure(taskID string, n int, last string) string {
 	return fmt.Sprintf("task %s failed %d times; last error: %s", taskID, n, last)
+}
+
+// PermanentFailure is the job's error when its task taskID failed for good.
+func PermanentFailure(taskID, message string) string {
+	return fmt.Sprintf("task %s failed: %s", taskID, message)
+}
+
+// BlockedJobFailure is the job's error when every one of n workers is blocked from it;
+// last is the reason of the latest block.
+func BlockedJobFailure(n int, last string) string {
+	return fmt.Sprintf("every worker (%d) is blocked from this job; last: %s", n, last)
 }
 
 // BlockReason is Job.blocked_workers[i].reason for a worker blocked after n failures.

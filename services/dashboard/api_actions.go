@@ -21,7 +21,11 @@ func (s *Server) submit(w http.ResponseWriter, r *http.Request) {
 	}
 	sc, err := scene.ParseJSON(data)
 	if err != nil {
-		s.writeError(w, r, errorf(http.StatusBadRequest, err.Error()))
+		s.writeError(w, r, errorf(http.StatusBadRequest, "not a scene file: "+err.Error()))
+		return
+	}
+	if why := fileByPath(sc); why != "" {
+		s.writeError(w, r, errorf(http.StatusBadRequest, why))
 		return
 	}
 	ctx, cancel := callCtx(r)
@@ -33,6 +37,22 @@ func (s *Server) submit(w http.ResponseWriter, r *http.Request) {
 	}
 	s.log.Info("dashboard submitted a job", "job", resp.GetJob().GetId(), "name", resp.GetJob().GetDisplayName())
 	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+}
+
+// fileByPath says why a scene that names a file by path cannot be submitted from a
+// browser, or "" if it names none: the browser sends the scene alone, so there is nothing
+// to upload the file from.
+func fileByPath(sc *pb.Scene) string {
+	const how = "the dashboard cannot upload files from the browser: put the mesh inline as \"triangles\", or submit the scene with farm submit"
+	for i, sh := range sc.GetShapes() {
+		if m := sh.GetMesh(); m.GetPath() != "" && m.GetDigest() == "" {
+			return fmt.Sprintf("shapes[%d].mesh names the file %s, but %s", i, m.GetPath(), how)
+		}
+	}
+	if p := sc.GetProgressive().GetReference().GetPath(); p != "" && sc.GetProgressive().GetReference().GetDigest() == "" {
+		return fmt.Sprintf("progressive.reference names the image %s, but the dashboard cannot upload files from the browser: submit the scene with farm submit", p)
+	}
+	return ""
 }
 
 // cancel cancels a job; 409 if it has ended.

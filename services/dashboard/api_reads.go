@@ -4,45 +4,16 @@ import (
 	"context"
 	"net/http"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// Page sizes the dashboard asks for: the coordinator's largest.
-const (
-	jobsPage  = 1000
-	tasksPage = 10000
-)
-
 // allJobs returns every job, newest first, following the pages.
-func (s *Server) allJobs(ctx context.Context) ([]*pb.Job, error) {
-	var jobs []*pb.Job
-	token := ""
-	for {
-		resp, err := s.jobs.ListJobs(ctx, &pb.ListJobsRequest{PageSize: jobsPage, PageToken: token})
-		if err != nil {
-			return nil, err
-		}
-		jobs = append(jobs, resp.GetJobs()...)
-		if token = resp.GetNextPageToken(); token == "" {
-			return jobs, nil
-		}
-	}
-}
+func (s *Server) allJobs(ctx context.Context) ([]*pb.Job, error) { return client.AllJobs(ctx, s.jobs) }
 
 // allTasks returns every task of a job in plan order, following the pages.
 func (s *Server) allTasks(ctx context.Context, jobID string) ([]*pb.Task, error) {
-	var tasks []*pb.Task
-	token := ""
-	for {
-		resp, err := s.jobs.ListTasks(ctx, &pb.ListTasksRequest{JobId: jobID, PageSize: tasksPage, PageToken: token})
-		if err != nil {
-			return nil, err
-		}
-		tasks = append(tasks, resp.GetTasks()...)
-		if token = resp.GetNextPageToken(); token == "" {
-			return tasks, nil
-		}
-	}
+	return client.AllTasks(ctx, s.jobs, jobID)
 }
 
 // jobWithTasks reads a job and its tasks: {"job": Job, "tasks": [Task...]}.

@@ -4,6 +4,7 @@ import (
 	"context"
 	"encoding/json"
 	"errors"
+	"fmt"
 	"log/slog"
 	"net/http"
 
@@ -54,7 +55,7 @@ func (s *Server) writeError(w http.ResponseWriter, r *http.Request, err error) {
 	case errors.As(err, &ae):
 		code, msg = ae.status, ae.message
 	case errors.As(err, &mbe):
-		code, msg = http.StatusRequestEntityTooLarge, "request body larger than the limit of 64 MiB"
+		code, msg = http.StatusRequestEntityTooLarge, fmt.Sprintf("request body larger than the limit of %d MiB", mbe.Limit>>20)
 	case errors.Is(err, context.Canceled) && r.Context().Err() != nil:
 		return // the browser went away; nobody reads the answer
 	default:

@@ -17,12 +17,14 @@ import (
 
 	"google.golang.org/grpc"
 
-	"photonfarm/coordinator/service"
+	"photonfarm/client"
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// MaxBodyBytes limits request bodies (a scene with inline meshes).
-const MaxBodyBytes = 64 << 20
+// MaxBodyBytes limits request bodies (a scene with inline meshes): as large as a gRPC
+// message may be.
+var MaxBodyBytes = int64(rules.RPC.GetMaxMessageBytes())
 
 // Defaults of Config's intervals and limits (API.md).
 const (
@@ -39,11 +41,7 @@ const (
 // its transport credentials: message limits as large as the coordinator's (a job's
 // 10,000 tasks, a scene with large inline meshes). Give the connection no per-RPC
 // credentials: each call carries its request's token.
-func DialOptions() []grpc.DialOption {
-	return []grpc.DialOption{grpc.WithDefaultCallOptions(
-		grpc.MaxCallRecvMsgSize(service.MaxMessageSize),
-		grpc.MaxCallSendMsgSize(service.MaxMessageSize))}
-}
+func DialOptions() []grpc.DialOption { return []grpc.DialOption{client.CallLimits()} }
 
 //go:embed web/dist
 var webFiles embed.FS

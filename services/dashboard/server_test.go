@@ -11,8 +11,8 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/protobuf/encoding/protojson"
 
-	"photonfarm/coordinator"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/services/dashboard"
 )
@@ -232,9 +232,13 @@ func TestSubmitRefusesBadScenes(t *testing.T) {
 	m["film"] = map[string]any{"width": 16, "height": 16}
 	m["shapes"] = append(m["shapes"].([]any), map[string]any{"name": "m", "material": "white", "mesh": map[string]any{"path": "meshes/octahedron.obj"}})
 	withPath, _ := json.Marshal(m)
-	wantStatus(t, "mesh by path", f.do(b, "POST", "/api/jobs", string(withPath)), http.StatusBadRequest)
+	r = f.do(b, "POST", "/api/jobs", string(withPath))
+	wantStatus(t, "mesh by path", r, http.StatusBadRequest)
+	if !strings.Contains(r.Body, "names the file meshes/octahedron.obj, but the dashboard cannot upload files from the browser") {
+		t.Errorf("mesh by path: %s, want it to say why in the user's terms", r.Body)
+	}
 
-	big := bytes.Repeat([]byte(" "), dashboard.MaxBodyBytes+1)
+	big := bytes.Repeat([]byte(" "), int(dashboard.MaxBodyBytes)+1)
 	wantStatus(t, "a body over 64 MiB", f.do(b, "POST", "/api/jobs", string(big)), http.StatusRequestEntityTooLarge)
 	jobs, err := f.c.ListJobs(f.ctx)
 	if err != nil || len(jobs) != 0 {

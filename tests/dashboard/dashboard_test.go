@@ -14,6 +14,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
 
@@ -32,6 +33,8 @@ func TestDashboardInABrowser(t *testing.T) {
 	node := browserTools(t, e2e)
 
 	f := farmtest.StartFarm(t, tokenFlags(t), client.WithToken(clientToken))
+	// Before the workers start, so that no real worker leases its task first.
+	failedJob := failAsBadInput(t, f)
 	for range 2 {
 		w := f.StartWorker(t, "--token", workerToken)
 		if w.WorkerID(t, 15*time.Second) == "" {
@@ -58,6 +61,8 @@ func TestDashboardInABrowser(t *testing.T) {
 		"SCENE_PATH="+filepath.Join(e2e, "scene.json"),
 		"SCREENSHOT_DIR="+shots,
 		"CHROMIUM="+chromium,
+		"FAILED_JOB_ID="+failedJob,
+		"FAILED_REASON="+badInputReason,
 		"PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1",
 	)
 	var out bytes.Buffer
@@ -71,6 +76,21 @@ func TestDashboardInABrowser(t *testing.T) {
 	}
 	t.Logf("dashboard.spec.mjs:\n%s", out.String())
 	t.Logf("job page screenshot: %s", filepath.Join(shots, "job-page.png"))
+}
+
+// badInputReason is what failAsBadInput's worker reports.
+const badInputReason = "shapes[3].mesh: line 5: face refers to vertex 7 but the file has 3 vertices"
+
+// failAsBadInput submits a small scene whose first task a worker fails as bad input
+// (farmtest.FailNextTask), which fails the job at once, and returns the job's id.
+func failAsBadInput(t *testing.T, f *farmtest.Farm) string {
+	t.Helper()
+	job := f.Submit(t, f.TestScene(t, 32, 32, 16, 1))
+	f.FailNextTask(t, workerToken, pb.FailureKind_FAILURE_KIND_BAD_INPUT, badInputReason)
+	if got, err := f.Client.GetJob(context.Background(), job.GetId()); err != nil || got.GetState() != pb.JobState_JOB_STATE_FAILED {
+		t.Fatalf("job after the bad-input report: %v, %v; want it failed", got, err)
+	}
+	return job.GetId()
 }
 
 // browserTools checks that node, chromium and the pinned playwright-core are installed and

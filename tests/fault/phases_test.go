@@ -8,6 +8,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -42,7 +43,7 @@ func (tl timeline) String() string {
 	var parts []string
 	for p := pb.Phase_PHASE_EMIT; p <= pb.Phase_PHASE_COMPOSITE; p++ {
 		if d, ok := tl[p]; ok {
-			parts = append(parts, fmt.Sprintf("%s %s", client.PhaseName(p), d.Round(time.Millisecond)))
+			parts = append(parts, fmt.Sprintf("%s %s", tasks.Name(p), d.Round(time.Millisecond)))
 		}
 	}
 	return strings.Join(parts, ", ")
@@ -79,7 +80,7 @@ func snapshot(t *testing.T, f *farmtest.Farm, jobID string) (name, description s
 	t.Helper()
 	job := getJob(t, f, jobID)
 	if client.JobEnded(job.GetState()) {
-		return "ended", "ended: " + client.StateName(job.GetState())
+		return "ended", "ended: " + tasks.JobStateName(job.GetState())
 	}
 	phase := currentPhase(job)
 	var done, total uint32
@@ -91,12 +92,12 @@ func snapshot(t *testing.T, f *farmtest.Farm, jobID string) (name, description s
 	var leased []string
 	for _, task := range f.Tasks(t, jobID) {
 		if task.GetState() == pb.TaskState_TASK_STATE_LEASED {
-			leased = append(leased, fmt.Sprintf("%s (%s) by %s", task.GetId(), client.PhaseName(task.GetPhase()), task.GetWorkerId()))
+			leased = append(leased, fmt.Sprintf("%s (%s) by %s", task.GetId(), tasks.Name(task.GetPhase()), task.GetWorkerId()))
 		}
 	}
 	if len(leased) == 0 {
 		leased = []string{"none"}
 	}
-	name = client.PhaseName(phase)
+	name = tasks.Name(phase)
 	return name, fmt.Sprintf("%s (%d/%d done; leased: %s)", name, done, total, strings.Join(leased, ", "))
 }

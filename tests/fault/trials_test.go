@@ -7,6 +7,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -59,7 +60,7 @@ func (tr *trials) run(t *testing.T, i int, fault func(rng *rand.Rand)) {
 	time.Sleep(delay)
 	phase, where := snapshot(t, tr.f, job.GetId())
 	tr.landed[phase]++
-	t.Logf("trial %d: aimed at %s + %s; the job was in %s", i, client.PhaseName(target), delay.Round(time.Millisecond), where)
+	t.Logf("trial %d: aimed at %s + %s; the job was in %s", i, tasks.Name(target), delay.Round(time.Millisecond), where)
 	fault(rng)
 
 	done := tr.f.Wait(t, job.GetId(), 2*time.Minute)
@@ -88,7 +89,7 @@ func (tr *trials) waitForPhase(t *testing.T, jobID string, target pb.Phase) {
 			return
 		}
 		if time.Now().After(deadline) {
-			t.Fatalf("job %s did not reach %s within a minute: %v", jobID, client.PhaseName(target), job)
+			t.Fatalf("job %s did not reach %s within a minute: %v", jobID, tasks.Name(target), job)
 		}
 	}
 }

@@ -1,14 +1,6 @@
 package integration
 
 import (
-	"crypto/ecdsa"
-	"crypto/elliptic"
-	"crypto/rand"
-	"crypto/x509"
-	"crypto/x509/pkix"
-	"encoding/pem"
-	"math/big"
-	"net"
 	"os"
 	"path/filepath"
 	"strings"
@@ -16,6 +8,7 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/coordinator/tlstest"
 	"photonfarm/tests/farmtest"
 )
 
@@ -62,39 +55,11 @@ func tokenFlags(t *testing.T) []string {
 // WithTLS.
 func TestWorkerOverTLS(t *testing.T) {
 	dir := t.TempDir()
-	cert, key := selfSignedFiles(t, dir)
+	tc := tlstest.SelfSigned(t, dir)
+	cert, key := tc.CertFile, tc.KeyFile
 	f := farmtest.StartFarm(t, append(tokenFlags(t), "--tls-cert", cert, "--tls-key", key),
 		client.WithTLS(cert), client.WithToken(testClientToken))
 	w := f.StartWorkerWithCache(t, filepath.Join(t.TempDir(), "cache"), "--tls-ca", cert, "--token", testWorkerToken)
 	w.WorkerID(t, 15*time.Second)
 	f.Render(t, f.TestScene(t, 32, 32, 16, 1), 60*time.Second)
-}
-
-// selfSignedFiles writes a self-signed ECDSA certificate for 127.0.0.1 and localhost
-// (cert.pem, also the CA to trust) and its key (key.pem) to dir.
-func selfSignedFiles(t *testing.T, dir string) (certFile, keyFile string) {
-	t.Helper()
-	key, err := ecdsa.GenerateKey(elliptic.P256(), rand.Reader)
-	if err != nil {
-		t.Fatal(err)
-	}
-	tmpl := &x509.Certificate{
-		SerialNumber: big.NewInt(1), Subject: pkix.Name{CommonName: "photonfarm test"},
-		NotBefore: time.Now().Add(-time.Hour), NotAfter: time.Now().Add(time.Hour),
-		KeyUsage:    x509.KeyUsageDigitalSignature | x509.KeyUsageCertSign,
-		ExtKeyUsage: []x509.ExtKeyUsage{x509.ExtKeyUsageServerAuth}, BasicConstraintsValid: true, IsCA: true,
-		IPAddresses: []net.IP{net.ParseIP("127.0.0.1")}, DNSNames: []string{"localhost"},
-	}
-	der, err := x509.CreateCertificate(rand.Reader, tmpl, tmpl, &key.PublicKey, key)
-	if err != nil {
-		t.Fatal(err)
-	}
-	keyDER, err := x509.MarshalECPrivateKey(key)
-	if err != nil {
-		t.Fatal(err)
-	}
-	certFile, keyFile = filepath.Join(dir, "cert.pem"), filepath.Join(dir, "key.pem")
-	os.WriteFile(certFile, pem.EncodeToMemory(&pem.Block{Type: "CERTIFICATE", Bytes: der}), 0o600)
-	os.WriteFile(keyFile, pem.EncodeToMemory(&pem.Block{Type: "EC PRIVATE KEY", Bytes: keyDER}), 0o600)
-	return certFile, keyFile
 }

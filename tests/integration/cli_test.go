@@ -123,7 +123,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 			if err != nil {
 				t.Fatalf("the scene does not parse: %v", err)
 			}
-			sf, err := client.ReadSceneFile(path, client.WithAssetRoot(scenesRoot())) // mesh path -> digest, as a client would
+			sf, err := client.ReadSceneFile(context.Background(), path, client.WithAssetRoot(scenesRoot())) // mesh path -> digest, as a client would
 			if err != nil {
 				t.Fatal(err)
 			}
@@ -161,8 +161,14 @@ func TestMalformedScenesRefused(t *testing.T) {
 // the test's, so the test can check that the temporary farm folder is removed.
 func farmRender(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *syncBuffer, tmp string) {
 	t.Helper()
+	return farmCommand(t, append([]string{"render"}, args...)...)
+}
+
+// farmCommand starts `farm ARGS...` as farmRender does, in a process group of its own.
+func farmCommand(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *syncBuffer, tmp string) {
+	t.Helper()
 	tmp = t.TempDir()
-	cmd = exec.Command(filepath.Join(farmtest.BinDir(t), "farm"), append([]string{"render"}, args...)...)
+	cmd = exec.Command(filepath.Join(farmtest.BinDir(t), "farm"), args...)
 	cmd.Env = append(os.Environ(), "TMPDIR="+tmp)
 	stdout, stderr = &syncBuffer{}, &syncBuffer{}
 	cmd.Stdout, cmd.Stderr = stdout, stderr

@@ -5,6 +5,7 @@ package stiff
 // shrunk to a tiny film; the other scenes are built here from a few primitives.
 
 import (
+	"context"
 	"math"
 	"path/filepath"
 	"sync"
@@ -60,7 +61,7 @@ func cornellMM(t *testing.T) *pb.Scene {
 	t.Helper()
 	cornellOnce.Do(func() {
 		var sf *client.SceneFile
-		sf, cornellErr = client.ReadSceneFile(filepath.Join(farmtest.RepoRoot(), "scenes", "cornell-box.json"))
+		sf, cornellErr = client.ReadSceneFile(context.Background(), filepath.Join(farmtest.RepoRoot(), "scenes", "cornell-box.json"))
 		if cornellErr == nil {
 			cornell = sf.Scene
 		}

@@ -121,7 +121,7 @@ func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.He
 			t.progress, t.progressAt = h.GetProgress(), now
 		case !store.Exempt(t.pb.Phase) && now.Sub(t.progressAt) >= s.opts.StuckTimeout:
 			revoke = true
-			hb.Changes = append(hb.Changes, s.failAttempt(t, workerID, s.opts.StuckMessage()))
+			hb.Changes = append(hb.Changes, s.failAttempt(t, workerID, store.Transient(s.opts.StuckMessage())))
 		}
 		if revoke {
 			hb.Revoked = append(hb.Revoked, &pb.HeldLease{TaskId: h.GetTaskId(), Epoch: h.GetEpoch()})
@@ -146,7 +146,7 @@ func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
 				continue
 			}
 			t.expiries++
-			t.pb.Error = store.ExpiredMessage
+			t.pb.Error, t.pb.FailureKind = store.ExpiredMessage, pb.FailureKind_FAILURE_KIND_TRANSIENT
 			if t.expiries >= s.opts.MaxExpiries {
 				changes = append(changes, s.failJob(t, t.expiries))
 				continue
@@ -222,10 +222,11 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 			return store.Change{}, errs.E(errs.Internal, "task %s is not the last task of its round", t.pb.Id)
 		}
 	}
-	for i, n := range end.Next {
-		if n.GetIndex() != uint32(i) || (i > 0 && store.Stage(n) < store.Stage(end.Next[i-1])) || store.Stage(n) <= stage {
-			return store.Change{}, errs.E(errs.Internal, "next round's task %d is out of order", i)
-		}
+	if err := store.CheckPlan(end.Next); err != nil {
+		return store.Change{}, errs.Wrap(errs.Internal, err, "next round")
+	}
+	if len(end.Next) > 0 && store.Stage(end.Next[0]) <= stage {
+		return store.Change{}, errs.E(errs.Internal, "next round's task 0 is out of order")
 	}
 	s.succeed(t, end.Outputs)
 	j.pb.Rounds = append(j.pb.Rounds, proto.Clone(end.Report).(*pb.RoundReport))
@@ -264,28 +265,35 @@ func cloneArtifacts(as []*pb.Artifact) []*pb.Artifact {
 }
 
 // FailTask implements store.Store.
-func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, message string) (store.Change, error) {
+func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, f store.Failure) (store.Change, error) {
 	s.mu.Lock()
 	defer s.mu.Unlock()
 	t, err := s.held(ref)
 	if err != nil {
 		return store.Change{}, err
 	}
-	return s.failAttempt(t, ref.WorkerID, message), nil
+	if f.Permanent() {
+		t.pb.Error, t.pb.FailureKind = f.Message, f.Kind
+		t.pb.State = pb.TaskState_TASK_STATE_FAILED
+		s.end(t.job, pb.JobState_JOB_STATE_FAILED, store.PermanentFailure(t.pb.Id, f.Message), f.Kind)
+		return s.change(t, true, false), nil
+	}
+	return s.failAttempt(t, ref.WorkerID, f), nil
 }
 
-// failAttempt counts a failed attempt at leased task t by workerID (FailTask, a stuck
-// lease): the worker is blocked from the job at BlockAfterFailures; the task goes back
-// after a backoff, or at MaxAttempts fails with its job.
-func (s *Store) failAttempt(t *task, workerID, message string) store.Change {
+// failAttempt counts a transient failed attempt at leased task t by workerID (FailTask,
+// a stuck lease): the worker is blocked from the job at BlockAfterFailures; the task goes
+// back after a backoff, or at MaxAttempts fails with its job.
+func (s *Store) failAttempt(t *task, workerID string, f store.Failure) store.Change {
 	j := t.job
 	t.failures++
-	t.pb.Error = message
+	t.pb.Error, t.pb.FailureKind = f.Message, f.Kind
 	j.failures[workerID]++
 	if n := j.failures[workerID]; n >= s.opts.BlockAfterFailures && !blocked(j, workerID) {
 		j.pb.BlockedWorkers = append(j.pb.BlockedWorkers, &pb.BlockedWorker{
-			WorkerId: workerID, Reason: store.BlockReason(n, message), BlockTime: timestamppb.New(s.now())})
+			WorkerId: workerID, Reason: store.BlockReason(n, f.Message), BlockTime: timestamppb.New(s.now())})
 		store.SortBlocked(j.pb.BlockedWorkers)
+		j.blockKind = f.Kind
 	}
 	if t.failures >= s.opts.MaxAttempts {
 		return s.failJob(t, t.failures)
@@ -295,18 +303,36 @@ func (s *Store) failAttempt(t *task, workerID, message string) store.Change {
 	return s.change(t, false, false)
 }
 
-// failJob fails t, which failed n times, and its job with t's last error.
+// failJob fails t, which failed n times, and its job with t's last error and kind.
 func (s *Store) failJob(t *task, n int) store.Change {
 	t.pb.State = pb.TaskState_TASK_STATE_FAILED
-	s.end(t.job, pb.JobState_JOB_STATE_FAILED, store.JobFailure(t.pb.Id, n, t.pb.Error))
+	s.end(t.job, pb.JobState_JOB_STATE_FAILED, store.JobFailure(t.pb.Id, n, t.pb.Error), t.pb.FailureKind)
 	return s.change(t, true, false)
 }
 
-// end moves a job to a terminal state and cancels its unfinished tasks.
-func (s *Store) end(j *job, state pb.JobState, message string) {
+// FailBlockedJob implements store.Store.
+func (s *Store) FailBlockedJob(ctx context.Context, jobID string, workers []string) (store.Change, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return store.Change{}, err
+	}
+	if store.Ended(j.pb.State) || len(workers) == 0 || slices.ContainsFunc(workers, func(w string) bool { return !blocked(j, w) }) {
+		return store.Change{}, nil
+	}
+	last := j.pb.BlockedWorkers[len(j.pb.BlockedWorkers)-1] // sorted by block time
+	s.end(j, pb.JobState_JOB_STATE_FAILED, store.BlockedJobFailure(len(workers), last.Reason), j.blockKind)
+	return store.Change{Job: j.snapshot(), JobStateChanged: true}, nil
+}
+
+// end moves a job to a terminal state, with why and of what kind of failure for FAILED,
+// and cancels its unfinished tasks.
+func (s *Store) end(j *job, state pb.JobState, message string, kind pb.FailureKind) {
 	now := timestamppb.New(s.now())
 	j.pb.State = state
 	j.pb.Error = message
+	j.pb.FailureKind = kind
 	j.pb.EndTime = now
 	j.pb.UpdateTime = now
 	for _, t := range j.tasks {
@@ -353,7 +379,7 @@ func (s *Store) CancelJob(ctx context.Context, jobID string) (store.Change, erro
 	if err != nil {
 		return store.Change{}, err
 	}
-	s.end(j, pb.JobState_JOB_STATE_CANCELLED, "")
+	s.end(j, pb.JobState_JOB_STATE_CANCELLED, "", pb.FailureKind_FAILURE_KIND_UNSPECIFIED)
 	return store.Change{Job: j.snapshot(), JobStateChanged: true}, nil
 }
 

@@ -38,6 +38,8 @@ type job struct {
 	tasks []*task
 	// failures counts each worker's failed attempts at the job's tasks (the blocklist).
 	failures map[string]int
+	// blockKind is the kind of the failure that made the latest block.
+	blockKind pb.FailureKind
 }
 
 type task struct {

@@ -18,9 +18,12 @@ import (
 // pb.Job without state, times other than creation, outputs, phases or rounds) and what
 // the scripts change as plain fields:
 //
-//	seq, state, update, end (µs), error, outputs (see encodeArtifacts)
+//	seq, state, update     sequence, JobState, last change (µs)
+//	end, error, fkind      end time (µs), Job.error, Job.failure_kind
+//	outputs                the final artifacts (see encodeArtifacts)
 //	prio, held             priority; leases held now (the ready sets' score)
 //	b:{worker}             blocked: "{block time µs} {reason}"
+//	bkind                  the failure kind of the latest block
 //	f:{worker}             the worker's failed attempts at the job's tasks
 //	ntasks                 tasks so far
 //	cur, curend, left      the current stage [cur, curend) and its tasks not yet succeeded
@@ -29,9 +32,10 @@ import (
 //
 // A task record (hash t:{job}.{index}) keeps the planner's task as "spec" (the pb.Task
 // without id, job, index, state, attempts, worker, error or outputs) and: job, idx, phase,
-// round, state, epoch (the fencing token; only grows), attempts, failures, expiries,
-// worker, error, outputs, expire (µs), retry (µs, or empty: Task.retry_time), progress
-// (the lease's largest HeldLease.progress, decimal) and ptime (µs, when it last grew).
+// round, stage (store.Stage), state, epoch (the fencing token; only grows), attempts,
+// failures, expiries, worker, error, fkind (Task.failure_kind), outputs, expire (µs),
+// retry (µs, or empty: Task.retry_time), progress (the lease's largest
+// HeldLease.progress, decimal) and ptime (µs, when it last grew).
 
 // encodeArtifacts stores a list of artifacts as a serialized pb.Task holding only them, so
 // that concatenated encodings decode to the concatenated list (protobuf merges repeated
@@ -48,8 +52,8 @@ func decodeArtifacts(b string) ([]*pb.Artifact, error) {
 	return t.Outputs, nil
 }
 
-// taskArgs is the append section the scripts read: the count, then spec, phase and
-// round of each task.
+// taskArgs is the append section the scripts read: the count, then spec, phase, round
+// and stage (store.Stage) of each task.
 func taskArgs(tasks []*pb.Task) ([]any, error) {
 	args := []any{len(tasks)}
 	for _, t := range tasks {
@@ -60,7 +64,7 @@ func taskArgs(tasks []*pb.Task) ([]any, error) {
 		if err != nil {
 			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("encode task %d", t.GetIndex()))
 		}
-		args = append(args, b, int32(t.GetPhase()), t.GetRound())
+		args = append(args, b, int32(t.GetPhase()), t.GetRound(), strconv.FormatUint(store.Stage(t), 10))
 	}
 	return args, nil
 }
@@ -89,10 +93,11 @@ func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
 		j.EndTime = timestamp(h["end"])
 	}
 	j.Error = h["error"]
+	j.FailureKind = pb.FailureKind(number(h["fkind"]))
 	p, _ := strconv.ParseInt(h["prio"], 10, 32)
 	j.Priority = int32(p)
 	for k, v := range h {
-		if w, ok := strings.CutPrefix(k, "b:"); ok {
+		if w, ok := strings.CutPrefix(k, blockedField); ok {
 			at, reason, _ := strings.Cut(v, " ")
 			j.BlockedWorkers = append(j.BlockedWorkers, &pb.BlockedWorker{WorkerId: w, Reason: reason, BlockTime: timestamp(at)})
 		}
@@ -136,6 +141,7 @@ func decodeTask(h map[string]string) (*pb.Task, error) {
 	t.Attempts = uint32(number(h["attempts"]))
 	t.WorkerId = h["worker"]
 	t.Error = h["error"]
+	t.FailureKind = pb.FailureKind(number(h["fkind"]))
 	if h["retry"] != "" {
 		t.RetryTime = timestamp(h["retry"])
 	}

@@ -1,6 +1,7 @@
 package redisstore
 
-// Key layout under the prefix (the Lua library in scripts.go builds the same names):
+// Key layout under the prefix. These names are the only place keys are spelled: the Go
+// methods below and the Lua library (the preamble, preamble.go) are both built from them.
 //
 //	seq                   INCR counter: job creation sequence
 //	jobs                  zset job id, score = sequence: ListJobs paging, newest first
@@ -14,9 +15,29 @@ package redisstore
 //	                      leases held: jobs with leasable tasks of phase (scripts.go)
 //	leases                zset task id, score = lease expiry (µs): live leases
 //	delayed               zset task id, score = retry time (µs): queued tasks in backoff
+const (
+	seqKey      = "seq"
+	jobsKey     = "jobs"
+	requestsKey = "req"
+	leasesKey   = "leases"
+	delayedKey  = "delayed"
+
+	jobPrefix    = "j:"
+	roundsPrefix = "r:"
+	stagesPrefix = "s:"
+	taskPrefix   = "t:"
+	queuePrefix  = "q:"
+	readyPrefix  = "ready:"
+	// queueSeparator stands between the job and the phase in a queue key.
+	queueSeparator = ":"
+
+	// Field prefixes of a job record (codec.go): a blocked worker, a worker's failures.
+	blockedField  = "b:"
+	failuresField = "f:"
+)
 
 func (s *Store) key(name string) string { return s.prefix + name }
 
-func (s *Store) jobKey(jobID string) string    { return s.prefix + "j:" + jobID }
-func (s *Store) roundsKey(jobID string) string { return s.prefix + "r:" + jobID }
-func (s *Store) taskKey(taskID string) string  { return s.prefix + "t:" + taskID }
+func (s *Store) jobKey(jobID string) string    { return s.prefix + jobPrefix + jobID }
+func (s *Store) roundsKey(jobID string) string { return s.prefix + roundsPrefix + jobID }
+func (s *Store) taskKey(taskID string) string  { return s.prefix + taskPrefix + taskID }

@@ -118,10 +118,8 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 		return store.Change{}, errs.E(errs.Internal, "CompleteRound needs the round's report")
 	}
 	// The script checks that the next round starts after the composite's stage.
-	for i, n := range end.Next {
-		if n.GetIndex() != uint32(i) || (i > 0 && store.Stage(n) < store.Stage(end.Next[i-1])) {
-			return store.Change{}, errs.E(errs.Internal, "next round's task %d is out of order", i)
-		}
+	if err := store.CheckPlan(end.Next); err != nil {
+		return store.Change{}, errs.Wrap(errs.Internal, err, "next round")
 	}
 	outs, err := encodeArtifacts(end.Outputs)
 	if err != nil {
@@ -145,8 +143,22 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 }
 
 // FailTask implements store.Store.
-func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, message string) (store.Change, error) {
-	r, err := s.change(ctx, failScript, append(refArgs(ref), message, s.policy())...)
+func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, f store.Failure) (store.Change, error) {
+	jobError := ""
+	if f.Permanent() {
+		jobError = store.PermanentFailure(ref.TaskID, f.Message)
+	}
+	r, err := s.change(ctx, failScript, append(refArgs(ref), f.Message, s.policy(), int32(f.Kind), jobError)...)
+	return r.change, err
+}
+
+// FailBlockedJob implements store.Store.
+func (s *Store) FailBlockedJob(ctx context.Context, jobID string, workers []string) (store.Change, error) {
+	args := []any{jobID, store.BlockedJobFailure(len(workers), "")}
+	for _, w := range workers {
+		args = append(args, w)
+	}
+	r, err := s.change(ctx, failBlockedScript, args...)
 	return r.change, err
 }
 

@@ -4,8 +4,9 @@ import "github.com/redis/go-redis/v9"
 
 // Every script gets ARGV[1] = the key prefix and ARGV[2] = now (Unix microseconds, from
 // Options.Clock), then its own arguments. KEYS[1] is the prefix's "jobs" key and only
-// routes the call; the scripts build the other keys from the prefix (see keys.go for
-// the layout, which this library must match).
+// routes the call; the scripts build the other keys from the prefix with the functions
+// the preamble (preamble.go) declares from keys.go, and name task and job states by the
+// preamble's locals (WAITING ... CANCELLED, JQUEUED ... JCANCELLED).
 //
 // Times and epochs are stored as the strings Go sent and compared with tonumber:
 // microseconds since 1970 stay below 2^53, so the comparison is exact, while Lua would
@@ -27,22 +28,6 @@ import "github.com/redis/go-redis/v9"
 // their job's queue, so they never hide a leasable job; each lease first moves the due
 // ones back (promote).
 const lib = `
-local P = ARGV[1]
-local NOW_S = ARGV[2]
-local NOW = tonumber(NOW_S)
-local WAITING, QUEUED, LEASED, SUCCEEDED, FAILED, CANCELLED = 1, 2, 3, 4, 5, 6
-local TASK_STATES = {'WAITING', 'QUEUED', 'LEASED', 'SUCCEEDED', 'FAILED', 'CANCELLED'}
-local JQUEUED, JRUNNING, JSUCCEEDED, JFAILED, JCANCELLED = 1, 2, 3, 4, 5
-local JOB_STATES = {'QUEUED', 'RUNNING', 'SUCCEEDED', 'FAILED', 'CANCELLED'}
-local LEASES = P .. 'leases'
-local DELAYED = P .. 'delayed'
-
-local function jkey(jid) return P .. 'j:' .. jid end
-local function rkey(jid) return P .. 'r:' .. jid end
-local function skey(jid) return P .. 's:' .. jid end
-local function tkey(t) return P .. 't:' .. t end
-local function qkey(jid, phase) return P .. 'q:' .. jid .. ':' .. phase end
-local function readykey(phase) return P .. 'ready:' .. phase end
 local function tid(jid, i) return jid .. '.' .. i end
 local function num(key, field) return tonumber(redis.call('HGET', key, field) or '0') end
 
@@ -131,14 +116,14 @@ local function openstage(jid, start)
   place(jid)
 end
 
--- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round per
--- task) after the job's last task, records their stages and the progress of the latest
--- round, and queues their first stage.
+-- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round and
+-- stage per task: store.Stage, computed by Go) after the job's last task, records their
+-- stages and the progress of the latest round, and queues their first stage.
 local function append(jid, a)
   local jk = jkey(jid)
   local n = tonumber(ARGV[a])
   local base = num(jk, 'ntasks')
-  local R = ARGV[a + 3 * n]
+  local R = ARGV[a + 4 * n - 1]
   if redis.call('HGET', jk, 'pround') ~= R then
     for ph in string.gmatch(redis.call('HGET', jk, 'pphases') or '', '%d+') do
       redis.call('HDEL', jk, 'pt:' .. ph, 'ps:' .. ph)
@@ -148,12 +133,11 @@ local function append(jid, a)
   local plist = redis.call('HGET', jk, 'pphases')
   local stage, stageStart
   for i = 0, n - 1 do
-    local spec, phase, round = ARGV[a + 1 + 3 * i], ARGV[a + 2 + 3 * i], ARGV[a + 3 + 3 * i]
+    local spec, phase, round, st = ARGV[a + 1 + 4 * i], ARGV[a + 2 + 4 * i], ARGV[a + 3 + 4 * i], ARGV[a + 4 + 4 * i]
     local idx = base + i
     redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', spec, 'phase', phase, 'round', round,
-      'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
+      'stage', st, 'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
       'outputs', '', 'expire', 0, 'retry', '', 'progress', '0', 'ptime', 0)
-    local st = math.max(tonumber(round), 1) * 256 + tonumber(phase)
     if st ~= stage then
       if stage then redis.call('HSET', skey(jid), stageStart, idx) end
       stage, stageStart = st, idx
@@ -215,11 +199,12 @@ local function succeedjob(jid, outputs)
   redis.call('HSET', jkey(jid), 'state', JSUCCEEDED, 'end', NOW_S, 'outputs', outputs)
 end
 
--- endjob moves a job to a terminal state, empties its queue and cancels its unfinished
--- tasks. Only the current stage and those after it can be unfinished.
-local function endjob(jid, state, msg)
+-- endjob moves a job to a terminal state (with why and the failure kind for JFAILED),
+-- empties its queue and cancels its unfinished tasks. Only the current stage and those
+-- after it can be unfinished.
+local function endjob(jid, state, msg, kind)
   local jk = jkey(jid)
-  redis.call('HSET', jk, 'state', state, 'error', msg, 'end', NOW_S, 'update', NOW_S, 'held', 0)
+  redis.call('HSET', jk, 'state', state, 'error', msg, 'fkind', kind, 'end', NOW_S, 'update', NOW_S, 'held', 0)
   local cur, n = num(jk, 'cur'), num(jk, 'ntasks')
   redis.call('DEL', qkey(jid, redis.call('HGET', tkey(tid(jid, cur)), 'phase')))
   place(jid)
@@ -234,31 +219,37 @@ local function endjob(jid, state, msg)
   end
 end
 
--- failjob fails leased task t, which failed n times, and its job with t's last error
--- (store.JobFailure).
-local function failjob(t, jid, n)
+-- failjob fails leased task t and its job with msg, of the kind of t's last failure.
+local function failjob(t, jid, msg)
   local k = tkey(t)
   redis.call('HSET', k, 'state', FAILED)
   redis.call('ZREM', LEASES, t)
-  endjob(jid, JFAILED, 'task ' .. t .. ' failed ' .. n .. ' times; last error: ' .. redis.call('HGET', k, 'error'))
+  endjob(jid, JFAILED, msg, redis.call('HGET', k, 'fkind'))
   return ok(1, 0, jid, t)
 end
 
--- fail counts a failed attempt at t's live lease by worker (FailTask, a stuck lease)
--- under pol (policy): the worker is blocked from the job at pol.block failures (reason as
--- store.BlockReason, stored as "µs reason"); the task goes back after
--- store.Options.Backoff, or at pol.attempts fails with its job.
-local function fail(t, worker, msg, pol)
+-- limitfailure is the job's error when t reached a limit after n failures
+-- (store.JobFailure).
+local function limitfailure(t, n)
+  return 'task ' .. t .. ' failed ' .. n .. ' times; last error: ' .. redis.call('HGET', tkey(t), 'error')
+end
+
+-- fail counts a transient failed attempt of kind at t's live lease by worker (FailTask,
+-- a stuck lease) under pol (policy): the worker is blocked from the job at pol.block
+-- failures (reason as store.BlockReason, stored as "µs reason"; the kind as the job's
+-- bkind); the task goes back after store.Options.Backoff, or at pol.attempts fails with
+-- its job.
+local function fail(t, worker, msg, pol, kind)
   local k = tkey(t)
   local jid = redis.call('HGET', k, 'job')
   local jk = jkey(jid)
   local failures = redis.call('HINCRBY', k, 'failures', 1)
-  redis.call('HSET', k, 'error', msg)
-  local n = redis.call('HINCRBY', jk, 'f:' .. worker, 1)
-  if n >= pol.block and redis.call('HEXISTS', jk, 'b:' .. worker) == 0 then
-    redis.call('HSET', jk, 'b:' .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg)
+  redis.call('HSET', k, 'error', msg, 'fkind', kind)
+  local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
+  if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
+    redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg, 'bkind', kind)
   end
-  if failures >= pol.attempts then return failjob(t, jid, failures) end
+  if failures >= pol.attempts then return failjob(t, jid, limitfailure(t, failures)) end
   local retry = string.format('%.0f', NOW + math.min(pol.base * 2 ^ (failures - 1), pol.cap))
   return ok(0, 0, requeue(t, retry), t)
 end
@@ -270,15 +261,15 @@ end
 var createScript = newScript(`
 local jid, req = ARGV[3], ARGV[4]
 if req ~= '' then
-  local old = redis.call('HGET', P .. 'req', req)
+  local old = redis.call('HGET', REQUESTS, req)
   if old then return ok(0, 0, old, nil) end
 end
 if redis.call('EXISTS', jkey(jid)) == 1 then return refuse('internal', '', 'job id ' .. jid .. ' is taken') end
-local seq = redis.call('INCR', P .. 'seq')
+local seq = redis.call('INCR', SEQ)
 redis.call('HSET', jkey(jid), 'static', ARGV[5], 'seq', seq, 'state', JQUEUED, 'update', NOW_S,
   'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0)
-redis.call('ZADD', P .. 'jobs', seq, jid)
-if req ~= '' then redis.call('HSET', P .. 'req', req, jid) end
+redis.call('ZADD', JOBS, seq, jid)
+if req ~= '' then redis.call('HSET', REQUESTS, req, jid) end
 append(jid, 7)
 return ok(0, 0, jid, nil)
 `)
@@ -297,7 +288,7 @@ local function first(key)
     local r = redis.call('ZRANGE', key, from, from + 15, 'WITHSCORES')
     if #r == 0 then return nil end
     for k = 1, #r, 2 do
-      if redis.call('HEXISTS', jkey(jobof(r[k])), 'b:' .. worker) == 0 then return r[k], tonumber(r[k + 1]) end
+      if redis.call('HEXISTS', jkey(jobof(r[k])), BLOCKED .. worker) == 0 then return r[k], tonumber(r[k + 1]) end
     end
     from = from + 16
   end
@@ -364,14 +355,14 @@ local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
 if repeated(t, worker, epoch) then return {'NOOP'} end
 local e = held(t, worker, epoch)
 if e then return e end
-local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'phase', 'round')
+local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'stage')
 local jid, idx = h[1], tonumber(h[2])
 local jk = jkey(jid)
 if num(jk, 'cur') ~= idx or num(jk, 'ntasks') ~= idx + 1 then
   return refuse('internal', '', 'task ' .. t .. ' is not the last task of its round')
 end
 local n = tonumber(ARGV[9])
-if n > 0 and math.max(tonumber(ARGV[12]), 1) * 256 + tonumber(ARGV[11]) <= math.max(tonumber(h[4]), 1) * 256 + tonumber(h[3]) then
+if n > 0 and tonumber(ARGV[13]) <= tonumber(h[3]) then
   return refuse('internal', '', 'next round\'s task 0 is out of order')
 end
 succeed(t, ARGV[6])
@@ -384,12 +375,44 @@ succeedjob(jid, ARGV[8])
 return ok(1, 0, jid, t)
 `)
 
-// failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] policy.
+// failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] policy, [8] failure
+// kind, [9] the job's error if the failure is permanent (store.PermanentFailure), else
+// empty: a permanent failure fails the task and the job at once and blames no worker.
 var failScript = newScript(`
-local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
+local t, worker, epoch, kind = ARGV[3], ARGV[4], ARGV[5], ARGV[8]
 local e = held(t, worker, epoch)
 if e then return e end
-return fail(t, worker, ARGV[6], policy(ARGV[7]))
+if ARGV[9] == '' then return fail(t, worker, ARGV[6], policy(ARGV[7]), kind) end
+redis.call('HSET', tkey(t), 'error', ARGV[6], 'fkind', kind)
+return failjob(t, redis.call('HGET', tkey(t), 'job'), ARGV[9])
+`)
+
+// failBlockedScript: ARGV[3] job id, [4] the job's error up to the latest block's reason
+// (store.BlockedJobFailure with an empty reason), [5...] the workers. It fails the job if
+// it has not ended and every one of the workers is blocked from it, else changes nothing.
+var failBlockedScript = newScript(`
+local jid = ARGV[3]
+local jk = jkey(jid)
+local st = redis.call('HGET', jk, 'state')
+if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+st = tonumber(st)
+if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED or #ARGV < 5 then return {'NOOP'} end
+for i = 5, #ARGV do
+  if redis.call('HEXISTS', jk, BLOCKED .. ARGV[i]) == 0 then return {'NOOP'} end
+end
+-- The latest block, ordered as store.SortBlocked orders them: by time, then worker.
+local lastAt, lastWorker, lastReason
+local h = redis.call('HGETALL', jk)
+for i = 1, #h, 2 do
+  if string.sub(h[i], 1, #BLOCKED) == BLOCKED then
+    local w = string.sub(h[i], #BLOCKED + 1)
+    local at, reason = string.match(h[i + 1], '^(%d+) (.*)$')
+    at = tonumber(at)
+    if not lastAt or at > lastAt or (at == lastAt and w > lastWorker) then lastAt, lastWorker, lastReason = at, w, reason end
+  end
+end
+endjob(jid, JFAILED, ARGV[4] .. lastReason, redis.call('HGET', jk, 'bkind'))
+return ok(1, 0, jid, nil)
 `)
 
 // releaseScript: ARGV[3] task, [4] worker, [5] epoch.
@@ -424,7 +447,7 @@ for i = 9, #ARGV, 3 do
       stuck = not exempt[h[3]] and tonumber(h[2] or NOW_S) <= cutoff
     end
     if stuck then
-      out[#out + 1] = fail(t, worker, ARGV[6], policy(ARGV[7]))
+      out[#out + 1] = fail(t, worker, ARGV[6], policy(ARGV[7]), FTRANSIENT)
     else
       redis.call('HSET', k, 'expire', expire)
       redis.call('ZADD', LEASES, expire, t)
@@ -445,9 +468,9 @@ for _, t in ipairs(redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S)) do
   -- An earlier failure in this loop may have ended the job, cancelling the lease.
   if tonumber(redis.call('HGET', k, 'state')) == LEASED then
     local n = redis.call('HINCRBY', k, 'expiries', 1)
-    redis.call('HSET', k, 'error', ARGV[4])
+    redis.call('HSET', k, 'error', ARGV[4], 'fkind', FTRANSIENT)
     if n >= tonumber(ARGV[3]) then
-      out[#out + 1] = failjob(t, redis.call('HGET', k, 'job'), n)
+      out[#out + 1] = failjob(t, redis.call('HGET', k, 'job'), limitfailure(t, n))
     else
       out[#out + 1] = ok(0, 1, requeue(t), t)
     end
@@ -471,7 +494,7 @@ var cancelScript = newScript(`
 local jid = ARGV[3]
 local e = live(jid)
 if e then return e end
-endjob(jid, JCANCELLED, '')
+endjob(jid, JCANCELLED, '', 0)
 return ok(1, 0, jid, nil)
 `)
 
@@ -494,17 +517,17 @@ if redis.call('EXISTS', jk) == 0 then return refuse('notfound', 'job_id', 'no jo
 local drop, unblocked = {}, 0
 if worker == '' then
   for _, f in ipairs(redis.call('HKEYS', jk)) do
-    local kind = string.sub(f, 1, 2)
-    if kind == 'b:' or kind == 'f:' then drop[#drop + 1] = f end
-    if kind == 'b:' then unblocked = 1 end
+    local blocked = string.sub(f, 1, #BLOCKED) == BLOCKED
+    if blocked or string.sub(f, 1, #FAILURES) == FAILURES then drop[#drop + 1] = f end
+    if blocked then unblocked = 1 end
   end
 else
-  drop = {'b:' .. worker, 'f:' .. worker}
-  unblocked = redis.call('HEXISTS', jk, 'b:' .. worker)
+  drop = {BLOCKED .. worker, FAILURES .. worker}
+  unblocked = redis.call('HEXISTS', jk, BLOCKED .. worker)
 end
 if #drop > 0 then redis.call('HDEL', jk, unpack(drop)) end
 if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
 return ok(0, unblocked, jid, nil)
 `)
 
-func newScript(body string) *redis.Script { return redis.NewScript(lib + body) }
+func newScript(body string) *redis.Script { return redis.NewScript(preamble + lib + body) }

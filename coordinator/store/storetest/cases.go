@@ -194,7 +194,7 @@ func testIdempotentComplete(f *fixture) {
 	}
 	_, err := f.s.CompleteTask(f.ctx, ref("w2", l), nil)
 	wantKind(f.t, "complete by another worker", err, errs.FailedPrecondition)
-	_, err = f.s.FailTask(f.ctx, ref("w1", l), "late failure")
+	_, err = f.s.FailTask(f.ctx, ref("w1", l), store.Transient("late failure"))
 	wantKind(f.t, "fail after success", err, errs.FailedPrecondition)
 }
 
@@ -208,7 +208,7 @@ func testStaleReports(f *fixture) {
 	stale.Epoch += 2
 	_, err = f.s.CompleteTask(f.ctx, stale, nil)
 	wantKind(f.t, "complete under a future epoch", err, errs.FailedPrecondition)
-	_, err = f.s.FailTask(f.ctx, ref("w2", l), "x")
+	_, err = f.s.FailTask(f.ctx, ref("w2", l), store.Transient("x"))
 	wantKind(f.t, "fail by another worker", err, errs.FailedPrecondition)
 	_, err = f.s.ReleaseTask(f.ctx, ref("w2", l))
 	wantKind(f.t, "release by another worker", err, errs.FailedPrecondition)
@@ -288,7 +288,7 @@ func testFailRetries(f *fixture) {
 		if l.Task.Index != 1 || l.Task.Attempts != uint32(attempt) {
 			f.t.Fatalf("attempt %d leased %v", attempt, l.Task)
 		}
-		c, err := f.s.FailTask(f.ctx, ref("w1", l), fmt.Sprintf("boom %d", attempt))
+		c, err := f.s.FailTask(f.ctx, ref("w1", l), store.Failure{Message: fmt.Sprintf("boom %d", attempt)})
 		if err != nil {
 			f.t.Fatal(err)
 		}
@@ -329,7 +329,7 @@ func testRelease(f *fixture) {
 		}
 	}
 	for i := 1; i < maxAttempts; i++ {
-		if _, err := f.s.FailTask(f.ctx, ref("w1", f.lease("w1")), "x"); err != nil {
+		if _, err := f.s.FailTask(f.ctx, ref("w1", f.lease("w1")), store.Transient("x")); err != nil {
 			f.t.Fatal(err)
 		}
 		f.clock.Advance(f.opts.Backoff(i))

@@ -36,7 +36,7 @@ func (f *fixture) leases(worker string, n int) []string {
 
 func (f *fixture) fail(worker string, l *store.Leased, msg string) store.Change {
 	f.t.Helper()
-	c, err := f.s.FailTask(f.ctx, ref(worker, l), msg)
+	c, err := f.s.FailTask(f.ctx, ref(worker, l), store.Transient(msg))
 	if err != nil {
 		f.t.Fatalf("FailTask(%s): %v", l.Lease.TaskId, err)
 	}
@@ -158,7 +158,7 @@ func testExpiryLimit(f *fixture) {
 			f.t.Fatalf("expiry %d: ExpireLeases = %v, %v", n, cs, err)
 		}
 		c := cs[0]
-		if c.Task.Error != store.ExpiredMessage || c.Task.Id != l.Lease.TaskId {
+		if c.Task.Error != store.ExpiredMessage || c.Task.Id != l.Lease.TaskId || c.Task.FailureKind != pb.FailureKind_FAILURE_KIND_TRANSIENT {
 			f.t.Errorf("expiry %d: task = %v, want error %q", n, c.Task, store.ExpiredMessage)
 		}
 		if n < maxExpiries {
@@ -168,7 +168,8 @@ func testExpiryLimit(f *fixture) {
 			continue
 		}
 		want := store.JobFailure(l.Lease.TaskId, maxExpiries, store.ExpiredMessage)
-		if !c.JobStateChanged || c.Job.State != pb.JobState_JOB_STATE_FAILED || c.Job.Error != want || c.Task.State != pb.TaskState_TASK_STATE_FAILED {
+		if !c.JobStateChanged || c.Job.State != pb.JobState_JOB_STATE_FAILED || c.Job.Error != want || c.Task.State != pb.TaskState_TASK_STATE_FAILED ||
+			c.Job.FailureKind != pb.FailureKind_FAILURE_KIND_TRANSIENT {
 			f.t.Fatalf("last expiry: change = %+v, want the job FAILED with %q", c, want)
 		}
 	}

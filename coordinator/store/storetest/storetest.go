@@ -93,6 +93,9 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"CompleteRoundAppendsTheNextRoundThenEndsTheJob", testCompleteRoundAppendsNextRound},
 		{"CompleteRoundRefusesTilesAndStaleLeases", testCompleteRoundRefusals},
 		{"CancelledJobGetsNoNewRound", testCancelledRoundIsNotExtended},
+		{"PermanentFailureFailsTheJobAtOnceAndBlamesNoWorker", testPermanentFailure},
+		{"TransientKindsRetryAndRecordTheirKind", testTransientKinds},
+		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) { tt.fn(setup(t, newStore)) })

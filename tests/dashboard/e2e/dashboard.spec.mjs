@@ -8,8 +8,10 @@
 //   DASHBOARD_URL   where `farm dashboard` serves, e.g. http://127.0.0.1:40123/
 //   FARM_TOKEN      the coordinator's client token (the dashboard's login)
 //   SCENE_PATH      a self-contained scene JSON that renders in several seconds
-//   SCREENSHOT_DIR  where job-page.png (and failure.png) go
+//   SCREENSHOT_DIR  where job-page.png, failed-job-page.png (and failure.png) go
 //   CHROMIUM        the browser, /usr/bin/chromium unless set
+//   FAILED_JOB_ID   a job that failed as bad input before the test (a worker reported it)
+//   FAILED_REASON   the error that worker reported
 
 import fs from 'node:fs';
 import path from 'node:path';
@@ -28,6 +30,8 @@ const token = env('FARM_TOKEN');
 const scenePath = env('SCENE_PATH');
 const shotDir = env('SCREENSHOT_DIR');
 const browserPath = env('CHROMIUM', '/usr/bin/chromium');
+const failedJobId = env('FAILED_JOB_ID');
+const failedReason = env('FAILED_REASON');
 
 const api = (p) => new URL(p.replace(/^\//, ''), baseURL).toString();
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -160,7 +164,50 @@ try {
     const session = await (await list.request.get(api('/api/session'))).json();
     check(session.authenticated === true, `GET /api/session after login: ${JSON.stringify(session)}`);
     const jobs = await (await list.request.get(api('/api/jobs'))).json();
-    check((jobs.jobs ?? []).length === 0, `the refused POST made a job: ${JSON.stringify(jobs)}`);
+    const ids = (jobs.jobs ?? []).map((j) => j.id);
+    check(ids.length === 1 && ids[0] === failedJobId, `the refused POST made a job: ${JSON.stringify(ids)}, want only ${failedJobId}`);
+  });
+
+  // The job that failed as bad input opens with a banner saying so, above everything else.
+  await step('a job that failed as bad input shows the failure kind and the reason in a banner at the top', async () => {
+    await list.goto(`${baseURL}#/jobs/${failedJobId}`);
+    const banner = list.locator(tid('failure-banner'));
+    await banner.waitFor({ state: 'visible', timeout: 15000 });
+    const kind = await banner.getAttribute('data-kind');
+    check(kind === 'FAILURE_KIND_BAD_INPUT', `failure-banner data-kind = ${kind}`);
+    const label = (await list.locator(tid('failure-kind')).innerText()).trim();
+    check(label === 'Bad input:', `failure-kind says ${JSON.stringify(label)}, want "Bad input:"`);
+    const message = await list.locator(tid('failure-message')).innerText();
+    check(message.includes(failedReason) && message.includes(`task ${failedJobId}.`),
+      `failure-message says ${JSON.stringify(message)}, want the task and ${JSON.stringify(failedReason)}`);
+    await waitFor('job-state to say failed', 10000, async () =>
+      /failed/i.test(await list.locator(tid('job-state')).first().innerText()));
+    // At the top: above the progress figures and the tile mosaic.
+    const top = (await banner.boundingBox()).y;
+    const mosaic = (await list.locator(tid('mosaic')).boundingBox()).y;
+    const progress = (await list.locator(tid('job-progress')).first().boundingBox()).y;
+    check(top < progress && top < mosaic, `the banner (y ${top}) is not above the progress (y ${progress}) and the mosaic (y ${mosaic})`);
+    await list.screenshot({ path: path.join(shotDir, 'failed-job-page.png') });
+  });
+
+  // A scene naming a mesh file cannot come from a browser: the refusal says so.
+  await step('a scene naming a mesh file is refused with a reason in the user\'s terms', async () => {
+    const withFile = structuredClone(scene);
+    withFile.shapes = [...withFile.shapes, { name: 'm', material: withFile.shapes[0].material, mesh: { path: 'meshes/bunny.obj' } }];
+    await list.goto(baseURL + '#/');
+    const input = list.locator(tid('submit-file'));
+    await waitFor('the submit-file input', 15000, () => input.count());
+    const answered = list.waitForResponse((r) => r.request().method() === 'POST' && new URL(r.url()).pathname === '/api/jobs', { timeout: 30000 });
+    await input.setInputFiles({ name: 'with-mesh.json', mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(withFile)) });
+    const response = await answered;
+    check(response.status() === 400, `POST /api/jobs of a scene naming a mesh file answered ${response.status()}`);
+    const text = await waitFor('submit-error', 10000, async () => {
+      const el = list.locator(tid('submit-error'));
+      return (await el.count()) ? el.innerText() : null;
+    });
+    for (const want of ['with-mesh.json was refused, nothing was queued', 'names the file meshes/bunny.obj', 'cannot upload files from the browser']) {
+      check(text.includes(want), `submit-error says ${JSON.stringify(text)}, want ${JSON.stringify(want)}`);
+    }
   });
 
   // (c) Submit the scene through the file input.
@@ -230,6 +277,7 @@ try {
     await waitFor('job-state to say succeeded', 10000, async () =>
       /succeeded/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
     () => jobPage.locator(tid('job-state')).first().innerText());
+    check(!(await jobPage.locator(tid('failure-banner')).isVisible()), 'a succeeded job shows a failure banner');
   });
 
   // (h) The job page, for people to look at.

@@ -1,4 +1,5 @@
 // Formatting of durations, times, numbers and enum names for display.
+import { FAILURE_KINDS, PHASES } from "./contract.gen.js";
 /** Milliseconds since the epoch of an RFC 3339 timestamp, or undefined. */
 export function parseTime(ts) {
     if (!ts)
@@ -108,17 +109,16 @@ export function enumKey(value, prefix) {
 export const jobStateLabel = (s) => enumLabel(s, "JOB_STATE_");
 export const taskStateLabel = (s) => enumLabel(s, "TASK_STATE_");
 export const workerStateLabel = (s) => enumLabel(s, "WORKER_STATE_");
-const PHASE_LABELS = {
-    PHASE_UNSPECIFIED: "Unknown",
-    PHASE_EMIT: "Emit photons",
-    PHASE_BUILD: "Build photon map",
-    PHASE_PRECOMPUTE: "Precompute irradiance",
-    PHASE_MERGE: "Merge irradiance",
-    PHASE_RENDER: "Render tiles",
-    PHASE_COMPOSITE: "Composite",
-};
+/** A phase's label in the contract ("Render tiles"). */
 export function phaseLabel(p) {
-    return PHASE_LABELS[p ?? "PHASE_UNSPECIFIED"] ?? enumLabel(p, "PHASE_");
+    return PHASES.find((ph) => ph.phase === p)?.label ?? enumLabel(p, "PHASE_");
+}
+/** A failure kind's label in the contract, capitalised ("Bad input"); "Failed" when unknown. */
+export function failureLabel(k) {
+    if (!k || k === "FAILURE_KIND_UNSPECIFIED" || !(k in FAILURE_KINDS))
+        return "Failed";
+    const label = FAILURE_KINDS[k].label;
+    return label.charAt(0).toUpperCase() + label.slice(1);
 }
 /** A short phase name for table cells. */
 export function phaseShort(p) {

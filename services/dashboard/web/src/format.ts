@@ -1,6 +1,7 @@
 // Formatting of durations, times, numbers and enum names for display.
 
-import type { JobState, Phase, TaskState, WorkerState } from "./types.js";
+import { FAILURE_KINDS, PHASES } from "./contract.gen.js";
+import type { FailureKind, JobState, Phase, TaskState, WorkerState } from "./types.js";
 
 /** Milliseconds since the epoch of an RFC 3339 timestamp, or undefined. */
 export function parseTime(ts: string | undefined): number | undefined {
@@ -104,18 +105,16 @@ export const jobStateLabel = (s: JobState | undefined) => enumLabel(s, "JOB_STAT
 export const taskStateLabel = (s: TaskState | undefined) => enumLabel(s, "TASK_STATE_");
 export const workerStateLabel = (s: WorkerState | undefined) => enumLabel(s, "WORKER_STATE_");
 
-const PHASE_LABELS: Record<Phase, string> = {
-  PHASE_UNSPECIFIED: "Unknown",
-  PHASE_EMIT: "Emit photons",
-  PHASE_BUILD: "Build photon map",
-  PHASE_PRECOMPUTE: "Precompute irradiance",
-  PHASE_MERGE: "Merge irradiance",
-  PHASE_RENDER: "Render tiles",
-  PHASE_COMPOSITE: "Composite",
-};
-
+/** A phase's label in the contract ("Render tiles"). */
 export function phaseLabel(p: Phase | undefined): string {
-  return PHASE_LABELS[p ?? "PHASE_UNSPECIFIED"] ?? enumLabel(p, "PHASE_");
+  return PHASES.find((ph) => ph.phase === p)?.label ?? enumLabel(p, "PHASE_");
+}
+
+/** A failure kind's label in the contract, capitalised ("Bad input"); "Failed" when unknown. */
+export function failureLabel(k: FailureKind | undefined): string {
+  if (!k || k === "FAILURE_KIND_UNSPECIFIED" || !(k in FAILURE_KINDS)) return "Failed";
+  const label = FAILURE_KINDS[k].label;
+  return label.charAt(0).toUpperCase() + label.slice(1);
 }
 
 /** A short phase name for table cells. */

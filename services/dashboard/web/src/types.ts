@@ -25,14 +25,9 @@ export type WorkerState =
   | "WORKER_STATE_BUSY"
   | "WORKER_STATE_LOST";
 
-export type Phase =
-  | "PHASE_UNSPECIFIED"
-  | "PHASE_EMIT"
-  | "PHASE_BUILD"
-  | "PHASE_PRECOMPUTE"
-  | "PHASE_MERGE"
-  | "PHASE_RENDER"
-  | "PHASE_COMPOSITE";
+import type { FailureKind, Phase } from "./contract.gen.js";
+
+export type { FailureKind, Phase };
 
 export interface Artifact {
   name?: string;
@@ -87,6 +82,7 @@ export interface Job {
   height?: number;
   phases?: PhaseProgress[];
   error?: string;
+  failureKind?: FailureKind;
   outputs?: Artifact[];
   plan?: { passes?: PlannedPass[] };
   rounds?: RoundReport[];
@@ -103,6 +99,7 @@ export interface Task {
   attempts?: number;
   workerId?: string;
   error?: string;
+  failureKind?: FailureKind;
   renderTile?: { rect?: PixelRect };
   outputs?: Artifact[];
   round?: number;

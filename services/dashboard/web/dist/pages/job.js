@@ -7,8 +7,9 @@ import { Mosaic } from "../components/mosaic.js";
 import { PhaseList } from "../components/phases.js";
 import { DataTable } from "../components/table.js";
 import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { ARTIFACT } from "../contract.gen.js";
 import { frameScheduler, h, setAttr, setText } from "../dom.js";
-import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatFullTimestamp, formatRelative, jobStateLabel, parseTime, phaseShort, taskStateLabel, } from "../format.js";
+import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatFullTimestamp, formatRelative, failureLabel, jobStateLabel, parseTime, phaseShort, taskStateLabel, } from "../format.js";
 import { jobElapsed, jobEta, jobProgress } from "../progress.js";
 import { artifact, jobEnded } from "../types.js";
 import { progressLabel } from "./jobs.js";
@@ -68,7 +69,10 @@ export function jobPage(id) {
     const priorityForm = h("form", { class: "inline-form", "aria-label": "Priority", novalidate: true }, h("label", { for: "job-priority", class: "inline-form__label" }, "Priority"), priorityInput, priorityButton);
     const cancelButton = h("button", { type: "button", class: "button button--danger", "data-testid": "cancel-button" }, "Cancel job");
     const notice = h("div", { class: "notice-area" });
-    const jobError = h("div", { class: "notice notice--error", role: "alert", hidden: true });
+    // Why a failed job failed, at the top of the page: the failure kind's label and the error.
+    const failureKind = h("strong", { class: "banner__kind", "data-testid": "failure-kind" });
+    const failureMessage = h("span", { class: "banner__message", "data-testid": "failure-message" });
+    const failureBanner = h("div", { class: "notice notice--error banner", role: "alert", "data-testid": "failure-banner", hidden: true }, failureKind, failureMessage);
     function showNotice(kind, message) {
         notice.replaceChildren(h("div", { class: `notice notice--${kind}`, role: kind === "error" ? "alert" : "status" }, message));
     }
@@ -182,9 +186,9 @@ export function jobPage(id) {
         ],
     });
     const tasksCard = h("section", { class: "card", "aria-labelledby": "card-tasks" }, h("div", { class: "card__header" }, h("h2", { id: "card-tasks", class: "card__title" }, "Tasks"), h("div", { class: "filters" }, h("label", { for: "task-state-filter", class: "visually-hidden" }, "Filter by state"), stateSelect, h("label", { for: "task-phase-filter", class: "visually-hidden" }, "Filter by phase"), phaseSelect)), tableInfo, h("div", { class: "table-wrap" }, taskTable.element), h("div", { class: "table-more" }, moreButton));
-    const body = h("div", { class: "job__body", hidden: true }, stats, jobError, h("div", { class: "job__grid" }, h("div", { class: "job__main" }, finalCard, card("Tiles", mosaic.element), card("Error against time", chart.element)), h("div", { class: "job__side" }, card("Phases", phases.element), card("Plan", plan), card("Blocked workers", blocked))), tasksCard);
+    const body = h("div", { class: "job__body", hidden: true }, stats, h("div", { class: "job__grid" }, h("div", { class: "job__main" }, finalCard, card("Tiles", mosaic.element), card("Error against time", chart.element)), h("div", { class: "job__side" }, card("Phases", phases.element), card("Plan", plan), card("Blocked workers", blocked))), tasksCard);
     const missing = h("div", { class: "card empty-state", hidden: true });
-    const element = h("section", { class: "page job", "aria-labelledby": "job-title" }, h("nav", { class: "breadcrumb", "aria-label": "Breadcrumb" }, h("a", { href: "#/" }, "Jobs"), h("span", { "aria-hidden": "true" }, " / "), h("span", null, id)), h("div", { class: "page__header" }, h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine), h("div", { class: "page__actions" }, priorityForm, cancelButton)), notice, missing, body);
+    const element = h("section", { class: "page job", "aria-labelledby": "job-title" }, h("nav", { class: "breadcrumb", "aria-label": "Breadcrumb" }, h("a", { href: "#/" }, "Jobs"), h("span", { "aria-hidden": "true" }, " / "), h("span", null, id)), h("div", { class: "page__header" }, h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine), h("div", { class: "page__actions" }, priorityForm, cancelButton)), failureBanner, notice, missing, body);
     title.id = "job-title-text";
     // ---- state updates
     function applyJob(j) {
@@ -232,8 +236,11 @@ export function jobPage(id) {
         priorityButton.disabled = ended;
         cancelButton.disabled = ended;
         setAttr(cancelButton, "title", ended ? "The job has ended" : null);
-        jobError.hidden = !j.error;
-        setText(jobError, j.error ? `Failed: ${j.error}` : "");
+        const failed = j.state === "JOB_STATE_FAILED";
+        failureBanner.hidden = !failed;
+        setAttr(failureBanner, "data-kind", failed ? (j.failureKind ?? "FAILURE_KIND_UNSPECIFIED") : null);
+        setText(failureKind, failed ? `${failureLabel(j.failureKind)}:` : "");
+        setText(failureMessage, failed ? (j.error ?? "") : "");
         const p = jobProgress(j);
         updateProgressBar(progress, p.fraction, progressLabel(j));
         setText(sRound.value, ended ? `${p.roundsDone} done` : `${p.round}${p.roundsDone ? ` (${p.roundsDone} done)` : ""}`);
@@ -263,8 +270,8 @@ export function jobPage(id) {
                 ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { class: "mono" }, b.workerId ?? ""), h("span", { class: "blocked__reason" }, b.reason ?? ""), h("time", { datetime: b.blockTime ?? "", class: "muted", title: formatFullTimestamp(parseTime(b.blockTime)) }, formatRelative(parseTime(b.blockTime), now))))
                 : [h("li", { class: "empty" }, "No worker is blocked.")]));
         }
-        const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, "preview.png") : undefined;
-        const exr = artifact(j.outputs, "image.exr");
+        const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, ARTIFACT.PREVIEW_PNG) : undefined;
+        const exr = artifact(j.outputs, ARTIFACT.IMAGE_EXR);
         const fs = `${preview?.digest}|${exr?.digest}`;
         if (fs !== finalSig) {
             finalSig = fs;
@@ -272,8 +279,8 @@ export function jobPage(id) {
             finalImage.hidden = !preview;
             finalImage.replaceChildren(...(preview?.digest
                 ? [
-                    finalImg(blobUrl(preview.digest, "preview.png"), `Final render of ${name}`, j),
-                    h("p", { class: "final__links" }, h("a", { href: blobUrl(preview.digest, "preview.png"), download: `${name}.png`, class: "button" }, "Download PNG"), exr?.digest ? h("a", { href: blobUrl(exr.digest, "image.exr"), download: `${name}.exr`, class: "button" }, "Download EXR") : null),
+                    finalImg(blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), `Final render of ${name}`, j),
+                    h("p", { class: "final__links" }, h("a", { href: blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), download: `${name}.png`, class: "button" }, "Download PNG"), exr?.digest ? h("a", { href: blobUrl(exr.digest, ARTIFACT.IMAGE_EXR), download: `${name}.exr`, class: "button" }, "Download EXR") : null),
                 ]
                 : []));
         }

@@ -4,6 +4,7 @@
 // (a placeholder, empty before any round finished it), and outlined while leased.
 
 import { blobUrl } from "../api.js";
+import { ARTIFACT } from "../contract.gen.js";
 import { h, setAttr, setText } from "../dom.js";
 import { formatNumber } from "../format.js";
 import type { Job, PixelRect, Task, TaskState } from "../types.js";
@@ -81,7 +82,7 @@ export class Mosaic {
         cells.set(key, cell);
       }
       if ((t.round ?? 0) === round) cell.current = t;
-      const png = t.state === "TASK_STATE_SUCCEEDED" ? artifact(t.outputs, "tile.png") : undefined;
+      const png = t.state === "TASK_STATE_SUCCEEDED" ? artifact(t.outputs, ARTIFACT.TILE_PNG) : undefined;
       if (png?.digest) cell.shown = { task: t, digest: png.digest };
     }
 
@@ -119,7 +120,7 @@ export class Mosaic {
           el.slot.append(el.img);
         }
         el.digest = cell.shown.digest;
-        el.img.src = blobUrl(cell.shown.digest, "tile.png");
+        el.img.src = blobUrl(cell.shown.digest, ARTIFACT.TILE_PNG);
         el.img.dataset["taskId"] = cell.shown.task.id;
         el.img.dataset["round"] = String(cell.shown.task.round ?? 0);
       }

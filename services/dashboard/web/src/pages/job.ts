@@ -8,6 +8,7 @@ import { Mosaic } from "../components/mosaic.js";
 import { PhaseList } from "../components/phases.js";
 import { DataTable } from "../components/table.js";
 import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { ARTIFACT } from "../contract.gen.js";
 import { frameScheduler, h, setAttr, setText } from "../dom.js";
 import {
   enumKey,
@@ -17,6 +18,7 @@ import {
   formatEta,
   formatFullTimestamp,
   formatRelative,
+  failureLabel,
   jobStateLabel,
   parseTime,
   phaseShort,
@@ -96,7 +98,15 @@ export function jobPage(id: string): Page {
   );
   const cancelButton = h("button", { type: "button", class: "button button--danger", "data-testid": "cancel-button" }, "Cancel job");
   const notice = h("div", { class: "notice-area" });
-  const jobError = h("div", { class: "notice notice--error", role: "alert", hidden: true });
+  // Why a failed job failed, at the top of the page: the failure kind's label and the error.
+  const failureKind = h("strong", { class: "banner__kind", "data-testid": "failure-kind" });
+  const failureMessage = h("span", { class: "banner__message", "data-testid": "failure-message" });
+  const failureBanner = h(
+    "div",
+    { class: "notice notice--error banner", role: "alert", "data-testid": "failure-banner", hidden: true },
+    failureKind,
+    failureMessage,
+  );
 
   function showNotice(kind: "error" | "success", message: string): void {
     notice.replaceChildren(h("div", { class: `notice notice--${kind}`, role: kind === "error" ? "alert" : "status" }, message));
@@ -252,7 +262,6 @@ export function jobPage(id: string): Page {
     "div",
     { class: "job__body", hidden: true },
     stats,
-    jobError,
     h(
       "div",
       { class: "job__grid" },
@@ -280,6 +289,7 @@ export function jobPage(id: string): Page {
       h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine),
       h("div", { class: "page__actions" }, priorityForm, cancelButton),
     ),
+    failureBanner,
     notice,
     missing,
     body,
@@ -335,8 +345,11 @@ export function jobPage(id: string): Page {
     cancelButton.disabled = ended;
     setAttr(cancelButton, "title", ended ? "The job has ended" : null);
 
-    jobError.hidden = !j.error;
-    setText(jobError, j.error ? `Failed: ${j.error}` : "");
+    const failed = j.state === "JOB_STATE_FAILED";
+    failureBanner.hidden = !failed;
+    setAttr(failureBanner, "data-kind", failed ? (j.failureKind ?? "FAILURE_KIND_UNSPECIFIED") : null);
+    setText(failureKind, failed ? `${failureLabel(j.failureKind)}:` : "");
+    setText(failureMessage, failed ? (j.error ?? "") : "");
 
     const p = jobProgress(j);
     updateProgressBar(progress, p.fraction, progressLabel(j));
@@ -396,8 +409,8 @@ export function jobPage(id: string): Page {
       );
     }
 
-    const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, "preview.png") : undefined;
-    const exr = artifact(j.outputs, "image.exr");
+    const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, ARTIFACT.PREVIEW_PNG) : undefined;
+    const exr = artifact(j.outputs, ARTIFACT.IMAGE_EXR);
     const fs = `${preview?.digest}|${exr?.digest}`;
     if (fs !== finalSig) {
       finalSig = fs;
@@ -406,12 +419,12 @@ export function jobPage(id: string): Page {
       finalImage.replaceChildren(
         ...(preview?.digest
           ? [
-              finalImg(blobUrl(preview.digest, "preview.png"), `Final render of ${name}`, j),
+              finalImg(blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), `Final render of ${name}`, j),
               h(
                 "p",
                 { class: "final__links" },
-                h("a", { href: blobUrl(preview.digest, "preview.png"), download: `${name}.png`, class: "button" }, "Download PNG"),
-                exr?.digest ? h("a", { href: blobUrl(exr.digest, "image.exr"), download: `${name}.exr`, class: "button" }, "Download EXR") : null,
+                h("a", { href: blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), download: `${name}.png`, class: "button" }, "Download PNG"),
+                exr?.digest ? h("a", { href: blobUrl(exr.digest, ARTIFACT.IMAGE_EXR), download: `${name}.exr`, class: "button" }, "Download EXR") : null,
               ),
             ]
           : []),

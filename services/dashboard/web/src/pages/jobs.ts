@@ -50,6 +50,23 @@ function renderName(job: Job, td: HTMLTableCellElement): void {
   );
 }
 
+/** What went wrong with a "Submit scene", for people: a headline and the server's reason. */
+function submitRefusal(fileName: string, err: unknown): [string, string] {
+  const message = err instanceof Error ? err.message : String(err);
+  if (!(err instanceof ApiError)) return [`Could not submit ${fileName}: `, message];
+  switch (err.status) {
+    case 400:
+      return [`${fileName} was refused, nothing was queued: `, message];
+    case 413:
+      return [`${fileName} is too large to submit from the browser: `, message];
+    case 403:
+      return [`Your token may not submit jobs: `, message];
+    case 503:
+      return [`The farm is not reachable now; try again: `, message];
+  }
+  return [`Could not submit ${fileName}: `, message];
+}
+
 export function jobsPage(): Page {
   let jobs: Job[] = [];
   let received = false;
@@ -115,14 +132,9 @@ export function jobsPage(): Page {
         render.schedule();
       }
     } catch (err) {
-      const message = err instanceof ApiError ? err.message : err instanceof Error ? err.message : String(err);
+      const [headline, message] = submitRefusal(file.name, err);
       notice.replaceChildren(
-        h(
-          "div",
-          { class: "notice notice--error", role: "alert", "data-testid": "submit-error" },
-          h("strong", null, `Could not submit ${file.name}: `),
-          message,
-        ),
+        h("div", { class: "notice notice--error", role: "alert", "data-testid": "submit-error" }, h("strong", null, headline), message),
       );
     } finally {
       uploadLabel.classList.remove("is-busy");

@@ -1,0 +1,82 @@
+package assets_test
+
+import (
+	"bufio"
+	"context"
+	"errors"
+	"io"
+	"os"
+	"path/filepath"
+	"regexp"
+	"strconv"
+	"strings"
+	"testing"
+
+	"photonfarm/contract/assets"
+)
+
+// The mesh vectors are shared with the worker's loader tests: each file in
+// tests/vectors/meshes is an OBJ mesh whose first line says what both sides must make of
+// it, "# vector: accept" or "# vector: refuse line N: REASON" (the error names line N and
+// contains REASON).
+const vectorDir = "../../tests/vectors/meshes"
+
+var verdict = regexp.MustCompile(`^# vector: (?:(accept)|refuse line (\d+): (.+))$`)
+
+func TestMeshVectors(t *testing.T) {
+	files, err := filepath.Glob(filepath.Join(vectorDir, "*.obj"))
+	if err != nil || len(files) == 0 {
+		t.Fatalf("no vectors in %s: %v", vectorDir, err)
+	}
+	for _, file := range files {
+		t.Run(filepath.Base(file), func(t *testing.T) {
+			accept, line, reason := readVerdict(t, file)
+			mesh, err := assets.CheckOBJ(context.Background(), openFile(file), assets.SceneLimits())
+			if accept {
+				if err != nil {
+					t.Fatalf("refused: %v", err)
+				}
+				if mesh.Vertices == 0 || mesh.Triangles == 0 {
+					t.Errorf("accepted as %+v, want vertices and triangles", mesh)
+				}
+				return
+			}
+			var e *assets.Error
+			if !errors.As(err, &e) {
+				t.Fatalf("got %v (mesh %+v), want a refusal of line %d: %s", err, mesh, line, reason)
+			}
+			if e.Line != line || !strings.Contains(e.Reason, reason) || !strings.HasPrefix(err.Error(), "line "+strconv.Itoa(line)+": ") {
+				t.Errorf("refused with %q, want line %d and %q", err, line, reason)
+			}
+		})
+	}
+}
+
+func readVerdict(t *testing.T, file string) (accept bool, line int, reason string) {
+	t.Helper()
+	f, err := os.Open(file)
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer f.Close()
+	first, err := bufio.NewReader(f).ReadString('\n')
+	if err != nil && err != io.EOF {
+		t.Fatal(err)
+	}
+	first = strings.TrimRight(first, "\r\n")
+	// A vector whose line breaks are carriage returns alone has its verdict up to the first.
+	first, _, _ = strings.Cut(first, "\r")
+	m := verdict.FindStringSubmatch(first)
+	if m == nil {
+		t.Fatalf("first line %q is not \"# vector: accept\" or \"# vector: refuse line N: REASON\"", first)
+	}
+	if m[1] != "" {
+		return true, 0, ""
+	}
+	n, _ := strconv.Atoi(m[2])
+	return false, n, m[3]
+}
+
+func openFile(path string) assets.Opener {
+	return func() (io.ReadCloser, error) { return os.Open(path) }
+}

@@ -1,0 +1,62 @@
+package service_test
+
+import (
+	"os"
+	"testing"
+
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/status"
+
+	"photonfarm/contract/scene/scenetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+func withMesh(sc *pb.Scene, m *pb.MeshFile) *pb.Scene {
+	sc.Shapes = append(sc.Shapes, &pb.Shape{Material: "white", Geometry: &pb.Shape_Mesh{Mesh: m}})
+	return sc
+}
+
+func TestSubmitAndPlanRefuseABrokenMeshNamingTheShapeTheFileAndTheLine(t *testing.T) {
+	f := newFarm(t)
+	broken, err := os.ReadFile("../../tests/vectors/meshes/refuse-vertex-out-of-range.obj")
+	if err != nil {
+		t.Fatal(err)
+	}
+	bad := f.upload(broken)
+	good := f.upload([]byte("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"))
+	blobs := f.blobCount()
+	const reason = "line 5: face refers to vertex 7 but the file has 3 vertices"
+	for _, tc := range []struct {
+		name string
+		mesh *pb.MeshFile
+		want string
+	}{
+		{"named by path", &pb.MeshFile{Path: "meshes/broken.obj", Digest: bad.Digest}, "meshes/broken.obj: " + reason},
+		{"by digest alone", &pb.MeshFile{Digest: bad.Digest}, bad.Digest + ": " + reason},
+	} {
+		// A good mesh first: the refusal names the broken one's shape.
+		sc := withMesh(withMesh(scenetest.Unlit(16, 16), &pb.MeshFile{Path: "tri.obj", Digest: good.Digest}), tc.mesh)
+		_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: sc})
+		wantCode(t, tc.name+": SubmitJob", err, codes.InvalidArgument, "shapes[4].mesh")
+		if got := status.Convert(err).Message(); got != "shapes[4].mesh: "+tc.want {
+			t.Errorf("%s: message %q, want %q", tc.name, got, "shapes[4].mesh: "+tc.want)
+		}
+		_, err = f.jobs.PlanScene(f.ctx, &pb.PlanSceneRequest{Scene: sc})
+		wantCode(t, tc.name+": PlanScene", err, codes.InvalidArgument, "shapes[4].mesh")
+	}
+	list, err := f.jobs.ListJobs(f.ctx, &pb.ListJobsRequest{})
+	if err != nil || len(list.Jobs) != 0 {
+		t.Errorf("ListJobs = %v, %v; want no job for a refused scene", list, err)
+	}
+	if n := f.blobCount(); n != blobs {
+		t.Errorf("%d blobs after the refusals, %d before: the refused scene was stored", n, blobs)
+	}
+}
+
+func TestPlanSceneNeedsNoUploadedMesh(t *testing.T) {
+	f := newFarm(t)
+	sc := withMesh(scenetest.Unlit(16, 16), &pb.MeshFile{Path: "later.obj", Digest: "sha256:0000000000000000000000000000000000000000000000000000000000000000"})
+	if _, err := f.jobs.PlanScene(f.ctx, &pb.PlanSceneRequest{Scene: sc}); err != nil {
+		t.Errorf("PlanScene with a mesh not uploaded yet: %v", err)
+	}
+}

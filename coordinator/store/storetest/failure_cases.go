@@ -1,0 +1,112 @@
+package storetest
+
+import (
+	"fmt"
+	"time"
+
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Failure kinds (the store package comment): permanent ones end the job at once and
+// blame no worker, the others retry; and a job every known worker is blocked from fails.
+
+func (f *fixture) failKind(worker string, l *store.Leased, kind pb.FailureKind, msg string) store.Change {
+	f.t.Helper()
+	c, err := f.s.FailTask(f.ctx, ref(worker, l), store.Failure{Message: msg, Kind: kind})
+	if err != nil {
+		f.t.Fatalf("FailTask(%s, %v): %v", l.Lease.TaskId, kind, err)
+	}
+	return c
+}
+
+func testPermanentFailure(f *fixture) {
+	const msg = "shapes[8].mesh: meshes/broken.obj: line 5: face refers to vertex 7 but the file has 3 vertices"
+	for _, kind := range []pb.FailureKind{pb.FailureKind_FAILURE_KIND_BAD_INPUT, pb.FailureKind_FAILURE_KIND_UNSUPPORTED} {
+		j := f.create(kind.String(), 3)
+		// Two transient failures first: with the permanent one they would reach the
+		// blocklist threshold if it counted.
+		for i := 1; i < blockAfter; i++ {
+			f.fail("w1", f.lease("w1"), "flaky")
+			f.clock.Advance(f.opts.MaxRetryBackoff)
+		}
+		l, other := f.lease("w1"), f.lease("w2")
+		c := f.failKind("w1", l, kind, msg)
+		want := store.PermanentFailure(l.Lease.TaskId, msg)
+		if !c.JobStateChanged || c.Job.State != pb.JobState_JOB_STATE_FAILED || c.Job.Error != want || c.Job.FailureKind != kind {
+			f.t.Fatalf("%v: change = %+v, want the job FAILED at once with %q and kind %v", kind, c.Job, want, kind)
+		}
+		if c.Task.State != pb.TaskState_TASK_STATE_FAILED || c.Task.FailureKind != kind || c.Task.Error != msg {
+			f.t.Errorf("%v: task = %v, want FAILED with the report's error and kind", kind, c.Task)
+		}
+		job := f.job(j.Id)
+		if len(job.BlockedWorkers) != 0 || job.FailureKind != kind || job.Error != want || job.EndTime == nil {
+			f.t.Errorf("%v: job = %v, want it failed with no worker blocked", kind, job)
+		}
+		_, err := f.s.CompleteTask(f.ctx, ref("w2", other), nil)
+		wantKind(f.t, "complete another task of the failed job", err, errs.FailedPrecondition)
+		f.noLease("w1")
+	}
+}
+
+func testTransientKinds(f *fixture) {
+	j := f.create("a", 1)
+	kinds := []pb.FailureKind{pb.FailureKind_FAILURE_KIND_UNSPECIFIED, pb.FailureKind_FAILURE_KIND_TRANSIENT, pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED}
+	for i, kind := range kinds {
+		c := f.failKind(fmt.Sprint("w", i), f.lease(fmt.Sprint("w", i)), kind, fmt.Sprint("failure ", i))
+		if c.Task.FailureKind != kind || c.Task.Error != fmt.Sprint("failure ", i) {
+			f.t.Errorf("failure %d: task = %v, want its kind %v recorded", i, c.Task, kind)
+		}
+		if i < maxAttempts-1 {
+			if c.JobStateChanged || c.Task.State != pb.TaskState_TASK_STATE_QUEUED || c.Task.RetryTime == nil {
+				f.t.Fatalf("failure %d (%v): change = %+v, want a retry after a backoff", i, kind, c)
+			}
+			f.clock.Advance(f.opts.MaxRetryBackoff)
+			continue
+		}
+		want := store.JobFailure(c.Task.Id, maxAttempts, fmt.Sprint("failure ", i))
+		if c.Job.State != pb.JobState_JOB_STATE_FAILED || c.Job.Error != want || c.Job.FailureKind != kind {
+			f.t.Errorf("last failure: job = %v, want FAILED with %q and the last kind %v", c.Job, want, kind)
+		}
+	}
+	if got := f.job(j.Id).FailureKind; got != pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED {
+		f.t.Errorf("stored job failure kind = %v", got)
+	}
+}
+
+func testFailBlockedJob(f *fixture) {
+	a := f.create("a", 6)
+	blockWorker := func(worker, msg string) {
+		f.t.Helper()
+		for i := 0; i < blockAfter; i++ {
+			f.failKind(worker, f.lease(worker), pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED, msg)
+		}
+	}
+	nothing := func(what string, workers ...string) {
+		f.t.Helper()
+		c, err := f.s.FailBlockedJob(f.ctx, a.Id, workers)
+		if err != nil || c.Job != nil {
+			f.t.Fatalf("%s: FailBlockedJob(%v) = %+v, %v; want no change", what, workers, c, err)
+		}
+	}
+	blockWorker("w1", "out of memory")
+	nothing("one of two blocked", "w1", "w2")
+	nothing("no worker known")
+	f.clock.Advance(time.Second)
+	blockWorker("w2", "out of disk")
+	nothing("a third worker not blocked", "w1", "w2", "w3")
+
+	c, err := f.s.FailBlockedJob(f.ctx, a.Id, []string{"w2", "w1"})
+	want := store.BlockedJobFailure(2, store.BlockReason(blockAfter, "out of disk"))
+	if err != nil || !c.JobStateChanged || c.Job.State != pb.JobState_JOB_STATE_FAILED || c.Job.Error != want ||
+		c.Job.FailureKind != pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED {
+		f.t.Fatalf("every worker blocked: FailBlockedJob = %+v, %v; want the job FAILED with %q", c.Job, err, want)
+	}
+	if got := taskStates(f.tasks(a.Id)); got != "CCCCCCC" { // six tiles and the composite
+		f.t.Errorf("states = %s, want every task cancelled", got)
+	}
+	nothing("the job has ended", "w1", "w2")
+	_, err = f.s.FailBlockedJob(f.ctx, "nope", []string{"w1"})
+	wantKind(f.t, "FailBlockedJob of an unknown job", err, errs.NotFound)
+}
