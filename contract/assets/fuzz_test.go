@@ -19,7 +19,7 @@ func FuzzCheckOBJ(f *testing.F) {
 			f.Add(b)
 		}
 	}
-	lim := assets.Limits{MaxBytes: 1 << 16, MaxVertices: 1000, MaxTriangles: 1000}
+	lim := assets.Limits{MaxBytes: 1 << 16, MaxVertices: 1000, MaxTriangles: 1000, MaxLineBytes: 1 << 16}
 	f.Fuzz(func(t *testing.T, data []byte) {
 		m, err := assets.CheckOBJ(context.Background(), fromBytes(data), lim)
 		var e *assets.Error

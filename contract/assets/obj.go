@@ -12,7 +12,7 @@
 // The rules, which the worker's side mirrors:
 //
 //   - Lines end in "\n"; a "\r" before it is dropped (CRLF). Lines are numbered from 1 and
-//     at most MaxLineBytes long. The text is UTF-8 without NUL or other control
+//     at most max_mesh_line_bytes long, the line break included. The text is UTF-8 without NUL or other control
 //     characters but tab: anything else is not a text file (binary garbage).
 //   - Tokens are separated by spaces and tabs; a token starting with "#" starts a
 //     comment to the end of the line. Blank lines and comments are ignored.
@@ -49,13 +49,10 @@ import (
 	"photonfarm/contract/rules"
 )
 
-// MaxLineBytes bounds one line of an OBJ file, "\n" included (a face of some thousands of
-// vertices fits).
-const MaxLineBytes = 1 << 16
-
-// Limits bound one mesh file.
+// Limits bound one mesh file: its size, vertices, triangles, and the length of a line
+// with its line break (a face of some thousands of vertices fits in the contract's).
 type Limits struct {
-	MaxBytes, MaxVertices, MaxTriangles uint64
+	MaxBytes, MaxVertices, MaxTriangles, MaxLineBytes uint64
 }
 
 // SceneLimits are the contract's limits of a mesh file (rules.Scene: max_asset_bytes,
@@ -65,6 +62,7 @@ func SceneLimits() Limits {
 		MaxBytes:     rules.Scene.GetMaxAssetBytes(),
 		MaxVertices:  rules.Scene.GetMaxMeshVertices(),
 		MaxTriangles: rules.Scene.GetMaxMeshTriangles(),
+		MaxLineBytes: rules.Scene.GetMaxMeshLineBytes(),
 	}
 }
 
@@ -137,7 +135,7 @@ func scan(ctx context.Context, open Opener, lim Limits, fn func(line []byte) err
 		return 0, err
 	}
 	defer f.Close()
-	r := bufio.NewReaderSize(&limitedReader{ctx: ctx, r: f, left: lim.MaxBytes}, MaxLineBytes)
+	r := bufio.NewReaderSize(&limitedReader{ctx: ctx, r: f, left: lim.MaxBytes}, int(lim.MaxLineBytes))
 	for line := 1; ; line++ {
 		text, err := r.ReadSlice('\n')
 		if len(text) == 0 && err == io.EOF {
@@ -150,7 +148,7 @@ func scan(ctx context.Context, open Opener, lim Limits, fn func(line []byte) err
 		}
 		switch {
 		case errors.Is(err, bufio.ErrBufferFull):
-			return line, &Error{Line: line, Reason: fmt.Sprintf("is longer than %d bytes", MaxLineBytes)}
+			return line, &Error{Line: line, Reason: fmt.Sprintf("is longer than %d bytes", lim.MaxLineBytes)}
 		case errors.Is(err, errTooLarge):
 			return line, &Error{Line: line, Reason: fmt.Sprintf("the file is larger than the limit of %d bytes", lim.MaxBytes)}
 		case err != nil && err != io.EOF:
@@ -396,8 +394,11 @@ func integer(b []byte) (v int64, ok bool) {
 	return v, true
 }
 
+// word is a word of the file as a message shows it: cut short, since it may be anything.
+func word(b []byte) string { return rules.Truncate(string(b), 40) }
+
 func badRef(ref []byte) error {
-	return fmt.Errorf("%q is not a vertex reference (v, v/vt, v//vn or v/vt/vn, whole numbers)", ref)
+	return fmt.Errorf("%q is not a vertex reference (v, v/vt, v//vn or v/vt/vn, whole numbers)", word(ref))
 }
 
 func plural(n uint64, name string) string {
@@ -423,14 +424,14 @@ func numbers(args [][]byte) error {
 // finite and within the scene's largest magnitude.
 func number(tok []byte) (float64, error) {
 	if !decimal(tok) {
-		return 0, fmt.Errorf("%q is not a number", tok)
+		return 0, fmt.Errorf("%q is not a number", word(tok))
 	}
 	x, err := strconv.ParseFloat(string(tok), 64)
 	if err != nil || math.IsInf(x, 0) {
-		return 0, fmt.Errorf("%q is not a finite number", tok)
+		return 0, fmt.Errorf("%q is not a finite number", word(tok))
 	}
 	if m := rules.Scene.GetMaxMagnitude(); math.Abs(x) > m {
-		return 0, fmt.Errorf("%s is out of range: numbers are at most ±%s", tok, rules.Number(m))
+		return 0, fmt.Errorf("%s is out of range: numbers are at most ±%s", word(tok), rules.Number(m))
 	}
 	return x, nil
 }

@@ -30,7 +30,7 @@ func TestCheckOBJCountsAndBounds(t *testing.T) {
 }
 
 func TestCheckOBJLimits(t *testing.T) {
-	lim := assets.Limits{MaxBytes: uint64(len(triangle)), MaxVertices: 3, MaxTriangles: 1}
+	lim := assets.Limits{MaxBytes: uint64(len(triangle)), MaxVertices: 3, MaxTriangles: 1, MaxLineBytes: 1 << 16}
 	for _, tc := range []struct {
 		name, obj string
 		lim       assets.Limits
@@ -38,12 +38,12 @@ func TestCheckOBJLimits(t *testing.T) {
 	}{
 		{"at every limit", triangle, lim, ""},
 		{"one byte too many", triangle + "\n", lim, "line 5: the file is larger than the limit of 32 bytes"},
-		{"a vertex too many", "v 0 0 0\n" + triangle, assets.Limits{MaxBytes: 100, MaxVertices: 3, MaxTriangles: 1},
+		{"a vertex too many", "v 0 0 0\n" + triangle, assets.Limits{MaxBytes: 100, MaxVertices: 3, MaxTriangles: 1, MaxLineBytes: 1 << 16},
 			"line 4: the mesh has more than 3 vertices (the limit of one mesh)"},
-		{"a triangle too many", triangle + "f 3 2 1\n", assets.Limits{MaxBytes: 100, MaxVertices: 3, MaxTriangles: 1},
+		{"a triangle too many", triangle + "f 3 2 1\n", assets.Limits{MaxBytes: 100, MaxVertices: 3, MaxTriangles: 1, MaxLineBytes: 1 << 16},
 			"line 5: the mesh has more than 1 triangle (the limit of one mesh)"},
 		{"a quad past the triangle limit", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
-			assets.Limits{MaxBytes: 100, MaxVertices: 4, MaxTriangles: 1}, "line 5: the mesh has more than 1 triangle"},
+			assets.Limits{MaxBytes: 100, MaxVertices: 4, MaxTriangles: 1, MaxLineBytes: 1 << 16}, "line 5: the mesh has more than 1 triangle"},
 		{"an empty file", "", lim, "line 1: the mesh has no triangles"},
 	} {
 		_, err := assets.CheckOBJ(context.Background(), fromBytes([]byte(tc.obj)), tc.lim)
@@ -69,7 +69,7 @@ func (e endless) Read(p []byte) (int, error) {
 func (endless) Close() error { return nil }
 
 func TestCheckOBJStopsOnEndlessInput(t *testing.T) {
-	lim := assets.Limits{MaxBytes: 1 << 20, MaxVertices: 10, MaxTriangles: 10}
+	lim := assets.Limits{MaxBytes: 1 << 20, MaxVertices: 10, MaxTriangles: 10, MaxLineBytes: 1 << 16}
 	zeros := func() (io.ReadCloser, error) { return endless{0}, nil }
 	if _, err := assets.CheckOBJ(context.Background(), zeros, lim); err == nil || !strings.Contains(err.Error(), "line 1: contains a NUL byte") {
 		t.Errorf("endless zeros: %v, want a NUL byte on line 1", err)
@@ -106,7 +106,7 @@ func TestCheckOBJReportsTheFirstBadLine(t *testing.T) {
 
 func TestCheckOBJLongLineOfMultibyteTextIsTooLongNotGarbage(t *testing.T) {
 	// The line is cut at the buffer inside a two-byte character.
-	obj := "# " + strings.Repeat("é", assets.MaxLineBytes) + "\n" + triangle
+	obj := "# " + strings.Repeat("é", int(assets.SceneLimits().MaxLineBytes)) + "\n" + triangle
 	_, err := assets.CheckOBJ(context.Background(), fromBytes([]byte(obj)), assets.SceneLimits())
 	if err == nil || err.Error() != "line 1: is longer than 65536 bytes" {
 		t.Errorf("got %v", err)

@@ -36,7 +36,8 @@ func sceneLimits() *pb.SceneLimits {
 	opts := (&pb.Scene{}).ProtoReflect().Descriptor().Options()
 	l := proto.GetExtension(opts, pb.E_SceneLimits).(*pb.SceneLimits)
 	if l.GetMaxMagnitude() <= 0 || l.GetMaxTilesPerRound() == 0 || l.GetMaxShardsPerMap() == 0 ||
-		l.GetMaxAssetBytes() == 0 || l.GetMaxMeshVertices() == 0 || l.GetMaxMeshTriangles() == 0 {
+		l.GetMaxAssetBytes() == 0 || l.GetMaxMeshVertices() == 0 || l.GetMaxMeshTriangles() == 0 ||
+		l.GetMaxMeshLineBytes() == 0 {
 		panic("rules: scene.proto declares no complete scene_limits option on Scene")
 	}
 	return l

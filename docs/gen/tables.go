@@ -101,6 +101,7 @@ func sceneLimits() string {
 		"max_asset_bytes":     "largest mesh file (and any other asset) a scene names",
 		"max_mesh_vertices":   "most vertices in one mesh file",
 		"max_mesh_triangles":  "most triangles in one mesh file, after splitting polygons",
+		"max_mesh_line_bytes": "longest line of a mesh file, its line break included",
 	})
 }
 
