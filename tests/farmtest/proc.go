@@ -125,10 +125,10 @@ func (p *Proc) LogTail(n int) string {
 	return strings.Join(lines, "\n")
 }
 
-var registeredLine = regexp.MustCompile(`registered with \S+ as (\S+)`)
+var registeredLine = regexp.MustCompile(`\bmsg=registered\b.*?\bworker=(\S+)`)
 
-// WorkerID waits up to timeout for a worker to log its registration ("registered with ADDR
-// as ID") and returns the id, or "" if it did not log that line in time. Tests use it to
+// WorkerID waits up to timeout for a worker to log its registration (a key=value line
+// "msg=registered coordinator=ADDR worker=ID ...") and returns the id, or "" if it did not log that line in time. Tests use it to
 // start work only once workers are ready and to know which worker is which; they never
 // pass merely because the line is missing. It fails t if the worker exits first.
 func (p *Proc) WorkerID(t testing.TB, timeout time.Duration) string {
