@@ -179,4 +179,3 @@ func FuzzCompleteTaskRequest(f *testing.F) {
 		ff.checkRefusal(t, "CompleteTask", err)
 	})
 }
-
