@@ -142,3 +142,39 @@ func TestSubmitStopsAtSIGTERMWhileReadingALargeMesh(t *testing.T) {
 		t.Errorf("farm submit after SIGTERM: exit %d after %v, want 130 within 2s; stderr %q", code, time.Since(start), stderr)
 	}
 }
+
+// TestRealWorkerFailsABadReferenceAsBadInputAtTheFirstReport: a reference image that is
+// not an OpenEXR file passes submit (only its digest is checked there) and reaches a real
+// farm-worker's composite, which fails the task as bad input; the job fails at that one
+// report with the reason, and no worker is blamed.
+func TestRealWorkerFailsABadReferenceAsBadInputAtTheFirstReport(t *testing.T) {
+	f := farmtest.StartFarm(t, nil)
+	f.StartWorker(t)
+	f.StartWorker(t)
+	ctx := context.Background()
+	digest, err := f.Client.UploadBytes(ctx, []byte("not an OpenEXR file"))
+	if err != nil {
+		t.Fatal(err)
+	}
+	sc := f.TestScene(t, 16, 16, 16, 1)
+	sc.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Digest: digest}}
+	job := f.Submit(t, sc)
+	wctx, cancel := context.WithTimeout(ctx, 60*time.Second)
+	defer cancel()
+	end, err := f.Client.Watch(wctx, job.GetId(), nil)
+	if err != nil {
+		t.Fatal(err)
+	}
+	const reason = "progressive.reference.digest: reference image is not a readable OpenEXR file"
+	if end.GetState() != pb.JobState_JOB_STATE_FAILED || end.GetFailureKind() != pb.FailureKind_FAILURE_KIND_BAD_INPUT ||
+		!strings.Contains(end.GetError(), reason) {
+		t.Fatalf("job ended %v (%v): %q; want FAILED as bad input naming %q", end.GetState(), end.GetFailureKind(), end.GetError(), reason)
+	}
+	if len(end.GetBlockedWorkers()) != 0 {
+		t.Errorf("blocked workers %v, want none: bad input is no worker's fault", end.GetBlockedWorkers())
+	}
+	composite := farmtest.TasksOf(f.Tasks(t, job.GetId()), pb.Phase_PHASE_COMPOSITE)
+	if len(composite) != 1 || composite[0].GetAttempts() != 1 || composite[0].GetFailureKind() != pb.FailureKind_FAILURE_KIND_BAD_INPUT {
+		t.Errorf("composite tasks %v, want one that failed as bad input at its first attempt", composite)
+	}
+}

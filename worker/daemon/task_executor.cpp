@@ -8,6 +8,7 @@
 #include "contract/rules.h"
 #include "contract/tasks.h"
 #include "image/composite.h"
+#include "image/reference_exr.h"
 #include "image/round_accumulator.h"
 #include "image/srgb_preview.h"
 #include "image/tile_exr.h"
@@ -301,7 +302,12 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
     in.reference_exr = blobs_.Download(spec.reference().digest(), stop, progress);
   }
   ThrowIfStopped(stop);
-  const RoundOutputs out = AccumulateRound(in, progress);
+  RoundOutputs out;
+  try {
+    out = AccumulateRound(in, progress);
+  } catch (const ReferenceImageError& e) {
+    throw BadInputError(std::string("progressive.reference.digest: ") + e.what());
+  }
   ThrowIfStopped(stop);
   TaskResult result;
   for (const auto& [kind, bytes] : {std::pair{pb::ARTIFACT_KIND_IMAGE_EXR, &out.image_exr},

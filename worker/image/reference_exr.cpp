@@ -69,25 +69,25 @@ Image ReadReferenceExr(std::string_view bytes, ImageSize size) {
     for (int c = 0; c < image.channel_count(); ++c) {
       const std::string& name = image.channels()[c];
       const Imf::Channel* ch = header.channels().findChannel(name);
-      if (!ch) throw ImageError("reference image has no channel " + name);
+      if (!ch) throw ReferenceImageError("reference image has no channel " + name);
       if (ch->xSampling != 1 || ch->ySampling != 1) {
-        throw ImageError("reference image channel " + name + " is subsampled");
+        throw ReferenceImageError("reference image channel " + name + " is subsampled");
       }
       fb.insert(name, Imf::Slice::Make(Imf::FLOAT, image.data().data() + c, ToBox(whole),
                                        x_stride, y_stride));
     }
     file.setFrameBuffer(fb);
     file.readPixels(whole.y, whole.y_end() - 1);
-  } catch (const ImageError&) {
+  } catch (const ReferenceImageError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ImageError(std::string("reference image is not a readable OpenEXR file: ") + e.what());
+    throw ReferenceImageError(std::string("reference image is not a readable OpenEXR file: ") + e.what());
   }
   for (int y = 0; y < size.height; ++y) {
     for (int x = 0; x < size.width; ++x) {
       for (int c = 0; c < image.channel_count(); ++c) {
         if (std::isfinite(image.pixel(x, y)[c])) continue;
-        throw ImageError("reference image channel " + image.channels()[c] + " at pixel (" +
+        throw ReferenceImageError("reference image channel " + image.channels()[c] + " at pixel (" +
                          std::to_string(x) + ", " + std::to_string(y) + ") is not finite");
       }
     }
@@ -96,7 +96,7 @@ Image ReadReferenceExr(std::string_view bytes, ImageSize size) {
 }
 
 std::optional<double> LayerRmse(const Image& a, const Image& b, std::string_view layer) {
-  if (a.rect() != b.rect()) throw ImageError("LayerRmse: images of different extents");
+  if (a.rect() != b.rect()) throw ReferenceImageError("LayerRmse: images of different extents");
   const std::array<std::string, 3> names = RgbNames(layer);
   const std::optional<std::array<int, 3>> ia = ChannelIndices(a, names);
   const std::optional<std::array<int, 3>> ib = ChannelIndices(b, names);

@@ -8,8 +8,16 @@
 #include <string_view>
 
 #include "image/image.h"
+#include "image/image_error.h"
 
 namespace farm {
+
+// The reference image is wrong: the user's input, not a fault of the farm (the executor
+// fails the task as bad input, so the job fails at once with the reason).
+class ReferenceImageError : public ImageError {
+ public:
+  using ImageError::ImageError;
+};
 
 // The light components a render writes as layers ("direct.R" and so on) and whose error
 // is measured apart from the beauty's when the reference has them too: the beauty's error
@@ -20,7 +28,7 @@ inline constexpr std::array<std::string_view, 3> kMeasuredLayers = {"direct", "i
 // Reads the R, G and B channels (any pixel type; converted to float) of a single-part
 // OpenEXR whose data and display windows are both the whole `size` image, and the R, G, B
 // of each kMeasuredLayers layer the file has all three of (the image's channels are R, G,
-// B, then those). Throws ImageError naming what is wrong: unreadable bytes, another size,
+// B, then those). Throws ReferenceImageError naming what is wrong: unreadable bytes, another size,
 // a missing beauty channel, a NaN or infinite value (with its pixel).
 Image ReadReferenceExr(std::string_view bytes, ImageSize size);
 

@@ -1,3 +1,4 @@
+#include "image/reference_exr.h"
 #include "image/round_accumulator.h"
 
 #include <gtest/gtest.h>
@@ -201,12 +202,15 @@ TEST(RoundAccumulator, BytesAreDeterministicWhateverTheTileOrder) {
 
 // --- untrusted input -------------------------------------------------------------------
 
-void ExpectRefused(const RoundInputs& in, const std::string& needle) {
+// Expects AccumulateRound to throw an ImageError mentioning needle: a ReferenceImageError
+// (the user's input, not the farm's) exactly when the reference is to blame.
+void ExpectRefused(const RoundInputs& in, const std::string& needle, bool reference = false) {
   try {
     AccumulateRound(in);
     ADD_FAILURE() << "accepted; expected an ImageError mentioning '" << needle << "'";
   } catch (const ImageError& e) {
     EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    EXPECT_EQ(dynamic_cast<const ReferenceImageError*>(&e) != nullptr, reference) << e.what();
   }
 }
 
@@ -250,14 +254,14 @@ TEST(RoundAccumulator, RefusesMalformedReferencesNamingWhatIsWrong) {
     return RoundInputs{kSize, kTile, 1, tiles, std::nullopt, std::move(ref)};
   };
   ExpectRefused(with(EncodeTileExr(WholeImage(kFlat, {"R", "G", "B"}, {10, 12}), {10, 12})),
-                "not the whole 20x12 image");
-  ExpectRefused(with(EncodeTileExr(WholeImage(kFlat, {"R", "G"}), kSize)), "no channel B");
-  ExpectRefused(with("garbage"), "reference image is not a readable OpenEXR");
+                "not the whole 20x12 image", true);
+  ExpectRefused(with(EncodeTileExr(WholeImage(kFlat, {"R", "G"}), kSize)), "no channel B", true);
+  ExpectRefused(with("garbage"), "reference image is not a readable OpenEXR", true);
   const PixelFn nan_at_3_4 = [](int x, int y, int c) {
     return x == 3 && y == 4 && c == 1 ? std::numeric_limits<float>::quiet_NaN() : 1.0f;
   };
   ExpectRefused(with(EncodeTileExr(WholeImage(nan_at_3_4, {"R", "G", "B"}), kSize)),
-                "channel G at pixel (3, 4) is not finite");
+                "channel G at pixel (3, 4) is not finite", true);
 }
 
 TEST(RoundAccumulator, RefusesNonFiniteOrMisplacedTiles) {

@@ -131,8 +131,8 @@ TEST(Scene, MalformedObjIsASceneErrorNamingTheShapeTheFileAndTheLine) {
     FAIL() << "built";
   } catch (const SceneError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "shapes[1].mesh: OBJ file \"meshes/teapot.obj\" line 4: face vertex \"a\" is not made of "
-              "integers (shape \"teapot\")");
+              "shapes[1].mesh: OBJ file \"meshes/teapot.obj\" line 4: \"a\" is not a vertex reference (v, "
+              "v/vt, v//vn or v/vt/vn, whole numbers) (shape \"teapot\")");
     EXPECT_EQ(e.kind(), pb::FAILURE_KIND_BAD_INPUT);
   }
 }
@@ -142,9 +142,9 @@ TEST(Scene, ObjFaceOutOfRangeAndEmptyObjAreSceneErrors) {
   AddMeshFile(s, "grey", FakeDigest("mesh"));
   const std::string file = "OBJ file \"" + FakeDigest("mesh") + "\"";  // no path: the digest
   EXPECT_EQ(BuildError(s, MapLoader({{FakeDigest("mesh"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"}})),
-            "shapes[0].mesh: " + file + " line 4: face refers to vertex 9, but the file has 3 vertices");
+            "shapes[0].mesh: " + file + " line 4: face refers to vertex 9 but the file has 3 vertices");
   EXPECT_EQ(BuildError(s, MapLoader({{FakeDigest("mesh"), "v 0 0 0\n"}})),
-            "shapes[0].mesh: " + file + " line 1: the file has no faces (f lines)");
+            "shapes[0].mesh: " + file + " line 1: the mesh has no triangles (the file has no face)");
 }
 
 TEST(Scene, AMeshThatCannotBeLoadedFailsWithTheLoadersKind) {
