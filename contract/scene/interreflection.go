@@ -1,6 +1,7 @@
 package scene
 
 import (
+	"fmt"
 	"math"
 
 	pb "photonfarm/proto/renderfarm/v1"
@@ -26,9 +27,7 @@ func InterreflectionOf(s *pb.Scene) Interreflection {
 	spheres, others := 0, 0
 	surf := SurfacesOf(s)
 	for _, sh := range s.GetShapes() {
-		switch mats[sh.GetMaterial()].GetKind().(type) {
-		case *pb.Material_Lambert, *pb.Material_Glossy:
-		default:
+		if !CapabilitiesOf(mats[sh.GetMaterial()]).Diffuse {
 			continue
 		}
 		switch g := sh.GetGeometry().(type) {
@@ -46,8 +45,10 @@ func InterreflectionOf(s *pb.Scene) Interreflection {
 					planes = append(planes, p)
 				}
 			}
+		case *pb.Shape_Mesh:
+			others++ // its vertices are in the blob store, not here
 		default:
-			others++
+			panic(fmt.Sprintf("scene: InterreflectionOf does not know geometry %T", g))
 		}
 	}
 	switch {
@@ -132,8 +133,10 @@ func anyLightInside(s *pb.Scene, mats map[string]*pb.Material, sp *pb.Sphere) bo
 			if meets(boundingBall(g.Triangles.GetPositions())) {
 				return true
 			}
-		default:
+		case *pb.Shape_Mesh:
 			return true // a mesh file's vertices are not known here: assume it may be inside
+		default:
+			panic(fmt.Sprintf("scene: anyLightInside does not know geometry %T", g))
 		}
 	}
 	return false

@@ -16,12 +16,9 @@ func SurfacesOf(s *pb.Scene) Surfaces {
 	kinds := materialsByName(s)
 	var out Surfaces
 	for _, sh := range s.GetShapes() {
-		switch kinds[sh.GetMaterial()].GetKind().(type) {
-		case *pb.Material_Lambert, *pb.Material_Glossy:
-			out.Diffuse = true
-		case *pb.Material_Mirror, *pb.Material_Dielectric, *pb.Material_Conductor:
-			out.Specular = true
-		}
+		c := CapabilitiesOf(kinds[sh.GetMaterial()])
+		out.Diffuse = out.Diffuse || c.Diffuse
+		out.Specular = out.Specular || c.Specular
 	}
 	return out
 }
