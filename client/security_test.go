@@ -7,6 +7,8 @@ import (
 	"path/filepath"
 	"strings"
 	"testing"
+
+	"photonfarm/contract/rules"
 )
 
 func TestDialRefusesAPlaintextTokenToAnotherMachine(t *testing.T) {
@@ -113,7 +115,7 @@ func TestAssetRootAcceptsFilesInside(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	if len(sf.Meshes) != 1 || sf.Meshes[0].Digest != Digest([]byte(tetrahedron)) {
+	if len(sf.Meshes) != 1 || sf.Meshes[0].Digest != rules.DigestOf([]byte(tetrahedron)) {
 		t.Errorf("meshes = %+v", sf.Meshes)
 	}
 	_, aliased := assetTree(t, "alias.obj")
