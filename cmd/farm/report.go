@@ -10,6 +10,7 @@ import (
 	"strconv"
 	"text/tabwriter"
 
+	"photonfarm/client"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -24,24 +25,21 @@ var reportVerb = &verb{
 func runReport(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("report", e)
 	out := fs.String("o", "", "also write the error-against-time plot (SVG) to this file")
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	job, err := c.GetJob(ctx, pos[0])
-	if err != nil {
-		return err
-	}
-	printReport(e.stdout, job)
-	if *out == "" {
+	return withClient(fs, e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, err := c.GetJob(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		printReport(e.stdout, job)
+		if *out == "" {
+			return nil
+		}
+		if err := writePlotFile(*out, job); err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "plot written to %s\n", *out)
 		return nil
-	}
-	if err := writePlotFile(*out, job); err != nil {
-		return err
-	}
-	fmt.Fprintf(e.stdout, "plot written to %s\n", *out)
-	return nil
+	})
 }
 
 // layerOrder is the order of the per-layer reference RMSE columns.
