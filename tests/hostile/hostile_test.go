@@ -23,8 +23,8 @@ func TestHostileRequestsAreRefusedAndChangeNothing(t *testing.T) {
 		t.Run(c.name, func(t *testing.T) { check(t, f, c) })
 	}
 	select {
-	case err := <-f.stopped:
-		t.Fatalf("the coordinator stopped serving: %v", err)
+	case <-f.srv.Done():
+		t.Fatalf("the coordinator stopped serving: %v", f.srv.Err())
 	default:
 	}
 	after := f.state(t)

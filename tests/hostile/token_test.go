@@ -2,18 +2,16 @@ package hostile
 
 import (
 	"context"
-	"net"
 	"strings"
 	"testing"
 	"time"
 
-	"google.golang.org/grpc"
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 
 	"photonfarm/coordinator"
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -29,23 +27,8 @@ const (
 func TestHostileTokensAreRefused(t *testing.T) {
 	ctx, stop := context.WithCancel(context.Background())
 	defer stop()
-	coord, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: time.Minute,
-		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	served := make(chan error, 1)
-	go func() { served <- coord.Serve(ctx, lis) }()
-	defer func() { stop(); <-served }()
-	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
+	conn := coordinatortest.Serve(t, coordinator.Config{LeaseDuration: time.Minute,
+		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t)
 	jobs, workers, blobs := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
 	as := func(authorization string) context.Context {
 		if authorization == "" {
