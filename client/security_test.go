@@ -8,6 +8,8 @@ import (
 	"strings"
 	"testing"
 
+	"google.golang.org/grpc/metadata"
+
 	"photonfarm/contract/rules"
 )
 
@@ -144,5 +146,15 @@ func TestAssetRootAppliesToTheReferenceImage(t *testing.T) {
 	_, err := ReadSceneFile(context.Background(), scene)
 	if err == nil || !strings.Contains(err.Error(), "progressive.reference.path") || !strings.Contains(err.Error(), "outside the asset root") {
 		t.Errorf("reference outside the root: %v", err)
+	}
+}
+
+func TestContextWithTokenSendsTheBearerHeader(t *testing.T) {
+	md, _ := metadata.FromOutgoingContext(ContextWithToken(context.Background(), "tok"))
+	if got := md.Get("authorization"); len(got) != 1 || got[0] != "Bearer tok" {
+		t.Errorf("authorization metadata = %q, want [\"Bearer tok\"]", got)
+	}
+	if _, ok := metadata.FromOutgoingContext(ContextWithToken(context.Background(), "")); ok {
+		t.Error("an empty token sent metadata")
 	}
 }

@@ -8,7 +8,6 @@ import (
 	"time"
 
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/types/known/durationpb"
 
@@ -27,10 +26,7 @@ const (
 // as returns a context whose calls carry token ("" for none).
 func as(token string) (context.Context, context.CancelFunc) {
 	ctx, cancel := context.WithTimeout(context.Background(), 10*time.Second)
-	if token != "" {
-		ctx = metadata.AppendToOutgoingContext(ctx, "authorization", "Bearer "+token)
-	}
-	return ctx, cancel
+	return client.ContextWithToken(ctx, token), cancel
 }
 
 func wantCode(t *testing.T, what string, err error, code codes.Code, msgParts ...string) {

@@ -12,6 +12,7 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -67,7 +68,7 @@ func (e *sse) ping() error {
 // once per poll) and the workers every WorkersEvery. A refused or failed call ends the
 // stream; the browser's EventSource reconnects and then gets the HTTP error.
 func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
-	ctx := withToken(r.Context(), tokenOf(r))
+	ctx := client.ContextWithToken(r.Context(), tokenOf(r))
 	// The first reads happen before the stream starts, so that a bad token is a 401.
 	jobs, err := s.pollJobs(ctx)
 	if err != nil {
@@ -211,7 +212,7 @@ func (u *jobUpdates) take() (job *pb.Job, tasks []*pb.Task, resync, done bool, e
 // change of the job alone), and the end.
 func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
 	jobID := r.PathValue("id")
-	ctx, cancel := context.WithCancel(withToken(r.Context(), tokenOf(r)))
+	ctx, cancel := context.WithCancel(client.ContextWithToken(r.Context(), tokenOf(r)))
 	defer cancel()
 	watch, err := s.jobs.WatchJob(ctx, &pb.WatchJobRequest{JobId: jobID})
 	if err != nil {

@@ -14,7 +14,6 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
-	"google.golang.org/grpc/metadata"
 	"google.golang.org/protobuf/encoding/protojson"
 
 	"photonfarm/client"
@@ -76,7 +75,7 @@ func newFarm(t *testing.T, opts ...farmOption) *farm {
 
 // worker returns ctx with the worker token.
 func (f *farm) worker() context.Context {
-	return metadata.AppendToOutgoingContext(f.ctx, "authorization", "Bearer "+workerToken)
+	return client.ContextWithToken(f.ctx, workerToken)
 }
 
 // browser returns an HTTP client with a cookie jar, logged in with token unless it is "".
