@@ -6,31 +6,13 @@ import (
 	"log/slog"
 	"net/http"
 	"strings"
-	"sync"
 	"testing"
 	"time"
 
 	"photonfarm/coordinator"
 	"photonfarm/coordinator/coordinatortest"
+	"photonfarm/tests/farmtest"
 )
-
-// lockedBuffer is a strings.Builder that may be read while a verb writes to it.
-type lockedBuffer struct {
-	mu sync.Mutex
-	b  strings.Builder
-}
-
-func (l *lockedBuffer) Write(p []byte) (int, error) {
-	l.mu.Lock()
-	defer l.mu.Unlock()
-	return l.b.Write(p)
-}
-
-func (l *lockedBuffer) String() string {
-	l.mu.Lock()
-	defer l.mu.Unlock()
-	return l.b.String()
-}
 
 func TestDashboardVerbServesUntilInterrupted(t *testing.T) {
 	ctx, cancel := context.WithCancel(context.Background())
@@ -39,7 +21,7 @@ func TestDashboardVerbServesUntilInterrupted(t *testing.T) {
 		ClientTokens: []string{"c-token"}, WorkerTokens: []string{"w-token"}})
 
 	dashCtx, stopDash := context.WithCancel(ctx)
-	var stdout, stderr lockedBuffer
+	var stdout, stderr farmtest.SyncBuffer
 	e := &env{stdout: &stdout, stderr: &stderr, getenv: func(string) string { return "" }}
 	done := make(chan int, 1)
 	go func() {
