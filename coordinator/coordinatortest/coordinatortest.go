@@ -87,3 +87,12 @@ func (s *Server) Dial(t testing.TB, opts ...grpc.DialOption) *grpc.ClientConn {
 	t.Cleanup(func() { conn.Close() })
 	return conn
 }
+
+// Call returns a call of the unary method m (a method value of a gRPC client) with req that
+// keeps only the error: a row of a table of requests that must be refused.
+func Call[Req, Resp any](m func(context.Context, Req, ...grpc.CallOption) (Resp, error), req Req) func(context.Context) error {
+	return func(ctx context.Context) error {
+		_, err := m(ctx, req)
+		return err
+	}
+}

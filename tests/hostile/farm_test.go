@@ -106,7 +106,7 @@ func (f *farm) state(t *testing.T) []proto.Message {
 // hostileCase is one request and what it must get back.
 type hostileCase struct {
 	name string
-	call func(f *farm) error
+	call func(ctx context.Context) error
 	code codes.Code
 	// want is a substring of the status message: the field or the reason.
 	want string
@@ -114,7 +114,7 @@ type hostileCase struct {
 
 func check(t *testing.T, f *farm, c hostileCase) {
 	t.Helper()
-	err := c.call(f)
+	err := c.call(f.ctx)
 	st, _ := status.FromError(err)
 	if st.Code() != c.code || !strings.Contains(st.Message(), c.want) {
 		t.Errorf("got %v %q, want %v with %q", st.Code(), st.Message(), c.code, c.want)

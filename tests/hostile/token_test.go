@@ -51,27 +51,12 @@ func TestHostileTokensAreRefused(t *testing.T) {
 		method string
 		call   func(ctx context.Context) error
 	}{
-		{"ListJobs", func(ctx context.Context) error { _, err := jobs.ListJobs(ctx, &pb.ListJobsRequest{}); return err }},
-		{"CancelJob", func(ctx context.Context) error {
-			_, err := jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: "j-1"})
-			return err
-		}},
-		{"SetJobPriority", func(ctx context.Context) error {
-			_, err := jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: "j-1", Priority: 5})
-			return err
-		}},
-		{"RegisterWorker", func(ctx context.Context) error {
-			_, err := workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "intruder"})
-			return err
-		}},
-		{"LeaseTask", func(ctx context.Context) error {
-			_, err := workers.LeaseTask(ctx, &pb.LeaseTaskRequest{WorkerId: "w-1"})
-			return err
-		}},
-		{"GetBlobInfo", func(ctx context.Context) error {
-			_, err := blobs.GetBlobInfo(ctx, &pb.GetBlobInfoRequest{Digest: unknownDigest})
-			return err
-		}},
+		{"ListJobs", coordinatortest.Call(jobs.ListJobs, &pb.ListJobsRequest{})},
+		{"CancelJob", coordinatortest.Call(jobs.CancelJob, &pb.CancelJobRequest{JobId: "j-1"})},
+		{"SetJobPriority", coordinatortest.Call(jobs.SetJobPriority, &pb.SetJobPriorityRequest{JobId: "j-1", Priority: 5})},
+		{"RegisterWorker", coordinatortest.Call(workers.RegisterWorker, &pb.RegisterWorkerRequest{Hostname: "intruder"})},
+		{"LeaseTask", coordinatortest.Call(workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-1"})},
+		{"GetBlobInfo", coordinatortest.Call(blobs.GetBlobInfo, &pb.GetBlobInfoRequest{Digest: unknownDigest})},
 	}
 	clientOnly := map[string]bool{"ListJobs": true, "CancelJob": true, "SetJobPriority": true}
 	workerOnly := map[string]bool{"RegisterWorker": true, "LeaseTask": true}
