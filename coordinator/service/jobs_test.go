@@ -263,9 +263,7 @@ func TestListJobsPages(t *testing.T) {
 
 func TestCancelRevokesLeasesAndEndsWatch(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Unlit(64, 64))
-	w := f.register()
-	l := f.lease(w)
+	job, w, l := f.leased(scenetest.Unlit(64, 64))
 	stream, err := f.jobs.WatchJob(f.ctx, &pb.WatchJobRequest{JobId: job.Id})
 	if err != nil {
 		t.Fatal(err)

@@ -17,9 +17,7 @@ func TestSchedulingRPCsValidate(t *testing.T) {
 	f := newFarm(t)
 	job := f.submit(scenetest.Unlit(8, 8))
 	ended := f.submit(scenetest.Unlit(8, 8))
-	if _, err := f.jobs.CancelJob(f.ctx, &pb.CancelJobRequest{JobId: ended.Id}); err != nil {
-		t.Fatal(err)
-	}
+	f.cancel(ended.Id)
 	for _, tc := range []struct {
 		name  string
 		call  func(context.Context) error
@@ -53,14 +51,7 @@ func TestLongPollWakesWhenBackoffEnds(t *testing.T) {
 	f.submit(scenetest.Unlit(8, 8)) // one tile
 	w1, w2 := f.register(), f.register()
 	l := f.lease(w1)
-	got := make(chan *pb.LeaseTaskResponse, 1)
-	go func() {
-		resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w2, WaitTimeout: wait(10 * time.Second)})
-		if err != nil {
-			t.Error(err)
-		}
-		got <- resp
-	}()
+	got := f.longPoll(w2, 10*time.Second)
 	if _, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w1, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Error: "flaky"}); err != nil {
 		t.Fatal(err)
 	}
@@ -77,9 +68,7 @@ func TestLongPollWakesWhenBackoffEnds(t *testing.T) {
 
 func TestHeartbeatWithoutProgressRevokesAsStuck(t *testing.T) {
 	f := newFarm(t)
-	f.submit(scenetest.Unlit(8, 8))
-	w := f.register()
-	l := f.lease(w)
+	_, w, l := f.leased(scenetest.Unlit(8, 8))
 	held := []*pb.HeldLease{{TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Progress: 0}}
 	for elapsed := time.Duration(0); elapsed < store.DefaultStuckTimeout; {
 		f.clock.Advance(leaseDuration / 2)

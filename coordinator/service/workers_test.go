@@ -82,9 +82,7 @@ func TestStaleEpochIsRefused(t *testing.T) {
 
 func TestCompleteRefusesOutputsNotUploaded(t *testing.T) {
 	f := newFarm(t)
-	f.submit(scenetest.Unlit(8, 8))
-	w := f.register()
-	l := f.lease(w)
+	_, w, l := f.leased(scenetest.Unlit(8, 8))
 	real := f.upload([]byte("tile"))
 	tests := []struct {
 		name  string
@@ -110,14 +108,7 @@ func TestLeaseLongPollWakesWhenWorkIsQueued(t *testing.T) {
 	if err != nil || resp.Lease != nil || time.Since(start) < 100*time.Millisecond {
 		t.Fatalf("empty long poll = %v, %v after %v", resp, err, time.Since(start))
 	}
-	got := make(chan *pb.LeaseTaskResponse, 1)
-	go func() {
-		resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(20 * time.Second)})
-		if err != nil {
-			t.Error(err)
-		}
-		got <- resp
-	}()
+	got := f.longPoll(w, 20*time.Second)
 	time.Sleep(50 * time.Millisecond)
 	start = time.Now()
 	f.submit(scenetest.Unlit(8, 8))
@@ -130,10 +121,7 @@ func TestLeaseLongPollWakesWhenWorkIsQueued(t *testing.T) {
 		t.Fatal("long poll not woken by a submit")
 	}
 	// A poll also wakes when a task goes back to the queue.
-	go func() {
-		resp, _ := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(20 * time.Second)})
-		got <- resp
-	}()
+	got = f.longPoll(w, 20*time.Second)
 	time.Sleep(50 * time.Millisecond)
 	if _, err := f.workers.UnregisterWorker(f.ctx, &pb.UnregisterWorkerRequest{WorkerId: w}); err != nil {
 		t.Fatal(err)
