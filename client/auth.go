@@ -11,6 +11,7 @@ import (
 	"strings"
 
 	"google.golang.org/grpc/credentials"
+	"google.golang.org/grpc/metadata"
 )
 
 // ErrPlaintextToken is returned by Dial when a token would travel unencrypted to an
@@ -64,6 +65,21 @@ func LoadCertPool(file string) (*x509.CertPool, error) {
 	return pool, nil
 }
 
+// authorizationKey is the gRPC metadata key of the token, whose value is bearer(token).
+const authorizationKey = "authorization"
+
+func bearer(token string) string { return "Bearer " + token }
+
+// ContextWithToken returns ctx carrying token for the calls made with it ("" sends none),
+// for callers of the raw gRPC stubs: the dashboard forwards each browser's token so, and
+// tests call as a worker so. A Client sends its token itself (WithToken).
+func ContextWithToken(ctx context.Context, token string) context.Context {
+	if token == "" {
+		return ctx
+	}
+	return metadata.AppendToOutgoingContext(ctx, authorizationKey, bearer(token))
+}
+
 // bearerToken is per-RPC credentials carrying a bearer token.
 type bearerToken struct {
 	token      string
@@ -71,7 +87,7 @@ type bearerToken struct {
 }
 
 func (b bearerToken) GetRequestMetadata(context.Context, ...string) (map[string]string, error) {
-	return map[string]string{"authorization": "Bearer " + b.token}, nil
+	return map[string]string{authorizationKey: bearer(b.token)}, nil
 }
 
 func (b bearerToken) RequireTransportSecurity() bool { return b.requireTLS }

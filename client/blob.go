@@ -3,11 +3,8 @@ package client
 import (
 	"bytes"
 	"context"
-	"crypto/sha256"
-	"encoding/hex"
 	"errors"
 	"fmt"
-	"hash"
 	"io"
 	"io/fs"
 	"os"
@@ -23,14 +20,6 @@ import (
 // UploadChunkSize is the size of the chunks blobs are uploaded in: the contract's largest.
 var UploadChunkSize = int(rules.RPC.GetMaxUploadChunkBytes())
 
-// Digest returns the content digest of data: "sha256:" and 64 lowercase hex digits.
-func Digest(data []byte) string {
-	sum := sha256.Sum256(data)
-	return "sha256:" + hex.EncodeToString(sum[:])
-}
-
-func digestOf(h hash.Hash) string { return "sha256:" + hex.EncodeToString(h.Sum(nil)) }
-
 // fileDigest returns the digest and size of the file at path, which must be a regular
 // file of at most limit bytes (a device or a pipe could be read for ever); it stops with
 // ctx's error when ctx ends.
@@ -40,12 +29,12 @@ func fileDigest(ctx context.Context, path string, limit uint64) (digest string, 
 		return "", 0, err
 	}
 	defer f.Close()
-	h := sha256.New()
+	h := rules.NewDigestHash()
 	size, err = io.Copy(h, ctxReader{ctx, f})
 	if err != nil {
 		return "", 0, err
 	}
-	return digestOf(h), size, nil
+	return rules.DigestSum(h), size, nil
 }
 
 // openRegular opens path if it is a regular file of at most limit bytes. It opens
@@ -108,7 +97,7 @@ func (c *Client) BlobExists(ctx context.Context, digest string) (bool, error) {
 // UploadBytes stores data in the blob store, unless it is there already, and returns its
 // digest.
 func (c *Client) UploadBytes(ctx context.Context, data []byte) (string, error) {
-	digest := Digest(data)
+	digest := rules.DigestOf(data)
 	return digest, c.upload(ctx, bytes.NewReader(data), int64(len(data)), digest)
 }
 
@@ -182,7 +171,7 @@ func (c *Client) Download(ctx context.Context, digest string, w io.Writer) (int6
 	if err != nil {
 		return 0, fromRPC("download blob", err)
 	}
-	h := sha256.New()
+	h := rules.NewDigestHash()
 	out := io.MultiWriter(h, w)
 	var n, want int64 = 0, -1
 	for {
@@ -207,7 +196,7 @@ func (c *Client) Download(ctx context.Context, digest string, w io.Writer) (int6
 	if want >= 0 && n != want {
 		return n, fmt.Errorf("download blob %s: got %d bytes, announced %d", digest, n, want)
 	}
-	if got := digestOf(h); got != digest {
+	if got := rules.DigestSum(h); got != digest {
 		return n, fmt.Errorf("download blob %s: content has digest %s", digest, got)
 	}
 	return n, nil

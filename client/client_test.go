@@ -58,7 +58,7 @@ func (f *fakeBlobs) UploadBlob(stream grpc.ClientStreamingServer[pb.UploadBlobRe
 	if int64(buf.Len()) != hdr.GetSizeBytes() {
 		return status.Errorf(codes.InvalidArgument, "header.size_bytes: is %d, got %d bytes", hdr.GetSizeBytes(), buf.Len())
 	}
-	d := Digest(buf.Bytes())
+	d := rules.DigestOf(buf.Bytes())
 	if hdr.GetDigest() != "" && hdr.GetDigest() != d {
 		return status.Errorf(codes.InvalidArgument, "header.digest: content has digest %s", d)
 	}
@@ -220,7 +220,7 @@ func TestLoadSceneFileUploadsMeshesOnceAndSubmitsDigests(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	want := Digest([]byte(tetrahedron))
+	want := rules.DigestOf([]byte(tetrahedron))
 	for _, i := range []int{1, 2} {
 		m := sc.GetShapes()[i].GetMesh()
 		if m.GetDigest() != want || m.GetPath() != "meshes/tet.obj" {
@@ -392,7 +392,7 @@ func TestListWorkersReturnsTheWorkers(t *testing.T) {
 func succeededJob(name string, blobs *fakeBlobs, files map[string][]byte) *pb.Job {
 	job := &pb.Job{Id: "j1", DisplayName: name, State: pb.JobState_JOB_STATE_SUCCEEDED}
 	for _, n := range []string{"image.exr", "preview.png"} {
-		d := Digest(files[n])
+		d := rules.DigestOf(files[n])
 		blobs.blobs[d] = files[n]
 		job.Outputs = append(job.Outputs, &pb.Artifact{Name: n, Digest: d, SizeBytes: int64(len(files[n]))})
 	}

@@ -7,6 +7,10 @@ import (
 	"path/filepath"
 	"strings"
 	"testing"
+
+	"google.golang.org/grpc/metadata"
+
+	"photonfarm/contract/rules"
 )
 
 func TestDialRefusesAPlaintextTokenToAnotherMachine(t *testing.T) {
@@ -113,7 +117,7 @@ func TestAssetRootAcceptsFilesInside(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	if len(sf.Meshes) != 1 || sf.Meshes[0].Digest != Digest([]byte(tetrahedron)) {
+	if len(sf.Meshes) != 1 || sf.Meshes[0].Digest != rules.DigestOf([]byte(tetrahedron)) {
 		t.Errorf("meshes = %+v", sf.Meshes)
 	}
 	_, aliased := assetTree(t, "alias.obj")
@@ -142,5 +146,15 @@ func TestAssetRootAppliesToTheReferenceImage(t *testing.T) {
 	_, err := ReadSceneFile(context.Background(), scene)
 	if err == nil || !strings.Contains(err.Error(), "progressive.reference.path") || !strings.Contains(err.Error(), "outside the asset root") {
 		t.Errorf("reference outside the root: %v", err)
+	}
+}
+
+func TestContextWithTokenSendsTheBearerHeader(t *testing.T) {
+	md, _ := metadata.FromOutgoingContext(ContextWithToken(context.Background(), "tok"))
+	if got := md.Get("authorization"); len(got) != 1 || got[0] != "Bearer tok" {
+		t.Errorf("authorization metadata = %q, want [\"Bearer tok\"]", got)
+	}
+	if _, ok := metadata.FromOutgoingContext(ContextWithToken(context.Background(), "")); ok {
+		t.Error("an empty token sent metadata")
 	}
 }

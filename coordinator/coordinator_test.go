@@ -3,62 +3,31 @@ package coordinator_test
 import (
 	"context"
 	"log/slog"
-	"net"
 	"testing"
 	"time"
 
 	"google.golang.org/grpc"
-	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/protobuf/types/known/durationpb"
 
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator"
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// listenAndServe runs cfg's coordinator (in a temporary data folder, logging nowhere) on
-// a loopback port and returns its address and a stop function that cancels Serve and
-// returns Serve's result (failing the test if Serve has not returned within 5 s).
-func listenAndServe(t *testing.T, cfg coordinator.Config) (string, func() error) {
+// serve runs cfg's coordinator, logging nowhere, on a loopback port until the test ends.
+func serve(t *testing.T, cfg coordinator.Config) *coordinatortest.Server {
 	t.Helper()
-	cfg.DataDir = t.TempDir()
 	cfg.Logger = slog.New(slog.DiscardHandler)
-	c, err := coordinator.New(cfg)
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	ctx, cancel := context.WithCancel(context.Background())
-	served := make(chan error, 1)
-	go func() { served <- c.Serve(ctx, lis) }()
-	stop := func() error {
-		cancel()
-		select {
-		case err := <-served:
-			return err
-		case <-time.After(5 * time.Second):
-			t.Fatal("Serve did not stop within 5s")
-			return nil
-		}
-	}
-	return lis.Addr().String(), stop
+	return coordinatortest.Serve(t, cfg)
 }
 
 // startServing runs a coordinator with the given lease duration and returns a
-// connection to it (closed when the test ends) and listenAndServe's stop function.
+// connection to it (closed when the test ends) and the function that stops it early.
 func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() error) {
 	t.Helper()
-	addr, stop := listenAndServe(t, coordinator.Config{LeaseDuration: lease})
-	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		stop()
-		t.Fatal(err)
-	}
-	t.Cleanup(func() { conn.Close() })
-	return conn, stop
+	s := serve(t, coordinator.Config{LeaseDuration: lease})
+	return s.Dial(t), s.Stop
 }
 
 func TestNewRejectsBadConfig(t *testing.T) {

@@ -7,10 +7,7 @@ import (
 	"testing"
 	"time"
 
-	"google.golang.org/grpc"
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/credentials/insecure"
-	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/types/known/durationpb"
 
@@ -26,26 +23,10 @@ const (
 	workerToken = "worker-token-0123456789"
 )
 
-// serve runs cfg's coordinator on a loopback port until the test ends and returns its
-// address.
-func serve(t *testing.T, cfg coordinator.Config) string {
-	t.Helper()
-	addr, stop := listenAndServe(t, cfg)
-	t.Cleanup(func() {
-		if err := stop(); err != nil {
-			t.Errorf("Serve = %v", err)
-		}
-	})
-	return addr
-}
-
 // as returns a context whose calls carry token ("" for none).
 func as(token string) (context.Context, context.CancelFunc) {
 	ctx, cancel := context.WithTimeout(context.Background(), 10*time.Second)
-	if token != "" {
-		ctx = metadata.AppendToOutgoingContext(ctx, "authorization", "Bearer "+token)
-	}
-	return ctx, cancel
+	return client.ContextWithToken(ctx, token), cancel
 }
 
 func wantCode(t *testing.T, what string, err error, code codes.Code, msgParts ...string) {
@@ -64,18 +45,13 @@ func wantCode(t *testing.T, what string, err error, code codes.Code, msgParts ..
 // TestTokensGateEachServiceByRole talks real gRPC to a coordinator configured with one
 // client and one worker token.
 func TestTokensGateEachServiceByRole(t *testing.T) {
-	addr := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}})
-	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
+	conn := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t)
 	jobs, workers, blobs := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
 	submit := &pb.SubmitJobRequest{Scene: scenetest.Unlit(8, 8)}
 
 	ctx, cancel := as("")
 	defer cancel()
-	_, err = jobs.SubmitJob(ctx, submit)
+	_, err := jobs.SubmitJob(ctx, submit)
 	wantCode(t, "SubmitJob without a token", err, codes.Unauthenticated, "no token", "SubmitJob")
 	_, err = workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "h"})
 	wantCode(t, "RegisterWorker without a token", err, codes.Unauthenticated, "no token")
@@ -134,7 +110,7 @@ func TestTokensGateEachServiceByRole(t *testing.T) {
 
 // TestClientSDKSendsTheToken goes through client.Dial's options, as the CLI does.
 func TestClientSDKSendsTheToken(t *testing.T) {
-	addr := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}})
+	addr := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Addr
 	for _, tc := range []struct {
 		token string
 		code  codes.Code
@@ -157,7 +133,7 @@ func TestTLSNeedsTheCA(t *testing.T) {
 	addr := serve(t, coordinator.Config{
 		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken},
 		TLS: &tls.Config{Certificates: []tls.Certificate{cert}},
-	})
+	}).Addr
 	list := func(opts ...client.Option) error {
 		c, err := client.Dial(addr, opts...)
 		if err != nil {

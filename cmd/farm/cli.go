@@ -279,20 +279,22 @@ func (cf *connFlags) dial() (*client.Client, error) {
 	return c, err
 }
 
-// connect adds the connection flags (--coordinator, --token, --tls-ca, --insecure) to fs,
-// parses args (see parse) and dials the coordinator; client verbs start with it once they
-// have declared their own flags.
-func connect(fs *flagSet, e *env, args []string, minArgs, maxArgs int) (*client.Client, []string, error) {
+// withClient is how a client verb runs once it has declared its own flags on fs: it adds
+// the connection flags (--coordinator, --token, --tls-ca, --insecure), parses args (see
+// parse), dials the coordinator and runs call with the client and the positional
+// arguments, closing the client after.
+func withClient(fs *flagSet, e *env, args []string, minArgs, maxArgs int, call func(c *client.Client, pos []string) error) error {
 	cf := addConnFlags(fs, e)
 	pos, err := parse(fs, args, minArgs, maxArgs)
 	if err != nil {
-		return nil, nil, err
+		return err
 	}
 	c, err := cf.dial()
 	if err != nil {
-		return nil, nil, err
+		return err
 	}
-	return c, pos, nil
+	defer c.Close()
+	return call(c, pos)
 }
 
 // authHint says what to do about a missing or unknown token, for the error line (a

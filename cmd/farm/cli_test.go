@@ -6,11 +6,7 @@ import (
 	"path/filepath"
 	"strings"
 	"testing"
-	"time"
 
-	"google.golang.org/protobuf/types/known/timestamppb"
-
-	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
 
@@ -118,87 +114,5 @@ func TestRenderWithoutWorkerBinaryFails(t *testing.T) {
 	code, _, stderr := runForTest(t, nil, "render", path, "--worker-bin", filepath.Join(dir, "absent"))
 	if code != exitUsage || !strings.Contains(stderr, "--worker-bin") {
 		t.Errorf("exit %d, stderr %q", code, stderr)
-	}
-}
-
-// fakeClock is a settable time.
-type fakeClock struct{ t time.Time }
-
-func (c *fakeClock) now() time.Time { return c.t }
-
-func job(state pb.JobState, created time.Time, render, composite uint32) *pb.Job {
-	return &pb.Job{
-		Id: "j1", State: state, CreateTime: timestamppb.New(created),
-		Phases: []*pb.PhaseProgress{
-			{Phase: pb.Phase_PHASE_RENDER, TasksTotal: 48, TasksSucceeded: render},
-			{Phase: pb.Phase_PHASE_COMPOSITE, TasksTotal: 1, TasksSucceeded: composite},
-		},
-	}
-}
-
-func TestProgressPlainLines(t *testing.T) {
-	t0 := time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC)
-	clk := &fakeClock{t0}
-	var out strings.Builder
-	p := newProgress(&out, false, clk.now)
-	running := pb.JobState_JOB_STATE_RUNNING
-	p.update(job(running, t0, 0, 0))
-	clk.t = t0.Add(1 * time.Second)
-	p.update(job(running, t0, 6, 0)) // within plainEvery of the last line: not printed
-	clk.t = t0.Add(4 * time.Second)
-	p.update(job(running, t0, 24, 0))
-	clk.t = t0.Add(8 * time.Second)
-	p.update(job(running, t0, 48, 0)) // a new phase is printed at once
-	end := job(pb.JobState_JOB_STATE_SUCCEEDED, t0, 48, 1)
-	end.EndTime = timestamppb.New(t0.Add(8500 * time.Millisecond))
-	p.draw(true)
-	p.observe(end)
-	p.draw(true)
-
-	want := []string{
-		"job j1: Render tiles 0/48 tiles (0%), elapsed 0s",
-		"job j1: Render tiles 24/48 tiles (50%), elapsed 4s, ETA 4s",
-		"job j1: Composite 0/1 tasks (0%), elapsed 8s",
-		"job j1: succeeded (render 48/48, composite 1/1), took 8.5s",
-	}
-	got := strings.Split(strings.TrimRight(out.String(), "\n"), "\n")
-	if strings.Join(got, "\n") != strings.Join(want, "\n") {
-		t.Errorf("got\n%s\nwant\n%s", strings.Join(got, "\n"), strings.Join(want, "\n"))
-	}
-}
-
-func TestProgressBarRedrawsInPlace(t *testing.T) {
-	t0 := time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC)
-	clk := &fakeClock{t0}
-	var out strings.Builder
-	p := newProgress(&out, true, clk.now)
-	p.update(job(pb.JobState_JOB_STATE_RUNNING, t0, 0, 0))
-	clk.t = t0.Add(3 * time.Second)
-	p.update(job(pb.JobState_JOB_STATE_RUNNING, t0, 12, 0))
-	s := out.String()
-	frames := strings.Split(s, "\r")[1:]
-	if len(frames) != 2 || strings.Contains(s, "\n") {
-		t.Fatalf("output %q: want two frames, each starting with \\r, no newline", s)
-	}
-	last := frames[1]
-	for _, want := range []string{"Render tiles", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
-		if !strings.Contains(last, want) {
-			t.Errorf("frame %q lacks %q", last, want)
-		}
-	}
-
-	end := job(pb.JobState_JOB_STATE_SUCCEEDED, t0, 48, 1)
-	end.EndTime = timestamppb.New(t0.Add(5 * time.Second))
-	clk.t = t0.Add(6 * time.Second)
-	p.update(end)
-	frames = strings.Split(out.String(), "\r")
-	last = frames[len(frames)-1]
-	for _, want := range []string{"succeeded", "48/48", "tiles", "100%", "elapsed 0:05"} {
-		if !strings.Contains(last, want) {
-			t.Errorf("final frame %q lacks %q", last, want)
-		}
-	}
-	if strings.Contains(last, "ETA") {
-		t.Errorf("final frame %q shows an ETA", last)
 	}
 }

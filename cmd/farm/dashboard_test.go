@@ -4,56 +4,28 @@ import (
 	"context"
 	"io"
 	"log/slog"
-	"net"
 	"net/http"
 	"strings"
-	"sync"
 	"testing"
 	"time"
 
 	"photonfarm/coordinator"
+	"photonfarm/coordinator/coordinatortest"
+	"photonfarm/tests/farmtest"
 )
-
-// lockedBuffer is a strings.Builder that may be read while a verb writes to it.
-type lockedBuffer struct {
-	mu sync.Mutex
-	b  strings.Builder
-}
-
-func (l *lockedBuffer) Write(p []byte) (int, error) {
-	l.mu.Lock()
-	defer l.mu.Unlock()
-	return l.b.Write(p)
-}
-
-func (l *lockedBuffer) String() string {
-	l.mu.Lock()
-	defer l.mu.Unlock()
-	return l.b.String()
-}
 
 func TestDashboardVerbServesUntilInterrupted(t *testing.T) {
 	ctx, cancel := context.WithCancel(context.Background())
 	defer cancel()
-	coord, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), Logger: slog.New(slog.DiscardHandler),
+	coord := coordinatortest.Serve(t, coordinator.Config{Logger: slog.New(slog.DiscardHandler),
 		ClientTokens: []string{"c-token"}, WorkerTokens: []string{"w-token"}})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	coordDone := make(chan error, 1)
-	go func() { coordDone <- coord.Serve(ctx, lis) }()
-	defer func() { cancel(); <-coordDone }()
 
 	dashCtx, stopDash := context.WithCancel(ctx)
-	var stdout, stderr lockedBuffer
+	var stdout, stderr farmtest.SyncBuffer
 	e := &env{stdout: &stdout, stderr: &stderr, getenv: func(string) string { return "" }}
 	done := make(chan int, 1)
 	go func() {
-		done <- run(dashCtx, []string{"dashboard", "--coordinator", lis.Addr().String(), "--listen", "127.0.0.1:0"}, e)
+		done <- run(dashCtx, []string{"dashboard", "--coordinator", coord.Addr, "--listen", "127.0.0.1:0"}, e)
 	}()
 	var url string
 	deadline := time.Now().Add(10 * time.Second)

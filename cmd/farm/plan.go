@@ -22,23 +22,20 @@ var planVerb = &verb{
 func runPlan(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("plan", e)
 	assetRoot := assetRootFlag(fs)
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	// The files a scene names are hashed, not uploaded: planning does not need them.
-	sf, err := client.ReadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
-	if err != nil {
-		return err
-	}
-	resp, err := c.PlanScene(ctx, sf.Scene)
-	if err != nil {
-		return err
-	}
-	fmt.Fprintf(e.stdout, "plan of %s\n", pos[0])
-	printPlan(e.stdout, resp.GetPlan(), resp.GetPhases())
-	return nil
+	return withClient(fs, e, args, 1, 1, func(c *client.Client, pos []string) error {
+		// The files a scene names are hashed, not uploaded: planning does not need them.
+		sf, err := client.ReadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
+		if err != nil {
+			return err
+		}
+		resp, err := c.PlanScene(ctx, sf.Scene)
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "plan of %s\n", pos[0])
+		printPlan(e.stdout, resp.GetPlan(), resp.GetPhases())
+		return nil
+	})
 }
 
 // printPlan writes one line per pass (run or skip, and why), then the tasks per phase of

@@ -10,24 +10,105 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
+// t0 is when the test jobs were created and when the test clocks start.
+var t0 = time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC)
+
+// fakeClock is a settable time.
+type fakeClock struct{ t time.Time }
+
+func (c *fakeClock) now() time.Time { return c.t }
+
+// testProgress is a progress display (a bar on a terminal, else lines) writing to out, at
+// the time clk says: t0 until the test sets it.
+func testProgress(terminal bool) (p *progress, clk *fakeClock, out *strings.Builder) {
+	clk, out = &fakeClock{t0}, &strings.Builder{}
+	return newProgress(out, terminal, clk.now), clk, out
+}
+
+// testJob is job j1, created at t0, in state, with phases' progress.
+func testJob(state pb.JobState, phases ...*pb.PhaseProgress) *pb.Job {
+	return &pb.Job{Id: "j1", State: state, CreateTime: timestamppb.New(t0), Phases: phases}
+}
+
+// phase is the progress of a phase of total tasks, succeeded of them done.
+func phase(p pb.Phase, total, succeeded uint32) *pb.PhaseProgress {
+	return &pb.PhaseProgress{Phase: p, TasksTotal: total, TasksSucceeded: succeeded}
+}
+
+// tileJob is a job without photon mapping: 48 tiles and a composite.
+func tileJob(state pb.JobState, render, composite uint32) *pb.Job {
+	return testJob(state, phase(pb.Phase_PHASE_RENDER, 48, render), phase(pb.Phase_PHASE_COMPOSITE, 1, composite))
+}
+
 // photonJob is a job with all four phases: 4 emit shards, a build, 48 tiles, a composite.
-func photonJob(state pb.JobState, created time.Time, emit, build, render, composite uint32) *pb.Job {
-	return &pb.Job{
-		Id: "j2", State: state, CreateTime: timestamppb.New(created),
-		Phases: []*pb.PhaseProgress{
-			{Phase: pb.Phase_PHASE_EMIT, TasksTotal: 4, TasksSucceeded: emit},
-			{Phase: pb.Phase_PHASE_BUILD, TasksTotal: 1, TasksSucceeded: build},
-			{Phase: pb.Phase_PHASE_RENDER, TasksTotal: 48, TasksSucceeded: render},
-			{Phase: pb.Phase_PHASE_COMPOSITE, TasksTotal: 1, TasksSucceeded: composite},
-		},
+func photonJob(state pb.JobState, emit, build, render, composite uint32) *pb.Job {
+	return testJob(state, phase(pb.Phase_PHASE_EMIT, 4, emit), phase(pb.Phase_PHASE_BUILD, 1, build),
+		phase(pb.Phase_PHASE_RENDER, 48, render), phase(pb.Phase_PHASE_COMPOSITE, 1, composite))
+}
+
+func TestProgressPlainLines(t *testing.T) {
+	p, clk, out := testProgress(false)
+	running := pb.JobState_JOB_STATE_RUNNING
+	p.update(tileJob(running, 0, 0))
+	clk.t = t0.Add(1 * time.Second)
+	p.update(tileJob(running, 6, 0)) // within plainEvery of the last line: not printed
+	clk.t = t0.Add(4 * time.Second)
+	p.update(tileJob(running, 24, 0))
+	clk.t = t0.Add(8 * time.Second)
+	p.update(tileJob(running, 48, 0)) // a new phase is printed at once
+	end := tileJob(pb.JobState_JOB_STATE_SUCCEEDED, 48, 1)
+	end.EndTime = timestamppb.New(t0.Add(8500 * time.Millisecond))
+	p.draw(true)
+	p.observe(end)
+	p.draw(true)
+
+	want := []string{
+		"job j1: Render tiles 0/48 tiles (0%), elapsed 0s",
+		"job j1: Render tiles 24/48 tiles (50%), elapsed 4s, ETA 4s",
+		"job j1: Composite 0/1 tasks (0%), elapsed 8s",
+		"job j1: succeeded (render 48/48, composite 1/1), took 8.5s",
+	}
+	got := strings.Split(strings.TrimRight(out.String(), "\n"), "\n")
+	if strings.Join(got, "\n") != strings.Join(want, "\n") {
+		t.Errorf("got\n%s\nwant\n%s", strings.Join(got, "\n"), strings.Join(want, "\n"))
+	}
+}
+
+func TestProgressBarRedrawsInPlace(t *testing.T) {
+	p, clk, out := testProgress(true)
+	p.update(tileJob(pb.JobState_JOB_STATE_RUNNING, 0, 0))
+	clk.t = t0.Add(3 * time.Second)
+	p.update(tileJob(pb.JobState_JOB_STATE_RUNNING, 12, 0))
+	s := out.String()
+	frames := strings.Split(s, "\r")[1:]
+	if len(frames) != 2 || strings.Contains(s, "\n") {
+		t.Fatalf("output %q: want two frames, each starting with \\r, no newline", s)
+	}
+	last := frames[1]
+	for _, want := range []string{"Render tiles", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
+		if !strings.Contains(last, want) {
+			t.Errorf("frame %q lacks %q", last, want)
+		}
+	}
+
+	end := tileJob(pb.JobState_JOB_STATE_SUCCEEDED, 48, 1)
+	end.EndTime = timestamppb.New(t0.Add(5 * time.Second))
+	clk.t = t0.Add(6 * time.Second)
+	p.update(end)
+	frames = strings.Split(out.String(), "\r")
+	last = frames[len(frames)-1]
+	for _, want := range []string{"succeeded", "48/48", "tiles", "100%", "elapsed 0:05"} {
+		if !strings.Contains(last, want) {
+			t.Errorf("final frame %q lacks %q", last, want)
+		}
+	}
+	if strings.Contains(last, "ETA") {
+		t.Errorf("final frame %q shows an ETA", last)
 	}
 }
 
 func TestProgressPlainLinesShowEveryPhase(t *testing.T) {
-	t0 := time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC)
-	clk := &fakeClock{t0}
-	var out strings.Builder
-	p := newProgress(&out, false, clk.now)
+	p, clk, out := testProgress(false)
 	running := pb.JobState_JOB_STATE_RUNNING
 	for _, st := range []struct {
 		at                             time.Duration
@@ -37,19 +118,19 @@ func TestProgressPlainLinesShowEveryPhase(t *testing.T) {
 		{3 * time.Second, 4, 1, 0, 0}, {5 * time.Second, 4, 1, 48, 0},
 	} {
 		clk.t = t0.Add(st.at)
-		p.update(photonJob(running, t0, st.emit, st.build, st.render, st.composite))
+		p.update(photonJob(running, st.emit, st.build, st.render, st.composite))
 	}
-	end := photonJob(pb.JobState_JOB_STATE_SUCCEEDED, t0, 4, 1, 48, 1)
+	end := photonJob(pb.JobState_JOB_STATE_SUCCEEDED, 4, 1, 48, 1)
 	end.EndTime = timestamppb.New(t0.Add(6 * time.Second))
 	p.observe(end)
 	p.draw(true)
 
 	want := []string{
-		"job j2: Emit photons 0/4 shards (0%), elapsed 0s",
-		"job j2: Build photon map 0/1 tasks (0%), elapsed 2s",
-		"job j2: Render tiles 0/48 tiles (0%), elapsed 3s",
-		"job j2: Composite 0/1 tasks (0%), elapsed 5s",
-		"job j2: succeeded (emit 4/4, build 1/1, render 48/48, composite 1/1), took 6s",
+		"job j1: Emit photons 0/4 shards (0%), elapsed 0s",
+		"job j1: Build photon map 0/1 tasks (0%), elapsed 2s",
+		"job j1: Render tiles 0/48 tiles (0%), elapsed 3s",
+		"job j1: Composite 0/1 tasks (0%), elapsed 5s",
+		"job j1: succeeded (emit 4/4, build 1/1, render 48/48, composite 1/1), took 6s",
 	}
 	if got := strings.TrimRight(out.String(), "\n"); got != strings.Join(want, "\n") {
 		t.Errorf("got\n%s\nwant\n%s", got, strings.Join(want, "\n"))
@@ -57,20 +138,17 @@ func TestProgressPlainLinesShowEveryPhase(t *testing.T) {
 }
 
 func TestProgressBarNamesThePhaseAndItsPlace(t *testing.T) {
-	t0 := time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC)
-	clk := &fakeClock{t0}
 	tests := []struct {
 		job  *pb.Job
 		want []string
 	}{
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 1, 0, 0, 0), []string{"Emit photons 1/4", "1/4", "shards", "25%"}},
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 4, 0, 0, 0), []string{"Build photon map 2/4", "0/1", "tasks"}},
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, t0, 4, 1, 12, 0), []string{"Render tiles 3/4", "12/48", "tiles", "25%"}},
-		{photonJob(pb.JobState_JOB_STATE_SUCCEEDED, t0, 4, 1, 48, 1), []string{"succeeded", "48/48", "tiles", "100%"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, 1, 0, 0, 0), []string{"Emit photons 1/4", "1/4", "shards", "25%"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, 4, 0, 0, 0), []string{"Build photon map 2/4", "0/1", "tasks"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, 4, 1, 12, 0), []string{"Render tiles 3/4", "12/48", "tiles", "25%"}},
+		{photonJob(pb.JobState_JOB_STATE_SUCCEEDED, 4, 1, 48, 1), []string{"succeeded", "48/48", "tiles", "100%"}},
 	}
 	for _, tt := range tests {
-		var out strings.Builder
-		p := newProgress(&out, true, clk.now)
+		p, _, out := testProgress(true)
 		p.update(tt.job)
 		for _, w := range tt.want {
 			if !strings.Contains(out.String(), w) {

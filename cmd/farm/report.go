@@ -7,9 +7,9 @@ import (
 	"io"
 	"os"
 	"path/filepath"
-	"strconv"
 	"text/tabwriter"
 
+	"photonfarm/client"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -24,24 +24,21 @@ var reportVerb = &verb{
 func runReport(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("report", e)
 	out := fs.String("o", "", "also write the error-against-time plot (SVG) to this file")
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	job, err := c.GetJob(ctx, pos[0])
-	if err != nil {
-		return err
-	}
-	printReport(e.stdout, job)
-	if *out == "" {
+	return withClient(fs, e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, err := c.GetJob(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		printReport(e.stdout, job)
+		if *out == "" {
+			return nil
+		}
+		if err := writePlotFile(*out, job); err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "plot written to %s\n", *out)
 		return nil
-	}
-	if err := writePlotFile(*out, job); err != nil {
-		return err
-	}
-	fmt.Fprintf(e.stdout, "plot written to %s\n", *out)
-	return nil
+	})
 }
 
 // layerOrder is the order of the per-layer reference RMSE columns.
@@ -71,39 +68,19 @@ func printReport(w io.Writer, job *pb.Job) {
 	}
 	fmt.Fprintln(tw)
 	for _, r := range job.GetRounds() {
-		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t", r.GetRound(), r.GetElapsedSeconds(), grouped(r.GetPhotons()),
-			r.GetSamplesPerPixel(), optional(r.ErrorEstimate), optional(r.ReferenceRmse))
+		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t", r.GetRound(), r.GetElapsedSeconds(), client.FormatCount(r.GetPhotons()),
+			r.GetSamplesPerPixel(), client.FormatMetric(r.ErrorEstimate), client.FormatMetric(r.ReferenceRmse))
 		for _, l := range layers {
 			v, ok := r.GetLayerReferenceRmse()[l]
 			if !ok {
 				fmt.Fprint(tw, "-\t")
 				continue
 			}
-			fmt.Fprintf(tw, "%s\t", optional(&v))
+			fmt.Fprintf(tw, "%s\t", client.FormatMetric(&v))
 		}
 		fmt.Fprintln(tw)
 	}
 	tw.Flush()
-}
-
-func optional(v *float64) string {
-	if v == nil {
-		return "-"
-	}
-	return strconv.FormatFloat(*v, 'g', 4, 64)
-}
-
-// grouped writes n with thousands separators: 1,200,000.
-func grouped(n uint64) string {
-	s := strconv.FormatUint(n, 10)
-	out := make([]byte, 0, len(s)+len(s)/3)
-	for i := range len(s) {
-		if i > 0 && (len(s)-i)%3 == 0 {
-			out = append(out, ',')
-		}
-		out = append(out, s[i])
-	}
-	return string(out)
 }
 
 // writePlotFile writes the plot through a temporary file renamed into place.

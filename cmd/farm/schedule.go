@@ -37,43 +37,36 @@ func runPriority(ctx context.Context, e *env, args []string) error {
 			flagArgs = append(flagArgs, a)
 		}
 	}
-	c, pos, err := connect(fs, e, flagArgs, 1, 2)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	if pos = append(pos, numbers...); len(pos) != 2 {
-		return usageErrorf("priority: wrong number of arguments (see 'farm priority -h')")
-	}
-	p, err := strconv.ParseInt(pos[1], 10, 32)
-	if err != nil {
-		return usageErrorf("priority: N must be an integer in [-1000, 1000], got %q", pos[1])
-	}
-	job, err := c.SetJobPriority(ctx, pos[0], int32(p))
-	if err != nil {
-		return err
-	}
-	fmt.Fprintf(e.stdout, "job %s priority %d\n", job.GetId(), job.GetPriority())
-	return nil
+	return withClient(fs, e, flagArgs, 1, 2, func(c *client.Client, pos []string) error {
+		if pos = append(pos, numbers...); len(pos) != 2 {
+			return usageErrorf("priority: wrong number of arguments (see 'farm priority -h')")
+		}
+		p, err := strconv.ParseInt(pos[1], 10, 32)
+		if err != nil {
+			return usageErrorf("priority: N must be an integer in [-1000, 1000], got %q", pos[1])
+		}
+		job, err := c.SetJobPriority(ctx, pos[0], int32(p))
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "job %s priority %d\n", job.GetId(), job.GetPriority())
+		return nil
+	})
 }
 
 func runUnblock(ctx context.Context, e *env, args []string) error {
-	fs := newFlags("unblock", e)
-	c, pos, err := connect(fs, e, args, 1, 2)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	worker := ""
-	if len(pos) == 2 {
-		worker = pos[1]
-	}
-	job, err := c.UnblockWorker(ctx, pos[0], worker)
-	if err != nil {
-		return err
-	}
-	fmt.Fprintf(e.stdout, "job %s: %d blocked workers\n", job.GetId(), len(job.GetBlockedWorkers()))
-	return nil
+	return withClient(newFlags("unblock", e), e, args, 1, 2, func(c *client.Client, pos []string) error {
+		worker := ""
+		if len(pos) == 2 {
+			worker = pos[1]
+		}
+		job, err := c.UnblockWorker(ctx, pos[0], worker)
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "job %s: %d blocked workers\n", job.GetId(), len(job.GetBlockedWorkers()))
+		return nil
+	})
 }
 
 // submitPriority is submit's --priority as a client option.

@@ -8,6 +8,7 @@ import (
 	"text/tabwriter"
 	"time"
 
+	"photonfarm/client"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -41,18 +42,14 @@ var cancelVerb = &verb{
 }
 
 func runStatus(ctx context.Context, e *env, args []string) error {
-	fs := newFlags("status", e)
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	job, err := c.GetJob(ctx, pos[0])
-	if err != nil {
-		return err
-	}
-	printJob(e.stdout, job, time.Now())
-	return nil
+	return withClient(newFlags("status", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, err := c.GetJob(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		printJob(e.stdout, job, time.Now())
+		return nil
+	})
 }
 
 func printJob(w io.Writer, job *pb.Job, now time.Time) {
@@ -87,27 +84,23 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 }
 
 func runList(ctx context.Context, e *env, args []string) error {
-	fs := newFlags("list", e)
-	c, _, err := connect(fs, e, args, 0, 0)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	jobs, err := c.ListJobs(ctx)
-	if err != nil {
-		return err
-	}
-	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
-	fmt.Fprintln(tw, "JOB\tNAME\tSTATE\tPRIORITY\tPROGRESS\tSIZE\tCREATED")
-	for _, j := range jobs {
-		created := ""
-		if t := j.GetCreateTime(); t != nil {
-			created = t.AsTime().Local().Format(time.DateTime)
+	return withClient(newFlags("list", e), e, args, 0, 0, func(c *client.Client, _ []string) error {
+		jobs, err := c.ListJobs(ctx)
+		if err != nil {
+			return err
 		}
-		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
-			tasks.JobStateName(j.GetState()), j.GetPriority(), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
-	}
-	return tw.Flush()
+		tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
+		fmt.Fprintln(tw, "JOB\tNAME\tSTATE\tPRIORITY\tPROGRESS\tSIZE\tCREATED")
+		for _, j := range jobs {
+			created := ""
+			if t := j.GetCreateTime(); t != nil {
+				created = t.AsTime().Local().Format(time.DateTime)
+			}
+			fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
+				tasks.JobStateName(j.GetState()), j.GetPriority(), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
+		}
+		return tw.Flush()
+	})
 }
 
 // phaseSummary is "render 12/48, composite 0/1".
@@ -120,23 +113,19 @@ func phaseSummary(j *pb.Job) string {
 }
 
 func runTasks(ctx context.Context, e *env, args []string) error {
-	fs := newFlags("tasks", e)
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	list, err := c.ListTasks(ctx, pos[0])
-	if err != nil {
-		return err
-	}
-	tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
-	fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tWORK\tERROR")
-	for _, t := range list {
-		fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), tasks.Name(t.GetPhase()),
-			tasks.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), taskWork(t), oneLine(t.GetError()))
-	}
-	return tw.Flush()
+	return withClient(newFlags("tasks", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		list, err := c.ListTasks(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
+		fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tWORK\tERROR")
+		for _, t := range list {
+			fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), tasks.Name(t.GetPhase()),
+				tasks.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), taskWork(t), oneLine(t.GetError()))
+		}
+		return tw.Flush()
+	})
 }
 
 // taskWork says what a task covers: a tile's rectangle ("16x16+32+0") or an emission
@@ -153,16 +142,12 @@ func taskWork(t *pb.Task) string {
 }
 
 func runCancel(ctx context.Context, e *env, args []string) error {
-	fs := newFlags("cancel", e)
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	job, err := c.Cancel(ctx, pos[0])
-	if err != nil {
-		return err
-	}
-	fmt.Fprintf(e.stdout, "job %s %s\n", job.GetId(), tasks.JobStateName(job.GetState()))
-	return nil
+	return withClient(newFlags("cancel", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, err := c.Cancel(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "job %s %s\n", job.GetId(), tasks.JobStateName(job.GetState()))
+		return nil
+	})
 }

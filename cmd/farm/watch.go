@@ -18,13 +18,9 @@ var watchVerb = &verb{
 }
 
 func runWatch(ctx context.Context, e *env, args []string) error {
-	fs := newFlags("watch", e)
-	c, pos, err := connect(fs, e, args, 1, 1)
-	if err != nil {
-		return err
-	}
-	defer c.Close()
-	return watchJob(ctx, e, c, pos[0])
+	return withClient(newFlags("watch", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		return watchJob(ctx, e, c, pos[0])
+	})
 }
 
 // watchJob shows the job's progress on stdout until it ends and returns nil only if it

@@ -3,7 +3,6 @@ package rules
 import (
 	"fmt"
 	"math"
-	"regexp"
 	"strconv"
 	"strings"
 	"sync"
@@ -28,9 +27,6 @@ func (e *FieldError) Error() string { return e.Field + ": " + e.Message }
 func Errorf(field, format string, args ...any) *FieldError {
 	return &FieldError{Field: field, Message: fmt.Sprintf(format, args...)}
 }
-
-// DigestPattern matches a content digest: "sha256:" and 64 lowercase hex digits.
-var DigestPattern = regexp.MustCompile(`^sha256:[0-9a-f]{64}$`)
 
 // Check returns the first field of m that breaks its rule, or nil: fields in declaration
 // order, depth first, each message's required oneofs after its fields. Only set messages

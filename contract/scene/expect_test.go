@@ -24,14 +24,19 @@ type refusal struct {
 	message string // substring
 }
 
+// validate validates scenetest.Valid(64, 48) changed by mutate.
+func validate(mutate func(*pb.Scene)) error {
+	s := scenetest.Valid(64, 48)
+	mutate(s)
+	return scene.Validate(s)
+}
+
 // expectValid checks that Validate accepts every variant.
 func expectValid(t *testing.T, tests []variant) {
 	t.Helper()
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(64, 48)
-			tt.mutate(s)
-			if err := scene.Validate(s); err != nil {
+			if err := validate(tt.mutate); err != nil {
 				t.Fatalf("Validate: %v", err)
 			}
 		})
@@ -44,9 +49,7 @@ func expectRefused(t *testing.T, tests []refusal) {
 	t.Helper()
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(64, 48)
-			tt.mutate(s)
-			err := scene.Validate(s)
+			err := validate(tt.mutate)
 			var fe *scene.FieldError
 			if !errors.As(err, &fe) {
 				t.Fatalf("Validate = %v, want a *FieldError", err)

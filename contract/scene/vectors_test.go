@@ -1,8 +1,6 @@
 package scene_test
 
 import (
-	"crypto/sha256"
-	"encoding/hex"
 	"errors"
 	"fmt"
 	"os"
@@ -15,6 +13,7 @@ import (
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/reflect/protoreflect"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -82,7 +81,7 @@ func checkVector(vec *pb.SceneVector) error {
 		if err != nil {
 			return err
 		}
-		if sum := sha256.Sum256(data); "sha256:"+hex.EncodeToString(sum[:]) != ref.Digest {
+		if rules.DigestOf(data) != ref.Digest {
 			return fmt.Errorf("asset %s does not have the digest %s", file, ref.Digest)
 		}
 	}

@@ -3,8 +3,6 @@ package tasks
 import (
 	"fmt"
 
-	"google.golang.org/protobuf/proto"
-
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -19,11 +17,10 @@ type ArtifactInfo struct {
 // Artifact returns kind k's artifact_info; it panics for a kind without one, which only a
 // broken contract has.
 func Artifact(k pb.ArtifactKind) ArtifactInfo {
-	v := k.Descriptor().Values().ByNumber(k.Number())
-	if v == nil || !proto.HasExtension(v.Options(), pb.E_ArtifactInfo) {
+	info, ok := infoOf[*pb.ArtifactInfo](k, pb.E_ArtifactInfo)
+	if !ok {
 		panic(fmt.Sprintf("tasks: artifact kind %d declares no artifact_info", k))
 	}
-	info := proto.GetExtension(v.Options(), pb.E_ArtifactInfo).(*pb.ArtifactInfo)
 	return ArtifactInfo{Name: info.GetName(), PreviousRound: info.GetPreviousRound()}
 }
 
@@ -50,10 +47,9 @@ type Failure struct {
 
 // FailureOf returns kind k's failure_info; an unknown kind is treated as transient.
 func FailureOf(k pb.FailureKind) Failure {
-	v := k.Descriptor().Values().ByNumber(k.Number())
-	if v == nil || !proto.HasExtension(v.Options(), pb.E_FailureInfo) {
+	info, ok := infoOf[*pb.FailureInfo](k, pb.E_FailureInfo)
+	if !ok {
 		return FailureOf(pb.FailureKind_FAILURE_KIND_TRANSIENT)
 	}
-	info := proto.GetExtension(v.Options(), pb.E_FailureInfo).(*pb.FailureInfo)
 	return Failure{Permanent: info.GetPermanent(), Label: info.GetLabel()}
 }

@@ -46,11 +46,10 @@ func TableOf(ed protoreflect.EnumDescriptor) Table {
 		if v.Number() == 0 {
 			continue
 		}
-		opts := v.Options()
-		if opts == nil || !proto.HasExtension(opts, pb.E_PhaseInfo) {
+		info, ok := valueInfo[*pb.PhaseInfo](v, pb.E_PhaseInfo)
+		if !ok {
 			panic(fmt.Sprintf("tasks: phase %s declares no phase_info", v.Name()))
 		}
-		info := proto.GetExtension(opts, pb.E_PhaseInfo).(*pb.PhaseInfo)
 		for _, in := range info.GetInputs() {
 			if !made[in] && !Artifact(in).PreviousRound {
 				panic(fmt.Sprintf("tasks: phase %s reads %s, which no phase before it makes", v.Name(), in))

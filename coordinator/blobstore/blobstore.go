@@ -8,8 +8,6 @@ package blobstore
 
 import (
 	"context"
-	"crypto/sha256"
-	"encoding/hex"
 	"errors"
 	"fmt"
 	"hash"
@@ -17,7 +15,6 @@ import (
 	"io/fs"
 	"os"
 	"path/filepath"
-	"regexp"
 
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/errs"
@@ -25,17 +22,6 @@ import (
 
 // DefaultMaxSize is the default size limit of one blob: the contract's max_blob_bytes.
 var DefaultMaxSize = int64(rules.RPC.GetMaxBlobBytes())
-
-var digestRE = regexp.MustCompile(`^sha256:[0-9a-f]{64}$`)
-
-// ValidDigest reports whether d has the form "sha256:<64 lowercase hex>".
-func ValidDigest(d string) bool { return digestRE.MatchString(d) }
-
-// Digest returns the digest of b.
-func Digest(b []byte) string {
-	sum := sha256.Sum256(b)
-	return "sha256:" + hex.EncodeToString(sum[:])
-}
 
 // Info describes a stored blob.
 type Info struct {
@@ -72,7 +58,7 @@ func (s *Store) path(digest string) string {
 }
 
 func checkDigest(field, d string) error {
-	if !ValidDigest(d) {
+	if !rules.ValidDigest(d) {
 		return errs.Field(field, "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
 	}
 	return nil
@@ -147,7 +133,7 @@ func (s *Store) Create(size int64, digest string) (*Writer, error) {
 	if err != nil {
 		return nil, errs.Wrap(errs.Internal, err, "blobstore")
 	}
-	return &Writer{s: s, f: f, h: sha256.New(), size: size, digest: digest}, nil
+	return &Writer{s: s, f: f, h: rules.NewDigestHash(), size: size, digest: digest}, nil
 }
 
 // Write appends p, refusing to grow past the declared size or the store's limit.
@@ -182,7 +168,7 @@ func (w *Writer) Commit() (Info, error) {
 		return Info{}, &errs.Error{Kind: errs.InvalidArgument, Field: "size_bytes",
 			Message: fmt.Sprintf("declared %d bytes, received %d", w.size, w.n)}
 	}
-	got := "sha256:" + hex.EncodeToString(w.h.Sum(nil))
+	got := rules.DigestSum(w.h)
 	if w.digest != "" && got != w.digest {
 		return Info{}, &errs.Error{Kind: errs.InvalidArgument, Field: "digest",
 			Message: fmt.Sprintf("content has digest %s, not the declared %s", got, w.digest)}

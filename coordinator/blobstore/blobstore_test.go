@@ -9,6 +9,7 @@ import (
 	"strings"
 	"testing"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 )
@@ -21,7 +22,7 @@ func TestPutOpenRoundTrip(t *testing.T) {
 		t.Fatal(err)
 	}
 	data := bytes.Repeat([]byte("photon"), 100000)
-	want := blobstore.Digest(data)
+	want := rules.DigestOf(data)
 	info, err := s.Put(ctx, bytes.NewReader(data), int64(len(data)), want)
 	if err != nil {
 		t.Fatal(err)
@@ -53,7 +54,7 @@ func TestPutOpenRoundTrip(t *testing.T) {
 
 func TestPutRefuses(t *testing.T) {
 	data := []byte("hello")
-	other := blobstore.Digest([]byte("other"))
+	other := rules.DigestOf([]byte("other"))
 	tests := []struct {
 		name   string
 		size   int64
@@ -78,7 +79,7 @@ func TestPutRefuses(t *testing.T) {
 			if !errorsAs(err, &e) || e.Kind != tt.kind || e.Field != tt.field {
 				t.Fatalf("Put = %v, want kind %v on field %s", err, tt.kind, tt.field)
 			}
-			if _, err := s.Stat(context.Background(), blobstore.Digest(data)); errs.KindOf(err) != errs.NotFound {
+			if _, err := s.Stat(context.Background(), rules.DigestOf(data)); errs.KindOf(err) != errs.NotFound {
 				t.Errorf("refused blob was stored: %v", err)
 			}
 		})
@@ -94,7 +95,7 @@ func TestPutRefuses(t *testing.T) {
 
 func TestStatMissing(t *testing.T) {
 	s, _ := blobstore.New(t.TempDir(), 0)
-	if _, err := s.Stat(context.Background(), blobstore.Digest([]byte("x"))); errs.KindOf(err) != errs.NotFound {
+	if _, err := s.Stat(context.Background(), rules.DigestOf([]byte("x"))); errs.KindOf(err) != errs.NotFound {
 		t.Errorf("Stat = %v, want NotFound", err)
 	}
 	if _, _, err := s.Open(context.Background(), "md5:abc"); errs.KindOf(err) != errs.InvalidArgument {

@@ -3,13 +3,12 @@ package builder_test
 import (
 	"bytes"
 	"context"
-	"crypto/sha256"
-	"encoding/hex"
 	"io"
 	"strings"
 	"testing"
 	"time"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/blobstore"
@@ -206,8 +205,7 @@ func TestBuilderAbandonsABuildWhoseLeaseIsLost(t *testing.T) {
 	if len(build.Outputs) != 0 {
 		t.Errorf("cancelled build has outputs %v", build.Outputs)
 	}
-	sum := sha256.Sum256([]byte("late snapshot"))
-	if _, err := f.blobs.Stat(f.ctx, "sha256:"+hex.EncodeToString(sum[:])); err == nil {
+	if _, err := f.blobs.Stat(f.ctx, rules.DigestOf([]byte("late snapshot"))); err == nil {
 		t.Error("the abandoned build's snapshot was stored")
 	}
 }

@@ -6,7 +6,6 @@ import (
 	"io"
 
 	"photonfarm/contract/rules"
-	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -22,7 +21,7 @@ func checkDigest(d string) error {
 	if d == "" {
 		return errs.Field("digest", "must be non-empty")
 	}
-	if !blobstore.ValidDigest(d) {
+	if !rules.ValidDigest(d) {
 		return errs.Field("digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
 	}
 	return nil
@@ -45,7 +44,7 @@ func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
 	if h.GetSizeBytes() < 0 {
 		return errs.Field("header.size_bytes", "must be >= 0, got %d", h.GetSizeBytes())
 	}
-	if d := h.GetDigest(); d != "" && !blobstore.ValidDigest(d) {
+	if d := h.GetDigest(); d != "" && !rules.ValidDigest(d) {
 		return errs.Field("header.digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
 	}
 	w, err := b.s.cfg.Blobs.Create(h.GetSizeBytes(), h.GetDigest())

@@ -7,6 +7,7 @@ import (
 
 	"google.golang.org/grpc/codes"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -15,7 +16,7 @@ func TestBlobRoundTrip(t *testing.T) {
 	f := newFarm(t)
 	data := make([]byte, 5<<20+123)
 	rand.Read(data)
-	digest := blobstore.Digest(data)
+	digest := rules.DigestOf(data)
 	resp, err := f.uploadChunks(&pb.BlobHeader{SizeBytes: int64(len(data)), Digest: digest}, chunks(data, 4<<20)...)
 	if err != nil || resp.Digest != digest || resp.SizeBytes != int64(len(data)) {
 		t.Fatalf("UploadBlob = %v, %v", resp, err)
@@ -38,7 +39,7 @@ func TestBlobRoundTrip(t *testing.T) {
 		t.Errorf("second upload: %v", err)
 	}
 	empty, err := f.uploadChunks(&pb.BlobHeader{})
-	if err != nil || empty.Digest != blobstore.Digest(nil) {
+	if err != nil || empty.Digest != rules.DigestOf(nil) {
 		t.Fatalf("empty upload = %v, %v", empty, err)
 	}
 	if got, _, err := f.download(empty.Digest); err != nil || len(got) != 0 {
@@ -56,7 +57,7 @@ func TestUploadRefusesBadBlobs(t *testing.T) {
 		code   codes.Code
 		field  string
 	}{
-		{"corrupted digest", &pb.BlobHeader{SizeBytes: int64(len(data)), Digest: blobstore.Digest([]byte("other bytes"))}, [][]byte{data}, codes.InvalidArgument, "header.digest"},
+		{"corrupted digest", &pb.BlobHeader{SizeBytes: int64(len(data)), Digest: rules.DigestOf([]byte("other bytes"))}, [][]byte{data}, codes.InvalidArgument, "header.digest"},
 		{"malformed digest", &pb.BlobHeader{SizeBytes: int64(len(data)), Digest: "sha1:abc"}, [][]byte{data}, codes.InvalidArgument, "header.digest"},
 		{"fewer bytes than declared", &pb.BlobHeader{SizeBytes: int64(len(data)) + 1}, [][]byte{data}, codes.InvalidArgument, "header.size_bytes"},
 		{"more bytes than declared", &pb.BlobHeader{SizeBytes: 3}, [][]byte{data}, codes.InvalidArgument, "header.size_bytes"},
@@ -78,7 +79,7 @@ func TestUploadRefusesBadBlobs(t *testing.T) {
 	_, err := stream.CloseAndRecv()
 	wantCode(t, "chunk before header", err, codes.InvalidArgument, "header")
 
-	_, _, err = f.download(blobstore.Digest([]byte("never uploaded")))
+	_, _, err = f.download(rules.DigestOf([]byte("never uploaded")))
 	wantCode(t, "download missing", err, codes.NotFound, "digest")
 	_, _, err = f.download("")
 	wantCode(t, "download no digest", err, codes.InvalidArgument, "digest")

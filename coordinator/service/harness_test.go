@@ -111,6 +111,36 @@ func (f *farm) lease(worker string) *pb.LeaseTaskResponse {
 	return resp
 }
 
+// leased submits s, registers a worker and leases it the job's first task.
+func (f *farm) leased(s *pb.Scene) (job *pb.Job, worker string, l *pb.LeaseTaskResponse) {
+	f.t.Helper()
+	job = f.submit(s)
+	worker = f.register()
+	return job, worker, f.lease(worker)
+}
+
+// longPoll starts worker's LeaseTask waiting up to timeout and returns where its answer
+// comes (nil, the error reported, if the call fails).
+func (f *farm) longPoll(worker string, timeout time.Duration) <-chan *pb.LeaseTaskResponse {
+	got := make(chan *pb.LeaseTaskResponse, 1)
+	go func() {
+		resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: worker, WaitTimeout: wait(timeout)})
+		if err != nil {
+			f.t.Error(err)
+		}
+		got <- resp
+	}()
+	return got
+}
+
+// cancel cancels the job.
+func (f *farm) cancel(jobID string) {
+	f.t.Helper()
+	if _, err := f.jobs.CancelJob(f.ctx, &pb.CancelJobRequest{JobId: jobID}); err != nil {
+		f.t.Fatalf("CancelJob: %v", err)
+	}
+}
+
 func (f *farm) upload(data []byte) *pb.Artifact {
 	f.t.Helper()
 	d, err := f.uploadChunks(&pb.BlobHeader{SizeBytes: int64(len(data))}, chunks(data, 1<<20)...)

@@ -12,9 +12,9 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
-	"photonfarm/coordinator/blobstore"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -146,7 +146,7 @@ func TestSubmitRenderAndWatchToSuccess(t *testing.T) {
 }
 
 func TestSubmitRefusesMalformedScenes(t *testing.T) {
-	missing := blobstore.Digest([]byte("a mesh nobody uploaded"))
+	missing := rules.DigestOf([]byte("a mesh nobody uploaded"))
 	mesh := func(m *pb.MeshFile) func(*pb.Scene) {
 		return func(s *pb.Scene) {
 			s.Shapes = append(s.Shapes, &pb.Shape{Material: "white", Geometry: &pb.Shape_Mesh{Mesh: m}})
@@ -263,9 +263,7 @@ func TestListJobsPages(t *testing.T) {
 
 func TestCancelRevokesLeasesAndEndsWatch(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Unlit(64, 64))
-	w := f.register()
-	l := f.lease(w)
+	job, w, l := f.leased(scenetest.Unlit(64, 64))
 	stream, err := f.jobs.WatchJob(f.ctx, &pb.WatchJobRequest{JobId: job.Id})
 	if err != nil {
 		t.Fatal(err)

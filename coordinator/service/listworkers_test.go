@@ -105,12 +105,8 @@ func TestListWorkersFollowsLeases(t *testing.T) {
 
 func TestListWorkersClearsRevokedLease(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Unlit(8, 8))
-	w := f.register()
-	l := f.lease(w)
-	if _, err := f.jobs.CancelJob(f.ctx, &pb.CancelJobRequest{JobId: job.Id}); err != nil {
-		t.Fatal(err)
-	}
+	job, w, l := f.leased(scenetest.Unlit(8, 8))
+	f.cancel(job.Id)
 	// The worker learns of the cancellation at its heartbeat: the lease is revoked.
 	hb, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: w, Leases: []*pb.HeldLease{{TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch}}})
 	if err != nil || len(hb.Revoked) != 1 {
@@ -133,12 +129,8 @@ func TestListWorkersClearsRevokedLease(t *testing.T) {
 // the cancelled job's task until its next lease.
 func TestRefusedReportAfterCancelLeavesTheWorkerIdle(t *testing.T) {
 	f := newFarm(t)
-	job := f.submit(scenetest.Unlit(64, 64))
-	w := f.register()
-	l := f.lease(w)
-	if _, err := f.jobs.CancelJob(f.ctx, &pb.CancelJobRequest{JobId: job.Id}); err != nil {
-		t.Fatal(err)
-	}
+	job, w, l := f.leased(scenetest.Unlit(64, 64))
+	f.cancel(job.Id)
 	tile := f.upload([]byte("tile"))
 	tile.Name = "tile.exr"
 	if _, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Outputs: []*pb.Artifact{tile}}); err == nil {

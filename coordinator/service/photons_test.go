@@ -96,9 +96,7 @@ func TestBuilderLeaseWaitsForShardsAndEndsOnTimeout(t *testing.T) {
 	f := newFarm(t)
 	sc := scenetest.Valid(8, 8)
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: 1000}
-	f.submit(sc)
-	w := f.register()
-	l := f.lease(w)
+	_, w, l := f.leased(sc)
 
 	got := make(chan *pb.LeaseTaskResponse, 1)
 	go func() {

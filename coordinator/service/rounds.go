@@ -31,13 +31,8 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 	}
 	spec.Tiles = tiles
 	if round > 1 {
-		err := s.roundTasks(ctx, task.GetJobId(), round-1, func(t *pb.Task) error {
-			if t.GetComposite() == nil {
-				return nil
-			}
-			a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
+		err := s.roundOutputs(ctx, task.GetJobId(), round-1, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR, func(_ *pb.Task, a *pb.Artifact) {
 			spec.PreviousAccumulation = a
-			return err
 		})
 		if err != nil {
 			return err
@@ -102,15 +97,8 @@ func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIr
 	}
 	spec.PhotonSnapshot = snap
 	spec.IrradianceShards = nil
-	return s.roundTasks(ctx, task.GetJobId(), round, func(t *pb.Task) error {
-		if t.GetPrecomputeIrradiance() == nil {
-			return nil
-		}
-		a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD)
-		if err == nil {
-			spec.IrradianceShards = append(spec.IrradianceShards, a)
-		}
-		return err
+	return s.roundOutputs(ctx, task.GetJobId(), round, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) {
+		spec.IrradianceShards = append(spec.IrradianceShards, a)
 	})
 }
 

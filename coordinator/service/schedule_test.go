@@ -1,12 +1,14 @@
 package service_test
 
 import (
+	"context"
 	"testing"
 	"time"
 
 	"google.golang.org/grpc/codes"
 
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/coordinatortest"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -15,49 +17,23 @@ func TestSchedulingRPCsValidate(t *testing.T) {
 	f := newFarm(t)
 	job := f.submit(scenetest.Unlit(8, 8))
 	ended := f.submit(scenetest.Unlit(8, 8))
-	if _, err := f.jobs.CancelJob(f.ctx, &pb.CancelJobRequest{JobId: ended.Id}); err != nil {
-		t.Fatal(err)
-	}
+	f.cancel(ended.Id)
 	for _, tc := range []struct {
 		name  string
-		call  func() error
+		call  func(context.Context) error
 		code  codes.Code
 		field string
 	}{
-		{"submit: priority too high", func() error {
-			_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: scenetest.Unlit(8, 8), Priority: store.MaxPriority + 1})
-			return err
-		}, codes.InvalidArgument, "priority"},
-		{"set priority: no job", func() error {
-			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{Priority: 1})
-			return err
-		}, codes.InvalidArgument, "job_id"},
-		{"set priority: too low", func() error {
-			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: job.Id, Priority: store.MinPriority - 1})
-			return err
-		}, codes.InvalidArgument, "priority"},
-		{"set priority: unknown job", func() error {
-			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: "j-nope", Priority: 1})
-			return err
-		}, codes.NotFound, "job_id"},
-		{"set priority: ended job", func() error {
-			_, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: ended.Id, Priority: 1})
-			return err
-		}, codes.FailedPrecondition, ""},
-		{"unblock: no job", func() error {
-			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{WorkerId: "w-1"})
-			return err
-		}, codes.InvalidArgument, "job_id"},
-		{"unblock: worker id with spaces", func() error {
-			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{JobId: job.Id, WorkerId: "w 1"})
-			return err
-		}, codes.InvalidArgument, "worker_id"},
-		{"unblock: unknown job", func() error {
-			_, err := f.jobs.UnblockWorker(f.ctx, &pb.UnblockWorkerRequest{JobId: "j-nope"})
-			return err
-		}, codes.NotFound, "job_id"},
+		{"submit: priority too high", coordinatortest.Call(f.jobs.SubmitJob, &pb.SubmitJobRequest{Scene: scenetest.Unlit(8, 8), Priority: store.MaxPriority + 1}), codes.InvalidArgument, "priority"},
+		{"set priority: no job", coordinatortest.Call(f.jobs.SetJobPriority, &pb.SetJobPriorityRequest{Priority: 1}), codes.InvalidArgument, "job_id"},
+		{"set priority: too low", coordinatortest.Call(f.jobs.SetJobPriority, &pb.SetJobPriorityRequest{JobId: job.Id, Priority: store.MinPriority - 1}), codes.InvalidArgument, "priority"},
+		{"set priority: unknown job", coordinatortest.Call(f.jobs.SetJobPriority, &pb.SetJobPriorityRequest{JobId: "j-nope", Priority: 1}), codes.NotFound, "job_id"},
+		{"set priority: ended job", coordinatortest.Call(f.jobs.SetJobPriority, &pb.SetJobPriorityRequest{JobId: ended.Id, Priority: 1}), codes.FailedPrecondition, ""},
+		{"unblock: no job", coordinatortest.Call(f.jobs.UnblockWorker, &pb.UnblockWorkerRequest{WorkerId: "w-1"}), codes.InvalidArgument, "job_id"},
+		{"unblock: worker id with spaces", coordinatortest.Call(f.jobs.UnblockWorker, &pb.UnblockWorkerRequest{JobId: job.Id, WorkerId: "w 1"}), codes.InvalidArgument, "worker_id"},
+		{"unblock: unknown job", coordinatortest.Call(f.jobs.UnblockWorker, &pb.UnblockWorkerRequest{JobId: "j-nope"}), codes.NotFound, "job_id"},
 	} {
-		t.Run(tc.name, func(t *testing.T) { wantCode(t, tc.name, tc.call(), tc.code, tc.field) })
+		t.Run(tc.name, func(t *testing.T) { wantCode(t, tc.name, tc.call(f.ctx), tc.code, tc.field) })
 	}
 	set, err := f.jobs.SetJobPriority(f.ctx, &pb.SetJobPriorityRequest{JobId: job.Id, Priority: -7})
 	if err != nil || set.Job.Priority != -7 {
@@ -75,14 +51,7 @@ func TestLongPollWakesWhenBackoffEnds(t *testing.T) {
 	f.submit(scenetest.Unlit(8, 8)) // one tile
 	w1, w2 := f.register(), f.register()
 	l := f.lease(w1)
-	got := make(chan *pb.LeaseTaskResponse, 1)
-	go func() {
-		resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w2, WaitTimeout: wait(10 * time.Second)})
-		if err != nil {
-			t.Error(err)
-		}
-		got <- resp
-	}()
+	got := f.longPoll(w2, 10*time.Second)
 	if _, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w1, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Error: "flaky"}); err != nil {
 		t.Fatal(err)
 	}
@@ -99,9 +68,7 @@ func TestLongPollWakesWhenBackoffEnds(t *testing.T) {
 
 func TestHeartbeatWithoutProgressRevokesAsStuck(t *testing.T) {
 	f := newFarm(t)
-	f.submit(scenetest.Unlit(8, 8))
-	w := f.register()
-	l := f.lease(w)
+	_, w, l := f.leased(scenetest.Unlit(8, 8))
 	held := []*pb.HeldLease{{TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Progress: 0}}
 	for elapsed := time.Duration(0); elapsed < store.DefaultStuckTimeout; {
 		f.clock.Advance(leaseDuration / 2)

@@ -85,20 +85,26 @@ func (s *Service) roundTasks(ctx context.Context, jobID string, round uint32, fn
 	})
 }
 
+// roundOutputs calls fn with each task of phase p in one round of a job, in plan order,
+// and the task's output of kind k.
+func (s *Service) roundOutputs(ctx context.Context, jobID string, round uint32, p pb.Phase, k pb.ArtifactKind, fn func(*pb.Task, *pb.Artifact)) error {
+	return s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
+		if tasks.PhaseOf(t) != p {
+			return nil
+		}
+		a, err := output(t, k)
+		if err == nil {
+			fn(t, a)
+		}
+		return err
+	})
+}
+
 // tiles lists the rectangles and tile EXRs of a round's render phase.
 func (s *Service) tiles(ctx context.Context, jobID string, round uint32) ([]*pb.TileInput, error) {
 	var tiles []*pb.TileInput
-	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
-		rt := t.GetRenderTile()
-		if rt == nil {
-			return nil
-		}
-		tile, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR)
-		if err != nil {
-			return err
-		}
-		tiles = append(tiles, &pb.TileInput{Rect: rt.GetRect(), Tile: tile})
-		return nil
+	err := s.roundOutputs(ctx, jobID, round, pb.Phase_PHASE_RENDER, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR, func(t *pb.Task, tile *pb.Artifact) {
+		tiles = append(tiles, &pb.TileInput{Rect: t.GetRenderTile().GetRect(), Tile: tile})
 	})
 	return tiles, err
 }
@@ -106,17 +112,8 @@ func (s *Service) tiles(ctx context.Context, jobID string, round uint32) ([]*pb.
 // shards lists a round's emission shards, in plan order, with what each produced.
 func (s *Service) shards(ctx context.Context, jobID string, round uint32) ([]*pb.EmittedShard, error) {
 	var shards []*pb.EmittedShard
-	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
-		e := t.GetEmitPhotons()
-		if e == nil {
-			return nil
-		}
-		shard, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD)
-		if err != nil {
-			return err
-		}
-		shards = append(shards, &pb.EmittedShard{Spec: e, Shard: shard})
-		return nil
+	err := s.roundOutputs(ctx, jobID, round, pb.Phase_PHASE_EMIT, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD, func(t *pb.Task, shard *pb.Artifact) {
+		shards = append(shards, &pb.EmittedShard{Spec: t.GetEmitPhotons(), Shard: shard})
 	})
 	return shards, err
 }
@@ -124,13 +121,8 @@ func (s *Service) shards(ctx context.Context, jobID string, round uint32) ([]*pb
 // builtSnapshot returns the snapshot a round's build task produced (without irradiance).
 func (s *Service) builtSnapshot(ctx context.Context, jobID string, round uint32) (*pb.Artifact, error) {
 	var snap *pb.Artifact
-	err := s.roundTasks(ctx, jobID, round, func(t *pb.Task) error {
-		if t.GetBuildPhotonMap() == nil {
-			return nil
-		}
-		a, err := output(t, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
+	err := s.roundOutputs(ctx, jobID, round, pb.Phase_PHASE_BUILD, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT, func(_ *pb.Task, a *pb.Artifact) {
 		snap = a
-		return err
 	})
 	if err == nil && snap == nil {
 		err = errs.E(errs.Internal, "job %s round %d has no build task", jobID, round)

@@ -8,7 +8,6 @@ import (
 
 	"photonfarm/contract/rules"
 	"photonfarm/contract/tasks"
-	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -131,7 +130,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		if a.GetName() == "" || len(a.GetName()) > 255 {
 			return errs.Field(p+".name", "must be 1 to 255 bytes, got %d", len(a.GetName()))
 		}
-		if !blobstore.ValidDigest(a.GetDigest()) {
+		if !rules.ValidDigest(a.GetDigest()) {
 			return errs.Field(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", a.GetDigest())
 		}
 		info, err := s.cfg.Blobs.Stat(ctx, a.GetDigest())

@@ -255,51 +255,45 @@ func (ws *workerServer) LeaseTask(ctx context.Context, req *pb.LeaseTaskRequest)
 	return s.Lease(ctx, req.GetWorkerId(), store.WorkerPhases, wait)
 }
 
-// leaseRef validates the lease fields shared by CompleteTask, FailTask and ReleaseTask.
-func leaseRef(workerID, taskID string, epoch uint64) (store.LeaseRef, error) {
-	if err := checkID("worker_id", workerID); err != nil {
-		return store.LeaseRef{}, err
+// leaseReport is a report under a lease: CompleteTask, FailTask and ReleaseTask.
+type leaseReport interface {
+	GetWorkerId() string
+	GetTaskId() string
+	GetEpoch() uint64
+}
+
+// onLease validates the lease fields of req and applies the report to the lease they
+// name; the response, empty, is Resp's.
+func onLease[Resp any](req leaseReport, apply func(store.LeaseRef) error) (*Resp, error) {
+	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
+		return nil, err
 	}
-	if err := checkID("task_id", taskID); err != nil {
-		return store.LeaseRef{}, err
+	if err := checkID("task_id", req.GetTaskId()); err != nil {
+		return nil, err
 	}
-	if epoch == 0 {
-		return store.LeaseRef{}, errs.Field("epoch", "must be > 0 (the epoch the lease was granted under)")
+	if req.GetEpoch() == 0 {
+		return nil, errs.Field("epoch", "must be > 0 (the epoch the lease was granted under)")
 	}
-	return store.LeaseRef{WorkerID: workerID, TaskID: taskID, Epoch: epoch}, nil
+	if err := apply(store.LeaseRef{WorkerID: req.GetWorkerId(), TaskID: req.GetTaskId(), Epoch: req.GetEpoch()}); err != nil {
+		return nil, err
+	}
+	return new(Resp), nil
 }
 
 func (ws *workerServer) CompleteTask(ctx context.Context, req *pb.CompleteTaskRequest) (*pb.CompleteTaskResponse, error) {
-	ref, err := leaseRef(req.GetWorkerId(), req.GetTaskId(), req.GetEpoch())
-	if err != nil {
-		return nil, err
-	}
-	if err := ws.s.CompleteWithMetrics(ctx, ref, req.GetOutputs(), req.GetMetrics()); err != nil {
-		return nil, err
-	}
-	return &pb.CompleteTaskResponse{}, nil
+	return onLease[pb.CompleteTaskResponse](req, func(ref store.LeaseRef) error {
+		return ws.s.CompleteWithMetrics(ctx, ref, req.GetOutputs(), req.GetMetrics())
+	})
 }
 
 func (ws *workerServer) FailTask(ctx context.Context, req *pb.FailTaskRequest) (*pb.FailTaskResponse, error) {
-	ref, err := leaseRef(req.GetWorkerId(), req.GetTaskId(), req.GetEpoch())
-	if err != nil {
-		return nil, err
-	}
-	if err := ws.s.Fail(ctx, ref, store.Failure{Message: req.GetError(), Kind: req.GetKind()}); err != nil {
-		return nil, err
-	}
-	return &pb.FailTaskResponse{}, nil
+	return onLease[pb.FailTaskResponse](req, func(ref store.LeaseRef) error {
+		return ws.s.Fail(ctx, ref, store.Failure{Message: req.GetError(), Kind: req.GetKind()})
+	})
 }
 
 func (ws *workerServer) ReleaseTask(ctx context.Context, req *pb.ReleaseTaskRequest) (*pb.ReleaseTaskResponse, error) {
-	ref, err := leaseRef(req.GetWorkerId(), req.GetTaskId(), req.GetEpoch())
-	if err != nil {
-		return nil, err
-	}
-	if err := ws.s.Release(ctx, ref); err != nil {
-		return nil, err
-	}
-	return &pb.ReleaseTaskResponse{}, nil
+	return onLease[pb.ReleaseTaskResponse](req, func(ref store.LeaseRef) error { return ws.s.Release(ctx, ref) })
 }
 
 // UnregisterWorker forgets the worker and releases its leases. It is idempotent.

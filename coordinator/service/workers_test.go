@@ -10,6 +10,7 @@ import (
 	"google.golang.org/grpc/codes"
 
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -81,9 +82,7 @@ func TestStaleEpochIsRefused(t *testing.T) {
 
 func TestCompleteRefusesOutputsNotUploaded(t *testing.T) {
 	f := newFarm(t)
-	f.submit(scenetest.Unlit(8, 8))
-	w := f.register()
-	l := f.lease(w)
+	_, w, l := f.leased(scenetest.Unlit(8, 8))
 	real := f.upload([]byte("tile"))
 	tests := []struct {
 		name  string
@@ -109,14 +108,7 @@ func TestLeaseLongPollWakesWhenWorkIsQueued(t *testing.T) {
 	if err != nil || resp.Lease != nil || time.Since(start) < 100*time.Millisecond {
 		t.Fatalf("empty long poll = %v, %v after %v", resp, err, time.Since(start))
 	}
-	got := make(chan *pb.LeaseTaskResponse, 1)
-	go func() {
-		resp, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(20 * time.Second)})
-		if err != nil {
-			t.Error(err)
-		}
-		got <- resp
-	}()
+	got := f.longPoll(w, 20*time.Second)
 	time.Sleep(50 * time.Millisecond)
 	start = time.Now()
 	f.submit(scenetest.Unlit(8, 8))
@@ -129,10 +121,7 @@ func TestLeaseLongPollWakesWhenWorkIsQueued(t *testing.T) {
 		t.Fatal("long poll not woken by a submit")
 	}
 	// A poll also wakes when a task goes back to the queue.
-	go func() {
-		resp, _ := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(20 * time.Second)})
-		got <- resp
-	}()
+	got = f.longPoll(w, 20*time.Second)
 	time.Sleep(50 * time.Millisecond)
 	if _, err := f.workers.UnregisterWorker(f.ctx, &pb.UnregisterWorkerRequest{WorkerId: w}); err != nil {
 		t.Fatal(err)
@@ -179,70 +168,36 @@ func TestReleaseRequeuesWithoutFailure(t *testing.T) {
 func TestWorkerRPCsValidateFields(t *testing.T) {
 	f := newFarm(t)
 	w := f.register()
+	// completeWithLayers completes task j.0 with these per-layer reference errors.
+	completeWithLayers := func(layers map[string]float64) func(context.Context) error {
+		return coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1,
+			Metrics: &pb.RoundMetrics{LayerReferenceRmse: layers}})
+	}
 	cases := []struct {
 		name  string
-		call  func() error
+		call  func(context.Context) error
 		code  codes.Code
 		field string
 	}{
-		{"heartbeat no id", func() error { _, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{}); return err }, codes.InvalidArgument, "worker_id"},
-		{"heartbeat unknown", func() error {
-			_, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: "w-nope"})
-			return err
-		}, codes.NotFound, "worker_id"},
-		{"heartbeat lease without task", func() error {
-			_, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: w, Leases: []*pb.HeldLease{{Epoch: 1}}})
-			return err
-		}, codes.InvalidArgument, "leases[0].task_id"},
-		{"lease no id", func() error { _, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{}); return err }, codes.InvalidArgument, "worker_id"},
-		{"lease unknown", func() error {
-			_, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: "w-nope"})
-			return err
-		}, codes.NotFound, "worker_id"},
-		{"lease negative wait", func() error {
-			_, err := f.workers.LeaseTask(f.ctx, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(-time.Second)})
-			return err
-		}, codes.InvalidArgument, "wait_timeout"},
-		{"complete no task", func() error {
-			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, Epoch: 1})
-			return err
-		}, codes.InvalidArgument, "task_id"},
-		{"complete no epoch", func() error {
-			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0"})
-			return err
-		}, codes.InvalidArgument, "epoch"},
-		{"complete unknown task", func() error {
-			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1})
-			return err
-		}, codes.NotFound, "task_id"},
-		{"complete NaN layer error", func() error {
-			m := &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"indirect": math.NaN()}}
-			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1, Metrics: m})
-			return err
-		}, codes.InvalidArgument, `metrics.layer_reference_rmse["indirect"]`},
-		{"complete unknown layer", func() error {
-			m := &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"albedo": 0.1}}
-			_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1, Metrics: m})
-			return err
-		}, codes.InvalidArgument, `metrics.layer_reference_rmse["albedo"]`},
-		{"fail no worker", func() error {
-			_, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{TaskId: "j.0", Epoch: 1, Error: "x"})
-			return err
-		}, codes.InvalidArgument, "worker_id"},
-		{"fail no message", func() error {
-			_, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1})
-			return err
-		}, codes.InvalidArgument, "error"},
-		{"release no epoch", func() error {
-			_, err := f.workers.ReleaseTask(f.ctx, &pb.ReleaseTaskRequest{WorkerId: w, TaskId: "j.0"})
-			return err
-		}, codes.InvalidArgument, "epoch"},
-		{"unregister no id", func() error {
-			_, err := f.workers.UnregisterWorker(f.ctx, &pb.UnregisterWorkerRequest{})
-			return err
-		}, codes.InvalidArgument, "worker_id"},
+		{"heartbeat no id", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{}), codes.InvalidArgument, "worker_id"},
+		{"heartbeat unknown", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: "w-nope"}), codes.NotFound, "worker_id"},
+		{"heartbeat lease without task", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: w, Leases: []*pb.HeldLease{{Epoch: 1}}}), codes.InvalidArgument, "leases[0].task_id"},
+		{"lease no id", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{}), codes.InvalidArgument, "worker_id"},
+		{"lease unknown", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-nope"}), codes.NotFound, "worker_id"},
+		{"lease negative wait", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(-time.Second)}), codes.InvalidArgument, "wait_timeout"},
+		{"complete no task", coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, Epoch: 1}), codes.InvalidArgument, "task_id"},
+		{"complete no epoch", coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0"}), codes.InvalidArgument, "epoch"},
+		{"complete unknown task", coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1}), codes.NotFound, "task_id"},
+		{"complete NaN layer error", completeWithLayers(map[string]float64{"indirect": math.NaN()}),
+			codes.InvalidArgument, `metrics.layer_reference_rmse["indirect"]`},
+		{"complete unknown layer", completeWithLayers(map[string]float64{"albedo": 0.1}),
+			codes.InvalidArgument, `metrics.layer_reference_rmse["albedo"]`},
+		{"fail no worker", coordinatortest.Call(f.workers.FailTask, &pb.FailTaskRequest{TaskId: "j.0", Epoch: 1, Error: "x"}), codes.InvalidArgument, "worker_id"},
+		{"fail no message", coordinatortest.Call(f.workers.FailTask, &pb.FailTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1}), codes.InvalidArgument, "error"},
+		{"release no epoch", coordinatortest.Call(f.workers.ReleaseTask, &pb.ReleaseTaskRequest{WorkerId: w, TaskId: "j.0"}), codes.InvalidArgument, "epoch"},
+		{"unregister no id", coordinatortest.Call(f.workers.UnregisterWorker, &pb.UnregisterWorkerRequest{}), codes.InvalidArgument, "worker_id"},
 	}
 	for _, c := range cases {
-		t.Run(c.name, func(t *testing.T) { wantCode(t, c.name, c.call(), c.code, c.field) })
+		t.Run(c.name, func(t *testing.T) { wantCode(t, c.name, c.call(f.ctx), c.code, c.field) })
 	}
 }

@@ -68,6 +68,7 @@
 package store
 
 import (
+	"cmp"
 	"context"
 	"fmt"
 	"slices"
@@ -281,32 +282,18 @@ const (
 	DefaultStuckTimeout       = 10 * time.Minute
 )
 
-// WithDefaults fills in unset options.
+// WithDefaults fills in unset options; a count or duration that is not positive is unset.
 func (o Options) WithDefaults() Options {
 	if o.Clock == nil {
 		o.Clock = clock.Real{}
 	}
-	if o.LeaseDuration <= 0 {
-		o.LeaseDuration = DefaultLeaseDuration
-	}
-	if o.MaxAttempts <= 0 {
-		o.MaxAttempts = DefaultMaxAttempts
-	}
-	if o.MaxExpiries <= 0 {
-		o.MaxExpiries = DefaultMaxExpiries
-	}
-	if o.BlockAfterFailures <= 0 {
-		o.BlockAfterFailures = DefaultBlockAfterFailures
-	}
-	if o.RetryBackoff <= 0 {
-		o.RetryBackoff = DefaultRetryBackoff
-	}
-	if o.MaxRetryBackoff <= 0 {
-		o.MaxRetryBackoff = DefaultMaxRetryBackoff
-	}
-	if o.StuckTimeout <= 0 {
-		o.StuckTimeout = DefaultStuckTimeout
-	}
+	o.LeaseDuration = cmp.Or(max(o.LeaseDuration, 0), DefaultLeaseDuration)
+	o.MaxAttempts = cmp.Or(max(o.MaxAttempts, 0), DefaultMaxAttempts)
+	o.MaxExpiries = cmp.Or(max(o.MaxExpiries, 0), DefaultMaxExpiries)
+	o.BlockAfterFailures = cmp.Or(max(o.BlockAfterFailures, 0), DefaultBlockAfterFailures)
+	o.RetryBackoff = cmp.Or(max(o.RetryBackoff, 0), DefaultRetryBackoff)
+	o.MaxRetryBackoff = cmp.Or(max(o.MaxRetryBackoff, 0), DefaultMaxRetryBackoff)
+	o.StuckTimeout = cmp.Or(max(o.StuckTimeout, 0), DefaultStuckTimeout)
 	return o
 }
 

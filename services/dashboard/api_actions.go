@@ -1,6 +1,7 @@
 package dashboard
 
 import (
+	"context"
 	"encoding/json"
 	"fmt"
 	"io"
@@ -28,15 +29,14 @@ func (s *Server) submit(w http.ResponseWriter, r *http.Request) {
 		s.writeError(w, r, errorf(http.StatusBadRequest, why))
 		return
 	}
-	ctx, cancel := callCtx(r)
-	defer cancel()
-	resp, err := s.jobs.SubmitJob(ctx, &pb.SubmitJobRequest{Scene: sc})
-	if err != nil {
-		s.writeError(w, r, err)
-		return
-	}
-	s.log.Info("dashboard submitted a job", "job", resp.GetJob().GetId(), "name", resp.GetJob().GetDisplayName())
-	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		resp, err := s.jobs.SubmitJob(ctx, &pb.SubmitJobRequest{Scene: sc})
+		if err != nil {
+			return nil, err
+		}
+		s.log.Info("dashboard submitted a job", "job", resp.GetJob().GetId(), "name", resp.GetJob().GetDisplayName())
+		return jobAnswer(resp, nil)
+	})
 }
 
 // fileByPath says why a scene that names a file by path cannot be submitted from a
@@ -55,16 +55,19 @@ func fileByPath(sc *pb.Scene) string {
 	return ""
 }
 
+// jobAnswer is the answer {"job": Job} of a call that returns a job.
+func jobAnswer(resp interface{ GetJob() *pb.Job }, err error) (any, error) {
+	if err != nil {
+		return nil, err
+	}
+	return map[string]any{"job": pj(resp.GetJob())}, nil
+}
+
 // cancel cancels a job; 409 if it has ended.
 func (s *Server) cancel(w http.ResponseWriter, r *http.Request) {
-	ctx, cancel := callCtx(r)
-	defer cancel()
-	resp, err := s.jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: r.PathValue("id")})
-	if err != nil {
-		s.writeError(w, r, err)
-		return
-	}
-	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		return jobAnswer(s.jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: r.PathValue("id")}))
+	})
 }
 
 // setPriority sets a job's priority from {"priority": N}; the coordinator checks the
@@ -88,12 +91,7 @@ func (s *Server) setPriority(w http.ResponseWriter, r *http.Request) {
 		s.writeError(w, r, errorf(http.StatusBadRequest, fmt.Sprintf("priority: must be an integer in [-1000, 1000], got %s", body.Priority.String())))
 		return
 	}
-	ctx, cancel := callCtx(r)
-	defer cancel()
-	resp, err := s.jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: r.PathValue("id"), Priority: int32(p)})
-	if err != nil {
-		s.writeError(w, r, err)
-		return
-	}
-	writeJSON(w, http.StatusOK, map[string]any{"job": pj(resp.GetJob())})
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		return jobAnswer(s.jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: r.PathValue("id"), Priority: int32(p)}))
+	})
 }

@@ -29,21 +29,12 @@ func (s *Server) jobWithTasks(ctx context.Context, jobID string) (map[string]any
 	return map[string]any{"job": pj(resp.GetJob()), "tasks": pjs(tasks)}, nil
 }
 
-func (s *Server) listJobs(w http.ResponseWriter, r *http.Request) {
+// answer runs call with the request's token (for at most callTimeout) and writes what it
+// returns as the JSON answer, or its error.
+func (s *Server) answer(w http.ResponseWriter, r *http.Request, call func(ctx context.Context) (any, error)) {
 	ctx, cancel := callCtx(r)
 	defer cancel()
-	jobs, err := s.allJobs(ctx)
-	if err != nil {
-		s.writeError(w, r, err)
-		return
-	}
-	writeJSON(w, http.StatusOK, map[string]any{"jobs": pjs(jobs)})
-}
-
-func (s *Server) getJob(w http.ResponseWriter, r *http.Request) {
-	ctx, cancel := callCtx(r)
-	defer cancel()
-	body, err := s.jobWithTasks(ctx, r.PathValue("id"))
+	body, err := call(ctx)
 	if err != nil {
 		s.writeError(w, r, err)
 		return
@@ -51,13 +42,26 @@ func (s *Server) getJob(w http.ResponseWriter, r *http.Request) {
 	writeJSON(w, http.StatusOK, body)
 }
 
+func (s *Server) listJobs(w http.ResponseWriter, r *http.Request) {
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		jobs, err := s.allJobs(ctx)
+		if err != nil {
+			return nil, err
+		}
+		return map[string]any{"jobs": pjs(jobs)}, nil
+	})
+}
+
+func (s *Server) getJob(w http.ResponseWriter, r *http.Request) {
+	s.answer(w, r, func(ctx context.Context) (any, error) { return s.jobWithTasks(ctx, r.PathValue("id")) })
+}
+
 func (s *Server) listWorkers(w http.ResponseWriter, r *http.Request) {
-	ctx, cancel := callCtx(r)
-	defer cancel()
-	resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
-	if err != nil {
-		s.writeError(w, r, err)
-		return
-	}
-	writeJSON(w, http.StatusOK, map[string]any{"workers": pjs(resp.GetWorkers())})
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
+		if err != nil {
+			return nil, err
+		}
+		return map[string]any{"workers": pjs(resp.GetWorkers())}, nil
+	})
 }

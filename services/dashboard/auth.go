@@ -8,9 +8,9 @@ import (
 	"strings"
 
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -49,24 +49,15 @@ func validToken(t string) bool {
 	return len(t) <= 4096
 }
 
-// withToken returns ctx carrying token as the gRPC metadata "authorization: Bearer
-// TOKEN" for calls to the coordinator; an empty token sends nothing.
-func withToken(ctx context.Context, token string) context.Context {
-	if token == "" {
-		return ctx
-	}
-	return metadata.AppendToOutgoingContext(ctx, "authorization", "Bearer "+token)
-}
-
 // callCtx is the context of a request's calls to the coordinator: the request's, with its
 // token, bounded by callTimeout.
 func callCtx(r *http.Request) (context.Context, context.CancelFunc) {
-	return context.WithTimeout(withToken(r.Context(), tokenOf(r)), callTimeout)
+	return context.WithTimeout(client.ContextWithToken(r.Context(), tokenOf(r)), callTimeout)
 }
 
 // check asks the coordinator whether token may read jobs (a ListJobs of one job).
 func (s *Server) check(ctx context.Context, token string) error {
-	_, err := s.jobs.ListJobs(withToken(ctx, token), &pb.ListJobsRequest{PageSize: 1})
+	_, err := s.jobs.ListJobs(client.ContextWithToken(ctx, token), &pb.ListJobsRequest{PageSize: 1})
 	return err
 }
 

@@ -12,6 +12,7 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -21,16 +22,24 @@ type sse struct {
 	f *http.ResponseController
 }
 
-// startSSE takes a stream slot and writes the event-stream headers; it answers 503 and
-// returns false when MaxStreams are open. release gives the slot back.
-func (s *Server) startSSE(w http.ResponseWriter, r *http.Request) (*sse, func(), bool) {
+// event is one server-sent event: its name and the value its JSON data encodes.
+type event struct {
+	name string
+	data any
+}
+
+// startSSE takes a stream slot, writes the event-stream headers and sends the first
+// events (read before the stream starts, so that a failed read is still an HTTP error).
+// It answers 503 and returns false when MaxStreams are open, and returns false, the slot
+// given back, when the first events cannot be sent; otherwise release gives the slot back.
+func (s *Server) startSSE(w http.ResponseWriter, r *http.Request, first ...event) (out *sse, release func(), ok bool) {
 	select {
 	case s.streams <- struct{}{}:
 	default:
 		s.writeError(w, r, errorf(http.StatusServiceUnavailable, "too many event streams open; try again later"))
 		return nil, nil, false
 	}
-	release := func() { <-s.streams }
+	release = func() { <-s.streams }
 	h := w.Header()
 	h.Set("Content-Type", "text/event-stream")
 	h.Set("Cache-Control", "no-store")
@@ -39,7 +48,14 @@ func (s *Server) startSSE(w http.ResponseWriter, r *http.Request) (*sse, func(),
 	rc := http.NewResponseController(w)
 	// The server's write timeout (if any) must not end a long-lived stream.
 	_ = rc.SetWriteDeadline(time.Time{})
-	return &sse{w: w, f: rc}, release, true
+	out = &sse{w: w, f: rc}
+	for _, ev := range first {
+		if out.send(ev.name, ev.data) != nil {
+			release()
+			return nil, nil, false
+		}
+	}
+	return out, release, true
 }
 
 // send writes one event with v as its JSON data and flushes it.
@@ -67,7 +83,7 @@ func (e *sse) ping() error {
 // once per poll) and the workers every WorkersEvery. A refused or failed call ends the
 // stream; the browser's EventSource reconnects and then gets the HTTP error.
 func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
-	ctx := withToken(r.Context(), tokenOf(r))
+	ctx := client.ContextWithToken(r.Context(), tokenOf(r))
 	// The first reads happen before the stream starts, so that a bad token is a 401.
 	jobs, err := s.pollJobs(ctx)
 	if err != nil {
@@ -79,15 +95,12 @@ func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
 		s.writeError(w, r, err)
 		return
 	}
-	out, release, ok := s.startSSE(w, r)
+	out, release, ok := s.startSSE(w, r,
+		event{"jobs", map[string]any{"jobs": pjs(jobs)}}, event{"workers", map[string]any{"workers": pjs(workers)}})
 	if !ok {
 		return
 	}
 	defer release()
-	if out.send("jobs", map[string]any{"jobs": pjs(jobs)}) != nil ||
-		out.send("workers", map[string]any{"workers": pjs(workers)}) != nil {
-		return
-	}
 	jobTick := time.NewTicker(s.cfg.JobsPoll)
 	defer jobTick.Stop()
 	workerTick := time.NewTicker(s.cfg.WorkersEvery)
@@ -211,7 +224,7 @@ func (u *jobUpdates) take() (job *pb.Job, tasks []*pb.Task, resync, done bool, e
 // change of the job alone), and the end.
 func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
 	jobID := r.PathValue("id")
-	ctx, cancel := context.WithCancel(withToken(r.Context(), tokenOf(r)))
+	ctx, cancel := context.WithCancel(client.ContextWithToken(r.Context(), tokenOf(r)))
 	defer cancel()
 	watch, err := s.jobs.WatchJob(ctx, &pb.WatchJobRequest{JobId: jobID})
 	if err != nil {
@@ -233,15 +246,12 @@ func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
 		s.writeError(w, r, err)
 		return
 	}
-	out, release, ok := s.startSSE(w, r)
+	job := snap.GetJob()
+	out, release, ok := s.startSSE(w, r, event{"job", map[string]any{"job": pj(job), "tasks": pjs(tasks)}})
 	if !ok {
 		return
 	}
 	defer release()
-	job := snap.GetJob()
-	if out.send("job", map[string]any{"job": pj(job), "tasks": pjs(tasks)}) != nil {
-		return
-	}
 	if jobEnded(job) {
 		out.send("end", map[string]any{"job": pj(job)})
 		return

@@ -6,7 +6,6 @@ import (
 	"encoding/json"
 	"io"
 	"log/slog"
-	"net"
 	"net/http"
 	"net/http/cookiejar"
 	"net/http/httptest"
@@ -15,12 +14,11 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
-	"google.golang.org/grpc/credentials/insecure"
-	"google.golang.org/grpc/metadata"
 	"google.golang.org/protobuf/encoding/protojson"
 
 	"photonfarm/client"
 	"photonfarm/coordinator"
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/services/dashboard"
 )
@@ -52,29 +50,18 @@ func newFarm(t *testing.T, opts ...farmOption) *farm {
 	t.Helper()
 	ctx, cancel := context.WithTimeout(context.Background(), 2*time.Minute)
 	quiet := slog.New(slog.DiscardHandler)
-	cc := coordinator.Config{DataDir: t.TempDir(), LeaseDuration: time.Minute, Logger: quiet,
+	cc := coordinator.Config{LeaseDuration: time.Minute, Logger: quiet,
 		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}
 	dc := dashboard.Config{Logger: quiet, JobsPoll: 50 * time.Millisecond, WorkersEvery: 200 * time.Millisecond, JobUpdateEvery: 20 * time.Millisecond}
 	for _, o := range opts {
 		o(&cc, &dc)
 	}
-	coord, err := coordinator.New(cc)
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	stopped := make(chan error, 1)
-	go func() { stopped <- coord.Serve(ctx, lis) }()
-	conn, err := grpc.NewClient(lis.Addr().String(), append(dashboard.DialOptions(), grpc.WithTransportCredentials(insecure.NewCredentials()))...)
-	if err != nil {
-		t.Fatal(err)
-	}
+	coord := coordinatortest.Serve(t, cc)
+	t.Cleanup(cancel)
+	conn := coord.Dial(t, dashboard.DialOptions()...)
 	dc.Conn = conn
 	srv := httptest.NewServer(dashboard.New(dc))
-	c, err := client.Dial(lis.Addr().String(), client.WithToken(clientToken))
+	c, err := client.Dial(coord.Addr, client.WithToken(clientToken))
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -82,16 +69,13 @@ func newFarm(t *testing.T, opts ...farmOption) *farm {
 		srv.CloseClientConnections()
 		srv.Close()
 		c.Close()
-		conn.Close()
-		cancel()
-		<-stopped
 	})
 	return &farm{t: t, ctx: ctx, url: srv.URL, http: srv.Client(), c: c, workers: pb.NewWorkerServiceClient(conn), conn: conn}
 }
 
 // worker returns ctx with the worker token.
 func (f *farm) worker() context.Context {
-	return metadata.AppendToOutgoingContext(f.ctx, "authorization", "Bearer "+workerToken)
+	return client.ContextWithToken(f.ctx, workerToken)
 }
 
 // browser returns an HTTP client with a cookie jar, logged in with token unless it is "".

@@ -9,6 +9,7 @@
 package dashboard
 
 import (
+	"cmp"
 	"embed"
 	"io/fs"
 	"log/slog"
@@ -82,21 +83,12 @@ func New(cfg Config) *Server {
 	if cfg.Logger == nil {
 		cfg.Logger = slog.Default()
 	}
-	if cfg.JobsPoll <= 0 {
-		cfg.JobsPoll = DefaultJobsPoll
-	}
-	if cfg.WorkersEvery <= 0 {
-		cfg.WorkersEvery = DefaultWorkersEvery
-	}
-	if cfg.PingEvery <= 0 {
-		cfg.PingEvery = DefaultPingEvery
-	}
-	if cfg.JobUpdateEvery <= 0 {
-		cfg.JobUpdateEvery = DefaultJobUpdateEvery
-	}
-	if cfg.MaxStreams <= 0 {
-		cfg.MaxStreams = DefaultMaxStreams
-	}
+	// A period or a count that is not positive takes its default.
+	cfg.JobsPoll = cmp.Or(max(cfg.JobsPoll, 0), DefaultJobsPoll)
+	cfg.WorkersEvery = cmp.Or(max(cfg.WorkersEvery, 0), DefaultWorkersEvery)
+	cfg.PingEvery = cmp.Or(max(cfg.PingEvery, 0), DefaultPingEvery)
+	cfg.JobUpdateEvery = cmp.Or(max(cfg.JobUpdateEvery, 0), DefaultJobUpdateEvery)
+	cfg.MaxStreams = cmp.Or(max(cfg.MaxStreams, 0), DefaultMaxStreams)
 	if cfg.Static == nil {
 		sub, err := fs.Sub(webFiles, "web/dist")
 		if err != nil {

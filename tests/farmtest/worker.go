@@ -8,8 +8,8 @@ import (
 
 	"google.golang.org/grpc"
 	"google.golang.org/grpc/credentials/insecure"
-	"google.golang.org/grpc/metadata"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -25,9 +25,7 @@ func (f *Farm) FailNextTask(t testing.TB, workerToken string, kind pb.FailureKin
 	defer conn.Close()
 	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
 	defer cancel()
-	if workerToken != "" {
-		ctx = metadata.AppendToOutgoingContext(ctx, "authorization", "Bearer "+workerToken)
-	}
+	ctx = client.ContextWithToken(ctx, workerToken)
 	w := pb.NewWorkerServiceClient(conn)
 	reg, err := w.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "farmtest-failing-worker"})
 	if err != nil {

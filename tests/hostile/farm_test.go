@@ -2,7 +2,6 @@ package hostile
 
 import (
 	"context"
-	"net"
 	"path/filepath"
 	"runtime"
 	"strings"
@@ -11,12 +10,12 @@ import (
 
 	"google.golang.org/grpc"
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/client"
 	"photonfarm/coordinator"
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -40,36 +39,20 @@ type farm struct {
 	ended    *pb.Job
 	workerID string
 	lease    *pb.Lease
-	stopped  chan error
+	srv      *coordinatortest.Server
 }
 
 func startFarm(t *testing.T) *farm {
 	t.Helper()
 	ctx, cancel := context.WithCancel(context.Background())
-	coord, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: time.Minute})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	f := &farm{ctx: ctx, stopped: make(chan error, 1)}
-	go func() { f.stopped <- coord.Serve(ctx, lis) }()
-	t.Cleanup(func() {
-		cancel()
-		<-f.stopped
-	})
-	if f.c, err = client.Dial(lis.Addr().String()); err != nil {
+	t.Cleanup(cancel)
+	f := &farm{ctx: ctx, srv: coordinatortest.Serve(t, coordinator.Config{LeaseDuration: time.Minute})}
+	var err error
+	if f.c, err = client.Dial(f.srv.Addr); err != nil {
 		t.Fatal(err)
 	}
 	t.Cleanup(func() { f.c.Close() })
-	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()),
-		grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(128<<20), grpc.MaxCallSendMsgSize(128<<20)))
-	if err != nil {
-		t.Fatal(err)
-	}
-	t.Cleanup(func() { conn.Close() })
+	conn := f.srv.Dial(t, grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(128<<20), grpc.MaxCallSendMsgSize(128<<20)))
 	f.jobs, f.workers, f.blobs = pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
 
 	sc, err := f.c.LoadSceneFile(ctx, filepath.Join(repoRoot(), "scenes", "test-small.json"))
@@ -123,7 +106,7 @@ func (f *farm) state(t *testing.T) []proto.Message {
 // hostileCase is one request and what it must get back.
 type hostileCase struct {
 	name string
-	call func(f *farm) error
+	call func(ctx context.Context) error
 	code codes.Code
 	// want is a substring of the status message: the field or the reason.
 	want string
@@ -131,7 +114,7 @@ type hostileCase struct {
 
 func check(t *testing.T, f *farm, c hostileCase) {
 	t.Helper()
-	err := c.call(f)
+	err := c.call(f.ctx)
 	st, _ := status.FromError(err)
 	if st.Code() != c.code || !strings.Contains(st.Message(), c.want) {
 		t.Errorf("got %v %q, want %v with %q", st.Code(), st.Message(), c.code, c.want)

@@ -13,7 +13,7 @@ func TestHostileRequestsAreRefusedAndChangeNothing(t *testing.T) {
 	f := startFarm(t)
 	before := f.state(t)
 	var cases []hostileCase
-	for _, group := range [][]hostileCase{sceneCases(), jobCases(), workerCases(), blobCases()} {
+	for _, group := range [][]hostileCase{sceneCases(f), jobCases(f), workerCases(f), blobCases(f)} {
 		cases = append(cases, group...)
 	}
 	if len(cases) < minCases {
@@ -23,8 +23,8 @@ func TestHostileRequestsAreRefusedAndChangeNothing(t *testing.T) {
 		t.Run(c.name, func(t *testing.T) { check(t, f, c) })
 	}
 	select {
-	case err := <-f.stopped:
-		t.Fatalf("the coordinator stopped serving: %v", err)
+	case <-f.srv.Done():
+		t.Fatalf("the coordinator stopped serving: %v", f.srv.Err())
 	default:
 	}
 	after := f.state(t)

@@ -7,13 +7,14 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
 // sceneCases break a valid scene (scenes/test-small.json: shapes floor quad, two spheres,
 // an OBJ mesh and a lamp quad; materials white, red, blue and lamp) one way each; every
 // one must be refused with INVALID_ARGUMENT naming the field.
-func sceneCases() []hostileCase {
+func sceneCases(f *farm) []hostileCase {
 	nan, inf := math.NaN(), math.Inf(1)
 	type mutation struct {
 		name   string
@@ -110,30 +111,24 @@ func sceneCases() []hostileCase {
 			s.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Digest: "sha256:" + strings.Repeat("a", 64)}}
 		}, "progressive.reference.digest"},
 	}
+	// broken is the farm's valid scene with mutate applied to a copy.
+	broken := func(mutate func(s *pb.Scene)) *pb.Scene {
+		s := proto.Clone(f.scene).(*pb.Scene)
+		mutate(s)
+		return s
+	}
 	var cases []hostileCase
 	for _, m := range mutations {
 		cases = append(cases, hostileCase{
 			name: "scene: " + m.name,
-			call: func(f *farm) error {
-				s := proto.Clone(f.scene).(*pb.Scene)
-				m.mutate(s)
-				_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: s})
-				return err
-			},
+			call: coordinatortest.Call(f.jobs.SubmitJob, &pb.SubmitJobRequest{Scene: broken(m.mutate)}),
 			code: codes.InvalidArgument,
 			want: m.want,
 		})
 	}
 	return append(cases,
-		hostileCase{"scene: missing", func(f *farm) error {
-			_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{})
-			return err
-		}, codes.InvalidArgument, "scene"},
-		hostileCase{"plan: broken scene", func(f *farm) error {
-			s := proto.Clone(f.scene).(*pb.Scene)
-			s.Film.Width = 0
-			_, err := f.jobs.PlanScene(f.ctx, &pb.PlanSceneRequest{Scene: s})
-			return err
-		}, codes.InvalidArgument, "film.width"},
+		hostileCase{"scene: missing", coordinatortest.Call(f.jobs.SubmitJob, &pb.SubmitJobRequest{}), codes.InvalidArgument, "scene"},
+		hostileCase{"plan: broken scene", coordinatortest.Call(f.jobs.PlanScene,
+			&pb.PlanSceneRequest{Scene: broken(func(s *pb.Scene) { s.Film.Width = 0 })}), codes.InvalidArgument, "film.width"},
 	)
 }

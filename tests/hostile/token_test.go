@@ -2,18 +2,16 @@ package hostile
 
 import (
 	"context"
-	"net"
 	"strings"
 	"testing"
 	"time"
 
-	"google.golang.org/grpc"
 	"google.golang.org/grpc/codes"
-	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 
 	"photonfarm/coordinator"
+	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -29,23 +27,8 @@ const (
 func TestHostileTokensAreRefused(t *testing.T) {
 	ctx, stop := context.WithCancel(context.Background())
 	defer stop()
-	coord, err := coordinator.New(coordinator.Config{DataDir: t.TempDir(), LeaseDuration: time.Minute,
-		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}})
-	if err != nil {
-		t.Fatal(err)
-	}
-	lis, err := net.Listen("tcp", "127.0.0.1:0")
-	if err != nil {
-		t.Fatal(err)
-	}
-	served := make(chan error, 1)
-	go func() { served <- coord.Serve(ctx, lis) }()
-	defer func() { stop(); <-served }()
-	conn, err := grpc.NewClient(lis.Addr().String(), grpc.WithTransportCredentials(insecure.NewCredentials()))
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer conn.Close()
+	conn := coordinatortest.Serve(t, coordinator.Config{LeaseDuration: time.Minute,
+		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t)
 	jobs, workers, blobs := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
 	as := func(authorization string) context.Context {
 		if authorization == "" {
@@ -68,27 +51,12 @@ func TestHostileTokensAreRefused(t *testing.T) {
 		method string
 		call   func(ctx context.Context) error
 	}{
-		{"ListJobs", func(ctx context.Context) error { _, err := jobs.ListJobs(ctx, &pb.ListJobsRequest{}); return err }},
-		{"CancelJob", func(ctx context.Context) error {
-			_, err := jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: "j-1"})
-			return err
-		}},
-		{"SetJobPriority", func(ctx context.Context) error {
-			_, err := jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: "j-1", Priority: 5})
-			return err
-		}},
-		{"RegisterWorker", func(ctx context.Context) error {
-			_, err := workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "intruder"})
-			return err
-		}},
-		{"LeaseTask", func(ctx context.Context) error {
-			_, err := workers.LeaseTask(ctx, &pb.LeaseTaskRequest{WorkerId: "w-1"})
-			return err
-		}},
-		{"GetBlobInfo", func(ctx context.Context) error {
-			_, err := blobs.GetBlobInfo(ctx, &pb.GetBlobInfoRequest{Digest: unknownDigest})
-			return err
-		}},
+		{"ListJobs", coordinatortest.Call(jobs.ListJobs, &pb.ListJobsRequest{})},
+		{"CancelJob", coordinatortest.Call(jobs.CancelJob, &pb.CancelJobRequest{JobId: "j-1"})},
+		{"SetJobPriority", coordinatortest.Call(jobs.SetJobPriority, &pb.SetJobPriorityRequest{JobId: "j-1", Priority: 5})},
+		{"RegisterWorker", coordinatortest.Call(workers.RegisterWorker, &pb.RegisterWorkerRequest{Hostname: "intruder"})},
+		{"LeaseTask", coordinatortest.Call(workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-1"})},
+		{"GetBlobInfo", coordinatortest.Call(blobs.GetBlobInfo, &pb.GetBlobInfoRequest{Digest: unknownDigest})},
 	}
 	clientOnly := map[string]bool{"ListJobs": true, "CancelJob": true, "SetJobPriority": true}
 	workerOnly := map[string]bool{"RegisterWorker": true, "LeaseTask": true}

@@ -7,7 +7,6 @@ import (
 	"os/exec"
 	"path/filepath"
 	"strings"
-	"sync"
 	"syscall"
 	"testing"
 	"time"
@@ -159,18 +158,18 @@ func TestMalformedScenesRefused(t *testing.T) {
 
 // farmRender runs `farm render` as a process of its own with TMPDIR set to a folder of
 // the test's, so the test can check that the temporary farm folder is removed.
-func farmRender(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *syncBuffer, tmp string) {
+func farmRender(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *farmtest.SyncBuffer, tmp string) {
 	t.Helper()
 	return farmCommand(t, append([]string{"render"}, args...)...)
 }
 
 // farmCommand starts `farm ARGS...` as farmRender does, in a process group of its own.
-func farmCommand(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *syncBuffer, tmp string) {
+func farmCommand(t *testing.T, args ...string) (cmd *exec.Cmd, stdout, stderr *farmtest.SyncBuffer, tmp string) {
 	t.Helper()
 	tmp = t.TempDir()
 	cmd = exec.Command(filepath.Join(farmtest.BinDir(t), "farm"), args...)
 	cmd.Env = append(os.Environ(), "TMPDIR="+tmp)
-	stdout, stderr = &syncBuffer{}, &syncBuffer{}
+	stdout, stderr = &farmtest.SyncBuffer{}, &farmtest.SyncBuffer{}
 	cmd.Stdout, cmd.Stderr = stdout, stderr
 	cmd.SysProcAttr = &syscall.SysProcAttr{Setpgid: true}
 	if err := cmd.Start(); err != nil {
@@ -197,24 +196,6 @@ func waitTimeout(t *testing.T, cmd *exec.Cmd, d time.Duration) int {
 		t.Fatalf("farm %s did not finish within %s", strings.Join(cmd.Args[1:], " "), d)
 		return -1
 	}
-}
-
-// syncBuffer is a strings.Builder that may be read while a process writes to it.
-type syncBuffer struct {
-	mu sync.Mutex
-	b  strings.Builder
-}
-
-func (s *syncBuffer) Write(p []byte) (int, error) {
-	s.mu.Lock()
-	defer s.mu.Unlock()
-	return s.b.Write(p)
-}
-
-func (s *syncBuffer) String() string {
-	s.mu.Lock()
-	defer s.mu.Unlock()
-	return s.b.String()
 }
 
 // processesMentioning lists the running processes whose command line contains s.

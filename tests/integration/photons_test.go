@@ -64,11 +64,7 @@ func checkPhotonPlan(t *testing.T, tasks []*pb.Task, perShard uint64) {
 			t.Errorf("emit task %d = %v", i, spec)
 		}
 	}
-	for _, task := range tasks {
-		if task.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
-			t.Errorf("task %s is %v after the job succeeded: %s", task.GetId(), task.GetState(), task.GetError())
-		}
-	}
+	checkAllSucceeded(t, tasks)
 	if b := build[0]; b.GetWorkerId() != "coordinator-builder" || len(b.GetOutputs()) != 1 || b.GetOutputs()[0].GetName() != "photons.snapshot" {
 		t.Errorf("build task = %v, want it done by the coordinator with a photons.snapshot", b)
 	}
@@ -85,14 +81,7 @@ func TestCausticsTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
 
 	tasks := two.Tasks(t, job.GetId())
 	checkPhotonPlan(t, tasks, 10000)
-	shardsPerWorker := map[string]int{}
-	for _, task := range farmtest.TasksOf(tasks, pb.Phase_PHASE_EMIT) {
-		shardsPerWorker[task.GetWorkerId()]++
-	}
-	t.Logf("emission shards per worker: %v", shardsPerWorker)
-	if len(shardsPerWorker) != 2 || shardsPerWorker[""] != 0 {
-		t.Errorf("emission shards were traced by %v; want both workers", shardsPerWorker)
-	}
+	checkBothWorkers(t, tasks, pb.Phase_PHASE_EMIT)
 
 	one := farmtest.StartFarm(t, nil)
 	one.StartWorker(t)

@@ -5,6 +5,7 @@ import (
 	"testing"
 	"time"
 
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -37,6 +38,29 @@ func checkOutputs(t *testing.T, f *farmtest.Farm, job *pb.Job, s sceneSize) []by
 	return exr
 }
 
+// checkAllSucceeded checks that every task of a succeeded job succeeded.
+func checkAllSucceeded(t *testing.T, list []*pb.Task) {
+	t.Helper()
+	for _, task := range list {
+		if task.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
+			t.Errorf("task %s is %v after the job succeeded: %s", task.GetId(), task.GetState(), task.GetError())
+		}
+	}
+}
+
+// checkBothWorkers checks that the tasks of phase were shared by the farm's two workers.
+func checkBothWorkers(t *testing.T, list []*pb.Task, phase pb.Phase) {
+	t.Helper()
+	perWorker := map[string]int{}
+	for _, task := range farmtest.TasksOf(list, phase) {
+		perWorker[task.GetWorkerId()]++
+	}
+	t.Logf("%s tasks per worker: %v", tasks.Name(phase), perWorker)
+	if len(perWorker) != 2 || perWorker[""] != 0 {
+		t.Errorf("%s tasks were done by %v; want both workers", tasks.Name(phase), perWorker)
+	}
+}
+
 func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	// Two workers.
 	two := farmtest.StartFarm(t, nil)
@@ -46,24 +70,13 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	job := two.Render(t, sizedScene(t, two, stitchScene), 90*time.Second)
 	exrTwo := checkOutputs(t, two, job, stitchScene)
 
-	tasks := two.Tasks(t, job.GetId())
-	tiles := farmtest.TasksOf(tasks, pb.Phase_PHASE_RENDER)
+	list := two.Tasks(t, job.GetId())
+	tiles := farmtest.TasksOf(list, pb.Phase_PHASE_RENDER)
 	if want := int((stitchScene.width / stitchScene.tile) * (stitchScene.height / stitchScene.tile)); len(tiles) != want {
 		t.Errorf("%d render tasks, want %d", len(tiles), want)
 	}
-	perWorker := map[string]int{}
-	for _, task := range tasks {
-		if task.GetState() != pb.TaskState_TASK_STATE_SUCCEEDED {
-			t.Errorf("task %s is %v after the job succeeded", task.GetId(), task.GetState())
-		}
-		if task.GetPhase() == pb.Phase_PHASE_RENDER {
-			perWorker[task.GetWorkerId()]++
-		}
-	}
-	t.Logf("tiles per worker: %v", perWorker)
-	if len(perWorker) != 2 || perWorker[""] != 0 {
-		t.Errorf("tiles were finished by %v; want both workers", perWorker)
-	}
+	checkAllSucceeded(t, list)
+	checkBothWorkers(t, list, pb.Phase_PHASE_RENDER)
 
 	// One worker, a fresh farm.
 	one := farmtest.StartFarm(t, nil)

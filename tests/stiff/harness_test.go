@@ -55,30 +55,31 @@ func startSuiteFarm(t *testing.T) *farm {
 // take the later cases down with it) and returns the names of those it restarted. The new
 // workers belong to the suite test, not to the case that asked, so that they outlive it.
 func (f *farm) reviveWorkers() []string {
-	f.mu.Lock()
-	defer f.mu.Unlock()
-	var revived []string
-	for i, w := range f.workers {
-		if !w.Exited() {
-			continue
-		}
+	return f.eachExited(func(i int, w *farmtest.Proc) string {
 		f.workers[i] = f.StartWorkerWithCache(f.suite, f.cache)
-		revived = append(revived, fmt.Sprintf("%s (exited: %v)", w.Name, w.Err()))
-	}
-	return revived
+		return fmt.Sprintf("%s (exited: %v)", w.Name, w.Err())
+	})
 }
 
 // deadWorkers lists the workers that have exited, with their log tails.
 func (f *farm) deadWorkers() []string {
+	return f.eachExited(func(_ int, w *farmtest.Proc) string {
+		return fmt.Sprintf("%s exited: %v\n--- %s log ---\n%s", w.Name, w.Err(), w.Name, w.LogTail(30))
+	})
+}
+
+// eachExited calls fn, holding the workers' lock, with each worker that has exited and
+// its index, and returns what fn says of them.
+func (f *farm) eachExited(fn func(i int, w *farmtest.Proc) string) []string {
 	f.mu.Lock()
 	defer f.mu.Unlock()
-	var dead []string
-	for _, w := range f.workers {
+	var out []string
+	for i, w := range f.workers {
 		if w.Exited() {
-			dead = append(dead, fmt.Sprintf("%s exited: %v\n--- %s log ---\n%s", w.Name, w.Err(), w.Name, w.LogTail(30)))
+			out = append(out, fn(i, w))
 		}
 	}
-	return dead
+	return out
 }
 
 // rendered is the result of one case's render.

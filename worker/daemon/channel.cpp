@@ -4,14 +4,13 @@
 #include <grpcpp/security/credentials.h>
 #include <grpcpp/support/client_interceptor.h>
 
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "contract/rules.h"
+#include "util/read_file.h"
 
 namespace farm {
 namespace {
@@ -47,15 +46,17 @@ class BearerInterceptorFactory final : public exp::ClientInterceptorFactoryInter
   const std::string value_;
 };
 
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read the TLS CA file " + path.string());
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (text.str().find("-----BEGIN CERTIFICATE-----") == std::string::npos) {
+std::string ReadCaFile(const std::filesystem::path& path) {
+  std::string text;
+  try {
+    text = ReadFile(path);
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error("cannot read the TLS CA file " + path.string());
+  }
+  if (text.find("-----BEGIN CERTIFICATE-----") == std::string::npos) {
     throw std::runtime_error("the TLS CA file " + path.string() + " holds no PEM certificate");
   }
-  return text.str();
+  return text;
 }
 
 }  // namespace
@@ -73,7 +74,7 @@ std::shared_ptr<grpc::Channel> MakeCoordinatorChannel(const WorkerOptions& optio
     creds = grpc::InsecureChannelCredentials();
   } else {
     grpc::SslCredentialsOptions ssl;
-    ssl.pem_root_certs = ReadFile(options.tls_ca);
+    ssl.pem_root_certs = ReadCaFile(options.tls_ca);
     creds = grpc::SslCredentials(ssl);
   }
   if (options.token.empty()) {

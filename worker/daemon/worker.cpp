@@ -109,6 +109,19 @@ class Worker::Impl {
   // Each returns what went wrong with the report, or "" once the coordinator has it.
   std::string ReportComplete(const pb::Lease& lease, const TaskResult& result);
   std::string ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind);
+  // Sends the report that call makes (on a context given its deadline) until the
+  // coordinator acknowledges it, as completions and failures are idempotent there, or the
+  // worker aborts (the lease is then released). Returns "" once acknowledged, else what
+  // became of it; lost says what a lost lease means for this report.
+  template <typename Call>
+  std::string Report(const pb::Lease& lease, const std::string& method, const std::string& lost, Call call);
+  // Names lease in request, a report on it.
+  template <typename Request>
+  void NameLease(Request& request, const pb::Lease& lease) {
+    request.set_worker_id(WorkerId());
+    request.set_task_id(lease.task_id());
+    request.set_epoch(lease.epoch());
+  }
   void Release(const pb::Lease& lease);
   void Unregister();
   std::string WorkerId() {
@@ -345,62 +358,50 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   }
 }
 
-std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result) {
-  pb::CompleteTaskRequest request;
-  request.set_worker_id(WorkerId());
-  request.set_task_id(lease.task_id());
-  request.set_epoch(lease.epoch());
-  for (const auto& a : result.outputs) *request.add_outputs() = a;
-  if (result.metrics) *request.mutable_metrics() = *result.metrics;
-  // Completion is idempotent on the coordinator: repeat until it is acknowledged.
+template <typename Call>
+std::string Worker::Impl::Report(const pb::Lease& lease, const std::string& method, const std::string& lost, Call call) {
   const grpc::Status status =
-      RetryTransient("CompleteTask " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
-        pb::CompleteTaskResponse response;
+      RetryTransient(method + " " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
         grpc::ClientContext ctx;
         SetDeadline(ctx, kCallDeadline);
-        return stub_->CompleteTask(&ctx, request, &response);
+        return call(ctx);
       });
   if (status.ok()) return "";
   if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
-    return "result dropped, lease lost: " + status.error_message();
+    return lost + ", lease lost: " + status.error_message();
   }
   if (abort_.stop_requested()) {
     Release(lease);
     return "abandoned while reporting";
   }
   return "refused: " + status.error_message();
+}
+
+std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result) {
+  pb::CompleteTaskRequest request;
+  NameLease(request, lease);
+  for (const auto& a : result.outputs) *request.add_outputs() = a;
+  if (result.metrics) *request.mutable_metrics() = *result.metrics;
+  return Report(lease, "CompleteTask", "result dropped", [&](grpc::ClientContext& ctx) {
+    pb::CompleteTaskResponse response;
+    return stub_->CompleteTask(&ctx, request, &response);
+  });
 }
 
 std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind) {
   pb::FailTaskRequest request;
-  request.set_worker_id(WorkerId());
-  request.set_task_id(lease.task_id());
-  request.set_epoch(lease.epoch());
+  NameLease(request, lease);
   request.set_error(ReportedError(error));
   request.set_kind(kind);
-  const grpc::Status status =
-      RetryTransient("FailTask " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
-        pb::FailTaskResponse response;
-        grpc::ClientContext ctx;
-        SetDeadline(ctx, kCallDeadline);
-        return stub_->FailTask(&ctx, request, &response);
-      });
-  if (status.ok()) return "";
-  if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
-    return "not reported, lease lost: " + status.error_message();
-  }
-  if (abort_.stop_requested()) {
-    Release(lease);
-    return "abandoned while reporting";
-  }
-  return "refused: " + status.error_message();
+  return Report(lease, "FailTask", "not reported", [&](grpc::ClientContext& ctx) {
+    pb::FailTaskResponse response;
+    return stub_->FailTask(&ctx, request, &response);
+  });
 }
 
 void Worker::Impl::Release(const pb::Lease& lease) {
   pb::ReleaseTaskRequest request;
-  request.set_worker_id(WorkerId());
-  request.set_task_id(lease.task_id());
-  request.set_epoch(lease.epoch());
+  NameLease(request, lease);
   const grpc::Status status =
       RetryTransient("ReleaseTask " + lease.task_id(), {}, kGoodbyeGiveUp, [&] {
         pb::ReleaseTaskResponse response;

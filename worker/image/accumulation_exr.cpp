@@ -5,9 +5,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfIntAttribute.h>
-#include <OpenEXR/ImfOutputFile.h>
 
-#include <algorithm>
 #include <cmath>
 #include <exception>
 
@@ -26,24 +24,9 @@ const std::vector<std::string>& SquaredChannels() {
 // Slices over both images under their file names.
 Imf::FrameBuffer SlicesOver(const Accumulation& a) {
   Imf::FrameBuffer fb;
-  for (const auto* part : {&a.sums, &a.squares}) {
-    const std::string prefix = part == &a.sums ? "sum." : "sumsq.";
-    const std::size_t x_stride = sizeof(float) * part->channels().size();
-    const std::size_t y_stride = x_stride * static_cast<std::size_t>(part->rect().width);
-    for (std::size_t c = 0; c < part->channels().size(); ++c) {
-      fb.insert(prefix + part->channels()[c],
-                Imf::Slice::Make(Imf::FLOAT, part->data().data() + c, ToBox(part->rect()),
-                                 x_stride, y_stride));
-    }
-  }
+  InsertSlices(fb, a.sums, "sum.");
+  InsertSlices(fb, a.squares, "sumsq.");
   return fb;
-}
-
-std::string JoinNames(std::vector<std::string> names) {
-  std::sort(names.begin(), names.end());
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ",") + n;
-  return "[" + s + "]";
 }
 
 void CheckValues(const Image& image, const std::string& prefix, bool non_negative) {
@@ -87,16 +70,7 @@ std::string EncodeAccumulationExr(const Accumulation& a) {
     header.channels().insert(name, Imf::Channel(Imf::FLOAT));
   }
   header.insert(kRoundsAttribute, Imf::IntAttribute(a.rounds));
-  std::string bytes;
-  try {
-    ExrStringOStream stream(bytes);
-    Imf::OutputFile file(stream, header);
-    file.setFrameBuffer(SlicesOver(a));
-    file.writePixels(whole.height);
-  } catch (const std::exception& e) {
-    throw ImageError(std::string("cannot encode the accumulation EXR: ") + e.what());
-  }
-  return bytes;
+  return EncodeExr(header, SlicesOver(a), "the accumulation EXR");
 }
 
 Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
@@ -114,15 +88,7 @@ Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
       throw ImageError("accumulation holds " + std::to_string(count->value()) +
                        " rounds, expected " + std::to_string(rounds));
     }
-    std::vector<std::string> found;
-    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
-      found.emplace_back(it.name());
-      const Imf::Channel& ch = it.channel();
-      if (ch.type != Imf::FLOAT || ch.xSampling != 1 || ch.ySampling != 1) {
-        throw ImageError(std::string("accumulation channel ") + it.name() +
-                         " is not full-resolution FLOAT");
-      }
-    }
+    const std::vector<std::string> found = FloatChannels(header, "accumulation");
     const std::vector<std::string> wanted = AccumulationChannels(image_channels);
     if (JoinNames(found) != JoinNames(wanted)) {
       throw ImageError("accumulation has channels " + JoinNames(found) + ", expected " +

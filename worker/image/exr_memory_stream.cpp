@@ -1,8 +1,12 @@
 #include "image/exr_memory_stream.h"
 
 #include <Iex.h>
+#include <OpenEXR/ImfOutputFile.h>
 
 #include <cstring>
+#include <exception>
+
+#include "image/image_error.h"
 
 namespace farm {
 
@@ -33,6 +37,21 @@ char* ExrMemoryIStream::readMemoryMapped(int n) {
   char* p = const_cast<char*>(bytes_.data() + position_);
   position_ += static_cast<uint64_t>(n);
   return p;
+}
+
+std::string EncodeExr(const Imf::Header& header, const Imf::FrameBuffer& frame_buffer,
+                      const std::string& what) {
+  std::string bytes;
+  try {
+    ExrStringOStream stream(bytes);
+    Imf::OutputFile file(stream, header);
+    file.setFrameBuffer(frame_buffer);
+    const Imath::Box2i& data = header.dataWindow();
+    file.writePixels(data.max.y - data.min.y + 1);
+  } catch (const std::exception& e) {
+    throw ImageError("cannot encode " + what + ": " + e.what());
+  }
+  return bytes;
 }
 
 }  // namespace farm

@@ -3,6 +3,8 @@
 // OpenEXR streams over memory, so tiles and images go to and from the blob store without
 // touching the filesystem. Internal to image/: only .cpp files include this.
 
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfIO.h>
 
 #include <cstdint>
@@ -44,5 +46,10 @@ class ExrMemoryIStream final : public Imf::IStream {
   std::string_view bytes_;
   uint64_t position_ = 0;
 };
+
+// A scanline EXR of header's data window with the pixels of frame_buffer, in memory; a
+// failure is an ImageError "cannot encode <what>: ...".
+std::string EncodeExr(const Imf::Header& header, const Imf::FrameBuffer& frame_buffer,
+                      const std::string& what);
 
 }  // namespace farm

@@ -3,9 +3,13 @@
 // Small conversions shared by the EXR readers and writers. Internal to image/.
 
 #include <Imath/ImathBox.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "image/image_error.h"
@@ -39,6 +43,40 @@ inline void RequireWholeImage(const Imf::Header& header, ImageSize size, const s
     throw ImageError(what + " covers " + ToString(data) + " of " + ToString(display) +
                      ", not the whole " + ToString(size) + " image");
   }
+}
+
+// Adds one FLOAT slice per channel of image, named prefix + the channel, over its
+// interleaved pixels.
+inline void InsertSlices(Imf::FrameBuffer& fb, const Image& image, const std::string& prefix = "") {
+  const std::size_t x_stride = sizeof(float) * image.channels().size();
+  const std::size_t y_stride = x_stride * static_cast<std::size_t>(image.rect().width);
+  for (std::size_t c = 0; c < image.channels().size(); ++c) {
+    fb.insert(prefix + image.channels()[c],
+              Imf::Slice::Make(Imf::FLOAT, image.data().data() + c, ToBox(image.rect()), x_stride,
+                               y_stride));
+  }
+}
+
+// The names of header's channels (sorted, as OpenEXR keeps them), each of which must be
+// full-resolution FLOAT; what names the file in the message ("tile", "accumulation").
+inline std::vector<std::string> FloatChannels(const Imf::Header& header, const std::string& what) {
+  std::vector<std::string> names;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+    names.emplace_back(it.name());
+    const Imf::Channel& ch = it.channel();
+    if (ch.type != Imf::FLOAT || ch.xSampling != 1 || ch.ySampling != 1) {
+      throw ImageError(what + " channel " + it.name() + " is not full-resolution FLOAT");
+    }
+  }
+  return names;
+}
+
+// "[a,b,c]": channel names sorted, for messages and for comparing sets of names.
+inline std::string JoinNames(std::vector<std::string> names) {
+  std::sort(names.begin(), names.end());
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ",") + n;
+  return "[" + s + "]";
 }
 
 }  // namespace farm

@@ -1,7 +1,5 @@
 #include "image/srgb_preview.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,29 +7,12 @@
 #include <vector>
 
 #include "image/image_error.h"
+#include "image/test_png.h"
 
 namespace farm {
 namespace {
 
-// Decodes PNG bytes to their stored 8-bit values (straight alpha, not premultiplied).
-std::vector<std::uint8_t> ReadPng(const std::string& png, int* width, int* height) {
-  OIIO::Filesystem::IOMemReader reader(png.data(), png.size());
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  void* proxy = &reader;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  auto in = OIIO::ImageInput::open("tile.png", &config, &reader);
-  if (!in) {
-    ADD_FAILURE() << OIIO::geterror();
-    return {};
-  }
-  *width = in->spec().width;
-  *height = in->spec().height;
-  EXPECT_EQ(in->spec().nchannels, 4);
-  std::vector<std::uint8_t> read(static_cast<std::size_t>(*width) * *height * 4);
-  EXPECT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read.data()));
-  return read;
-}
+using testing::ReadPng;
 
 TEST(SrgbPreview, TransferFunctionAtKnownValues) {
   EXPECT_EQ(LinearToSrgb8(0.0f), 0);
@@ -60,21 +41,11 @@ TEST(SrgbPreview, PngHoldsStraightAlphaSrgbValues) {
   WritePreviewPixels(tile, {2, 1}, rgba8);
   const std::string png = EncodePngRgba8({2, 1}, rgba8);
   EXPECT_EQ(png, EncodePngRgba8({2, 1}, rgba8));  // Deterministic.
-
-  OIIO::Filesystem::IOMemReader reader(png.data(), png.size());
-  // Ask for the stored values as they are, without OpenImageIO premultiplying them.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  // With a config, OpenImageIO 2.4 only sees the proxy if the config names it too.
-  void* proxy = &reader;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  auto in = OIIO::ImageInput::open("preview.png", &config, &reader);
-  ASSERT_TRUE(in) << OIIO::geterror();
-  EXPECT_EQ(in->spec().format, OIIO::TypeDesc::UINT8);
-  ASSERT_EQ(in->spec().nchannels, 4);
-  std::vector<std::uint8_t> read(8);
-  ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read.data()));
-  EXPECT_EQ(read, (std::vector<std::uint8_t>{188, 118, 0, 128, 255, 3, 255, 255}));
+  // The stored values as they are, not premultiplied by OpenImageIO.
+  int width = 0, height = 0;
+  EXPECT_EQ(ReadPng(png, &width, &height), (std::vector<std::uint8_t>{188, 118, 0, 128, 255, 3, 255, 255}));
+  EXPECT_EQ(width, 2);
+  EXPECT_EQ(height, 1);
 }
 
 TEST(SrgbPreview, TilePngIsTheTilesPartOfTheImagePreview) {

@@ -4,9 +4,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
-#include <OpenEXR/ImfOutputFile.h>
 
-#include <algorithm>
 #include <exception>
 
 #include "image/exr_memory_stream.h"
@@ -16,22 +14,10 @@
 namespace farm {
 namespace {
 
-std::string JoinNames(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ",") + n;
-  return "[" + s + "]";
-}
-
 // One FLOAT slice per channel over the Image's interleaved pixels.
 Imf::FrameBuffer SlicesOver(const Image& image) {
-  const std::size_t x_stride = sizeof(float) * image.channels().size();
-  const std::size_t y_stride = x_stride * static_cast<std::size_t>(image.rect().width);
-  const Imath::Box2i window = ToBox(image.rect());
   Imf::FrameBuffer fb;
-  for (std::size_t c = 0; c < image.channels().size(); ++c) {
-    fb.insert(image.channels()[c],
-              Imf::Slice::Make(Imf::FLOAT, image.data().data() + c, window, x_stride, y_stride));
-  }
+  InsertSlices(fb, image);
   return fb;
 }
 
@@ -49,17 +35,7 @@ std::string EncodeTileExr(const Image& tile, ImageSize image_size) {
                      ToBox(rect));
   header.compression() = Imf::ZIP_COMPRESSION;
   for (const auto& name : tile.channels()) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-
-  std::string bytes;
-  try {
-    ExrStringOStream stream(bytes);
-    Imf::OutputFile file(stream, header);
-    file.setFrameBuffer(SlicesOver(tile));
-    file.writePixels(rect.height);
-  } catch (const std::exception& e) {
-    throw ImageError(std::string("cannot encode tile EXR: ") + e.what());
-  }
-  return bytes;
+  return EncodeExr(header, SlicesOver(tile), "tile EXR");
 }
 
 std::vector<std::string> ReadTileExrChannels(std::string_view bytes) {
@@ -93,19 +69,9 @@ Image DecodeTileExr(std::string_view bytes, ImageSize image_size, const PixelRec
       throw ImageError("tile's data window " + ToString(data) + " is not the expected " +
                        ToString(rect));
     }
-    std::vector<std::string> found;
-    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
-      found.emplace_back(it.name());
-      const Imf::Channel& ch = it.channel();
-      if (ch.type != Imf::FLOAT || ch.xSampling != 1 || ch.ySampling != 1) {
-        throw ImageError(std::string("tile channel ") + it.name() +
-                         " is not full-resolution FLOAT");
-      }
-    }
-    std::vector<std::string> wanted = channels;
-    std::sort(wanted.begin(), wanted.end());
-    if (found != wanted) {  // OpenEXR keeps channels sorted by name, so this is set equality.
-      throw ImageError("tile has channels " + JoinNames(found) + ", expected " + JoinNames(wanted));
+    const std::vector<std::string> found = FloatChannels(header, "tile");
+    if (JoinNames(found) != JoinNames(channels)) {  // Sorted: set equality.
+      throw ImageError("tile has channels " + JoinNames(found) + ", expected " + JoinNames(channels));
     }
 
     Image image(rect, channels);

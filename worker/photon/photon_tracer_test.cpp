@@ -6,19 +6,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <numbers>
-#include <thread>
 
 #include "math/math.h"
 #include "photon/trace_photons.h"
 #include "photonmap/shard_format.h"
 #include "scene/test_scenes.h"
+#include "util/test_progress.h"
 
 namespace farm {
 namespace {
@@ -320,17 +319,9 @@ TEST(PhotonTracer, ProgressCountsEveryPathOfTheShard) {
 TEST(PhotonTracer, ProgressReadFromAnotherThreadOnlyGrows) {
   const Scene scene = Scene::Build(MixedScene(), NoBlobs());
   ProgressCounter counter{0};
-  std::atomic<bool> done{false};
-  std::vector<std::uint64_t> seen;
-  std::jthread watcher([&] {
-    while (!done.load()) {
-      const std::uint64_t now = counter.load();
-      if (seen.empty() || now != seen.back()) seen.push_back(now);  // Changes only.
-    }
+  const auto seen = ProgressSeenDuring(counter, [&](Progress progress) {
+    TracePhotons(scene, {PhotonMapKind::kGlobal, 0, 100'000, 100'000}, {}, {}, progress);
   });
-  TracePhotons(scene, {PhotonMapKind::kGlobal, 0, 100'000, 100'000}, {}, {}, Progress(counter));
-  done = true;
-  watcher.join();
   EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
   EXPECT_EQ(counter.load(), 100'000u);
 }

@@ -4,23 +4,17 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include "photonmap/byte_io.h"
 #include "photonmap/photon_snapshot.h"
 #include "photonmap/rgb9e5.h"
+#include "util/read_file.h"
 
 namespace farm {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 TEST(IrradianceShard, RoundTripsWithinRgb9e5Precision) {
   const std::vector<Rgb> values = {Rgb(0), Rgb(1, 2, 3), Rgb(1e-3f, 0, 5), Rgb(7, 7, 7)};

@@ -4,8 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <filesystem>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -16,16 +15,12 @@
 #include "photonmap/oct_direction.h"
 #include "photonmap/rgb9e5.h"
 #include "photonmap/shard_format.h"
+#include "util/read_file.h"
 
 namespace farm {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 struct VectorCase {
   std::string name;

@@ -131,6 +131,21 @@ class PixelRenderer {
   std::vector<PhotonNeighbour> scratch_;
 };
 
+// Runs pixel(renderer, x, y) on every pixel of area. Rows are the unit of parallel work
+// and of cancellation; each thread draws with its own PixelRenderer, and a pixel's samples
+// are summed in sample order by one thread, so the result is independent of the partition.
+template <typename Pixel>
+void ForEachPixel(const PixelRect& area, const SceneData& data, const PhotonMappingIntegrator& integrator,
+                  const SamplePlan& plan, const std::stop_token& stop, Pixel pixel) {
+  tbb::parallel_for(tbb::blocked_range<int>(area.y, area.y_end()), [&](const tbb::blocked_range<int>& rows) {
+    PixelRenderer renderer(data, integrator, plan);
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      if (stop.stop_requested()) return;
+      for (int x = area.x; x < area.x_end(); ++x) pixel(renderer, x, y);
+    }
+  });
+}
+
 // Light and albedo average over all samples (alpha is the covered fraction); normal and
 // depth over the samples that hit something, so an edge pixel's depth is a real distance,
 // not one diluted by the background.
@@ -177,50 +192,32 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   if (!plan.detect_edges) {
     const uint32_t n = plan.supersample_all ? plan.supersampled : plan.base;
     const bool supersampled = n > plan.base;
-    tbb::parallel_for(tbb::blocked_range<int>(rect.y, rect.y_end()),
-                      [&](const tbb::blocked_range<int>& rows) {
-                        PixelRenderer renderer(data, integrator, plan);
-                        for (int y = rows.begin(); y < rows.end(); ++y) {
-                          if (stop.stop_requested()) return;
-                          for (int x = rect.x; x < rect.x_end(); ++x) {
-                            Sums sum{};
-                            renderer.AddSamples(x, y, 0, n, sum);
-                            WritePixel(sum, n, supersampled, image.pixel(x, y));
-                            // Per pixel, not per row: a row of a heavy scene can take
-                            // long, and one relaxed add per pixel costs nothing beside it.
-                            progress.Advance(n);
-                          }
-                        }
-                      });
+    ForEachPixel(rect, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
+      Sums sum{};
+      renderer.AddSamples(x, y, 0, n, sum);
+      WritePixel(sum, n, supersampled, image.pixel(x, y));
+      // Per pixel, not per row: a row of a heavy scene can take long, and one relaxed add
+      // per pixel costs nothing beside it.
+      progress.Advance(n);
+    });
     return image;
   }
 
-  // Base pass over the tile and its apron. Rows are the unit of parallel work and of
-  // cancellation; a pixel's samples are summed in sample order by one thread, so the result
-  // is independent of the partition.
+  // Base pass over the tile and its apron.
   const PixelRect area = ApronArea(rect, {data.width, data.height});
   std::vector<Sums> base(static_cast<std::size_t>(area.width) * area.height);
   const auto base_at = [&](int x, int y) -> Sums& {
     return base[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
   };
   LogLuminanceGrid luminance(area);
-  tbb::parallel_for(tbb::blocked_range<int>(area.y, area.y_end()),
-                    [&](const tbb::blocked_range<int>& rows) {
-                      PixelRenderer renderer(data, integrator, plan);
-                      for (int y = rows.begin(); y < rows.end(); ++y) {
-                        if (stop.stop_requested()) return;
-                        for (int x = area.x; x < area.x_end(); ++x) {
-                          Sums& sum = base_at(x, y);
-                          renderer.AddSamples(x, y, 0, plan.base, sum);
-                          const double n = plan.base;
-                          luminance.set(x, y,
-                                        EdgeLogLuminance(float(sum[kBeauty] / n),
-                                                         float(sum[kBeauty + 1] / n),
-                                                         float(sum[kBeauty + 2] / n)));
-                          progress.Advance(plan.base);
-                        }
-                      }
-                    });
+  ForEachPixel(area, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
+    Sums& sum = base_at(x, y);
+    renderer.AddSamples(x, y, 0, plan.base, sum);
+    const double n = plan.base;
+    luminance.set(x, y,
+                  EdgeLogLuminance(float(sum[kBeauty] / n), float(sum[kBeauty + 1] / n), float(sum[kBeauty + 2] / n)));
+    progress.Advance(plan.base);
+  });
   if (stop.stop_requested()) return image;
 
   const std::vector<std::uint8_t> edges =

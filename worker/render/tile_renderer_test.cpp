@@ -3,14 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
-#include <thread>
 #include <vector>
 
 #include "scene/scene_data.h"
 #include "scene/test_scenes.h"
+#include "util/test_progress.h"
 
 namespace farm {
 namespace {
@@ -208,17 +207,8 @@ TEST(RenderTile, ProgressReadFromAnotherThreadOnlyGrows) {
   s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
   const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
   ProgressCounter counter{0};
-  std::atomic<bool> done{false};
-  std::vector<std::uint64_t> seen;
-  std::jthread watcher([&] {
-    while (!done.load()) {
-      const std::uint64_t now = counter.load();
-      if (seen.empty() || now != seen.back()) seen.push_back(now);  // Changes only.
-    }
-  });
-  RenderTile(scene, nullptr, {0, 0, 48, 32}, {}, {}, Progress(counter));
-  done = true;
-  watcher.join();
+  const auto seen = ProgressSeenDuring(
+      counter, [&](Progress progress) { RenderTile(scene, nullptr, {0, 0, 48, 32}, {}, {}, progress); });
   EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
   EXPECT_EQ(counter.load(), 48u * 32u * 4u);
 }

@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -28,6 +27,7 @@
 #include "renderfarm/v1/vectors.pb.h"
 #include "scene/obj_mesh.h"
 #include "scene/scene.h"
+#include "util/read_file.h"
 
 namespace farm {
 namespace {
@@ -35,14 +35,6 @@ namespace {
 namespace fs = std::filesystem;
 namespace gp = google::protobuf;
 namespace pb = renderfarm::v1;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + path.string());
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 // The files of `dir` whose names end in `extension`, sorted.
 std::vector<fs::path> Vectors(const fs::path& dir, const std::string& extension) {

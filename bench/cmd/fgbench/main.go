@@ -22,7 +22,6 @@ import (
 	"os/exec"
 	"os/signal"
 	"path/filepath"
-	"strconv"
 	"strings"
 	"syscall"
 	"time"
@@ -267,7 +266,7 @@ func reference(ctx context.Context, f *farm, o options, sc *pb.Scene) (string, e
 	}
 	last := ref.GetRounds()[len(ref.GetRounds())-1]
 	fmt.Printf("reference: %d rounds, %.0f s, %d samples per pixel, %s photon paths, error estimate %s\n\n",
-		len(ref.GetRounds()), last.GetElapsedSeconds(), last.GetSamplesPerPixel(), grouped(last.GetPhotons()), opt(last.ErrorEstimate))
+		len(ref.GetRounds()), last.GetElapsedSeconds(), last.GetSamplesPerPixel(), client.FormatCount(last.GetPhotons()), client.FormatMetric(last.ErrorEstimate))
 	if o.saveReference != "" {
 		out, err := os.Create(o.saveReference)
 		if err != nil {
@@ -290,23 +289,4 @@ func withinBudget(rounds []*pb.RoundReport, b time.Duration) *pb.RoundReport {
 		}
 	}
 	return best
-}
-
-func opt(v *float64) string {
-	if v == nil {
-		return "-"
-	}
-	return strconv.FormatFloat(*v, 'g', 4, 64)
-}
-
-func grouped(n uint64) string {
-	s := strconv.FormatUint(n, 10)
-	var b strings.Builder
-	for i := range len(s) {
-		if i > 0 && (len(s)-i)%3 == 0 {
-			b.WriteByte(',')
-		}
-		b.WriteByte(s[i])
-	}
-	return b.String()
 }

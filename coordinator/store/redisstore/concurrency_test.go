@@ -10,20 +10,9 @@ import (
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/redisstore"
 	"photonfarm/coordinator/store/redisstore/redistest"
+	"photonfarm/coordinator/store/storetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
-
-// tileJob is a job of n render tiles and a composite.
-func tileJob(name string, n int) store.NewJob {
-	nj := store.NewJob{DisplayName: name, SceneDigest: "sha256:" + name, Width: uint32(8 * n), Height: 8}
-	for i := 0; i < n; i++ {
-		nj.Tasks = append(nj.Tasks, &pb.Task{Index: uint32(i), Phase: pb.Phase_PHASE_RENDER,
-			Spec: &pb.Task_RenderTile{RenderTile: &pb.RenderTileSpec{Rect: &pb.PixelRect{X: uint32(8 * i), Width: 8, Height: 8}}}})
-	}
-	nj.Tasks = append(nj.Tasks, &pb.Task{Index: uint32(n), Phase: pb.Phase_PHASE_COMPOSITE,
-		Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}})
-	return nj
-}
 
 func newStore(t *testing.T, srv *redistest.Server, prefix string, opts store.Options) *redisstore.Store {
 	t.Helper()
@@ -78,7 +67,7 @@ func TestTwoReplicasNeverShareATask(t *testing.T) {
 	srv := redistest.Start(t)
 	replicas := []*redisstore.Store{newStore(t, srv, "farm:", store.Options{}), newStore(t, srv, "farm:", store.Options{})}
 	ctx := context.Background()
-	j, err := replicas[0].CreateJob(ctx, tileJob("big", tiles))
+	j, err := replicas[0].CreateJob(ctx, storetest.TileJob("big", tiles))
 	if err != nil {
 		t.Fatal(err)
 	}

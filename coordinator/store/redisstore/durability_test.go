@@ -10,6 +10,7 @@ import (
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/redisstore/redistest"
+	"photonfarm/coordinator/store/storetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -17,7 +18,7 @@ import (
 func half(t *testing.T, s store.Store, clk *clock.Fake) (*pb.Job, *store.Leased) {
 	t.Helper()
 	ctx := context.Background()
-	j, err := s.CreateJob(ctx, tileJob("durable", 6))
+	j, err := s.CreateJob(ctx, storetest.TileJob("durable", 6))
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -113,7 +114,7 @@ func TestEpochsOnlyGrowAcrossRestarts(t *testing.T) {
 	opts := store.Options{Clock: clk, LeaseDuration: time.Minute}
 	ctx := context.Background()
 	s := newStore(t, srv, "farm:", opts)
-	if _, err := s.CreateJob(ctx, tileJob("fenced", 1)); err != nil {
+	if _, err := s.CreateJob(ctx, storetest.TileJob("fenced", 1)); err != nil {
 		t.Fatal(err)
 	}
 	old, err := s.LeaseTask(ctx, "w1", store.WorkerPhases)

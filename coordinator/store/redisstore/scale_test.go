@@ -10,6 +10,7 @@ import (
 
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/redisstore/redistest"
+	"photonfarm/coordinator/store/storetest"
 )
 
 // commands counts the commands Redis ran since the last count (those run by scripts
@@ -40,7 +41,7 @@ func TestLeaseAndCompleteDoNotScanTheJob(t *testing.T) {
 	rdb := srv.Client()
 	s := newStore(t, srv, "farm:", store.Options{})
 	ctx := context.Background()
-	if _, err := s.CreateJob(ctx, tileJob("huge", tiles)); err != nil {
+	if _, err := s.CreateJob(ctx, storetest.TileJob("huge", tiles)); err != nil {
 		t.Fatal(err)
 	}
 	for i := 0; i < 3; i++ {

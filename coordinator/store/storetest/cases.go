@@ -40,7 +40,7 @@ func testCreateJob(f *fixture) {
 func testCreateJobRequestID(f *fixture) {
 	create := func(name, requestID string) *pb.Job {
 		f.t.Helper()
-		nj := newJob(name, 2)
+		nj := TileJob(name, 2)
 		nj.RequestID = requestID
 		j, err := f.s.CreateJob(f.ctx, nj)
 		if err != nil {

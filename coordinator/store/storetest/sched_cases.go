@@ -15,7 +15,7 @@ import (
 
 func (f *fixture) createPriority(name string, tiles int, priority int32) *pb.Job {
 	f.t.Helper()
-	nj := newJob(name, tiles)
+	nj := TileJob(name, tiles)
 	nj.Priority = priority
 	j, err := f.s.CreateJob(f.ctx, nj)
 	if err != nil {
@@ -68,7 +68,7 @@ func testPriorityOrder(f *fixture) {
 	want := append(append(ids(high.Id, 0, 1), ids(normal.Id, 0, 1)...), ids(low.Id, 0, 1)...)
 	f.wantLeases("by priority", "w1", want)
 	for _, p := range []int32{store.MinPriority - 1, store.MaxPriority + 1} {
-		nj := newJob("bad", 1)
+		nj := TileJob("bad", 1)
 		nj.Priority = p
 		_, err := f.s.CreateJob(f.ctx, nj)
 		wantKind(f.t, fmt.Sprint("CreateJob with priority ", p), err, errs.InvalidArgument)

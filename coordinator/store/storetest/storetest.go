@@ -102,8 +102,9 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 	}
 }
 
-// newJob makes a job of `tiles` render tasks and one composite task.
-func newJob(name string, tiles int) store.NewJob {
+// TileJob makes a job of `tiles` render tasks and one composite task: the suite's plain
+// job, which an implementation's own tests (concurrency, durability, scale) use too.
+func TileJob(name string, tiles int) store.NewJob {
 	nj := store.NewJob{DisplayName: name, SceneDigest: digest(name), Width: uint32(8 * tiles), Height: 8}
 	for i := 0; i < tiles; i++ {
 		nj.Tasks = append(nj.Tasks, &pb.Task{Index: uint32(i), Phase: pb.Phase_PHASE_RENDER,
@@ -155,7 +156,7 @@ func artifact(name, of string) *pb.Artifact {
 
 func (f *fixture) create(name string, tiles int) *pb.Job {
 	f.t.Helper()
-	j, err := f.s.CreateJob(f.ctx, newJob(name, tiles))
+	j, err := f.s.CreateJob(f.ctx, TileJob(name, tiles))
 	if err != nil {
 		f.t.Fatalf("CreateJob: %v", err)
 	}

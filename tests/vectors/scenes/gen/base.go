@@ -1,9 +1,7 @@
 package main
 
 import (
-	"crypto/sha256"
-	"encoding/hex"
-
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -108,16 +106,10 @@ const (
 	cubeAsset = "../meshes/accept-cube.obj"
 )
 
-// digestOf is the content digest of data, as a scene names a blob.
-func digestOf(data []byte) string {
-	sum := sha256.Sum256(data)
-	return "sha256:" + hex.EncodeToString(sum[:])
-}
-
 // withMesh appends a shape (shapes[7] of base) made of the cube, uploaded, and returns its
 // mesh file.
 func withMesh(s *pb.Scene) *pb.MeshFile {
-	m := &pb.MeshFile{Path: "cube.obj", Digest: digestOf([]byte(cubeOBJ)), Transform: &pb.Transform{
+	m := &pb.MeshFile{Path: "cube.obj", Digest: rules.DigestOf([]byte(cubeOBJ)), Transform: &pb.Transform{
 		Translation: v(0, 0, -2), Scale: v(0.5, 0.5, 0.5), RotationAxis: v(0, 1, 0), RotationDegrees: 30}}
 	s.Shapes = append(s.Shapes, &pb.Shape{Name: "cube", Material: "white", Geometry: &pb.Shape_Mesh{Mesh: m}})
 	return m

@@ -11,6 +11,7 @@ import (
 
 	"google.golang.org/protobuf/encoding/protojson"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -37,7 +38,7 @@ func Vectors(root string) (map[string][]byte, error) {
 		c.mutate(s)
 		vec := &pb.SceneVector{Description: describe(c), Scene: s, RefusedField: c.refused, Grow: c.grow, Assets: map[string]string{}}
 		for _, ref := range scene.MeshRefs(s) {
-			if ref.Digest == digestOf([]byte(cubeOBJ)) {
+			if ref.Digest == rules.DigestOf([]byte(cubeOBJ)) {
 				vec.Assets[ref.Digest] = cubeAsset
 			}
 		}
@@ -93,7 +94,7 @@ func sceneFiles(root string) (map[string]*pb.SceneVector, error) {
 			if err != nil {
 				return nil, fmt.Errorf("%s: %w", rel, err)
 			}
-			m.Digest = digestOf(mesh)
+			m.Digest = rules.DigestOf(mesh)
 			fromVectors, err := filepath.Rel(vectorDir, meshFile)
 			if err != nil {
 				return nil, err

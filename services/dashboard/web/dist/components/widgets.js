@@ -1,5 +1,6 @@
-// Small shared widgets: state badges and progress bars.
+// Small shared widgets: state badges, progress bars and timestamps.
 import { h, setAttr, setText } from "../dom.js";
+import { formatFullTimestamp, parseTime } from "../format.js";
 /** A coloured state badge; tone is the CSS modifier ("running", "failed", "idle"...). */
 export function badge(label, tone, attrs) {
     return h("span", { class: `badge badge--${tone}`, ...attrs }, label);
@@ -9,6 +10,19 @@ export function updateBadge(el, label, tone) {
     const cls = `badge badge--${tone}`;
     if (el.className !== cls)
         el.className = cls;
+}
+/** A table cell's state badge: created on the first render, updated in place after. */
+export function badgeCell(td, label, tone, attrs) {
+    const el = td.firstElementChild;
+    if (el)
+        updateBadge(el, label, tone);
+    else
+        td.append(badge(label, tone, attrs));
+}
+/** A <time> of the timestamp ts, shown as text says, with the full local time as its title. */
+export function timeElement(ts, text, attrs) {
+    const ms = parseTime(ts);
+    return h("time", { datetime: ts ?? "", title: formatFullTimestamp(ms), ...attrs }, text(ms));
 }
 /**
  * A progress bar (role=progressbar, with data-percent for tests) and its label.

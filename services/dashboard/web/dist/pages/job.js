@@ -6,10 +6,10 @@ import { ErrorChart } from "../components/chart.js";
 import { Mosaic } from "../components/mosaic.js";
 import { PhaseList } from "../components/phases.js";
 import { DataTable } from "../components/table.js";
-import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { badge, badgeCell, progressBar, timeElement, updateBadge, updateProgressBar } from "../components/widgets.js";
 import { ARTIFACT } from "../contract.gen.js";
 import { frameScheduler, h, setAttr, setText } from "../dom.js";
-import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatFullTimestamp, formatRelative, failureLabel, jobStateLabel, parseTime, phaseShort, taskStateLabel, } from "../format.js";
+import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatRelative, failureLabel, jobStateLabel, phaseShort, taskStateLabel, } from "../format.js";
 import { jobElapsed, jobEta, jobProgress } from "../progress.js";
 import { artifact, jobEnded } from "../types.js";
 import { progressLabel } from "./jobs.js";
@@ -164,13 +164,7 @@ export function jobPage(id) {
             {
                 header: "State",
                 sig: (t) => t.state ?? "",
-                render: (t, td) => {
-                    const el = td.firstElementChild;
-                    if (el)
-                        updateBadge(el, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_"));
-                    else
-                        td.append(badge(taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")));
-                },
+                render: (t, td) => badgeCell(td, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")),
             },
             { header: "Attempts", className: "num", text: (t) => String(t.attempts ?? 0) },
             { header: "Worker", className: "mono", text: (t) => t.workerId ?? "" },
@@ -267,7 +261,7 @@ export function jobPage(id) {
             blockedSig = bs;
             const list = j.blockedWorkers ?? [];
             blocked.replaceChildren(...(list.length
-                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { class: "mono" }, b.workerId ?? ""), h("span", { class: "blocked__reason" }, b.reason ?? ""), h("time", { datetime: b.blockTime ?? "", class: "muted", title: formatFullTimestamp(parseTime(b.blockTime)) }, formatRelative(parseTime(b.blockTime), now))))
+                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { class: "mono" }, b.workerId ?? ""), h("span", { class: "blocked__reason" }, b.reason ?? ""), timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" })))
                 : [h("li", { class: "empty" }, "No worker is blocked.")]));
         }
         const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, ARTIFACT.PREVIEW_PNG) : undefined;

@@ -1,10 +1,10 @@
 // The job list (#/): every job with its state, priority, progress, elapsed time and ETA,
 // live from /api/events ("jobs"), and the "Submit scene" upload.
 import { ApiError, LiveStream, api } from "../api.js";
-import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { badgeCell, progressBar, timeElement, updateProgressBar } from "../components/widgets.js";
 import { DataTable } from "../components/table.js";
 import { frameScheduler, h, setText } from "../dom.js";
-import { enumKey, formatDuration, formatEta, formatFullTimestamp, formatTimestamp, jobStateLabel, parseTime, } from "../format.js";
+import { enumKey, formatDuration, formatEta, formatTimestamp, jobStateLabel, parseTime, } from "../format.js";
 import { jobElapsed, jobEta, jobProgress } from "../progress.js";
 import { jobHref } from "../router.js";
 import { jobEnded } from "../types.js";
@@ -15,15 +15,9 @@ export function progressLabel(job) {
         return "Queued";
     return p.roundsDone > 0 || p.round > 1 ? `${pct} · round ${p.round}` : pct;
 }
-/** The job-state badge cell: created once per row, updated in place. */
+/** The job-state badge cell. */
 function renderState(job, td) {
-    const el = td.firstElementChild;
-    const label = jobStateLabel(job.state);
-    const tone = enumKey(job.state, "JOB_STATE_");
-    if (el)
-        updateBadge(el, label, tone);
-    else
-        td.append(badge(label, tone, { "data-testid": "job-state" }));
+    badgeCell(td, jobStateLabel(job.state), enumKey(job.state, "JOB_STATE_"), { "data-testid": "job-state" });
 }
 function renderProgress(job, td) {
     const el = td.firstElementChild;
@@ -77,10 +71,7 @@ export function jobsPage() {
                 header: "Created",
                 className: "num",
                 sig: (j, t) => formatTimestamp(parseTime(j.createTime), t),
-                render: (j, td, t) => {
-                    const ms = parseTime(j.createTime);
-                    td.replaceChildren(h("time", { datetime: j.createTime ?? "", title: formatFullTimestamp(ms) }, formatTimestamp(ms, t)));
-                },
+                render: (j, td, t) => td.replaceChildren(timeElement(j.createTime, (ms) => formatTimestamp(ms, t))),
             },
         ],
     });

@@ -2,9 +2,9 @@
 // heartbeat and cores, live from /api/events ("workers", every 2 s).
 import { LiveStream, api } from "../api.js";
 import { DataTable } from "../components/table.js";
-import { badge, updateBadge } from "../components/widgets.js";
+import { badgeCell, timeElement } from "../components/widgets.js";
 import { frameScheduler, h, setText } from "../dom.js";
-import { enumKey, formatFullTimestamp, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
+import { enumKey, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
 import { jobHref } from "../router.js";
 /** A task id is "{job_id}.{index}". */
 function jobOfTask(taskId) {
@@ -31,15 +31,7 @@ export function workersPage() {
             {
                 header: "State",
                 sig: (w) => w.state ?? "",
-                render: (w, td) => {
-                    const el = td.firstElementChild;
-                    const label = workerStateLabel(w.state);
-                    const tone = enumKey(w.state, "WORKER_STATE_");
-                    if (el)
-                        updateBadge(el, label, tone);
-                    else
-                        td.append(badge(label, tone, { "data-testid": "worker-state" }));
-                },
+                render: (w, td) => badgeCell(td, workerStateLabel(w.state), enumKey(w.state, "WORKER_STATE_"), { "data-testid": "worker-state" }),
             },
             {
                 header: "Current task",
@@ -53,10 +45,7 @@ export function workersPage() {
                 header: "Last heartbeat",
                 className: "num",
                 sig: (w, t) => formatRelative(parseTime(w.lastHeartbeat), t),
-                render: (w, td, t) => {
-                    const ms = parseTime(w.lastHeartbeat);
-                    td.replaceChildren(h("time", { datetime: w.lastHeartbeat ?? "", title: formatFullTimestamp(ms) }, formatRelative(ms, t)));
-                },
+                render: (w, td, t) => td.replaceChildren(timeElement(w.lastHeartbeat, (ms) => formatRelative(ms, t))),
             },
             { header: "Cores", className: "num", text: (w) => String(w.cores ?? 0) },
         ],

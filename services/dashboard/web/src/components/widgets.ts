@@ -1,6 +1,7 @@
-// Small shared widgets: state badges and progress bars.
+// Small shared widgets: state badges, progress bars and timestamps.
 
-import { h, setAttr, setText } from "../dom.js";
+import { h, setAttr, setText, type Attrs } from "../dom.js";
+import { formatFullTimestamp, parseTime } from "../format.js";
 
 /** A coloured state badge; tone is the CSS modifier ("running", "failed", "idle"...). */
 export function badge(label: string, tone: string, attrs?: Record<string, string>): HTMLSpanElement {
@@ -11,6 +12,19 @@ export function updateBadge(el: HTMLElement, label: string, tone: string): void 
   setText(el, label);
   const cls = `badge badge--${tone}`;
   if (el.className !== cls) el.className = cls;
+}
+
+/** A table cell's state badge: created on the first render, updated in place after. */
+export function badgeCell(td: HTMLTableCellElement, label: string, tone: string, attrs?: Record<string, string>): void {
+  const el = td.firstElementChild as HTMLElement | null;
+  if (el) updateBadge(el, label, tone);
+  else td.append(badge(label, tone, attrs));
+}
+
+/** A <time> of the timestamp ts, shown as text says, with the full local time as its title. */
+export function timeElement(ts: string | undefined, text: (ms: number | undefined) => string, attrs?: Attrs): HTMLTimeElement {
+  const ms = parseTime(ts);
+  return h("time", { datetime: ts ?? "", title: formatFullTimestamp(ms), ...attrs }, text(ms));
 }
 
 /**

@@ -7,7 +7,7 @@ import { ErrorChart } from "../components/chart.js";
 import { Mosaic } from "../components/mosaic.js";
 import { PhaseList } from "../components/phases.js";
 import { DataTable } from "../components/table.js";
-import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { badge, badgeCell, progressBar, timeElement, updateBadge, updateProgressBar } from "../components/widgets.js";
 import { ARTIFACT } from "../contract.gen.js";
 import { frameScheduler, h, setAttr, setText } from "../dom.js";
 import {
@@ -16,11 +16,9 @@ import {
   formatDuration,
   formatError,
   formatEta,
-  formatFullTimestamp,
   formatRelative,
   failureLabel,
   jobStateLabel,
-  parseTime,
   phaseShort,
   taskStateLabel,
 } from "../format.js";
@@ -217,11 +215,7 @@ export function jobPage(id: string): Page {
       {
         header: "State",
         sig: (t) => t.state ?? "",
-        render: (t, td) => {
-          const el = td.firstElementChild as HTMLElement | null;
-          if (el) updateBadge(el, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_"));
-          else td.append(badge(taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")));
-        },
+        render: (t, td) => badgeCell(td, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")),
       },
       { header: "Attempts", className: "num", text: (t) => String(t.attempts ?? 0) },
       { header: "Worker", className: "mono", text: (t) => t.workerId ?? "" },
@@ -402,7 +396,7 @@ export function jobPage(id: string): Page {
                 { class: "blocked__item", "data-testid": "blocked-worker" },
                 h("span", { class: "mono" }, b.workerId ?? ""),
                 h("span", { class: "blocked__reason" }, b.reason ?? ""),
-                h("time", { datetime: b.blockTime ?? "", class: "muted", title: formatFullTimestamp(parseTime(b.blockTime)) }, formatRelative(parseTime(b.blockTime), now)),
+                timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" }),
               ),
             )
           : [h("li", { class: "empty" }, "No worker is blocked.")]),

@@ -2,14 +2,13 @@
 // live from /api/events ("jobs"), and the "Submit scene" upload.
 
 import { ApiError, LiveStream, api } from "../api.js";
-import { badge, progressBar, updateBadge, updateProgressBar } from "../components/widgets.js";
+import { badgeCell, progressBar, timeElement, updateProgressBar } from "../components/widgets.js";
 import { DataTable } from "../components/table.js";
 import { frameScheduler, h, setText } from "../dom.js";
 import {
   enumKey,
   formatDuration,
   formatEta,
-  formatFullTimestamp,
   formatTimestamp,
   jobStateLabel,
   parseTime,
@@ -26,13 +25,9 @@ export function progressLabel(job: Job): string {
   return p.roundsDone > 0 || p.round > 1 ? `${pct} · round ${p.round}` : pct;
 }
 
-/** The job-state badge cell: created once per row, updated in place. */
+/** The job-state badge cell. */
 function renderState(job: Job, td: HTMLTableCellElement): void {
-  const el = td.firstElementChild as HTMLElement | null;
-  const label = jobStateLabel(job.state);
-  const tone = enumKey(job.state, "JOB_STATE_");
-  if (el) updateBadge(el, label, tone);
-  else td.append(badge(label, tone, { "data-testid": "job-state" }));
+  badgeCell(td, jobStateLabel(job.state), enumKey(job.state, "JOB_STATE_"), { "data-testid": "job-state" });
 }
 
 function renderProgress(job: Job, td: HTMLTableCellElement): void {
@@ -91,10 +86,7 @@ export function jobsPage(): Page {
         header: "Created",
         className: "num",
         sig: (j, t) => formatTimestamp(parseTime(j.createTime), t),
-        render: (j, td, t) => {
-          const ms = parseTime(j.createTime);
-          td.replaceChildren(h("time", { datetime: j.createTime ?? "", title: formatFullTimestamp(ms) }, formatTimestamp(ms, t)));
-        },
+        render: (j, td, t) => td.replaceChildren(timeElement(j.createTime, (ms) => formatTimestamp(ms, t))),
       },
     ],
   });

@@ -3,9 +3,9 @@
 
 import { LiveStream, api } from "../api.js";
 import { DataTable } from "../components/table.js";
-import { badge, updateBadge } from "../components/widgets.js";
+import { badgeCell, timeElement } from "../components/widgets.js";
 import { frameScheduler, h, setText } from "../dom.js";
-import { enumKey, formatFullTimestamp, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
+import { enumKey, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
 import { jobHref, type Page } from "../router.js";
 import type { WorkerInfo } from "../types.js";
 
@@ -40,13 +40,7 @@ export function workersPage(): Page {
       {
         header: "State",
         sig: (w) => w.state ?? "",
-        render: (w, td) => {
-          const el = td.firstElementChild as HTMLElement | null;
-          const label = workerStateLabel(w.state);
-          const tone = enumKey(w.state, "WORKER_STATE_");
-          if (el) updateBadge(el, label, tone);
-          else td.append(badge(label, tone, { "data-testid": "worker-state" }));
-        },
+        render: (w, td) => badgeCell(td, workerStateLabel(w.state), enumKey(w.state, "WORKER_STATE_"), { "data-testid": "worker-state" }),
       },
       {
         header: "Current task",
@@ -63,10 +57,7 @@ export function workersPage(): Page {
         header: "Last heartbeat",
         className: "num",
         sig: (w, t) => formatRelative(parseTime(w.lastHeartbeat), t),
-        render: (w, td, t) => {
-          const ms = parseTime(w.lastHeartbeat);
-          td.replaceChildren(h("time", { datetime: w.lastHeartbeat ?? "", title: formatFullTimestamp(ms) }, formatRelative(ms, t)));
-        },
+        render: (w, td, t) => td.replaceChildren(timeElement(w.lastHeartbeat, (ms) => formatRelative(ms, t))),
       },
       { header: "Cores", className: "num", text: (w) => String(w.cores ?? 0) },
     ],
