@@ -163,7 +163,7 @@ killed=""
 for _ in $(seq 600); do
   leased=$("$bin/farm" tasks "$job" 2>/dev/null | awk '$2 == "render" && $3 == "leased"' || true)
   if [ -n "$leased" ]; then
-    killed=$(dc ps -q worker | head -n1)
+    killed=$(dc ps -q worker | awk 'NR == 1')  # awk reads it all: head could SIGPIPE docker-compose under pipefail
     docker kill "$killed" >/dev/null
     break
   fi
