@@ -127,6 +127,110 @@ func (IndirectMode) EnumDescriptor() ([]byte, []int) {
 	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
+type AlphaMode int32
+
+const (
+	// Selects OPAQUE.
+	AlphaMode_ALPHA_MODE_UNSPECIFIED AlphaMode = 0
+	AlphaMode_ALPHA_MODE_OPAQUE      AlphaMode = 1
+	// Cut-outs: leaves, fences, banners (glTF alphaMode MASK).
+	AlphaMode_ALPHA_MODE_MASK AlphaMode = 2
+)
+
+// Enum value maps for AlphaMode.
+var (
+	AlphaMode_name = map[int32]string{
+		0: "ALPHA_MODE_UNSPECIFIED",
+		1: "ALPHA_MODE_OPAQUE",
+		2: "ALPHA_MODE_MASK",
+	}
+	AlphaMode_value = map[string]int32{
+		"ALPHA_MODE_UNSPECIFIED": 0,
+		"ALPHA_MODE_OPAQUE":      1,
+		"ALPHA_MODE_MASK":        2,
+	}
+)
+
+func (x AlphaMode) Enum() *AlphaMode {
+	p := new(AlphaMode)
+	*p = x
+	return p
+}
+
+func (x AlphaMode) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+}
+
+func (AlphaMode) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+}
+
+func (x AlphaMode) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use AlphaMode.Descriptor instead.
+func (AlphaMode) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+}
+
+type ToneMap int32
+
+const (
+	// Selects FILMIC.
+	ToneMap_TONE_MAP_UNSPECIFIED ToneMap = 0
+	// A documented filmic curve that rolls highlights off instead of clipping them
+	// (docs/output.md).
+	ToneMap_TONE_MAP_FILMIC ToneMap = 1
+	// Values past 1 are clipped.
+	ToneMap_TONE_MAP_CLAMP ToneMap = 2
+)
+
+// Enum value maps for ToneMap.
+var (
+	ToneMap_name = map[int32]string{
+		0: "TONE_MAP_UNSPECIFIED",
+		1: "TONE_MAP_FILMIC",
+		2: "TONE_MAP_CLAMP",
+	}
+	ToneMap_value = map[string]int32{
+		"TONE_MAP_UNSPECIFIED": 0,
+		"TONE_MAP_FILMIC":      1,
+		"TONE_MAP_CLAMP":       2,
+	}
+)
+
+func (x ToneMap) Enum() *ToneMap {
+	p := new(ToneMap)
+	*p = x
+	return p
+}
+
+func (x ToneMap) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
+}
+
+func (ToneMap) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[3]
+}
+
+func (x ToneMap) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use ToneMap.Descriptor instead.
+func (ToneMap) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+}
+
 type Filter int32
 
 const (
@@ -166,11 +270,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -179,7 +283,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -202,10 +306,18 @@ type Scene struct {
 	// Lights without geometry. Area lights are shapes with an emissive material.
 	Lights []*Light `protobuf:"bytes,7,rep,name=lights,proto3" json:"lights,omitempty"`
 	// Photon mapping settings; unset fields take the defaults documented on each field.
-	Photons       *PhotonMapping `protobuf:"bytes,8,opt,name=photons,proto3" json:"photons,omitempty"`
-	Antialiasing  *Antialiasing  `protobuf:"bytes,9,opt,name=antialiasing,proto3" json:"antialiasing,omitempty"`
-	Indirect      *Indirect      `protobuf:"bytes,10,opt,name=indirect,proto3" json:"indirect,omitempty"`
-	Progressive   *Progressive   `protobuf:"bytes,11,opt,name=progressive,proto3" json:"progressive,omitempty"`
+	Photons      *PhotonMapping `protobuf:"bytes,8,opt,name=photons,proto3" json:"photons,omitempty"`
+	Antialiasing *Antialiasing  `protobuf:"bytes,9,opt,name=antialiasing,proto3" json:"antialiasing,omitempty"`
+	Indirect     *Indirect      `protobuf:"bytes,10,opt,name=indirect,proto3" json:"indirect,omitempty"`
+	Progressive  *Progressive   `protobuf:"bytes,11,opt,name=progressive,proto3" json:"progressive,omitempty"`
+	// Meshes stored once and placed by shapes (Shape.instance).
+	Meshes []*Mesh `protobuf:"bytes,12,rep,name=meshes,proto3" json:"meshes,omitempty"`
+	// Images the materials and the environment read.
+	Textures []*Texture `protobuf:"bytes,13,rep,name=textures,proto3" json:"textures,omitempty"`
+	// What rays that leave the scene see; unset: black.
+	Environment *Environment `protobuf:"bytes,14,opt,name=environment,proto3" json:"environment,omitempty"`
+	// How the PNG preview is made from the linear image (the EXR stays linear).
+	Output        *Output `protobuf:"bytes,15,opt,name=output,proto3" json:"output,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -317,126 +429,32 @@ func (x *Scene) GetProgressive() *Progressive {
 	return nil
 }
 
-// A point or direction in scene space.
-type Vec3 struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	X             float64                `protobuf:"fixed64,1,opt,name=x,proto3" json:"x,omitempty"`
-	Y             float64                `protobuf:"fixed64,2,opt,name=y,proto3" json:"y,omitempty"`
-	Z             float64                `protobuf:"fixed64,3,opt,name=z,proto3" json:"z,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
-}
-
-func (x *Vec3) Reset() {
-	*x = Vec3{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[1]
-	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
-	ms.StoreMessageInfo(mi)
-}
-
-func (x *Vec3) String() string {
-	return protoimpl.X.MessageStringOf(x)
-}
-
-func (*Vec3) ProtoMessage() {}
-
-func (x *Vec3) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[1]
+func (x *Scene) GetMeshes() []*Mesh {
 	if x != nil {
-		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
-		if ms.LoadMessageInfo() == nil {
-			ms.StoreMessageInfo(mi)
-		}
-		return ms
+		return x.Meshes
 	}
-	return mi.MessageOf(x)
+	return nil
 }
 
-// Deprecated: Use Vec3.ProtoReflect.Descriptor instead.
-func (*Vec3) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
-}
-
-func (x *Vec3) GetX() float64 {
+func (x *Scene) GetTextures() []*Texture {
 	if x != nil {
-		return x.X
+		return x.Textures
 	}
-	return 0
+	return nil
 }
 
-func (x *Vec3) GetY() float64 {
+func (x *Scene) GetEnvironment() *Environment {
 	if x != nil {
-		return x.Y
+		return x.Environment
 	}
-	return 0
+	return nil
 }
 
-func (x *Vec3) GetZ() float64 {
+func (x *Scene) GetOutput() *Output {
 	if x != nil {
-		return x.Z
+		return x.Output
 	}
-	return 0
-}
-
-// Linear RGB (Rec. 709 primaries). Reflectances lie in [0, 1]; radiances are >= 0.
-type Color struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	R             float64                `protobuf:"fixed64,1,opt,name=r,proto3" json:"r,omitempty"`
-	G             float64                `protobuf:"fixed64,2,opt,name=g,proto3" json:"g,omitempty"`
-	B             float64                `protobuf:"fixed64,3,opt,name=b,proto3" json:"b,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
-}
-
-func (x *Color) Reset() {
-	*x = Color{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[2]
-	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
-	ms.StoreMessageInfo(mi)
-}
-
-func (x *Color) String() string {
-	return protoimpl.X.MessageStringOf(x)
-}
-
-func (*Color) ProtoMessage() {}
-
-func (x *Color) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[2]
-	if x != nil {
-		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
-		if ms.LoadMessageInfo() == nil {
-			ms.StoreMessageInfo(mi)
-		}
-		return ms
-	}
-	return mi.MessageOf(x)
-}
-
-// Deprecated: Use Color.ProtoReflect.Descriptor instead.
-func (*Color) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
-}
-
-func (x *Color) GetR() float64 {
-	if x != nil {
-		return x.R
-	}
-	return 0
-}
-
-func (x *Color) GetG() float64 {
-	if x != nil {
-		return x.G
-	}
-	return 0
-}
-
-func (x *Color) GetB() float64 {
-	if x != nil {
-		return x.B
-	}
-	return 0
+	return nil
 }
 
 // A pinhole camera. The image's right is cross(look_at - position, up).
@@ -445,15 +463,21 @@ type Camera struct {
 	Position *Vec3                  `protobuf:"bytes,1,opt,name=position,proto3" json:"position,omitempty"`
 	LookAt   *Vec3                  `protobuf:"bytes,2,opt,name=look_at,json=lookAt,proto3" json:"look_at,omitempty"`
 	Up       *Vec3                  `protobuf:"bytes,3,opt,name=up,proto3" json:"up,omitempty"`
-	// Full vertical field of view, in degrees.
+	// Full vertical field of view, in degrees; the horizontal one follows the film's aspect.
 	VerticalFovDegrees float64 `protobuf:"fixed64,4,opt,name=vertical_fov_degrees,json=verticalFovDegrees,proto3" json:"vertical_fov_degrees,omitempty"`
-	unknownFields      protoimpl.UnknownFields
-	sizeCache          protoimpl.SizeCache
+	// A thin lens: rays start on a disc of this radius about position and meet at the focus
+	// distance, so that only what lies at that distance is sharp; 0 is a pinhole.
+	ApertureRadius float64 `protobuf:"fixed64,5,opt,name=aperture_radius,json=apertureRadius,proto3" json:"aperture_radius,omitempty"`
+	// Distance along the view direction to the plane in focus; 0 selects the distance to
+	// look_at.
+	FocusDistance float64 `protobuf:"fixed64,6,opt,name=focus_distance,json=focusDistance,proto3" json:"focus_distance,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *Camera) Reset() {
 	*x = Camera{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[1]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -465,7 +489,7 @@ func (x *Camera) String() string {
 func (*Camera) ProtoMessage() {}
 
 func (x *Camera) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[1]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -478,7 +502,7 @@ func (x *Camera) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Camera.ProtoReflect.Descriptor instead.
 func (*Camera) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
 func (x *Camera) GetPosition() *Vec3 {
@@ -509,6 +533,20 @@ func (x *Camera) GetVerticalFovDegrees() float64 {
 	return 0
 }
 
+func (x *Camera) GetApertureRadius() float64 {
+	if x != nil {
+		return x.ApertureRadius
+	}
+	return 0
+}
+
+func (x *Camera) GetFocusDistance() float64 {
+	if x != nil {
+		return x.FocusDistance
+	}
+	return 0
+}
+
 // The image to produce.
 type Film struct {
 	state  protoimpl.MessageState `protogen:"open.v1"`
@@ -522,7 +560,7 @@ type Film struct {
 
 func (x *Film) Reset() {
 	*x = Film{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[2]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -534,7 +572,7 @@ func (x *Film) String() string {
 func (*Film) ProtoMessage() {}
 
 func (x *Film) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[2]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -547,7 +585,7 @@ func (x *Film) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Film.ProtoReflect.Descriptor instead.
 func (*Film) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 func (x *Film) GetWidth() uint32 {
@@ -587,7 +625,7 @@ type Sampling struct {
 
 func (x *Sampling) Reset() {
 	*x = Sampling{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -599,7 +637,7 @@ func (x *Sampling) String() string {
 func (*Sampling) ProtoMessage() {}
 
 func (x *Sampling) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -612,7 +650,7 @@ func (x *Sampling) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sampling.ProtoReflect.Descriptor instead.
 func (*Sampling) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
 func (x *Sampling) GetSamplesPerPixel() uint32 {
@@ -651,7 +689,7 @@ type Antialiasing struct {
 
 func (x *Antialiasing) Reset() {
 	*x = Antialiasing{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -663,7 +701,7 @@ func (x *Antialiasing) String() string {
 func (*Antialiasing) ProtoMessage() {}
 
 func (x *Antialiasing) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -676,7 +714,7 @@ func (x *Antialiasing) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Antialiasing.ProtoReflect.Descriptor instead.
 func (*Antialiasing) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 func (x *Antialiasing) GetMode() AntialiasingMode {
@@ -714,7 +752,7 @@ type Indirect struct {
 
 func (x *Indirect) Reset() {
 	*x = Indirect{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -726,7 +764,7 @@ func (x *Indirect) String() string {
 func (*Indirect) ProtoMessage() {}
 
 func (x *Indirect) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -739,7 +777,7 @@ func (x *Indirect) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Indirect.ProtoReflect.Descriptor instead.
 func (*Indirect) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 func (x *Indirect) GetMode() IndirectMode {
@@ -787,7 +825,7 @@ type Progressive struct {
 
 func (x *Progressive) Reset() {
 	*x = Progressive{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -799,7 +837,7 @@ func (x *Progressive) String() string {
 func (*Progressive) ProtoMessage() {}
 
 func (x *Progressive) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -812,7 +850,7 @@ func (x *Progressive) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Progressive.ProtoReflect.Descriptor instead.
 func (*Progressive) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
 }
 
 func (x *Progressive) GetMaxRounds() uint32 {
@@ -862,7 +900,7 @@ type ReferenceImage struct {
 
 func (x *ReferenceImage) Reset() {
 	*x = ReferenceImage{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -874,7 +912,7 @@ func (x *ReferenceImage) String() string {
 func (*ReferenceImage) ProtoMessage() {}
 
 func (x *ReferenceImage) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -887,7 +925,7 @@ func (x *ReferenceImage) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ReferenceImage.ProtoReflect.Descriptor instead.
 func (*ReferenceImage) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
 }
 
 func (x *ReferenceImage) GetPath() string {
@@ -916,6 +954,7 @@ type Material struct {
 	//	*Material_Mirror
 	//	*Material_Dielectric
 	//	*Material_Conductor
+	//	*Material_Principled
 	Kind          isMaterial_Kind `protobuf_oneof:"kind"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -923,7 +962,7 @@ type Material struct {
 
 func (x *Material) Reset() {
 	*x = Material{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -935,7 +974,7 @@ func (x *Material) String() string {
 func (*Material) ProtoMessage() {}
 
 func (x *Material) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -948,7 +987,7 @@ func (x *Material) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Material.ProtoReflect.Descriptor instead.
 func (*Material) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
 }
 
 func (x *Material) GetName() string {
@@ -1019,6 +1058,15 @@ func (x *Material) GetConductor() *Conductor {
 	return nil
 }
 
+func (x *Material) GetPrincipled() *Principled {
+	if x != nil {
+		if x, ok := x.Kind.(*Material_Principled); ok {
+			return x.Principled
+		}
+	}
+	return nil
+}
+
 type isMaterial_Kind interface {
 	isMaterial_Kind()
 }
@@ -1047,6 +1095,10 @@ type Material_Conductor struct {
 	Conductor *Conductor `protobuf:"bytes,7,opt,name=conductor,proto3,oneof"`
 }
 
+type Material_Principled struct {
+	Principled *Principled `protobuf:"bytes,8,opt,name=principled,proto3,oneof"`
+}
+
 func (*Material_Lambert) isMaterial_Kind() {}
 
 func (*Material_Emissive) isMaterial_Kind() {}
@@ -1059,6 +1111,8 @@ func (*Material_Dielectric) isMaterial_Kind() {}
 
 func (*Material_Conductor) isMaterial_Kind() {}
 
+func (*Material_Principled) isMaterial_Kind() {}
+
 // An ideal diffuse reflector.
 type Lambert struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
@@ -1069,7 +1123,7 @@ type Lambert struct {
 
 func (x *Lambert) Reset() {
 	*x = Lambert{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1081,7 +1135,7 @@ func (x *Lambert) String() string {
 func (*Lambert) ProtoMessage() {}
 
 func (x *Lambert) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1094,7 +1148,7 @@ func (x *Lambert) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Lambert.ProtoReflect.Descriptor instead.
 func (*Lambert) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
 }
 
 func (x *Lambert) GetReflectance() *Color {
@@ -1115,7 +1169,7 @@ type Emissive struct {
 
 func (x *Emissive) Reset() {
 	*x = Emissive{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1127,7 +1181,7 @@ func (x *Emissive) String() string {
 func (*Emissive) ProtoMessage() {}
 
 func (x *Emissive) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1140,7 +1194,7 @@ func (x *Emissive) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Emissive.ProtoReflect.Descriptor instead.
 func (*Emissive) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *Emissive) GetRadiance() *Color {
@@ -1164,7 +1218,7 @@ type Glossy struct {
 
 func (x *Glossy) Reset() {
 	*x = Glossy{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1176,7 +1230,7 @@ func (x *Glossy) String() string {
 func (*Glossy) ProtoMessage() {}
 
 func (x *Glossy) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1189,7 +1243,7 @@ func (x *Glossy) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Glossy.ProtoReflect.Descriptor instead.
 func (*Glossy) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *Glossy) GetDiffuse() *Color {
@@ -1223,7 +1277,7 @@ type Mirror struct {
 
 func (x *Mirror) Reset() {
 	*x = Mirror{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1235,7 +1289,7 @@ func (x *Mirror) String() string {
 func (*Mirror) ProtoMessage() {}
 
 func (x *Mirror) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1248,7 +1302,7 @@ func (x *Mirror) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Mirror.ProtoReflect.Descriptor instead.
 func (*Mirror) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *Mirror) GetReflectance() *Color {
@@ -1272,7 +1326,7 @@ type Dielectric struct {
 
 func (x *Dielectric) Reset() {
 	*x = Dielectric{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1284,7 +1338,7 @@ func (x *Dielectric) String() string {
 func (*Dielectric) ProtoMessage() {}
 
 func (x *Dielectric) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1297,7 +1351,7 @@ func (x *Dielectric) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Dielectric.ProtoReflect.Descriptor instead.
 func (*Dielectric) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *Dielectric) GetIor() float64 {
@@ -1326,7 +1380,7 @@ type Conductor struct {
 
 func (x *Conductor) Reset() {
 	*x = Conductor{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1338,7 +1392,7 @@ func (x *Conductor) String() string {
 func (*Conductor) ProtoMessage() {}
 
 func (x *Conductor) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1351,7 +1405,7 @@ func (x *Conductor) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Conductor.ProtoReflect.Descriptor instead.
 func (*Conductor) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *Conductor) GetEta() *Color {
@@ -1368,6 +1422,155 @@ func (x *Conductor) GetK() *Color {
 	return nil
 }
 
+// glTF 2.0's metallic-roughness material (its specification's appendix B): a GGX
+// microfacet specular lobe, sampled by its visible normals, over a Lambertian base, blended
+// towards a conductor whose colour is the base colour as metallic goes from 0 to 1. Nearly
+// smooth principled surfaces count as specular for the caustic map (docs/limits.md says
+// where the line is). Textures multiply the factors they stand beside.
+type Principled struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Linear RGB; unset means (1, 1, 1).
+	BaseColor *Color `protobuf:"bytes,1,opt,name=base_color,json=baseColor,proto3" json:"base_color,omitempty"`
+	// RGB multiplies base_color; its alpha channel multiplies opacity.
+	BaseColorTexture *TextureRef `protobuf:"bytes,2,opt,name=base_color_texture,json=baseColorTexture,proto3" json:"base_color_texture,omitempty"`
+	Metallic         float64     `protobuf:"fixed64,3,opt,name=metallic,proto3" json:"metallic,omitempty"`
+	// Perceptual roughness (GGX alpha = roughness squared).
+	Roughness float64 `protobuf:"fixed64,4,opt,name=roughness,proto3" json:"roughness,omitempty"`
+	// Its blue channel multiplies metallic, its green one roughness (glTF).
+	MetallicRoughnessTexture *TextureRef `protobuf:"bytes,5,opt,name=metallic_roughness_texture,json=metallicRoughnessTexture,proto3" json:"metallic_roughness_texture,omitempty"`
+	// A tangent-space normal map (glTF: +Y up in texture space).
+	NormalTexture *TextureRef `protobuf:"bytes,6,opt,name=normal_texture,json=normalTexture,proto3" json:"normal_texture,omitempty"`
+	// Scales the normal map's X and Y.
+	NormalScale float64 `protobuf:"fixed64,7,opt,name=normal_scale,json=normalScale,proto3" json:"normal_scale,omitempty"`
+	// Emitted radiance (glTF's emissiveFactor times KHR_materials_emissive_strength); a
+	// shape with a positive emission is an area light and emits photons.
+	Emission *Color `protobuf:"bytes,8,opt,name=emission,proto3" json:"emission,omitempty"`
+	// RGB multiplies emission.
+	EmissionTexture *TextureRef `protobuf:"bytes,9,opt,name=emission_texture,json=emissionTexture,proto3" json:"emission_texture,omitempty"`
+	AlphaMode       AlphaMode   `protobuf:"varint,10,opt,name=alpha_mode,json=alphaMode,proto3,enum=renderfarm.v1.AlphaMode" json:"alpha_mode,omitempty"`
+	// The base opacity (glTF's baseColorFactor alpha).
+	Opacity float64 `protobuf:"fixed64,11,opt,name=opacity,proto3" json:"opacity,omitempty"`
+	// In MASK mode, where opacity (times the base colour texture's alpha) is below this the
+	// surface is not there.
+	AlphaCutoff   float64 `protobuf:"fixed64,12,opt,name=alpha_cutoff,json=alphaCutoff,proto3" json:"alpha_cutoff,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Principled) Reset() {
+	*x = Principled{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Principled) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Principled) ProtoMessage() {}
+
+func (x *Principled) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Principled.ProtoReflect.Descriptor instead.
+func (*Principled) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
+}
+
+func (x *Principled) GetBaseColor() *Color {
+	if x != nil {
+		return x.BaseColor
+	}
+	return nil
+}
+
+func (x *Principled) GetBaseColorTexture() *TextureRef {
+	if x != nil {
+		return x.BaseColorTexture
+	}
+	return nil
+}
+
+func (x *Principled) GetMetallic() float64 {
+	if x != nil {
+		return x.Metallic
+	}
+	return 0
+}
+
+func (x *Principled) GetRoughness() float64 {
+	if x != nil {
+		return x.Roughness
+	}
+	return 0
+}
+
+func (x *Principled) GetMetallicRoughnessTexture() *TextureRef {
+	if x != nil {
+		return x.MetallicRoughnessTexture
+	}
+	return nil
+}
+
+func (x *Principled) GetNormalTexture() *TextureRef {
+	if x != nil {
+		return x.NormalTexture
+	}
+	return nil
+}
+
+func (x *Principled) GetNormalScale() float64 {
+	if x != nil {
+		return x.NormalScale
+	}
+	return 0
+}
+
+func (x *Principled) GetEmission() *Color {
+	if x != nil {
+		return x.Emission
+	}
+	return nil
+}
+
+func (x *Principled) GetEmissionTexture() *TextureRef {
+	if x != nil {
+		return x.EmissionTexture
+	}
+	return nil
+}
+
+func (x *Principled) GetAlphaMode() AlphaMode {
+	if x != nil {
+		return x.AlphaMode
+	}
+	return AlphaMode_ALPHA_MODE_UNSPECIFIED
+}
+
+func (x *Principled) GetOpacity() float64 {
+	if x != nil {
+		return x.Opacity
+	}
+	return 0
+}
+
+func (x *Principled) GetAlphaCutoff() float64 {
+	if x != nil {
+		return x.AlphaCutoff
+	}
+	return 0
+}
+
 // A light without geometry; exactly one kind is set.
 type Light struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
@@ -1376,6 +1579,7 @@ type Light struct {
 	//
 	//	*Light_Point
 	//	*Light_Sun
+	//	*Light_Spot
 	Kind          isLight_Kind `protobuf_oneof:"kind"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -1383,7 +1587,7 @@ type Light struct {
 
 func (x *Light) Reset() {
 	*x = Light{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1395,7 +1599,7 @@ func (x *Light) String() string {
 func (*Light) ProtoMessage() {}
 
 func (x *Light) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1408,7 +1612,7 @@ func (x *Light) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Light.ProtoReflect.Descriptor instead.
 func (*Light) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *Light) GetName() string {
@@ -1443,6 +1647,15 @@ func (x *Light) GetSun() *SunLight {
 	return nil
 }
 
+func (x *Light) GetSpot() *SpotLight {
+	if x != nil {
+		if x, ok := x.Kind.(*Light_Spot); ok {
+			return x.Spot
+		}
+	}
+	return nil
+}
+
 type isLight_Kind interface {
 	isLight_Kind()
 }
@@ -1455,9 +1668,15 @@ type Light_Sun struct {
 	Sun *SunLight `protobuf:"bytes,3,opt,name=sun,proto3,oneof"`
 }
 
+type Light_Spot struct {
+	Spot *SpotLight `protobuf:"bytes,4,opt,name=spot,proto3,oneof"`
+}
+
 func (*Light_Point) isLight_Kind() {}
 
 func (*Light_Sun) isLight_Kind() {}
+
+func (*Light_Spot) isLight_Kind() {}
 
 // Emits equally in all directions.
 type PointLight struct {
@@ -1471,7 +1690,7 @@ type PointLight struct {
 
 func (x *PointLight) Reset() {
 	*x = PointLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1483,7 +1702,7 @@ func (x *PointLight) String() string {
 func (*PointLight) ProtoMessage() {}
 
 func (x *PointLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1496,7 +1715,7 @@ func (x *PointLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PointLight.ProtoReflect.Descriptor instead.
 func (*PointLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *PointLight) GetPosition() *Vec3 {
@@ -1519,14 +1738,17 @@ type SunLight struct {
 	// The direction the light travels in (from the sun towards the scene).
 	Direction *Vec3 `protobuf:"bytes,1,opt,name=direction,proto3" json:"direction,omitempty"`
 	// Irradiance on a surface facing the sun, per channel.
-	Irradiance    *Color `protobuf:"bytes,2,opt,name=irradiance,proto3" json:"irradiance,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	Irradiance *Color `protobuf:"bytes,2,opt,name=irradiance,proto3" json:"irradiance,omitempty"`
+	// The sun's disc as seen from the scene (the real sun is about 0.53 degrees), which
+	// softens shadows; 0 is a delta light (sharp shadows).
+	AngularDiameterDegrees float64 `protobuf:"fixed64,3,opt,name=angular_diameter_degrees,json=angularDiameterDegrees,proto3" json:"angular_diameter_degrees,omitempty"`
+	unknownFields          protoimpl.UnknownFields
+	sizeCache              protoimpl.SizeCache
 }
 
 func (x *SunLight) Reset() {
 	*x = SunLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1538,7 +1760,7 @@ func (x *SunLight) String() string {
 func (*SunLight) ProtoMessage() {}
 
 func (x *SunLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1551,7 +1773,7 @@ func (x *SunLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SunLight.ProtoReflect.Descriptor instead.
 func (*SunLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *SunLight) GetDirection() *Vec3 {
@@ -1566,6 +1788,225 @@ func (x *SunLight) GetIrradiance() *Color {
 		return x.Irradiance
 	}
 	return nil
+}
+
+func (x *SunLight) GetAngularDiameterDegrees() float64 {
+	if x != nil {
+		return x.AngularDiameterDegrees
+	}
+	return 0
+}
+
+// A point light that shines in a cone (glTF KHR_lights_punctual spot).
+type SpotLight struct {
+	state    protoimpl.MessageState `protogen:"open.v1"`
+	Position *Vec3                  `protobuf:"bytes,1,opt,name=position,proto3" json:"position,omitempty"`
+	// Where the cone's axis points.
+	Direction *Vec3 `protobuf:"bytes,2,opt,name=direction,proto3" json:"direction,omitempty"`
+	// Radiant intensity on the axis, per channel.
+	Intensity *Color `protobuf:"bytes,3,opt,name=intensity,proto3" json:"intensity,omitempty"`
+	// Half-angles from the axis: full intensity inside the inner cone, falling smoothly to
+	// 0 at the outer one.
+	InnerConeDegrees float64 `protobuf:"fixed64,4,opt,name=inner_cone_degrees,json=innerConeDegrees,proto3" json:"inner_cone_degrees,omitempty"`
+	OuterConeDegrees float64 `protobuf:"fixed64,5,opt,name=outer_cone_degrees,json=outerConeDegrees,proto3" json:"outer_cone_degrees,omitempty"`
+	unknownFields    protoimpl.UnknownFields
+	sizeCache        protoimpl.SizeCache
+}
+
+func (x *SpotLight) Reset() {
+	*x = SpotLight{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *SpotLight) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*SpotLight) ProtoMessage() {}
+
+func (x *SpotLight) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use SpotLight.ProtoReflect.Descriptor instead.
+func (*SpotLight) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
+}
+
+func (x *SpotLight) GetPosition() *Vec3 {
+	if x != nil {
+		return x.Position
+	}
+	return nil
+}
+
+func (x *SpotLight) GetDirection() *Vec3 {
+	if x != nil {
+		return x.Direction
+	}
+	return nil
+}
+
+func (x *SpotLight) GetIntensity() *Color {
+	if x != nil {
+		return x.Intensity
+	}
+	return nil
+}
+
+func (x *SpotLight) GetInnerConeDegrees() float64 {
+	if x != nil {
+		return x.InnerConeDegrees
+	}
+	return 0
+}
+
+func (x *SpotLight) GetOuterConeDegrees() float64 {
+	if x != nil {
+		return x.OuterConeDegrees
+	}
+	return 0
+}
+
+// What rays that leave the scene see, and the light it gives: a constant colour, or an
+// equirectangular (latitude-longitude) image, importance-sampled for camera paths, final
+// gathering and photon emission (photons enter through the disc bounding the scene).
+type Environment struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Constant radiance, or what the map is multiplied by (unset: (1, 1, 1) with a map,
+	// black without).
+	Radiance *Color `protobuf:"bytes,1,opt,name=radiance,proto3" json:"radiance,omitempty"`
+	// A linear HDR image: +Y up, its middle column looking along -Z, longitude growing
+	// towards +X.
+	Map *TextureRef `protobuf:"bytes,2,opt,name=map,proto3" json:"map,omitempty"`
+	// Turns the map about +Y.
+	RotationDegrees float64 `protobuf:"fixed64,3,opt,name=rotation_degrees,json=rotationDegrees,proto3" json:"rotation_degrees,omitempty"`
+	// Camera rays that leave the scene see black (the environment still lights it).
+	HiddenFromCamera bool `protobuf:"varint,4,opt,name=hidden_from_camera,json=hiddenFromCamera,proto3" json:"hidden_from_camera,omitempty"`
+	unknownFields    protoimpl.UnknownFields
+	sizeCache        protoimpl.SizeCache
+}
+
+func (x *Environment) Reset() {
+	*x = Environment{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Environment) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Environment) ProtoMessage() {}
+
+func (x *Environment) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Environment.ProtoReflect.Descriptor instead.
+func (*Environment) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
+}
+
+func (x *Environment) GetRadiance() *Color {
+	if x != nil {
+		return x.Radiance
+	}
+	return nil
+}
+
+func (x *Environment) GetMap() *TextureRef {
+	if x != nil {
+		return x.Map
+	}
+	return nil
+}
+
+func (x *Environment) GetRotationDegrees() float64 {
+	if x != nil {
+		return x.RotationDegrees
+	}
+	return 0
+}
+
+func (x *Environment) GetHiddenFromCamera() bool {
+	if x != nil {
+		return x.HiddenFromCamera
+	}
+	return false
+}
+
+// The PNG preview: exposure, then a tone map, then sRGB. The EXR is always linear.
+type Output struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Stops of exposure: the image is multiplied by 2^exposure_stops.
+	ExposureStops float64 `protobuf:"fixed64,1,opt,name=exposure_stops,json=exposureStops,proto3" json:"exposure_stops,omitempty"`
+	ToneMap       ToneMap `protobuf:"varint,2,opt,name=tone_map,json=toneMap,proto3,enum=renderfarm.v1.ToneMap" json:"tone_map,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Output) Reset() {
+	*x = Output{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Output) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Output) ProtoMessage() {}
+
+func (x *Output) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Output.ProtoReflect.Descriptor instead.
+func (*Output) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
+}
+
+func (x *Output) GetExposureStops() float64 {
+	if x != nil {
+		return x.ExposureStops
+	}
+	return 0
+}
+
+func (x *Output) GetToneMap() ToneMap {
+	if x != nil {
+		return x.ToneMap
+	}
+	return ToneMap_TONE_MAP_UNSPECIFIED
 }
 
 // How photons are traced and how radiance is estimated from them. Photon counts are the
@@ -1588,7 +2029,7 @@ type PhotonMapping struct {
 
 func (x *PhotonMapping) Reset() {
 	*x = PhotonMapping{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1600,7 +2041,7 @@ func (x *PhotonMapping) String() string {
 func (*PhotonMapping) ProtoMessage() {}
 
 func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1613,7 +2054,7 @@ func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhotonMapping.ProtoReflect.Descriptor instead.
 func (*PhotonMapping) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *PhotonMapping) GetGlobalPhotons() uint64 {
@@ -1669,7 +2110,7 @@ type RadianceEstimate struct {
 
 func (x *RadianceEstimate) Reset() {
 	*x = RadianceEstimate{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1681,7 +2122,7 @@ func (x *RadianceEstimate) String() string {
 func (*RadianceEstimate) ProtoMessage() {}
 
 func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1694,7 +2135,7 @@ func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RadianceEstimate.ProtoReflect.Descriptor instead.
 func (*RadianceEstimate) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *RadianceEstimate) GetNeighbours() uint32 {
@@ -1730,7 +2171,8 @@ type Shape struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// Optional; names the shape in error messages and listings.
 	Name string `protobuf:"bytes,1,opt,name=name,proto3" json:"name,omitempty"`
-	// Name of an entry in Scene.materials.
+	// Name of an entry in Scene.materials; empty for an instance, whose mesh's parts name
+	// their own.
 	Material string `protobuf:"bytes,2,opt,name=material,proto3" json:"material,omitempty"`
 	// Types that are valid to be assigned to Geometry:
 	//
@@ -1738,6 +2180,7 @@ type Shape struct {
 	//	*Shape_Quad
 	//	*Shape_Triangles
 	//	*Shape_Mesh
+	//	*Shape_Instance
 	Geometry      isShape_Geometry `protobuf_oneof:"geometry"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -1745,7 +2188,7 @@ type Shape struct {
 
 func (x *Shape) Reset() {
 	*x = Shape{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1757,7 +2200,7 @@ func (x *Shape) String() string {
 func (*Shape) ProtoMessage() {}
 
 func (x *Shape) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1770,7 +2213,7 @@ func (x *Shape) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Shape.ProtoReflect.Descriptor instead.
 func (*Shape) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *Shape) GetName() string {
@@ -1830,6 +2273,15 @@ func (x *Shape) GetMesh() *MeshFile {
 	return nil
 }
 
+func (x *Shape) GetInstance() *MeshInstance {
+	if x != nil {
+		if x, ok := x.Geometry.(*Shape_Instance); ok {
+			return x.Instance
+		}
+	}
+	return nil
+}
+
 type isShape_Geometry interface {
 	isShape_Geometry()
 }
@@ -1850,6 +2302,10 @@ type Shape_Mesh struct {
 	Mesh *MeshFile `protobuf:"bytes,6,opt,name=mesh,proto3,oneof"`
 }
 
+type Shape_Instance struct {
+	Instance *MeshInstance `protobuf:"bytes,7,opt,name=instance,proto3,oneof"`
+}
+
 func (*Shape_Sphere) isShape_Geometry() {}
 
 func (*Shape_Quad) isShape_Geometry() {}
@@ -1857,6 +2313,8 @@ func (*Shape_Quad) isShape_Geometry() {}
 func (*Shape_Triangles) isShape_Geometry() {}
 
 func (*Shape_Mesh) isShape_Geometry() {}
+
+func (*Shape_Instance) isShape_Geometry() {}
 
 // An analytic sphere (not tessellated).
 type Sphere struct {
@@ -1869,7 +2327,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1881,7 +2339,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1894,7 +2352,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -1924,7 +2382,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1936,7 +2394,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1949,7 +2407,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -1985,7 +2443,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1997,7 +2455,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2010,7 +2468,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -2027,7 +2485,7 @@ func (x *TriangleMesh) GetIndices() []uint32 {
 	return nil
 }
 
-// A Wavefront OBJ mesh. In a scene file, path is relative to the file; the client uploads
+// A Wavefront OBJ mesh or a farm mesh file (docs/mesh-format.md), told apart by content. In a scene file, path is relative to the file; the client uploads
 // the file to the blob store and submits its digest, so no filesystem is shared between
 // client, coordinator and workers (path stays, as written, to name the file in messages).
 // The coordinator parses the file on submit and refuses one that does not parse, naming
@@ -2045,7 +2503,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2057,7 +2515,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2070,7 +2528,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -2094,107 +2552,35 @@ func (x *MeshFile) GetTransform() *Transform {
 	return nil
 }
 
-// Scale, then rotate about an axis through the origin, then translate.
-type Transform struct {
-	state       protoimpl.MessageState `protogen:"open.v1"`
-	Translation *Vec3                  `protobuf:"bytes,1,opt,name=translation,proto3" json:"translation,omitempty"`
-	// Per-axis scale; unset means (1, 1, 1).
-	Scale           *Vec3   `protobuf:"bytes,2,opt,name=scale,proto3" json:"scale,omitempty"`
-	RotationAxis    *Vec3   `protobuf:"bytes,3,opt,name=rotation_axis,json=rotationAxis,proto3" json:"rotation_axis,omitempty"`
-	RotationDegrees float64 `protobuf:"fixed64,4,opt,name=rotation_degrees,json=rotationDegrees,proto3" json:"rotation_degrees,omitempty"`
-	unknownFields   protoimpl.UnknownFields
-	sizeCache       protoimpl.SizeCache
-}
-
-func (x *Transform) Reset() {
-	*x = Transform{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
-	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
-	ms.StoreMessageInfo(mi)
-}
-
-func (x *Transform) String() string {
-	return protoimpl.X.MessageStringOf(x)
-}
-
-func (*Transform) ProtoMessage() {}
-
-func (x *Transform) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
-	if x != nil {
-		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
-		if ms.LoadMessageInfo() == nil {
-			ms.StoreMessageInfo(mi)
-		}
-		return ms
-	}
-	return mi.MessageOf(x)
-}
-
-// Deprecated: Use Transform.ProtoReflect.Descriptor instead.
-func (*Transform) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
-}
-
-func (x *Transform) GetTranslation() *Vec3 {
-	if x != nil {
-		return x.Translation
-	}
-	return nil
-}
-
-func (x *Transform) GetScale() *Vec3 {
-	if x != nil {
-		return x.Scale
-	}
-	return nil
-}
-
-func (x *Transform) GetRotationAxis() *Vec3 {
-	if x != nil {
-		return x.RotationAxis
-	}
-	return nil
-}
-
-func (x *Transform) GetRotationDegrees() float64 {
-	if x != nil {
-		return x.RotationDegrees
-	}
-	return 0
-}
-
 var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x19renderfarm/v1/rules.proto\"\x9b\x06\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\xd7\b\n" +
 	"\x05Scene\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x125\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraB\x06\x8a\xb5\x18\x020\x01R\x06camera\x12/\n" +
 	"\x04film\x18\x03 \x01(\v2\x13.renderfarm.v1.FilmB\x06\x8a\xb5\x18\x020\x01R\x04film\x123\n" +
 	"\bsampling\x18\x04 \x01(\v2\x17.renderfarm.v1.SamplingR\bsampling\x12>\n" +
 	"\tmaterials\x18\x05 \x03(\v2\x17.renderfarm.v1.MaterialB\a\x8a\xb5\x18\x03@\x80 R\tmaterials\x126\n" +
-	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeB\b\x8a\xb5\x18\x04@\xa0\x8d\x06R\x06shapes\x12\xc9\x01\n" +
-	"\x06lights\x18\a \x03(\v2\x14.renderfarm.v1.LightB\x9a\x01\x8a\xb5\x18\x95\x01@\x80 Z\x8f\x01at least one light in the scene: a point or sun light with a positive component, or a shape whose material is emissive with a positive radianceR\x06lights\x126\n" +
+	"\x06shapes\x18\x06 \x03(\v2\x14.renderfarm.v1.ShapeB\b\x8a\xb5\x18\x04@\xa0\x8d\x06R\x06shapes\x12\x9e\x02\n" +
+	"\x06lights\x18\a \x03(\v2\x14.renderfarm.v1.LightB\xef\x01\x8a\xb5\x18\xea\x01@\x80 Z\xe4\x01at least one light in the scene: a point, spot or sun light with a positive component, a shape whose material emits (emissive with a positive radiance, or principled with a positive emission), or an environment that is not blackR\x06lights\x126\n" +
 	"\aphotons\x18\b \x01(\v2\x1c.renderfarm.v1.PhotonMappingR\aphotons\x12?\n" +
 	"\fantialiasing\x18\t \x01(\v2\x1b.renderfarm.v1.AntialiasingR\fantialiasing\x123\n" +
 	"\bindirect\x18\n" +
 	" \x01(\v2\x17.renderfarm.v1.IndirectR\bindirect\x12<\n" +
-	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive:(\x92\xb5\x18$\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x04(\x80\xe1\xeb\x170\x80\xe1\xeb\x178\x80\x80\x04\"0\n" +
-	"\x04Vec3\x12\f\n" +
-	"\x01x\x18\x01 \x01(\x01R\x01x\x12\f\n" +
-	"\x01y\x18\x02 \x01(\x01R\x01y\x12\f\n" +
-	"\x01z\x18\x03 \x01(\x01R\x01z\"1\n" +
-	"\x05Color\x12\f\n" +
-	"\x01r\x18\x01 \x01(\x01R\x01r\x12\f\n" +
-	"\x01g\x18\x02 \x01(\x01R\x01g\x12\f\n" +
-	"\x01b\x18\x03 \x01(\x01R\x01b\"\xb3\x02\n" +
+	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive\x125\n" +
+	"\x06meshes\x18\f \x03(\v2\x13.renderfarm.v1.MeshB\b\x8a\xb5\x18\x04@\xa0\x8d\x06R\x06meshes\x12;\n" +
+	"\btextures\x18\r \x03(\v2\x16.renderfarm.v1.TextureB\a\x8a\xb5\x18\x03@\x80 R\btextures\x12<\n" +
+	"\venvironment\x18\x0e \x01(\v2\x1a.renderfarm.v1.EnvironmentR\venvironment\x12-\n" +
+	"\x06output\x18\x0f \x01(\v2\x15.renderfarm.v1.OutputR\x06output:.\x92\xb5\x18*\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x04(\x80\xe1\xeb\x170\x80\xe1\xeb\x178\x80\x80\x04@\x80\x80\x80\x80\x01\"\xa1\x03\n" +
 	"\x06Camera\x127\n" +
 	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12K\n" +
 	"\alook_at\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1d\x8a\xb5\x18\x190\x01Z\x15differs from positionR\x06lookAt\x12Y\n" +
 	"\x02up\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3B4\x8a\xb5\x1800\x01Z,non-zero, not parallel to look_at - positionR\x02up\x12H\n" +
-	"\x14vertical_fov_degrees\x18\x04 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\x00\x00!\x00\x00\x00\x00\x00\x80f@R\x12verticalFovDegrees\"\x9a\x02\n" +
+	"\x14vertical_fov_degrees\x18\x04 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\x00\x00!\x00\x00\x00\x00\x00\x80f@R\x12verticalFovDegrees\x126\n" +
+	"\x0faperture_radius\x18\x05 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\x0eapertureRadius\x124\n" +
+	"\x0efocus_distance\x18\x06 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\rfocusDistance\"\x9a\x02\n" +
 	"\x04Film\x12,\n" +
 	"\x05width\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@R\x05width\x12.\n" +
 	"\x06height\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@R\x06height\x12\xb3\x01\n" +
@@ -2221,7 +2607,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\treference\x18\x05 \x01(\v2\x1d.renderfarm.v1.ReferenceImageR\treference\"\xb6\x01\n" +
 	"\x0eReferenceImage\x12\x1b\n" +
 	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12\x86\x01\n" +
-	"\x06digest\x18\x02 \x01(\tBn\x8a\xb5\x18jP\x01Zfset when path is (the client uploads the file at path and sets its digest); the blob is uploaded firstR\x06digest\"\x97\x03\n" +
+	"\x06digest\x18\x02 \x01(\tBn\x8a\xb5\x18jP\x01Zfset when path is (the client uploads the file at path and sets its digest); the blob is uploaded firstR\x06digest\"\xd4\x03\n" +
 	"\bMaterial\x129\n" +
 	"\x04name\x18\x01 \x01(\tB%\x8a\xb5\x18!0\x01H\x80\x02Z\x1aunique among the materialsR\x04name\x122\n" +
 	"\alambert\x18\x02 \x01(\v2\x16.renderfarm.v1.LambertH\x00R\alambert\x125\n" +
@@ -2231,7 +2617,10 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
 	"dielectric\x18\x06 \x01(\v2\x19.renderfarm.v1.DielectricH\x00R\n" +
 	"dielectric\x128\n" +
-	"\tconductor\x18\a \x01(\v2\x18.renderfarm.v1.ConductorH\x00R\tconductorB\f\n" +
+	"\tconductor\x18\a \x01(\v2\x18.renderfarm.v1.ConductorH\x00R\tconductor\x12;\n" +
+	"\n" +
+	"principled\x18\b \x01(\v2\x19.renderfarm.v1.PrincipledH\x00R\n" +
+	"principledB\f\n" +
 	"\x04kind\x12\x04\xb8\xb5\x18\x01\"[\n" +
 	"\aLambert\x12P\n" +
 	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"M\n" +
@@ -2249,21 +2638,54 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\rtransmittance\"\x8b\x01\n" +
 	"\tConductor\x12@\n" +
 	"\x03eta\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\x11\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x03eta\x12<\n" +
-	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x01k\"\x92\x01\n" +
+	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x01k\"\xaa\x06\n" +
+	"\n" +
+	"Principled\x12K\n" +
+	"\n" +
+	"base_color\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\tbaseColor\x12G\n" +
+	"\x12base_color_texture\x18\x02 \x01(\v2\x19.renderfarm.v1.TextureRefR\x10baseColorTexture\x122\n" +
+	"\bmetallic\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\bmetallic\x124\n" +
+	"\troughness\x18\x04 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\troughness\x12W\n" +
+	"\x1ametallic_roughness_texture\x18\x05 \x01(\v2\x19.renderfarm.v1.TextureRefR\x18metallicRoughnessTexture\x12@\n" +
+	"\x0enormal_texture\x18\x06 \x01(\v2\x19.renderfarm.v1.TextureRefR\rnormalTexture\x12B\n" +
+	"\fnormal_scale\x18\a \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00$@)\x00\x00\x00\x00\x00\x00\xf0?R\vnormalScale\x12?\n" +
+	"\bemission\x18\b \x01(\v2\x14.renderfarm.v1.ColorB\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\bemission\x12D\n" +
+	"\x10emission_texture\x18\t \x01(\v2\x19.renderfarm.v1.TextureRefR\x0femissionTexture\x127\n" +
+	"\n" +
+	"alpha_mode\x18\n" +
+	" \x01(\x0e2\x18.renderfarm.v1.AlphaModeR\talphaMode\x129\n" +
+	"\aopacity\x18\v \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?)\x00\x00\x00\x00\x00\x00\xf0?R\aopacity\x12B\n" +
+	"\falpha_cutoff\x18\f \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?)\x00\x00\x00\x00\x00\x00\xe0?R\valphaCutoff\"\xc2\x01\n" +
 	"\x05Light\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x121\n" +
 	"\x05point\x18\x02 \x01(\v2\x19.renderfarm.v1.PointLightH\x00R\x05point\x12+\n" +
-	"\x03sun\x18\x03 \x01(\v2\x17.renderfarm.v1.SunLightH\x00R\x03sunB\f\n" +
+	"\x03sun\x18\x03 \x01(\v2\x17.renderfarm.v1.SunLightH\x00R\x03sun\x12.\n" +
+	"\x04spot\x18\x04 \x01(\v2\x18.renderfarm.v1.SpotLightH\x00R\x04spotB\f\n" +
 	"\x04kind\x12\x04\xb8\xb5\x18\x01\"\x8a\x01\n" +
 	"\n" +
 	"PointLight\x127\n" +
 	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12C\n" +
-	"\tintensity\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\tintensity\"\x96\x01\n" +
+	"\tintensity\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\tintensity\"\xe8\x01\n" +
 	"\bSunLight\x12C\n" +
 	"\tdirection\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x10\x8a\xb5\x18\f0\x01Z\bnon-zeroR\tdirection\x12E\n" +
 	"\n" +
 	"irradiance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\n" +
-	"irradiance\"\xab\x04\n" +
+	"irradiance\x12P\n" +
+	"\x18angular_diameter_degrees\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x004@R\x16angularDiameterDegrees\"\xf6\x02\n" +
+	"\tSpotLight\x127\n" +
+	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12C\n" +
+	"\tdirection\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x10\x8a\xb5\x18\f0\x01Z\bnon-zeroR\tdirection\x12C\n" +
+	"\tintensity\x18\x03 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\tintensity\x12`\n" +
+	"\x12inner_cone_degrees\x18\x04 \x01(\x01B2\x8a\xb5\x18.\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x80V@Z\x1aat most outer_cone_degreesR\x10innerConeDegrees\x12D\n" +
+	"\x12outer_cone_degrees\x18\x05 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x80V@R\x10outerConeDegrees\"\xd4\x01\n" +
+	"\vEnvironment\x12?\n" +
+	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\bradiance\x12+\n" +
+	"\x03map\x18\x02 \x01(\v2\x19.renderfarm.v1.TextureRefR\x03map\x12)\n" +
+	"\x10rotation_degrees\x18\x03 \x01(\x01R\x0frotationDegrees\x12,\n" +
+	"\x12hidden_from_camera\x18\x04 \x01(\bR\x10hiddenFromCamera\"z\n" +
+	"\x06Output\x12=\n" +
+	"\x0eexposure_stops\x18\x01 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x004\xc0\x19\x00\x00\x00\x00\x00\x004@R\rexposureStops\x121\n" +
+	"\btone_map\x18\x02 \x01(\x0e2\x16.renderfarm.v1.ToneMapR\atoneMap\"\xab\x04\n" +
 	"\rPhotonMapping\x12=\n" +
 	"\x0eglobal_photons\x18\x01 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\rglobalPhotons\x12?\n" +
 	"\x0fcaustic_photons\x18\x02 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\x0ecausticPhotons\x12\x83\x02\n" +
@@ -2277,14 +2699,15 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
 	"max_radius\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\tmaxRadius\x12-\n" +
 	"\x06filter\x18\x03 \x01(\x0e2\x15.renderfarm.v1.FilterR\x06filter\x126\n" +
-	"\x06cone_k\x18\x04 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x80\x84.A)\x9a\x99\x99\x99\x99\x99\xf1?R\x05coneK\"\xb4\x02\n" +
+	"\x06cone_k\x18\x04 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x80\x84.A)\x9a\x99\x99\x99\x99\x99\xf1?R\x05coneK\"\xa8\x03\n" +
 	"\x05Shape\x12\x1b\n" +
-	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x124\n" +
-	"\bmaterial\x18\x02 \x01(\tB\x18\x8a\xb5\x18\x140\x01Z\x10names a materialR\bmaterial\x12/\n" +
+	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x12m\n" +
+	"\bmaterial\x18\x02 \x01(\tBQ\x8a\xb5\x18MZKnames a material, unless the geometry is an instance; empty for an instanceR\bmaterial\x12/\n" +
 	"\x06sphere\x18\x03 \x01(\v2\x15.renderfarm.v1.SphereH\x00R\x06sphere\x12)\n" +
 	"\x04quad\x18\x04 \x01(\v2\x13.renderfarm.v1.QuadH\x00R\x04quad\x12;\n" +
 	"\ttriangles\x18\x05 \x01(\v2\x1b.renderfarm.v1.TriangleMeshH\x00R\ttriangles\x12-\n" +
-	"\x04mesh\x18\x06 \x01(\v2\x17.renderfarm.v1.MeshFileH\x00R\x04meshB\x10\n" +
+	"\x04mesh\x18\x06 \x01(\v2\x17.renderfarm.v1.MeshFileH\x00R\x04mesh\x129\n" +
+	"\binstance\x18\a \x01(\v2\x1b.renderfarm.v1.MeshInstanceH\x00R\binstanceB\x10\n" +
 	"\bgeometry\x12\x04\xb8\xb5\x18\x01\"d\n" +
 	"\x06Sphere\x123\n" +
 	"\x06center\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\x06center\x12%\n" +
@@ -2296,16 +2719,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\fTriangleMesh\x12=\n" +
 	"\tpositions\x18\x01 \x03(\v2\x13.renderfarm.v1.Vec3B\n" +
 	"\x8a\xb5\x18\x068\x03@\xc0\x84=R\tpositions\x12e\n" +
-	"\aindices\x18\x02 \x03(\rBK\x8a\xb5\x18G@\xc0\x8d\xb7\x01Z@a non-zero multiple of 3, each less than the number of positionsR\aindices\"\xb7\x01\n" +
+	"\aindices\x18\x02 \x03(\rBK\x8a\xb5\x18G@\xc0\x8d\xb7\x01Z@a non-zero multiple of 3, each less than the number of positionsR\aindices\"\xc4\x01\n" +
 	"\bMeshFile\x12\x1b\n" +
-	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12V\n" +
-	"\x06digest\x18\x02 \x01(\tB>\x8a\xb5\x18:0\x01P\x01Z4the blob is uploaded first and parses as an OBJ meshR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform\"\xa1\x02\n" +
-	"\tTransform\x125\n" +
-	"\vtranslation\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3R\vtranslation\x12I\n" +
-	"\x05scale\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1e\x8a\xb5\x18\x1aZ\x18every component non-zeroR\x05scale\x12g\n" +
-	"\rrotation_axis\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3B-\x8a\xb5\x18)Z'non-zero when rotation_degrees is not 0R\frotationAxis\x12)\n" +
-	"\x10rotation_degrees\x18\x04 \x01(\x01R\x0frotationDegrees*\x8a\x01\n" +
+	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12c\n" +
+	"\x06digest\x18\x02 \x01(\tBK\x8a\xb5\x18G0\x01P\x01ZAthe blob is uploaded first and parses as an OBJ or farm mesh fileR\x06digest\x126\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*\x8a\x01\n" +
 	"\x10AntialiasingMode\x12!\n" +
 	"\x1dANTIALIASING_MODE_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17ANTIALIASING_MODE_EDGES\x10\x01\x12\x1a\n" +
@@ -2314,7 +2732,15 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\fIndirectMode\x12\x1d\n" +
 	"\x19INDIRECT_MODE_UNSPECIFIED\x10\x00\x12\x1e\n" +
 	"\x1aINDIRECT_MODE_FINAL_GATHER\x10\x01\x12\x1c\n" +
-	"\x18INDIRECT_MODE_PHOTON_MAP\x10\x02*V\n" +
+	"\x18INDIRECT_MODE_PHOTON_MAP\x10\x02*S\n" +
+	"\tAlphaMode\x12\x1a\n" +
+	"\x16ALPHA_MODE_UNSPECIFIED\x10\x00\x12\x15\n" +
+	"\x11ALPHA_MODE_OPAQUE\x10\x01\x12\x13\n" +
+	"\x0fALPHA_MODE_MASK\x10\x02*L\n" +
+	"\aToneMap\x12\x18\n" +
+	"\x14TONE_MAP_UNSPECIFIED\x10\x00\x12\x13\n" +
+	"\x0fTONE_MAP_FILMIC\x10\x01\x12\x12\n" +
+	"\x0eTONE_MAP_CLAMP\x10\x02*V\n" +
 	"\x06Filter\x12\x16\n" +
 	"\x12FILTER_UNSPECIFIED\x10\x00\x12\x0e\n" +
 	"\n" +
@@ -2334,15 +2760,15 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 3)
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 28)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 29)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
 	(AntialiasingMode)(0),    // 0: renderfarm.v1.AntialiasingMode
 	(IndirectMode)(0),        // 1: renderfarm.v1.IndirectMode
-	(Filter)(0),              // 2: renderfarm.v1.Filter
-	(*Scene)(nil),            // 3: renderfarm.v1.Scene
-	(*Vec3)(nil),             // 4: renderfarm.v1.Vec3
-	(*Color)(nil),            // 5: renderfarm.v1.Color
+	(AlphaMode)(0),           // 2: renderfarm.v1.AlphaMode
+	(ToneMap)(0),             // 3: renderfarm.v1.ToneMap
+	(Filter)(0),              // 4: renderfarm.v1.Filter
+	(*Scene)(nil),            // 5: renderfarm.v1.Scene
 	(*Camera)(nil),           // 6: renderfarm.v1.Camera
 	(*Film)(nil),             // 7: renderfarm.v1.Film
 	(*Sampling)(nil),         // 8: renderfarm.v1.Sampling
@@ -2357,76 +2783,103 @@ var file_renderfarm_v1_scene_proto_goTypes = []any{
 	(*Mirror)(nil),           // 17: renderfarm.v1.Mirror
 	(*Dielectric)(nil),       // 18: renderfarm.v1.Dielectric
 	(*Conductor)(nil),        // 19: renderfarm.v1.Conductor
-	(*Light)(nil),            // 20: renderfarm.v1.Light
-	(*PointLight)(nil),       // 21: renderfarm.v1.PointLight
-	(*SunLight)(nil),         // 22: renderfarm.v1.SunLight
-	(*PhotonMapping)(nil),    // 23: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil), // 24: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),            // 25: renderfarm.v1.Shape
-	(*Sphere)(nil),           // 26: renderfarm.v1.Sphere
-	(*Quad)(nil),             // 27: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),     // 28: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),         // 29: renderfarm.v1.MeshFile
-	(*Transform)(nil),        // 30: renderfarm.v1.Transform
+	(*Principled)(nil),       // 20: renderfarm.v1.Principled
+	(*Light)(nil),            // 21: renderfarm.v1.Light
+	(*PointLight)(nil),       // 22: renderfarm.v1.PointLight
+	(*SunLight)(nil),         // 23: renderfarm.v1.SunLight
+	(*SpotLight)(nil),        // 24: renderfarm.v1.SpotLight
+	(*Environment)(nil),      // 25: renderfarm.v1.Environment
+	(*Output)(nil),           // 26: renderfarm.v1.Output
+	(*PhotonMapping)(nil),    // 27: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil), // 28: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),            // 29: renderfarm.v1.Shape
+	(*Sphere)(nil),           // 30: renderfarm.v1.Sphere
+	(*Quad)(nil),             // 31: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),     // 32: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),         // 33: renderfarm.v1.MeshFile
+	(*Mesh)(nil),             // 34: renderfarm.v1.Mesh
+	(*Texture)(nil),          // 35: renderfarm.v1.Texture
+	(*Vec3)(nil),             // 36: renderfarm.v1.Vec3
+	(*Color)(nil),            // 37: renderfarm.v1.Color
+	(*TextureRef)(nil),       // 38: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),     // 39: renderfarm.v1.MeshInstance
+	(*Transform)(nil),        // 40: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	6,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
 	7,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
 	8,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
 	13, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	25, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	20, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	23, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	29, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	21, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	27, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
 	9,  // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
 	10, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
 	11, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	4,  // 10: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	4,  // 11: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	4,  // 12: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	0,  // 13: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	1,  // 14: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	12, // 15: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	14, // 16: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	15, // 17: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	16, // 18: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	17, // 19: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	18, // 20: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	19, // 21: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	5,  // 22: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	5,  // 23: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	5,  // 24: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	5,  // 25: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	5,  // 26: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	5,  // 27: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	5,  // 28: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	5,  // 29: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	21, // 30: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	22, // 31: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	4,  // 32: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	5,  // 33: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	4,  // 34: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	5,  // 35: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	24, // 36: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	24, // 37: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	2,  // 38: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	26, // 39: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	27, // 40: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	28, // 41: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	29, // 42: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	4,  // 43: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	4,  // 44: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	4,  // 45: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	4,  // 46: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	4,  // 47: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	30, // 48: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	4,  // 49: renderfarm.v1.Transform.translation:type_name -> renderfarm.v1.Vec3
-	4,  // 50: renderfarm.v1.Transform.scale:type_name -> renderfarm.v1.Vec3
-	4,  // 51: renderfarm.v1.Transform.rotation_axis:type_name -> renderfarm.v1.Vec3
-	52, // [52:52] is the sub-list for method output_type
-	52, // [52:52] is the sub-list for method input_type
-	52, // [52:52] is the sub-list for extension type_name
-	52, // [52:52] is the sub-list for extension extendee
-	0,  // [0:52] is the sub-list for field type_name
+	34, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	35, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	25, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	26, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	36, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	36, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	36, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	0,  // 17: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	1,  // 18: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	12, // 19: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	14, // 20: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	15, // 21: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	16, // 22: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	17, // 23: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	18, // 24: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	19, // 25: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	20, // 26: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	37, // 27: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	37, // 28: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	37, // 29: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	37, // 30: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	37, // 31: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	37, // 32: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	37, // 33: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	37, // 34: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	37, // 35: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	38, // 36: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	38, // 37: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	38, // 38: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	37, // 39: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	38, // 40: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	2,  // 41: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	22, // 42: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	23, // 43: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	24, // 44: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	36, // 45: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	37, // 46: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	36, // 47: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	37, // 48: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	36, // 49: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	36, // 50: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	37, // 51: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	37, // 52: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	38, // 53: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	3,  // 54: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	28, // 55: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	28, // 56: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	4,  // 57: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	30, // 58: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	31, // 59: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	32, // 60: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	33, // 61: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	39, // 62: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	36, // 63: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	36, // 64: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	36, // 65: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	36, // 66: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	36, // 67: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	40, // 68: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	69, // [69:69] is the sub-list for method output_type
+	69, // [69:69] is the sub-list for method input_type
+	69, // [69:69] is the sub-list for extension type_name
+	69, // [69:69] is the sub-list for extension extendee
+	0,  // [0:69] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -2434,32 +2887,37 @@ func file_renderfarm_v1_scene_proto_init() {
 	if File_renderfarm_v1_scene_proto != nil {
 		return
 	}
+	file_renderfarm_v1_assets_proto_init()
 	file_renderfarm_v1_rules_proto_init()
-	file_renderfarm_v1_scene_proto_msgTypes[10].OneofWrappers = []any{
+	file_renderfarm_v1_types_proto_init()
+	file_renderfarm_v1_scene_proto_msgTypes[8].OneofWrappers = []any{
 		(*Material_Lambert)(nil),
 		(*Material_Emissive)(nil),
 		(*Material_Glossy)(nil),
 		(*Material_Mirror)(nil),
 		(*Material_Dielectric)(nil),
 		(*Material_Conductor)(nil),
+		(*Material_Principled)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[17].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[16].OneofWrappers = []any{
 		(*Light_Point)(nil),
 		(*Light_Sun)(nil),
+		(*Light_Spot)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[22].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[24].OneofWrappers = []any{
 		(*Shape_Sphere)(nil),
 		(*Shape_Quad)(nil),
 		(*Shape_Triangles)(nil),
 		(*Shape_Mesh)(nil),
+		(*Shape_Instance)(nil),
 	}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      3,
-			NumMessages:   28,
+			NumEnums:      5,
+			NumMessages:   29,
 			NumExtensions: 0,
 			NumServices:   0,
 		},
