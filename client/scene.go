@@ -221,14 +221,14 @@ func readAsset(ctx context.Context, field, file, written string) (digest string,
 		}
 		return "", 0, invalid(field+".path", asWritten(err, written).Error(), err)
 	}
-	_, err = assets.CheckOBJ(ctx, func() (io.ReadCloser, error) {
+	_, err = assets.CheckMesh(ctx, func() (io.ReadCloser, error) {
 		f, err := openRegular(file, lim.MaxBytes)
 		if err != nil {
 			return nil, err
 		}
 		return f, nil
 	}, lim)
-	var bad *assets.Error
+	var bad assets.Refusal
 	switch {
 	case errors.As(err, &bad):
 		return "", 0, invalid(field, written+": "+bad.Error(), err)

@@ -82,6 +82,16 @@ type Error struct {
 
 func (e *Error) Error() string { return fmt.Sprintf("line %d: %s", e.Line, e.Reason) }
 
+func (*Error) refused() {}
+
+// Refusal is the error of a file that breaks the rules (an *Error of an OBJ file, a
+// *FarmMeshError of a farm mesh file), as opposed to one that could not be read: callers
+// tell the user what is wrong with the file.
+type Refusal interface {
+	error
+	refused()
+}
+
 // Opener opens the file to check; CheckOBJ calls it twice and closes what it returns.
 type Opener func() (io.ReadCloser, error)
 

@@ -19,7 +19,7 @@ import (
 // 3 vertices". A blob is read once per call however many shapes name it, and a blob that
 // passed is remembered (blobs never change).
 func (s *Service) checkMeshes(ctx context.Context, sc *pb.Scene) error {
-	refused := map[string]*assets.Error{}
+	refused := map[string]assets.Refusal{}
 	for i, sh := range sc.GetShapes() {
 		m := sh.GetMesh()
 		if m == nil {
@@ -46,8 +46,8 @@ func (s *Service) checkMeshes(ctx context.Context, sc *pb.Scene) error {
 }
 
 // checkMesh checks the mesh blob digest: nil if it passes or is not in the blob store,
-// its *assets.Error if it does not parse, or the error of reading it.
-func (s *Service) checkMesh(ctx context.Context, digest string) (*assets.Error, error) {
+// its assets.Refusal if it does not parse, or the error of reading it.
+func (s *Service) checkMesh(ctx context.Context, digest string) (assets.Refusal, error) {
 	if _, ok := s.meshes.get(digest); ok {
 		return nil, nil
 	}
@@ -58,8 +58,8 @@ func (s *Service) checkMesh(ctx context.Context, digest string) (*assets.Error, 
 		r, _, err := s.cfg.Blobs.Open(ctx, digest)
 		return r, err
 	}
-	mesh, err := assets.CheckOBJ(ctx, open, assets.SceneLimits())
-	var bad *assets.Error
+	mesh, err := assets.CheckMesh(ctx, open, assets.SceneLimits())
+	var bad assets.Refusal
 	switch {
 	case errors.As(err, &bad):
 		return bad, nil
