@@ -77,6 +77,10 @@ Light LightFromProto(const pb::Light& light, const BoundingSphere& scene) {
       return SunLight::Make(Vec3(Normalize(d / MaxComponent(Abs(d)))), RgbOf(light.sun().irradiance()),
                             scene);
     }
+    case pb::Light::kSpot:
+      // A stand-in until spot lights are rendered with their cone: a point light of the
+      // intensity on the axis.
+      return PointLight{Vec3(Vec3dOf(light.spot().position())), RgbOf(light.spot().intensity())};
     case pb::Light::KIND_NOT_SET:
       break;
   }

@@ -49,6 +49,13 @@ Material MaterialFromProto(const pb::Material& material) {
     case pb::Material::kConductor:
       return ConductorMaterial{RgbOf(material.conductor().eta()),
                                RgbOf(material.conductor().k())};
+    case pb::Material::kPrincipled: {
+      // A stand-in until the principled BSDF is rendered: its emission when it emits (so
+      // that it stays an area light), else a Lambertian surface of its base colour.
+      const pb::Principled& p = material.principled();
+      if (p.has_emission() && !RgbOf(p.emission()).IsBlack()) return EmissiveMaterial{RgbOf(p.emission())};
+      return LambertMaterial{p.has_base_color() ? RgbOf(p.base_color()) : Rgb(1)};
+    }
     case pb::Material::KIND_NOT_SET:
       break;
   }

@@ -82,6 +82,8 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
       return InlineMesh(shape.triangles());
     case pb::Shape::kMesh:
       return FileMesh(shape.mesh(), field + ".mesh", load_blob);
+    case pb::Shape::kInstance:
+      throw SceneError(field + ".instance: instances are not built yet");
     case pb::Shape::GEOMETRY_NOT_SET:
       break;
   }
