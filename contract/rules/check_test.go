@@ -78,7 +78,7 @@ func TestCheckEachKindAndBound(t *testing.T) {
 		// Oneofs: only the set member is checked; a required oneof with none set is an error
 		// at the message's own path.
 		{"one_required unset", &pb.Scene{Camera: &pb.Camera{Position: scenetest.V(0, 0, 0), LookAt: scenetest.V(0, 0, 0), Up: scenetest.V(0, 0, 0), VerticalFovDegrees: 1},
-			Film: &pb.Film{Width: 1, Height: 1}, Lights: []*pb.Light{{Name: "l"}}}, "lights[0]: exactly one of point, sun must be set"},
+			Film: &pb.Film{Width: 1, Height: 1}, Lights: []*pb.Light{{Name: "l"}}}, "lights[0]: exactly one of point, sun, spot must be set"},
 		{"set member checked", &pb.Light{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 0, 0)}}}, "point.intensity: missing"},
 		// Maps and proto3 optional fields (rules.proto: every double finite).
 		{"map value", &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"direct": 0.5, "caustic": nan}}, "layer_reference_rmse[caustic]: must be a finite number, got NaN"},

@@ -32,6 +32,10 @@ func CapabilitiesOf(m *pb.Material) Capabilities {
 		return Capabilities{Specular: true}
 	case *pb.Material_Emissive:
 		return Capabilities{Emissive: true}
+	case *pb.Material_Principled:
+		// Its diffuse base; the principled material's own rules (a nearly smooth surface is
+		// specular) refine this.
+		return Capabilities{Diffuse: true}
 	default:
 		panic(fmt.Sprintf("scene: CapabilitiesOf does not know material kind %T", k))
 	}

@@ -26,7 +26,8 @@ func checkView(s *pb.Scene) *FieldError {
 }
 
 // checkShapes checks each shape's geometry beyond its bounds: quads that span an area,
-// triangle lists that name their corners, mesh transforms that can be inverted.
+// triangle lists that name their corners, mesh and instance transforms that can be
+// inverted.
 func checkShapes(s *pb.Scene) *FieldError {
 	for i, sh := range s.GetShapes() {
 		p := index("shapes", i)
@@ -38,6 +39,8 @@ func checkShapes(s *pb.Scene) *FieldError {
 			err = checkTriangles(p+".triangles", g.Triangles)
 		case *pb.Shape_Mesh:
 			err = checkTransform(p+".mesh.transform", g.Mesh.GetTransform())
+		case *pb.Shape_Instance:
+			err = checkTransform(p+".instance.transform", g.Instance.GetTransform())
 		case *pb.Shape_Sphere:
 			// rules.Check has bounded its radius; a centre may be anywhere.
 		default:
@@ -76,8 +79,29 @@ func checkTriangles(p string, t *pb.TriangleMesh) *FieldError {
 	return nil
 }
 
-// checkTransform checks a mesh's transform, which may be unset (the identity).
+// checkTransform checks a transform, which may be unset (the identity): a matrix of 12
+// values alone, which can be inverted; or a scale of non-zero components and a rotation
+// about a non-zero axis.
 func checkTransform(p string, t *pb.Transform) *FieldError {
+	if m := t.GetMatrix(); len(m) > 0 {
+		trs := []struct {
+			name string
+			set  bool
+		}{{"translation", t.GetTranslation() != nil}, {"scale", t.GetScale() != nil},
+			{"rotation_axis", t.GetRotationAxis() != nil}, {"rotation_degrees", t.GetRotationDegrees() != 0}}
+		if len(m) != 12 {
+			return rules.Errorf(p+".matrix", "must have 12 values (3 rows of 4: an affine matrix without its last row), got %d", len(m))
+		}
+		for _, f := range trs {
+			if f.set {
+				return rules.Errorf(p+".matrix", "must be the only part of the transform set, but %s is set too", f.name)
+			}
+		}
+		if MatrixDeterminant(m) == 0 {
+			return rules.Errorf(p+".matrix", "must be invertible, but the determinant of its 3x3 part is 0")
+		}
+		return nil
+	}
 	if sc := t.GetScale(); sc != nil {
 		for _, c := range []struct {
 			name string
@@ -94,14 +118,11 @@ func checkTransform(p string, t *pb.Transform) *FieldError {
 	return nil
 }
 
-// checkSuns: a sun shines from somewhere (lights[i].sun.direction).
-func checkSuns(s *pb.Scene) *FieldError {
-	for i, l := range s.GetLights() {
-		if sun := l.GetSun(); sun != nil && toVec(sun.GetDirection()).isZero() {
-			return rules.Errorf(index("lights", i)+".sun.direction", "must be non-zero")
-		}
-	}
-	return nil
+// MatrixDeterminant is the determinant of the linear (3x3) part of Transform.matrix m (12
+// values, row-major), expanded along the first row; the worker computes it in the same
+// order.
+func MatrixDeterminant(m []float64) float64 {
+	return m[0]*(m[5]*m[10]-m[6]*m[9]) - m[1]*(m[4]*m[10]-m[6]*m[8]) + m[2]*(m[4]*m[9]-m[5]*m[8])
 }
 
 func index(list string, i int) string { return list + "[" + strconv.Itoa(i) + "]" }

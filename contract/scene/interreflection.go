@@ -12,8 +12,9 @@ import (
 // surface at all, one sphere lit only from outside (its outside is convex; its inside,
 // which can light itself, gets no light) and nothing else diffuse, or every diffuse surface a
 // quad or triangle of one plane, with no specular surface to carry light from one part of
-// it to another. Mesh files are not inspected (their bytes are in the blob store), so a
-// scene with a diffuse mesh file always counts as interreflecting. Why is the reason.
+// it to another. Mesh files and the parts of instanced meshes are not inspected (their
+// bytes are in the blob store), so a scene with a diffuse mesh file or instanced part
+// always counts as interreflecting. Why is the reason.
 type Interreflection struct {
 	Possible bool
 	Why      string
@@ -21,13 +22,13 @@ type Interreflection struct {
 
 // InterreflectionOf inspects s, which must have passed Validate.
 func InterreflectionOf(s *pb.Scene) Interreflection {
-	mats := materialsByName(s)
+	materials := ShapeMaterials(s)
 	var planes []plane
 	var sphere *pb.Sphere
 	spheres, others := 0, 0
 	surf := SurfacesOf(s)
-	for _, sh := range s.GetShapes() {
-		if !CapabilitiesOf(mats[sh.GetMaterial()]).Diffuse {
+	for i, sh := range s.GetShapes() {
+		if !anyMaterial(materials[i], func(m *pb.Material) bool { return CapabilitiesOf(m).Diffuse }) {
 			continue
 		}
 		switch g := sh.GetGeometry().(type) {
@@ -45,7 +46,7 @@ func InterreflectionOf(s *pb.Scene) Interreflection {
 					planes = append(planes, p)
 				}
 			}
-		case *pb.Shape_Mesh:
+		case *pb.Shape_Mesh, *pb.Shape_Instance:
 			others++ // its vertices are in the blob store, not here
 		default:
 			panic(fmt.Sprintf("scene: InterreflectionOf does not know geometry %T", g))
@@ -56,7 +57,7 @@ func InterreflectionOf(s *pb.Scene) Interreflection {
 		return Interreflection{Why: "no diffuse surface (Lambert or glossy)"}
 	case surf.Specular:
 		return Interreflection{Possible: true, Why: "diffuse surfaces can light each other, directly or through specular ones"}
-	case others == 0 && spheres == 1 && len(planes) == 0 && !anyLightInside(s, mats, sphere):
+	case others == 0 && spheres == 1 && len(planes) == 0 && !anyLightInside(s, materials, sphere):
 		return Interreflection{Why: "the only diffuse surface is one sphere lit from outside, which cannot light itself"}
 	case others == 0 && spheres == 0 && coplanar(planes):
 		return Interreflection{Why: "every diffuse surface lies in one plane, so none can light another"}
@@ -102,20 +103,23 @@ func coplanar(ps []plane) bool {
 	return true
 }
 
-// anyLightInside says whether a point light or an emissive shape may reach inside the
+// anyLightInside says whether a point or spot light or an emissive shape may reach inside the
 // sphere, where its concave inside lights itself (a furnace). It errs towards yes (a shape
 // counts when its bounding ball meets the sphere), since wrongly skipping the global map
 // loses light while wrongly keeping it only costs time. Suns are outside.
-func anyLightInside(s *pb.Scene, mats map[string]*pb.Material, sp *pb.Sphere) bool {
+func anyLightInside(s *pb.Scene, materials [][]*pb.Material, sp *pb.Sphere) bool {
 	c, r := toVec(sp.GetCenter()), sp.GetRadius()
 	meets := func(centre vec, radius float64) bool { return centre.sub(c).length() < r+radius }
 	for _, l := range s.GetLights() {
 		if pl := l.GetPoint(); pl != nil && meets(toVec(pl.GetPosition()), 0) {
 			return true
 		}
+		if sl := l.GetSpot(); sl != nil && meets(toVec(sl.GetPosition()), 0) {
+			return true
+		}
 	}
-	for _, sh := range s.GetShapes() {
-		if mats[sh.GetMaterial()].GetEmissive() == nil {
+	for i, sh := range s.GetShapes() {
+		if !anyMaterial(materials[i], Emits) {
 			continue
 		}
 		switch g := sh.GetGeometry().(type) {
@@ -133,7 +137,7 @@ func anyLightInside(s *pb.Scene, mats map[string]*pb.Material, sp *pb.Sphere) bo
 			if meets(boundingBall(g.Triangles.GetPositions())) {
 				return true
 			}
-		case *pb.Shape_Mesh:
+		case *pb.Shape_Mesh, *pb.Shape_Instance:
 			return true // a mesh file's vertices are not known here: assume it may be inside
 		default:
 			panic(fmt.Sprintf("scene: anyLightInside does not know geometry %T", g))

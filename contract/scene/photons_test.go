@@ -105,7 +105,7 @@ func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 		{"k negative", addMaterial(conductor(rgb(1, 1, 1), rgb(0, 0, -1))), "materials[2].conductor.k.b", "[0, 100], got -1"},
 		{"k Inf", addMaterial(conductor(rgb(1, 1, 1), rgb(inf, 0, 0))), "materials[2].conductor.k.r", "finite"},
 		{"k NaN", addMaterial(conductor(rgb(1, 1, 1), rgb(0, nan, 0))), "materials[2].conductor.k.g", "finite"},
-		{"light without kind", lights(&pb.Light{Name: "x"}), "lights[0]", "exactly one of point, sun must be set"},
+		{"light without kind", lights(&pb.Light{Name: "x"}), "lights[0]", "exactly one of point, sun, spot must be set"},
 		{"point without position", lights(point(nil, rgb(1, 1, 1))), "lights[0].point.position", "missing"},
 		{"point NaN position", lights(point(scenetest.V(0, nan, 0), rgb(1, 1, 1))), "lights[0].point.position.y", "finite"},
 		{"point negative intensity", lights(point(scenetest.V(0, 1, 0), rgb(1, -1, 1))), "lights[0].point.intensity.g", ">= 0"},

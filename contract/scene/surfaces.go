@@ -5,7 +5,8 @@ import pb "photonfarm/proto/renderfarm/v1"
 // Surfaces says which kinds of surface a scene's shapes have, which decides the photon maps
 // it needs: a global map if any shape reflects diffusely (Lambert, or glossy with its
 // diffuse lobe), a caustic map if any is specular (mirror, dielectric, conductor).
-// Materials no shape uses do not count; emissive shapes reflect nothing.
+// Materials no shape uses do not count (an instance uses its mesh's parts'); emissive
+// shapes reflect nothing.
 type Surfaces struct {
 	Diffuse  bool
 	Specular bool
@@ -13,12 +14,13 @@ type Surfaces struct {
 
 // SurfacesOf classifies the materials used by s's shapes. s must have passed Validate.
 func SurfacesOf(s *pb.Scene) Surfaces {
-	kinds := materialsByName(s)
 	var out Surfaces
-	for _, sh := range s.GetShapes() {
-		c := CapabilitiesOf(kinds[sh.GetMaterial()])
-		out.Diffuse = out.Diffuse || c.Diffuse
-		out.Specular = out.Specular || c.Specular
+	for _, materials := range ShapeMaterials(s) {
+		for _, m := range materials {
+			c := CapabilitiesOf(m)
+			out.Diffuse = out.Diffuse || c.Diffuse
+			out.Specular = out.Specular || c.Specular
+		}
 	}
 	return out
 }

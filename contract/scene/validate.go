@@ -34,12 +34,14 @@ func Validate(s *pb.Scene) error {
 var structural = []func(*pb.Scene) *FieldError{
 	checkView,           // camera.look_at differs from position (camera.look_at); up non-zero, not parallel to the view (camera.up)
 	checkTiles,          // tiles per round at most max_tiles_per_round (film.tile_size)
-	checkMaterialNames,  // unique (materials[i].name)
-	checkShapeMaterials, // names a material (shapes[i].material)
+	checkNames,          // unique (materials[i].name, meshes[i].name, textures[i].name)
+	checkShapeMaterials, // names a material, or none for an instance (shapes[i].material); names a mesh (shapes[i].instance.mesh)
+	checkPartMaterials,  // names a material (meshes[i].parts[j].material)
+	checkTextureRefs,    // names a texture (materials[i].principled.*_texture.texture, environment.map.texture)
 	checkSomeLight,      // at least one light (lights)
 	checkGlossyEnergy,   // diffuse + specular <= 1 (materials[i].glossy.specular.r/g/b)
-	checkShapes,         // quad edges, triangle indices, mesh transforms (shapes[i]...)
-	checkSuns,           // direction non-zero (lights[i].sun.direction)
+	checkShapes,         // quad edges, triangle indices, mesh and instance transforms (shapes[i]...)
+	checkLightShapes,    // directions non-zero (lights[i].sun.direction, lights[i].spot.direction); inner cone <= outer (lights[i].spot.inner_cone_degrees)
 	checkShards,         // shards per map at most max_shards_per_map (photons.photons_per_shard)
 	checkReference,      // digest set when path is (progressive.reference.digest)
 }

@@ -119,15 +119,11 @@ func count(n uint64) string {
 
 func lightCount(s *pb.Scene) string {
 	n := len(s.GetLights())
-	emissive := map[string]bool{}
-	for _, m := range s.GetMaterials() {
-		if m.GetEmissive() != nil {
-			emissive[m.GetName()] = true
-		}
-	}
-	for _, sh := range s.GetShapes() {
-		if emissive[sh.GetMaterial()] {
-			n++
+	for _, materials := range scene.ShapeMaterials(s) {
+		for _, m := range materials {
+			if scene.Emits(m) {
+				n++ // an emissive shape, or an emissive part of an instanced mesh
+			}
 		}
 	}
 	if n == 1 {

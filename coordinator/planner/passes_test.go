@@ -51,6 +51,18 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 		{"precompute by default", func(*pb.Scene) {}, planner.PassPrecompute, true, "2 shards per round"},
 		{"photon map mode", func(s *pb.Scene) { s.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP} }, planner.PassFinalGather, false, "PHOTON_MAP"},
 		{"direct light", func(*pb.Scene) {}, planner.PassDirect, true, "1 light"},
+		{"an instanced mesh's emissive parts are lights", func(s *pb.Scene) {
+			digest := "sha256:" + strings.Repeat("0", 64)
+			s.Meshes = []*pb.Mesh{{Name: "lantern", Parts: []*pb.MeshPart{{Digest: digest, Material: "light"}, {Digest: digest, Material: "white"}}}}
+			for range 2 {
+				s.Shapes = append(s.Shapes, &pb.Shape{Geometry: &pb.Shape_Instance{Instance: &pb.MeshInstance{Mesh: "lantern"}}})
+			}
+		}, planner.PassDirect, true, "3 lights"},
+		{"an instanced diffuse part over one plane", func(s *pb.Scene) {
+			flatFloor(s)
+			s.Meshes = []*pb.Mesh{{Name: "box", Parts: []*pb.MeshPart{{Digest: "sha256:" + strings.Repeat("0", 64), Material: "white"}}}}
+			s.Shapes = append(s.Shapes, &pb.Shape{Geometry: &pb.Shape_Instance{Instance: &pb.MeshInstance{Mesh: "box"}}})
+		}, planner.PassGlobalMap, true, "can light each other"},
 		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
 		{"no antialiasing", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_NONE} }, planner.PassEdgeAA, false, "NONE"},
 		{"full supersampling", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_FULL} }, planner.PassEdgeAA, true, "FULL"},
