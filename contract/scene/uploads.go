@@ -30,20 +30,30 @@ func checkReference(s *pb.Scene) *FieldError {
 	return nil
 }
 
-// MeshRef is a mesh file a scene refers to by digest.
-type MeshRef struct {
-	// Field is the digest's path, "shapes[3].mesh.digest".
+// AssetRef is a file a scene refers to by digest, uploaded before the scene is submitted.
+type AssetRef struct {
+	// Field is the digest's path: "shapes[3].mesh.digest", "meshes[0].parts[1].digest",
+	// "textures[2].digest".
 	Field  string
 	Digest string
 }
 
-// MeshRefs lists the mesh files s refers to, in shape order.
-func MeshRefs(s *pb.Scene) []MeshRef {
-	var refs []MeshRef
+// AssetRefs lists the assets s refers to in field order: shapes' mesh files, mesh parts,
+// then textures.
+func AssetRefs(s *pb.Scene) []AssetRef {
+	var refs []AssetRef
 	for i, sh := range s.GetShapes() {
 		if m := sh.GetMesh(); m != nil {
-			refs = append(refs, MeshRef{Field: index("shapes", i) + ".mesh.digest", Digest: m.GetDigest()})
+			refs = append(refs, AssetRef{Field: index("shapes", i) + ".mesh.digest", Digest: m.GetDigest()})
 		}
+	}
+	for i, m := range s.GetMeshes() {
+		for j, part := range m.GetParts() {
+			refs = append(refs, AssetRef{Field: index(index("meshes", i)+".parts", j) + ".digest", Digest: part.GetDigest()})
+		}
+	}
+	for i, t := range s.GetTextures() {
+		refs = append(refs, AssetRef{Field: index("textures", i) + ".digest", Digest: t.GetDigest()})
 	}
 	return refs
 }

@@ -23,8 +23,9 @@ import (
 const vectorDir = "../../tests/vectors/scenes"
 
 // TestSharedSceneVectors runs every vector as the README says every side must: parse,
-// grow, Validate, then check that each mesh file it names is among its assets; an
-// accepted vector must pass all of it, a refused one must fail naming exactly its field.
+// grow, Validate, then check that each file it names (mesh files and parts, textures) is
+// among its assets; an accepted vector must pass all of it, a refused one must fail
+// naming exactly its field.
 func TestSharedSceneVectors(t *testing.T) {
 	paths, err := filepath.Glob(filepath.Join(vectorDir, "*.json"))
 	if err != nil || len(paths) < 100 {
@@ -65,14 +66,15 @@ func readVector(t *testing.T, path string) *pb.SceneVector {
 	return vec
 }
 
-// checkVector validates the vector's scene, then checks that every mesh file it names is
-// an asset of the vector whose bytes have that digest (as if uploaded).
+// checkVector validates the vector's scene, then checks that every file it names (mesh
+// files and parts, textures) is an asset of the vector whose bytes have that digest (as
+// if uploaded).
 func checkVector(vec *pb.SceneVector) error {
 	s := vec.GetScene()
 	if err := scene.Validate(s); err != nil {
 		return err
 	}
-	for _, ref := range scene.MeshRefs(s) {
+	for _, ref := range scene.AssetRefs(s) {
 		file, ok := vec.GetAssets()[ref.Digest]
 		if !ok {
 			return &scene.FieldError{Field: ref.Field, Message: "no such blob"}

@@ -121,11 +121,11 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	return &pb.SubmitJobResponse{Job: job}, nil
 }
 
-// checkInputBlobs checks that the blobs a scene names (meshes, reference image) exist.
+// checkInputBlobs checks that the blobs a scene names (meshes, mesh parts, textures, reference image) exist.
 func (s *Service) checkInputBlobs(ctx context.Context, sc *pb.Scene) error {
-	refs := scene.MeshRefs(sc)
+	refs := scene.AssetRefs(sc)
 	if d := scene.ReferenceDigest(sc); d != "" {
-		refs = append(refs, scene.MeshRef{Field: "progressive.reference.digest", Digest: d})
+		refs = append(refs, scene.AssetRef{Field: "progressive.reference.digest", Digest: d})
 	}
 	for _, ref := range refs {
 		if _, err := s.cfg.Blobs.Stat(ctx, ref.Digest); err != nil {

@@ -4,8 +4,11 @@
 //   tests/vectors/scenes/*.json  a renderfarm.v1.SceneVector each (protobuf JSON): its
 //       scene, grown as `grow` says, with `assets` served by digest (each file's SHA-256
 //       checked), must build when refused_field is empty and otherwise be refused with a
-//       SceneError whose field (the text before the first ": ") is refused_field. Set
-//       FARM_SCENE_VECTORS to a folder to run other vectors (while writing new ones).
+//       SceneError whose field (the text before the first ": ") is refused_field. Building
+//       loads the mesh files and parts; textures are not read then (a task fetches those
+//       it shades with), so a texture's digest is looked up among the assets here, after
+//       building, as the README's step 4 says. Set FARM_SCENE_VECTORS to a folder to run
+//       other vectors (while writing new ones).
 //   tests/vectors/meshes/*.obj   OBJ files whose first line is "# vector: accept" or
 //       "# vector: refuse line N: REASON": ParseObjMesh must accept the first kind and
 //       refuse the second with an ObjError for line N.
@@ -133,6 +136,12 @@ std::string Disagreement(const fs::path& file) {
     return "";
   } catch (const std::exception& e) {
     return std::string("failed with an error that names no field: ") + e.what();
+  }
+  for (int i = 0; i < v.scene().textures_size(); ++i) {
+    if (v.assets().contains(v.scene().textures(i).digest())) continue;
+    const std::string field = "textures[" + std::to_string(i) + "].digest";
+    if (field == v.refused_field()) return "";
+    return "refused naming " + field + " (no such asset), not " + v.refused_field();
   }
   if (!v.refused_field().empty()) return "accepted, but every side must refuse it naming " + v.refused_field();
   return "";

@@ -72,9 +72,94 @@ var accepted = []vectorCase{
 	accept("accept-point-intensity-0", "PointLight.intensity:gte=", func(s *pb.Scene) { point(s).Intensity = rgb(0, 0, 0) }),
 	accept("accept-sun-irradiance-0", "SunLight.irradiance:gte=", func(s *pb.Scene) { sun(s).Irradiance = rgb(0, 0, 0) }),
 	accept("accept-only-a-point-light", "", func(s *pb.Scene) {
-		s.Lights = s.Lights[:1]
+		withoutOtherLights(s)
 		s.Shapes[2].Material = "white"
 	}),
+
+	accept("accept-only-a-spot-light", "", func(s *pb.Scene) {
+		s.Lights, s.Environment = s.Lights[2:], nil
+		s.Shapes[2].Material = "white"
+	}),
+	accept("accept-only-principled-emission", "", func(s *pb.Scene) {
+		s.Lights, s.Environment = nil, nil
+		s.Shapes[2].Material = "varnish"
+	}),
+	accept("accept-only-an-instanced-emissive-part", "", func(s *pb.Scene) {
+		s.Lights, s.Environment = nil, nil
+		s.Shapes[2].Material = "white"
+		crate(s).Parts[1].Material = "lamp"
+		withInstance(s)
+	}),
+	accept("accept-only-a-constant-environment", "", func(s *pb.Scene) {
+		s.Lights = nil
+		s.Shapes[2].Material = "white"
+		s.Environment.Map = nil
+	}),
+	accept("accept-only-an-environment-map", "", func(s *pb.Scene) {
+		s.Lights = nil
+		s.Shapes[2].Material = "white"
+		s.Environment.Radiance = nil
+	}),
+	accept("accept-spot-light-cones-at-their-bounds", "SpotLight.inner_cone_degrees:lte= SpotLight.outer_cone_degrees:lte=", func(s *pb.Scene) {
+		spot(s).InnerConeDegrees, spot(s).OuterConeDegrees = 90, 90
+	}),
+	accept("accept-spot-light-inner-cone-0", "SpotLight.inner_cone_degrees:gte=", func(s *pb.Scene) { spot(s).InnerConeDegrees = 0 }),
+	accept("accept-spot-intensity-0", "SpotLight.intensity:gte=", func(s *pb.Scene) { spot(s).Intensity = rgb(0, 0, 0) }),
+	accept("accept-sun-angular-diameter-0", "SunLight.angular_diameter_degrees:gte=", func(s *pb.Scene) { sun(s).AngularDiameterDegrees = 0 }),
+	accept("accept-sun-angular-diameter-20", "SunLight.angular_diameter_degrees:lte=", func(s *pb.Scene) { sun(s).AngularDiameterDegrees = 20 }),
+
+	// Principled at its bounds.
+	accept("accept-base-color-0-and-1", "Principled.base_color:gte= Principled.base_color:lte=", func(s *pb.Scene) { principled(s).BaseColor = rgb(0, 1, 0.5) }),
+	accept("accept-principled-without-base-color", "", func(s *pb.Scene) { principled(s).BaseColor = nil }),
+	accept("accept-metallic-0", "Principled.metallic:gte=", func(s *pb.Scene) { principled(s).Metallic = 0 }),
+	accept("accept-metallic-1", "Principled.metallic:lte=", func(s *pb.Scene) { principled(s).Metallic = 1 }),
+	accept("accept-roughness-0", "Principled.roughness:gte=", func(s *pb.Scene) { principled(s).Roughness = 0 }),
+	accept("accept-roughness-1", "Principled.roughness:lte=", func(s *pb.Scene) { principled(s).Roughness = 1 }),
+	accept("accept-normal-scale-0", "Principled.normal_scale:gte= Principled.normal_scale:default", func(s *pb.Scene) { principled(s).NormalScale = 0 }),
+	accept("accept-normal-scale-10", "Principled.normal_scale:lte=", func(s *pb.Scene) { principled(s).NormalScale = 10 }),
+	accept("accept-principled-emission-0-in-one-channel", "Principled.emission:gte=", func(s *pb.Scene) { principled(s).Emission.R = 0 }),
+	accept("accept-opacity-0", "Principled.opacity:gte= Principled.opacity:default", func(s *pb.Scene) { principled(s).Opacity = 0 }),
+	accept("accept-opacity-1", "Principled.opacity:lte=", func(s *pb.Scene) { principled(s).Opacity = 1 }),
+	accept("accept-alpha-cutoff-0", "Principled.alpha_cutoff:gte= Principled.alpha_cutoff:default", func(s *pb.Scene) { principled(s).AlphaCutoff = 0 }),
+	accept("accept-alpha-cutoff-1", "Principled.alpha_cutoff:lte=", func(s *pb.Scene) { principled(s).AlphaCutoff = 1 }),
+
+	// Meshes, instances and textures.
+	accept("accept-instance", "", func(s *pb.Scene) { withInstance(s) }),
+	accept("accept-instance-without-transform", "", func(s *pb.Scene) { withInstance(s).Transform = nil }),
+	accept("accept-instance-placed-by-scale-rotation-and-translation", "", func(s *pb.Scene) {
+		withInstance(s).Transform = &pb.Transform{Translation: v(1, 0, 0), Scale: v(-1, 2, 1), RotationAxis: v(0, 1, 0), RotationDegrees: 45}
+	}),
+	accept("accept-mesh-placed-by-a-matrix", "Transform.matrix:max_items=", func(s *pb.Scene) {
+		withMesh(s).Transform = &pb.Transform{Matrix: []float64{2, 0, 0, 0, 0, 2, 0, 1, 0, 0, -2, 0}}
+	}),
+	accept("accept-mesh-name-of-256-bytes", "Mesh.name:max_bytes=", func(s *pb.Scene) {
+		crate(s).Name = long(256)
+		withInstance(s).Mesh = long(256)
+	}),
+	accept("accept-mesh-of-1-part", "Mesh.parts:min_items=", func(s *pb.Scene) {
+		crate(s).Parts = crate(s).Parts[:1]
+		withInstance(s)
+	}),
+	accept("accept-mesh-of-4096-parts", "Mesh.parts:max_items=", func(s *pb.Scene) { withInstance(s) }, grow("meshes[0].parts", 4096)),
+	accept("accept-mesh-part-path-of-4096-bytes", "MeshPart.path:max_bytes=", func(s *pb.Scene) { crate(s).Parts[0].Path = long(4096) }),
+	accept("accept-texture-name-of-256-bytes", "Texture.name:max_bytes=", func(s *pb.Scene) {
+		s.Textures[1].Name = long(256)
+		s.Environment.Map.Texture = long(256)
+	}),
+	accept("accept-texture-path-of-4096-bytes", "Texture.path:max_bytes=", func(s *pb.Scene) { wood(s).Path = long(4096) }),
+	accept("accept-no-meshes-and-no-textures", "", func(s *pb.Scene) {
+		s.Meshes, s.Textures, s.Environment = nil, nil, nil
+		principled(s).BaseColorTexture, principled(s).MetallicRoughnessTexture = nil, nil
+		principled(s).NormalTexture, principled(s).EmissionTexture = nil, nil
+	}),
+
+	// The environment, the lens and the output.
+	accept("accept-environment-radiance-0-in-one-channel", "Environment.radiance:gte=", func(s *pb.Scene) { s.Environment.Radiance.B = 0 }),
+	accept("accept-pinhole-camera", "Camera.aperture_radius:gte= Camera.focus_distance:gte=", func(s *pb.Scene) {
+		s.Camera.ApertureRadius, s.Camera.FocusDistance = 0, 0
+	}),
+	accept("accept-exposure-minus-20-stops", "Output.exposure_stops:gte=", func(s *pb.Scene) { s.Output.ExposureStops = -20 }),
+	accept("accept-exposure-20-stops", "Output.exposure_stops:lte=", func(s *pb.Scene) { s.Output.ExposureStops = 20 }),
 
 	// Photon mapping.
 	accept("accept-50000000-photons-per-map-in-shards-of-10000000", "PhotonMapping.global_photons:lte= PhotonMapping.caustic_photons:lte= PhotonMapping.photons_per_shard:lte=", func(s *pb.Scene) {

@@ -11,7 +11,7 @@ import (
 func base() *pb.Scene {
 	return &pb.Scene{
 		Name:     "vector-base",
-		Camera:   &pb.Camera{Position: v(0, 1, 5), LookAt: v(0, 1, 0), Up: v(0, 1, 0), VerticalFovDegrees: 40},
+		Camera:   &pb.Camera{Position: v(0, 1, 5), LookAt: v(0, 1, 0), Up: v(0, 1, 0), VerticalFovDegrees: 40, ApertureRadius: 0.01, FocusDistance: 5},
 		Film:     &pb.Film{Width: 32, Height: 24, TileSize: 16},
 		Sampling: &pb.Sampling{SamplesPerPixel: 2, Seed: 7, LightSamples: 4},
 		Materials: []*pb.Material{
@@ -21,6 +21,12 @@ func base() *pb.Scene {
 			{Name: "mirror", Kind: &pb.Material_Mirror{Mirror: &pb.Mirror{Reflectance: rgb(0.9, 0.9, 0.9)}}},
 			{Name: "glass", Kind: &pb.Material_Dielectric{Dielectric: &pb.Dielectric{Ior: 1.5, Transmittance: rgb(1, 1, 1)}}},
 			{Name: "gold", Kind: &pb.Material_Conductor{Conductor: &pb.Conductor{Eta: rgb(0.143, 0.374, 1.442), K: rgb(3.983, 2.385, 1.603)}}},
+			{Name: "varnish", Kind: &pb.Material_Principled{Principled: &pb.Principled{
+				BaseColor: rgb(0.6, 0.4, 0.2), BaseColorTexture: &pb.TextureRef{Texture: "wood"},
+				Metallic: 0.2, Roughness: 0.4, MetallicRoughnessTexture: &pb.TextureRef{Texture: "wood"},
+				NormalTexture: &pb.TextureRef{Texture: "wood"}, NormalScale: 0.8,
+				Emission: rgb(0.1, 0.1, 0), EmissionTexture: &pb.TextureRef{Texture: "wood"},
+				AlphaMode: pb.AlphaMode_ALPHA_MODE_MASK, Opacity: 0.9, AlphaCutoff: 0.4}}},
 		},
 		Shapes: []*pb.Shape{
 			{Name: "ball", Material: "white", Geometry: &pb.Shape_Sphere{Sphere: &pb.Sphere{Center: v(0, 1, 0), Radius: 1}}},
@@ -34,7 +40,9 @@ func base() *pb.Scene {
 		},
 		Lights: []*pb.Light{
 			{Name: "bulb", Kind: &pb.Light_Point{Point: &pb.PointLight{Position: v(0, 3, 2), Intensity: rgb(5, 5, 5)}}},
-			{Name: "sun", Kind: &pb.Light_Sun{Sun: &pb.SunLight{Direction: v(0, -1, -0.2), Irradiance: rgb(1, 1, 1)}}},
+			{Name: "sun", Kind: &pb.Light_Sun{Sun: &pb.SunLight{Direction: v(0, -1, -0.2), Irradiance: rgb(1, 1, 1), AngularDiameterDegrees: 0.53}}},
+			{Name: "torch", Kind: &pb.Light_Spot{Spot: &pb.SpotLight{Position: v(2, 3, 2), Direction: v(0, -1, 0), Intensity: rgb(3, 3, 3),
+				InnerConeDegrees: 20, OuterConeDegrees: 30}}},
 		},
 		Photons: &pb.PhotonMapping{
 			GlobalPhotons: 20000, CausticPhotons: 10000, PhotonsPerShard: 5000,
@@ -44,6 +52,16 @@ func base() *pb.Scene {
 		Antialiasing: &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_EDGES, EdgeSamples: 8, EdgeThreshold: 0.2},
 		Indirect:     &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER, GatherRays: 16, SecondaryGatherRays: 4},
 		Progressive:  &pb.Progressive{MaxRounds: 2, TargetError: 0.01, TimeBudgetSeconds: 60, Alpha: 0.7},
+		Meshes: []*pb.Mesh{{Name: "crate", Parts: []*pb.MeshPart{
+			{Path: "cube.obj", Digest: rules.DigestOf([]byte(cubeOBJ)), Material: "white"},
+			{Path: "cube.obj", Digest: rules.DigestOf([]byte(cubeOBJ)), Material: "shiny"},
+		}}},
+		Textures: []*pb.Texture{
+			{Name: "wood", Path: "sky.hdr", Digest: rules.DigestOf([]byte(skyHDR)), Encoding: pb.ColorEncoding_COLOR_ENCODING_LINEAR, Wrap: pb.TextureWrap_TEXTURE_WRAP_CLAMP},
+			{Name: "sky", Path: "sky.hdr", Digest: rules.DigestOf([]byte(skyHDR))},
+		},
+		Environment: &pb.Environment{Radiance: rgb(0.5, 0.5, 0.5), Map: &pb.TextureRef{Texture: "sky"}, RotationDegrees: 30},
+		Output:      &pb.Output{ExposureStops: 0.5, ToneMap: pb.ToneMap_TONE_MAP_FILMIC},
 	}
 }
 
@@ -64,8 +82,21 @@ func triangles(s *pb.Scene) *pb.TriangleMesh {
 }
 func point(s *pb.Scene) *pb.PointLight { return s.Lights[0].GetPoint() }
 func sun(s *pb.Scene) *pb.SunLight     { return s.Lights[1].GetSun() }
+func spot(s *pb.Scene) *pb.SpotLight   { return s.Lights[2].GetSpot() }
+func principled(s *pb.Scene) *pb.Principled {
+	return s.Materials[6].GetPrincipled()
+}
+func crate(s *pb.Scene) *pb.Mesh   { return s.Meshes[0] }
+func wood(s *pb.Scene) *pb.Texture { return s.Textures[0] }
 func estimate(s *pb.Scene) *pb.RadianceEstimate {
 	return s.Photons.GlobalEstimate
+}
+
+// withoutOtherLights leaves base with its point light and its lamp alone: no sun, no spot
+// light and no environment.
+func withoutOtherLights(s *pb.Scene) {
+	s.Lights = s.Lights[:1]
+	s.Environment = nil
 }
 
 // withoutSpecular removes base's specular shapes (the mirror, glass and gold balls), so
@@ -99,12 +130,29 @@ f 2 3 7
 f 2 7 6
 `
 
-// cubeFile is where cubeOBJ is written, from the repository's root, and cubeAsset where
-// the scene vectors find it, from their folder.
-const (
-	cubeFile  = "tests/vectors/meshes/accept-cube.obj"
-	cubeAsset = "../meshes/accept-cube.obj"
-)
+// skyHDR is a 2x1 Radiance HDR image (flat scanlines: run-length encoding starts at 8
+// pixels), the texture of base's textures: a blue and a white pixel.
+const skyHDR = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n" +
+	"\x40\x60\x80\x81" + "\x80\x80\x80\x81"
+
+// An asset file the generator writes and the vectors name: where it is written, from the
+// repository's root, and where the vectors find it, from their folder.
+type asset struct {
+	file, fromVectors, data string
+}
+
+var assetFiles = []asset{
+	{"tests/vectors/meshes/accept-cube.obj", "../meshes/accept-cube.obj", cubeOBJ},
+	{"tests/vectors/scenes/sky.hdr", "sky.hdr", skyHDR},
+}
+
+// withInstance appends a shape (shapes[7] of base) placing the crate, and returns its
+// instance.
+func withInstance(s *pb.Scene) *pb.MeshInstance {
+	inst := &pb.MeshInstance{Mesh: "crate", Transform: &pb.Transform{Matrix: []float64{0, 0, 1, 2, 0, 1, 0, 0, -1, 0, 0, 1}}}
+	s.Shapes = append(s.Shapes, &pb.Shape{Name: "crate-1", Geometry: &pb.Shape_Instance{Instance: inst}})
+	return inst
+}
 
 // withMesh appends a shape (shapes[7] of base) made of the cube, uploaded, and returns its
 // mesh file.

@@ -12,7 +12,7 @@ import (
 
 const root = "../../../.."
 
-// TestCommittedVectorsAreCurrent fails while the committed vectors (and the cube mesh)
+// TestCommittedVectorsAreCurrent fails while the committed vectors (and their assets)
 // differ from what the generator makes: run `go run ./tests/vectors/scenes/gen`.
 func TestCommittedVectorsAreCurrent(t *testing.T) {
 	files, err := Vectors(root)
@@ -38,9 +38,11 @@ func TestCommittedVectorsAreCurrent(t *testing.T) {
 
 // notExpressible are accepted keys no vector can hold, and why.
 var notExpressible = map[string]string{
-	// grow copies the last material, and material names must be unique: the most
-	// materials a scene may have would have to be written out.
+	// grow copies the last element, and material, mesh and texture names must be unique:
+	// the most a scene may have would have to be written out.
 	"Scene.materials:max_items=": "needs that many distinct names",
+	"Scene.meshes:max_items=":    "needs that many distinct names",
+	"Scene.textures:max_items=":  "needs that many distinct names",
 }
 
 // TestEveryRuleHasAVector computes from the descriptors every check a scene must pass

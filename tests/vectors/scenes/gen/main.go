@@ -50,6 +50,6 @@ func write(root string) error {
 			return err
 		}
 	}
-	fmt.Printf("gen: %d files under %s and %s\n", len(files), vectorDir, filepath.Dir(cubeFile))
+	fmt.Printf("gen: %d files under tests/vectors\n", len(files))
 	return nil
 }

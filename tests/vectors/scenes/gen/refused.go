@@ -16,7 +16,7 @@ const (
 )
 
 // refused lists the scenes every side must refuse, each with the field its refusal names.
-var refused = slices.Concat([]vectorCase{
+var refused = slices.Concat(refusedAssets, refusedLooks, []vectorCase{
 	// Scene.
 	refuse("refuse-scene-name-of-257-bytes", "name", "Scene.name:max_bytes", func(s *pb.Scene) { s.Name = long(257) }),
 	refuse("refuse-no-camera", "camera", "Scene.camera:required", func(s *pb.Scene) { s.Camera = nil }),
@@ -25,12 +25,24 @@ var refused = slices.Concat([]vectorCase{
 	refuse("refuse-100001-shapes", "shapes", "Scene.shapes:max_items", unchanged, grow("shapes", 100001)),
 	refuse("refuse-4097-lights", "lights", "Scene.lights:max_items", unchanged, grow("lights", 4097)),
 	refuse("refuse-no-light", "lights", "Scene.lights:note", func(s *pb.Scene) {
-		s.Lights = nil
+		s.Lights, s.Environment = nil, nil
 		s.Shapes[2].Material = "white"
 	}),
 	refuse("refuse-only-dark-lights", "lights", "Scene.lights:note", func(s *pb.Scene) {
-		point(s).Intensity, sun(s).Irradiance = rgb(0, 0, 0), rgb(0, 0, 0)
+		point(s).Intensity, sun(s).Irradiance, spot(s).Intensity = rgb(0, 0, 0), rgb(0, 0, 0), rgb(0, 0, 0)
 		emissive(s).Radiance = rgb(0, 0, 0)
+		s.Environment.Radiance = rgb(0, 0, 0) // its map times black
+	}),
+	refuse("refuse-only-a-black-principled-emission", "lights", "Scene.lights:note", func(s *pb.Scene) {
+		s.Lights, s.Environment = nil, nil
+		s.Shapes[2].Material = "varnish"
+		principled(s).Emission = rgb(0, 0, 0)
+	}),
+	refuse("refuse-only-an-instanced-part-of-black-emission", "lights", "Scene.lights:note", func(s *pb.Scene) {
+		s.Lights, s.Environment = nil, nil
+		emissive(s).Radiance = rgb(0, 0, 0)
+		crate(s).Parts[0].Material = "lamp"
+		withInstance(s)
 	}),
 
 	// Camera.
@@ -123,7 +135,7 @@ var refused = slices.Concat([]vectorCase{
 
 	// Shapes.
 	refuse("refuse-shape-name-of-257-bytes", "shapes[2].name", "Shape.name:max_bytes", func(s *pb.Scene) { s.Shapes[2].Name = long(257) }),
-	refuse("refuse-shape-without-material", "shapes[0].material", "Shape.material:required", func(s *pb.Scene) { s.Shapes[0].Material = "" }),
+	refuse("refuse-shape-without-material", "shapes[0].material", "Shape.material:note", func(s *pb.Scene) { s.Shapes[0].Material = "" }),
 	refuse("refuse-shape-of-unknown-material", "shapes[4].material", "Shape.material:note", func(s *pb.Scene) { s.Shapes[4].Material = "chrome" }),
 	refuse("refuse-shape-without-geometry", "shapes[2]", "Shape.geometry:one_required", func(s *pb.Scene) { s.Shapes[2].Geometry = nil }),
 	refuse("refuse-sphere-without-center", "shapes[0].sphere.center", "Sphere.center:required", func(s *pb.Scene) { sphere(s).Center = nil }),

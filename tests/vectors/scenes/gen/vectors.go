@@ -21,9 +21,14 @@ const vectorDir = "tests/vectors/scenes"
 
 // Vectors returns the files the generator makes, by path from the repository's root (at
 // root): a vector for every case of refused and accepted and for every scene file of
-// scenes/ and scenes/stiff/, and the cube mesh they name.
+// scenes/ and scenes/stiff/, and the asset files they name (assetFiles).
 func Vectors(root string) (map[string][]byte, error) {
-	files := map[string][]byte{cubeFile: []byte(cubeOBJ)}
+	files := map[string][]byte{}
+	fromVectors := map[string]string{} // digest -> path from vectorDir
+	for _, a := range assetFiles {
+		files[a.file] = []byte(a.data)
+		fromVectors[rules.DigestOf([]byte(a.data))] = a.fromVectors
+	}
 	add := func(name string, vec *pb.SceneVector) error {
 		file := path.Join(vectorDir, name+".json")
 		if _, dup := files[file]; dup {
@@ -37,9 +42,9 @@ func Vectors(root string) (map[string][]byte, error) {
 		s := base()
 		c.mutate(s)
 		vec := &pb.SceneVector{Description: describe(c), Scene: s, RefusedField: c.refused, Grow: c.grow, Assets: map[string]string{}}
-		for _, ref := range scene.MeshRefs(s) {
-			if ref.Digest == rules.DigestOf([]byte(cubeOBJ)) {
-				vec.Assets[ref.Digest] = cubeAsset
+		for _, ref := range scene.AssetRefs(s) {
+			if file, ok := fromVectors[ref.Digest]; ok {
+				vec.Assets[ref.Digest] = file
 			}
 		}
 		if err := add(c.name, vec); err != nil {
