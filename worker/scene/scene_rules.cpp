@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
+#include <stdexcept>
 
 #include "contract/go_text.h"
 #include "contract/rules.h"
@@ -66,12 +66,105 @@ void CheckFilm(const pb::Film& f) {
                                  " film, more than the " + std::to_string(limit) + " a round may have");
 }
 
-void CheckMaterials(const pb::Scene& s) {
-  std::unordered_set<std::string> names;
+// How a message quotes a name: at most 80 bytes of it, as in Go.
+std::string QuotedName(const std::string& name) { return GoQuote(contract::Truncate(name, 80)); }
+
+// Unique names of one kind: "materials[4].name: duplicate material name "white" (also
+// materials[0])".
+template <typename Named>
+void CheckUnique(const google::protobuf::RepeatedPtrField<Named>& list, const std::string& field,
+                 const std::string& what) {
+  std::unordered_map<std::string, int> first;
+  for (int i = 0; i < list.size(); ++i) {
+    const auto [it, fresh] = first.emplace(list[i].name(), i);
+    if (!fresh)
+      Refuse(Index(field, i) + ".name",
+             "duplicate " + what + " name " + QuotedName(list[i].name()) + " (also " + Index(field, it->second) + ")");
+  }
+}
+
+void CheckNames(const pb::Scene& s) {
+  CheckUnique(s.materials(), "materials", "material");
+  CheckUnique(s.meshes(), "meshes", "mesh");
+  CheckUnique(s.textures(), "textures", "texture");
+}
+
+template <typename Named>
+std::unordered_map<std::string, const Named*> ByName(const google::protobuf::RepeatedPtrField<Named>& list) {
+  std::unordered_map<std::string, const Named*> by_name;
+  for (const Named& x : list) by_name.emplace(x.name(), &x);
+  return by_name;
+}
+
+void CheckShapeMaterials(const pb::Scene& s) {
+  const auto materials = ByName(s.materials());
+  const auto meshes = ByName(s.meshes());
+  for (int i = 0; i < s.shapes_size(); ++i) {
+    const pb::Shape& shape = s.shapes(i);
+    const std::string p = Index("shapes", i);
+    const bool instance = shape.has_instance();
+    if (instance && !shape.material().empty())
+      Refuse(p + ".material", "must be empty for an instance, whose mesh's parts name their materials; got " +
+                                  QuotedName(shape.material()));
+    if (!instance && shape.material().empty()) Refuse(p + ".material", "missing; a shape names one of the scene's materials");
+    if (!instance && !materials.contains(shape.material()))
+      Refuse(p + ".material", "no material named " + QuotedName(shape.material()));
+    if (instance && !meshes.contains(shape.instance().mesh()))
+      Refuse(p + ".instance.mesh", "no mesh named " + QuotedName(shape.instance().mesh()));
+  }
+}
+
+void CheckPartMaterials(const pb::Scene& s) {
+  const auto materials = ByName(s.materials());
+  for (int i = 0; i < s.meshes_size(); ++i)
+    for (int j = 0; j < s.meshes(i).parts_size(); ++j)
+      if (const pb::MeshPart& part = s.meshes(i).parts(j); !materials.contains(part.material()))
+        Refuse(Index(Index("meshes", i) + ".parts", j) + ".material", "no material named " + QuotedName(part.material()));
+}
+
+void CheckTextureRefs(const pb::Scene& s) {
+  const auto textures = ByName(s.textures());
+  for (const TextureRefAt& ref : TextureRefs(s))
+    if (!textures.contains(ref.ref->texture()))
+      Refuse(ref.field + ".texture", "no texture named " + QuotedName(ref.ref->texture()));
+}
+
+bool Positive(const pb::Color& c) { return c.r() > 0 || c.g() > 0 || c.b() > 0; }
+
+const pb::Color& LightPower(const pb::Light& l) {
+  switch (l.kind_case()) {
+    case pb::Light::kPoint: return l.point().intensity();
+    case pb::Light::kSpot: return l.spot().intensity();
+    case pb::Light::kSun: return l.sun().irradiance();
+    case pb::Light::KIND_NOT_SET: break;
+  }
+  throw std::logic_error("LightPower: a light without a kind (CheckRules refuses it)");
+}
+
+// In double precision, as in Go: a radiance too small for float still counts.
+void CheckSomeLight(const pb::Scene& s) {
+  for (const pb::Light& l : s.lights())
+    if (Positive(LightPower(l))) return;
+  const auto materials = ByName(s.materials());
+  const auto meshes = ByName(s.meshes());
+  for (const pb::Shape& shape : s.shapes()) {
+    if (!shape.has_instance()) {
+      if (MaterialEmits(*materials.at(shape.material()))) return;
+      continue;
+    }
+    for (const pb::MeshPart& part : meshes.at(shape.instance().mesh())->parts())
+      if (MaterialEmits(*materials.at(part.material()))) return;
+  }
+  if (EnvironmentLights(s)) return;
+  Refuse("lights",
+         "the scene needs a light: a point, spot or sun light with a positive component, a shape whose material "
+         "emits (emissive with a positive radiance, or principled with a positive emission), or an environment that "
+         "is not black");
+}
+
+void CheckGlossyEnergy(const pb::Scene& s) {
   for (int i = 0; i < s.materials_size(); ++i) {
     const pb::Material& m = s.materials(i);
-    const std::string p = Index("materials", i);
-    if (!names.insert(m.name()).second) Refuse(p + ".name", "duplicate material name " + GoQuote(m.name()));
     if (!m.has_glossy()) continue;
     const pb::Color &d = m.glossy().diffuse(), &sp = m.glossy().specular();
     const struct {
@@ -80,22 +173,9 @@ void CheckMaterials(const pb::Scene& s) {
     } channels[] = {{"r", d.r(), sp.r()}, {"g", d.g(), sp.g()}, {"b", d.b(), sp.b()}};
     for (const auto& c : channels)
       if (c.d + c.s > 1)
-        Refuse(p + ".glossy.specular." + c.name, "diffuse + specular must be <= 1 (energy conservation), got " +
-                                                    GoNumber(c.d) + " + " + GoNumber(c.s));
+        Refuse(Index("materials", i) + ".glossy.specular." + c.name,
+               "diffuse + specular must be <= 1 (energy conservation), got " + GoNumber(c.d) + " + " + GoNumber(c.s));
   }
-}
-
-bool Positive(const pb::Color& c) { return c.r() > 0 || c.g() > 0 || c.b() > 0; }
-
-// Checks the lights without geometry; returns whether one of them emits.
-bool CheckLights(const pb::Scene& s) {
-  bool emits = false;
-  for (int i = 0; i < s.lights_size(); ++i) {
-    const pb::Light& l = s.lights(i);
-    if (l.has_sun() && Vec(l.sun().direction()).IsZero()) Refuse(Index("lights", i) + ".sun.direction", "must be non-zero");
-    emits |= l.has_point() ? Positive(l.point().intensity()) : Positive(l.sun().irradiance());
-  }
-  return emits;
 }
 
 void CheckQuad(const std::string& p, const pb::Quad& q) {
@@ -115,6 +195,22 @@ void CheckTriangles(const std::string& p, const pb::TriangleMesh& t) {
 }
 
 void CheckTransform(const std::string& p, const pb::Transform& t) {
+  if (t.matrix_size() > 0) {
+    if (t.matrix_size() != 12)
+      Refuse(p + ".matrix", "must have 12 values (3 rows of 4: an affine matrix without its last row), got " +
+                                std::to_string(t.matrix_size()));
+    const struct {
+      const char* name;
+      bool set;
+    } trs[] = {{"translation", t.has_translation()},
+               {"scale", t.has_scale()},
+               {"rotation_axis", t.has_rotation_axis()},
+               {"rotation_degrees", t.rotation_degrees() != 0}};
+    for (const auto& f : trs)
+      if (f.set) Refuse(p + ".matrix", std::string("must be the only part of the transform set, but ") + f.name + " is set too");
+    if (MatrixDeterminant(t) == 0) Refuse(p + ".matrix", "must be invertible, but the determinant of its 3x3 part is 0");
+    return;
+  }
   if (t.has_scale()) {
     const struct {
       const char* name;
@@ -127,29 +223,33 @@ void CheckTransform(const std::string& p, const pb::Transform& t) {
     Refuse(p + ".rotation_axis", "must be non-zero when rotation_degrees is " + GoNumber(t.rotation_degrees()));
 }
 
-// Checks the shapes and returns whether one of them emits (in double precision, as in Go:
-// a radiance too small for float still counts).
-bool CheckShapes(const pb::Scene& s) {
-  std::unordered_map<std::string, bool> emits;  // material name -> emits
-  for (const pb::Material& m : s.materials())
-    emits.emplace(m.name(), m.has_emissive() && Positive(m.emissive().radiance()));
-  bool any_emits = false;
+void CheckShapes(const pb::Scene& s) {
   for (int i = 0; i < s.shapes_size(); ++i) {
     const pb::Shape& shape = s.shapes(i);
     const std::string p = Index("shapes", i);
-    const auto it = emits.find(shape.material());
-    if (it == emits.end()) Refuse(p + ".material", "no material named " + GoQuote(shape.material()));
-    any_emits |= it->second;
     switch (shape.geometry_case()) {
       case pb::Shape::kQuad: CheckQuad(p + ".quad", shape.quad()); break;
       case pb::Shape::kTriangles: CheckTriangles(p + ".triangles", shape.triangles()); break;
       case pb::Shape::kMesh: CheckTransform(p + ".mesh.transform", shape.mesh().transform()); break;
-      case pb::Shape::kSphere:
-      case pb::Shape::kInstance:
+      case pb::Shape::kInstance: CheckTransform(p + ".instance.transform", shape.instance().transform()); break;
+      case pb::Shape::kSphere:  // CheckRules has bounded its radius; a centre may be anywhere
       case pb::Shape::GEOMETRY_NOT_SET: break;
     }
   }
-  return any_emits;
+}
+
+void CheckLightShapes(const pb::Scene& s) {
+  for (int i = 0; i < s.lights_size(); ++i) {
+    const pb::Light& l = s.lights(i);
+    const std::string p = Index("lights", i);
+    if (l.has_sun() && Vec(l.sun().direction()).IsZero()) Refuse(p + ".sun.direction", "must be non-zero");
+    if (!l.has_spot()) continue;
+    const pb::SpotLight& spot = l.spot();
+    if (Vec(spot.direction()).IsZero()) Refuse(p + ".spot.direction", "must be non-zero");
+    if (spot.inner_cone_degrees() > spot.outer_cone_degrees())
+      Refuse(p + ".spot.inner_cone_degrees", "must be at most outer_cone_degrees " + GoNumber(spot.outer_cone_degrees()) +
+                                                 ", got " + GoNumber(spot.inner_cone_degrees()));
+  }
 }
 
 // Both photon counts, whether or not the scene gets that map: a rule about the settings
@@ -175,17 +275,49 @@ void CheckShards(const pb::PhotonMapping& photons) {
 
 }  // namespace
 
+bool MaterialEmits(const pb::Material& m) {
+  return (m.has_emissive() && Positive(m.emissive().radiance())) ||
+         (m.has_principled() && Positive(m.principled().emission()));
+}
+
+bool EnvironmentLights(const pb::Scene& s) {
+  if (!s.has_environment()) return false;
+  const pb::Environment& env = s.environment();
+  return env.has_radiance() ? Positive(env.radiance()) : env.has_map();
+}
+
+std::vector<TextureRefAt> TextureRefs(const pb::Scene& s) {
+  std::vector<TextureRefAt> refs;
+  for (int i = 0; i < s.materials_size(); ++i) {
+    if (!s.materials(i).has_principled()) continue;
+    const pb::Principled& p = s.materials(i).principled();
+    const std::string at = Index("materials", i) + ".principled.";
+    if (p.has_base_color_texture()) refs.push_back({at + "base_color_texture", &p.base_color_texture()});
+    if (p.has_metallic_roughness_texture()) refs.push_back({at + "metallic_roughness_texture", &p.metallic_roughness_texture()});
+    if (p.has_normal_texture()) refs.push_back({at + "normal_texture", &p.normal_texture()});
+    if (p.has_emission_texture()) refs.push_back({at + "emission_texture", &p.emission_texture()});
+  }
+  if (s.environment().has_map()) refs.push_back({"environment.map", &s.environment().map()});
+  return refs;
+}
+
+double MatrixDeterminant(const pb::Transform& t) {
+  const auto m = [&t](int i) { return t.matrix(i); };
+  return m(0) * (m(5) * m(10) - m(6) * m(9)) - m(1) * (m(4) * m(10) - m(6) * m(8)) + m(2) * (m(4) * m(9) - m(5) * m(8));
+}
+
 void CheckScene(const pb::Scene& scene) {
   if (const std::optional<contract::FieldError> err = contract::CheckRules(scene)) throw SceneError(err->ToString());
   CheckCamera(scene.camera());
   CheckFilm(scene.film());
-  CheckMaterials(scene);
-  const bool lights_emit = CheckLights(scene);
-  const bool shapes_emit = CheckShapes(scene);
-  if (!lights_emit && !shapes_emit)
-    Refuse("lights",
-           "the scene needs a light: a point or sun light with a positive power, or a shape whose material is "
-           "emissive with a positive radiance");
+  CheckNames(scene);
+  CheckShapeMaterials(scene);
+  CheckPartMaterials(scene);
+  CheckTextureRefs(scene);
+  CheckSomeLight(scene);
+  CheckGlossyEnergy(scene);
+  CheckShapes(scene);
+  CheckLightShapes(scene);
   CheckShards(scene.photons());
   const pb::ReferenceImage& ref = scene.progressive().reference();
   if (ref.digest().empty() && !ref.path().empty())

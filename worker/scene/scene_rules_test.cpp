@@ -86,7 +86,7 @@ TEST(CheckScene, TilesPerRound) {
 TEST(CheckScene, Materials) {
   ExpectRefusals({
       {"duplicate name", [](pb::Scene& s) { *s.add_materials() = s.materials(0); },
-       "materials[2].name: duplicate material name \"grey\""},
+       "materials[2].name: duplicate material name \"grey\" (also materials[0])"},
       {"glossy too bright", [](pb::Scene& s) {
          pb::Glossy* g = s.mutable_materials(0)->mutable_glossy();
          g->mutable_diffuse()->set_g(0.75);
@@ -169,6 +169,11 @@ TEST(CheckScene, MeshTransforms) {
   });
 }
 
+constexpr const char* kNoLight =
+    "lights: the scene needs a light: a point, spot or sun light with a positive component, a shape whose material "
+    "emits (emissive with a positive radiance, or principled with a positive emission), or an environment that is "
+    "not black";
+
 TEST(CheckScene, Lights) {
   ExpectRefusals({
       {"zero sun direction",
@@ -179,11 +184,9 @@ TEST(CheckScene, Lights) {
        },
        "lights[1].sun.direction: must be non-zero"},
       {"a black point light only", [](pb::Scene& s) { s.mutable_lights(0)->mutable_point()->clear_intensity(); s.mutable_lights(0)->mutable_point()->mutable_intensity(); },
-       "lights: the scene needs a light: a point or sun light with a positive power, or a shape whose material is "
-       "emissive with a positive radiance"},
+       kNoLight},
       {"no lights, an emissive material no shape uses", [](pb::Scene& s) { s.clear_lights(); },
-       "lights: the scene needs a light: a point or sun light with a positive power, or a shape whose material is "
-       "emissive with a positive radiance"},
+       kNoLight},
       {"an emissive shape", [](pb::Scene& s) { s.clear_lights(); s.mutable_shapes(1)->set_material("lamp"); },
        "accepted"},
       {"a sun", [](pb::Scene& s) {
@@ -191,6 +194,166 @@ TEST(CheckScene, Lights) {
          pb::SunLight* sun = s.add_lights()->mutable_sun();
          sun->mutable_direction()->set_y(-1e-200);  // tiny but not zero
          sun->mutable_irradiance()->set_b(0.5);
+       },
+       "accepted"},
+      {"a spot light", [](pb::Scene& s) {
+         s.clear_lights();
+         pb::SpotLight* spot = s.add_lights()->mutable_spot();
+         spot->mutable_position();
+         spot->mutable_direction()->set_y(-1);
+         spot->mutable_intensity()->set_g(1);
+         spot->set_inner_cone_degrees(30);
+         spot->set_outer_cone_degrees(30);
+       },
+       "accepted"},
+      {"a spot light's cones the wrong way round", [](pb::Scene& s) {
+         pb::SpotLight* spot = s.add_lights()->mutable_spot();
+         spot->mutable_position();
+         spot->mutable_direction()->set_y(-1);
+         spot->mutable_intensity();
+         spot->set_inner_cone_degrees(30.5);
+         spot->set_outer_cone_degrees(30);
+       },
+       "lights[1].spot.inner_cone_degrees: must be at most outer_cone_degrees 30, got 30.5"},
+      {"a spot light without direction", [](pb::Scene& s) {
+         pb::SpotLight* spot = s.add_lights()->mutable_spot();
+         spot->mutable_position();
+         spot->mutable_direction();
+         spot->mutable_intensity();
+         spot->set_outer_cone_degrees(30);
+       },
+       "lights[1].spot.direction: must be non-zero"},
+      {"principled emission", [](pb::Scene& s) {
+         s.clear_lights();
+         pb::Material* m = s.add_materials();
+         m->set_name("glow");
+         m->mutable_principled()->mutable_emission()->set_r(1e-300);  // below float, but positive
+         s.mutable_shapes(0)->set_material("glow");
+       },
+       "accepted"},
+      {"an environment map", [](pb::Scene& s) {
+         s.clear_lights();
+         pb::Texture* t = s.add_textures();
+         t->set_name("sky");
+         t->set_digest("sha256:" + std::string(64, '0'));
+         s.mutable_environment()->mutable_map()->set_texture("sky");
+       },
+       "accepted"},
+      {"an environment map times black", [](pb::Scene& s) {
+         s.clear_lights();
+         pb::Texture* t = s.add_textures();
+         t->set_name("sky");
+         t->set_digest("sha256:" + std::string(64, '0'));
+         s.mutable_environment()->mutable_map()->set_texture("sky");
+         s.mutable_environment()->mutable_radiance();
+       },
+       kNoLight},
+  });
+}
+
+// A scene with a mesh "crate" of one grey part placed by shapes[2].
+pb::Scene WithCrate() {
+  pb::Scene s = Valid();
+  pb::Mesh* mesh = s.add_meshes();
+  mesh->set_name("crate");
+  pb::MeshPart* part = mesh->add_parts();
+  part->set_digest("sha256:" + std::string(64, '0'));
+  part->set_material("grey");
+  s.add_shapes()->mutable_instance()->set_mesh("crate");
+  return s;
+}
+
+void ExpectInstanceRefusals(const std::vector<Case>& cases) {
+  for (const Case& c : cases) {
+    pb::Scene s = WithCrate();
+    c.change(s);
+    EXPECT_EQ(Refusal(s), c.want) << c.name;
+  }
+}
+
+TEST(CheckScene, InstancesAndTheirMeshes) {
+  ExpectInstanceRefusals({
+      {"as built", [](pb::Scene&) {}, "accepted"},
+      {"an instance with a material", [](pb::Scene& s) { s.mutable_shapes(2)->set_material("grey"); },
+       "shapes[2].material: must be empty for an instance, whose mesh's parts name their materials; got \"grey\""},
+      {"a shape without a material", [](pb::Scene& s) { s.mutable_shapes(1)->clear_material(); },
+       "shapes[1].material: missing; a shape names one of the scene's materials"},
+      {"an instance of no mesh", [](pb::Scene& s) { s.mutable_shapes(2)->mutable_instance()->set_mesh("barrel"); },
+       "shapes[2].instance.mesh: no mesh named \"barrel\""},
+      {"a part of no material", [](pb::Scene& s) { s.mutable_meshes(0)->mutable_parts(0)->set_material("chrome"); },
+       "meshes[0].parts[0].material: no material named \"chrome\""},
+      {"two meshes of one name", [](pb::Scene& s) { *s.add_meshes() = s.meshes(0); },
+       "meshes[1].name: duplicate mesh name \"crate\" (also meshes[0])"},
+      {"a duplicate material name comes before a glossy material's energy",
+       [](pb::Scene& s) {
+         pb::Material* shiny = s.add_materials();
+         shiny->set_name("shiny");
+         shiny->mutable_glossy()->mutable_diffuse()->set_r(1);
+         shiny->mutable_glossy()->mutable_specular()->set_r(1);
+         shiny->mutable_glossy()->set_exponent(10);
+         s.add_materials()->CopyFrom(s.materials(0));
+       },
+       "materials[3].name: duplicate material name \"grey\" (also materials[0])"},
+      {"an emissive part is the only light",
+       [](pb::Scene& s) {
+         s.clear_lights();
+         s.mutable_meshes(0)->mutable_parts(0)->set_material("lamp");
+       },
+       "accepted"},
+  });
+}
+
+TEST(CheckScene, TexturesAndTheirReferences) {
+  ExpectRefusals({
+      {"two textures of one name",
+       [](pb::Scene& s) {
+         for (int i = 0; i < 2; ++i) {
+           pb::Texture* t = s.add_textures();
+           t->set_name("wood");
+           t->set_digest("sha256:" + std::string(64, '0'));
+         }
+       },
+       "textures[1].name: duplicate texture name \"wood\" (also textures[0])"},
+      {"a normal map of no texture",
+       [](pb::Scene& s) {
+         pb::Material* m = s.add_materials();
+         m->set_name("varnish");
+         m->mutable_principled()->mutable_normal_texture()->set_texture("bumps");
+       },
+       "materials[2].principled.normal_texture.texture: no texture named \"bumps\""},
+      {"an environment of no texture", [](pb::Scene& s) { s.mutable_environment()->mutable_map()->set_texture("sky"); },
+       "environment.map.texture: no texture named \"sky\""},
+  });
+}
+
+// Places the crate of WithCrate by the first `values` values of the identity matrix.
+void SetMatrix(pb::Scene& s, int values) {
+  constexpr double kIdentity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  pb::Transform* t = s.mutable_shapes(2)->mutable_instance()->mutable_transform();
+  for (int i = 0; i < values; ++i) t->add_matrix(kIdentity[i]);
+}
+
+TEST(CheckScene, MatrixTransforms) {
+  ExpectInstanceRefusals({
+      {"the identity", [](pb::Scene& s) { SetMatrix(s, 12); }, "accepted"},
+      {"11 values", [](pb::Scene& s) { SetMatrix(s, 11); },
+       "shapes[2].instance.transform.matrix: must have 12 values (3 rows of 4: an affine matrix without its last row), "
+       "got 11"},
+      {"a matrix and a scale",
+       [](pb::Scene& s) {
+         SetMatrix(s, 12);
+         s.mutable_shapes(2)->mutable_instance()->mutable_transform()->mutable_scale()->set_x(1);
+       },
+       "shapes[2].instance.transform.matrix: must be the only part of the transform set, but scale is set too"},
+      {"a singular matrix",
+       [](pb::Scene& s) {
+         SetMatrix(s, 12);
+         s.mutable_shapes(2)->mutable_instance()->mutable_transform()->set_matrix(5, 0);
+       },
+       "shapes[2].instance.transform.matrix: must be invertible, but the determinant of its 3x3 part is 0"},
+      {"a mirror", [](pb::Scene& s) {
+         SetMatrix(s, 12);
+         s.mutable_shapes(2)->mutable_instance()->mutable_transform()->set_matrix(0, -1);
        },
        "accepted"},
   });
