@@ -1,7 +1,8 @@
 #pragma once
 
 // Affine transforms of points, built once per mesh in double precision and applied to its
-// vertices before they go to Embree as floats.
+// vertices before they go to Embree as floats; and placements, which also move normals and
+// tangents (mesh files and instances of meshes).
 
 #include <cmath>
 #include <string>
@@ -54,6 +55,53 @@ struct Affine3d {
       for (int j = 0; j < 3; ++j) a.m[i][j] = r[i][j] * sc[j];  // R * diag(scale)
     a.t = translation;
     return a;
+  }
+
+  // renderfarm.v1.Transform.matrix: 3 rows of 4 (the linear part, then the translation).
+  static Affine3d FromRows(const double (&rows)[12]) {
+    Affine3d a;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) a.m[i][j] = rows[4 * i + j];
+    a.t = {rows[3], rows[7], rows[11]};
+    return a;
+  }
+};
+
+// An object placed in the world by an affine map: points by the map, tangents by its
+// linear part M, normals by the inverse transpose of M. A mirroring map (determinant < 0)
+// turns the counter-clockwise order of a triangle's corners around; normals moved by M^-T
+// keep pointing to the front the corners' original order defined, and a tangent's
+// bitangent sign flips (its bitangent is cross(normal, tangent) * w).
+struct Placement {
+  Affine3d to_world;
+  // sign(det M) times the cofactor matrix of M: M^-T up to a positive factor, which a
+  // normal loses when it is normalised (and which never overflows for a tiny determinant).
+  double normal[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  bool mirrors = false;
+
+  explicit Placement(const Affine3d& a = {}) : to_world(a), mirrors(a.Determinant() < 0) {
+    const auto& m = a.m;
+    const double sign = mirrors ? -1 : 1;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        normal[i][j] = sign * (m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1]);
+      }
+  }
+
+  Vec3 Point(const Vec3& p) const { return Vec3(to_world.Apply(Vec3d(p))); }
+  Vec3 Vector(const Vec3& v) const {
+    const auto& m = to_world.m;
+    const Vec3d d(v);
+    return Vec3(Vec3d(m[0][0] * d.x + m[0][1] * d.y + m[0][2] * d.z, m[1][0] * d.x + m[1][1] * d.y + m[1][2] * d.z,
+                      m[2][0] * d.x + m[2][1] * d.y + m[2][2] * d.z));
+  }
+  // Not normalised (its length is meaningless).
+  Vec3 Normal(const Vec3& n) const {
+    const Vec3d d(n);
+    return Vec3(Vec3d(normal[0][0] * d.x + normal[0][1] * d.y + normal[0][2] * d.z,
+                      normal[1][0] * d.x + normal[1][1] * d.y + normal[1][2] * d.z,
+                      normal[2][0] * d.x + normal[2][1] * d.y + normal[2][2] * d.z));
   }
 };
 

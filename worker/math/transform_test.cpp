@@ -30,5 +30,40 @@ TEST(Affine3d, ZeroAngleIgnoresAxis) {
   ExpectNear(a.Apply({0, 0, 0}), {1, 2, 3});
 }
 
+TEST(Affine3d, FromRowsReadsThreeRowsOfFour) {
+  const double rows[12] = {0, -1, 0, 5, 1, 0, 0, 6, 0, 0, 2, 7};
+  const Affine3d a = Affine3d::FromRows(rows);
+  ExpectNear(a.Apply({1, 0, 0}), {5, 7, 7});
+  ExpectNear(a.Apply({0, 0, 1}), {5, 6, 9});
+  EXPECT_EQ(a.Determinant(), 2);
+}
+
+// A normal stays perpendicular to every tangent of the surface, under shears and mirrors.
+TEST(Placement, NormalsStayPerpendicularToMovedTangents) {
+  const double shear[12] = {1, 2, 0, 0, 0, 1, 0, 0, 0, 0, 3, 0};
+  const double mirror_shear[12] = {-1, 0.5, 0, 1, 0, 1, 0, 0, 0.25, 0, 1, 2};
+  for (const auto* rows : {&shear, &mirror_shear}) {
+    const Placement p(Affine3d::FromRows(*rows));
+    const Vec3 n(0.3f, -0.5f, 0.8f), t1 = Cross(n, Vec3(1, 0, 0)), t2 = Cross(n, t1);
+    const Vec3 moved = p.Normal(n);
+    EXPECT_NEAR(Dot(moved, p.Vector(t1)), 0, 1e-5);
+    EXPECT_NEAR(Dot(moved, p.Vector(t2)), 0, 1e-5);
+  }
+}
+
+// The front of a triangle is where its normal points; a mirror turns its corners' order
+// around, and the moved normal is the front of the corners in their new order.
+TEST(Placement, AMirrorKeepsTheFrontTheNormalNames) {
+  const double mirror[12] = {-2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  const Placement p(Affine3d::FromRows(mirror));
+  EXPECT_TRUE(p.mirrors);
+  const Vec3 a(0, 0, 0), b(0, 1, 0), c(0, 0, 1);  // counter-clockwise about +x
+  const Vec3 n = Cross(b - a, c - a);
+  const Vec3 pa = p.Point(a), pb = p.Point(b), pc = p.Point(c);
+  const Vec3 front_of_swapped = Cross(pc - pa, pb - pa);  // what a mirrored mesh file's winding gives
+  EXPECT_GT(Dot(p.Normal(n), front_of_swapped), 0);
+  EXPECT_FALSE(Placement(Affine3d::ScaleRotateTranslate({1, 2, 3}, {1, 1, 0}, 40, {})).mirrors);
+}
+
 }  // namespace
 }  // namespace farm

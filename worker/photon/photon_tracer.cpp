@@ -80,9 +80,17 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
     }
 
     const std::optional<BsdfSample> s =
-        SampleBsdf(material, hit->n, wi, u_lobe, u_direction, TransportMode::kImportance);
+        SampleBsdf(material, hit->ns, wi, u_lobe, u_direction, TransportMode::kImportance);
     if (!s) return;
-    const Rgb next = power * s->weight;
+    Rgb next = power * s->weight;
+    // A shading normal makes the BSDF non-symmetric for what photons carry (Veach's
+    // adjoint): |wi.ns| |wo.n| / (|wi.n| |wo.ns|), for wi towards where the photon came from
+    // and wo where it goes. Exactly 1 without one.
+    if (hit->ns != hit->n) {
+      const float scale = AbsDot(wi, hit->ns) * AbsDot(s->wi, hit->n) / (AbsDot(wi, hit->n) * AbsDot(s->wi, hit->ns));
+      if (!std::isfinite(scale)) return;
+      next = next * scale;
+    }
     // Russian roulette: survive with the ratio of the new to the old power (its largest
     // channel), and divide by it, so that surviving photons keep roughly constant power.
     const float survive = std::min(1.0f, MaxComponent(Vec3(next.r, next.g, next.b)) /

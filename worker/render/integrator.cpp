@@ -14,12 +14,22 @@
 
 namespace farm {
 
-// A non-specular surface point being shaded: n faces the side wo comes from.
+// A non-specular surface point being shaded: n, the geometric normal, faces the side wo
+// comes from, and ns, the shading normal, is on n's side. The BSDF and its cosines are
+// taken about ns; offsets, and which side of the surface a direction is on, about n (a
+// direction ns sees above the surface but n below it is not lit: it would leak).
 struct PhotonMappingIntegrator::Shading {
   const SurfaceHit& hit;
   Vec3 wo;
   const Material& material;
   Vec3 n;
+  Vec3 ns;
+
+  Shading(const SurfaceHit& h, const Vec3& w, const Material& m)
+      : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(Dot(h.n, n) < 0 ? -h.ns : h.ns) {}
+
+  // The BSDF for light arriving along wi, and nothing from below the geometric surface.
+  Rgb Reflected(const Vec3& wi) const { return Dot(wi, n) > 0 ? EvaluateBsdf(material, ns, wo, wi) : Rgb(); }
 };
 
 namespace {
@@ -85,7 +95,7 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64
     }
     const uint64_t h = Hash(key, uint64_t(depth));
     const uint64_t h2 = MixBits(h);
-    const std::optional<BsdfSample> s = SampleBsdf(material, hit->n, wo, HashFloat(h),
+    const std::optional<BsdfSample> s = SampleBsdf(material, hit->ns, wo, HashFloat(h),
                                                    {HashFloat(h2), HashFloat(h2 << 24)},
                                                    TransportMode::kRadiance);
     if (!s) return std::nullopt;
@@ -144,10 +154,11 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     if (!hit) break;  // black background
     const Vec3 wo = -ray.direction;
     const Material& material = scene_.material_of(*hit);
+    const Shading at(*hit, wo, material);
     if (depth == 0) {
       result.alpha = 1;
       result.albedo = Albedo(material);
-      result.normal = FaceForward(hit->n, wo);
+      result.normal = at.ns;
       result.depth = hit->t;
     }
     result.emitted += throughput * Emitted(material, hit->n, wo);
@@ -158,7 +169,6 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
         // 2^32 levels from the sample's dimension, hashed so that nearby values give
         // unrelated scrambles.
         const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
-        const Shading at{*hit, wo, material, FaceForward(hit->n, wo)};
         Rgb direct, caustic, indirect;
         Shade(at, final_gather_ ? scene_.indirect.gather_rays : 0, seed, scratch, direct, caustic,
               indirect);
@@ -171,7 +181,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     }
 
     const std::optional<BsdfSample> s =
-        SampleBsdf(material, hit->n, wo, u_lobe, u_direction, TransportMode::kRadiance);
+        SampleBsdf(material, hit->ns, wo, u_lobe, u_direction, TransportMode::kRadiance);
     if (!s) break;
     throughput = throughput * s->weight;
     if (depth >= kRouletteDepth) {
@@ -197,7 +207,7 @@ void PhotonMappingIntegrator::Shade(const Shading& at, uint32_t gather_rays, uin
                                     std::vector<PhotonNeighbour>& scratch, Rgb& direct,
                                     Rgb& caustic, Rgb& indirect) const {
   direct = DirectLight(at, scene_.indirect.light_samples, SubSeed(seed, kDirectSeed));
-  const auto bsdf = [&at](const Vec3& wi) { return EvaluateBsdf(at.material, at.hit.n, at.wo, wi); };
+  const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
   caustic = maps_.caustic ? EstimateRadiance(*maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
                                              bsdf, scratch)
                           : Rgb();
@@ -219,12 +229,12 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, uint32_t count, uint
     const std::optional<LightSample> ls =
         SampleLi(scene_.lights[pick.index], at.hit.p, Point2(j, count, seed, kLightPoint));
     if (!ls) continue;
-    const Rgb f = EvaluateBsdf(at.material, at.hit.n, at.wo, ls->wi);
+    const Rgb f = at.Reflected(ls->wi);
     if (f.IsBlack()) continue;
     const float pdf = pick.pmf * ls->pdf;
     if (!(pdf > 0) || !std::isfinite(pdf)) continue;
     if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) continue;
-    sum += f * ls->radiance * (AbsDot(at.hit.n, ls->wi) / pdf);
+    sum += f * ls->radiance * (AbsDot(at.ns, ls->wi) / pdf);
   }
   return sum / float(count);
 }
@@ -233,10 +243,11 @@ Rgb PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t 
                                     std::vector<PhotonNeighbour>& scratch) const {
   const Rgb kd = DiffuseReflectance(at.material);
   if (kd.IsBlack() || count == 0) return {};
-  const Frame frame = Frame::FromZ(at.n);
+  const Frame frame = Frame::FromZ(at.ns);
   Rgb sum;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 w = frame.FromLocal(SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection)));
+    if (Dot(w, at.n) < 0) continue;  // below the surface (only a shading normal tilts the frame so)
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
     sum += GatherRay(ray, i, seed, scratch);
   }
@@ -249,30 +260,28 @@ Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed,
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular), i));
   if (!d) return {};
-  const Vec3 n = FaceForward(d->hit.n, d->wo);
+  const Shading at(d->hit, d->wo, scene_.material_of(d->hit));
   const uint32_t count = scene_.indirect.gather_rays;
-  Rgb e = DirectIrradiance(d->hit.p, d->hit.n, n, Point1(i, count, seed, kGatherLightPick),
-                           Point2(i, count, seed, kGatherLightPoint));
+  Rgb e = DirectIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint));
   const auto visible = [&](const DecodedPhoton& photon) {
-    return scene_.FrontsSeeEachOther(d->hit.p, n, photon.position, photon.normal);
+    return scene_.FrontsSeeEachOther(at.hit.p, at.n, photon.position, photon.normal);
   };
   if (const std::optional<Rgb> irradiance =
-          NearestIrradiance(*maps_.global, d->hit.p, n, lookup_radius_, visible, scratch))
+          NearestIrradiance(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch))
     e += *irradiance;
-  return d->throughput * Albedo(scene_.material_of(d->hit)) * kInvPi * e;
+  return d->throughput * Albedo(at.material) * kInvPi * e;
 }
 
-Rgb PhotonMappingIntegrator::DirectIrradiance(const Vec3& p, const Vec3& geometric_n,
-                                              const Vec3& n, float u_light, Vec2 u_point) const {
+Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const {
   if (scene_.light_power.empty()) return {};
   const auto pick = scene_.light_power.Sample(u_light);
   if (!(pick.pmf > 0)) return {};
-  const std::optional<LightSample> ls = SampleLi(scene_.lights[pick.index], p, u_point);
+  const std::optional<LightSample> ls = SampleLi(scene_.lights[pick.index], at.hit.p, u_point);
   if (!ls) return {};
-  const float cos_theta = Dot(n, ls->wi);
+  const float cos_theta = Dot(at.ns, ls->wi);
   const float pdf = pick.pmf * ls->pdf;
-  if (!(cos_theta > 0) || !(pdf > 0) || !std::isfinite(pdf)) return {};
-  if (!scene_.Visible(p, geometric_n, ls->p, ls->n)) return {};
+  if (!(cos_theta > 0) || !(Dot(at.n, ls->wi) > 0) || !(pdf > 0) || !std::isfinite(pdf)) return {};
+  if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) return {};
   return ls->radiance * (cos_theta / pdf);
 }
 
@@ -280,7 +289,7 @@ Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t se
                                           std::vector<PhotonNeighbour>& scratch) const {
   const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
   if (!glossy || glossy->specular.IsBlack()) return {};
-  const Frame frame = Frame::FromZ(at.n);
+  const Frame frame = Frame::FromZ(at.ns);
   const Vec3 wo_local = frame.ToLocal(at.wo);
   if (!(wo_local.z > 0)) return {};
   const std::optional<Vec3> w = SampleBlinnPhong(wo_local, u, glossy->exponent);
@@ -288,12 +297,13 @@ Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t se
   // blinn_phong.h: a sampled direction carries f cos / pdf = wi.z / max(wo.z, wi.z).
   const Rgb weight = glossy->specular * (w->z / std::max(wo_local.z, w->z));
   const Vec3 wi = frame.FromLocal(*w);
+  if (!(Dot(wi, at.n) > 0)) return {};  // below the surface
   const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, wi, scene_.ray_epsilon), wi};
   const std::optional<DiffuseHit> d = TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)));
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
-  const Shading next{d->hit, d->wo, scene_.material_of(d->hit), FaceForward(d->hit.n, d->wo)};
+  const Shading next(d->hit, d->wo, scene_.material_of(d->hit));
   Rgb direct, caustic, indirect;
   Shade(next, scene_.indirect.secondary_gather_rays, seed, scratch, direct, caustic, indirect);
   return weight * d->throughput * (direct + caustic + indirect);

@@ -57,7 +57,7 @@ struct SampleResult {
   float alpha = 0;  // 1 if the camera ray hit geometry, 0 if it escaped
   // Of the first surface the camera ray hits (valid when alpha is 1).
   Rgb albedo;
-  Vec3 normal;      // unit, facing the camera
+  Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
 };
 
@@ -108,9 +108,8 @@ class PhotonMappingIntegrator {
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
   // points.
   Rgb GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch) const;
-  // One sample of the irradiance from the lights at p on the side of n (unit).
-  Rgb DirectIrradiance(const Vec3& p, const Vec3& geometric_n, const Vec3& n, float u_light,
-                       Vec2 u_point) const;
+  // One sample of the irradiance from the lights at a shading point, on its side.
+  Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
   // full with secondary gathering.
   Rgb GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,

@@ -38,8 +38,8 @@ std::optional<SurfacePoint> SampleMeshPoint(const TriangleMeshLight& l, Vec2 u) 
   const auto pick = l.triangles.Sample(u.x);
   const Vec3 b = SampleUniformTriangle({pick.u_remapped, u.y});
   Vec3 p0, p1, p2;
-  l.mesh->Corners(pick.index, p0, p1, p2);
-  const Vec3 scaled_n = l.mesh->ScaledNormal(pick.index);
+  l.Corners(pick.index, p0, p1, p2);
+  const Vec3 scaled_n = Cross(p1 - p0, p2 - p0);
   const float len = Length(scaled_n);
   if (!(len > 0)) return std::nullopt;
   return SurfacePoint{p0 * b.x + p1 * b.y + p2 * b.z, scaled_n / len};
@@ -47,17 +47,31 @@ std::optional<SurfacePoint> SampleMeshPoint(const TriangleMeshLight& l, Vec2 u) 
 
 }  // namespace
 
-TriangleMeshLight TriangleMeshLight::Make(std::shared_ptr<const TriangleMesh> mesh,
-                                          const Rgb& radiance) {
-  std::vector<float> areas(mesh->triangle_count());
-  double total = 0;
-  for (int i = 0; i < mesh->triangle_count(); ++i) total += areas[i] = mesh->TriangleArea(i);
+TriangleMeshLight TriangleMeshLight::Make(std::shared_ptr<const TriangleMesh> mesh, const Rgb& radiance,
+                                          std::optional<Placement> placement) {
   TriangleMeshLight light;
+  light.mesh = std::move(mesh);
+  light.placement = std::move(placement);
+  light.radiance = radiance;
+  std::vector<float> areas(light.mesh->triangle_count());
+  double total = 0;
+  for (int i = 0; i < light.mesh->triangle_count(); ++i) {
+    Vec3 p0, p1, p2;
+    light.Corners(i, p0, p1, p2);
+    total += areas[i] = 0.5f * Length(Cross(p1 - p0, p2 - p0));
+  }
   light.triangles = DiscreteDistribution(areas);
   light.area = static_cast<float>(total);
-  light.radiance = radiance;
-  light.mesh = std::move(mesh);
   return light;
+}
+
+void TriangleMeshLight::Corners(int i, Vec3& p0, Vec3& p1, Vec3& p2) const {
+  mesh->Corners(i, p0, p1, p2);
+  if (!placement) return;
+  p0 = placement->Point(p0);
+  p1 = placement->Point(p1);
+  p2 = placement->Point(p2);
+  if (placement->mirrors) std::swap(p1, p2);  // counter-clockwise from the front again
 }
 
 SunLight SunLight::Make(const Vec3& direction, const Rgb& irradiance, const BoundingSphere& scene) {
@@ -219,8 +233,8 @@ std::string ToString(const Light& light) {
       return "QuadLight{" + l.quad.ToString() + ", radiance=" + ToString(l.radiance) + "}";
     }
     std::string operator()(const TriangleMeshLight& l) const {
-      return "TriangleMeshLight{" + l.mesh->ToString() + ", area=" + std::to_string(l.area) +
-             ", radiance=" + ToString(l.radiance) + "}";
+      return "TriangleMeshLight{" + l.mesh->ToString() + (l.placement ? ", placed by " + ToString(l.placement->to_world) : "") +
+             ", area=" + std::to_string(l.area) + ", radiance=" + ToString(l.radiance) + "}";
     }
     std::string operator()(const PointLight& l) const {
       return "PointLight{position=" + ToString(l.position) +

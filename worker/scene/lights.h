@@ -7,7 +7,8 @@
 //   sphere  emissive sphere; SampleLi samples the cone the sphere subtends (every sample
 //           visible and front-facing), area sampling if the point is inside
 //   quad    emissive quad, uniform by area
-//   mesh    emissive mesh: a triangle in proportion to its area, then uniform within it
+//   mesh    emissive mesh, or emissive part of an instanced mesh (its triangles placed):
+//           a triangle in proportion to its area, then uniform within it
 //   point   intensity I in all directions from a point: a delta light, power 4 pi I
 //   sun     irradiance E along a direction from infinitely far away: a delta light. Photons
 //           leave a disc perpendicular to the direction that covers the scene's bounding
@@ -49,11 +50,17 @@ struct QuadLight {
 
 struct TriangleMeshLight {
   std::shared_ptr<const TriangleMesh> mesh;
-  DiscreteDistribution triangles;  // by area
+  // An instance's placement of the mesh (its triangles stay in object space); none for a
+  // mesh already in the world.
+  std::optional<Placement> placement;
+  DiscreteDistribution triangles;  // by area in the world
   float area = 0;
   Rgb radiance;
 
-  static TriangleMeshLight Make(std::shared_ptr<const TriangleMesh> mesh, const Rgb& radiance);
+  static TriangleMeshLight Make(std::shared_ptr<const TriangleMesh> mesh, const Rgb& radiance,
+                                std::optional<Placement> placement = std::nullopt);
+  // Triangle i's corners in the world, counter-clockwise from the front.
+  void Corners(int i, Vec3& p0, Vec3& p1, Vec3& p2) const;
 };
 
 struct PointLight {

@@ -4,9 +4,11 @@
 // system is shared with the client).
 //
 // The file is checked line by line first (obj_check.h: the farm's rules for OBJ files,
-// the coordinator's too), then read by tinyobjloader. Other statements than v and f (vn,
-// vt, o, g, s, usemtl, ...) do not reach the mesh: shading uses geometric normals and the
-// shape's material.
+// the coordinator's too), then read by tinyobjloader. Normals (vn) and texture
+// coordinates (vt) are kept when every face corner names one, each distinct (v, vt, vn) of
+// the file then becoming a vertex; a vt's v is flipped (1 - v), since the farm's texture
+// coordinates grow downwards in the image as glTF's do. Other statements (o, g, s, usemtl,
+// ...) do not reach the mesh: the scene assigns the material.
 
 #include <cstddef>
 #include <string>
@@ -17,8 +19,8 @@
 
 namespace farm {
 
-// Positions and triangles of every object and group in the file (polygons are
-// triangulated). Throws ObjError.
+// Positions, triangles and the attributes above of every object and group in the file
+// (polygons are triangulated). Throws ObjError.
 TriangleMesh ParseObjMesh(std::string_view bytes);
 
 }  // namespace farm

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
@@ -8,6 +9,8 @@
 #include "contract/rules.h"
 #include "math/transform.h"
 #include "renderfarm/v1/scene.pb.h"
+#include "scene/farm_mesh.h"
+#include "scene/mesh_file.h"
 #include "scene/obj_mesh.h"
 #include "scene/proto_values.h"
 #include "scene/scene_data.h"
@@ -34,44 +37,88 @@ std::shared_ptr<const TriangleMesh> InlineMesh(const pb::TriangleMesh& t) {
 }
 
 Affine3d TransformFromProto(const pb::Transform& t) {
+  if (t.matrix_size() == 12) {  // CheckScene allows 12 values or none
+    double rows[12];
+    std::copy(t.matrix().begin(), t.matrix().end(), rows);
+    return Affine3d::FromRows(rows);
+  }
   const Vec3d scale = t.has_scale() ? Vec3dOf(t.scale()) : Vec3d(1, 1, 1);
   return Affine3d::ScaleRotateTranslate(scale, Vec3dOf(t.rotation_axis()), t.rotation_degrees(),
                                         Vec3dOf(t.translation()));
 }
 
-// How a message names a mesh file: its path in the scene file, else its digest.
-std::string FileName(const pb::MeshFile& file) {
-  return contract::GoQuote(file.path().empty() ? file.digest() : file.path());
+// The mesh files a scene names (shapes' mesh files, mesh parts), each blob fetched and read
+// once however many fields name it.
+class MeshFiles {
+ public:
+  explicit MeshFiles(const BlobLoader& load_blob) : load_blob_(load_blob) {}
+
+  // The file's mesh as stored (object space). `field` names the message that holds the
+  // file ("shapes[3].mesh", "meshes[0].parts[1]"), `path` its path in the scene file.
+  std::shared_ptr<const TriangleMesh> Read(const std::string& digest, const std::string& path, const std::string& field) {
+    if (const auto it = read_.find(digest); it != read_.end()) return it->second;
+    const std::string name = contract::GoQuote(path.empty() ? digest : path);
+    std::string bytes;
+    try {
+      bytes = load_blob_(digest);
+    } catch (const std::exception& e) {
+      // Of the kind the loader's error is (the blob store being away is not the scene's fault).
+      throw TaskError(FailureKindOf(e), field + ".digest: cannot load mesh " + name + ": " + e.what());
+    }
+    std::shared_ptr<const TriangleMesh> mesh;
+    try {
+      mesh = std::make_shared<const TriangleMesh>(ReadMeshFile(bytes));
+    } catch (const ObjError& e) {
+      throw SceneError(field + ": OBJ file " + name + " " + e.what());
+    } catch (const FarmMeshError& e) {
+      throw SceneError(field + ": farm mesh file " + name + " " + e.what());
+    }
+    read_.emplace(digest, mesh);
+    return mesh;
+  }
+
+ private:
+  const BlobLoader& load_blob_;
+  std::unordered_map<std::string, std::shared_ptr<const TriangleMesh>> read_;
+};
+
+// A shape's mesh file placed in the world; the file's own mesh, shared, when the shape
+// does not move it.
+std::shared_ptr<const TriangleMesh> FileMesh(const pb::MeshFile& file, const std::string& field, MeshFiles& files) {
+  std::shared_ptr<const TriangleMesh> mesh = files.Read(file.digest(), file.path(), field);
+  if (!file.has_transform()) return mesh;
+  std::optional<TriangleMesh> placed = PlaceMesh(*mesh, Placement(TransformFromProto(file.transform())));
+  if (!placed)
+    throw SceneError(field + ".transform: moves a vertex of " + contract::GoQuote(file.path().empty() ? file.digest() : file.path()) +
+                     " out of float range");
+  return std::make_shared<const TriangleMesh>(std::move(*placed));
 }
 
-std::shared_ptr<const TriangleMesh> FileMesh(const pb::MeshFile& file, const std::string& field,
-                                             const BlobLoader& load_blob) {
-  std::string bytes;
-  try {
-    bytes = load_blob(file.digest());
-  } catch (const std::exception& e) {
-    // Of the kind the loader's error is (the blob store being away is not the scene's fault).
-    throw TaskError(FailureKindOf(e), field + ".digest: cannot load mesh " + FileName(file) + ": " + e.what());
+// Scene.meshes[index], its parts read and bounded.
+std::shared_ptr<const SceneMesh> MeshFromProto(const pb::Mesh& mesh, int index, MeshFiles& files,
+                                               const std::unordered_map<std::string, int>& material_index) {
+  auto built = std::make_shared<SceneMesh>();
+  built->name = mesh.name();
+  for (int j = 0; j < mesh.parts_size(); ++j) {
+    const pb::MeshPart& part = mesh.parts(j);
+    const std::string field = "meshes[" + std::to_string(index) + "].parts[" + std::to_string(j) + "]";
+    SceneMesh::Part& p = built->parts.emplace_back();
+    p.triangles = files.Read(part.digest(), part.path(), field);
+    p.material = material_index.at(part.material());
+    p.bounds = BoundsOf(*p.triangles);
+    built->bounds.Extend(p.bounds);
   }
-  const Affine3d transform = TransformFromProto(file.transform());
-  TriangleMesh mesh;
-  try {
-    mesh = ParseObjMesh(bytes);
-  } catch (const ObjError& e) {
-    throw SceneError(field + ": OBJ file " + FileName(file) + " " + e.what());
-  }
-  for (Vec3& p : mesh.positions) {
-    p = Vec3(transform.Apply(Vec3d(p)));
-    if (!IsFinite(p)) throw SceneError(field + ".transform: moves a vertex of " + FileName(file) + " out of float range");
-  }
-  // A mirroring transform (negative determinant) would turn every face inside out.
-  if (transform.Determinant() < 0)
-    for (std::size_t i = 0; i < mesh.indices.size(); i += 3) std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
-  return std::make_shared<const TriangleMesh>(std::move(mesh));
+  return built;
 }
 
-ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field,
-                                const BlobLoader& load_blob) {
+// What shapes' geometry is built from besides the shape itself.
+struct GeometrySources {
+  MeshFiles& files;
+  const std::vector<std::shared_ptr<const SceneMesh>>& meshes;
+  const std::unordered_map<std::string, int>& mesh_index;
+};
+
+ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field, const GeometrySources& sources) {
   switch (shape.geometry_case()) {
     case pb::Shape::kSphere:
       return SphereShape{PointOf(shape.sphere().center()), static_cast<float>(shape.sphere().radius())};
@@ -81,28 +128,58 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
     case pb::Shape::kTriangles:
       return InlineMesh(shape.triangles());
     case pb::Shape::kMesh:
-      return FileMesh(shape.mesh(), field + ".mesh", load_blob);
-    case pb::Shape::kInstance:
-      throw SceneError(field + ".instance: instances are not built yet");
+      return FileMesh(shape.mesh(), field + ".mesh", sources.files);
+    case pb::Shape::kInstance: {
+      InstanceShape instance{sources.meshes[sources.mesh_index.at(shape.instance().mesh())],
+                             Placement(TransformFromProto(shape.instance().transform()))};
+      const Bounds3 placed = Place(instance.mesh->bounds, instance.placement);
+      if (!IsFinite(placed.min) || !IsFinite(placed.max))
+        throw SceneError(field + ".instance.transform: moves the mesh " + contract::GoQuote(instance.mesh->name) +
+                         " out of float range");
+      return instance;
+    }
     case pb::Shape::GEOMETRY_NOT_SET:
       break;
   }
   throw std::logic_error("GeometryFromProto: a shape without geometry (CheckRules refuses it)");
 }
 
-// An area light for an emissive shape, or nothing if it emits no light at all.
-std::optional<Light> LightFor(const ShapeGeometry& geometry, const Material& material) {
-  const Rgb radiance = Emission(material);
-  if (radiance.IsBlack()) return std::nullopt;
+// The area lights of a shape: itself if its material emits; for an instance, each part of
+// its mesh whose material emits, over the part's triangles placed.
+void AddLights(const ShapeGeometry& geometry, int material, const std::vector<Material>& materials,
+               std::vector<Light>& lights) {
   struct Visitor {
-    Rgb radiance;
-    Light operator()(const SphereShape& s) const { return SphereLight{s, radiance}; }
-    Light operator()(const QuadShape& q) const { return QuadLight{q, radiance}; }
-    Light operator()(const std::shared_ptr<const TriangleMesh>& m) const {
-      return TriangleMeshLight::Make(m, radiance);
+    const Rgb radiance;  // of the shape's material (unused for instances)
+    const std::vector<Material>& materials;
+    std::vector<Light>& lights;
+    void operator()(const SphereShape& s) const {
+      if (!radiance.IsBlack()) lights.push_back(SphereLight{s, radiance});
+    }
+    void operator()(const QuadShape& q) const {
+      if (!radiance.IsBlack()) lights.push_back(QuadLight{q, radiance});
+    }
+    void operator()(const std::shared_ptr<const TriangleMesh>& m) const {
+      if (!radiance.IsBlack()) lights.push_back(TriangleMeshLight::Make(m, radiance));
+    }
+    void operator()(const InstanceShape& instance) const {
+      for (const SceneMesh::Part& part : instance.mesh->parts)
+        if (const Rgb r = Emission(materials[part.material]); !r.IsBlack())
+          lights.push_back(TriangleMeshLight::Make(part.triangles, r, instance.placement));
     }
   };
-  return std::visit(Visitor{radiance}, geometry);
+  std::visit(Visitor{Emission(materials[material]), materials, lights}, geometry);
+}
+
+// Spheres around a shape's specular surfaces (caustic photons are aimed at them): the
+// shape's if its material is specular; for an instance, each specular part's, placed.
+void AddSpecularTargets(const ShapeGeometry& geometry, int material, const std::vector<MaterialCapabilities>& can,
+                        std::vector<BoundingSphere>& targets) {
+  if (const auto* instance = std::get_if<InstanceShape>(&geometry)) {
+    for (const SceneMesh::Part& part : instance->mesh->parts)
+      if (can[part.material].specular) targets.push_back(BoundingSphere::Of(Place(part.bounds, instance->placement)));
+    return;
+  }
+  if (can[material].specular) targets.push_back(BoundingSphereOf(geometry));
 }
 
 // Largest absolute coordinate of any geometry: sets the absolute floor of ray offsets.
@@ -122,15 +199,35 @@ float SceneExtent(const std::vector<ShapeRecord>& shapes) {
       void operator()(const std::shared_ptr<const TriangleMesh>& m) const {
         for (const Vec3& p : m->positions) e = std::max(e, MaxComponent(Abs(p)));
       }
+      void operator()(const InstanceShape& i) const {
+        const Bounds3 b = Place(i.mesh->bounds, i.placement);
+        e = std::max({e, MaxComponent(Abs(b.min)), MaxComponent(Abs(b.max))});
+      }
     };
     std::visit(Visitor{extent}, s.geometry);
   }
   return extent;
 }
 
+// Which geometry the accelerator runs the materials' cut-out tests on, and how.
+void AddCutoutFilter(const SceneData& d, AcceleratorInput& input) {
+  const auto cuts = [&d](int material) { return static_cast<bool>(d.cutouts[material]); };
+  if (std::none_of(d.cutouts.begin(), d.cutouts.end(), [](const CutoutTest& c) { return static_cast<bool>(c); }))
+    return;
+  for (const ShapeRecord& shape : d.shapes) input.filtered_shapes.push_back(cuts(shape.material));
+  for (const auto& mesh : d.meshes) {
+    std::vector<bool>& parts = input.filtered_parts.emplace_back();
+    for (const SceneMesh::Part& part : mesh->parts) parts.push_back(cuts(part.material));
+  }
+  input.filter = [&d](const RawHit& raw, const Vec3& point) {
+    const SurfaceHit hit = d.Refine(raw, point);
+    return d.cutouts[hit.material](hit);
+  };
+}
+
 }  // namespace
 
-Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
+Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, const SceneOptions& options) {
   CheckScene(description);
   auto data = std::make_unique<SceneData>();
   SceneData& d = *data;
@@ -153,34 +250,39 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
     d.materials.push_back(MaterialFromProto(m));
     d.capabilities.push_back(CapabilitiesOf(d.materials.back()));
     d.material_names.push_back(m.name());
+    d.cutouts.push_back(options.cutout_of ? options.cutout_of(m, i) : CutoutTest());
   }
 
+  MeshFiles files(load_blob);
+  std::unordered_map<std::string, int> mesh_index;
+  for (int i = 0; i < description.meshes_size(); ++i) {
+    mesh_index.emplace(description.meshes(i).name(), i);
+    d.meshes.push_back(MeshFromProto(description.meshes(i), i, files, material_index));
+  }
+
+  const GeometrySources sources{files, d.meshes, mesh_index};
   std::vector<ShapeGeometry> geometries;
   for (int i = 0; i < description.shapes_size(); ++i) {
     const pb::Shape& shape = description.shapes(i);
     const std::string field = "shapes[" + std::to_string(i) + "]";
     ShapeRecord record;
     record.label = ShapeLabel(i, shape);
-    record.material = material_index.at(shape.material());
+    if (!shape.has_instance()) record.material = material_index.at(shape.material());
     try {
-      record.geometry = GeometryFromProto(shape, field, load_blob);
+      record.geometry = GeometryFromProto(shape, field, sources);
     } catch (const SceneError& e) {
       // Name the shape too, when it has a name: "shapes[3].mesh: ... (shape "bunny")".
       if (shape.name().empty()) throw;
       throw SceneError(std::string(e.what()) + " (shape \"" + shape.name() + "\")");
     }
-    if (std::optional<Light> light = LightFor(record.geometry, d.materials[record.material])) {
-      record.light = static_cast<int>(d.lights.size());
-      d.lights.push_back(std::move(*light));
-    }
+    AddLights(record.geometry, record.material, d.materials, d.lights);
     geometries.push_back(record.geometry);
     d.shapes.push_back(std::move(record));
   }
 
   for (const ShapeRecord& shape : d.shapes) {
     d.bounds.Extend(BoundsOf(shape.geometry));
-    if (d.capabilities[shape.material].specular)
-      d.specular_targets.push_back(BoundingSphereOf(shape.geometry));
+    AddSpecularTargets(shape.geometry, shape.material, d.capabilities, d.specular_targets);
   }
   for (int i = 0; i < description.lights_size(); ++i)
     d.lights.push_back(LightFromProto(description.lights(i), BoundingSphere::Of(d.bounds)));
@@ -193,7 +295,9 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
   // ~17 ulps of the largest coordinate: above the rounding of the primitives' own
   // coordinates, which is what rays leaving points near the origin of a large scene meet.
   d.ray_epsilon = 2e-6f * SceneExtent(d.shapes);
-  d.accelerator = Accelerator::Build(geometries);
+  AcceleratorInput input{geometries, d.meshes, {}, {}, {}};
+  AddCutoutFilter(d, input);
+  d.accelerator = Accelerator::Build(input);
   return Scene(std::move(data));
 }
 

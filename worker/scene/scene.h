@@ -6,8 +6,10 @@
 #include <string>
 
 #include "contract/failure.h"
+#include "scene/cutout.h"
 
 namespace renderfarm::v1 {
+class Material;
 class Scene;
 }
 
@@ -28,14 +30,24 @@ using BlobLoader = std::function<std::string(const std::string& digest)>;
 
 struct SceneData;
 
+// What building a scene takes beside its description and its blobs.
+struct SceneOptions {
+  // The cut-out test of a material (Scene.materials[index]), or an empty one for a material
+  // that cuts nothing. Unset: no material cuts anything.
+  std::function<CutoutTest(const renderfarm::v1::Material& material, int index)> cutout_of;
+};
+
 // A renderable scene: camera, film, materials, emitters and an Embree BVH over the
 // geometry. Built once per job on a worker, then shared read-only by all render threads.
 class Scene {
  public:
-  // Checks the description as the coordinator does (scene/scene_rules.h), then builds it.
-  // Throws SceneError; a mesh that does not parse is named by its shape's field, its path
-  // in the scene file and the line that breaks it.
-  static Scene Build(const renderfarm::v1::Scene& description, const BlobLoader& load_blob);
+  // Checks the description as the coordinator does (scene/scene_rules.h), then builds it:
+  // each mesh file and mesh part is read once per blob, each mesh of Scene.meshes is built
+  // once (placed or not) and placed by the instances that name it. Throws SceneError; a
+  // mesh that does not parse is named by its shape's or part's field, its path in the
+  // scene file and the line (OBJ) or byte (farm mesh file) that breaks it.
+  static Scene Build(const renderfarm::v1::Scene& description, const BlobLoader& load_blob,
+                     const SceneOptions& options = {});
 
   Scene(Scene&&) noexcept;
   Scene& operator=(Scene&&) noexcept;

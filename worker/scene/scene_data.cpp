@@ -1,56 +1,64 @@
 #include "scene/scene_data.h"
 
 #include <cmath>
+#include <unordered_set>
+
+#include "scene/surface_geometry.h"
 
 namespace farm {
 
 std::string ToString(const SurfaceHit& hit) {
-  return "SurfaceHit{p=" + ToString(hit.p) + ", n=" + ToString(hit.n) +
-         ", t=" + std::to_string(hit.t) + ", shape=" + std::to_string(hit.shape) +
-         ", primitive=" + std::to_string(hit.primitive) + "}";
+  return "SurfaceHit{p=" + ToString(hit.p) + ", n=" + ToString(hit.n) + ", t=" + std::to_string(hit.t) +
+         ", shape=" + std::to_string(hit.shape) + ", part=" + std::to_string(hit.part) +
+         ", primitive=" + std::to_string(hit.primitive) + ", material=" + std::to_string(hit.material) +
+         ", ns=" + ToString(hit.ns) + (hit.has_uv ? ", uv=" + ToString(hit.uv) : std::string()) +
+         ", dpdu=" + ToString(hit.dpdu) + ", dpdv=" + ToString(hit.dpdv) + "}";
 }
 
 std::optional<SurfaceHit> SceneData::Intersect(const Ray& ray) const {
   const std::optional<RawHit> raw = accelerator.Intersect(ray);
   if (!raw) return std::nullopt;
-  SurfaceHit hit;
-  hit.t = raw->t;
-  hit.shape = static_cast<int>(raw->shape);
-  hit.primitive = raw->primitive;
-  const Vec3 p = ray.At(raw->t);
+  return Refine(*raw, ray.At(raw->t));
+}
 
-  // Recompute the normal from our own copy of the geometry (independent of Embree's Ng
-  // conventions) and move p back onto the surface: o + t d carries the rounding error of the
-  // whole ray length, the projection only that of the primitive's coordinates.
+SurfaceHit SceneData::Refine(const RawHit& raw, const Vec3& point) const {
+  SurfaceHit hit;
+  hit.t = raw.t;
+  hit.shape = static_cast<int>(raw.shape);
+  hit.part = raw.part;
+  hit.primitive = raw.primitive;
+  const ShapeRecord& shape = shapes[hit.shape];
+  hit.material = shape.material;
   struct Visitor {
-    const Vec3& p;
-    uint32_t primitive;
+    const RawHit& raw;
+    const Vec3& point;
     SurfaceHit& hit;
-    void operator()(const SphereShape& s) const {
-      const Vec3 d = p - s.center;
-      const float len = Length(d);
-      hit.n = len > 0 ? d / len : Vec3(0, 0, 1);
-      hit.p = s.center + hit.n * s.radius;
-    }
-    void operator()(const QuadShape& q) const {
-      hit.n = q.normal;
-      hit.p = p - q.normal * Dot(p - q.origin, q.normal);
-    }
+    void operator()(const SphereShape& s) const { DescribeSphereHit(s, point, hit); }
+    void operator()(const QuadShape& q) const { DescribeQuadHit(q, point, hit); }
     void operator()(const std::shared_ptr<const TriangleMesh>& m) const {
-      const Vec3 scaled = m->ScaledNormal(static_cast<int>(primitive));
-      const float len = Length(scaled);
-      if (!(len > 0)) {  // degenerate sliver: keep Embree's point, any unit normal
-        hit.n = Vec3(0, 0, 1);
-        hit.p = p;
-        return;
-      }
-      hit.n = scaled / len;
-      const Vec3 p0 = m->positions[m->indices[std::size_t(primitive) * 3]];
-      hit.p = p - hit.n * Dot(p - p0, hit.n);
+      DescribeTriangleHit(*m, nullptr, raw.primitive, raw.barycentric, point, hit);
+    }
+    void operator()(const InstanceShape& instance) const {
+      const SceneMesh::Part& part = instance.mesh->parts[raw.part];
+      hit.material = part.material;
+      DescribeTriangleHit(*part.triangles, &instance.placement, raw.primitive, raw.barycentric, point, hit);
     }
   };
-  std::visit(Visitor{p, raw->primitive, hit}, shapes[hit.shape].geometry);
+  std::visit(Visitor{raw, point, hit}, shape.geometry);
   return hit;
+}
+
+std::size_t SceneData::GeometryBytes() const {
+  std::unordered_set<const TriangleMesh*> counted;
+  std::size_t bytes = accelerator.memory_bytes();
+  const auto count = [&](const std::shared_ptr<const TriangleMesh>& m) {
+    if (counted.insert(m.get()).second) bytes += m->MemoryBytes();
+  };
+  for (const ShapeRecord& shape : shapes)
+    if (const auto* m = std::get_if<std::shared_ptr<const TriangleMesh>>(&shape.geometry)) count(*m);
+  for (const auto& mesh : meshes)
+    for (const SceneMesh::Part& part : mesh->parts) count(part.triangles);
+  return bytes;
 }
 
 bool SceneData::Visible(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const {

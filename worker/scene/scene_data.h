@@ -1,10 +1,12 @@
 #pragma once
 
 // What a built Scene holds, shared read-only by all render threads: film and sampling
-// settings with defaults applied, camera, materials, shapes (geometry ID = index), lights,
-// and the Embree BVH, plus the ray queries the integrators use.
+// settings with defaults applied, camera, materials, shapes (geometry ID = index), the
+// meshes instances place, lights, and the Embree BVH, plus the ray queries the
+// integrators use.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +18,7 @@
 #include "scene/accelerator.h"
 #include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
+#include "scene/cutout.h"
 #include "scene/indirect_settings.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
@@ -27,19 +30,43 @@ namespace farm {
 struct ShapeRecord {
   std::string label;  // "shapes[3]", or "shapes[3] (\"floor\")" when named: for messages
   ShapeGeometry geometry;
-  int material = 0;  // index into SceneData::materials
-  int light = -1;    // index into SceneData::lights if the shape emits
+  int material = 0;  // index into SceneData::materials; an instance's parts name their own
 };
 
 // A ray's closest hit, refined: p lies on the surface (projected back onto it, which is
-// what makes small ray offsets safe) and n is the unit geometric normal of the front side.
+// what makes small ray offsets safe) and n is the unit geometric normal of the front side,
+// for ray offsets and for which side of the surface a direction is on. The rest is for
+// shading (surface_geometry.h says how each kind of shape fills it in):
+//
+//   uv, has_uv  texture coordinates, v growing downwards in the image (glTF's): a mesh's
+//               own, interpolated (has_uv false and uv 0 without them); a quad's position
+//               along edge_u and edge_v; a sphere's longitude and latitude as an
+//               equirectangular map's (u = 0.5 looking along -z, growing towards +x; v = 0
+//               at +y)
+//   ns          the unit shading normal: a mesh's normals interpolated (placed by the
+//               inverse transpose), flipped onto n's side; n where there are none
+//   dpdu, dpdv  dp/du and dp/dv, the surface's derivatives by the texture coordinates;
+//               with tangents in the mesh, dpdu takes the tangent's direction (made
+//               perpendicular to ns) and dpdv that of -bitangent (the bitangent w *
+//               cross(ns, tangent) points up the image, towards decreasing v), each keeping
+//               the length the texture coordinates give (1 without them); without texture
+//               coordinates or tangents, an orthonormal frame about ns
+//   material    index into SceneData::materials: the shape's, or the instanced part's
+//   part        the part of an instanced mesh that was hit (0 for other shapes)
 struct SurfaceHit {
   Vec3 p;
   Vec3 n;
   float t = 0;
   int shape = 0;
   uint32_t primitive = 0;
+  Vec2 uv;
+  bool has_uv = false;
+  Vec3 ns;
+  Vec3 dpdu, dpdv;
+  int material = 0;
+  uint32_t part = 0;
 };
+
 
 std::string ToString(const SurfaceHit& hit);
 
@@ -57,8 +84,15 @@ struct SceneData {
   std::vector<Material> materials;
   std::vector<MaterialCapabilities> capabilities;  // of each material, by index
   std::vector<std::string> material_names;
+  // Cut-out tests by material index; an empty one (the default) cuts nothing and costs
+  // nothing (the accelerator filters only the geometry of materials that have one).
+  std::vector<CutoutTest> cutouts;
   std::vector<ShapeRecord> shapes;
-  std::vector<Light> lights;  // emissive shapes first, then Scene.lights in order
+  // Scene.meshes, in order, each built once and placed by the instances among shapes.
+  std::vector<std::shared_ptr<const SceneMesh>> meshes;
+  // Emissive shapes and emissive parts of instances first (in shape, then part order),
+  // then Scene.lights in order.
+  std::vector<Light> lights;
   DiscreteDistribution light_power;  // picks a light in proportion to its power
 
   Bounds3 bounds;  // of all geometry
@@ -72,6 +106,9 @@ struct SceneData {
   Accelerator accelerator;
 
   std::optional<SurfaceHit> Intersect(const Ray& ray) const;
+  // A hit Embree reported, refined; `point` is where it lies in the world (spheres and
+  // quads take it; triangles project it onto their plane).
+  SurfaceHit Refine(const RawHit& raw, const Vec3& point) const;
 
   // Whether nothing blocks the segment between two surface points, each with its
   // geometric normal; the ends are offset off their surfaces toward each other.
@@ -84,12 +121,12 @@ struct SceneData {
   // Whether nothing lies on the segment between two ray origins already off their surfaces.
   bool SegmentClear(const Vec3& o0, const Vec3& o1) const;
 
-  const Material& material_of(const SurfaceHit& hit) const {
-    return materials[shapes[hit.shape].material];
-  }
-  const MaterialCapabilities& capabilities_of(const SurfaceHit& hit) const {
-    return capabilities[shapes[hit.shape].material];
-  }
+  const Material& material_of(const SurfaceHit& hit) const { return materials[hit.material]; }
+  const MaterialCapabilities& capabilities_of(const SurfaceHit& hit) const { return capabilities[hit.material]; }
+
+  // The memory the geometry takes: the meshes' arrays (each shared one once) and what
+  // Embree holds (buffers and BVHs).
+  std::size_t GeometryBytes() const;
 
   std::string ToString() const;
 };

@@ -178,10 +178,9 @@ TEST(Scene, EmissiveShapesBecomeLightsPickedByPower) {
   const Scene scene = Scene::Build(s, NoBlobs());
   const SceneData& d = scene.data();
   SCOPED_TRACE(d.ToString());
-  ASSERT_EQ(d.lights.size(), 2u);
-  EXPECT_EQ(d.shapes[0].light, 0);
-  EXPECT_EQ(d.shapes[1].light, -1);
-  EXPECT_EQ(d.shapes[2].light, 1);
+  ASSERT_EQ(d.lights.size(), 2u);  // the two lamps, in shape order
+  EXPECT_EQ(std::get<QuadLight>(d.lights[0]).quad.origin, Vec3(0, 0, 0));
+  EXPECT_EQ(std::get<QuadLight>(d.lights[1]).quad.origin, Vec3(0, 0, 5));
   EXPECT_NEAR(d.light_power.Pmf(0), 0.25, 1e-6);
   EXPECT_NEAR(d.light_power.Pmf(1), 0.75, 1e-6);
   EXPECT_NEAR(Power(d.lights[1]).g, 3 * std::numbers::pi, 1e-5);

@@ -39,13 +39,35 @@ Vec3 TriangleMesh::ScaledNormal(int triangle) const {
   return Cross(p1 - p0, p2 - p0);
 }
 
-float TriangleMesh::TriangleArea(int triangle) const {
-  return 0.5f * Length(ScaledNormal(triangle));
+std::size_t TriangleMesh::MemoryBytes() const {
+  return positions.size() * sizeof(Vec3) + indices.size() * sizeof(uint32_t) + normals.size() * sizeof(Vec3) +
+         texcoords.size() * sizeof(Vec2) + tangents.size() * sizeof(Tangent);
 }
 
 std::string TriangleMesh::ToString() const {
   return "TriangleMesh{vertices=" + std::to_string(positions.size()) +
-         ", triangles=" + std::to_string(triangle_count()) + "}";
+         ", triangles=" + std::to_string(triangle_count()) + (normals.empty() ? "" : ", normals") +
+         (texcoords.empty() ? "" : ", texcoords") + (tangents.empty() ? "" : ", tangents") + "}";
+}
+
+Bounds3 Place(const Bounds3& b, const Placement& placement) {
+  Bounds3 placed;
+  if (b.empty()) return placed;
+  for (int corner = 0; corner < 8; ++corner)
+    placed.Extend(placement.Point({corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y,
+                                   corner & 4 ? b.max.z : b.min.z}));
+  return placed;
+}
+
+Bounds3 BoundsOf(const TriangleMesh& mesh) {
+  Bounds3 b;
+  for (const Vec3& p : mesh.positions) b.Extend(p);
+  return b;
+}
+
+std::string InstanceShape::ToString() const {
+  return "Instance{mesh=\"" + mesh->name + "\", parts=" + std::to_string(mesh->parts.size()) + ", " +
+         farm::ToString(placement.to_world) + "}";
 }
 
 std::string ToString(const ShapeGeometry& geometry) {
@@ -55,6 +77,7 @@ std::string ToString(const ShapeGeometry& geometry) {
     std::string operator()(const std::shared_ptr<const TriangleMesh>& m) const {
       return m ? m->ToString() : "TriangleMesh{null}";
     }
+    std::string operator()(const InstanceShape& i) const { return i.ToString(); }
   };
   return std::visit(Visitor{}, geometry);
 }
@@ -74,12 +97,8 @@ Bounds3 BoundsOf(const ShapeGeometry& geometry) {
         b.Extend(p);
       return b;
     }
-    Bounds3 operator()(const std::shared_ptr<const TriangleMesh>& m) const {
-      Bounds3 b;
-      if (m)
-        for (const Vec3& p : m->positions) b.Extend(p);
-      return b;
-    }
+    Bounds3 operator()(const std::shared_ptr<const TriangleMesh>& m) const { return m ? BoundsOf(*m) : Bounds3(); }
+    Bounds3 operator()(const InstanceShape& i) const { return Place(i.mesh->bounds, i.placement); }
   };
   return std::visit(Visitor{}, geometry);
 }
