@@ -15,18 +15,52 @@ import (
 	"photonfarm/contract/assets"
 )
 
-// The mesh vectors are shared with the worker's loader tests: each file in
-// tests/vectors/meshes is an OBJ mesh whose first line says what both sides must make of
-// it, "# vector: accept" or "# vector: refuse line N: REASON" (the error names line N and
-// contains REASON).
+// The mesh vectors are shared with the worker's loader tests: each OBJ file in
+// tests/vectors/meshes has a first line that says what both sides must make of it,
+// "# vector: accept" or "# vector: refuse line N: REASON" (the error names line N and
+// contains REASON); each farm mesh file NAME.farmmesh has a sidecar NAME.farmmesh.vector
+// whose line says "# vector: accept" or "# vector: refuse byte N: REASON".
 const vectorDir = "../../tests/vectors/meshes"
 
 var verdict = regexp.MustCompile(`^# vector: (?:(accept)|refuse line (\d+): (.+))$`)
 
+var farmVerdict = regexp.MustCompile(`^# vector: (?:(accept)|refuse byte (\d+): (.+))\n$`)
+
+func TestFarmMeshVectors(t *testing.T) {
+	files, err := filepath.Glob(filepath.Join(vectorDir, "*.farmmesh"))
+	if err != nil || len(files) == 0 {
+		t.Fatalf("no farm mesh vectors in %s: %v", vectorDir, err)
+	}
+	for _, file := range files {
+		t.Run(filepath.Base(file), func(t *testing.T) {
+			sidecar, err := os.ReadFile(file + ".vector")
+			if err != nil {
+				t.Fatal(err)
+			}
+			m := farmVerdict.FindStringSubmatch(string(sidecar))
+			if m == nil {
+				t.Fatalf("%s.vector: %q is not \"# vector: accept\" or \"# vector: refuse byte N: REASON\"", file, sidecar)
+			}
+			mesh, err := assets.CheckFarmMesh(context.Background(), openFile(file), assets.SceneLimits())
+			if m[1] != "" {
+				if err != nil || mesh.Vertices == 0 || mesh.Triangles == 0 {
+					t.Fatalf("got %+v, %v; want it accepted", mesh, err)
+				}
+				return
+			}
+			offset, _ := strconv.ParseInt(m[2], 10, 64)
+			var e *assets.FarmMeshError
+			if !errors.As(err, &e) || e.Offset != offset || !strings.Contains(e.Reason, m[3]) {
+				t.Errorf("got %v, want a refusal at byte %d with %q", err, offset, m[3])
+			}
+		})
+	}
+}
+
 func TestMeshVectors(t *testing.T) {
 	files, err := filepath.Glob(filepath.Join(vectorDir, "*.obj"))
 	if err != nil || len(files) == 0 {
-		t.Fatalf("no vectors in %s: %v", vectorDir, err)
+		t.Fatalf("no OBJ vectors in %s: %v", vectorDir, err)
 	}
 	for _, file := range files {
 		t.Run(filepath.Base(file), func(t *testing.T) {

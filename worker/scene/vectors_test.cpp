@@ -12,6 +12,10 @@
 //   tests/vectors/meshes/*.obj   OBJ files whose first line is "# vector: accept" or
 //       "# vector: refuse line N: REASON": ParseObjMesh must accept the first kind and
 //       refuse the second with an ObjError for line N.
+//   tests/vectors/meshes/*.farmmesh   farm mesh files, each beside a NAME.farmmesh.vector
+//       whose line is "# vector: accept" or "# vector: refuse byte N: REASON": ReadFarmMesh
+//       must accept the first kind and refuse the second with a FarmMeshError at byte N
+//       whose reason contains REASON (the reader words its refusals as Go does).
 //
 // Neither test skips: a folder without vectors fails it.
 
@@ -28,6 +32,7 @@
 
 #include "daemon/sha256.h"
 #include "renderfarm/v1/vectors.pb.h"
+#include "scene/farm_mesh.h"
 #include "scene/obj_mesh.h"
 #include "scene/scene.h"
 #include "util/read_file.h"
@@ -192,6 +197,34 @@ TEST(MeshVectors, TheObjLoaderAcceptsAndRefusesWhatEachFileSays) {
   }
   EXPECT_GT(accepted, 0) << "no mesh vector is accepted";
   EXPECT_GT(refused, 0) << "no mesh vector is refused";
+}
+
+TEST(MeshVectors, TheFarmMeshReaderAcceptsAndRefusesWhatEachSidecarSays) {
+  const std::vector<fs::path> vectors = Vectors(MESH_VECTORS, ".farmmesh");
+  ASSERT_FALSE(vectors.empty()) << "no mesh vectors (*.farmmesh) in " << MESH_VECTORS;
+  int accepted = 0, refused = 0;
+  for (const fs::path& file : vectors) {
+    SCOPED_TRACE(file.string());
+    std::string verdict = ReadFile(fs::path(file.string() + ".vector"));
+    ASSERT_TRUE(!verdict.empty() && verdict.back() == '\n');
+    verdict.pop_back();
+    constexpr std::string_view kRefuse = "# vector: refuse byte ";
+    const bool accept = verdict == "# vector: accept";
+    ASSERT_TRUE(accept || verdict.starts_with(kRefuse)) << verdict;
+    try {
+      const TriangleMesh mesh = ReadFarmMesh(ReadFile(file));
+      EXPECT_TRUE(accept) << "accepted (" << mesh.triangle_count() << " triangles), must be refused: " << verdict;
+      accepted += accept;
+    } catch (const FarmMeshError& e) {
+      ASSERT_FALSE(accept) << "refused, must be accepted: " << e.what();
+      const std::size_t colon = verdict.find(": ", kRefuse.size());
+      EXPECT_EQ(e.offset(), std::stoull(verdict.substr(kRefuse.size()))) << e.what();
+      EXPECT_NE(e.reason().find(verdict.substr(colon + 2)), std::string::npos) << e.what() << " vs " << verdict;
+      refused += 1;
+    }
+  }
+  EXPECT_GT(accepted, 0) << "no farm mesh vector is accepted";
+  EXPECT_GT(refused, 0) << "no farm mesh vector is refused";
 }
 
 }  // namespace

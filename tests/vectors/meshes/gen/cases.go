@@ -1,0 +1,106 @@
+package main
+
+import (
+	"bytes"
+	"encoding/binary"
+	"math"
+
+	"photonfarm/contract/assets"
+)
+
+// farmCase is one farm mesh vector: a file and what every reader must make of it, "" to
+// accept it, else the byte offset and (part of) the reason of its refusal.
+type farmCase struct {
+	name   string
+	file   []byte
+	offset int64
+	reason string
+}
+
+// quad is two triangles with every optional section: the file most cases change a byte of.
+func quad() *assets.MeshData {
+	return &assets.MeshData{
+		Positions: []float32{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0},
+		Normals:   []float32{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1},
+		TexCoords: []float32{0, 1, 1, 1, 1, 0, 0, 0},
+		Tangents:  []float32{1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1},
+		Indices:   []uint32{0, 1, 2, 0, 2, 3},
+	}
+}
+
+func encode(m *assets.MeshData) []byte {
+	var b bytes.Buffer
+	if err := assets.EncodeFarmMesh(&b, m); err != nil {
+		panic(err) // the cases' meshes are well formed
+	}
+	return b.Bytes()
+}
+
+// Offsets of quad's sections.
+const (
+	normals   = 32 + 48
+	texcoords = normals + 48
+	tangents  = texcoords + 32
+	indices   = tangents + 64
+)
+
+func put32(b []byte, at int, v uint32) []byte {
+	b = bytes.Clone(b)
+	binary.LittleEndian.PutUint32(b[at:], v)
+	return b
+}
+
+func put64(b []byte, at int, v uint64) []byte {
+	b = bytes.Clone(b)
+	binary.LittleEndian.PutUint64(b[at:], v)
+	return b
+}
+
+func float(b []byte, at int, x float32) []byte { return put32(b, at, math.Float32bits(x)) }
+
+// cases lists the farm mesh vectors.
+func cases() []farmCase {
+	good := encode(quad())
+	bare := encode(&assets.MeshData{Positions: quad().Positions, Indices: quad().Indices})
+	onlyTexCoords := quad()
+	onlyTexCoords.Normals, onlyTexCoords.Tangents = nil, nil
+	mirrored := quad()
+	for i := 3; i < len(mirrored.Tangents); i += 4 {
+		mirrored.Tangents[i] = -1
+	}
+	unnormalised := quad()
+	unnormalised.Normals = []float32{0, 0, 3, 0, 0, 0, 0, 0.5, 0.5, 0, 0, 1} // a zero normal is "none here"
+	degenerate := quad()
+	degenerate.Indices = append(degenerate.Indices, 1, 1, 2)
+	nan, inf := float32(math.NaN()), float32(math.Inf(1))
+	return []farmCase{
+		{"accept-quad-with-every-section", good, 0, ""},
+		{"accept-quad-of-positions-only", bare, 0, ""},
+		{"accept-quad-with-texture-coordinates-only", encode(onlyTexCoords), 0, ""},
+		{"accept-tangents-with-w-minus-1", encode(mirrored), 0, ""},
+		{"accept-normals-of-any-length-and-a-zero-normal", encode(unnormalised), 0, ""},
+		{"accept-degenerate-triangle", encode(degenerate), 0, ""},
+		{"accept-positions-at-max-magnitude", float(float(bare, 32, 1e12), 40, -1e12), 0, ""},
+
+		{"refuse-short-header", good[:20], 20, "the file ends inside its 32-byte header"},
+		{"refuse-no-magic", append([]byte("FARMMASH"), good[8:]...), 0, `not a farm mesh file (no "FARMMESH" magic)`},
+		{"refuse-version-2", put32(good, 8, 2), 8, "version 2, but this farm reads version 1"},
+		{"refuse-unknown-flag", put32(good, 12, 0x17), 12, "unknown flags 0x10"},
+		{"refuse-no-vertices", put64(good, 16, 0), 16, "the mesh has no vertices"},
+		{"refuse-too-many-vertices", put64(bare, 16, 50000001), 16, "50000001 vertices, more than the 50000000 of one mesh"},
+		{"refuse-no-triangles", put64(good, 24, 0), 24, "the mesh has no triangles"},
+		{"refuse-too-many-triangles", put64(bare, 24, 50000001), 24, "50000001 triangles, more than the 50000000 of one mesh"},
+		{"refuse-header-implying-more-than-an-asset", put64(good, 16, 50000000), 16, "the header implies 2400000056 bytes, more than the 1073741824 of one asset"},
+		{"refuse-nan-position", float(good, 36, nan), 36, "position 1 is not finite"},
+		{"refuse-position-out-of-range", float(good, 32, 2e12), 32, "position 0's coordinate 1.999999991808e+12 is out of range: numbers are at most ±1e+12"},
+		{"refuse-infinite-normal", float(good, normals+8, inf), normals + 8, "normal 2 is not finite"},
+		{"refuse-nan-texture-coordinate", float(good, texcoords+4, nan), texcoords + 4, "texture coordinate 1 is not finite"},
+		{"refuse-tangent-w-of-0.5", float(good, tangents+12, 0.5), tangents + 12, "tangent 0's w is 0.5, not 1 or -1"},
+		{"refuse-tangent-w-of-0", float(good, tangents+28, 0), tangents + 28, "tangent 1's w is 0, not 1 or -1"},
+		{"refuse-index-past-the-vertices", put32(good, indices+8, 4), indices + 8, "triangle 0 refers to vertex 4 but the mesh has 4 vertices"},
+		{"refuse-file-cut-in-its-positions", good[:40], 40, "the file ends inside its positions"},
+		{"refuse-file-cut-in-its-tangents", good[:tangents+2], tangents + 2, "the file ends inside its tangents"},
+		{"refuse-file-cut-in-its-last-triangle", good[:len(good)-2], int64(len(good) - 2), "the file ends before its last triangle"},
+		{"refuse-trailing-bytes", append(bytes.Clone(good), 0), int64(len(good)), "the file goes on past its last triangle"},
+	}
+}
