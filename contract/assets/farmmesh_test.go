@@ -110,3 +110,42 @@ func TestCheckMeshStillReadsOBJ(t *testing.T) {
 		t.Errorf("CheckMesh of an OBJ = %+v, %v", m, err)
 	}
 }
+
+// TestFarmMeshLimits: files past small limits are refused where the worker's reader
+// refuses them (worker/scene/farm_mesh_test.cpp has the same cases).
+func TestFarmMeshLimits(t *testing.T) {
+	good := encode(t, quad()) // 248 bytes
+	limits := func(bytes, vertices, triangles uint64) assets.Limits {
+		return assets.Limits{MaxBytes: bytes, MaxVertices: vertices, MaxTriangles: triangles, MaxLineBytes: 100}
+	}
+	for _, tt := range []struct {
+		name   string
+		file   []byte
+		lim    assets.Limits
+		offset int64
+		reason string
+	}{
+		{"a header past the byte limit", good, limits(247, 10, 10), 16, "the header implies 248 bytes, more than the 247 of one asset"},
+		{"a file exactly at the limit", good, limits(248, 10, 10), 0, ""},
+		{"a byte past the limit", append(bytes.Clone(good), 'x'), limits(248, 10, 10), 248, "the file is larger than the limit of one asset"},
+		{"a byte past the header", good, limits(20, 10, 10), 20, "the file is larger than the limit of one asset"},
+		{"a byte past the limit, below the header's size", append(bytes.Clone(good), 'x'), limits(250, 10, 10), 248, "the file goes on past its last triangle"},
+		{"too many vertices", good, limits(1000, 3, 10), 16, "4 vertices, more than the 3 of one mesh"},
+		{"too many triangles", good, limits(1000, 10, 1), 24, "2 triangles, more than the 1 of one mesh"},
+	} {
+		t.Run(tt.name, func(t *testing.T) {
+			open := func() (io.ReadCloser, error) { return io.NopCloser(bytes.NewReader(tt.file)), nil }
+			_, err := assets.CheckFarmMesh(context.Background(), open, tt.lim)
+			if tt.reason == "" {
+				if err != nil {
+					t.Fatalf("refused: %v", err)
+				}
+				return
+			}
+			var bad *assets.FarmMeshError
+			if !errors.As(err, &bad) || bad.Offset != tt.offset || bad.Reason != tt.reason {
+				t.Errorf("CheckFarmMesh = %v, want byte %d: %s", err, tt.offset, tt.reason)
+			}
+		})
+	}
+}

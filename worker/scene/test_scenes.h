@@ -3,6 +3,7 @@
 // Helpers for tests (not linked into the worker): build renderfarm.v1.Scene messages in a
 // line or two, and a blob loader over an in-memory map.
 
+#include <cstring>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,7 @@
 #include "math/vec3.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "scene/scene.h"
+#include "scene/shapes.h"
 
 namespace farm::testing {
 
@@ -102,6 +104,46 @@ inline pb::Shape* AddMeshFile(pb::Scene& s, const std::string& material,
   shape->set_material(material);
   shape->mutable_mesh()->set_digest(digest);
   return shape;
+}
+
+// The farm mesh file (docs/mesh-format.md) of a mesh, with the sections it has.
+inline std::string FarmMeshBytes(const TriangleMesh& m) {
+  std::string out = "FARMMESH";
+  const auto put = [&out](const void* data, std::size_t bytes) { out.append(static_cast<const char*>(data), bytes); };
+  const uint32_t version = 1;
+  const uint32_t flags = (m.normals.empty() ? 0 : 1) | (m.texcoords.empty() ? 0 : 2) | (m.tangents.empty() ? 0 : 4);
+  const uint64_t vertices = m.positions.size(), triangles = m.indices.size() / 3;
+  put(&version, 4);
+  put(&flags, 4);
+  put(&vertices, 8);
+  put(&triangles, 8);
+  put(m.positions.data(), m.positions.size() * sizeof(Vec3));
+  put(m.normals.data(), m.normals.size() * sizeof(Vec3));
+  put(m.texcoords.data(), m.texcoords.size() * sizeof(Vec2));
+  put(m.tangents.data(), m.tangents.size() * sizeof(Tangent));
+  put(m.indices.data(), m.indices.size() * sizeof(uint32_t));
+  return out;
+}
+
+// A shape placing mesh `mesh` of the scene (Scene.meshes) by a 12-value matrix (row-major).
+inline pb::Shape* AddInstance(pb::Scene& s, const std::string& mesh, const double (&matrix)[12]) {
+  pb::Shape* shape = s.add_shapes();
+  shape->mutable_instance()->set_mesh(mesh);
+  for (const double x : matrix) shape->mutable_instance()->mutable_transform()->add_matrix(x);
+  return shape;
+}
+
+// A mesh of Scene.meshes with one part per (digest, material).
+inline pb::Mesh* AddMesh(pb::Scene& s, const std::string& name,
+                         const std::vector<std::pair<std::string, std::string>>& parts) {
+  pb::Mesh* mesh = s.add_meshes();
+  mesh->set_name(name);
+  for (const auto& [digest, material] : parts) {
+    pb::MeshPart* part = mesh->add_parts();
+    part->set_digest(digest);
+    part->set_material(material);
+  }
+  return mesh;
 }
 
 // Serves blobs from a map; throws for unknown digests, as the daemon's loader does.
