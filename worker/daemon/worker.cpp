@@ -18,6 +18,7 @@
 #include "daemon/channel.h"
 #include "daemon/current_task.h"
 #include "daemon/log.h"
+#include "daemon/peak_memory.h"
 #include "daemon/retry.h"
 #include "daemon/task_executor.h"
 #include "renderfarm/v1/worker.grpc.pb.h"
@@ -298,6 +299,7 @@ int Worker::Impl::Run() {
 void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   const pb::Lease& lease = leased.lease();
   const auto start = std::chrono::steady_clock::now();
+  const PeakMemory memory = PeakMemory::Start();
   std::stop_source task_stop;
   Progress progress;
   {
@@ -329,13 +331,18 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     std::lock_guard lock(mu_);
     lost = current_->lost;
   }
-  // One line per task, with the coordinator's names for what identifies it.
+  // One line per task, with the coordinator's names for what identifies it, and the peak
+  // resident memory of the worker while it ran.
   const pb::Task& task = leased.task();
   const auto log = [&](LogLevel level, std::string_view msg, std::initializer_list<LogAttr> more) {
     std::vector<LogAttr> attrs{{"job", task.job_id()},     {"task", lease.task_id()},
                                {"attempt", task.attempts()}, {"epoch", lease.epoch()},
                                {"worker", WorkerId()},     {"spec", DescribeTask(task)},
                                {"seconds", Seconds(std::chrono::steady_clock::now() - start)}};
+    if (const std::optional<std::uint64_t> peak = memory.Bytes()) {
+      attrs.emplace_back("peak_memory_bytes", *peak);
+      if (memory.since_start()) attrs.emplace_back("peak_memory_since", "process start");
+    }
     attrs.insert(attrs.end(), more);
     Log(level, msg, attrs);
   };
