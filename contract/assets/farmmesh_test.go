@@ -3,26 +3,13 @@ package assets_test
 import (
 	"bytes"
 	"context"
-	"encoding/binary"
 	"errors"
 	"io"
-	"math"
-	"strings"
 	"testing"
 
 	"photonfarm/contract/assets"
+	"photonfarm/contract/assets/assetstest"
 )
-
-// quad is two triangles with every optional section.
-func quad() *assets.MeshData {
-	return &assets.MeshData{
-		Positions: []float32{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0},
-		Normals:   []float32{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1},
-		TexCoords: []float32{0, 1, 1, 1, 1, 0, 0, 0},
-		Tangents:  []float32{1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1},
-		Indices:   []uint32{0, 1, 2, 0, 2, 3},
-	}
-}
 
 func encode(t *testing.T, m *assets.MeshData) []byte {
 	t.Helper()
@@ -39,7 +26,7 @@ func check(b []byte) (assets.Mesh, error) {
 }
 
 func TestFarmMeshRoundTripCountsAndBounds(t *testing.T) {
-	for _, m := range []*assets.MeshData{quad(), {Positions: quad().Positions, Indices: quad().Indices}} {
+	for _, m := range []*assets.MeshData{assetstest.Quad(), {Positions: assetstest.Quad().Positions, Indices: assetstest.Quad().Indices}} {
 		b := encode(t, m)
 		if want := 32 + len(m.Positions)*4 + len(m.Normals)*4 + len(m.TexCoords)*4 + len(m.Tangents)*4 + len(m.Indices)*4; len(b) != want {
 			t.Errorf("file of %d bytes, want %d", len(b), want)
@@ -55,53 +42,10 @@ func TestFarmMeshRoundTripCountsAndBounds(t *testing.T) {
 }
 
 func TestEncodeRefusesArraysThatDoNotFit(t *testing.T) {
-	m := quad()
+	m := assetstest.Quad()
 	m.TexCoords = m.TexCoords[:6]
 	if err := assets.EncodeFarmMesh(io.Discard, m); err == nil {
 		t.Error("EncodeFarmMesh accepted 3 texture coordinates for 4 vertices")
-	}
-}
-
-// TestFarmMeshRefusals: each way a file can be wrong is refused at its byte offset.
-func TestFarmMeshRefusals(t *testing.T) {
-	good := encode(t, quad())
-	put32 := func(b []byte, at int, v uint32) []byte {
-		b = bytes.Clone(b)
-		binary.LittleEndian.PutUint32(b[at:], v)
-		return b
-	}
-	const normals, texcoords, tangents, indices = 32 + 48, 32 + 96, 32 + 128, 32 + 192
-	for _, tt := range []struct {
-		name   string
-		file   []byte
-		offset int64
-		reason string
-	}{
-		{"short header", good[:20], 20, "ends inside its 32-byte header"},
-		{"wrong version", put32(good, 8, 2), 8, "version 2"},
-		{"unknown flag", put32(good, 12, 0x17), 12, "unknown flags 0x10"},
-		{"no vertices", put32(good, 16, 0), 16, "no vertices"},
-		{"no triangles", put32(good, 24, 0), 24, "no triangles"},
-		{"NaN position", put32(good, 36, math.Float32bits(float32(math.NaN()))), 36, "position 1 is not finite"},
-		{"position out of range", put32(good, 32, math.Float32bits(2e12)), 32, "out of range"},
-		{"infinite normal", put32(good, normals, math.Float32bits(float32(math.Inf(1)))), normals, "normal 0 is not finite"},
-		{"NaN texture coordinate", put32(good, texcoords+4, math.Float32bits(float32(math.NaN()))), texcoords + 4, "texture coordinate 1"},
-		{"tangent w of 0.5", put32(good, tangents+12, math.Float32bits(0.5)), tangents + 12, "tangent 0's w is 0.5"},
-		{"index past the vertices", put32(good, indices+8, 4), indices + 8, "triangle 0 refers to vertex 4 but the mesh has 4 vertices"},
-		{"truncated", good[:len(good)-2], int64(len(good) - 2), "ends before its last triangle"},
-		{"trailing bytes", append(bytes.Clone(good), 0), int64(len(good)), "goes on past its last triangle"},
-	} {
-		t.Run(tt.name, func(t *testing.T) {
-			_, err := check(tt.file)
-			var bad *assets.FarmMeshError
-			if !errors.As(err, &bad) || bad.Offset != tt.offset || !strings.Contains(bad.Reason, tt.reason) {
-				t.Errorf("CheckMesh = %v, want a refusal at byte %d with %q", err, tt.offset, tt.reason)
-			}
-			var refusal assets.Refusal
-			if !errors.As(err, &refusal) {
-				t.Errorf("%v is not an assets.Refusal", err)
-			}
-		})
 	}
 }
 
@@ -114,7 +58,7 @@ func TestCheckMeshStillReadsOBJ(t *testing.T) {
 // TestFarmMeshLimits: files past small limits are refused where the worker's reader
 // refuses them (worker/scene/farm_mesh_test.cpp has the same cases).
 func TestFarmMeshLimits(t *testing.T) {
-	good := encode(t, quad()) // 248 bytes
+	good := encode(t, assetstest.Quad()) // 248 bytes
 	limits := func(bytes, vertices, triangles uint64) assets.Limits {
 		return assets.Limits{MaxBytes: bytes, MaxVertices: vertices, MaxTriangles: triangles, MaxLineBytes: 100}
 	}

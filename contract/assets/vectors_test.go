@@ -53,6 +53,10 @@ func TestFarmMeshVectors(t *testing.T) {
 			if !errors.As(err, &e) || e.Offset != offset || !strings.Contains(e.Reason, m[3]) {
 				t.Errorf("got %v, want a refusal at byte %d with %q", err, offset, m[3])
 			}
+			var refusal assets.Refusal
+			if !errors.As(err, &refusal) {
+				t.Errorf("%v is not an assets.Refusal", err)
+			}
 		})
 	}
 }

@@ -31,6 +31,17 @@ func validate(mutate func(*pb.Scene)) error {
 	return scene.Validate(s)
 }
 
+// validated returns scenetest.Valid(8, 8) changed by mutate, which Validate must accept.
+func validated(t *testing.T, mutate func(*pb.Scene)) *pb.Scene {
+	t.Helper()
+	s := scenetest.Valid(8, 8)
+	mutate(s)
+	if err := scene.Validate(s); err != nil {
+		t.Fatal(err)
+	}
+	return s
+}
+
 // expectValid checks that Validate accepts every variant.
 func expectValid(t *testing.T, tests []variant) {
 	t.Helper()

@@ -164,11 +164,7 @@ func TestInstancedPartsCountLikeMeshFiles(t *testing.T) {
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(8, 8)
-			tt.mutate(s)
-			if err := scene.Validate(s); err != nil {
-				t.Fatal(err)
-			}
+			s := validated(t, tt.mutate)
 			if got := scene.SurfacesOf(s); got != tt.surfaces {
 				t.Errorf("SurfacesOf = %+v, want %+v", got, tt.surfaces)
 			}

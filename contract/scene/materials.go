@@ -26,12 +26,3 @@ func checkGlossyEnergy(s *pb.Scene) *FieldError {
 	}
 	return nil
 }
-
-// materialsByName indexes s's materials by name.
-func materialsByName(s *pb.Scene) map[string]*pb.Material {
-	byName := make(map[string]*pb.Material, len(s.GetMaterials()))
-	for _, m := range s.GetMaterials() {
-		byName[m.GetName()] = m
-	}
-	return byName
-}

@@ -158,12 +158,7 @@ func TestSurfacesOf(t *testing.T) {
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
-			s := scenetest.Valid(8, 8)
-			tt.mutate(s)
-			if err := scene.Validate(s); err != nil {
-				t.Fatal(err)
-			}
-			if got := scene.SurfacesOf(s); got != tt.want {
+			if got := scene.SurfacesOf(validated(t, tt.mutate)); got != tt.want {
 				t.Errorf("SurfacesOf = %+v, want %+v", got, tt.want)
 			}
 		})

@@ -32,6 +32,15 @@ func checkNames(s *pb.Scene) *FieldError {
 
 type named interface{ GetName() string }
 
+// byName indexes a list by name.
+func byName[T named](list []T) map[string]T {
+	m := make(map[string]T, len(list))
+	for _, x := range list {
+		m[x.GetName()] = x
+	}
+	return m
+}
+
 func names[T named](list []T) []string {
 	out := make([]string, len(list))
 	for i, x := range list {
@@ -44,7 +53,7 @@ func names[T named](list []T) []string {
 // mesh and no material, its mesh's parts naming theirs (shapes[i].material, then
 // shapes[i].instance.mesh).
 func checkShapeMaterials(s *pb.Scene) *FieldError {
-	materials, meshes := materialsByName(s), meshesByName(s)
+	materials, meshes := byName(s.GetMaterials()), byName(s.GetMeshes())
 	for i, sh := range s.GetShapes() {
 		p := index("shapes", i)
 		inst := sh.GetInstance()
@@ -65,7 +74,7 @@ func checkShapeMaterials(s *pb.Scene) *FieldError {
 
 // checkPartMaterials: every mesh part's material exists (meshes[i].parts[j].material).
 func checkPartMaterials(s *pb.Scene) *FieldError {
-	materials := materialsByName(s)
+	materials := byName(s.GetMaterials())
 	for i, m := range s.GetMeshes() {
 		for j, part := range m.GetParts() {
 			if _, ok := materials[part.GetMaterial()]; !ok {
@@ -79,12 +88,9 @@ func checkPartMaterials(s *pb.Scene) *FieldError {
 // checkTextureRefs: every texture a material or the environment reads exists
 // (materials[i].principled.base_color_texture.texture, ..., environment.map.texture).
 func checkTextureRefs(s *pb.Scene) *FieldError {
-	textures := make(map[string]bool, len(s.GetTextures()))
-	for _, t := range s.GetTextures() {
-		textures[t.GetName()] = true
-	}
+	textures := byName(s.GetTextures())
 	for _, ref := range TextureRefs(s) {
-		if !textures[ref.Ref.GetTexture()] {
+		if _, ok := textures[ref.Ref.GetTexture()]; !ok {
 			return rules.Errorf(ref.Field+".texture", "no texture named %q", rules.Truncate(ref.Ref.GetTexture(), 80))
 		}
 	}
@@ -121,20 +127,11 @@ func TextureRefs(s *pb.Scene) []TextureRef {
 	return refs
 }
 
-// meshesByName indexes s's meshes by name.
-func meshesByName(s *pb.Scene) map[string]*pb.Mesh {
-	byName := make(map[string]*pb.Mesh, len(s.GetMeshes()))
-	for _, m := range s.GetMeshes() {
-		byName[m.GetName()] = m
-	}
-	return byName
-}
-
 // ShapeMaterials returns the materials each shape of s uses, by shape index: its own, or
 // for an instance those of its mesh's parts, in part order. s must have passed the
 // reference rules of Validate (checkShapeMaterials, checkPartMaterials).
 func ShapeMaterials(s *pb.Scene) [][]*pb.Material {
-	materials, meshes := materialsByName(s), meshesByName(s)
+	materials, meshes := byName(s.GetMaterials()), byName(s.GetMeshes())
 	out := make([][]*pb.Material, len(s.GetShapes()))
 	for i, sh := range s.GetShapes() {
 		inst := sh.GetInstance()

@@ -6,6 +6,7 @@ import (
 	"math"
 
 	"photonfarm/contract/assets"
+	"photonfarm/contract/assets/assetstest"
 )
 
 // farmCase is one farm mesh vector: a file and what every reader must make of it, "" to
@@ -15,17 +16,6 @@ type farmCase struct {
 	file   []byte
 	offset int64
 	reason string
-}
-
-// quad is two triangles with every optional section: the file most cases change a byte of.
-func quad() *assets.MeshData {
-	return &assets.MeshData{
-		Positions: []float32{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0},
-		Normals:   []float32{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1},
-		TexCoords: []float32{0, 1, 1, 1, 1, 0, 0, 0},
-		Tangents:  []float32{1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1},
-		Indices:   []uint32{0, 1, 2, 0, 2, 3},
-	}
 }
 
 func encode(m *assets.MeshData) []byte {
@@ -60,17 +50,17 @@ func float(b []byte, at int, x float32) []byte { return put32(b, at, math.Float3
 
 // cases lists the farm mesh vectors.
 func cases() []farmCase {
-	good := encode(quad())
-	bare := encode(&assets.MeshData{Positions: quad().Positions, Indices: quad().Indices})
-	onlyTexCoords := quad()
+	good := encode(assetstest.Quad())
+	bare := encode(&assets.MeshData{Positions: assetstest.Quad().Positions, Indices: assetstest.Quad().Indices})
+	onlyTexCoords := assetstest.Quad()
 	onlyTexCoords.Normals, onlyTexCoords.Tangents = nil, nil
-	mirrored := quad()
+	mirrored := assetstest.Quad()
 	for i := 3; i < len(mirrored.Tangents); i += 4 {
 		mirrored.Tangents[i] = -1
 	}
-	unnormalised := quad()
+	unnormalised := assetstest.Quad()
 	unnormalised.Normals = []float32{0, 0, 3, 0, 0, 0, 0, 0.5, 0.5, 0, 0, 1} // a zero normal is "none here"
-	degenerate := quad()
+	degenerate := assetstest.Quad()
 	degenerate.Indices = append(degenerate.Indices, 1, 1, 2)
 	nan, inf := float32(math.NaN()), float32(math.Inf(1))
 	return []farmCase{

@@ -1,33 +1,17 @@
 package main
 
 import (
-	"bytes"
-	"os"
-	"path/filepath"
 	"testing"
+
+	"photonfarm/tests/vectors/vectorfiles"
 )
 
 const root = "../../../.."
 
 // TestCommittedVectorsAreCurrent fails while the committed farm mesh vectors differ from
-// what the generator makes: run `go run ./tests/vectors/meshes/gen`.
+// what the generator makes.
 func TestCommittedVectorsAreCurrent(t *testing.T) {
-	files := Vectors()
-	for rel, want := range files {
-		got, err := os.ReadFile(filepath.Join(root, rel))
-		if err != nil || !bytes.Equal(got, want) {
-			t.Errorf("%s is not what the generator makes (%v): run go run ./tests/vectors/meshes/gen", rel, err)
-		}
-	}
-	committed, err := filepath.Glob(filepath.Join(root, vectorDir, "*.farmmesh*"))
-	if err != nil {
-		t.Fatal(err)
-	}
-	for _, p := range committed {
-		if rel, _ := filepath.Rel(root, p); files[rel] == nil {
-			t.Errorf("%s is not made by the generator: run go run ./tests/vectors/meshes/gen", rel)
-		}
-	}
+	vectorfiles.Check(t, root, Vectors(), "go run ./tests/vectors/meshes/gen", owned)
 }
 
 // TestCasesAreDistinct: no two cases share a name or, by accident, a file.

@@ -9,30 +9,28 @@
 package main
 
 import (
-	"flag"
 	"fmt"
-	"os"
-	"path/filepath"
-	"strings"
+	"path"
+
+	"photonfarm/tests/vectors/vectorfiles"
 )
 
-// vectorDir is the folder of the mesh vectors, from the repository's root.
-const vectorDir = "tests/vectors/meshes"
+// vectorDir is the folder of the mesh vectors, from the repository's root; owned, the
+// files of it the generator makes (the OBJ vectors are written by hand).
+const (
+	vectorDir = "tests/vectors/meshes"
+	owned     = vectorDir + "/*.farmmesh*"
+)
 
 func main() {
-	root := flag.String("root", ".", "the repository's root")
-	flag.Parse()
-	if err := write(*root); err != nil {
-		fmt.Fprintln(os.Stderr, "gen:", err)
-		os.Exit(1)
-	}
+	vectorfiles.Main("gen", func(string) (map[string][]byte, error) { return Vectors(), nil }, owned)
 }
 
 // Vectors returns the files the generator makes, by path from the repository's root.
 func Vectors() map[string][]byte {
 	files := map[string][]byte{}
 	for _, c := range cases() {
-		file := filepath.Join(vectorDir, c.name+".farmmesh")
+		file := path.Join(vectorDir, c.name+".farmmesh")
 		files[file] = c.file
 		files[file+".vector"] = []byte(verdict(c) + "\n")
 	}
@@ -46,27 +44,4 @@ func verdict(c farmCase) string {
 		return "# vector: accept"
 	}
 	return fmt.Sprintf("# vector: refuse byte %d: %s", c.offset, c.reason)
-}
-
-// write writes every file Vectors makes and removes the farm mesh vectors it no longer makes.
-func write(root string) error {
-	files := Vectors()
-	stale, err := filepath.Glob(filepath.Join(root, vectorDir, "*.farmmesh*"))
-	if err != nil {
-		return err
-	}
-	for _, p := range stale {
-		if rel, _ := filepath.Rel(root, p); files[rel] == nil && strings.Contains(p, ".farmmesh") {
-			if err := os.Remove(p); err != nil {
-				return err
-			}
-		}
-	}
-	for rel, data := range files {
-		if err := os.WriteFile(filepath.Join(root, rel), data, 0o644); err != nil {
-			return err
-		}
-	}
-	fmt.Printf("gen: %d files under %s\n", len(files), vectorDir)
-	return nil
 }

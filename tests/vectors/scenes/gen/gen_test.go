@@ -1,39 +1,24 @@
 package main
 
 import (
-	"bytes"
-	"os"
-	"path/filepath"
 	"regexp"
 	"sort"
 	"strings"
 	"testing"
+
+	"photonfarm/tests/vectors/vectorfiles"
 )
 
 const root = "../../../.."
 
 // TestCommittedVectorsAreCurrent fails while the committed vectors (and their assets)
-// differ from what the generator makes: run `go run ./tests/vectors/scenes/gen`.
+// differ from what the generator makes.
 func TestCommittedVectorsAreCurrent(t *testing.T) {
 	files, err := Vectors(root)
 	if err != nil {
 		t.Fatal(err)
 	}
-	for rel, want := range files {
-		got, err := os.ReadFile(filepath.Join(root, rel))
-		if err != nil || !bytes.Equal(got, want) {
-			t.Errorf("%s is not what the generator makes (%v): run go run ./tests/vectors/scenes/gen", rel, err)
-		}
-	}
-	committed, err := filepath.Glob(filepath.Join(root, vectorDir, "*.json"))
-	if err != nil {
-		t.Fatal(err)
-	}
-	for _, p := range committed {
-		if rel, _ := filepath.Rel(root, p); files[filepath.ToSlash(rel)] == nil {
-			t.Errorf("%s is not made by the generator: run go run ./tests/vectors/scenes/gen", rel)
-		}
-	}
+	vectorfiles.Check(t, root, files, "go run ./tests/vectors/scenes/gen", owned)
 }
 
 // notExpressible are accepted keys no vector can hold, and why.
