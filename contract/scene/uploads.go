@@ -29,31 +29,3 @@ func checkReference(s *pb.Scene) *FieldError {
 	}
 	return nil
 }
-
-// AssetRef is a file a scene refers to by digest, uploaded before the scene is submitted.
-type AssetRef struct {
-	// Field is the digest's path: "shapes[3].mesh.digest", "meshes[0].parts[1].digest",
-	// "textures[2].digest".
-	Field  string
-	Digest string
-}
-
-// AssetRefs lists the assets s refers to in field order: shapes' mesh files, mesh parts,
-// then textures.
-func AssetRefs(s *pb.Scene) []AssetRef {
-	var refs []AssetRef
-	for i, sh := range s.GetShapes() {
-		if m := sh.GetMesh(); m != nil {
-			refs = append(refs, AssetRef{Field: index("shapes", i) + ".mesh.digest", Digest: m.GetDigest()})
-		}
-	}
-	for i, m := range s.GetMeshes() {
-		for j, part := range m.GetParts() {
-			refs = append(refs, AssetRef{Field: index(index("meshes", i)+".parts", j) + ".digest", Digest: part.GetDigest()})
-		}
-	}
-	for i, t := range s.GetTextures() {
-		refs = append(refs, AssetRef{Field: index("textures", i) + ".digest", Digest: t.GetDigest()})
-	}
-	return refs
-}

@@ -121,16 +121,12 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	return &pb.SubmitJobResponse{Job: job}, nil
 }
 
-// checkInputBlobs checks that the blobs a scene names (meshes, mesh parts, textures, reference image) exist.
+// checkInputBlobs checks that the blobs a scene names (scene.Files) exist.
 func (s *Service) checkInputBlobs(ctx context.Context, sc *pb.Scene) error {
-	refs := scene.AssetRefs(sc)
-	if d := scene.ReferenceDigest(sc); d != "" {
-		refs = append(refs, scene.AssetRef{Field: "progressive.reference.digest", Digest: d})
-	}
-	for _, ref := range refs {
-		if _, err := s.cfg.Blobs.Stat(ctx, ref.Digest); err != nil {
+	for _, f := range scene.Files(sc) {
+		if _, err := s.cfg.Blobs.Stat(ctx, f.Digest); err != nil {
 			if errs.Is(err, errs.NotFound) {
-				return errs.Field(ref.Field, "no blob %s in the blob store; upload the file first", ref.Digest)
+				return errs.Field(f.Field+".digest", "no blob %s in the blob store; upload the file first", f.Digest)
 			}
 			return err
 		}

@@ -42,9 +42,9 @@ func Vectors(root string) (map[string][]byte, error) {
 		s := base()
 		c.mutate(s)
 		vec := &pb.SceneVector{Description: describe(c), Scene: s, RefusedField: c.refused, Grow: c.grow, Assets: map[string]string{}}
-		for _, ref := range scene.AssetRefs(s) {
-			if file, ok := fromVectors[ref.Digest]; ok {
-				vec.Assets[ref.Digest] = file
+		for _, f := range scene.Files(s) {
+			if file, ok := fromVectors[f.Digest]; ok {
+				vec.Assets[f.Digest] = file
 			}
 		}
 		if err := add(c.name, vec); err != nil {
