@@ -118,8 +118,8 @@ var accepted = []vectorCase{
 	accept("accept-normal-scale-0", "Principled.normal_scale:gte= Principled.normal_scale:default", func(s *pb.Scene) { principled(s).NormalScale = 0 }),
 	accept("accept-normal-scale-10", "Principled.normal_scale:lte=", func(s *pb.Scene) { principled(s).NormalScale = 10 }),
 	accept("accept-principled-emission-0-in-one-channel", "Principled.emission:gte=", func(s *pb.Scene) { principled(s).Emission.R = 0 }),
-	accept("accept-opacity-0", "Principled.opacity:gte= Principled.opacity:default", func(s *pb.Scene) { principled(s).Opacity = 0 }),
-	accept("accept-opacity-1", "Principled.opacity:lte=", func(s *pb.Scene) { principled(s).Opacity = 1 }),
+	accept("accept-transparency-0", "Principled.transparency:gte=", func(s *pb.Scene) { principled(s).Transparency = 0 }),
+	accept("accept-transparency-1", "Principled.transparency:lte=", func(s *pb.Scene) { principled(s).Transparency = 1 }),
 	accept("accept-alpha-cutoff-0", "Principled.alpha_cutoff:gte= Principled.alpha_cutoff:default", func(s *pb.Scene) { principled(s).AlphaCutoff = 0 }),
 	accept("accept-alpha-cutoff-1", "Principled.alpha_cutoff:lte=", func(s *pb.Scene) { principled(s).AlphaCutoff = 1 }),
 

@@ -26,7 +26,7 @@ func base() *pb.Scene {
 				Metallic: 0.2, Roughness: 0.4, MetallicRoughnessTexture: &pb.TextureRef{Texture: "wood"},
 				NormalTexture: &pb.TextureRef{Texture: "wood"}, NormalScale: 0.8,
 				Emission: rgb(0.1, 0.1, 0), EmissionTexture: &pb.TextureRef{Texture: "wood"},
-				AlphaMode: pb.AlphaMode_ALPHA_MODE_MASK, Opacity: 0.9, AlphaCutoff: 0.4}}},
+				AlphaMode: pb.AlphaMode_ALPHA_MODE_MASK, Transparency: 0.1, AlphaCutoff: 0.4}}},
 		},
 		Shapes: []*pb.Shape{
 			{Name: "ball", Material: "white", Geometry: &pb.Shape_Sphere{Sphere: &pb.Sphere{Center: v(0, 1, 0), Radius: 1}}},
