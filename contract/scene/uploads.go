@@ -29,21 +29,3 @@ func checkReference(s *pb.Scene) *FieldError {
 	}
 	return nil
 }
-
-// MeshRef is a mesh file a scene refers to by digest.
-type MeshRef struct {
-	// Field is the digest's path, "shapes[3].mesh.digest".
-	Field  string
-	Digest string
-}
-
-// MeshRefs lists the mesh files s refers to, in shape order.
-func MeshRefs(s *pb.Scene) []MeshRef {
-	var refs []MeshRef
-	for i, sh := range s.GetShapes() {
-		if m := sh.GetMesh(); m != nil {
-			refs = append(refs, MeshRef{Field: index("shapes", i) + ".mesh.digest", Digest: m.GetDigest()})
-		}
-	}
-	return refs
-}

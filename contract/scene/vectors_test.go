@@ -72,10 +72,13 @@ func checkVector(vec *pb.SceneVector) error {
 	if err := scene.Validate(s); err != nil {
 		return err
 	}
-	for _, ref := range scene.MeshRefs(s) {
+	for _, ref := range scene.Files(s) {
+		if ref.Kind != scene.MeshFile {
+			continue
+		}
 		file, ok := vec.GetAssets()[ref.Digest]
 		if !ok {
-			return &scene.FieldError{Field: ref.Field, Message: "no such blob"}
+			return &scene.FieldError{Field: ref.Field + ".digest", Message: "no such blob"}
 		}
 		data, err := os.ReadFile(filepath.Join(vectorDir, file))
 		if err != nil {

@@ -37,9 +37,9 @@ func Vectors(root string) (map[string][]byte, error) {
 		s := base()
 		c.mutate(s)
 		vec := &pb.SceneVector{Description: describe(c), Scene: s, RefusedField: c.refused, Grow: c.grow, Assets: map[string]string{}}
-		for _, ref := range scene.MeshRefs(s) {
-			if ref.Digest == rules.DigestOf([]byte(cubeOBJ)) {
-				vec.Assets[ref.Digest] = cubeAsset
+		for _, f := range scene.Files(s) {
+			if f.Kind == scene.MeshFile && f.Digest == rules.DigestOf([]byte(cubeOBJ)) {
+				vec.Assets[f.Digest] = cubeAsset
 			}
 		}
 		if err := add(c.name, vec); err != nil {
