@@ -3,8 +3,10 @@ package importer
 import (
 	"bytes"
 	"context"
+	"fmt"
 	"io"
 	"math"
+	"strconv"
 
 	"photonfarm/contract/assets"
 	"photonfarm/contract/rules"
@@ -29,4 +31,13 @@ func truncate(s string) string { return rules.Truncate(s, 200) }
 func checkImage(data []byte) (assets.Texture, error) {
 	open := func() (io.ReadCloser, error) { return io.NopCloser(bytes.NewReader(data)), nil }
 	return assets.CheckTexture(context.Background(), open, assets.SceneLimits().MaxBytes, assets.MaxTexturePixels())
+}
+
+// parseNumber reads a decimal number of an MTL file, finite.
+func parseNumber(b []byte) (float64, error) {
+	v, err := strconv.ParseFloat(string(b), 64)
+	if err != nil || math.IsNaN(v) || math.IsInf(v, 0) {
+		return 0, fmt.Errorf("%q is not a finite number", rules.Truncate(string(b), 40))
+	}
+	return v, nil
 }
