@@ -33,9 +33,14 @@ func (b *build) chose(format string, args ...any) {
 	b.res.Chose = append(b.res.Chose, fmt.Sprintf(format, args...))
 }
 
-// finish fills in what the model did not say: a film, a camera framing the model, a sky
-// when nothing lights it; and returns the result.
-func (b *build) finish(opt Options) *Result {
+// finish fills in what the model did not say: a film, a camera framing the model, the
+// environment the options name, else a sky when nothing lights it; and returns the result.
+func (b *build) finish(w *writer, opt Options) (*Result, error) {
+	if opt.Environment != "" {
+		if err := b.environment(w, opt.Environment); err != nil {
+			return nil, err
+		}
+	}
 	aspect := b.aspect
 	if aspect <= 0 {
 		aspect = 4.0 / 3
@@ -50,12 +55,12 @@ func (b *build) finish(opt Options) *Result {
 		b.chose("a camera framing the model from the front and above (the model has no perspective camera)")
 	}
 	b.scene.Camera = b.camera
-	if len(b.scene.Lights) == 0 && !b.emits {
+	if len(b.scene.Lights) == 0 && !b.emits && b.scene.Environment == nil {
 		b.scene.Environment = &pb.Environment{Radiance: color(1, 1, 1)}
 		b.chose("a white sky (the model has no light)")
 	}
 	b.res.Scene = b.scene
-	return b.res
+	return b.res, nil
 }
 
 // frame is a camera that sees the whole box: from the front (+Z) and a little above, at

@@ -61,7 +61,7 @@ func importGLTF(ctx context.Context, src string, w *writer, opt Options) (*Resul
 	if err := g.walk(ctx); err != nil {
 		return nil, err
 	}
-	return g.finish(opt), nil
+	return g.finish(g.w, opt)
 }
 
 type gltfImport struct {

@@ -31,6 +31,9 @@ type Options struct {
 	// Width of the film in pixels; the height follows the camera's aspect ratio (4:3
 	// without one) unless Height is set.
 	Width, Height uint32
+	// Environment, if set, is an equirectangular image (a path) that lights the scene and
+	// that rays leaving it see: glTF and OBJ have no such thing.
+	Environment string
 }
 
 // Result is what Import made.
@@ -71,4 +74,24 @@ func Import(ctx context.Context, src, out string, opt Options) (*Result, error) 
 	}
 	r.Wrote = w.wrote
 	return r, nil
+}
+
+// environment adds the equirectangular image at path as the scene's environment.
+func (b *build) environment(w *writer, path string) error {
+	data, err := ReadModelFile(filepath.Dir(path), filepath.Base(path))
+	if err != nil {
+		return fmt.Errorf("environment: %v", err)
+	}
+	t, err := checkImage(data)
+	if err != nil {
+		return fmt.Errorf("environment %s: %v", path, err)
+	}
+	rel, err := w.file("textures", "environment", "."+extensionOf(t.Format), data)
+	if err != nil {
+		return err
+	}
+	const name = "environment"
+	b.scene.Textures = append(b.scene.Textures, &pb.Texture{Name: name, Path: rel})
+	b.scene.Environment = &pb.Environment{Map: &pb.TextureRef{Texture: name}}
+	return nil
 }

@@ -52,7 +52,7 @@ func importOBJ(ctx context.Context, src string, w *writer, opt Options) (*Result
 	}
 	b.scene.Meshes = []*pb.Mesh{mesh}
 	b.scene.Shapes = []*pb.Shape{{Name: b.scene.Name, Geometry: &pb.Shape_Instance{Instance: &pb.MeshInstance{Mesh: mesh.Name}}}}
-	return b.finish(opt), nil
+	return b.finish(w, opt)
 }
 
 // objMeshData makes the farm mesh of one group: a vertex per distinct corner (position,

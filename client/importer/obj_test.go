@@ -109,3 +109,17 @@ func TestImportOBJRefusesWhatTheCheckerRefuses(t *testing.T) {
 		t.Errorf("Import = %v, want the checker's line and reason", err)
 	}
 }
+
+func TestImportLightsAModelWithTheEnvironmentItIsGiven(t *testing.T) {
+	path := writeOBJ(t, true)
+	sky := filepath.Join(filepath.Dir(path), "sky.hdr")
+	os.WriteFile(sky, []byte("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n\x80\x80\x80\x80\x80\x80\x80\x80"), 0o644)
+	r, err := importer.Import(context.Background(), path, t.TempDir(), importer.Options{Environment: sky})
+	if err != nil {
+		t.Fatal(err)
+	}
+	env := r.Scene.GetEnvironment()
+	if env.GetMap().GetTexture() != "environment" || env.GetRadiance() != nil || len(r.Chose) != 1 {
+		t.Errorf("environment %v, chose %v: want the given map and no white sky", env, r.Chose)
+	}
+}

@@ -14,7 +14,7 @@ import (
 
 var importVerb = &verb{
 	name:    "import",
-	args:    "MODEL -o SCENE.json [--width N] [--height N]",
+	args:    "MODEL -o SCENE.json [--width N] [--height N] [--environment IMAGE]",
 	summary: "turn a glTF (.gltf, .glb) or OBJ model into a scene file beside its meshes and images",
 	run:     runImport,
 }
@@ -46,7 +46,10 @@ func runImport(ctx context.Context, e *env, args []string) error {
 func importFlags(fs *flagSet) func() importer.Options {
 	width := fs.Uint("width", 640, "film width in `pixels` when importing a model")
 	height := fs.Uint("height", 0, "film height in `pixels` when importing a model (0: the camera's aspect ratio)")
-	return func() importer.Options { return importer.Options{Width: uint32(*width), Height: uint32(*height)} }
+	env := fs.String("environment", "", "an equirectangular `image` (OpenEXR or Radiance HDR) to light an imported model with")
+	return func() importer.Options {
+		return importer.Options{Width: uint32(*width), Height: uint32(*height), Environment: *env}
+	}
 }
 
 // reportImport says what an import made, chose and skipped.
