@@ -1,8 +1,8 @@
-// Command atrium writes the project's demonstration scene of real-asset rendering
+// Package atrium writes the project's demonstration scene of real-asset rendering
 // (issue 13): a Sponza-like atrium as a glTF 2.0 binary, with an equirectangular sky to
 // light it.
 //
-//	go run ./scenes/atrium -o DIR        # DIR/atrium.glb and DIR/sky.hdr
+//	go run ./scenes/atrium/gen -o DIR    # DIR/atrium.glb and DIR/sky.hdr
 //	farm render DIR/atrium.glb --environment DIR/sky.hdr -o out/
 //
 // Two floors of arcades around a courtyard open to the sky: 48 fluted marble columns
@@ -12,11 +12,10 @@
 // stored once and instanced. Eleven textures, all drawn by this program; the sun is a
 // KHR_lights_punctual directional light. Nothing is random but for fixed seeds, so the
 // files are the same at every run.
-package main
+package atrium
 
 import (
 	"bytes"
-	"flag"
 	"fmt"
 	"math"
 	"os"
@@ -27,28 +26,27 @@ import (
 	"github.com/qmuntal/gltf/modeler"
 )
 
-func main() {
-	out := flag.String("o", ".", "output `folder`")
-	flag.Parse()
-	if err := os.MkdirAll(*out, 0o755); err != nil {
-		fail(err)
+// Stats says what Write made.
+type Stats struct {
+	Triangles, Textures, Nodes int
+}
+
+// Write writes dir/atrium.glb and dir/sky.hdr.
+func Write(dir string) (Stats, error) {
+	if err := os.MkdirAll(dir, 0o755); err != nil {
+		return Stats{}, err
 	}
 	doc, triangles, err := atrium()
 	if err != nil {
-		fail(err)
+		return Stats{}, err
 	}
-	if err := gltf.SaveBinary(doc, filepath.Join(*out, "atrium.glb")); err != nil {
-		fail(err)
+	if err := gltf.SaveBinary(doc, filepath.Join(dir, "atrium.glb")); err != nil {
+		return Stats{}, err
 	}
-	if err := os.WriteFile(filepath.Join(*out, "sky.hdr"), sky(512, 256), 0o644); err != nil {
-		fail(err)
+	if err := os.WriteFile(filepath.Join(dir, "sky.hdr"), sky(512, 256), 0o644); err != nil {
+		return Stats{}, err
 	}
-	fmt.Printf("atrium: %d triangles drawn, %d textures, %d nodes, written to %s\n", triangles, len(doc.Images), len(doc.Nodes), *out)
-}
-
-func fail(err error) {
-	fmt.Fprintln(os.Stderr, "atrium:", err)
-	os.Exit(1)
+	return Stats{Triangles: triangles, Textures: len(doc.Images), Nodes: len(doc.Nodes)}, nil
 }
 
 // builder adds meshes, materials and nodes to a glTF document.

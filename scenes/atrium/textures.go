@@ -1,4 +1,4 @@
-package main
+package atrium
 
 import (
 	"bytes"
