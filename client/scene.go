@@ -11,7 +11,6 @@ import (
 	"strings"
 
 	"photonfarm/contract/assets"
-	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -89,35 +88,30 @@ func ReadSceneFile(ctx context.Context, path string, opts ...SceneOption) (*Scen
 		return nil, err
 	}
 	seen := map[string]int{} // resolved file -> index in sf.Meshes
-	for i, sh := range sc.GetShapes() {
-		m := sh.GetMesh()
-		if m == nil || m.GetPath() == "" {
+	for _, f := range scene.Files(sc) {
+		if f.Path == "" {
 			continue
 		}
-		field := fmt.Sprintf("shapes[%d].mesh", i)
-		file, err := root.resolve(field+".path", dir, m.GetPath())
+		file, err := root.resolve(f.Field+".path", dir, f.Path)
 		if err != nil {
 			return nil, err
 		}
 		j, ok := seen[file]
 		if !ok {
-			digest, size, err := readAsset(ctx, field, file, m.GetPath())
+			digest, size, err := readAsset(ctx, sc, f, file)
 			if err != nil {
 				return nil, err
 			}
 			j = len(sf.Meshes)
 			seen[file] = j
-			sf.Meshes = append(sf.Meshes, MeshRef{Field: field + ".path", File: file, Digest: digest, Size: size})
+			sf.Meshes = append(sf.Meshes, MeshRef{Field: f.Field + ".path", File: file, Digest: digest, Size: size})
 		}
 		digest := sf.Meshes[j].Digest
-		if d := m.GetDigest(); d != "" && d != digest {
-			return nil, invalid(field+".digest",
-				fmt.Sprintf("is %s but the file at path %q has digest %s; set only one of path and digest", d, m.GetPath(), digest), nil)
+		if f.Digest != "" && f.Digest != digest {
+			return nil, invalid(f.Field+".digest",
+				fmt.Sprintf("is %s but the file at path %q has digest %s; set only one of path and digest", f.Digest, f.Path, digest), nil)
 		}
-		m.Digest = digest
-	}
-	if err := sf.resolveReference(ctx, root, dir); err != nil {
-		return nil, err
+		f.SetDigest(digest)
 	}
 	return sf, nil
 }
@@ -182,60 +176,27 @@ func (r *assetRoot) resolve(field, dir, p string) (string, error) {
 	return resolved, nil
 }
 
-// resolveReference hashes the reference image a progressive scene names by path (relative
-// to the scene file, inside the asset root) and sets its digest; the file is uploaded with
-// the meshes.
-func (sf *SceneFile) resolveReference(ctx context.Context, root *assetRoot, dir string) error {
-	ref := sf.Scene.GetProgressive().GetReference()
-	if ref.GetPath() == "" {
-		return nil
-	}
-	const field = "progressive.reference"
-	file, err := root.resolve(field+".path", dir, ref.GetPath())
-	if err != nil {
-		return err
-	}
-	digest, size, err := fileDigest(ctx, file, rules.Scene.GetMaxAssetBytes())
-	if err != nil {
-		return invalid(field+".path", asWritten(err, ref.GetPath()).Error(), err)
-	}
-	if d := ref.GetDigest(); d != "" && d != digest {
-		return invalid(field+".digest",
-			fmt.Sprintf("is %s but the file at path %q has digest %s; set only one of path and digest", d, ref.GetPath(), digest), nil)
-	}
-	sf.Meshes = append(sf.Meshes, MeshRef{Field: field + ".path", File: file, Digest: digest, Size: size})
-	ref.Digest = digest
-	ref.Path = ""
-	return nil
-}
-
-// readAsset checks and hashes the mesh file at file, which the scene at field
-// ("shapes[3].mesh") names as written: a regular file within the contract's size limit
-// (a device such as /dev/zero would never end) that contract/assets accepts.
-func readAsset(ctx context.Context, field, file, written string) (digest string, size int64, err error) {
+// readAsset checks and hashes the file at file, which the scene names at f: a regular
+// file within the contract's size limit (a device such as /dev/zero would never end) that
+// contract/assets accepts as what f holds.
+func readAsset(ctx context.Context, sc *pb.Scene, f scene.File, file string) (digest string, size int64, err error) {
 	lim := assets.SceneLimits()
 	digest, size, err = fileDigest(ctx, file, lim.MaxBytes)
 	if err != nil {
 		if ctx.Err() != nil {
 			return "", 0, ctx.Err()
 		}
-		return "", 0, invalid(field+".path", asWritten(err, written).Error(), err)
+		return "", 0, invalid(f.Field+".path", asWritten(err, f.Path).Error(), err)
 	}
-	_, err = assets.CheckMesh(ctx, func() (io.ReadCloser, error) {
-		f, err := openRegular(file, lim.MaxBytes)
-		if err != nil {
-			return nil, err
-		}
-		return f, nil
-	}, lim)
+	err = assets.CheckFile(ctx, func() (io.ReadCloser, error) { return openRegular(file, lim.MaxBytes) }, f, sc)
 	var bad assets.Refusal
 	switch {
 	case errors.As(err, &bad):
-		return "", 0, invalid(field, written+": "+bad.Error(), err)
+		return "", 0, invalid(f.Field, f.Path+": "+bad.Error(), err)
 	case err != nil && ctx.Err() != nil:
 		return "", 0, ctx.Err()
 	case err != nil:
-		return "", 0, invalid(field+".path", asWritten(err, written).Error(), err)
+		return "", 0, invalid(f.Field+".path", asWritten(err, f.Path).Error(), err)
 	}
 	return digest, size, nil
 }

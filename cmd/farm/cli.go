@@ -42,7 +42,7 @@ var verbs []*verb
 
 func init() {
 	verbs = []*verb{
-		renderVerb, coordinatorVerb, dashboardVerb, submitVerb, watchVerb, fetchVerb,
+		renderVerb, importVerb, coordinatorVerb, dashboardVerb, submitVerb, watchVerb, fetchVerb,
 		statusVerb, listVerb, tasksVerb, cancelVerb, priorityVerb, unblockVerb, planVerb, reportVerb,
 	}
 }

@@ -14,7 +14,7 @@ import (
 
 var planVerb = &verb{
 	name:    "plan",
-	args:    "SCENE [--coordinator ADDR] [--asset-root DIR]",
+	args:    "SCENE|MODEL [--coordinator ADDR] [--asset-root DIR] [--width N] [--height N]",
 	summary: "print the passes a scene would run and skip, and why, without rendering",
 	run:     runPlan,
 }
@@ -22,12 +22,14 @@ var planVerb = &verb{
 func runPlan(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("plan", e)
 	assetRoot := assetRootFlag(fs)
+	imports := importFlags(fs)
 	return withClient(fs, e, args, 1, 1, func(c *client.Client, pos []string) error {
 		// The files a scene names are hashed, not uploaded: planning does not need them.
-		sf, err := client.ReadSceneFile(ctx, pos[0], client.WithAssetRoot(*assetRoot))
+		sf, cleanup, err := readScene(ctx, e.stdout, pos[0], *assetRoot, imports())
 		if err != nil {
 			return err
 		}
+		defer cleanup()
 		resp, err := c.PlanScene(ctx, sf.Scene)
 		if err != nil {
 			return err

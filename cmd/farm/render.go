@@ -21,7 +21,7 @@ import (
 
 var renderVerb = &verb{
 	name:    "render",
-	args:    "SCENE -o OUTDIR [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
+	args:    "SCENE|MODEL -o OUTDIR [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
 	summary: "render a scene on a local all-in-one farm",
 	run:     runRender,
 }
@@ -42,6 +42,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	workerBin := fs.String("worker-bin", "", "`path` of farm-worker (default: next to farm, else $PATH)")
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "task lease duration")
 	assetRoot := assetRootFlag(fs)
+	imports := importFlags(fs)
 	dashListen := fs.String("dashboard-listen", "127.0.0.1:0", "serve the web dashboard of the local farm on this HTTP `address` (port 0 picks a free one)")
 	noDash := fs.Bool("no-dashboard", false, "do not serve the web dashboard")
 	pos, err := parse(fs, args, 1, 1)
@@ -60,10 +61,11 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	scenePath := pos[0]
 
 	// Everything that can be checked without a farm is checked first.
-	sf, err := client.ReadSceneFile(ctx, scenePath, client.WithAssetRoot(*assetRoot))
+	sf, cleanup, err := readScene(ctx, e.stdout, scenePath, *assetRoot, imports())
 	if err != nil {
 		return err
 	}
+	defer cleanup()
 	bin, err := findWorkerBin(*workerBin)
 	if err != nil {
 		return err

@@ -81,6 +81,16 @@ func Min(m proto.Message, name protoreflect.Name) float64 {
 	return r.GetGte()
 }
 
+// MaxItems returns the most entries repeated field name may have (its rule's max_items),
+// and panics if it declares none.
+func MaxItems(m proto.Message, name protoreflect.Name) uint64 {
+	r := declared(m, name)
+	if r.MaxItems == nil {
+		panic("rules: " + fieldName(m, name) + " declares no max_items")
+	}
+	return r.GetMaxItems()
+}
+
 func declared(m proto.Message, name protoreflect.Name) *pb.FieldRule {
 	fd := m.ProtoReflect().Descriptor().Fields().ByName(name)
 	if fd == nil || Of(fd) == nil {

@@ -68,7 +68,7 @@ func pageSize(field string, n int32, def, max int) (int, error) {
 }
 
 // SubmitJob validates the scene, checks that the files it names are in the blob store and
-// that its meshes parse (checkMeshes), stores the scene (defaults filled in) as a blob,
+// that the files it names pass their checks (checkFiles), stores the scene (defaults filled in) as a blob,
 // plans it and creates the job. Nothing is stored for a bad scene.
 func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*pb.SubmitJobResponse, error) {
 	s := j.s
@@ -88,7 +88,7 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	if err := s.checkInputBlobs(ctx, sc); err != nil {
 		return nil, err
 	}
-	if err := s.checkMeshes(ctx, sc); err != nil {
+	if err := s.checkFiles(ctx, sc); err != nil {
 		return nil, err
 	}
 	sc = scene.Defaults(sc)
@@ -145,7 +145,7 @@ func (j *jobServer) PlanScene(ctx context.Context, req *pb.PlanSceneRequest) (*p
 	if err := scene.Validate(sc); err != nil {
 		return nil, err
 	}
-	if err := j.s.checkMeshes(ctx, sc); err != nil {
+	if err := j.s.checkFiles(ctx, sc); err != nil {
 		return nil, err
 	}
 	sc = scene.Defaults(sc)

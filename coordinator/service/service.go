@@ -17,7 +17,6 @@ import (
 	"google.golang.org/grpc"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
-	"photonfarm/contract/assets"
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/clock"
@@ -73,10 +72,10 @@ type Service struct {
 	workers   registry
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
-	// meshes holds the digests of mesh blobs that passed assets.CheckOBJ.
-	meshes *cache[assets.Mesh]
-	done   chan struct{}
-	once   sync.Once
+	// checked remembers the blobs that passed as a kind of file (checkedKey).
+	checked *cache[struct{}]
+	done    chan struct{}
+	once    sync.Once
 }
 
 // New returns a Service; Store, Blobs and Events are required.
@@ -100,7 +99,7 @@ func New(cfg Config) *Service {
 		workers:   registry{m: make(map[string]*worker)},
 		snapshots: newCache[*pb.Artifact](1024),
 		scenes:    newCache[*pb.Scene](64),
-		meshes:    newCache[assets.Mesh](4096),
+		checked:   newCache[struct{}](4096),
 		done:      make(chan struct{}),
 	}
 }

@@ -1,12 +1,15 @@
 package service_test
 
 import (
+	"bytes"
 	"os"
+	"strings"
 	"testing"
 
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/contract/assets"
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -58,5 +61,37 @@ func TestPlanSceneNeedsNoUploadedMesh(t *testing.T) {
 	sc := withMesh(scenetest.Unlit(16, 16), &pb.MeshFile{Path: "later.obj", Digest: "sha256:0000000000000000000000000000000000000000000000000000000000000000"})
 	if _, err := f.jobs.PlanScene(f.ctx, &pb.PlanSceneRequest{Scene: sc}); err != nil {
 		t.Errorf("PlanScene with a mesh not uploaded yet: %v", err)
+	}
+}
+
+// TestSubmitRefusesBadTexturesMeshPartsAndReferences: every file a scene names is checked
+// on submit by what it holds, naming its field and the file.
+func TestSubmitRefusesBadTexturesMeshPartsAndReferences(t *testing.T) {
+	f := newFarm(t)
+	notImage := f.upload([]byte("this is not a picture"))
+	var farmMesh bytes.Buffer
+	assets.EncodeFarmMesh(&farmMesh, &assets.MeshData{Positions: []float32{0, 0, 0, 1, 0, 0, 0, 1, 0}, Indices: []uint32{0, 1, 2}})
+	badMesh := f.upload(farmMesh.Bytes()[:40])
+	for _, tc := range []struct {
+		name, field, want string
+		change            func(sc *pb.Scene)
+	}{
+		{"a texture that is not an image", "textures[0]", "textures[0]: img/fake.png: not an image this farm reads", func(sc *pb.Scene) {
+			sc.Textures = []*pb.Texture{{Name: "fake", Path: "img/fake.png", Digest: notImage.Digest}}
+		}},
+		{"a cut farm mesh part", "meshes[0].parts[0]", "meshes[0].parts[0]: m.fmesh: byte 40: the file ends inside its positions", func(sc *pb.Scene) {
+			sc.Meshes = []*pb.Mesh{{Name: "m", Parts: []*pb.MeshPart{{Path: "m.fmesh", Digest: badMesh.Digest, Material: "white"}}}}
+		}},
+		{"a reference that is not an OpenEXR", "progressive.reference", "progressive.reference: " + notImage.Digest + ": not an image", func(sc *pb.Scene) {
+			sc.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Digest: notImage.Digest}}
+		}},
+	} {
+		sc := scenetest.Unlit(16, 16)
+		tc.change(sc)
+		_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: sc})
+		wantCode(t, tc.name, err, codes.InvalidArgument, tc.field)
+		if got := status.Convert(err).Message(); !strings.HasPrefix(got, tc.want) {
+			t.Errorf("%s: message %q, want it to start with %q", tc.name, got, tc.want)
+		}
 	}
 }
