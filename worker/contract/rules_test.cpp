@@ -61,7 +61,7 @@ TEST(CheckRules, NamesTheFirstFieldInDeclarationOrderDepthFirst) {
       {"required string", [](pb::Scene& s) { s.mutable_materials(0)->clear_name(); }, "materials[0].name: missing"},
       {"string length", [](pb::Scene& s) { s.set_name(std::string(257, 'x')); }, "name: must be at most 256 bytes, got 257"},
       {"oneof nothing set", [](pb::Scene& s) { s.mutable_lights(0)->clear_point(); },
-       "lights[0]: exactly one of point, sun must be set"},
+       "lights[0]: exactly one of point, sun, spot must be set"},
       {"oneof fields before the oneof check",
        [](pb::Scene& s) {
          s.mutable_materials(0)->clear_lambert();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "contract/failure.h"
 #include "math/frame.h"
 #include "math/math.h"
 #include "renderfarm/v1/scene.pb.h"
@@ -49,6 +50,8 @@ Material MaterialFromProto(const pb::Material& material) {
     case pb::Material::kConductor:
       return ConductorMaterial{RgbOf(material.conductor().eta()),
                                RgbOf(material.conductor().k())};
+    case pb::Material::kPrincipled:  // placeholder until the principled material lands (shade)
+      throw UnsupportedError("the principled material is not rendered by this worker yet");
     case pb::Material::KIND_NOT_SET:
       break;
   }
