@@ -8,6 +8,7 @@
 #include "contract/rules.h"
 #include "math/transform.h"
 #include "renderfarm/v1/scene.pb.h"
+#include "scene/environment_image.h"
 #include "scene/obj_mesh.h"
 #include "scene/proto_values.h"
 #include "scene/scene_data.h"
@@ -82,6 +83,8 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
       return InlineMesh(shape.triangles());
     case pb::Shape::kMesh:
       return FileMesh(shape.mesh(), field + ".mesh", load_blob);
+    case pb::Shape::kInstance:  // placeholder until instancing lands (geom)
+      throw UnsupportedError(field + ".instance: mesh instances are not rendered by this worker yet");
     case pb::Shape::GEOMETRY_NOT_SET:
       break;
   }
@@ -124,6 +127,37 @@ float SceneExtent(const std::vector<ShapeRecord>& shapes) {
     std::visit(Visitor{extent}, s.geometry);
   }
   return extent;
+}
+
+// The environment the scene describes (Scene.environment), its map fetched by load_blob;
+// null if the scene has none.
+std::shared_ptr<const Environment> EnvironmentFromProto(const pb::Scene& scene, const BlobLoader& load_blob) {
+  if (!scene.has_environment()) return nullptr;
+  const pb::Environment& e = scene.environment();
+  if (!e.has_map()) return std::make_shared<const Environment>(Environment::Constant(RgbOf(e.radiance())));
+  const std::string field = "environment.map.texture";
+  const pb::Texture* texture = nullptr;
+  for (const pb::Texture& t : scene.textures())
+    if (t.name() == e.map().texture()) texture = &t;
+  if (!texture) throw SceneError(field + ": no texture named " + contract::GoQuote(e.map().texture()));
+  const std::string name = contract::GoQuote(texture->path().empty() ? texture->digest() : texture->path());
+  std::string bytes;
+  try {
+    bytes = load_blob(texture->digest());
+  } catch (const std::exception& e) {
+    throw TaskError(FailureKindOf(e), field + ": cannot load texture " + name + ": " + e.what());
+  }
+  const EnvironmentEncoding encoding = texture->encoding() == pb::COLOR_ENCODING_SRGB     ? EnvironmentEncoding::kSrgb
+                                       : texture->encoding() == pb::COLOR_ENCODING_LINEAR ? EnvironmentEncoding::kLinear
+                                                                                          : EnvironmentEncoding::kByFormat;
+  EnvironmentImage image;
+  try {
+    image = DecodeEnvironmentImage(bytes, encoding, contract::SceneLimits().max_texture_pixels());
+  } catch (const EnvironmentImageError& err) {
+    throw SceneError(field + ": texture " + name + " " + err.what());
+  }
+  const Rgb scale = e.has_radiance() ? RgbOf(e.radiance()) : Rgb(1);
+  return std::make_shared<const Environment>(Environment::Map(std::move(image), scale, e.rotation_degrees()));
 }
 
 }  // namespace
@@ -180,8 +214,15 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
     if (d.capabilities[shape.material].specular)
       d.specular_targets.push_back(BoundingSphereOf(shape.geometry));
   }
+  const BoundingSphere scene_sphere = BoundingSphere::Of(d.bounds);
   for (int i = 0; i < description.lights_size(); ++i)
-    d.lights.push_back(LightFromProto(description.lights(i), BoundingSphere::Of(d.bounds)));
+    d.lights.push_back(LightFromProto(description.lights(i), scene_sphere));
+  d.environment = EnvironmentFromProto(description, load_blob);
+  d.environment_visible = d.environment && !description.environment().hidden_from_camera();
+  if (d.environment && !d.environment->IsBlack()) {
+    d.environment_light = static_cast<int>(d.lights.size());
+    d.lights.push_back(EnvironmentLight{d.environment, DistantDisc::Around(scene_sphere)});
+  }
   d.photons = PhotonSettings::FromProto(description.photons(), d.bounds.Diagonal());
 
   std::vector<float> power;

@@ -5,6 +5,7 @@
 // and the Embree BVH, plus the ray queries the integrators use.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "scene/accelerator.h"
 #include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
+#include "scene/environment.h"
 #include "scene/indirect_settings.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
@@ -58,8 +60,14 @@ struct SceneData {
   std::vector<MaterialCapabilities> capabilities;  // of each material, by index
   std::vector<std::string> material_names;
   std::vector<ShapeRecord> shapes;
-  std::vector<Light> lights;  // emissive shapes first, then Scene.lights in order
+  std::vector<Light> lights;  // emissive shapes first, then Scene.lights in order, then the
+                              // environment if it is not black
   DiscreteDistribution light_power;  // picks a light in proportion to its power
+  // What rays that leave the scene see; null: black.
+  std::shared_ptr<const Environment> environment;
+  // Whether camera rays that leave the scene see it (else black, with alpha 0).
+  bool environment_visible = false;
+  int environment_light = -1;  // its index in lights, -1 if it is not a light
 
   Bounds3 bounds;  // of all geometry
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed

@@ -87,14 +87,21 @@ void CheckMaterials(const pb::Scene& s) {
 
 bool Positive(const pb::Color& c) { return c.r() > 0 || c.g() > 0 || c.b() > 0; }
 
-// Checks the lights without geometry; returns whether one of them emits.
+// Checks the lights without geometry; returns whether one of them, or the environment,
+// emits.
 bool CheckLights(const pb::Scene& s) {
   bool emits = false;
   for (int i = 0; i < s.lights_size(); ++i) {
     const pb::Light& l = s.lights(i);
     if (l.has_sun() && Vec(l.sun().direction()).IsZero()) Refuse(Index("lights", i) + ".sun.direction", "must be non-zero");
-    emits |= l.has_point() ? Positive(l.point().intensity()) : Positive(l.sun().irradiance());
+    if (l.has_spot() && Vec(l.spot().direction()).IsZero()) Refuse(Index("lights", i) + ".spot.direction", "must be non-zero");
+    emits |= l.has_point()  ? Positive(l.point().intensity())
+             : l.has_spot() ? Positive(l.spot().intensity())
+                            : Positive(l.sun().irradiance());
   }
+  // An environment lights the scene unless it is black (a map's pixels are not read here).
+  const pb::Environment& env = s.environment();
+  emits |= s.has_environment() && (env.has_radiance() ? Positive(env.radiance()) : env.has_map());
   return emits;
 }
 
