@@ -239,6 +239,9 @@ func TestFarmRenderWritesEXRAndPNG(t *testing.T) {
 	if err := checkFinalEXR(exr, 64, 48, 16); err != nil {
 		t.Error(err)
 	}
+	if err := checkEXRMetadata(exr, 8, 1); err != nil {
+		t.Error(err)
+	}
 	png, err := os.ReadFile(filepath.Join(out, "test-small.png"))
 	if err != nil {
 		t.Fatal(err)
