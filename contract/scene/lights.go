@@ -34,4 +34,15 @@ func checkSomeLight(s *pb.Scene) *FieldError {
 		"or a shape whose material is emissive with a positive radiance")
 }
 
+// EnvironmentLights reports whether s's environment is not black: a positive radiance, or
+// a map with the radiance unset (which multiplies the map by 1). A map's pixels are not
+// inspected here.
+func EnvironmentLights(s *pb.Scene) bool {
+	env := s.GetEnvironment()
+	if env.GetRadiance() == nil {
+		return env.GetMap() != nil
+	}
+	return positive(env.GetRadiance())
+}
+
 func positive(c *pb.Color) bool { return c.GetR() > 0 || c.GetG() > 0 || c.GetB() > 0 }

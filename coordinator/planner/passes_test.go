@@ -52,6 +52,15 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 		{"photon map mode", func(s *pb.Scene) { s.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP} }, planner.PassFinalGather, false, "PHOTON_MAP"},
 		{"direct light", func(*pb.Scene) {}, planner.PassDirect, true, "1 light"},
 		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
+		{"an environment is one more light", func(s *pb.Scene) {
+			s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.2, G: 0.3, B: 0.5}}
+		}, planner.PassDirect, true, "shadow rays to 1 light and the environment ("},
+		{"an environment map is one more light", func(s *pb.Scene) {
+			s.Environment = &pb.Environment{Map: &pb.TextureRef{Texture: "sky"}}
+		}, planner.PassDirect, true, "1 light and the environment ("},
+		{"a black environment is left out", func(s *pb.Scene) {
+			s.Environment = &pb.Environment{Radiance: &pb.Color{}, Map: &pb.TextureRef{Texture: "sky"}}
+		}, planner.PassDirect, true, "1 light; the environment is black: no shadow rays to it and no photons from it ("},
 		{"no antialiasing", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_NONE} }, planner.PassEdgeAA, false, "NONE"},
 		{"full supersampling", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_FULL} }, planner.PassEdgeAA, true, "FULL"},
 		{"one round", func(*pb.Scene) {}, planner.PassRounds, false, "a single round"},
