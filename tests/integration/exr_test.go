@@ -5,6 +5,8 @@ import (
 	"encoding/binary"
 	"errors"
 	"fmt"
+	"image/color"
+	"image/png"
 	"math"
 	"slices"
 	"strings"
@@ -230,6 +232,27 @@ func pngSize(b []byte) (int, int, error) {
 		return 0, 0, errors.New("not a PNG file")
 	}
 	return int(binary.BigEndian.Uint32(b[16:])), int(binary.BigEndian.Uint32(b[20:])), nil
+}
+
+// pngLitAndCovered counts the pixels of a PNG whose colour is not black and those whose
+// alpha is not 0.
+func pngLitAndCovered(b []byte) (lit, covered int, err error) {
+	img, err := png.Decode(bytes.NewReader(b))
+	if err != nil {
+		return 0, 0, err
+	}
+	for y := img.Bounds().Min.Y; y < img.Bounds().Max.Y; y++ {
+		for x := img.Bounds().Min.X; x < img.Bounds().Max.X; x++ {
+			c := color.NRGBAModel.Convert(img.At(x, y)).(color.NRGBA)
+			if c.R|c.G|c.B != 0 {
+				lit++
+			}
+			if c.A != 0 {
+				covered++
+			}
+		}
+	}
+	return lit, covered, nil
 }
 
 // exrAttr appends one header attribute to b, for building test headers.
