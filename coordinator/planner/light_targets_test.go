@@ -7,9 +7,9 @@ import (
 )
 
 // A scene lit by its environment alone (as an imported model without lights is) names
-// only the environment. Passes' own test covers the rest on valid scenes; this case is
-// tested here because the scene rules of this branch do not count an environment as a
-// light yet.
+// only the environment. Passes' own test covers the other cases on valid scenes; this one
+// is checked on a bare scene, since lightTargets reads only the lights, the emissive
+// shapes and the environment.
 func TestLightTargetsOfAnEnvironmentAlone(t *testing.T) {
 	s := &pb.Scene{Environment: &pb.Environment{Radiance: &pb.Color{R: 1, G: 1, B: 1}}}
 	if got, want := lightTargets(s), "the environment"; got != want {
