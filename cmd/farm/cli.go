@@ -328,7 +328,9 @@ The local farm is authenticated: farm makes random client and worker tokens and 
 the worker token to its workers. It also serves the web dashboard of the local farm
 (--dashboard-listen, default a free loopback port; --no-dashboard to skip) and prints
 "dashboard on http://127.0.0.1:PORT/" and the run's client token to log in with before
-the progress; both last only as long as the render.
+the progress; both last only as long as the render. --exposure +1 renders the PNG
+preview one stop brighter (it overrides the scene's output.exposure_stops; the EXR stays
+linear: docs/output.md).
 `,
 	"dashboard": `Serves the web dashboard (the job list, a job's tiles as they finish, the workers;
 submit, cancel, reprioritise) for the coordinator at --coordinator, and prints

@@ -26,6 +26,8 @@ func TestUsageErrorsExitTwoWithOneLine(t *testing.T) {
 		{"submit", "a.json", "b.json"},
 		{"submit", "a.json", "--no-such-flag"},
 		{"render", "a.json", "--workers", "0"},
+		{"render", "a.json", "--exposure", "21"},
+		{"render", "a.json", "--exposure", "bright"},
 		{"fetch"},
 		{"help", "nope"},
 	} {

@@ -21,7 +21,7 @@ import (
 
 var renderVerb = &verb{
 	name:    "render",
-	args:    "SCENE|MODEL -o OUTDIR [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
+	args:    "SCENE|MODEL -o OUTDIR [--exposure STOPS] [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
 	summary: "render a scene on a local all-in-one farm",
 	run:     runRender,
 }
@@ -45,6 +45,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	imports := importFlags(fs)
 	dashListen := fs.String("dashboard-listen", "127.0.0.1:0", "serve the web dashboard of the local farm on this HTTP `address` (port 0 picks a free one)")
 	noDash := fs.Bool("no-dashboard", false, "do not serve the web dashboard")
+	exposure := exposureFlag(fs)
 	pos, err := parse(fs, args, 1, 1)
 	if err != nil {
 		return err
@@ -69,6 +70,9 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	bin, err := findWorkerBin(*workerBin)
 	if err != nil {
 		return err
+	}
+	if *exposure != nil {
+		setExposure(sf.Scene, **exposure)
 	}
 
 	farm, err := startLocalFarm(bin, *workers, *threads, *lease)

@@ -69,7 +69,7 @@ func Passes(s *pb.Scene) *pb.Plan {
 			scene.GatherRays(s), scene.SecondaryGatherRays(s))
 	}
 
-	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightCount(s), scene.LightSamples(s))
+	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightTargets(s), scene.LightSamples(s))
 
 	switch scene.AntialiasingMode(s) {
 	case pb.AntialiasingMode_ANTIALIASING_MODE_NONE:
@@ -115,6 +115,23 @@ func count(n uint64) string {
 		b.WriteRune(c)
 	}
 	return b.String()
+}
+
+// lightTargets says what shadow rays aim at: the lights, and the environment as one more
+// light, which the workers also emit photons from, or not at all when it is black (the
+// workers leave it out of both). An imported model without lights is lit by a sky alone.
+func lightTargets(s *pb.Scene) string {
+	lights := lightCount(s)
+	switch {
+	case s.GetEnvironment() == nil:
+		return lights
+	case !scene.EnvironmentLights(s):
+		return lights + "; the environment is black: no shadow rays to it and no photons from it"
+	case lights == "0 lights":
+		return "the environment"
+	default:
+		return lights + " and the environment"
+	}
 }
 
 func lightCount(s *pb.Scene) string {

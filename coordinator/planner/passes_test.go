@@ -25,6 +25,7 @@ func passOf(t *testing.T, p *pb.Plan, name string) *pb.PlannedPass {
 
 func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 	flatFloor := func(s *pb.Scene) { s.Shapes = s.Shapes[1:] } // floor and lamp only
+	sky := &pb.Texture{Name: "sky", Path: "sky.hdr", Digest: "sha256:" + strings.Repeat("0", 64)}
 	tests := []struct {
 		name   string
 		mutate func(*pb.Scene)
@@ -64,6 +65,17 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Shapes = append(s.Shapes, &pb.Shape{Geometry: &pb.Shape_Instance{Instance: &pb.MeshInstance{Mesh: "box"}}})
 		}, planner.PassGlobalMap, true, "can light each other"},
 		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
+		{"an environment is one more light", func(s *pb.Scene) {
+			s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.2, G: 0.3, B: 0.5}}
+		}, planner.PassDirect, true, "shadow rays to 1 light and the environment ("},
+		{"an environment map is one more light", func(s *pb.Scene) {
+			s.Textures = []*pb.Texture{sky}
+			s.Environment = &pb.Environment{Map: &pb.TextureRef{Texture: "sky"}}
+		}, planner.PassDirect, true, "1 light and the environment ("},
+		{"a black environment is left out", func(s *pb.Scene) {
+			s.Textures = []*pb.Texture{sky}
+			s.Environment = &pb.Environment{Radiance: &pb.Color{}, Map: &pb.TextureRef{Texture: "sky"}}
+		}, planner.PassDirect, true, "1 light; the environment is black: no shadow rays to it and no photons from it ("},
 		{"no antialiasing", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_NONE} }, planner.PassEdgeAA, false, "NONE"},
 		{"full supersampling", func(s *pb.Scene) { s.Antialiasing = &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_FULL} }, planner.PassEdgeAA, true, "FULL"},
 		{"one round", func(*pb.Scene) {}, planner.PassRounds, false, "a single round"},

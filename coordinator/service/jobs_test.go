@@ -84,10 +84,14 @@ func TestSubmitRenderAndWatchToSuccess(t *testing.T) {
 			t.Fatalf("CompleteTask: %v", err)
 		}
 	}
+	f.clock.Advance(90 * time.Second)
 	comp := f.lease(w)
 	spec := comp.Task.GetComposite()
 	if spec == nil || len(spec.Tiles) != 4 {
 		t.Fatalf("composite lease = %v, want 4 tiles", comp)
+	}
+	if spec.ElapsedSeconds != 90 {
+		t.Errorf("composite elapsed_seconds = %v, want the 90 s since the job was created", spec.ElapsedSeconds)
 	}
 	if r := spec.Tiles[3].Rect; r.X != 32 || r.Y != 32 || r.Width != 32 || r.Height != 8 {
 		t.Errorf("last tile rect = %v", r)

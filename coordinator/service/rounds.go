@@ -20,11 +20,16 @@ import (
 // Progressive rounds: what the precompute, merge and composite tasks are given when
 // leased, and what happens when a round's composite completes.
 
-// fillComposite gives a composite its round's tiles, the previous round's accumulation and
-// the scene's reference image.
+// fillComposite gives a composite its round's tiles, the previous round's accumulation,
+// the scene's reference image and the time the job has taken so far.
 func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.CompositeSpec) error {
 	task := l.Task
 	round := max(task.GetRound(), 1)
+	job, err := s.cfg.Store.GetJob(ctx, task.GetJobId())
+	if err != nil {
+		return err
+	}
+	spec.ElapsedSeconds = s.cfg.Clock.Now().Sub(job.GetCreateTime().AsTime()).Seconds()
 	tiles, err := s.tiles(ctx, task.GetJobId(), round)
 	if err != nil {
 		return err

@@ -227,8 +227,9 @@ func leftovers(t *testing.T, tmp string) []string {
 func TestFarmRenderWritesEXRAndPNG(t *testing.T) {
 	out := filepath.Join(t.TempDir(), "out")
 	scenePath := filepath.Join(farmtest.RepoRoot(), "scenes", "test-small.json")
-	// No --worker-bin: farm finds farm-worker next to itself.
-	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2")
+	// No --worker-bin: farm finds farm-worker next to itself. 20 stops down, the lamp (12
+	// per channel) is below half an 8-bit step of the preview; the EXR stays linear.
+	cmd, stdout, stderr, tmp := farmRender(t, scenePath, "-o", out, "--workers", "2", "--exposure", "-20")
 	if code := waitTimeout(t, cmd, 90*time.Second); code != 0 {
 		t.Fatalf("farm render: exit status %d\nstdout: %s\nstderr: %s", code, stdout, stderr)
 	}
@@ -239,12 +240,18 @@ func TestFarmRenderWritesEXRAndPNG(t *testing.T) {
 	if err := checkFinalEXR(exr, 64, 48, 16); err != nil {
 		t.Error(err)
 	}
+	if err := checkEXRMetadata(exr, 8, 1); err != nil {
+		t.Error(err)
+	}
 	png, err := os.ReadFile(filepath.Join(out, "test-small.png"))
 	if err != nil {
 		t.Fatal(err)
 	}
 	if w, h, err := pngSize(png); err != nil || w != 64 || h != 48 {
 		t.Errorf("test-small.png: %dx%d, %v; want 64x48", w, h, err)
+	}
+	if lit, covered, err := pngLitAndCovered(png); err != nil || lit != 0 || covered == 0 {
+		t.Errorf("test-small.png at --exposure -20: %d pixels with colour, %d with alpha (%v); want none and some", lit, covered, err)
 	}
 	if left := leftovers(t, tmp); len(left) != 0 {
 		t.Errorf("farm render left %v in its temporary folder", left)

@@ -5,9 +5,14 @@ import (
 	"encoding/binary"
 	"errors"
 	"fmt"
+	"image/color"
+	"image/png"
+	"math"
 	"slices"
 	"strings"
 	"testing"
+
+	"photonfarm/tests/farmtest"
 )
 
 // exrHeader is what the tests check of an OpenEXR file: the attributes of its (first)
@@ -16,11 +21,12 @@ type exrHeader struct {
 	Tiled, MultiPart bool
 	DataWindow       [4]int32 // xMin, yMin, xMax, yMax
 	DisplayWindow    [4]int32
-	Channels         []exrChannel // in file order (sorted by name)
-	TileW, TileH     uint32       // from the "tiles" attribute
-	TileMode         byte         // level mode in the low nibble: 0 ONE_LEVEL
-	Compression      byte         // 3 ZIP
-	Attributes       map[string]string
+	Channels         []exrChannel      // in file order (sorted by name)
+	TileW, TileH     uint32            // from the "tiles" attribute
+	TileMode         byte              // level mode in the low nibble: 0 ONE_LEVEL
+	Compression      byte              // 3 ZIP
+	Attributes       map[string]string // name -> type
+	Values           map[string][]byte // name -> the value's bytes
 }
 
 type exrChannel struct {
@@ -55,6 +61,7 @@ func parseEXRHeader(b []byte) (*exrHeader, error) {
 		Tiled:      version&exrFlagTiled != 0,
 		MultiPart:  version&exrFlagMulti != 0,
 		Attributes: map[string]string{},
+		Values:     map[string][]byte{},
 	}
 	r := b[8:]
 	cstr := func() (string, error) {
@@ -89,6 +96,7 @@ func parseEXRHeader(b []byte) (*exrHeader, error) {
 		v := r[:size]
 		r = r[size:]
 		h.Attributes[name] = typ
+		h.Values[name] = v
 		switch {
 		case name == "channels" && typ == "chlist":
 			for len(v) > 0 && v[0] != 0 {
@@ -177,12 +185,74 @@ func checkFinalEXR(b []byte, width, height, tile int, extra ...string) error {
 	return nil
 }
 
+// checkEXRMetadata says what is wrong, if anything, with the metadata of b as the final
+// image of a render of samples per pixel over rounds (worker/image/exr_metadata.h): the
+// standard chromaticities, worldToCamera and worldToNDC, a positive renderTime, the
+// samples and rounds, and the worker that wrote it.
+func checkEXRMetadata(b []byte, samples, rounds int) error {
+	h, err := parseEXRHeader(b)
+	if err != nil {
+		return err
+	}
+	var problems []string
+	want := func(name, typ string, size int) []byte {
+		v := h.Values[name]
+		if h.Attributes[name] != typ || (size > 0 && len(v) != size) {
+			problems = append(problems, fmt.Sprintf("%s: type %q, %d bytes; want %s", name, h.Attributes[name], len(v), typ))
+			return nil
+		}
+		return v
+	}
+	want("chromaticities", "chromaticities", 32)
+	for _, m := range []string{"worldToCamera", "worldToNDC"} {
+		if v := want(m, "m44f", 64); v != nil && math.Float32frombits(binary.LittleEndian.Uint32(v[60:])) == 0 {
+			problems = append(problems, m+": its last element is 0 (not a camera or projection matrix)")
+		}
+	}
+	if v := want("renderTime", "double", 8); v != nil && !(math.Float64frombits(binary.LittleEndian.Uint64(v)) > 0) {
+		problems = append(problems, fmt.Sprintf("renderTime %v, want the seconds the job took", math.Float64frombits(binary.LittleEndian.Uint64(v))))
+	}
+	for name, n := range map[string]int{"samplesPerPixel": samples * rounds, "rounds": rounds} {
+		if v := want(name, "int", 4); v != nil && int32(binary.LittleEndian.Uint32(v)) != int32(n) {
+			problems = append(problems, fmt.Sprintf("%s %d, want %d", name, int32(binary.LittleEndian.Uint32(v)), n))
+		}
+	}
+	if v := want("software", "string", 0); v != nil && !strings.HasPrefix(string(v), "photonfarm farm-worker ") {
+		problems = append(problems, fmt.Sprintf("software %q, want photonfarm farm-worker and its version", v))
+	}
+	if len(problems) > 0 {
+		return fmt.Errorf("final EXR metadata: %v", problems)
+	}
+	return nil
+}
+
 // pngSize returns the width and height in a PNG's IHDR chunk.
 func pngSize(b []byte) (int, int, error) {
 	if len(b) < 24 || !bytes.Equal(b[:8], []byte("\x89PNG\r\n\x1a\n")) || string(b[12:16]) != "IHDR" {
 		return 0, 0, errors.New("not a PNG file")
 	}
 	return int(binary.BigEndian.Uint32(b[16:])), int(binary.BigEndian.Uint32(b[20:])), nil
+}
+
+// pngLitAndCovered counts the pixels of a PNG whose colour is not black and those whose
+// alpha is not 0.
+func pngLitAndCovered(b []byte) (lit, covered int, err error) {
+	img, err := png.Decode(bytes.NewReader(b))
+	if err != nil {
+		return 0, 0, err
+	}
+	for y := img.Bounds().Min.Y; y < img.Bounds().Max.Y; y++ {
+		for x := img.Bounds().Min.X; x < img.Bounds().Max.X; x++ {
+			c := color.NRGBAModel.Convert(img.At(x, y)).(color.NRGBA)
+			if c.R|c.G|c.B != 0 {
+				lit++
+			}
+			if c.A != 0 {
+				covered++
+			}
+		}
+	}
+	return lit, covered, nil
 }
 
 // exrAttr appends one header attribute to b, for building test headers.
@@ -263,5 +333,32 @@ func TestEXRHeaderCheckRefusesWhatIsWrong(t *testing.T) {
 		if err := checkFinalEXR(b, 64, 48, 16); err == nil {
 			t.Errorf("%s: accepted", name)
 		}
+	}
+}
+
+func TestWithoutRenderTimeZeroesOnlyTheRenderTime(t *testing.T) {
+	header := func(seconds float64) []byte {
+		b := testEXR(true, exrPixelFloat, 64, 48, 16)
+		b = b[:len(b)-1] // reopen the header
+		b = exrAttr(b, "renderTime", "double", binary.LittleEndian.AppendUint64(nil, math.Float64bits(seconds)))
+		b = exrAttr(b, "rounds", "int", binary.LittleEndian.AppendUint32(nil, 2))
+		return append(b, 0, 42) // the end of the header and a byte of "pixels"
+	}
+	a, b := header(1.5), header(97.25)
+	if bytes.Equal(a, b) {
+		t.Fatal("the two headers are the same: the test would prove nothing")
+	}
+	za, zb := farmtest.WithoutRenderTime(a), farmtest.WithoutRenderTime(b)
+	if !bytes.Equal(za, zb) || len(za) != len(a) {
+		t.Errorf("renders that differ only in renderTime still differ: %q, %q", za, zb)
+	}
+	if h, err := parseEXRHeader(za); err != nil || !bytes.Equal(h.Values["renderTime"], make([]byte, 8)) || h.Values["rounds"][0] != 2 {
+		t.Errorf("zeroed header: %v, %v", h, err)
+	}
+	if bytes.Equal(farmtest.WithoutRenderTime(header(1.5)), farmtest.WithoutRenderTime(append(header(1.5)[:len(a)-1], 43))) {
+		t.Error("files that differ after the header compare equal")
+	}
+	if plain := testEXR(true, exrPixelFloat, 64, 48, 16); !bytes.Equal(farmtest.WithoutRenderTime(plain), plain) {
+		t.Error("a file without renderTime changed")
 	}
 }

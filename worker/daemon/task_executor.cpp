@@ -7,6 +7,7 @@
 #include "contract/failure.h"
 #include "contract/rules.h"
 #include "contract/tasks.h"
+#include "daemon/version.h"
 #include "image/composite.h"
 #include "image/reference_exr.h"
 #include "image/round_accumulator.h"
@@ -17,6 +18,7 @@
 #include "photonmap/photon_snapshot.h"
 #include "render/tile_renderer.h"
 #include "renderfarm/v1/scene.pb.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 #include "scene/scene_rules.h"
 
@@ -116,6 +118,28 @@ double RadiusScaleOf(double v) {
 }
 
 TaskResult Outputs(std::vector<pb::Artifact> artifacts) { return TaskResult{std::move(artifacts), std::nullopt}; }
+
+// The previews' exposure and tone map (Scene.output; unset, the contract's FILMIC).
+PreviewSettings PreviewOf(const pb::Scene& scene) {
+  const pb::Output& o = scene.output();
+  return {o.exposure_stops(), o.tone_map() == pb::TONE_MAP_CLAMP ? ToneMap::kClamp : ToneMap::kFilmic};
+}
+
+// What round `round`'s composite makes besides pixels: the previews' tone mapping and the
+// final EXR's metadata (samples per ordinary pixel over all rounds, as the job's round
+// reports count them).
+OutputSettings OutputOf(const pb::Scene& scene, const Film& film, std::uint32_t round, const pb::CompositeSpec& spec) {
+  OutputSettings out{PreviewOf(scene), {}};
+  const Camera camera = Camera::FromProto(scene.camera(), film.size.width, film.size.height);
+  out.metadata.world_to_camera = camera.WorldToCamera();
+  out.metadata.world_to_ndc = camera.WorldToNdc();
+  if (spec.elapsed_seconds() > 0) out.metadata.render_seconds = spec.elapsed_seconds();
+  const std::uint32_t spp = contract::OrDefault<pb::Sampling>(scene.sampling().samples_per_pixel(), "samples_per_pixel");
+  out.metadata.samples_per_pixel = static_cast<int>(round * spp);  // at most 1000 x 65536
+  out.metadata.rounds = static_cast<int>(round);
+  out.metadata.software = std::string("photonfarm ") + kWorkerVersion;
+  return out;
+}
 
 }  // namespace
 
@@ -249,7 +273,9 @@ TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& lease
 
 TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::stop_token stop,
                                     Progress progress) {
-  const Film film = FilmOf(Description(leased.scene_digest(), stop, progress));
+  const pb::Scene& description = Description(leased.scene_digest(), stop, progress);
+  const Film film = FilmOf(description);
+  const PreviewSettings preview = PreviewOf(description);
   const PixelRect rect = RectIn(leased.task().render_tile().rect(), film.size, "render_tile.rect");
   const Scene& scene = Built(leased.scene_digest(), stop, progress);
   const pb::RenderTileSpec& spec = leased.task().render_tile();
@@ -266,7 +292,7 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   const std::string digest = blobs_.Upload(exr, stop, progress);
   // The tile's sRGB preview, for the dashboard to show before the image is composited;
   // the composite reads only the tile EXR.
-  const std::string png = EncodeTilePreviewPng(tile);
+  const std::string png = EncodeTilePreviewPng(tile, preview);
   const std::string png_digest = blobs_.Upload(png, stop, progress);
   return Outputs({MakeArtifact(pb::ARTIFACT_KIND_TILE_EXR, digest, exr.size()),
                   MakeArtifact(pb::ARTIFACT_KIND_TILE_PNG, png_digest, png.size())});
@@ -274,7 +300,8 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
 
 TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,
                                    Progress progress) {
-  const Film film = FilmOf(Description(leased.scene_digest(), stop, progress));
+  const pb::Scene& description = Description(leased.scene_digest(), stop, progress);
+  const Film film = FilmOf(description);
   const pb::CompositeSpec& spec = leased.task().composite();
   std::vector<EncodedTile> tiles;
   tiles.reserve(static_cast<std::size_t>(spec.tiles_size()));
@@ -292,8 +319,10 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
   RoundInputs in;
   in.size = film.size;
   in.tile_size = film.tile_size;
-  in.round = static_cast<int>(std::max<std::uint32_t>(leased.task().round(), 1));
+  const std::uint32_t round = std::max<std::uint32_t>(leased.task().round(), 1);
+  in.round = static_cast<int>(round);
   in.tiles = tiles;
+  in.output = OutputOf(description, film, round, spec);
   if (spec.has_previous_accumulation()) {
     in.previous_accumulation =
         blobs_.Download(spec.previous_accumulation().digest(), stop, progress);

@@ -21,6 +21,7 @@
 #include "daemon/peak_memory.h"
 #include "daemon/retry.h"
 #include "daemon/task_executor.h"
+#include "daemon/version.h"
 #include "renderfarm/v1/worker.grpc.pb.h"
 
 namespace farm {
@@ -29,7 +30,6 @@ namespace {
 namespace pb = renderfarm::v1;
 using std::chrono::seconds;
 
-constexpr char kVersion[] = "farm-worker 0.1.0";
 // How long one LeaseTask call waits for work (the contract allows up to 30 s).
 constexpr seconds kLeaseWait{10};
 // Deadline of short RPCs (everything but LeaseTask and blob transfers).
@@ -154,7 +154,7 @@ bool Worker::Impl::Register() {
   pb::RegisterWorkerRequest request;
   request.set_hostname(hostname_);
   request.set_cores(cores_);
-  request.set_version(kVersion);
+  request.set_version(kWorkerVersion);
   pb::RegisterWorkerResponse response;
   Log(LogLevel::kInfo, "registering", {{"coordinator", coordinator_}, {"hostname", hostname_}});
   // A worker may start before its coordinator: wait for it as long as it takes.

@@ -45,9 +45,10 @@ std::vector<std::string> CompositeChannels(std::string_view tile_exr) {
 }
 
 struct Compositor::State {
-  explicit State(ImageSize size, int tile_size) : grid(size, tile_size) {}
+  State(ImageSize size, int tile_size, const OutputSettings& settings) : grid(size, tile_size), settings(settings) {}
 
   TileGrid grid;
+  OutputSettings settings;
   std::optional<std::filesystem::path> path;  // Unset: the EXR goes to `exr`.
   std::vector<std::string> channels;          // Fixed by the first tile.
   std::string exr;
@@ -66,6 +67,7 @@ struct Compositor::State {
     header.setTileDescription(
         Imf::TileDescription(grid.tile_size(), grid.tile_size(), Imf::ONE_LEVEL));
     for (const auto& name : channels) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    AddExrMetadata(settings.metadata, header);
     if (path) {
       file = std::make_unique<Imf::TiledOutputFile>(path->c_str(), header);
     } else {
@@ -91,17 +93,18 @@ struct Compositor::State {
       throw ImageError("cannot write tile " + ToString(rect) + ": " + e.what());
     }
     grid.Mark(rect);
-    WritePreviewPixels(tile, grid.size(), preview);
+    WritePreviewPixels(tile, grid.size(), preview, settings.preview);
   }
 };
 
-Compositor::Compositor(ImageSize size, int tile_size)
-    : state_(std::make_unique<State>(size, tile_size)) {
+Compositor::Compositor(ImageSize size, int tile_size, const OutputSettings& settings)
+    : state_(std::make_unique<State>(size, tile_size, settings)) {
   state_->preview.assign(static_cast<std::size_t>(size.width) * size.height * 4, 0);
 }
 
-Compositor::Compositor(ImageSize size, int tile_size, const std::filesystem::path& path)
-    : Compositor(size, tile_size) {
+Compositor::Compositor(ImageSize size, int tile_size, const std::filesystem::path& path,
+                       const OutputSettings& settings)
+    : Compositor(size, tile_size, settings) {
   state_->path = path;
 }
 
@@ -150,19 +153,20 @@ CompositeOutput Compositor::Finish() {
   return out;
 }
 
-CompositeOutput Composite(ImageSize size, int tile_size, std::span<const EncodedTile> tiles) {
-  Compositor compositor(size, tile_size);
+CompositeOutput Composite(ImageSize size, int tile_size, std::span<const EncodedTile> tiles,
+                          const OutputSettings& settings) {
+  Compositor compositor(size, tile_size, settings);
   for (const auto& t : tiles) compositor.Add(t.rect, t.exr);
   return compositor.Finish();
 }
 
-CompositeOutput CompositeImage(const Image& image, int tile_size) {
+CompositeOutput CompositeImage(const Image& image, int tile_size, const OutputSettings& settings) {
   const PixelRect& whole = image.rect();
   if (whole.x != 0 || whole.y != 0) {
     throw ImageError("image " + ToString(whole) + " does not start at the origin");
   }
   const ImageSize size{whole.width, whole.height};
-  Compositor compositor(size, tile_size);
+  Compositor compositor(size, tile_size, settings);
   const TileGrid grid(size, tile_size);
   for (int y = 0; y < size.height; y += tile_size) {
     for (int x = 0; x < size.width; x += tile_size) {

@@ -1,7 +1,8 @@
 #pragma once
 
 // Compositing: the tile EXRs of a render stitched into the final tiled OpenEXR (the
-// deliverable, opened by Nuke, Blender or oiiotool) plus an 8-bit sRGB PNG preview.
+// deliverable, opened by Nuke, Blender or oiiotool), with its metadata, plus an 8-bit
+// sRGB PNG preview, exposed and tone-mapped.
 
 #include <filesystem>
 #include <memory>
@@ -11,7 +12,9 @@
 #include <string_view>
 #include <vector>
 
+#include "image/exr_metadata.h"
 #include "image/image.h"
+#include "image/tone_map.h"
 
 namespace farm {
 
@@ -19,6 +22,12 @@ namespace farm {
 struct EncodedTile {
   PixelRect rect;
   std::string exr;
+};
+
+// How the composite's outputs are made besides their pixels.
+struct OutputSettings {
+  PreviewSettings preview;
+  ExrMetadata metadata;
 };
 
 struct CompositeOutput {
@@ -34,9 +43,10 @@ struct CompositeOutput {
 class Compositor {
  public:
   // The EXR goes to memory and comes back from Finish.
-  Compositor(ImageSize size, int tile_size);
+  Compositor(ImageSize size, int tile_size, const OutputSettings& settings = {});
   // The EXR goes to `path`; a partial file is left behind if compositing fails.
-  Compositor(ImageSize size, int tile_size, const std::filesystem::path& path);
+  Compositor(ImageSize size, int tile_size, const std::filesystem::path& path,
+             const OutputSettings& settings = {});
   Compositor(Compositor&&) noexcept;
   Compositor& operator=(Compositor&&) noexcept;
   ~Compositor();
@@ -59,12 +69,13 @@ class Compositor {
 };
 
 // Composites a complete list of tiles in memory.
-CompositeOutput Composite(ImageSize size, int tile_size, std::span<const EncodedTile> tiles);
+CompositeOutput Composite(ImageSize size, int tile_size, std::span<const EncodedTile> tiles,
+                          const OutputSettings& settings = {});
 
 // Writes a whole image held in memory (its rect the whole image, channels beginning R, G,
 // B, A) as the tiled EXR and preview. The same pixels give the same bytes as Composite of
 // the image's tiles.
-CompositeOutput CompositeImage(const Image& image, int tile_size);
+CompositeOutput CompositeImage(const Image& image, int tile_size, const OutputSettings& settings = {});
 
 // The channels a composite of these tiles carries: R, G, B, A first (the order viewers
 // expect), then the other channels of the tile, in the file's order. Throws ImageError if

@@ -1,5 +1,6 @@
 #include "image/composite.h"
 
+#include <OpenEXR/ImfTiledInputFile.h>
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -9,6 +10,8 @@
 #include <filesystem>
 #include <random>
 
+#include "image/exr_memory_stream.h"
+#include "image/exr_util.h"
 #include "image/image_error.h"
 #include "image/srgb_preview.h"
 #include "image/test_png.h"
@@ -123,6 +126,46 @@ TEST(Composite, PreviewHoldsSrgbOfTheSource) {
     }
     EXPECT_EQ(p[3], AlphaTo8(alpha));
   }
+}
+
+TEST(Composite, ExrCarriesItsMetadataAndThePreviewItsToneMap) {
+  OutputSettings settings;
+  settings.preview = {1.5, ToneMap::kFilmic};
+  std::array<double, 16> to_camera{}, to_ndc{};
+  for (int i = 0; i < 16; ++i) {
+    to_camera[i] = i % 5 == 0 ? 1 : 0.5 * i;
+    to_ndc[i] = -0.25 * i;
+  }
+  settings.metadata = {to_camera, to_ndc, 12.5, 64, 4, "photonfarm test"};
+  const CompositeOutput out = Composite(kSize, kTile, MakeTiles(RgbaChannels()), settings);
+  ExrMemoryIStream stream(out.exr);
+  Imf::TiledInputFile file(stream);
+  const Imf::Header& header = file.header();
+  ASSERT_TRUE(Imf::hasWorldToCamera(header));
+  ASSERT_TRUE(Imf::hasWorldToNDC(header));
+  for (int i = 0; i < 16; ++i) {
+    EXPECT_EQ(Imf::worldToCamera(header)[i / 4][i % 4], float(to_camera[i])) << i;
+    EXPECT_EQ(Imf::worldToNDC(header)[i / 4][i % 4], float(to_ndc[i])) << i;
+  }
+  ASSERT_TRUE(Imf::hasChromaticities(header));
+  EXPECT_EQ(Imf::chromaticities(header).red, Imf::Chromaticities().red);  // Rec. 709
+  EXPECT_EQ(header.typedAttribute<Imf::DoubleAttribute>("renderTime").value(), 12.5);
+  EXPECT_EQ(header.typedAttribute<Imf::IntAttribute>("samplesPerPixel").value(), 64);
+  EXPECT_EQ(header.typedAttribute<Imf::IntAttribute>("rounds").value(), 4);
+  EXPECT_EQ(header.typedAttribute<Imf::StringAttribute>("software").value(), "photonfarm test");
+
+  int width = 0, height = 0;
+  const std::vector<std::uint8_t> png = testing::ReadPng(out.preview_png, &width, &height);
+  const float alpha = std::min(SourceValue(5, 3, 3), 1.0f);  // the preview clamps coverage
+  const std::array<float, 3> display =
+      ToneMapColor(settings.preview, {SourceValue(5, 3, 0) / alpha, SourceValue(5, 3, 1) / alpha, SourceValue(5, 3, 2) / alpha});
+  EXPECT_EQ(png[(3 * kSize.width + 5) * 4], LinearToSrgb8(display[0]));
+  // Unset metadata is left out.
+  const CompositeOutput bare = Composite(kSize, kTile, MakeTiles(RgbaChannels()));
+  ExrMemoryIStream bare_stream(bare.exr);
+  Imf::TiledInputFile bare_file(bare_stream);
+  EXPECT_FALSE(Imf::hasWorldToCamera(bare_file.header()));
+  EXPECT_EQ(bare_file.header().findTypedAttribute<Imf::DoubleAttribute>("renderTime"), nullptr);
 }
 
 void ExpectCompositeError(std::vector<EncodedTile> tiles, const std::string& needle) {

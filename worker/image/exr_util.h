@@ -5,12 +5,17 @@
 #include <Imath/ImathBox.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfStandardAttributes.h>
+#include <OpenEXR/ImfStringAttribute.h>
 
 #include <algorithm>
 #include <string>
 #include <vector>
 
+#include "image/exr_metadata.h"
 #include "image/image.h"
 #include "image/image_error.h"
 
@@ -77,6 +82,23 @@ inline std::string JoinNames(std::vector<std::string> names) {
   std::string s;
   for (const auto& n : names) s += (s.empty() ? "" : ",") + n;
   return "[" + s + "]";
+}
+
+// Writes m into the header (exr_metadata.h names the attributes).
+inline void AddExrMetadata(const ExrMetadata& m, Imf::Header& header) {
+  Imf::addChromaticities(header, Imf::Chromaticities());  // OpenEXR's default: Rec. 709, D65
+  const auto matrix = [](const std::array<double, 16>& v) {
+    Imath::M44f out;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) out[i][j] = static_cast<float>(v[i * 4 + j]);
+    return out;
+  };
+  if (m.world_to_camera) Imf::addWorldToCamera(header, matrix(*m.world_to_camera));
+  if (m.world_to_ndc) Imf::addWorldToNDC(header, matrix(*m.world_to_ndc));
+  if (m.render_seconds) header.insert("renderTime", Imf::DoubleAttribute(*m.render_seconds));
+  if (m.samples_per_pixel) header.insert("samplesPerPixel", Imf::IntAttribute(*m.samples_per_pixel));
+  if (m.rounds) header.insert("rounds", Imf::IntAttribute(*m.rounds));
+  if (!m.software.empty()) header.insert("software", Imf::StringAttribute(m.software));
 }
 
 }  // namespace farm

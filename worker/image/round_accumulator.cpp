@@ -111,7 +111,7 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs, Progress progress) {
   const Accumulation accumulation = Fold(std::move(previous), round);
   const Image mean = MeanOf(accumulation);
   progress.Advance();  // Folded.
-  CompositeOutput composite = CompositeImage(mean, inputs.tile_size);
+  CompositeOutput composite = CompositeImage(mean, inputs.tile_size, inputs.output);
   progress.Advance();  // Final EXR and preview encoded.
 
   RoundOutputs out;

@@ -22,6 +22,8 @@ struct RoundInputs {
   std::optional<std::string> previous_accumulation;
   // A converged image of the same size to measure the error against (untrusted bytes).
   std::optional<std::string> reference_exr;
+  // The final EXR's metadata and the preview's tone mapping.
+  OutputSettings output = {};
 };
 
 struct RoundOutputs {

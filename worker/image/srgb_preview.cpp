@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -63,7 +64,7 @@ namespace {
 // Converts the tile's pixels into `rgba8`, a straight-alpha sRGB RGBA8 buffer `row_width`
 // pixels wide whose pixel (0, 0) is image pixel (origin_x, origin_y).
 void ConvertPixels(const Image& tile, int origin_x, int origin_y, int row_width,
-                   std::span<std::uint8_t> rgba8) {
+                   std::span<std::uint8_t> rgba8, const PreviewSettings& settings) {
   const PixelRect& r = tile.rect();
   const int index[4] = {ChannelIndex(tile, "R"), ChannelIndex(tile, "G"), ChannelIndex(tile, "B"),
                         ChannelIndex(tile, "A")};
@@ -76,7 +77,9 @@ void ConvertPixels(const Image& tile, int origin_x, int origin_y, int row_width,
       std::uint8_t* out =
           rgba8.data() +
           (static_cast<std::size_t>(y - origin_y) * row_width + (x - origin_x)) * 4;
-      for (int c = 0; c < 3; ++c) out[c] = LinearToSrgb8(p[index[c]] * scale);
+      const std::array<float, 3> display =
+          ToneMapColor(settings, {p[index[0]] * scale, p[index[1]] * scale, p[index[2]] * scale});
+      for (int c = 0; c < 3; ++c) out[c] = LinearToSrgb8(display[c]);
       out[3] = AlphaTo8(alpha);
     }
   }
@@ -84,7 +87,8 @@ void ConvertPixels(const Image& tile, int origin_x, int origin_y, int row_width,
 
 }  // namespace
 
-void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::uint8_t> rgba8) {
+void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::uint8_t> rgba8,
+                        const PreviewSettings& settings) {
   const PixelRect& r = tile.rect();
   if (!PixelRect{0, 0, image_size.width, image_size.height}.Contains(r)) {
     throw ImageError("tile " + ToString(r) + " lies outside the " + ToString(image_size) + " image");
@@ -92,14 +96,14 @@ void WritePreviewPixels(const Image& tile, ImageSize image_size, std::span<std::
   if (rgba8.size() != static_cast<std::size_t>(image_size.width) * image_size.height * 4) {
     throw ImageError("preview buffer does not match the " + ToString(image_size) + " image");
   }
-  ConvertPixels(tile, 0, 0, image_size.width, rgba8);
+  ConvertPixels(tile, 0, 0, image_size.width, rgba8, settings);
 }
 
-std::string EncodeTilePreviewPng(const Image& tile) {
+std::string EncodeTilePreviewPng(const Image& tile, const PreviewSettings& settings) {
   const PixelRect& r = tile.rect();
   if (r.width <= 0 || r.height <= 0) throw ImageError("tile " + ToString(r) + " is empty");
   std::vector<std::uint8_t> rgba8(static_cast<std::size_t>(r.width) * r.height * 4);
-  ConvertPixels(tile, r.x, r.y, r.width, rgba8);
+  ConvertPixels(tile, r.x, r.y, r.width, rgba8, settings);
   return EncodePngRgba8({r.width, r.height}, rgba8);
 }
 

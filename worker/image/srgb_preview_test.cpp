@@ -91,3 +91,26 @@ TEST(SrgbPreview, TilePngNeedsTheBeautyChannels) {
 
 }  // namespace
 }  // namespace farm
+
+namespace farm {
+namespace {
+
+TEST(SrgbPreview, ExposureAndToneMapApplyToTheStraightColour) {
+  // Premultiplied 0.25 at half coverage is straight 0.5; +1 stop makes it 1.
+  Image tile({0, 0, 1, 1}, RgbaChannels());
+  const float pixel[] = {0.25f, 0.25f, 0.25f, 0.5f};
+  std::copy(std::begin(pixel), std::end(pixel), tile.data().begin());
+  const PreviewSettings settings{1, ToneMap::kFilmic};
+  std::vector<std::uint8_t> rgba8(4);
+  WritePreviewPixels(tile, {1, 1}, rgba8, settings);
+  EXPECT_EQ(rgba8[0], LinearToSrgb8(ToneMapColor(settings, {0.5f, 0.5f, 0.5f})[0]));
+  EXPECT_EQ(rgba8[3], 128);
+  int width = 0, height = 0;
+  EXPECT_EQ(testing::ReadPng(EncodeTilePreviewPng(tile, settings), &width, &height), rgba8);
+  // The default is the clamp at exposure 0, the preview as it always was.
+  WritePreviewPixels(tile, {1, 1}, rgba8);
+  EXPECT_EQ(rgba8[0], LinearToSrgb8(0.5f));
+}
+
+}  // namespace
+}  // namespace farm

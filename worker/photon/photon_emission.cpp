@@ -30,10 +30,14 @@ int PickWeighted(const std::vector<float>& weights, float sum, float u) {
   return last;  // rounding left u * sum at the very top
 }
 
-std::optional<PhotonRay> AimAtTargetsFromSun(const SceneData& scene, const SunLight& sun,
-                                             float u_target, Vec2 u_disc) {
+// Light from infinitely far away, travelling along d.w: the point on the disc for d.w is
+// sampled within the shadows the targets cast on it.
+std::optional<PhotonRay> AimAtTargetsAlong(const SceneData& scene, const std::optional<DistantDirection>& d,
+                                           const DistantDisc& disc, float u_target, Vec2 u_disc) {
+  if (!d) return std::nullopt;
   const std::vector<BoundingSphere>& targets = scene.specular_targets;
-  const Frame frame = Frame::FromZ(sun.direction);
+  const Frame frame = Frame::FromZ(d->w);
+  const Vec3 disc_center = disc.CenterFor(d->w);
   // Each target's shadow on the disc's plane: a disc of its radius around the projection of
   // its centre. Chosen in proportion to area.
   std::vector<float> weights;
@@ -42,10 +46,9 @@ std::optional<PhotonRay> AimAtTargetsFromSun(const SceneData& scene, const SunLi
   for (const BoundingSphere& t : targets) sum += weights.emplace_back(t.radius * t.radius);
   const int j = PickWeighted(weights, sum, u_target);
   if (j < 0) return std::nullopt;
-  auto project = [&](const Vec3& c) { return c - sun.direction * Dot(c - sun.disc_center, sun.direction); };
-  const Vec2 d = SampleUniformDiskConcentric(u_disc);
-  const Vec3 p =
-      project(targets[j].center) + (frame.x * d.x + frame.y * d.y) * targets[j].radius;
+  auto project = [&](const Vec3& c) { return c - d->w * Dot(c - disc_center, d->w); };
+  const Vec2 o = SampleUniformDiskConcentric(u_disc);
+  const Vec3 p = project(targets[j].center) + (frame.x * o.x + frame.y * o.y) * targets[j].radius;
   float pdf_area = 0;
   for (std::size_t k = 0; k < targets.size(); ++k) {
     const float r = targets[k].radius;
@@ -53,7 +56,7 @@ std::optional<PhotonRay> AimAtTargetsFromSun(const SceneData& scene, const SunLi
       pdf_area += (weights[k] / sum) / (kPi * r * r);
   }
   if (!(pdf_area > 0)) return std::nullopt;
-  return PhotonRay{Ray{p, sun.direction}, sun.irradiance / pdf_area};
+  return PhotonRay{Ray{p, d->w}, d->weight / pdf_area};
 }
 
 // From a point of a light with an origin of its own (every kind but the sun).
@@ -90,7 +93,7 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
   if (!(pdf_direction > 0)) return std::nullopt;
   Rgb power;
   if (o->is_point) {
-    power = o->emission / pdf_direction;
+    power = o->emission * (o->cone ? o->cone->Falloff(w) : 1.0f) / pdf_direction;
   } else {
     const float cos_light = Dot(o->n, w);
     if (!(cos_light > 0)) return std::nullopt;  // aimed through the back of the light
@@ -102,13 +105,19 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
 
 std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,
                                       float u_target, Vec2 u_direction) {
-  return std::visit(Overloaded{
-                        [&](const SunLight& sun) { return AimAtTargetsFromSun(scene, sun, u_target, u_origin); },
-                        [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight> auto&) {
-                          return AimAtTargetsFromOrigin(scene, light, u_origin, u_target, u_direction);
-                        },
-                    },
-                    light);
+  return std::visit(
+      Overloaded{
+          [&](const SunLight& sun) {
+            return AimAtTargetsAlong(scene, SampleDistantDirection(sun, u_direction), sun.disc, u_target, u_origin);
+          },
+          [&](const EnvironmentLight& env) {
+            return AimAtTargetsAlong(scene, SampleDistantDirection(env, u_direction), env.disc, u_target, u_origin);
+          },
+          [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight, SpotLight> auto&) {
+            return AimAtTargetsFromOrigin(scene, light, u_origin, u_target, u_direction);
+          },
+      },
+      light);
 }
 
 }  // namespace

@@ -9,9 +9,11 @@
 // the light, a bounding sphere of a specular shape is chosen in proportion to the solid
 // angle it subtends and a direction sampled uniformly in its cone; the photon's power is
 // divided by the density of the whole mixture of cones, so the estimate stays unbiased for
-// every path light -> specular. For the sun, the point on its disc is sampled within the
-// shadows that the specular bounding spheres cast on the disc, with the mixture density by
-// area. A light point inside a bounding sphere falls back to plain emission.
+// every path light -> specular (a spot's power along the direction is scaled by its
+// falloff). For light from infinitely far away (sun, environment), the direction is
+// sampled as the light emits and the point on its disc within the shadows that the
+// specular bounding spheres cast on the disc, with the mixture density by area. A light
+// point inside a bounding sphere falls back to plain emission.
 
 #include <optional>
 

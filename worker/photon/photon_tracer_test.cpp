@@ -9,6 +9,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <numbers>
@@ -83,6 +84,46 @@ TEST(PhotonTracer, PointLightPhotonsGiveIntensityCosOverDistanceSquared) {
   }
   // Without store_direct the global map holds indirect light only: none on a black floor.
   EXPECT_TRUE(Trace(s, PhotonMapKind::kGlobal, 10'000).empty());
+}
+
+TEST(PhotonTracer, SpotLightPhotonsCarryTheConesClosedFormPowerWithItsFalloff) {
+  // A spot at height h shining straight down, cones of 15 and 40 degrees (half-angles, as
+  // KHR_lights_punctual's). Its power is I times the falloff's solid angle,
+  // 2 pi I ((1 - cos inner) + (cos inner - cos outer) / 3), all of which lands on the floor;
+  // the floor's irradiance is E = I s^2 cos / d^2 with s = (cos - cos outer) / (cos inner -
+  // cos outer) clamped to [0, 1], nothing beyond the outer cone. 1M photons; the discs of
+  // radius 0.1 below hold 10,000 to 50,000 photons (at most 1% noise, 1 sigma).
+  pb::Scene s = FloorScene();
+  const double I = 3, h = 1, inner = 15, outer = 40;
+  auto* light = s.add_lights()->mutable_spot();
+  Set(light->mutable_position(), {0, 0, h});
+  Set(light->mutable_direction(), {0, 0, -1});
+  Set(light->mutable_intensity(), Rgb(static_cast<float>(I)));
+  light->set_inner_cone_degrees(inner);
+  light->set_outer_cone_degrees(outer);
+  PhotonTraceOptions direct;
+  direct.store_direct = true;
+  const auto photons = Trace(s, PhotonMapKind::kGlobal, 1'000'000, direct);
+
+  const double ci = std::cos(inner * kPiD / 180), co = std::cos(outer * kPiD / 180);
+  const double power = 2 * kPiD * I * ((1 - ci) + (ci - co) / 3);
+  double total = 0;
+  for (const ShardPhoton& p : photons) total += p.power.g;
+  std::printf("spot: %zu photons, power %.6f, closed form %.6f\n", photons.size(), total, power);
+  EXPECT_NEAR(total, power, 1e-4 * power);
+
+  const auto E = [&](double x, double y) {
+    const double d2 = x * x + y * y + h * h, c = h / std::sqrt(d2);
+    const double t = std::clamp((c - co) / (ci - co), 0.0, 1.0);
+    return I * t * t * c / d2;
+  };
+  for (double x : {0.0, 0.2, 0.4, 0.55}) {
+    const double expected = DiscAverage(E, x, 0, 0.1);
+    EXPECT_NEAR(DiscIrradiance(photons, Vec3(float(x), 0, 0), 0.1f), expected, 0.04 * expected)
+        << "x = " << x;
+  }
+  // Nothing lands beyond the outer cone.
+  for (const ShardPhoton& p : photons) ASSERT_LT(std::hypot(p.position.x, p.position.y), std::tan(outer * kPiD / 180) * h + 1e-3);
 }
 
 TEST(PhotonTracer, SphereLightPhotonsGivePiLTimesRadiusOverDistanceSquared) {

@@ -75,17 +75,22 @@ float HashFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
 
 // Follows at most kGatherSpecularDepth specular bounces to the first non-specular surface
 // that reflects; nothing if the ray escapes, ends on an emitter or is absorbed. key seeds
-// the Fresnel choices.
+// the Fresnel choices. escaped tells whether the ray left the scene before any bounce (it
+// then sees the environment; after a specular bounce that light is a caustic's).
 struct DiffuseHit {
   SurfaceHit hit;
   Rgb throughput;
   Vec3 wo;
 };
-std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64_t key) {
+std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64_t key, bool& escaped) {
   Rgb throughput(1);
+  escaped = false;
   for (int depth = 0; depth <= kGatherSpecularDepth; ++depth) {
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
-    if (!hit) return std::nullopt;
+    if (!hit) {
+      escaped = depth == 0;
+      return std::nullopt;
+    }
     const Material& material = scene.material_of(*hit);
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
@@ -105,6 +110,16 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64
   }
   return std::nullopt;
 }
+
+// a - b per channel, at least 0 (rounding may leave a diffuse material's f a hair below
+// its diffuse part).
+Rgb Excess(const Rgb& a, const Rgb& b) {
+  return {std::max(0.0f, a.r - b.r), std::max(0.0f, a.g - b.g), std::max(0.0f, a.b - b.b)};
+}
+
+// The balance heuristic with sample counts: the weight of a sample of strategy a (a = its
+// count times its density) against strategy b, for the same direction.
+float BalanceWeight(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
 
 }  // namespace
 
@@ -151,12 +166,21 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     const Vec2 u_glossy = sampler.Get2D();
 
     const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
-    if (!hit) break;  // black background
+    if (!hit) {
+      // The environment, seen directly (unless hidden) or through specular bounces, which
+      // only this path can reach (a delta BSDF): no other strategy shares it.
+      if (scene_.environment && (depth > 0 || scene_.environment_visible)) {
+        result.emitted += throughput * scene_.environment->Radiance(ray.direction);
+        if (depth == 0) result.alpha = 1;  // the background is part of the picture
+      }
+      break;
+    }
     const Vec3 wo = -ray.direction;
     const Material& material = scene_.material_of(*hit);
     const Shading at(*hit, wo, material);
     if (depth == 0) {
       result.alpha = 1;
+      result.hit = true;
       result.albedo = Albedo(material);
       result.normal = at.ns;
       result.depth = hit->t;
@@ -170,9 +194,13 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
         // unrelated scrambles.
         const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
         Rgb direct, caustic, indirect;
-        Shade(at, final_gather_ ? scene_.indirect.gather_rays : 0, seed, scratch, direct, caustic,
-              indirect);
-        if (final_gather_) indirect += GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+        const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
+        Shade(at, strategies, seed, scratch, direct, caustic, indirect);
+        if (final_gather_) {
+          const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+          direct += glossy.direct;
+          indirect += glossy.indirect;
+        }
         result.direct = throughput * direct;
         result.caustic = throughput * caustic;
         result.indirect = throughput * indirect;
@@ -203,25 +231,44 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   return result;
 }
 
-void PhotonMappingIntegrator::Shade(const Shading& at, uint32_t gather_rays, uint32_t seed,
+void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
                                     std::vector<PhotonNeighbour>& scratch, Rgb& direct,
                                     Rgb& caustic, Rgb& indirect) const {
-  direct = DirectLight(at, scene_.indirect.light_samples, SubSeed(seed, kDirectSeed));
+  direct = DirectLight(at, strategies, SubSeed(seed, kDirectSeed));
   const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
   caustic = maps_.caustic ? EstimateRadiance(*maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
                                              bsdf, scratch)
                           : Rgb();
-  if (gather_rays > 0)
-    indirect = Gather(at, gather_rays, SubSeed(seed, kGatherSeed), scratch);
-  else if (maps_.global)
+  if (strategies.gather_rays > 0) {
+    const LightSplit gathered = Gather(at, strategies.gather_rays, SubSeed(seed, kGatherSeed), scratch);
+    direct += gathered.direct;
+    indirect = gathered.indirect;
+  } else if (maps_.global) {
     indirect = EstimateRadiance(*maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf, scratch);
-  else
+  } else {
     indirect = {};
+  }
 }
 
-Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, uint32_t count, uint32_t seed) const {
+uint32_t PhotonMappingIntegrator::LightSampleCount() const {
+  return single_delta_light_ ? 1 : scene_.indirect.light_samples;
+}
+
+float PhotonMappingIntegrator::EnvironmentLightPdf(const Vec3& w) const {
+  if (scene_.environment_light < 0) return 0;
+  return scene_.light_power.Pmf(scene_.environment_light) * scene_.environment->Pdf(w);
+}
+
+float PhotonMappingIntegrator::GlossyBouncePdf(const Shading& at, const Vec3& wi) const {
+  const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
+  if (!glossy || glossy->specular.IsBlack() || !(Dot(wi, at.n) > 0)) return 0;
+  const Frame frame = Frame::FromZ(at.ns);  // GlossyBounce's frame
+  return BlinnPhongPdf(frame.ToLocal(at.wo), frame.ToLocal(wi), glossy->exponent);
+}
+
+Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed) const {
+  const uint32_t count = LightSampleCount();
   if (scene_.light_power.empty() || count == 0) return {};
-  if (single_delta_light_) count = 1;
   Rgb sum;
   for (uint32_t j = 0; j < count; ++j) {
     const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kLightPick));
@@ -229,36 +276,54 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, uint32_t count, uint
     const std::optional<LightSample> ls =
         SampleLi(scene_.lights[pick.index], at.hit.p, Point2(j, count, seed, kLightPoint));
     if (!ls) continue;
-    const Rgb f = at.Reflected(ls->wi);
+    Rgb f = at.Reflected(ls->wi);
     if (f.IsBlack()) continue;
     const float pdf = pick.pmf * ls->pdf;
     if (!(pdf > 0) || !std::isfinite(pdf)) continue;
     if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) continue;
+    if (pick.index == scene_.environment_light) {
+      // Gather rays (the diffuse lobe) and the glossy bounce (the rest) that escape see the
+      // environment too: each part of f takes its balance-heuristic share.
+      const float light = float(count) * pdf;
+      const Rgb f_diffuse = DiffuseReflectance(at.material) * kInvPi;
+      const float cos = Dot(at.ns, ls->wi);
+      const float gather = float(strategies.gather_rays) * (cos > 0 ? CosineHemispherePdf(cos) : 0.0f);
+      const float glossy = strategies.glossy_bounce ? GlossyBouncePdf(at, ls->wi) : 0.0f;
+      f = f_diffuse * BalanceWeight(light, gather) + Excess(f, f_diffuse) * BalanceWeight(light, glossy);
+    }
     sum += f * ls->radiance * (AbsDot(at.ns, ls->wi) / pdf);
   }
   return sum / float(count);
 }
 
-Rgb PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t seed,
-                                    std::vector<PhotonNeighbour>& scratch) const {
+PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t seed,
+                                                                    std::vector<PhotonNeighbour>& scratch) const {
   const Rgb kd = DiffuseReflectance(at.material);
   if (kd.IsBlack() || count == 0) return {};
   const Frame frame = Frame::FromZ(at.ns);
-  Rgb sum;
+  const float light_samples = float(LightSampleCount());
+  Rgb indirect, escaped;
   for (uint32_t i = 0; i < count; ++i) {
-    const Vec3 w = frame.FromLocal(SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection)));
+    const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
+    const Vec3 w = frame.FromLocal(local);
     if (Dot(w, at.n) < 0) continue;  // below the surface (only a shading normal tilts the frame so)
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
-    sum += GatherRay(ray, i, seed, scratch);
+    bool escaped_directly = false;
+    indirect += GatherRay(ray, i, seed, scratch, escaped_directly);
+    if (escaped_directly && scene_.environment_light >= 0) {
+      // The environment seen by a gather ray is direct light, shared with light sampling.
+      const float gather = float(count) * CosineHemispherePdf(local.z);
+      escaped += scene_.environment->Radiance(w) * BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
+    }
   }
   // Cosine-weighted directions: f cos / pdf = kd for every ray.
-  return kd * sum / float(count);
+  return {kd * escaped / float(count), kd * indirect / float(count)};
 }
 
-Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed,
-                                       std::vector<PhotonNeighbour>& scratch) const {
+Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch,
+                                       bool& escaped) const {
   const std::optional<DiffuseHit> d =
-      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular), i));
+      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
   if (!d) return {};
   const Shading at(d->hit, d->wo, scene_.material_of(d->hit));
   const uint32_t count = scene_.indirect.gather_rays;
@@ -285,8 +350,8 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, 
   return ls->radiance * (cos_theta / pdf);
 }
 
-Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
-                                          std::vector<PhotonNeighbour>& scratch) const {
+PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
+                                                                          std::vector<PhotonNeighbour>& scratch) const {
   const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
   if (!glossy || glossy->specular.IsBlack()) return {};
   const Frame frame = Frame::FromZ(at.ns);
@@ -299,14 +364,22 @@ Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t se
   const Vec3 wi = frame.FromLocal(*w);
   if (!(Dot(wi, at.n) > 0)) return {};  // below the surface
   const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, wi, scene_.ray_epsilon), wi};
-  const std::optional<DiffuseHit> d = TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)));
+  bool escaped = false;
+  const std::optional<DiffuseHit> d =
+      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)), escaped);
+  if (escaped && scene_.environment_light >= 0) {
+    // Direct light from the environment, shared with light sampling (DirectLight).
+    const float pdf = BlinnPhongPdf(wo_local, *w, glossy->exponent);
+    const float share = BalanceWeight(pdf, float(LightSampleCount()) * EnvironmentLightPdf(wi));
+    return {weight * scene_.environment->Radiance(wi) * share, Rgb()};
+  }
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
   const Shading next(d->hit, d->wo, scene_.material_of(d->hit));
   Rgb direct, caustic, indirect;
-  Shade(next, scene_.indirect.secondary_gather_rays, seed, scratch, direct, caustic, indirect);
-  return weight * d->throughput * (direct + caustic + indirect);
+  Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect);
+  return {Rgb(), weight * d->throughput * (direct + caustic + indirect)};
 }
 
 std::string PhotonMappingIntegrator::ToString() const {

@@ -5,9 +5,16 @@
 // metal; bounded depth and Russian roulette) to the first non-specular surface, where the
 // light leaving it is split into
 //
-//   emitted   its own emission, and that of emitters seen through specular bounces
+//   emitted   its own emission, and that of emitters seen through specular bounces; the
+//             environment where the camera ray leaves the scene (unless it is hidden from
+//             the camera) or leaves it after specular bounces
 //   direct    light_samples shadow rays, to lights picked in proportion to power (area
-//             lights give soft shadows, point and sun hard)
+//             lights and a sun with a disc give soft shadows, point, spot and a sun
+//             without one hard). The environment is sampled as a light too, and also
+//             reached by the gather rays (the diffuse lobe) and the glossy bounce (the
+//             rest) that leave the scene at once: each part of the BSDF weighs the two
+//             strategies that sample it by the balance heuristic with their sample counts
+//             (multiple importance sampling), and that light counts as direct.
 //   caustic   radiance estimate on the caustic map (light -> specular+ -> here)
 //   indirect  FINAL_GATHER: gather_rays cosine-weighted rays (Malley over the concentric
 //             disk, stratified); where a gather ray lands on a diffuse surface (after at
@@ -54,8 +61,11 @@ inline constexpr int kGatherSpecularDepth = 4;
 struct SampleResult {
   Rgb radiance;  // beauty = emitted + direct + indirect + caustic
   Rgb emitted, direct, indirect, caustic;
-  float alpha = 0;  // 1 if the camera ray hit geometry, 0 if it escaped
-  // Of the first surface the camera ray hits (valid when alpha is 1).
+  // 1 if the camera ray hit geometry or sees an environment visible to the camera, 0 if
+  // it escaped into black.
+  float alpha = 0;
+  bool hit = false;  // whether the camera ray hit geometry
+  // Of the first surface the camera ray hits (valid when hit).
   Rgb albedo;
   Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
@@ -95,25 +105,43 @@ class PhotonMappingIntegrator {
 
  private:
   struct Shading;
+  // The BSDF-sampled rays a shading point takes besides its light samples: gather rays of
+  // the diffuse lobe (0 for none) and whether a glossy bounce follows.
+  struct Strategies {
+    uint32_t gather_rays = 0;
+    bool glossy_bounce = false;
+  };
+  // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect.
+  struct LightSplit {
+    Rgb direct, indirect;
+  };
 
-  // Direct + caustic + indirect leaving a non-specular hit along wo; `gather_rays` 0 means
+  // Direct + caustic + indirect leaving a non-specular hit along wo; no gather rays means
   // the global map's estimate instead of gathering. seed scrambles the stratified points.
-  void Shade(const Shading& at, uint32_t gather_rays, uint32_t seed,
+  void Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
              std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect) const;
-  // The average of `count` light samples of the reflected direct radiance along wo.
-  Rgb DirectLight(const Shading& at, uint32_t count, uint32_t seed) const;
-  // Diffuse-lobe indirect radiance along wo from `count` gather rays.
-  Rgb Gather(const Shading& at, uint32_t count, uint32_t seed,
-             std::vector<PhotonNeighbour>& scratch) const;
+  // Light samples a shading point takes.
+  uint32_t LightSampleCount() const;
+  // The average of LightSampleCount() light samples of the reflected direct radiance along
+  // wo, the environment's weighted against `strategies`.
+  Rgb DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed) const;
+  // The density with which light sampling (DirectLight) picks the environment along w.
+  float EnvironmentLightPdf(const Vec3& w) const;
+  // The density with which GlossyBounce samples wi; 0 where it has no glossy lobe.
+  float GlossyBouncePdf(const Shading& at, const Vec3& wi) const;
+  // Diffuse-lobe radiance along wo from `count` gather rays: indirect, plus the
+  // environment's share of direct light where a ray escapes.
+  LightSplit Gather(const Shading& at, uint32_t count, uint32_t seed,
+                    std::vector<PhotonNeighbour>& scratch) const;
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
-  // points.
-  Rgb GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch) const;
+  // points. escaped: the ray left the scene before any bounce.
+  Rgb GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
-  // full with secondary gathering.
-  Rgb GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
-                   std::vector<PhotonNeighbour>& scratch) const;
+  // full with secondary gathering (indirect), or the environment it escapes to (direct).
+  LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
+                          std::vector<PhotonNeighbour>& scratch) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;

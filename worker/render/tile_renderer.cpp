@@ -52,9 +52,10 @@ enum Channel : int {
   kEdge = 20,
   kSummed = 20,  // channels summed over samples: all but the edge mask
   kChannelCount = 21,
+  kHits = kSummed,  // in Sums after the channels: samples that hit geometry
 };
 
-using Sums = std::array<double, kSummed>;
+using Sums = std::array<double, kSummed + 1>;
 
 PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
   PhotonMaps maps;
@@ -107,7 +108,9 @@ class PixelRenderer {
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
       const Vec2 u = sampler_.Get2D();  // box filter over the pixel
-      const Ray ray = data_.camera.GenerateRay({x + u.x, y + u.y});
+      // A pinhole draws no lens sample, so that its images keep their dimensions.
+      const Vec2 lens = data_.camera.has_lens() ? sampler_.Get2D() : Vec2{};
+      const Ray ray = data_.camera.GenerateRay({x + u.x, y + u.y}, lens);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
       Add(sum, kBeauty, r.radiance);
       sum[kAlpha] += r.alpha;
@@ -115,7 +118,8 @@ class PixelRenderer {
       Add(sum, kIndirect, r.indirect);
       Add(sum, kCaustic, r.caustic);
       Add(sum, kAlbedo, r.albedo);
-      if (r.alpha > 0) {
+      if (r.hit) {
+        sum[kHits] += 1;
         sum[kNormal] += r.normal.x;
         sum[kNormal + 1] += r.normal.y;
         sum[kNormal + 2] += r.normal.z;
@@ -150,7 +154,7 @@ void ForEachPixel(const PixelRect& area, const SceneData& data, const PhotonMapp
 // depth over the samples that hit something, so an edge pixel's depth is a real distance,
 // not one diluted by the background.
 void WritePixel(const Sums& sum, uint32_t samples, bool supersampled, float* out) {
-  const double hits = sum[kAlpha];
+  const double hits = sum[kHits];
   for (int c = 0; c < kSummed; ++c) {
     const double n = c >= kNormal ? hits : double(samples);
     out[c] = n > 0 ? static_cast<float>(sum[c] / n) : 0.0f;

@@ -29,7 +29,8 @@ struct RoundSettings {
 };
 
 // Renders one rectangle of the scene's image into RenderChannels(): linear radiance, alpha
-// the fraction of camera rays that hit geometry. photons holds the job's photon maps, or is
+// the fraction of camera rays that hit geometry (or see an environment visible to the
+// camera). photons holds the job's photon maps, or is
 // null for a job without any. Uses all threads TBB allows. A pixel's value depends only on
 // the scene (its seed included), the photon maps and the pixel, never on the rectangle it
 // was rendered in, so tiles rendered anywhere stitch into a bit-identical image. If stop is

@@ -1,6 +1,8 @@
 #include "scene/lights.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <vector>
 
@@ -74,31 +76,93 @@ void TriangleMeshLight::Corners(int i, Vec3& p0, Vec3& p1, Vec3& p2) const {
   if (placement->mirrors) std::swap(p1, p2);  // counter-clockwise from the front again
 }
 
-SunLight SunLight::Make(const Vec3& direction, const Rgb& irradiance, const BoundingSphere& scene) {
+float SpotCone::Falloff(const Vec3& w) const {
+  const float c = Dot(w, axis);
+  if (!(cos_inner > cos_outer)) return c >= cos_outer ? 1.0f : 0.0f;
+  return Sqr(std::clamp((c - cos_outer) / (cos_inner - cos_outer), 0.0f, 1.0f));
+}
+
+float SpotCone::SolidAngle() const {
+  // Constant inside the inner cone, the square of a ramp in cos between the cones.
+  return 2 * kPi * ((1 - cos_inner) + std::max(0.0f, cos_inner - cos_outer) / 3);
+}
+
+Vec3 SpotCone::Sample(Vec2 u) const {
+  // cos is drawn from the density in proportion to the falloff: a share of the mass is the
+  // inner cap (uniform in cos), the rest the ramp, whose squared CDF inverts by a cube root.
+  const float cap = 1 - cos_inner, ramp = std::max(0.0f, cos_inner - cos_outer) / 3;
+  const float p_cap = cap / (cap + ramp);
+  float c;
+  if (u.x < p_cap) {
+    c = 1 - cap * (u.x / p_cap);
+  } else {
+    const float v = std::min((u.x - p_cap) / (1 - p_cap), 1.0f);
+    c = cos_outer + (cos_inner - cos_outer) * std::cbrt(v);
+  }
+  const float sin_theta = SafeSqrt(1 - c * c), phi = 2 * kPi * u.y;
+  return Frame::FromZ(axis).FromLocal({sin_theta * std::cos(phi), sin_theta * std::sin(phi), c});
+}
+
+DistantDisc DistantDisc::Around(const BoundingSphere& scene) {
   // A margin so that the disc covers the sphere's silhouette despite rounding, and a floor
   // for a scene that is a single point.
-  const float radius = scene.radius * 1.01f + 1e-4f * (1 + MaxComponent(Abs(scene.center)));
-  return {direction, irradiance, scene.center - direction * (radius * 1.05f), radius};
+  return {scene.center, scene.radius * 1.01f + 1e-4f * (1 + MaxComponent(Abs(scene.center)))};
+}
+
+float DistantDisc::Area() const { return kPi * radius * radius; }
+
+SunLight SunLight::Make(const Vec3& direction, const Rgb& irradiance, double angular_diameter_degrees,
+                        const BoundingSphere& scene) {
+  SunLight sun{direction, irradiance, 0, Rgb(), DistantDisc::Around(scene)};
+  const double alpha = Radians(angular_diameter_degrees) / 2;
+  if (alpha > 0) {
+    // 1 - cos alpha = 2 sin^2(alpha / 2), without cancellation.
+    sun.one_minus_cos = static_cast<float>(2 * Sqr(std::sin(alpha / 2)));
+    sun.radiance = irradiance / static_cast<float>(std::numbers::pi * Sqr(std::sin(alpha)));
+  }
+  return sun;
 }
 
 Light LightFromProto(const pb::Light& light, const BoundingSphere& scene) {
+  // Directions are scaled first: a tiny non-zero direction (1e-200) is valid, its square
+  // is not.
+  const auto unit = [](const pb::Vec3& v) {
+    const Vec3d d = Vec3dOf(v);
+    return Vec3(Normalize(d / MaxComponent(Abs(d))));
+  };
   switch (light.kind_case()) {
     case pb::Light::kPoint:
       return PointLight{Vec3(Vec3dOf(light.point().position())), RgbOf(light.point().intensity())};
-    case pb::Light::kSun: {
-      // Scaled first: a tiny non-zero direction (1e-200) is valid, its square is not.
-      const Vec3d d = Vec3dOf(light.sun().direction());
-      return SunLight::Make(Vec3(Normalize(d / MaxComponent(Abs(d)))), RgbOf(light.sun().irradiance()),
-                            scene);
+    case pb::Light::kSpot: {
+      const pb::SpotLight& s = light.spot();
+      const SpotCone cone{unit(s.direction()), static_cast<float>(std::cos(Radians(s.inner_cone_degrees()))),
+                          static_cast<float>(std::cos(Radians(s.outer_cone_degrees())))};
+      return SpotLight{Vec3(Vec3dOf(s.position())), RgbOf(s.intensity()), cone};
     }
-    case pb::Light::kSpot:
-      // A stand-in until spot lights are rendered with their cone: a point light of the
-      // intensity on the axis.
-      return PointLight{Vec3(Vec3dOf(light.spot().position())), RgbOf(light.spot().intensity())};
+    case pb::Light::kSun:
+      return SunLight::Make(unit(light.sun().direction()), RgbOf(light.sun().irradiance()),
+                            light.sun().angular_diameter_degrees(), scene);
     case pb::Light::KIND_NOT_SET:
       break;
   }
   throw std::logic_error("LightFromProto: a light without a kind (CheckRules refuses it)");
+}
+
+std::optional<DistantDirection> SampleDistantDirection(const SunLight& sun, Vec2 u) {
+  if (sun.one_minus_cos == 0) return DistantDirection{sun.direction, sun.irradiance};
+  // Uniform over the cone about the direction of travel: the radiance over 1 / solid angle.
+  const float d = u.x * sun.one_minus_cos;  // 1 - cos of the sample
+  const float sin_theta = SafeSqrt(d * (2 - d)), phi = 2 * kPi * u.y;
+  const Vec3 w = Frame::FromZ(sun.direction).FromLocal({sin_theta * std::cos(phi), sin_theta * std::sin(phi), 1 - d});
+  return DistantDirection{Normalize(w), sun.radiance * (2 * kPi * sun.one_minus_cos)};
+}
+
+std::optional<DistantDirection> SampleDistantDirection(const EnvironmentLight& l, Vec2 u) {
+  const std::optional<Environment::Sample> s = l.environment->SampleDirection(u);
+  if (!s || !(s->pdf > 0)) return std::nullopt;
+  const Rgb weight = s->radiance / s->pdf;
+  if (!weight.IsFinite() || weight.IsBlack()) return std::nullopt;
+  return DistantDirection{-s->w, weight};
 }
 
 std::optional<LightSample> SampleLi(const Light& light, const Vec3& ref, Vec2 u) {
@@ -129,22 +193,44 @@ std::optional<LightSample> SampleLi(const Light& light, const Vec3& ref, Vec2 u)
       return FromAreaSample(*s, l.area, l.radiance, ref);
     }
 
-    std::optional<LightSample> operator()(const PointLight& l) const {
-      const Vec3 d = l.position - ref;
-      const float dist2 = LengthSquared(d);
-      if (!(dist2 > 0)) return std::nullopt;
-      const float dist = std::sqrt(dist2);
-      const Rgb irradiance = l.intensity / dist2;
-      if (!irradiance.IsFinite()) return std::nullopt;
-      return LightSample{irradiance, d / dist, l.position, Vec3(), dist, 1, true};
+    std::optional<LightSample> operator()(const PointLight& l) const { return FromPoint(l.position, l.intensity); }
+
+    std::optional<LightSample> operator()(const SpotLight& l) const {
+      std::optional<LightSample> s = FromPoint(l.position, l.intensity);
+      if (!s) return std::nullopt;
+      const float falloff = l.cone.Falloff(-s->wi);
+      if (!(falloff > 0)) return std::nullopt;
+      s->radiance *= falloff;
+      return s;
     }
 
     std::optional<LightSample> operator()(const SunLight& l) const {
       // A point beyond all geometry along the way to the sun: ref lies within the scene's
-      // sphere, which the disc's radius bounds, so two disc radii always get out.
-      const Vec3 wi = -l.direction;
-      const float far = 2.5f * l.disc_radius;
-      return LightSample{l.irradiance, wi, ref + wi * far, Vec3(), far, 1, true};
+      // sphere, which the disc's radius bounds.
+      const float far = l.disc.Beyond();
+      if (l.one_minus_cos == 0) return LightSample{l.irradiance, -l.direction, ref - l.direction * far, Vec3(), far, 1, true};
+      const std::optional<DistantDirection> d = SampleDistantDirection(l, u);
+      if (!d) return std::nullopt;
+      const Vec3 wi = -d->w;
+      return LightSample{l.radiance, wi, ref + wi * far, Vec3(), far, 1 / (2 * kPi * l.one_minus_cos), false};
+    }
+
+    std::optional<LightSample> operator()(const EnvironmentLight& l) const {
+      const std::optional<Environment::Sample> s = l.environment->SampleDirection(u);
+      if (!s || !(s->pdf > 0) || s->radiance.IsBlack()) return std::nullopt;
+      const float far = l.disc.Beyond();
+      return LightSample{s->radiance, s->w, ref + s->w * far, Vec3(), far, s->pdf, false};
+    }
+
+    // Light from a point with intensity I: I / d^2.
+    std::optional<LightSample> FromPoint(const Vec3& position, const Rgb& intensity) const {
+      const Vec3 d = position - ref;
+      const float dist2 = LengthSquared(d);
+      if (!(dist2 > 0)) return std::nullopt;
+      const float dist = std::sqrt(dist2);
+      const Rgb irradiance = intensity / dist2;
+      if (!irradiance.IsFinite()) return std::nullopt;
+      return LightSample{irradiance, d / dist, position, Vec3(), dist, 1, true};
     }
   };
   return std::visit(Visitor{ref, u}, light);
@@ -155,22 +241,26 @@ std::optional<LightOrigin> SampleLightOrigin(const Light& light, Vec2 u) {
     Vec2 u;
     std::optional<LightOrigin> operator()(const SphereLight& l) const {
       const Vec3 n = SampleUniformSphere(u);
-      return LightOrigin{l.sphere.center + n * l.sphere.radius, n, 1 / l.sphere.Area(),
-                         l.radiance, false};
+      return LightOrigin{l.sphere.center + n * l.sphere.radius, n, 1 / l.sphere.Area(), l.radiance, false,
+                         std::nullopt};
     }
     std::optional<LightOrigin> operator()(const QuadLight& l) const {
       const SurfacePoint s = l.quad.SampleArea(u);
-      return LightOrigin{s.p, s.n, 1 / l.quad.Area(), l.radiance, false};
+      return LightOrigin{s.p, s.n, 1 / l.quad.Area(), l.radiance, false, std::nullopt};
     }
     std::optional<LightOrigin> operator()(const TriangleMeshLight& l) const {
       const std::optional<SurfacePoint> s = SampleMeshPoint(l, u);
       if (!s || !(l.area > 0)) return std::nullopt;
-      return LightOrigin{s->p, s->n, 1 / l.area, l.radiance, false};
+      return LightOrigin{s->p, s->n, 1 / l.area, l.radiance, false, std::nullopt};
     }
     std::optional<LightOrigin> operator()(const PointLight& l) const {
-      return LightOrigin{l.position, Vec3(), 1, l.intensity, true};
+      return LightOrigin{l.position, Vec3(), 1, l.intensity, true, std::nullopt};
+    }
+    std::optional<LightOrigin> operator()(const SpotLight& l) const {
+      return LightOrigin{l.position, Vec3(), 1, l.intensity, true, l.cone};
     }
     std::optional<LightOrigin> operator()(const SunLight&) const { return std::nullopt; }
+    std::optional<LightOrigin> operator()(const EnvironmentLight&) const { return std::nullopt; }
   };
   return std::visit(Visitor{u}, light);
 }
@@ -188,13 +278,22 @@ std::optional<LightEmission> SampleLe(const Light& light, Vec2 u_origin, Vec2 u_
     const Vec3 w = Frame::FromZ(o->n).FromLocal(local);
     return LightEmission{o->p, o->n, w, o->emission * (kPi / o->pdf_area)};
   };
+  // Light from infinitely far away crosses the disc for its sampled direction.
+  const auto distant = [&](const std::optional<DistantDirection>& d, const DistantDisc& disc)
+      -> std::optional<LightEmission> {
+    if (!d) return std::nullopt;
+    const Frame frame = Frame::FromZ(d->w);
+    const Vec2 o = SampleUniformDiskConcentric(u_origin);
+    const Vec3 p = disc.CenterFor(d->w) + (frame.x * o.x + frame.y * o.y) * disc.radius;
+    return LightEmission{p, Vec3(), d->w, d->weight * disc.Area()};
+  };
   return std::visit(
       Overloaded{
-          [&](const SunLight& sun) -> std::optional<LightEmission> {
-            const Frame frame = Frame::FromZ(sun.direction);
-            const Vec2 d = SampleUniformDiskConcentric(u_origin);
-            const Vec3 p = sun.disc_center + (frame.x * d.x + frame.y * d.y) * sun.disc_radius;
-            return LightEmission{p, Vec3(), sun.direction, Power(light)};
+          [&](const SunLight& sun) { return distant(SampleDistantDirection(sun, u_direction), sun.disc); },
+          [&](const EnvironmentLight& env) { return distant(SampleDistantDirection(env, u_direction), env.disc); },
+          [&](const SpotLight& spot) -> std::optional<LightEmission> {
+            return LightEmission{spot.position, Vec3(), spot.cone.Sample(u_direction),
+                                 spot.intensity * spot.cone.SolidAngle()};
           },
           [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight> auto&) {
             return from_origin();
@@ -209,19 +308,30 @@ Rgb Power(const Light& light) {
     Rgb operator()(const QuadLight& l) const { return l.radiance * (kPi * l.quad.Area()); }
     Rgb operator()(const TriangleMeshLight& l) const { return l.radiance * (kPi * l.area); }
     Rgb operator()(const PointLight& l) const { return l.intensity * (4 * kPi); }
+    Rgb operator()(const SpotLight& l) const { return l.intensity * l.cone.SolidAngle(); }
     Rgb operator()(const SunLight& l) const {
-      return l.irradiance * (kPi * l.disc_radius * l.disc_radius);
+      // Radiance times the cone's solid angle (E for a delta sun), through the disc.
+      const Rgb per_area = l.one_minus_cos == 0 ? l.irradiance : l.radiance * (2 * kPi * l.one_minus_cos);
+      return per_area * l.disc.Area();
     }
+    Rgb operator()(const EnvironmentLight& l) const { return l.environment->SphereIntegral() * l.disc.Area(); }
   };
   return std::visit(Visitor{}, light);
 }
 
 bool IsDeltaLight(const Light& light) {
   return std::visit(Overloaded{
-                        [](const OneOf<PointLight, SunLight> auto&) { return true; },
-                        [](const OneOf<SphereLight, QuadLight, TriangleMeshLight> auto&) { return false; },
+                        [](const OneOf<PointLight, SpotLight> auto&) { return true; },
+                        [](const SunLight& l) { return l.one_minus_cos == 0; },
+                        [](const OneOf<SphereLight, QuadLight, TriangleMeshLight, EnvironmentLight> auto&) {
+                          return false;
+                        },
                     },
                     light);
+}
+
+std::string ToString(const DistantDisc& disc) {
+  return "DistantDisc{center=" + ToString(disc.center) + ", radius=" + std::to_string(disc.radius) + "}";
 }
 
 std::string ToString(const Light& light) {
@@ -240,10 +350,17 @@ std::string ToString(const Light& light) {
       return "PointLight{position=" + ToString(l.position) +
              ", intensity=" + ToString(l.intensity) + "}";
     }
+    std::string operator()(const SpotLight& l) const {
+      return "SpotLight{position=" + ToString(l.position) + ", intensity=" + ToString(l.intensity) +
+             ", axis=" + ToString(l.cone.axis) + ", cos_inner=" + std::to_string(l.cone.cos_inner) +
+             ", cos_outer=" + std::to_string(l.cone.cos_outer) + "}";
+    }
     std::string operator()(const SunLight& l) const {
-      return "SunLight{direction=" + ToString(l.direction) +
-             ", irradiance=" + ToString(l.irradiance) + ", disc_center=" +
-             ToString(l.disc_center) + ", disc_radius=" + std::to_string(l.disc_radius) + "}";
+      return "SunLight{direction=" + ToString(l.direction) + ", irradiance=" + ToString(l.irradiance) +
+             ", one_minus_cos=" + std::to_string(l.one_minus_cos) + ", " + ToString(l.disc) + "}";
+    }
+    std::string operator()(const EnvironmentLight& l) const {
+      return "EnvironmentLight{" + l.environment->ToString() + ", " + ToString(l.disc) + "}";
     }
   };
   return std::visit(Visitor{}, light);

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "math/math.h"
 #include "sampling/sobol.h"
@@ -102,7 +104,7 @@ TEST(Lights, PointLightIrradianceIsIntensityOverDistanceSquared) {
 
 TEST(Lights, SunComesFromOneDirectionAndItsDiscCoversTheScene) {
   const BoundingSphere scene{{1, 2, 3}, 10};
-  const Light light = SunLight::Make(Normalize(Vec3(0, -1, 0)), Rgb(2), scene);
+  const Light light = SunLight::Make(Normalize(Vec3(0, -1, 0)), Rgb(2), 0, scene);
   SCOPED_TRACE(ToString(light));
   const auto s = SampleLi(light, {5, 2, 3}, {0.1f, 0.9f});
   ASSERT_TRUE(s);
@@ -111,8 +113,8 @@ TEST(Lights, SunComesFromOneDirectionAndItsDiscCoversTheScene) {
   EXPECT_EQ(s->radiance, Rgb(2));
   EXPECT_GT(Distance(s->p, scene.center), scene.radius);  // the shadow ray leaves the scene
   const SunLight& sun = std::get<SunLight>(light);
-  EXPECT_GE(sun.disc_radius, 10);
-  EXPECT_GE(sun.disc_center.y - scene.center.y, 10);
+  EXPECT_GE(sun.disc.radius, 10);
+  EXPECT_GE(sun.disc.CenterFor(sun.direction).y - scene.center.y, 10);
   // Every photon starts outside the scene's sphere, travelling along the direction, and all
   // photons together carry E * disc area.
   for (int i = 0; i < 64; ++i) {
@@ -120,7 +122,7 @@ TEST(Lights, SunComesFromOneDirectionAndItsDiscCoversTheScene) {
     ASSERT_TRUE(e);
     EXPECT_EQ(e->w, sun.direction);
     EXPECT_GE(e->p.y - scene.center.y, scene.radius);
-    EXPECT_NEAR(e->power.r, 2 * kPiD * sun.disc_radius * sun.disc_radius, 1e-2);
+    EXPECT_NEAR(e->power.r, 2 * kPiD * sun.disc.radius * sun.disc.radius, 1e-2);
   }
 }
 
@@ -143,6 +145,132 @@ TEST(Lights, EveryPhotonOfALightCarriesItsPower) {
         EXPECT_GT(Dot(e->w, e->n), 0);  // leaves the front
       }
     }
+  }
+}
+
+}  // namespace
+}  // namespace farm
+
+namespace farm {
+namespace {
+
+// KHR_lights_punctual's falloff, written out: the square of a ramp in cos between the
+// outer and the inner cone.
+double SpotFalloff(double cos_angle, double inner_degrees, double outer_degrees) {
+  const double ci = std::cos(inner_degrees * kPiD / 180), co = std::cos(outer_degrees * kPiD / 180);
+  const double t = std::clamp((cos_angle - co) / (ci - co), 0.0, 1.0);
+  return t * t;
+}
+
+TEST(Lights, SpotFalloffMatchesTheFormulaInDirectLight) {
+  const double inner = 20, outer = 35;
+  const Light light = SpotLight{{0, 0, 2}, Rgb(5),
+                                SpotCone{{0, 0, -1}, float(std::cos(inner * kPiD / 180)),
+                                         float(std::cos(outer * kPiD / 180))}};
+  SCOPED_TRACE(ToString(light));
+  // Points on the plane z = 0 at growing distance from the axis.
+  for (double x = 0; x < 2; x += 0.05) {
+    const double d2 = x * x + 4, cos_angle = 2 / std::sqrt(d2);
+    const double expected = 5 * SpotFalloff(cos_angle, inner, outer) / d2;
+    const std::optional<LightSample> s = SampleLi(light, {float(x), 0, 0}, {0.5f, 0.5f});
+    if (expected == 0) {
+      EXPECT_FALSE(s) << "x " << x;
+      continue;
+    }
+    ASSERT_TRUE(s) << "x " << x;
+    EXPECT_TRUE(s->delta);
+    EXPECT_NEAR(s->radiance.g, expected, 1e-5 * expected + 1e-7) << "x " << x;
+  }
+}
+
+TEST(Lights, SpotPhotonsFollowTheFalloffAndCarryItsPower) {
+  const double inner = 10, outer = 40;
+  const SpotCone cone{{0, 0, 1}, float(std::cos(inner * kPiD / 180)), float(std::cos(outer * kPiD / 180))};
+  const Light light = SpotLight{{1, 2, 3}, Rgb(2), cone};
+  // The power is the intensity times the integral of the falloff over the sphere.
+  double integral = 0;
+  const int steps = 100000;
+  for (int i = 0; i < steps; ++i) {
+    const double c = -1 + 2 * (i + 0.5) / steps;
+    integral += 2 * kPiD * SpotFalloff(c, inner, outer) * (2.0 / steps);
+  }
+  EXPECT_NEAR(Power(light).g, 2 * integral, 1e-4 * Power(light).g);
+  // Photons' directions by cos: a histogram against the falloff's share of each bin.
+  constexpr int kBins = 20;
+  const double co = std::cos(outer * kPiD / 180);
+  std::vector<int> hist(kBins, 0);
+  const int n = 1 << 16;
+  for (int i = 0; i < n; ++i) {
+    const auto e = SampleLe(light, {0.5f, 0.5f}, {SobolSample(i, 0, 7), SobolSample(i, 1, 8)});
+    ASSERT_TRUE(e);
+    EXPECT_NEAR(e->power.g, Power(light).g, 1e-4 * Power(light).g);
+    EXPECT_EQ(e->p, Vec3(1, 2, 3));
+    const double c = Dot(e->w, cone.axis);
+    ASSERT_GE(c, co - 1e-5);
+    ++hist[std::min(kBins - 1, int((c - co) / (1 - co) * kBins))];
+  }
+  for (int b = 0; b < kBins; ++b) {
+    double share = 0;
+    for (int k = 0; k < 100; ++k) {
+      const double c = co + (1 - co) * (b + (k + 0.5) / 100) / kBins;
+      share += 2 * kPiD * SpotFalloff(c, inner, outer) * (1 - co) / kBins / 100;
+    }
+    share /= integral;
+    EXPECT_NEAR(hist[b] / double(n), share, 2e-3) << "bin " << b;
+  }
+}
+
+TEST(Lights, SpotWithEqualConesHasAHardEdge) {
+  const float c = float(std::cos(30 * kPiD / 180));
+  const SpotCone cone{{0, 0, 1}, c, c};
+  EXPECT_EQ(cone.Falloff(Normalize(Vec3(0.5f, 0, 1))), 1.0f);  // 26.6 degrees
+  EXPECT_EQ(cone.Falloff(Normalize(Vec3(0.6f, 0, 1))), 0.0f);  // 31 degrees
+  EXPECT_NEAR(cone.SolidAngle(), 2 * kPiD * (1 - c), 1e-5);
+}
+
+TEST(Lights, SunDiscGivesItsIrradianceToAFacingSurface) {
+  const BoundingSphere scene{{0, 0, 0}, 5};
+  for (const double diameter : {0.53, 5.0, 20.0}) {
+    const Light light = SunLight::Make({0, 0, -1}, Rgb(3), diameter, scene);
+    SCOPED_TRACE(ToString(light));
+    EXPECT_FALSE(IsDeltaLight(light));
+    const double cos_max = std::cos(diameter / 2 * kPiD / 180);
+    const int n = 1 << 12;
+    for (int i = 0; i < n; ++i) {
+      const auto s = SampleLi(light, {0, 0, 0}, {SobolSample(i, 0, 1), SobolSample(i, 1, 2)});
+      ASSERT_TRUE(s);
+      EXPECT_FALSE(s->delta);
+      EXPECT_GE(s->wi.z, cos_max - 1e-6);  // within the disc
+      EXPECT_GT(Length(s->p), scene.radius);
+    }
+    EXPECT_NEAR(EstimateIrradiance(light, {0, 0, 0}), 3, 3e-3);
+    // Photons: every one carries the light's power.
+    for (int i = 0; i < 64; ++i) {
+      const auto e = SampleLe(light, {SobolSample(i, 0, 3), SobolSample(i, 1, 4)}, {SobolSample(i, 0, 5), SobolSample(i, 1, 6)});
+      ASSERT_TRUE(e);
+      EXPECT_LE(e->w.z, -cos_max + 1e-6);
+      EXPECT_NEAR(e->power.g, Power(light).g, 1e-3 * Power(light).g);
+    }
+  }
+  EXPECT_TRUE(IsDeltaLight(SunLight::Make({0, 0, -1}, Rgb(3), 0, scene)));
+}
+
+TEST(Lights, ConstantEnvironmentGivesPiLToAnyPlane) {
+  const Light light = EnvironmentLight{std::make_shared<const Environment>(Environment::Constant(Rgb(0.5f))),
+                                       DistantDisc::Around({{0, 0, 0}, 2})};
+  SCOPED_TRACE(ToString(light));
+  EXPECT_FALSE(IsDeltaLight(light));
+  EXPECT_NEAR(EstimateIrradiance(light, {0.5f, 0, 0}), kPiD * 0.5, 5e-3);
+  const DistantDisc& disc = std::get<EnvironmentLight>(light).disc;
+  EXPECT_NEAR(Power(light).g, 4 * kPiD * 0.5 * disc.Area(), 1e-3 * Power(light).g);
+  for (int i = 0; i < 256; ++i) {
+    const auto e = SampleLe(light, {SobolSample(i, 0, 3), SobolSample(i, 1, 4)}, {SobolSample(i, 0, 5), SobolSample(i, 1, 6)});
+    ASSERT_TRUE(e);
+    EXPECT_NEAR(e->power.g, Power(light).g, 1e-3 * Power(light).g);
+    // It starts outside the scene's sphere, and its line passes within the disc's radius.
+    EXPECT_GT(Length(e->p), 2);
+    EXPECT_LT(Dot(e->p, e->w), 0);
+    EXPECT_LE(Length(e->p - e->w * Dot(e->p, e->w)), disc.radius * 1.0001f);
   }
 }
 

@@ -9,6 +9,7 @@
 #include "contract/rules.h"
 #include "math/transform.h"
 #include "renderfarm/v1/scene.pb.h"
+#include "scene/environment_image.h"
 #include "scene/farm_mesh.h"
 #include "scene/mesh_file.h"
 #include "scene/obj_mesh.h"
@@ -225,6 +226,40 @@ void AddCutoutFilter(const SceneData& d, AcceleratorInput& input) {
   };
 }
 
+// The environment the scene describes (Scene.environment), its map fetched by load_blob;
+// null if the scene has none. A map's errors name its texture's field, as the coordinator's
+// checks of the files a scene names do: textures[i].digest for a blob that cannot be
+// loaded, textures[i] for a file that is not a usable image.
+std::shared_ptr<const Environment> EnvironmentFromProto(const pb::Scene& scene, const BlobLoader& load_blob) {
+  if (!scene.has_environment()) return nullptr;
+  const pb::Environment& e = scene.environment();
+  if (!e.has_map()) return std::make_shared<const Environment>(Environment::Constant(RgbOf(e.radiance())));
+  const auto named = std::find_if(scene.textures().begin(), scene.textures().end(),
+                                  [&e](const pb::Texture& t) { return t.name() == e.map().texture(); });
+  if (named == scene.textures().end())
+    throw std::logic_error("EnvironmentFromProto: a map of no texture (CheckScene refuses it)");
+  const pb::Texture* texture = &*named;
+  const std::string field = "textures[" + std::to_string(named - scene.textures().begin()) + "]";
+  const std::string name = contract::GoQuote(texture->path().empty() ? texture->digest() : texture->path());
+  std::string bytes;
+  try {
+    bytes = load_blob(texture->digest());
+  } catch (const std::exception& e) {
+    throw TaskError(FailureKindOf(e), field + ".digest: cannot load texture " + name + ": " + e.what());
+  }
+  const EnvironmentEncoding encoding = texture->encoding() == pb::COLOR_ENCODING_SRGB     ? EnvironmentEncoding::kSrgb
+                                       : texture->encoding() == pb::COLOR_ENCODING_LINEAR ? EnvironmentEncoding::kLinear
+                                                                                          : EnvironmentEncoding::kByFormat;
+  EnvironmentImage image;
+  try {
+    image = DecodeEnvironmentImage(bytes, encoding, contract::SceneLimits().max_texture_pixels());
+  } catch (const EnvironmentImageError& err) {
+    throw SceneError(field + ": texture " + name + " " + err.what());
+  }
+  const Rgb scale = e.has_radiance() ? RgbOf(e.radiance()) : Rgb(1);
+  return std::make_shared<const Environment>(Environment::Map(std::move(image), scale, e.rotation_degrees()));
+}
+
 }  // namespace
 
 Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, const SceneOptions& options) {
@@ -284,8 +319,15 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     d.bounds.Extend(BoundsOf(shape.geometry));
     AddSpecularTargets(shape.geometry, shape.material, d.capabilities, d.specular_targets);
   }
+  const BoundingSphere scene_sphere = BoundingSphere::Of(d.bounds);
   for (int i = 0; i < description.lights_size(); ++i)
-    d.lights.push_back(LightFromProto(description.lights(i), BoundingSphere::Of(d.bounds)));
+    d.lights.push_back(LightFromProto(description.lights(i), scene_sphere));
+  d.environment = EnvironmentFromProto(description, load_blob);
+  d.environment_visible = d.environment && !description.environment().hidden_from_camera();
+  if (d.environment && !d.environment->IsBlack()) {
+    d.environment_light = static_cast<int>(d.lights.size());
+    d.lights.push_back(EnvironmentLight{d.environment, DistantDisc::Around(scene_sphere)});
+  }
   d.photons = PhotonSettings::FromProto(description.photons(), d.bounds.Diagonal());
 
   std::vector<float> power;

@@ -19,6 +19,7 @@
 #include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
 #include "scene/cutout.h"
+#include "scene/environment.h"
 #include "scene/indirect_settings.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
@@ -91,9 +92,14 @@ struct SceneData {
   // Scene.meshes, in order, each built once and placed by the instances among shapes.
   std::vector<std::shared_ptr<const SceneMesh>> meshes;
   // Emissive shapes and emissive parts of instances first (in shape, then part order),
-  // then Scene.lights in order.
+  // then Scene.lights in order, then the environment if it is not black.
   std::vector<Light> lights;
   DiscreteDistribution light_power;  // picks a light in proportion to its power
+  // What rays that leave the scene see; null: black.
+  std::shared_ptr<const Environment> environment;
+  // Whether camera rays that leave the scene see it (else black, with alpha 0).
+  bool environment_visible = false;
+  int environment_light = -1;  // its index in lights, -1 if it is not a light
 
   Bounds3 bounds;  // of all geometry
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed

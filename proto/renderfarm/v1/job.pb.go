@@ -1657,9 +1657,12 @@ type CompositeSpec struct {
 	// Filled in when the task is leased: the previous round's "accumulation.exr", if any.
 	PreviousAccumulation *Artifact `protobuf:"bytes,2,opt,name=previous_accumulation,json=previousAccumulation,proto3" json:"previous_accumulation,omitempty"`
 	// Filled in when the task is leased: the scene's reference image, if it names one.
-	Reference     *Artifact `protobuf:"bytes,3,opt,name=reference,proto3" json:"reference,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	Reference *Artifact `protobuf:"bytes,3,opt,name=reference,proto3" json:"reference,omitempty"`
+	// Filled in when the task is leased: seconds from the job's creation to this lease, the
+	// render time the final EXR records (its renderTime attribute).
+	ElapsedSeconds float64 `protobuf:"fixed64,4,opt,name=elapsed_seconds,json=elapsedSeconds,proto3" json:"elapsed_seconds,omitempty"`
+	unknownFields  protoimpl.UnknownFields
+	sizeCache      protoimpl.SizeCache
 }
 
 func (x *CompositeSpec) Reset() {
@@ -1711,6 +1714,13 @@ func (x *CompositeSpec) GetReference() *Artifact {
 		return x.Reference
 	}
 	return nil
+}
+
+func (x *CompositeSpec) GetElapsedSeconds() float64 {
+	if x != nil {
+		return x.ElapsedSeconds
+	}
+	return 0
 }
 
 type TileInput struct {
@@ -3002,11 +3012,12 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06shards\x18\x01 \x03(\v2\x1b.renderfarm.v1.EmittedShardR\x06shards\"q\n" +
 	"\fEmittedShard\x122\n" +
 	"\x04spec\x18\x01 \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecR\x04spec\x12-\n" +
-	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xc4\x01\n" +
+	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xed\x01\n" +
 	"\rCompositeSpec\x12.\n" +
 	"\x05tiles\x18\x01 \x03(\v2\x18.renderfarm.v1.TileInputR\x05tiles\x12L\n" +
 	"\x15previous_accumulation\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x14previousAccumulation\x125\n" +
-	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\"f\n" +
+	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\x12'\n" +
+	"\x0felapsed_seconds\x18\x04 \x01(\x01R\x0eelapsedSeconds\"f\n" +
 	"\tTileInput\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12+\n" +
 	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\"y\n" +
