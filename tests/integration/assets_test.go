@@ -143,16 +143,16 @@ func TestSubmitStopsAtSIGTERMWhileReadingALargeMesh(t *testing.T) {
 	}
 }
 
-// TestRealWorkerFailsABadReferenceAsBadInputAtTheFirstReport: a reference image that is
-// not an OpenEXR file passes submit (only its digest is checked there) and reaches a real
-// farm-worker's composite, which fails the task as bad input; the job fails at that one
-// report with the reason, and no worker is blamed.
+// TestRealWorkerFailsABadReferenceAsBadInputAtTheFirstReport: a reference image whose
+// OpenEXR header is sound (the film's size: submit checks only the header) but which holds
+// no pixels reaches a real farm-worker's composite, which fails the task as bad input; the
+// job fails at that one report with the reason, and no worker is blamed.
 func TestRealWorkerFailsABadReferenceAsBadInputAtTheFirstReport(t *testing.T) {
 	f := farmtest.StartFarm(t, nil)
 	f.StartWorker(t)
 	f.StartWorker(t)
 	ctx := context.Background()
-	digest, err := f.Client.UploadBytes(ctx, []byte("not an OpenEXR file"))
+	digest, err := f.Client.UploadBytes(ctx, testEXR(false, exrPixelFloat, 16, 16, 16))
 	if err != nil {
 		t.Fatal(err)
 	}
