@@ -13,6 +13,7 @@
 #include "photon/trace_photons.h"
 #include "photonmap/memory_photon_map.h"
 #include "render/integrator.h"
+#include "render/test_integrator.h"
 #include "scene/test_environment.h"
 
 namespace farm {
@@ -21,40 +22,6 @@ namespace {
 using namespace farm::testing;
 
 constexpr double kPiD = std::numbers::pi;
-
-PhotonMaps MapsWith(const SceneData& data, const PhotonMap* global) {
-  PhotonMaps maps;
-  maps.global = global;
-  maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
-  maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);
-  return maps;
-}
-
-// The mean of `samples` camera samples of each pixel of a block at the image centre.
-SampleResult MeanOverCentre(const SceneData& data, const PhotonMappingIntegrator& integrator, int pixels,
-                            uint32_t samples) {
-  PixelSampler sampler(samples, data.seed);
-  std::vector<PhotonNeighbour> scratch;
-  SampleResult mean;
-  int n = 0;
-  for (int y = data.height / 2 - pixels / 2; y < data.height / 2 + pixels / 2; ++y)
-    for (int x = data.width / 2 - pixels / 2; x < data.width / 2 + pixels / 2; ++x)
-      for (uint32_t s = 0; s < samples; ++s) {
-        sampler.StartPixelSample(uint64_t(y) * data.width + x, s);
-        const Vec2 u = sampler.Get2D();
-        const SampleResult r = integrator.Li(data.camera.GenerateRay({x + u.x, y + u.y}), sampler, scratch);
-        mean.radiance += r.radiance;
-        mean.direct += r.direct;
-        mean.indirect += r.indirect;
-        mean.alpha += r.alpha;
-        ++n;
-      }
-  mean.radiance = mean.radiance / float(n);
-  mean.direct = mean.direct / float(n);
-  mean.indirect = mean.indirect / float(n);
-  mean.alpha /= float(n);
-  return mean;
-}
 
 // A white Lambertian sphere of radius 1 in a constant white environment, seen whole.
 pb::Scene FurnaceScene() {
@@ -69,7 +36,7 @@ pb::Scene FurnaceScene() {
 TEST(EnvironmentLight, WhiteFurnaceByLightSamples) {
   const Scene scene = Scene::Build(FurnaceScene(), NoBlobs());
   const SceneData& data = scene.data();
-  const PhotonMappingIntegrator integrator(data, MapsWith(data, nullptr));
+  const PhotonMappingIntegrator integrator(data, MapsOf(data, nullptr));
   ASSERT_FALSE(integrator.final_gathering());
   const SampleResult r = MeanOverCentre(data, integrator, 8, 4);
   std::printf("furnace, light samples: L = %.5f\n", r.radiance.g);
@@ -91,7 +58,7 @@ TEST(EnvironmentLight, WhiteFurnaceByLightSamplesAndGatherRays) {
   const Scene scene = Scene::Build(FurnaceScene(), NoBlobs());
   const SceneData& data = scene.data();
   const MemoryPhotonMap no_photons({});  // a convex sphere stores none
-  const PhotonMappingIntegrator integrator(data, MapsWith(data, &no_photons));
+  const PhotonMappingIntegrator integrator(data, MapsOf(data, &no_photons));
   ASSERT_TRUE(integrator.final_gathering()) << integrator.ToString();
   const SampleResult r = MeanOverCentre(data, integrator, 8, 4);
   std::printf("furnace, light samples and gather rays (MIS): L = %.5f (direct %.5f)\n", r.radiance.g, r.direct.g);
@@ -128,7 +95,7 @@ TEST(EnvironmentLight, HiddenFromTheCameraTheBackgroundIsBlackButStillLights) {
   s.mutable_environment()->set_hidden_from_camera(true);
   const Scene scene = Scene::Build(s, NoBlobs());
   const SceneData& data = scene.data();
-  const PhotonMappingIntegrator integrator(data, MapsWith(data, nullptr));
+  const PhotonMappingIntegrator integrator(data, MapsOf(data, nullptr));
   PixelSampler sampler(1, 1);
   std::vector<PhotonNeighbour> scratch;
   sampler.StartPixelSample(0, 0);
@@ -180,7 +147,7 @@ TEST(EnvironmentLight, IrradianceOnAPlaneMatchesTheMapsIntegral) {
 
   const MemoryPhotonMap no_photons({});
   for (const bool gather : {false, true}) {
-    const PhotonMappingIntegrator integrator(data, MapsWith(data, gather ? &no_photons : nullptr));
+    const PhotonMappingIntegrator integrator(data, MapsOf(data, gather ? &no_photons : nullptr));
     ASSERT_EQ(integrator.final_gathering(), gather);
     const SampleResult r = MeanOverCentre(data, integrator, 4, 16);
     std::printf("map irradiance (%s): L = %.5f %.5f %.5f, integral %.5f %.5f %.5f\n",

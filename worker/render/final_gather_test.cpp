@@ -12,6 +12,7 @@
 #include "photon/trace_photons.h"
 #include "photonmap/memory_photon_map.h"
 #include "render/integrator.h"
+#include "render/test_integrator.h"
 #include "scene/test_scenes.h"
 
 namespace farm {
@@ -29,38 +30,6 @@ std::unique_ptr<MemoryPhotonMap> GlobalMapWithIrradiance(const Scene& scene, uin
   auto map = std::make_unique<MemoryPhotonMap>(std::move(photons));
   map->set_irradiance(ComputeIrradiance(scene.data(), *map, nullptr, 0, map->size(), 1.0));
   return map;
-}
-
-PhotonMaps MapsOf(const SceneData& data, const PhotonMap* global) {
-  PhotonMaps maps;
-  maps.global = global;
-  maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
-  maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);
-  return maps;
-}
-
-// The mean of `samples` camera samples over a pixels x pixels block at the image centre.
-SampleResult MeanOverCentre(const SceneData& data, const PhotonMappingIntegrator& integrator,
-                            int pixels, uint32_t samples) {
-  PixelSampler sampler(samples, data.seed);
-  std::vector<PhotonNeighbour> scratch;
-  SampleResult mean;
-  int n = 0;
-  for (int y = data.height / 2 - pixels / 2; y < data.height / 2 + pixels / 2; ++y)
-    for (int x = data.width / 2 - pixels / 2; x < data.width / 2 + pixels / 2; ++x)
-      for (uint32_t s = 0; s < samples; ++s) {
-        sampler.StartPixelSample(uint64_t(y) * data.width + x, s);
-        const Vec2 u = sampler.Get2D();
-        const SampleResult r = integrator.Li(data.camera.GenerateRay({x + u.x, y + u.y}), sampler, scratch);
-        mean.radiance += r.radiance;
-        mean.direct += r.direct;
-        mean.indirect += r.indirect;
-        ++n;
-      }
-  mean.radiance = mean.radiance / float(n);
-  mean.direct = mean.direct / float(n);
-  mean.indirect = mean.indirect / float(n);
-  return mean;
 }
 
 // Inside a closed Lambert sphere of albedo rho and radius R, a point light of intensity I
