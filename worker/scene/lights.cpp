@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "contract/failure.h"
 #include "math/frame.h"
 #include "math/math.h"
 #include "renderfarm/v1/scene.pb.h"
@@ -77,6 +78,8 @@ Light LightFromProto(const pb::Light& light, const BoundingSphere& scene) {
       return SunLight::Make(Vec3(Normalize(d / MaxComponent(Abs(d)))), RgbOf(light.sun().irradiance()),
                             scene);
     }
+    case pb::Light::kSpot:  // placeholder until the light helper's spot light lands
+      throw UnsupportedError("spot lights are not rendered by this worker yet");
     case pb::Light::KIND_NOT_SET:
       break;
   }

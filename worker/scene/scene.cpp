@@ -82,6 +82,8 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
       return InlineMesh(shape.triangles());
     case pb::Shape::kMesh:
       return FileMesh(shape.mesh(), field + ".mesh", load_blob);
+    case pb::Shape::kInstance:  // placeholder until the geom helper's instancing lands
+      throw UnsupportedError(field + ".instance: mesh instances are not rendered by this worker yet");
     case pb::Shape::GEOMETRY_NOT_SET:
       break;
   }

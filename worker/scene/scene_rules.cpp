@@ -145,6 +145,7 @@ bool CheckShapes(const pb::Scene& s) {
       case pb::Shape::kTriangles: CheckTriangles(p + ".triangles", shape.triangles()); break;
       case pb::Shape::kMesh: CheckTransform(p + ".mesh.transform", shape.mesh().transform()); break;
       case pb::Shape::kSphere:
+      case pb::Shape::kInstance:  // its rules are the geom helper's
       case pb::Shape::GEOMETRY_NOT_SET: break;
     }
   }
