@@ -121,7 +121,7 @@ func lightCount(s *pb.Scene) string {
 	n := len(s.GetLights())
 	emissive := map[string]bool{}
 	for _, m := range s.GetMaterials() {
-		if m.GetEmissive() != nil {
+		if scene.CapabilitiesOf(m).Emissive {
 			emissive[m.GetName()] = true
 		}
 	}
