@@ -1431,7 +1431,7 @@ type Principled struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// Linear RGB; unset means (1, 1, 1).
 	BaseColor *Color `protobuf:"bytes,1,opt,name=base_color,json=baseColor,proto3" json:"base_color,omitempty"`
-	// RGB multiplies base_color; its alpha channel multiplies opacity.
+	// RGB multiplies base_color; its alpha channel multiplies the opacity.
 	BaseColorTexture *TextureRef `protobuf:"bytes,2,opt,name=base_color_texture,json=baseColorTexture,proto3" json:"base_color_texture,omitempty"`
 	Metallic         float64     `protobuf:"fixed64,3,opt,name=metallic,proto3" json:"metallic,omitempty"`
 	// Perceptual roughness (GGX alpha = roughness squared).
@@ -1448,10 +1448,11 @@ type Principled struct {
 	// RGB multiplies emission.
 	EmissionTexture *TextureRef `protobuf:"bytes,9,opt,name=emission_texture,json=emissionTexture,proto3" json:"emission_texture,omitempty"`
 	AlphaMode       AlphaMode   `protobuf:"varint,10,opt,name=alpha_mode,json=alphaMode,proto3,enum=renderfarm.v1.AlphaMode" json:"alpha_mode,omitempty"`
-	// The base opacity (glTF's baseColorFactor alpha).
-	Opacity float64 `protobuf:"fixed64,11,opt,name=opacity,proto3" json:"opacity,omitempty"`
-	// In MASK mode, where opacity (times the base colour texture's alpha) is below this the
-	// surface is not there.
+	// 1 minus the base opacity (glTF's baseColorFactor alpha): 0 is opaque.
+	Transparency float64 `protobuf:"fixed64,11,opt,name=transparency,proto3" json:"transparency,omitempty"`
+	// In MASK mode, where the opacity (1 - transparency, times the base colour texture's
+	// alpha) is below this, the surface is not there. 0 selects 0.5 (a cutoff of 0 would cut
+	// nothing: use OPAQUE).
 	AlphaCutoff   float64 `protobuf:"fixed64,12,opt,name=alpha_cutoff,json=alphaCutoff,proto3" json:"alpha_cutoff,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -1557,9 +1558,9 @@ func (x *Principled) GetAlphaMode() AlphaMode {
 	return AlphaMode_ALPHA_MODE_UNSPECIFIED
 }
 
-func (x *Principled) GetOpacity() float64 {
+func (x *Principled) GetTransparency() float64 {
 	if x != nil {
-		return x.Opacity
+		return x.Transparency
 	}
 	return 0
 }
@@ -2638,7 +2639,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\rtransmittance\"\x8b\x01\n" +
 	"\tConductor\x12@\n" +
 	"\x03eta\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\x11\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x03eta\x12<\n" +
-	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x01k\"\xaa\x06\n" +
+	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x01k\"\xab\x06\n" +
 	"\n" +
 	"Principled\x12K\n" +
 	"\n" +
@@ -2653,8 +2654,8 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x10emission_texture\x18\t \x01(\v2\x19.renderfarm.v1.TextureRefR\x0femissionTexture\x127\n" +
 	"\n" +
 	"alpha_mode\x18\n" +
-	" \x01(\x0e2\x18.renderfarm.v1.AlphaModeR\talphaMode\x129\n" +
-	"\aopacity\x18\v \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?)\x00\x00\x00\x00\x00\x00\xf0?R\aopacity\x12B\n" +
+	" \x01(\x0e2\x18.renderfarm.v1.AlphaModeR\talphaMode\x12:\n" +
+	"\ftransparency\x18\v \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\ftransparency\x12B\n" +
 	"\falpha_cutoff\x18\f \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?)\x00\x00\x00\x00\x00\x00\xe0?R\valphaCutoff\"\xc2\x01\n" +
 	"\x05Light\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x121\n" +
