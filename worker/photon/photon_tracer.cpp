@@ -62,8 +62,8 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
     const Vec3 wi = -ray.direction;  // towards where the photon came from
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
-    if (!can.specular) {
-      if (!can.reflects) return;  // emitters absorb
+    if (!can.specular && !can.reflects) return;  // emitters absorb
+    if (can.reflects) {
       // Global: indirect light only (after a diffuse or glossy bounce). Caustic: L S+ D,
       // stored at the first non-specular surface, where the path ends.
       const bool wanted = kind == PhotonMapKind::kCaustic
@@ -76,12 +76,15 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
         if (keep > 0 && u_store < keep)
           out.push_back({hit->p, power / keep, wi, FaceForward(hit->n, wi)});
       }
-      if (kind == PhotonMapKind::kCaustic) return;
+      if (kind == PhotonMapKind::kCaustic && !can.specular) return;
     }
 
     const std::optional<BsdfSample> s =
         SampleBsdf(material, hit->n, wi, u_lobe, u_direction, TransportMode::kImportance);
     if (!s) return;
+    // A caustic path goes on only through specular bounces (a smooth principled surface's
+    // diffuse base ends it: the photon was stored above).
+    if (kind == PhotonMapKind::kCaustic && !s->specular) return;
     const Rgb next = power * s->weight;
     // Russian roulette: survive with the ratio of the new to the old power (its largest
     // channel), and divide by it, so that surviving photons keep roughly constant power.

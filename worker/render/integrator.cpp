@@ -10,7 +10,6 @@
 #include "sampling/hash.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
-#include "scene/blinn_phong.h"
 
 namespace farm {
 
@@ -79,10 +78,10 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64
     const Material& material = scene.material_of(*hit);
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
-    if (!can.specular) {
-      if (!can.reflects) return std::nullopt;
-      return DiffuseHit{*hit, throughput, wo};
-    }
+    // A smooth principled surface (specular and diffuse) ends the chain too: where a gather
+    // ray lands, its albedo, specular lobe included, reflects the irradiance as if diffuse.
+    if (can.reflects) return DiffuseHit{*hit, throughput, wo};
+    if (!can.specular) return std::nullopt;
     const uint64_t h = Hash(key, uint64_t(depth));
     const uint64_t h2 = MixBits(h);
     const std::optional<BsdfSample> s = SampleBsdf(material, hit->n, wo, HashFloat(h),
@@ -153,25 +152,25 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     result.emitted += throughput * Emitted(material, hit->n, wo);
 
     const MaterialCapabilities& can = scene_.capabilities_of(*hit);
-    if (!can.specular) {
-      if (can.reflects) {
-        // 2^32 levels from the sample's dimension, hashed so that nearby values give
-        // unrelated scrambles.
-        const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
-        const Shading at{*hit, wo, material, FaceForward(hit->n, wo)};
-        Rgb direct, caustic, indirect;
-        Shade(at, final_gather_ ? scene_.indirect.gather_rays : 0, seed, scratch, direct, caustic,
-              indirect);
-        if (final_gather_) indirect += GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
-        result.direct = throughput * direct;
-        result.caustic = throughput * caustic;
-        result.indirect = throughput * indirect;
-      }
-      break;
+    if (can.reflects) {
+      // 2^32 levels from the sample's dimension, hashed so that nearby values give
+      // unrelated scrambles.
+      const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
+      const Shading at{*hit, wo, material, FaceForward(hit->n, wo)};
+      Rgb direct, caustic, indirect;
+      Shade(at, final_gather_ ? scene_.indirect.gather_rays : 0, seed, scratch, direct, caustic,
+            indirect);
+      if (final_gather_) indirect += GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+      // Added, not set: a smooth principled surface is shaded for its diffuse base here and
+      // followed through its specular lobe below, and what lies beyond adds its own.
+      result.direct += throughput * direct;
+      result.caustic += throughput * caustic;
+      result.indirect += throughput * indirect;
     }
+    if (!can.specular) break;
 
     const std::optional<BsdfSample> s =
-        SampleBsdf(material, hit->n, wo, u_lobe, u_direction, TransportMode::kRadiance);
+        SampleSpecular(material, hit->n, wo, u_lobe, u_direction, TransportMode::kRadiance);
     if (!s) break;
     throughput = throughput * s->weight;
     if (depth >= kRouletteDepth) {
@@ -231,17 +230,19 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, uint32_t count, uint
 
 Rgb PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t seed,
                                     std::vector<PhotonNeighbour>& scratch) const {
-  const Rgb kd = DiffuseReflectance(at.material);
-  if (kd.IsBlack() || count == 0) return {};
+  if (count == 0) return {};
   const Frame frame = Frame::FromZ(at.n);
   Rgb sum;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 w = frame.FromLocal(SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection)));
+    // Cosine-weighted directions: f cos / pdf is the diffuse lobe's f times pi (kd, for
+    // Lambert and glossy, whatever the direction).
+    const Rgb kd = DiffuseReflectance(at.material, at.hit.n, at.wo, w);
+    if (kd.IsBlack()) continue;
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
-    sum += GatherRay(ray, i, seed, scratch);
+    sum += kd * GatherRay(ray, i, seed, scratch);
   }
-  // Cosine-weighted directions: f cos / pdf = kd for every ray.
-  return kd * sum / float(count);
+  return sum / float(count);
 }
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed,
@@ -278,16 +279,10 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Vec3& p, const Vec3& geometr
 
 Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
                                           std::vector<PhotonNeighbour>& scratch) const {
-  const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
-  if (!glossy || glossy->specular.IsBlack()) return {};
-  const Frame frame = Frame::FromZ(at.n);
-  const Vec3 wo_local = frame.ToLocal(at.wo);
-  if (!(wo_local.z > 0)) return {};
-  const std::optional<Vec3> w = SampleBlinnPhong(wo_local, u, glossy->exponent);
-  if (!w || !(w->z > 0)) return {};
-  // blinn_phong.h: a sampled direction carries f cos / pdf = wi.z / max(wo.z, wi.z).
-  const Rgb weight = glossy->specular * (w->z / std::max(wo_local.z, w->z));
-  const Vec3 wi = frame.FromLocal(*w);
+  const std::optional<BsdfSample> lobe = SampleGlossyLobe(at.material, at.hit.n, at.wo, u);
+  if (!lobe || lobe->weight.IsBlack()) return {};
+  const Rgb weight = lobe->weight;
+  const Vec3 wi = lobe->wi;
   const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, wi, scene_.ray_epsilon), wi};
   const std::optional<DiffuseHit> d = TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)));
   if (!d) return {};

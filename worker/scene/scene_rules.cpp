@@ -132,7 +132,8 @@ void CheckTransform(const std::string& p, const pb::Transform& t) {
 bool CheckShapes(const pb::Scene& s) {
   std::unordered_map<std::string, bool> emits;  // material name -> emits
   for (const pb::Material& m : s.materials())
-    emits.emplace(m.name(), m.has_emissive() && Positive(m.emissive().radiance()));
+    emits.emplace(m.name(), (m.has_emissive() && Positive(m.emissive().radiance())) ||
+                                (m.has_principled() && Positive(m.principled().emission())));
   bool any_emits = false;
   for (int i = 0; i < s.shapes_size(); ++i) {
     const pb::Shape& shape = s.shapes(i);
