@@ -23,7 +23,7 @@ namespace {
 namespace oiio = OIIO;
 
 // Bumped when the prepared form changes, so that files of an older worker are not read.
-constexpr const char* kPreparedVersion = "v1";
+constexpr const char* kPreparedVersion = "v2";
 
 float SrgbToLinear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
@@ -128,12 +128,22 @@ TextureSystem::TextureSystem(TextureSystemOptions options)
 
 TextureSystem::~TextureSystem() = default;
 
-PreparedTexture TextureSystem::Prepare(const std::filesystem::path& source, const std::string& digest,
-                                       TextureUse use, TextureEncoding encoding) {
-  const bool srgb = DecodesSrgb(source, digest, use, encoding);
-  const std::filesystem::path file =
-      options_.prepared_dir / (Hex(digest) + "-" + kPreparedVersion + (srgb ? "-srgb.tx" : "-linear.tx"));
-  if (!std::filesystem::exists(file)) WritePrepared(source, digest, srgb, file);
+PreparedTexture TextureSystem::Prepare(const std::string& digest, TextureUse use, TextureEncoding encoding,
+                                       const SourceFile& source) {
+  // Named by what decides its contents (the blob, the use and the encoding asked for) and
+  // by the decoding that followed from them and the file: only one of the two can exist.
+  static constexpr const char* kUses[] = {"color", "data"};
+  static constexpr const char* kEncodings[] = {"byuse", "srgb", "linear"};
+  const std::string stem = Hex(digest) + "-" + kPreparedVersion + "-" + kUses[static_cast<int>(use)] + "-" +
+                           kEncodings[static_cast<int>(encoding)];
+  const auto prepared = [&](bool srgb) { return options_.prepared_dir / (stem + (srgb ? "-srgb.tx" : "-linear.tx")); };
+  bool srgb = std::filesystem::exists(prepared(true));
+  if (!srgb && !std::filesystem::exists(prepared(false))) {
+    const std::filesystem::path file = source();
+    srgb = DecodesSrgb(file, digest, use, encoding);
+    WritePrepared(file, digest, srgb, prepared(srgb));
+  }
+  const std::filesystem::path file = prepared(srgb);
   oiio::TextureSystem::TextureHandle* handle = impl_->ts->get_texture_handle(oiio::ustring(file.string()));
   if (!handle || !impl_->ts->good(handle))
     throw std::runtime_error("texture " + digest + ": prepared file " + file.string() +

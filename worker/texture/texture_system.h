@@ -7,7 +7,7 @@
 // worker host: converted to linear values as its use says (below), given an RGBA layout
 // (grey replicated into RGB; alpha 1 where there is none) and written as a tiled,
 // MIP-mapped TIFF (.tx, 64x64 tiles, zip; levels by box-filtered halving) into the
-// prepared folder, named by the blob's digest and the decoding, through a temporary file
+// prepared folder, named by the blob's digest, the use and the decoding, through a temporary file
 // renamed into place (workers sharing the folder are safe). Lookups then read tiles of
 // the prepared file through the cache, filtered with OIIO's anisotropic MIP-map filter
 // over the footprint a lookup gives; a footprint of zero reads the finest level
@@ -25,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -76,12 +77,16 @@ class TextureSystem {
   TextureSystem(const TextureSystem&) = delete;
   TextureSystem& operator=(const TextureSystem&) = delete;
 
-  // The prepared form of `source` (the blob with `digest`) for `use`; prepares it if the
-  // prepared folder does not have it yet. Throws BadInputError if the file is not an image
-  // or has more than max_texture_pixels pixels, ResourceExhaustedError-like TaskErrors for
-  // a full disk. Thread-safe.
-  PreparedTexture Prepare(const std::filesystem::path& source, const std::string& digest,
-                          TextureUse use, TextureEncoding encoding);
+  // Where the source file of a texture is, called only when it must be prepared (the
+  // daemon fetches the blob then).
+  using SourceFile = std::function<std::filesystem::path()>;
+
+  // The prepared form of the texture blob with `digest` for `use`; prepares it from
+  // source() if the prepared folder does not have it yet. Throws BadInputError if the file
+  // is not an image or has more than max_texture_pixels pixels, and what the source or the
+  // disk throws (a blob that cannot be had, a full disk). Thread-safe.
+  PreparedTexture Prepare(const std::string& digest, TextureUse use, TextureEncoding encoding,
+                          const SourceFile& source);
 
   // A filtered lookup. Thread-safe; never throws (a failed read gives magenta, which a
   // prepared file, checked when it was prepared, does not do).

@@ -45,6 +45,10 @@ class TextureSystemTest : public ::testing::Test {
 
 constexpr TextureWrap kRepeat = TextureWrap::kRepeat;
 
+TextureSystem::SourceFile From(const std::filesystem::path& file) {
+  return [file] { return file; };
+}
+
 Rgba At(const TextureSystem& ts, const PreparedTexture& t, float u, float v, TextureWrap wrap = kRepeat) {
   return ts.Lookup(t, TextureLookup{{u, v}, {}, {}}, wrap);
 }
@@ -52,22 +56,22 @@ Rgba At(const TextureSystem& ts, const PreparedTexture& t, float u, float v, Tex
 TEST_F(TextureSystemTest, ColoursInIntegerFilesAreSrgbAndDataIsLinear) {
   WriteTestImage(Source("grey"), "png", 16, 16, 3, OIIO::TypeDesc::UINT8, [](int, int, int) { return 128 / 255.0f; });
   const PreparedTexture colour =
-      textures_->Prepare(Source("grey"), TestDigest('a'), TextureUse::kColor, TextureEncoding::kByUse);
+      textures_->Prepare(TestDigest('a'), TextureUse::kColor, TextureEncoding::kByUse, From(Source("grey")));
   const PreparedTexture data =
-      textures_->Prepare(Source("grey"), TestDigest('a'), TextureUse::kData, TextureEncoding::kByUse);
+      textures_->Prepare(TestDigest('a'), TextureUse::kData, TextureEncoding::kByUse, From(Source("grey")));
   EXPECT_TRUE(colour.srgb);
   EXPECT_FALSE(data.srgb);
   EXPECT_NEAR(At(*textures_, colour, 0.5f, 0.5f).rgb.g, SrgbToLinear(128 / 255.0f), 1e-3);  // 0.2158
   EXPECT_NEAR(At(*textures_, data, 0.5f, 0.5f).rgb.g, 128 / 255.0f, 1e-6);
   EXPECT_EQ(At(*textures_, colour, 0.5f, 0.5f).alpha, 1) << "no alpha channel reads as opaque";
   // Texture.encoding overrides the use for integer files.
-  EXPECT_FALSE(textures_->Prepare(Source("grey"), TestDigest('a'), TextureUse::kColor, TextureEncoding::kLinear).srgb);
-  EXPECT_TRUE(textures_->Prepare(Source("grey"), TestDigest('a'), TextureUse::kData, TextureEncoding::kSrgb).srgb);
+  EXPECT_FALSE(textures_->Prepare(TestDigest('a'), TextureUse::kColor, TextureEncoding::kLinear, From(Source("grey"))).srgb);
+  EXPECT_TRUE(textures_->Prepare(TestDigest('a'), TextureUse::kData, TextureEncoding::kSrgb, From(Source("grey"))).srgb);
 }
 
 TEST_F(TextureSystemTest, FloatFilesAreLinearEvenAsColours) {
   WriteTestImage(Source("hdr"), "exr", 8, 8, 3, OIIO::TypeDesc::HALF, [](int, int, int c) { return c == 0 ? 4.0f : 0.5f; });
-  const PreparedTexture t = textures_->Prepare(Source("hdr"), TestDigest('b'), TextureUse::kColor, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('b'), TextureUse::kColor, TextureEncoding::kByUse, From(Source("hdr")));
   EXPECT_FALSE(t.srgb);
   const Rgba v = At(*textures_, t, 0.3f, 0.6f);
   EXPECT_FLOAT_EQ(v.rgb.r, 4.0f);
@@ -79,7 +83,7 @@ TEST_F(TextureSystemTest, FloatFilesAreLinearEvenAsColours) {
 TEST_F(TextureSystemTest, WideFootprintsAndTheAverageAreLinearMeans) {
   WriteTestImage(Source("checker"), "png", 64, 64, 3, OIIO::TypeDesc::UINT8,
                  [](int x, int y, int) { return float(((x / 8) + (y / 8)) % 2); });
-  const PreparedTexture t = textures_->Prepare(Source("checker"), TestDigest('c'), TextureUse::kColor, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('c'), TextureUse::kColor, TextureEncoding::kByUse, From(Source("checker")));
   EXPECT_NEAR(textures_->Average(t).rgb.r, 0.5f, 1e-3);
   EXPECT_NEAR(textures_->Average(t).alpha, 1.0f, 1e-6);
   EXPECT_NEAR(textures_->Lookup(t, TextureLookup{{0.5f, 0.5f}, {1, 0}, {0, 1}}, kRepeat).rgb.r, 0.5f, 0.02);
@@ -91,7 +95,7 @@ TEST_F(TextureSystemTest, WideFootprintsAndTheAverageAreLinearMeans) {
 // glTF's texture coordinates: (0, 0) is the top-left corner of the image, v grows down.
 TEST_F(TextureSystemTest, TheFirstRowOfTheFileIsAtVZero) {
   WriteTestImage(Source("rows"), "png", 4, 4, 1, OIIO::TypeDesc::UINT8, [](int, int y, int) { return y == 0 ? 1.0f : 0.0f; });
-  const PreparedTexture t = textures_->Prepare(Source("rows"), TestDigest('d'), TextureUse::kData, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('d'), TextureUse::kData, TextureEncoding::kByUse, From(Source("rows")));
   EXPECT_NEAR(At(*textures_, t, 0.5f, 0.125f, TextureWrap::kClamp).rgb.b, 1.0f, 1e-3) << "grey is replicated into RGB";
   EXPECT_NEAR(At(*textures_, t, 0.5f, 0.875f, TextureWrap::kClamp).rgb.r, 0.0f, 1e-3);
 }
@@ -99,7 +103,7 @@ TEST_F(TextureSystemTest, TheFirstRowOfTheFileIsAtVZero) {
 TEST_F(TextureSystemTest, WrapModes) {
   // Columns 0..3 hold 0, 1/3, 2/3, 1 (linear data).
   WriteTestImage(Source("ramp"), "png", 4, 1, 1, OIIO::TypeDesc::UINT16, [](int x, int, int) { return x / 3.0f; });
-  const PreparedTexture t = textures_->Prepare(Source("ramp"), TestDigest('e'), TextureUse::kData, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('e'), TextureUse::kData, TextureEncoding::kByUse, From(Source("ramp")));
   const float second = 1 / 3.0f, third = 2 / 3.0f;
   EXPECT_NEAR(At(*textures_, t, 1.375f, 0.5f, TextureWrap::kRepeat).rgb.r, second, 1e-4);
   EXPECT_NEAR(At(*textures_, t, 1.375f, 0.5f, TextureWrap::kClamp).rgb.r, 1.0f, 1e-4);
@@ -112,7 +116,7 @@ TEST_F(TextureSystemTest, AlphaIsReadUnassociated) {
   // still the colour (glTF's base colour does not depend on alpha).
   WriteTestImage(Source("leaf"), "png", 8, 8, 2, OIIO::TypeDesc::UINT8,
                  [](int x, int, int c) { return c == 0 ? 0.8f : (x < 4 ? 0.0f : 1.0f); });
-  const PreparedTexture t = textures_->Prepare(Source("leaf"), TestDigest('f'), TextureUse::kData, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('f'), TextureUse::kData, TextureEncoding::kByUse, From(Source("leaf")));
   const Rgba left = At(*textures_, t, 1.5f / 8, 0.5f), right = At(*textures_, t, 6.5f / 8, 0.5f);
   EXPECT_NEAR(left.alpha, 0, 1e-3);
   EXPECT_NEAR(right.alpha, 1, 1e-3);
@@ -125,7 +129,7 @@ TEST_F(TextureSystemTest, AlphaIsReadUnassociated) {
 TEST_F(TextureSystemTest, AFileThatIsNotAnImageIsBadInput) {
   std::ofstream(Source("junk")) << "this is not an image";
   try {
-    textures_->Prepare(Source("junk"), TestDigest('9'), TextureUse::kColor, TextureEncoding::kByUse);
+    textures_->Prepare(TestDigest('9'), TextureUse::kColor, TextureEncoding::kByUse, From(Source("junk")));
     FAIL() << "a text file was prepared as a texture";
   } catch (const BadInputError& e) {
     EXPECT_NE(std::string(e.what()).find(TestDigest('9')), std::string::npos) << e.what();
@@ -136,13 +140,19 @@ TEST_F(TextureSystemTest, AFileThatIsNotAnImageIsBadInput) {
 // same file without writing it again.
 TEST_F(TextureSystemTest, EachTextureIsPreparedOnce) {
   WriteTestImage(Source("once"), "png", 8, 8, 3, OIIO::TypeDesc::UINT8, [](int, int, int) { return 1.0f; });
-  textures_->Prepare(Source("once"), TestDigest('7'), TextureUse::kColor, TextureEncoding::kByUse);
+  textures_->Prepare(TestDigest('7'), TextureUse::kColor, TextureEncoding::kByUse, From(Source("once")));
   std::vector<std::filesystem::path> files;
   for (const auto& e : std::filesystem::directory_iterator(dir_ / "prepared")) files.push_back(e.path());
   ASSERT_EQ(files.size(), 1u) << "one prepared file, no temporary left behind";
   const auto written = std::filesystem::last_write_time(files[0]);
   TextureSystem other(TextureSystemOptions{64, dir_ / "prepared"});
-  const PreparedTexture t = other.Prepare(Source("once"), TestDigest('7'), TextureUse::kColor, TextureEncoding::kByUse);
+  bool read_source = false;
+  const PreparedTexture t = other.Prepare(TestDigest('7'), TextureUse::kColor, TextureEncoding::kByUse, [&] {
+    read_source = true;
+    return Source("once");
+  });
+  EXPECT_FALSE(read_source) << "a prepared texture's blob is not fetched again";
+  EXPECT_TRUE(t.srgb) << "the decoding is known from the prepared file's name";
   EXPECT_EQ(std::filesystem::last_write_time(files[0]), written);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_ / "prepared"), std::filesystem::directory_iterator()), 1);
   EXPECT_NEAR(other.Lookup(t, TextureLookup{{0.5f, 0.5f}, {}, {}}, kRepeat).rgb.r, 1.0f, 1e-3);
@@ -153,7 +163,7 @@ TEST_F(TextureSystemTest, TheTileCacheIsBounded) {
   WriteTestImage(Source("big"), "png", 2048, 2048, 3, OIIO::TypeDesc::UINT8,
                  [](int x, int y, int c) { return float((x * 7 + y * 13 + c) % 256) / 255; });
   TextureSystem small(TextureSystemOptions{4, dir_ / "prepared"});
-  const PreparedTexture t = small.Prepare(Source("big"), TestDigest('8'), TextureUse::kColor, TextureEncoding::kByUse);
+  const PreparedTexture t = small.Prepare(TestDigest('8'), TextureUse::kColor, TextureEncoding::kByUse, From(Source("big")));
   for (int y = 0; y < 2048; y += 16)
     for (int x = 0; x < 2048; x += 16) small.Lookup(t, TextureLookup{{(x + 0.5f) / 2048, (y + 0.5f) / 2048}, {}, {}}, kRepeat);
   EXPECT_GT(small.CacheBytes(), 0u);
@@ -163,7 +173,7 @@ TEST_F(TextureSystemTest, TheTileCacheIsBounded) {
 TEST_F(TextureSystemTest, AConstantTextureReadsItsValueWhateverTheFootprint) {
   WriteTestImage(Source("flat"), "exr", 32, 16, 4, OIIO::TypeDesc::FLOAT,
                  [](int, int, int c) { return 0.125f * float(c + 1); });
-  const PreparedTexture t = textures_->Prepare(Source("flat"), TestDigest('1'), TextureUse::kData, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('1'), TextureUse::kData, TextureEncoding::kByUse, From(Source("flat")));
   for (const TextureLookup& at : {TextureLookup{{0.3f, 0.7f}, {}, {}}, TextureLookup{{-2.1f, 5.5f}, {0.01f, 0}, {0, 0.2f}},
                                   TextureLookup{{0.5f, 0.5f}, {3, 1}, {-0.5f, 2}}}) {
     const Rgba v = textures_->Lookup(t, at, kRepeat);
@@ -180,7 +190,7 @@ TEST_F(TextureSystemTest, AConstantTextureReadsItsValueWhateverTheFootprint) {
 TEST_F(TextureSystemTest, PointLookupsAreBilinear) {
   const float texel[2][2] = {{0.1f, 0.9f}, {0.4f, 0.2f}};  // [row][column]
   WriteTestImage(Source("2x2"), "exr", 2, 2, 1, OIIO::TypeDesc::FLOAT, [&](int x, int y, int) { return texel[y][x]; });
-  const PreparedTexture t = textures_->Prepare(Source("2x2"), TestDigest('2'), TextureUse::kData, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('2'), TextureUse::kData, TextureEncoding::kByUse, From(Source("2x2")));
   for (const Vec2 uv : {Vec2{0.25f, 0.25f}, Vec2{0.5f, 0.5f}, Vec2{0.3f, 0.6f}, Vec2{0.7f, 0.35f}, Vec2{0.6f, 0.74f}}) {
     const float s = 2 * uv.x - 0.5f, r = 2 * uv.y - 0.5f;
     const float want = (1 - r) * ((1 - s) * texel[0][0] + s * texel[0][1]) + r * ((1 - s) * texel[1][0] + s * texel[1][1]);
@@ -201,7 +211,7 @@ TEST_F(TextureSystemTest, AGrazingCheckerboardMatchesASupersampledReference) {
   constexpr int kSize = 64, kCheck = 8;
   WriteTestImage(Source("floor"), "png", kSize, kSize, 1, OIIO::TypeDesc::UINT8,
                  [](int x, int y, int) { return float(((x / kCheck) + (y / kCheck)) % 2); });
-  const PreparedTexture t = textures_->Prepare(Source("floor"), TestDigest('3'), TextureUse::kData, TextureEncoding::kByUse);
+  const PreparedTexture t = textures_->Prepare(TestDigest('3'), TextureUse::kData, TextureEncoding::kByUse, From(Source("floor")));
   // The texture repeats every 4 units in x (u) and z (v): a check is half a unit wide.
   const Vec3 n(0, 1, 0), dpdu(4, 0, 0), dpdv(0, 0, 4);
   constexpr int kWidth = 64, kHeight = 48;
