@@ -14,6 +14,7 @@
 
 #include "daemon/blob_client.h"
 #include "renderfarm/v1/worker.pb.h"
+#include "texture/texture_system.h"
 #include "util/progress.h"
 
 namespace farm {
@@ -40,7 +41,11 @@ struct TaskResult {
 
 class TaskExecutor {
  public:
+  // Without texture options, a scene whose materials name textures cannot be built.
   explicit TaskExecutor(BlobClient& blobs);
+  // Textures read through a texture system made with these options when a scene first
+  // names one, kept for the process (its prepared files and tile cache outlive jobs).
+  TaskExecutor(BlobClient& blobs, TextureSystemOptions textures);
   ~TaskExecutor();
 
   // Performs the task and returns what to report. Throws TaskCancelled if `stop` was
@@ -73,6 +78,8 @@ class TaskExecutor {
                        Progress progress);
 
   BlobClient& blobs_;
+  std::optional<TextureSystemOptions> texture_options_;
+  std::unique_ptr<TextureSystem> textures_;
   std::string description_digest_;
   std::unique_ptr<renderfarm::v1::Scene> description_;
   std::string built_digest_;

@@ -85,7 +85,8 @@ class Worker::Impl {
         channel_(MakeCoordinatorChannel(options)),
         stub_(pb::WorkerService::NewStub(channel_)),
         blobs_(channel_, &cache_),
-        executor_(blobs_) {}
+        executor_(blobs_, TextureSystemOptions{static_cast<std::size_t>(options.texture_cache_mib),
+                                               options.cache_dir / "textures"}) {}
 
   int Run();
 

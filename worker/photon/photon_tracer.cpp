@@ -10,6 +10,7 @@
 #include "photon/photon_emission.h"
 #include "photon/trace_photons.h"
 #include "scene/scene_data.h"
+#include "scene/surface_shading.h"
 
 namespace farm {
 namespace {
@@ -58,7 +59,8 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
 
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return;
-    const Material& material = scene.material_of(*hit);
+    // A photon is one sample among very many: a point lookup of the textures.
+    const Material material = MaterialAt(scene, *hit, ray.direction, 0);
     const Vec3 wi = -ray.direction;  // towards where the photon came from
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);

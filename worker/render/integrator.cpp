@@ -10,15 +10,20 @@
 #include "sampling/hash.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
+#include "scene/surface_shading.h"
+#include "texture/footprint.h"
 
 namespace farm {
 
 // A non-specular surface point being shaded: n faces the side wo comes from.
+// material is as it is at the hit (MaterialAt); cone_width is the width the ray's cone has
+// reached there, where the rays leaving it start their own.
 struct PhotonMappingIntegrator::Shading {
   const SurfaceHit& hit;
   Vec3 wo;
-  const Material& material;
+  Material material;
   Vec3 n;
+  float cone_width = 0;
 };
 
 namespace {
@@ -59,28 +64,35 @@ Vec2 Point2(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
   return {SobolSample(index, 0, uint32_t(s)), SobolSample(index, 1, uint32_t(s >> 32))};
 }
 
+// The spread of a gather ray's cone: the side of the solid angle each of `count` rays
+// stands for (2 pi / count of the hemisphere).
+float GatherSpread(uint32_t count) { return std::sqrt(2 * kPi / float(std::max(count, 1u))); }
+
 // A uniform float from 24 bits of a hash (for the rare choices of specular bounces).
 float HashFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
 
 // Follows at most kGatherSpecularDepth specular bounces to the first non-specular surface
 // that reflects; nothing if the ray escapes, ends on an emitter or is absorbed. key seeds
-// the Fresnel choices.
+// the Fresnel choices; the ray's cone (footprint.h) reads the textures on the way.
 struct DiffuseHit {
   SurfaceHit hit;
   Rgb throughput;
   Vec3 wo;
+  Material material;  // at the hit
+  float cone_width = 0;
 };
-std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64_t key) {
+std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, RayCone cone, uint64_t key) {
   Rgb throughput(1);
   for (int depth = 0; depth <= kGatherSpecularDepth; ++depth) {
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return std::nullopt;
-    const Material& material = scene.material_of(*hit);
+    cone.width = cone.WidthAt(hit->t);
+    const Material material = MaterialAt(scene, *hit, ray.direction, cone.width);
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
     // A smooth principled surface (specular and diffuse) ends the chain too: where a gather
     // ray lands, its albedo, specular lobe included, reflects the irradiance as if diffuse.
-    if (can.reflects) return DiffuseHit{*hit, throughput, wo};
+    if (can.reflects) return DiffuseHit{*hit, throughput, wo, material, cone.width};
     if (!can.specular) return std::nullopt;
     const uint64_t h = Hash(key, uint64_t(depth));
     const uint64_t h2 = MixBits(h);
@@ -130,6 +142,8 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   SampleResult result;
   Ray ray = camera_ray;
   Rgb throughput(1);
+  // The pixel's cone, passed on unchanged by specular bounces (footprint.h).
+  RayCone cone{0, scene_.camera.PixelSpreadAngle()};
   for (int depth = 0; depth < kMaxSpecularDepth; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit.
@@ -142,7 +156,8 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
     if (!hit) break;  // black background
     const Vec3 wo = -ray.direction;
-    const Material& material = scene_.material_of(*hit);
+    cone.width = cone.WidthAt(hit->t);
+    const Material material = MaterialAt(scene_, *hit, ray.direction, cone.width);
     if (depth == 0) {
       result.alpha = 1;
       result.albedo = Albedo(material);
@@ -156,7 +171,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
       // 2^32 levels from the sample's dimension, hashed so that nearby values give
       // unrelated scrambles.
       const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
-      const Shading at{*hit, wo, material, FaceForward(hit->n, wo)};
+      const Shading at{*hit, wo, material, FaceForward(hit->n, wo), cone.width};
       Rgb direct, caustic, indirect;
       Shade(at, final_gather_ ? scene_.indirect.gather_rays : 0, seed, scratch, direct, caustic,
             indirect);
@@ -240,15 +255,15 @@ Rgb PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t 
     const Rgb kd = DiffuseReflectance(at.material, at.hit.n, at.wo, w);
     if (kd.IsBlack()) continue;
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
-    sum += kd * GatherRay(ray, i, seed, scratch);
+    sum += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count)}, i, seed, scratch);
   }
   return sum / float(count);
 }
 
-Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed,
+Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
                                        std::vector<PhotonNeighbour>& scratch) const {
   const std::optional<DiffuseHit> d =
-      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular), i));
+      TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i));
   if (!d) return {};
   const Vec3 n = FaceForward(d->hit.n, d->wo);
   const uint32_t count = scene_.indirect.gather_rays;
@@ -260,7 +275,7 @@ Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed,
   if (const std::optional<Rgb> irradiance =
           NearestIrradiance(*maps_.global, d->hit.p, n, lookup_radius_, visible, scratch))
     e += *irradiance;
-  return d->throughput * Albedo(scene_.material_of(d->hit)) * kInvPi * e;
+  return d->throughput * Albedo(d->material) * kInvPi * e;
 }
 
 Rgb PhotonMappingIntegrator::DirectIrradiance(const Vec3& p, const Vec3& geometric_n,
@@ -284,11 +299,13 @@ Rgb PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t se
   const Rgb weight = lobe->weight;
   const Vec3 wi = lobe->wi;
   const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, wi, scene_.ray_epsilon), wi};
-  const std::optional<DiffuseHit> d = TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)));
+  // A glossy lobe is taken as sharp for the footprint: the pixel's cone goes on.
+  const std::optional<DiffuseHit> d = TraceToDiffuse(
+      scene_, ray, RayCone{at.cone_width, scene_.camera.PixelSpreadAngle()}, Hash(seed, uint32_t(kGatherSpecular)));
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
-  const Shading next{d->hit, d->wo, scene_.material_of(d->hit), FaceForward(d->hit.n, d->wo)};
+  const Shading next{d->hit, d->wo, d->material, FaceForward(d->hit.n, d->wo), d->cone_width};
   Rgb direct, caustic, indirect;
   Shade(next, scene_.indirect.secondary_gather_rays, seed, scratch, direct, caustic, indirect);
   return weight * d->throughput * (direct + caustic + indirect);

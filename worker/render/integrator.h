@@ -43,6 +43,7 @@
 #include "photonmap/radiance_estimate.h"
 #include "sampling/pixel_sampler.h"
 #include "scene/scene_data.h"
+#include "texture/footprint.h"
 
 namespace farm {
 
@@ -107,7 +108,7 @@ class PhotonMappingIntegrator {
              std::vector<PhotonNeighbour>& scratch) const;
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
   // points.
-  Rgb GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch) const;
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch) const;
   // One sample of the irradiance from the lights at p on the side of n (unit).
   Rgb DirectIrradiance(const Vec3& p, const Vec3& geometric_n, const Vec3& n, float u_light,
                        Vec2 u_point) const;

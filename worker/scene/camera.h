@@ -29,6 +29,10 @@ class Camera {
   // The ray through film point `film` (pixels), with a unit direction.
   Ray GenerateRay(Vec2 film) const;
 
+  // The angle one pixel subtends at the image's centre, radians: the spread of a camera
+  // ray's cone (texture/footprint.h).
+  float PixelSpreadAngle() const { return 2 * tan_half_fov_ / height_; }
+
   const Vec3& position() const { return position_; }
   const Vec3& forward() const { return forward_; }
   const Vec3& right() const { return right_; }

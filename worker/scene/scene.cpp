@@ -12,6 +12,8 @@
 #include "scene/proto_values.h"
 #include "scene/scene_data.h"
 #include "scene/scene_rules.h"
+#include "scene/scene_textures.h"
+#include "scene/surface_shading.h"
 
 namespace farm {
 namespace {
@@ -91,8 +93,7 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
 }
 
 // An area light for an emissive shape, or nothing if it emits no light at all.
-std::optional<Light> LightFor(const ShapeGeometry& geometry, const Material& material) {
-  const Rgb radiance = Emission(material);
+std::optional<Light> LightFor(const ShapeGeometry& geometry, const Rgb& radiance) {
   if (radiance.IsBlack()) return std::nullopt;
   struct Visitor {
     Rgb radiance;
@@ -130,7 +131,7 @@ float SceneExtent(const std::vector<ShapeRecord>& shapes) {
 
 }  // namespace
 
-Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
+Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, const SceneOptions& options) {
   CheckScene(description);
   auto data = std::make_unique<SceneData>();
   SceneData& d = *data;
@@ -147,10 +148,14 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
   d.camera = Camera::FromProto(description.camera(), d.width, d.height);
 
   std::unordered_map<std::string, int> material_index;
+  TextureBinder textures(description, options, d);
   for (int i = 0; i < description.materials_size(); ++i) {
     const pb::Material& m = description.materials(i);
     material_index.emplace(m.name(), i);
     d.materials.push_back(MaterialFromProto(m));
+    if (m.has_principled())
+      textures.Bind(m.principled(), "materials[" + std::to_string(i) + "].principled",
+                    std::get<PrincipledMaterial>(d.materials.back()));
     d.capabilities.push_back(CapabilitiesOf(d.materials.back()));
     d.material_names.push_back(m.name());
   }
@@ -169,7 +174,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob) {
       if (shape.name().empty()) throw;
       throw SceneError(std::string(e.what()) + " (shape \"" + shape.name() + "\")");
     }
-    if (std::optional<Light> light = LightFor(record.geometry, d.materials[record.material])) {
+    if (std::optional<Light> light = LightFor(record.geometry, AreaLightRadiance(d, d.materials[record.material]))) {
       record.light = static_cast<int>(d.lights.size());
       d.lights.push_back(std::move(*light));
     }

@@ -50,6 +50,8 @@ std::optional<SurfaceHit> SceneData::Intersect(const Ray& ray) const {
     }
   };
   std::visit(Visitor{p, raw->primitive, hit}, shapes[hit.shape].geometry);
+  hit.ns = hit.n;
+  hit.material = shapes[hit.shape].material;
   return hit;
 }
 

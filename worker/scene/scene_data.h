@@ -21,6 +21,7 @@
 #include "scene/materials.h"
 #include "scene/photon_settings.h"
 #include "scene/shapes.h"
+#include "texture/texture_system.h"
 
 namespace farm {
 
@@ -33,12 +34,26 @@ struct ShapeRecord {
 
 // A ray's closest hit, refined: p lies on the surface (projected back onto it, which is
 // what makes small ray offsets safe) and n is the unit geometric normal of the front side.
+// For shading: texture coordinates (glTF's, v growing downwards; has_uv false without
+// them), the unit shading normal ns (n until meshes carry normals), dp/du and dp/dv, and
+// the index of the hit's material (the shape's).
 struct SurfaceHit {
   Vec3 p;
   Vec3 n;
   float t = 0;
   int shape = 0;
   uint32_t primitive = 0;
+  Vec2 uv;
+  bool has_uv = false;
+  Vec3 ns;
+  Vec3 dpdu, dpdv;
+  int material = 0;
+};
+
+// A texture as materials read it: prepared by the worker's texture system, with its wrap.
+struct SceneTexture {
+  PreparedTexture prepared;
+  TextureWrap wrap = TextureWrap::kRepeat;
 };
 
 std::string ToString(const SurfaceHit& hit);
@@ -57,6 +72,10 @@ struct SceneData {
   std::vector<Material> materials;
   std::vector<MaterialCapabilities> capabilities;  // of each material, by index
   std::vector<std::string> material_names;
+  // What principled materials' TextureIndex values index, and the system that reads them
+  // (null when no material has a texture).
+  std::vector<SceneTexture> textures;
+  const TextureSystem* texture_system = nullptr;
   std::vector<ShapeRecord> shapes;
   std::vector<Light> lights;  // emissive shapes first, then Scene.lights in order
   DiscreteDistribution light_power;  // picks a light in proportion to its power
@@ -84,12 +103,10 @@ struct SceneData {
   // Whether nothing lies on the segment between two ray origins already off their surfaces.
   bool SegmentClear(const Vec3& o0, const Vec3& o1) const;
 
-  const Material& material_of(const SurfaceHit& hit) const {
-    return materials[shapes[hit.shape].material];
-  }
-  const MaterialCapabilities& capabilities_of(const SurfaceHit& hit) const {
-    return capabilities[shapes[hit.shape].material];
-  }
+  // The material of a hit as the scene declares it (MaterialAt, surface_shading.h, applies
+  // its textures at the hit).
+  const Material& material_of(const SurfaceHit& hit) const { return materials[hit.material]; }
+  const MaterialCapabilities& capabilities_of(const SurfaceHit& hit) const { return capabilities[hit.material]; }
 
   std::string ToString() const;
 };

@@ -1,8 +1,10 @@
 #pragma once
 
-// Test helpers: image files written with OpenImageIO, and digests to name them by.
+// Test helpers: image files written with OpenImageIO, scratch folders to write them in, and
+// digests to name them by.
 
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <functional>
@@ -28,6 +30,16 @@ inline void WriteTestImage(const std::filesystem::path& path, const std::string&
   if (!out || !out->open(named, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close())
     throw std::runtime_error("cannot write " + named + ": " + OIIO::geterror());
   std::filesystem::rename(named, path);
+}
+
+// An empty scratch folder for the running GoogleTest test, named by `prefix`, the process
+// and the test (so that parallel runs do not meet).
+inline std::filesystem::path FreshTestDir(const std::string& prefix, const std::string& test_name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()) + "_" + test_name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 // A well-formed digest made of one repeated hex digit.

@@ -5,7 +5,6 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -25,11 +24,7 @@ float SrgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 
 class TextureSystemTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("texture_system_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
+    dir_ = FreshTestDir("texture_system_test", ::testing::UnitTest::GetInstance()->current_test_info()->name());
     textures_ = std::make_unique<TextureSystem>(TextureSystemOptions{64, dir_ / "prepared"});
   }
   void TearDown() override {
