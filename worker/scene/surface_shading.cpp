@@ -69,6 +69,12 @@ bool IsCutOut(const SceneData& scene, const SurfaceHit& hit) {
   return opacity < m->alpha_cutoff;
 }
 
+std::function<bool(const SurfaceHit&)> CutoutOf(const SceneData& scene, int material) {
+  const auto* m = std::get_if<PrincipledMaterial>(&scene.materials[material]);
+  if (!m || !m->alpha_mask) return {};
+  return [&scene](const SurfaceHit& hit) { return IsCutOut(scene, hit); };
+}
+
 Rgb AreaLightRadiance(const SceneData& scene, const Material& material) {
   const Rgb radiance = Emission(material);
   const auto* m = std::get_if<PrincipledMaterial>(&material);

@@ -25,6 +25,8 @@
 // texture where they hit: a textured emitter's light is right on average, not in its
 // pattern.
 
+#include <functional>
+
 #include "math/rgb.h"
 #include "math/vec3.h"
 #include "scene/materials.h"
@@ -38,8 +40,14 @@ Material MaterialAt(const SceneData& scene, const SurfaceHit& hit, const Vec3& d
 
 // Whether the surface is not there at the hit: an alpha-masked principled material whose
 // opacity (1 - transparency, times the base colour texture's alpha read at the finest
-// level) is below its cutoff. The cut-out test of geom's accelerator hook.
+// level) is below its cutoff.
 bool IsCutOut(const SceneData& scene, const SurfaceHit& hit);
+
+// The cut-out test of material `material` for the accelerator's per-material hook (true
+// ignores the hit, for camera, shadow and photon rays alike): IsCutOut for an alpha-masked
+// principled material, empty (cuts nothing) for every other. It reads `scene`, which must
+// outlive it.
+std::function<bool(const SurfaceHit&)> CutoutOf(const SceneData& scene, int material);
 
 // The radiance an area light of this material is sampled with: Emission(material), times
 // the emission texture's mean for a principled one.

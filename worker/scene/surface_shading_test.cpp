@@ -142,9 +142,13 @@ TEST_F(SurfaceShadingTest, AlphaMaskCutsWhereOpacityIsBelowTheCutoff) {
   description_.mutable_materials(0)->mutable_principled()->set_transparency(0.6);  // 0.4 < 0.5
   const Scene thin = Build();
   EXPECT_TRUE(IsCutOut(thin.data(), FloorHit(thin.data(), {0.75f, 0.5f})));
+  const auto cutout = CutoutOf(thin.data(), 0);
+  ASSERT_TRUE(cutout);
+  EXPECT_TRUE(cutout(FloorHit(thin.data(), {0.75f, 0.5f})));
   description_.mutable_materials(0)->mutable_principled()->set_alpha_mode(pb::ALPHA_MODE_OPAQUE);
   const Scene opaque = Build();
   EXPECT_FALSE(IsCutOut(opaque.data(), FloorHit(opaque.data(), {0.25f, 0.5f})));
+  EXPECT_FALSE(CutoutOf(opaque.data(), 0)) << "an opaque material installs no test";
 }
 
 TEST_F(SurfaceShadingTest, ATexturedEmitterIsSampledWithItsMeanRadiance) {
