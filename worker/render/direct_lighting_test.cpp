@@ -7,6 +7,8 @@
 #include <numbers>
 
 #include "render/tile_renderer.h"
+#include "math/math.h"
+#include "scene/ggx.h"
 #include "scene/principled.h"
 #include "scene/test_scenes.h"
 
@@ -132,6 +134,25 @@ TEST(DirectLighting, ASmoothMetalReflectsTheEmitterWithSchlicksFresnel) {
   const Rgb L = RenderOnePixel(s);
   EXPECT_NEAR(L.r, 2 * (0.8f + 0.2f * schlick), 2e-3f) << L;
   EXPECT_NEAR(L.b, 2 * (0.2f + 0.8f * schlick), 2e-3f) << L;
+}
+
+// A smooth dielectric is both: its diffuse base is shaded (the point light) and its lobe
+// followed (the emitter in the mirror direction, with Schlick's Fresnel of 0.04); the two
+// add up.
+TEST(DirectLighting, ASmoothDielectricAddsItsBaseAndItsReflection) {
+  pb::Scene s = FloorScene(256);
+  pb::Principled* p = s.mutable_materials(0)->mutable_principled();
+  Set(p->mutable_base_color(), Rgb(0.5f));
+  AddPointLight(s, {0, 0, 4}, Rgb(16));
+  AddSphere(s, "lamp", {-10, 0, 1}, 0.5);
+  const Vec3 wo = Normalize(Vec3(10, 0, 1)), mirror(-wo.x, -wo.y, wo.z);
+  const PrincipledLobes lobes{Rgb(0.5f), 0, kMinGgxAlpha, true};
+  const float base = PrincipledValue(lobes, wo, Vec3(0, 0, 1)).g;  // times 16 / 4^2
+  const float reflection = 2 * (0.04f + 0.96f * std::pow(1 - wo.z, 5.0f));
+  // The sphere lights the base too: E = pi L sin^2 (its half angle) cos theta, small.
+  const float sphere = PrincipledDiffuseWeight(lobes, wo, mirror).g / kPi * (kPi * 2 * (0.25f / 101) * wo.z);
+  const Rgb L = RenderOnePixel(s);
+  EXPECT_NEAR(L.g, base + reflection + sphere, 2e-3f * (base + reflection)) << L << " base " << base;
 }
 
 }  // namespace
