@@ -5,6 +5,7 @@
 // job has one) or composite a round into the image so far, with the blobs and the scene
 // that takes. Knows nothing of leases and reports (worker.cpp does). Internal to daemon/.
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -56,6 +57,10 @@ class TaskExecutor {
   // for all, since the coordinator only watches it grow).
   TaskResult Execute(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
                      Progress progress = {});
+
+  // Bytes of texture tiles the texture system's cache holds now (0 before a scene with
+  // textures): at most about --texture-cache-mib MiB.
+  std::uint64_t TextureCacheBytes() const { return textures_ ? textures_->CacheBytes() : 0; }
 
  private:
   // The job's scene description, fetched by digest; the last one is kept.

@@ -338,6 +338,8 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
                                {"worker", WorkerId()},     {"spec", DescribeTask(task)},
                                {"seconds", Seconds(std::chrono::steady_clock::now() - start)}};
     attrs.insert(attrs.end(), more);
+    // Only once textures are in use, so that other tasks' lines stay as they were.
+    if (const std::uint64_t bytes = executor_.TextureCacheBytes(); bytes > 0) attrs.emplace_back("texture_cache_bytes", bytes);
     Log(level, msg, attrs);
   };
   if (!lost.empty()) {
