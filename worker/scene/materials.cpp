@@ -48,10 +48,10 @@ PrincipledMaterial PrincipledFromProto(const pb::Principled& p) {
   m.lobes.alpha = std::max(kMinGgxAlpha, m.roughness * m.roughness);
   m.lobes.specular = p.roughness() < contract::SceneLimits().principled_specular_roughness();
   if (p.has_emission()) m.emission = RgbOf(p.emission());
-  if (p.normal_scale() != 0) m.normal_scale = static_cast<float>(p.normal_scale());
+  m.normal_scale = static_cast<float>(contract::OrDefault<pb::Principled>(p.normal_scale(), "normal_scale"));
   m.alpha_mask = p.alpha_mode() == pb::ALPHA_MODE_MASK;
   m.opacity = static_cast<float>(1 - p.transparency());
-  if (p.alpha_cutoff() != 0) m.alpha_cutoff = static_cast<float>(p.alpha_cutoff());
+  m.alpha_cutoff = static_cast<float>(contract::OrDefault<pb::Principled>(p.alpha_cutoff(), "alpha_cutoff"));
   return m;
 }
 

@@ -19,9 +19,9 @@
 //   emissive    radiance L >= 0                emits L from the front only, reflects nothing
 //   principled  base colour, metallic,         glTF's metallic-roughness BRDF (principled.h):
 //               roughness, emission,           GGX sampled by visible normals over a
-//               textures (principled_          diffuse base, blended towards a metal of the
-//               material.h), a shading         base colour by metallic; two-sided; emits
-//               normal                         its emission from the front
+//               textures (read at a hit:       diffuse base, blended towards a metal of the
+//               surface_shading.h), a          base colour by metallic; two-sided; emits
+//               shading normal                 its emission from the front
 //
 // Mirror, dielectric and conductor are specular: their BSDF is a delta function, so
 // EvaluateBsdf gives 0 for them and only SampleBsdf moves light across them; photon maps
@@ -99,10 +99,11 @@ struct PrincipledMaterial {
   TextureIndex emission_texture = kNoTexture;
   float normal_scale = 1;
   // alpha_mode MASK: where opacity (1 - transparency, times the base colour texture's
-  // alpha) is below alpha_cutoff, the surface is not there.
+  // alpha) is below alpha_cutoff, the surface is not there. (MaterialFromProto sets
+  // normal_scale and alpha_cutoff with the contract's defaults.)
   bool alpha_mask = false;
   float opacity = 1;
-  float alpha_cutoff = 0.5f;
+  float alpha_cutoff = 0;
 };
 
 #ifdef FARM_TEST_UNHANDLED_MATERIAL  // test hook only: see the comment at the top

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "contract/rules.h"
 #include "math/frame.h"
 #include "math/math.h"
 #include "renderfarm/v1/scene.pb.h"
@@ -172,7 +173,7 @@ TEST(Principled, CapabilitiesMatchTheContract) {
     if (mr_texture) std::get<PrincipledMaterial>(m).metallic_roughness_texture = 0;
     return CapabilitiesOf(m);
   };
-  const double threshold = 0.1;  // SceneLimits.principled_specular_roughness
+  const double threshold = contract::SceneLimits().principled_specular_roughness();
   const auto expect = [](const MaterialCapabilities& c, bool specular, bool reflects, bool emits) {
     EXPECT_EQ(c.specular, specular);
     EXPECT_EQ(c.reflects, reflects);

@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "contract/rules.h"
 #include "scene/scene.h"
 #include "texture/test_images.h"
 
@@ -127,11 +128,12 @@ TEST_F(SurfaceShadingTest, OnlyTheNamedTexturesAreFetchedEachOnce) {
 }
 
 TEST_F(SurfaceShadingTest, AGlossyMaterialStaysGlossyWhateverItsTexturedRoughness) {
-  description_.mutable_materials(0)->mutable_principled()->set_roughness(0.15);  // 0.075 textured
+  const double threshold = contract::SceneLimits().principled_specular_roughness();
+  description_.mutable_materials(0)->mutable_principled()->set_roughness(1.5 * threshold);  // 0.75 of it textured
   const Scene scene = Build();
   const auto m = std::get<PrincipledMaterial>(MaterialAt(scene.data(), FloorHit(scene.data(), {0.5f, 0.5f}), Vec3(0, -1, 0), 0));
   EXPECT_FALSE(m.lobes.specular);
-  EXPECT_NEAR(m.roughness, 0.1f, 1e-6f) << "raised to principled_specular_roughness";
+  EXPECT_NEAR(m.roughness, threshold, 1e-6f) << "raised to principled_specular_roughness";
 }
 
 TEST_F(SurfaceShadingTest, AlphaMaskCutsWhereOpacityIsBelowTheCutoff) {
