@@ -21,6 +21,15 @@
 //             estimate seen directly.
 //
 // each weighted by the throughput of the specular path, so the four add up to the beauty.
+// A smooth principled surface with a diffuse base (specular and reflecting at once) is
+// shaded for its base like any diffuse surface, and the path goes on through its lobe;
+// where a gather ray lands on one, its albedo reflects the irradiance as if diffuse.
+//
+// Every hit reads its material's textures (scene/surface_shading.h) over the footprint of
+// the ray's cone (texture/footprint.h): camera rays start with the pixel's spread angle,
+// which specular bounces and the glossy bounce pass on; gather rays start where the cone
+// is at their origin and spread by sqrt(2 pi / gather_rays), the side of each one's share
+// of the hemisphere.
 // The terms cover disjoint sets of paths: shadow rays are blocked by glass, whose light
 // arrives through the caustic map; the global map (and so the precomputed irradiance)
 // holds no direct light; gather rays ignore the emitters they hit (direct light covers
