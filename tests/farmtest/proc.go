@@ -147,3 +147,24 @@ func (p *Proc) WorkerID(t testing.TB, timeout time.Duration) string {
 	t.Logf("%s did not log its registration within %s", p.Name, timeout)
 	return ""
 }
+
+// PeakRSS is the most resident memory the process has had so far, in bytes (VmHWM in
+// /proc/PID/status).
+func (p *Proc) PeakRSS(t testing.TB) int64 {
+	t.Helper()
+	b, err := os.ReadFile(fmt.Sprintf("/proc/%d/status", p.cmd.Process.Pid))
+	if err != nil {
+		t.Fatalf("%s: %v", p.Name, err)
+	}
+	for _, line := range strings.Split(string(b), "\n") {
+		if v, ok := strings.CutPrefix(line, "VmHWM:"); ok {
+			var kib int64
+			if _, err := fmt.Sscanf(strings.TrimSpace(v), "%d kB", &kib); err != nil {
+				t.Fatalf("%s: VmHWM %q: %v", p.Name, v, err)
+			}
+			return kib << 10
+		}
+	}
+	t.Fatalf("%s: no VmHWM in /proc/%d/status", p.Name, p.cmd.Process.Pid)
+	return 0
+}
