@@ -15,6 +15,7 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
+	"google.golang.org/grpc/keepalive"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
 	"photonfarm/contract/assets"
@@ -105,12 +106,35 @@ func New(cfg Config) *Service {
 	}
 }
 
+// Connection limits of NewGRPCServer's server (docs/limits.md).
+const (
+	// MaxStreamsPerConnection bounds the calls in flight on one connection (HTTP/2
+	// SETTINGS_MAX_CONCURRENT_STREAMS); a client's further calls wait for one to end.
+	// The dashboard multiplexes every browser over one connection: its event streams
+	// (dashboard.DefaultMaxStreams) must fit with room for its other calls.
+	MaxStreamsPerConnection = 256
+	// HandshakeTimeout bounds a new connection's TLS handshake and HTTP/2 preface.
+	HandshakeTimeout = 10 * time.Second
+	// MaxConnectionIdle closes a connection without a call for this long (its client
+	// reconnects at its next call), so that idle connections do not pile up.
+	MaxConnectionIdle = 5 * time.Minute
+	// MaxHeaderBytes bounds a call's headers (HTTP/2 SETTINGS_MAX_HEADER_LIST_SIZE),
+	// which gRPC reads before the token check: a token is at most 4096 bytes, and the
+	// farm's other metadata is small. (gRPC's default is 16 MiB.)
+	MaxHeaderBytes = 16 << 10
+)
+
 // NewGRPCServer returns a gRPC server with the three services registered, the error
-// mapping interceptors installed and message limits set; opts are appended.
+// mapping interceptors installed and message and connection limits set; opts are
+// appended.
 func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	base := []grpc.ServerOption{
 		grpc.MaxRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())),
 		grpc.MaxSendMsgSize(int(rules.RPC.GetMaxMessageBytes())),
+		grpc.MaxConcurrentStreams(MaxStreamsPerConnection),
+		grpc.MaxHeaderListSize(MaxHeaderBytes),
+		grpc.ConnectionTimeout(HandshakeTimeout),
+		grpc.KeepaliveParams(keepalive.ServerParameters{MaxConnectionIdle: MaxConnectionIdle}),
 		grpc.ChainUnaryInterceptor(s.unaryErrors),
 		grpc.ChainStreamInterceptor(s.streamErrors),
 	}
