@@ -52,7 +52,8 @@ func newFarm(t *testing.T, opts ...farmOption) *farm {
 	quiet := slog.New(slog.DiscardHandler)
 	cc := coordinator.Config{LeaseDuration: time.Minute, Logger: quiet,
 		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}
-	dc := dashboard.Config{Logger: quiet, JobsPoll: 50 * time.Millisecond, WorkersEvery: 200 * time.Millisecond, JobUpdateEvery: 20 * time.Millisecond}
+	dc := dashboard.Config{Logger: quiet, JobsPoll: 50 * time.Millisecond, WorkersEvery: 200 * time.Millisecond, JobUpdateEvery: 20 * time.Millisecond,
+		RefusedTokenBurst: 1000} // the tests present many wrong tokens; throttle_test.go tests the default
 	for _, o := range opts {
 		o(&cc, &dc)
 	}
@@ -105,6 +106,9 @@ func (f *farm) do(b *http.Client, method, path, body string) response {
 	req, err := http.NewRequestWithContext(f.ctx, method, f.url+path, strings.NewReader(body))
 	if err != nil {
 		f.t.Fatal(err)
+	}
+	if method == http.MethodPost {
+		req.Header.Set("Content-Type", "application/json") // as the front end sends
 	}
 	resp, err := b.Do(req)
 	if err != nil {

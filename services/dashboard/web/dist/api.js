@@ -69,7 +69,13 @@ export async function login(token) {
         throw new ApiError(res.status, await readError(res));
 }
 export async function logout() {
-    await fetch("api/logout", { method: "POST", credentials: "same-origin" });
+    // Every state-changing endpoint takes JSON only (API.md, "Cross-origin requests").
+    await fetch("api/logout", {
+        method: "POST",
+        credentials: "same-origin",
+        headers: { "Content-Type": "application/json" },
+        body: "{}",
+    });
 }
 export async function getSession() {
     const res = await fetch("api/session", { credentials: "same-origin" });

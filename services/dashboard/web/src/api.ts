@@ -80,7 +80,13 @@ export async function login(token: string): Promise<void> {
 }
 
 export async function logout(): Promise<void> {
-  await fetch("api/logout", { method: "POST", credentials: "same-origin" });
+  // Every state-changing endpoint takes JSON only (API.md, "Cross-origin requests").
+  await fetch("api/logout", {
+    method: "POST",
+    credentials: "same-origin",
+    headers: { "Content-Type": "application/json" },
+    body: "{}",
+  });
 }
 
 export async function getSession(): Promise<Session> {
