@@ -16,6 +16,7 @@
 import fs from 'node:fs';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
+import { startCrossOriginSite } from './cross-origin.mjs';
 
 const env = (name, fallback) => {
   const v = process.env[name] ?? fallback;
@@ -167,6 +168,41 @@ try {
     const ids = (jobs.jobs ?? []).map((j) => j.id);
     check(ids.length === 1 && ids[0] === failedJobId, `the refused POST made a job: ${JSON.stringify(ids)}, want only ${failedJobId}`);
   });
+
+  // (b2) Pages on another port of the same host (the same site, so SameSite=Strict cookies
+  // go with their requests) post text/plain forms to the login and the submit: both are
+  // refused, the browser is not logged in and no job is made.
+  const site = await startCrossOriginSite(baseURL, token, sceneText);
+  await step(`text/plain forms posted from ${site.origin} to the login and the submit are refused`, async () => {
+    const formPost = async (ctx, page, endpoint) => {
+      const p = await ctx.newPage();
+      try {
+        const answered = p.waitForResponse((r) => r.request().method() === 'POST' && new URL(r.url()).pathname === endpoint, { timeout: 15000 });
+        await p.goto(`${site.origin}${page}`);
+        const r = await answered;
+        const sent = r.request().headers()['content-type'] ?? '';
+        check(sent.startsWith('text/plain'), `the form sent ${sent}, not text/plain`);
+        check(r.status() === 403 || r.status() === 415, `the form post to ${endpoint} from ${site.origin} was answered ${r.status()}: ${await r.text().catch(() => '')}`);
+        return r.status();
+      } finally {
+        await p.close();
+      }
+    };
+    const stranger = await browser.newContext();
+    try {
+      const status = await formPost(stranger, '/login', '/api/login');
+      const session = await (await stranger.request.get(api('/api/session'))).json();
+      check(session.authenticated === false, `after the cross-port login form, the browser's session: ${JSON.stringify(session)}`);
+      console.log(`             login form: ${status}`);
+    } finally {
+      await stranger.close();
+    }
+    const status = await formPost(context, '/submit', '/api/jobs');
+    const ids = (await jobs(list)).map((j) => j.id);
+    check(ids.length === 1 && ids[0] === failedJobId, `the cross-port submit form made a job: ${JSON.stringify(ids)}`);
+    console.log(`             submit form (logged-in browser): ${status}`);
+  });
+  site.close();
 
   // The job that failed as bad input opens with a banner saying so, above everything else.
   await step('a job that failed as bad input shows the failure kind and the reason in a banner at the top', async () => {
