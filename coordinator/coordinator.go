@@ -282,7 +282,8 @@ func stopGracefully(srv *grpc.Server, timeout time.Duration) {
 	}
 }
 
-// sweep requeues expired leases a few times per lease duration.
+// sweep requeues expired leases, and forgets workers silent for ForgetAfterLeases lease
+// durations, a few times per lease duration.
 func (c *Coordinator) sweep(ctx context.Context) {
 	every := min(max(c.cfg.LeaseDuration/10, 10*time.Millisecond), time.Second)
 	t := time.NewTicker(every)
@@ -295,6 +296,7 @@ func (c *Coordinator) sweep(ctx context.Context) {
 			if err := c.svc.ExpireLeases(ctx); err != nil && ctx.Err() == nil {
 				c.log.Error("expiring leases", "err", err)
 			}
+			c.svc.ForgetSilentWorkers()
 		}
 	}
 }

@@ -27,6 +27,9 @@ const (
 	ResourceExhausted
 	// Unavailable: the coordinator is shutting down.
 	Unavailable
+	// PermissionDenied: the caller may not act on the resource (a call about a worker
+	// without that worker's registration secret).
+	PermissionDenied
 )
 
 func (k Kind) String() string {
@@ -43,6 +46,8 @@ func (k Kind) String() string {
 		return "resource exhausted"
 	case Unavailable:
 		return "unavailable"
+	case PermissionDenied:
+		return "permission denied"
 	default:
 		return "internal"
 	}

@@ -19,6 +19,7 @@ import (
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/types/known/durationpb"
 
+	"photonfarm/client"
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/clock"
@@ -65,7 +66,7 @@ func newFarm(t *testing.T) *farm {
 	}
 	go srv.Serve(lis)
 	conn, err := grpc.NewClient(lis.Addr().String(),
-		grpc.WithTransportCredentials(insecure.NewCredentials()),
+		grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets(),
 		grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(int(rules.RPC.GetMaxMessageBytes()))))
 	if err != nil {
 		t.Fatal(err)

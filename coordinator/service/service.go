@@ -98,7 +98,7 @@ func New(cfg Config) *Service {
 		cfg:       cfg,
 		log:       cfg.Logger,
 		queued:    newNotifier(),
-		workers:   registry{m: make(map[string]*worker)},
+		workers:   newRegistry(),
 		snapshots: newCache[*pb.Artifact](1024),
 		scenes:    newCache[*pb.Scene](64),
 		meshes:    newCache[assets.Mesh](4096),

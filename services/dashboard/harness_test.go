@@ -71,7 +71,8 @@ func newFarm(t *testing.T, opts ...farmOption) *farm {
 		srv.Close()
 		c.Close()
 	})
-	return &farm{t: t, ctx: ctx, url: srv.URL, http: srv.Client(), c: c, workers: pb.NewWorkerServiceClient(conn), conn: conn}
+	workers := pb.NewWorkerServiceClient(coord.Dial(t, client.WorkerSecrets()))
+	return &farm{t: t, ctx: ctx, url: srv.URL, http: srv.Client(), c: c, workers: workers, conn: conn}
 }
 
 // worker returns ctx with the worker token.

@@ -12,6 +12,7 @@ import (
 	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/protobuf/types/known/durationpb"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -123,7 +124,7 @@ type leaseWorker struct {
 // with t.Errorf (it runs on a goroutine of its own) and returns a worker whose run does
 // nothing.
 func fakeWorker(t *testing.T, addr string, n int) *leaseWorker {
-	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
+	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets())
 	if err != nil {
 		t.Errorf("fake worker %d: %v", n, err)
 		return &leaseWorker{}

@@ -35,6 +35,10 @@ constexpr seconds kLeaseWait{10};
 constexpr seconds kCallDeadline{30};
 // How long shutdown keeps trying to release a lease or say goodbye.
 constexpr seconds kGoodbyeGiveUp{5};
+// The metadata that carries the registration's secret on every call about this worker
+// (RegisterWorkerResponse.worker_secret in worker.proto; contract/rules.WorkerSecretMetadata
+// in Go).
+constexpr char kWorkerSecretMetadata[] = "farm-worker-secret";
 
 std::string HostName() {
   char name[256] = "";
@@ -128,6 +132,13 @@ class Worker::Impl {
     std::lock_guard lock(mu_);
     return worker_id_;
   }
+  // Makes ctx carry the registration's secret, as every call about this worker must. The
+  // id and the secret change together only in Register, on the thread that makes the
+  // calls other than heartbeats (which read both at once).
+  void Identify(grpc::ClientContext& ctx) {
+    std::lock_guard lock(mu_);
+    ctx.AddMetadata(kWorkerSecretMetadata, worker_secret_);
+  }
 
   const std::string coordinator_;
   const std::string hostname_;
@@ -144,6 +155,7 @@ class Worker::Impl {
 
   std::mutex mu_;  // Guards what follows.
   std::string worker_id_;
+  std::string worker_secret_;
   Millis heartbeat_interval_{5000};
   std::optional<CurrentTask> current_;  // Shared with the heartbeat thread.
 };
@@ -174,6 +186,7 @@ bool Worker::Impl::Register() {
   }
   std::lock_guard lock(mu_);
   worker_id_ = response.worker_id();
+  worker_secret_ = response.worker_secret();
   heartbeat_interval_ = std::max(Millis(100), ToMillis(response.heartbeat_interval(), Millis(5000)));
   Log(LogLevel::kInfo, "registered",
       {{"coordinator", coordinator_},
@@ -196,6 +209,7 @@ void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
   while (true) {
     Millis interval;
     pb::HeartbeatRequest request;
+    std::string secret;
     {
       std::lock_guard lock(mu_);
       interval = heartbeat_interval_;
@@ -205,9 +219,11 @@ void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
       std::lock_guard lock(mu_);
       if (worker_id_.empty()) continue;
       request = MakeHeartbeatRequest(worker_id_, current_);
+      secret = worker_secret_;
     }
     pb::HeartbeatResponse response;
     grpc::ClientContext ctx;
+    ctx.AddMetadata(kWorkerSecretMetadata, secret);
     SetDeadline(ctx, std::max<std::chrono::system_clock::duration>(interval, seconds(5)));
     std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
     const grpc::Status status = stub_->Heartbeat(&ctx, request, &response);
@@ -239,6 +255,7 @@ grpc::Status Worker::Impl::LeaseOnce(pb::LeaseTaskResponse& leased) {
   request.set_worker_id(WorkerId());
   request.mutable_wait_timeout()->set_seconds(kLeaseWait.count());
   grpc::ClientContext ctx;
+  Identify(ctx);
   SetDeadline(ctx, kLeaseWait + kCallDeadline);
   // While the coordinator is away, wait for the connection instead of failing at once:
   // the lease is asked for the moment it is back.
@@ -364,6 +381,7 @@ std::string Worker::Impl::Report(const pb::Lease& lease, const std::string& meth
       RetryTransient(method + " " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
         grpc::ClientContext ctx;
         SetDeadline(ctx, kCallDeadline);
+        Identify(ctx);
         return call(ctx);
       });
   if (status.ok()) return "";
@@ -407,6 +425,7 @@ void Worker::Impl::Release(const pb::Lease& lease) {
         pb::ReleaseTaskResponse response;
         grpc::ClientContext ctx;
         SetDeadline(ctx, seconds(5));
+        Identify(ctx);
         return stub_->ReleaseTask(&ctx, request, &response);
       });
   // If this fails the lease simply expires and the task is queued again.
@@ -422,6 +441,7 @@ void Worker::Impl::Unregister() {
     pb::UnregisterWorkerResponse response;
     grpc::ClientContext ctx;
     SetDeadline(ctx, seconds(5));
+    Identify(ctx);
     return stub_->UnregisterWorker(&ctx, request, &response);
   });
   if (status.ok()) {
