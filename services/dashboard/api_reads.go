@@ -56,12 +56,19 @@ func (s *Server) getJob(w http.ResponseWriter, r *http.Request) {
 	s.answer(w, r, func(ctx context.Context) (any, error) { return s.jobWithTasks(ctx, r.PathValue("id")) })
 }
 
+// WorkersPage is how many workers a page of /api/workers (and the workers event) holds.
+const WorkersPage = 500
+
+// workersPage reads the page of workers token names ("" for the first):
+// {"workers": [WorkerInfo...], "nextPageToken": "..."} ("" on the last page).
+func (s *Server) workersPage(ctx context.Context, token string) (map[string]any, error) {
+	resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{PageSize: WorkersPage, PageToken: token})
+	if err != nil {
+		return nil, err
+	}
+	return map[string]any{"workers": pjs(resp.GetWorkers()), "nextPageToken": resp.GetNextPageToken()}, nil
+}
+
 func (s *Server) listWorkers(w http.ResponseWriter, r *http.Request) {
-	s.answer(w, r, func(ctx context.Context) (any, error) {
-		resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
-		if err != nil {
-			return nil, err
-		}
-		return map[string]any{"workers": pjs(resp.GetWorkers())}, nil
-	})
+	s.answer(w, r, func(ctx context.Context) (any, error) { return s.workersPage(ctx, r.URL.Query().Get("pageToken")) })
 }

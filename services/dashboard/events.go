@@ -95,8 +95,7 @@ func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
 		s.writeError(w, r, err)
 		return
 	}
-	out, release, ok := s.startSSE(w, r,
-		event{"jobs", map[string]any{"jobs": pjs(jobs)}}, event{"workers", map[string]any{"workers": pjs(workers)}})
+	out, release, ok := s.startSSE(w, r, event{"jobs", map[string]any{"jobs": pjs(jobs)}}, event{"workers", workers})
 	if !ok {
 		return
 	}
@@ -120,7 +119,7 @@ func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
 			}
 		case <-workerTick.C:
 			if workers, err = s.pollWorkers(ctx); err == nil {
-				err = out.send("workers", map[string]any{"workers": pjs(workers)})
+				err = out.send("workers", workers)
 			}
 		case <-ping.C:
 			err = out.ping()
@@ -140,11 +139,11 @@ func (s *Server) pollJobs(ctx context.Context) ([]*pb.Job, error) {
 	return s.allJobs(ctx)
 }
 
-func (s *Server) pollWorkers(ctx context.Context) ([]*pb.WorkerInfo, error) {
+// pollWorkers reads the first page of workers (workersPage).
+func (s *Server) pollWorkers(ctx context.Context) (map[string]any, error) {
 	ctx, cancel := context.WithTimeout(ctx, callTimeout)
 	defer cancel()
-	resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
-	return resp.GetWorkers(), err
+	return s.workersPage(ctx, "")
 }
 
 func sameJobs(a, b []*pb.Job) bool {

@@ -4,6 +4,7 @@ import (
 	"bytes"
 	"encoding/json"
 	"net/http"
+	"net/url"
 	"strings"
 	"testing"
 	"time"
@@ -281,6 +282,23 @@ func TestWorkersAreListed(t *testing.T) {
 	decode(t, r.Body, map[string]any{"workers": &workers})
 	if len(workers) != 1 || workers[0].Id != reg.WorkerId || workers[0].Hostname != "render-1" || workers[0].State != pb.WorkerState_WORKER_STATE_IDLE {
 		t.Errorf("workers = %v", workers)
+	}
+
+	// Past a page, the answer holds the first page and the token of the next.
+	for range dashboard.WorkersPage {
+		_, err := f.workers.RegisterWorker(f.worker(), &pb.RegisterWorkerRequest{Hostname: "more"})
+		must(t, err)
+	}
+	var next string
+	r = f.do(b, "GET", "/api/workers", "")
+	decode(t, r.Body, map[string]any{"workers": &workers, "nextPageToken": &next})
+	if len(workers) != dashboard.WorkersPage || workers[0].Id != reg.WorkerId || next == "" {
+		t.Fatalf("first page: %d workers from %s, next %q; want %d from %s and a token", len(workers), workers[0].Id, next, dashboard.WorkersPage, reg.WorkerId)
+	}
+	r = f.do(b, "GET", "/api/workers?pageToken="+url.QueryEscape(next), "")
+	decode(t, r.Body, map[string]any{"workers": &workers, "nextPageToken": &next})
+	if len(workers) != 1 || workers[0].Hostname != "more" || next != "" {
+		t.Errorf("second page: %d workers, next %q; want the last one and no token", len(workers), next)
 	}
 }
 

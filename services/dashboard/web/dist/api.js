@@ -86,7 +86,8 @@ export async function getSession() {
 export const api = {
     jobs: () => request("GET", "api/jobs"),
     job: (id) => request("GET", `api/jobs/${encodeURIComponent(id)}`),
-    workers: () => request("GET", "api/workers"),
+    /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
+    workers: (pageToken = "") => request("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
     /** The scene file's text, sent as it is (the server parses and validates it). */
     submit: (sceneJson) => request("POST", "api/jobs", sceneJson),
     cancel: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),

@@ -3,7 +3,7 @@
 //
 // Paths are relative ("api/jobs"), so the dashboard also works mounted under a prefix.
 
-import type { Job, Session, Task, WorkerInfo } from "./types.js";
+import type { Job, Session, Task, WorkerPage } from "./types.js";
 
 /** An API answer other than 2xx, with the server's {"error": "..."} message. */
 export class ApiError extends Error {
@@ -98,7 +98,9 @@ export async function getSession(): Promise<Session> {
 export const api = {
   jobs: () => request<{ jobs?: Job[] }>("GET", "api/jobs"),
   job: (id: string) => request<{ job: Job; tasks?: Task[] }>("GET", `api/jobs/${encodeURIComponent(id)}`),
-  workers: () => request<{ workers?: WorkerInfo[] }>("GET", "api/workers"),
+  /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
+  workers: (pageToken = "") =>
+    request<WorkerPage>("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
   /** The scene file's text, sent as it is (the server parses and validates it). */
   submit: (sceneJson: string) => request<{ job: Job }>("POST", "api/jobs", sceneJson),
   cancel: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),

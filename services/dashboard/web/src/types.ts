@@ -119,6 +119,12 @@ export interface WorkerInfo {
   lastHeartbeat?: string;
 }
 
+/** A page of /api/workers and the workers event: nextPageToken is "" on the last. */
+export interface WorkerPage {
+  workers?: WorkerInfo[];
+  nextPageToken?: string;
+}
+
 export interface Session {
   authenticated: boolean;
   authRequired: boolean;
