@@ -49,8 +49,9 @@ type Config struct {
 	Conn grpc.ClientConnInterface
 	// Logger defaults to slog.Default().
 	Logger *slog.Logger
-	// JobsPoll is how often /api/events looks for changed jobs (at most one jobs event
-	// per poll); WorkersEvery how often it sends the workers; PingEvery how often an idle
+	// JobsPoll is how often the job list is read for the /api/events streams of a token
+	// (at most one jobs-changed event per poll); WorkersEvery how often a stream sends
+	// the workers; PingEvery how often an idle
 	// stream gets a comment; JobUpdateEvery the least time between two updates of
 	// /api/jobs/{id}/events. Zero means the default.
 	JobsPoll, WorkersEvery, PingEvery, JobUpdateEvery time.Duration
@@ -66,13 +67,14 @@ type Config struct {
 
 // Server is the dashboard's http.Handler.
 type Server struct {
-	cfg     Config
-	log     *slog.Logger
-	jobs    pb.JobServiceClient
-	blobs   pb.BlobServiceClient
-	mux     *http.ServeMux
-	streams chan struct{} // a slot per open event stream
-	refused *throttle     // refused tokens per client address
+	cfg      Config
+	log      *slog.Logger
+	jobs     pb.JobServiceClient
+	blobs    pb.BlobServiceClient
+	mux      *http.ServeMux
+	streams  chan struct{} // a slot per open event stream
+	refused  *throttle     // refused tokens per client address
+	jobFeeds *jobFeeds     // the job list, polled once per token for every /api/events stream
 }
 
 var _ http.Handler = (*Server)(nil)
@@ -105,6 +107,7 @@ func New(cfg Config) *Server {
 		streams: make(chan struct{}, cfg.MaxStreams),
 		refused: newThrottle(cfg.RefusedTokenBurst, time.Now),
 	}
+	s.jobFeeds = newJobFeeds(s)
 	s.routes()
 	return s
 }
@@ -117,6 +120,7 @@ func (s *Server) routes() {
 
 	m.HandleFunc("GET /api/jobs", s.listJobs)
 	m.HandleFunc("GET /api/jobs/{id}", s.getJob)
+	m.HandleFunc("GET /api/jobs/{id}/tasks", s.listTasks)
 	m.HandleFunc("GET /api/workers", s.listWorkers)
 	m.HandleFunc("GET /api/blobs/{digest}", s.blob)
 

@@ -317,23 +317,24 @@ func TestFarmEventsSendTheJobList(t *testing.T) {
 		t.Fatalf("second event %s, want workers", ev.name)
 	}
 	job := f.submit(b, sceneJSON(t, 16, 16))
-	ev = s.until("a jobs event with the new job", func(ev event) bool { return ev.name == "jobs" })
+	ev = s.until("a jobs-changed event with the new job", func(ev event) bool { return ev.name == "jobs-changed" })
 	var jobs []*pb.Job
-	decode(t, ev.data, map[string]any{"jobs": &jobs})
-	if len(jobs) != 1 || jobs[0].Id != job.Id {
-		t.Fatalf("jobs event %v, want the new job", jobs)
+	var removed []string
+	decode(t, ev.data, map[string]any{"jobs": &jobs, "removed": &removed})
+	if len(jobs) != 1 || jobs[0].Id != job.Id || len(removed) != 0 {
+		t.Fatalf("jobs-changed event %v, removed %v; want the new job", jobs, removed)
 	}
 	// A change (the cancel) is sent too; nothing is sent while nothing changes.
 	wantStatus(t, "cancel", f.do(b, "POST", "/api/jobs/"+job.Id+"/cancel", ""), http.StatusOK)
-	ev = s.until("a jobs event with the job cancelled", func(ev event) bool { return ev.name == "jobs" })
+	ev = s.until("a jobs-changed event with the job cancelled", func(ev event) bool { return ev.name == "jobs-changed" })
 	decode(t, ev.data, map[string]any{"jobs": &jobs})
-	if jobs[0].State != pb.JobState_JOB_STATE_CANCELLED {
-		t.Errorf("jobs event after the cancel: %v", jobs)
+	if len(jobs) != 1 || jobs[0].State != pb.JobState_JOB_STATE_CANCELLED {
+		t.Errorf("jobs-changed event after the cancel: %v", jobs)
 	}
 	s.until("a workers event", func(ev event) bool { return ev.name == "workers" })
 	for range 2 {
-		if ev := s.until("another workers event", func(ev event) bool { return ev.name != "" }); ev.name == "jobs" {
-			t.Errorf("a jobs event although nothing changed: %s", ev.data)
+		if ev := s.until("another workers event", func(ev event) bool { return ev.name != "" }); ev.name != "workers" {
+			t.Errorf("a %s event although nothing changed: %s", ev.name, ev.data)
 		}
 	}
 }

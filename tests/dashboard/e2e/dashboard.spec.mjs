@@ -354,6 +354,44 @@ try {
     console.log(`             idle ${((Date.now() - cancelledAt) / 1000).toFixed(1)}s after the job showed cancelled`);
   });
 
+  // (j) A job of more tasks than a page: its page reads them a page at a time (no answer
+  // holds them all), draws every tile, shows 500 rows and 500 more on "Show more".
+  await step('a job of more than 500 tasks: its page reads them in pages of 500 and shows them 500 rows at a time', async () => {
+    const many = structuredClone(scene);
+    many.name = `${scene.name}-many-tiles`;
+    many.film = { ...scene.film, tileSize: 8 }; // 32 x 24 tiles
+    const r = await list.request.post(api('/api/jobs'), { data: JSON.stringify(many), headers: { 'content-type': 'application/json' } });
+    check(r.status() === 200, `POST /api/jobs answered ${r.status()}: ${await r.text()}`);
+    const { job } = await r.json();
+    await list.request.post(api(`/api/jobs/${job.id}/cancel`), { data: {} });
+    const total = (job.phases ?? []).reduce((n, p) => n + (p.tasksTotal ?? 0), 0);
+    const tiles = (job.phases ?? []).find((p) => p.phase === 'PHASE_RENDER')?.tasksTotal ?? 0;
+    check(tiles === 768 && total > 500, `the job has ${tiles} tiles and ${total} tasks, want 768 tiles`);
+    const sizes = [];
+    const onResponse = async (res) => {
+      const p = new URL(res.url()).pathname;
+      if (p === `/api/jobs/${job.id}` || p === `/api/jobs/${job.id}/tasks`) {
+        const body = await res.json().catch(() => ({}));
+        sizes.push((body.tasks ?? []).length);
+      }
+    };
+    jobPage.on('response', onResponse);
+    try {
+      await jobPage.goto(`${baseURL}#/jobs/${job.id}`);
+      await waitFor(`${tiles} tile slots in the mosaic`, 20000,
+        async () => (await jobPage.locator(`${tid('mosaic')} .mosaic__slot`).count()) === tiles,
+        () => jobPage.locator(`${tid('mosaic')} .mosaic__slot`).count());
+      const rows = () => jobPage.locator(tid('task-row')).count();
+      await waitFor('500 task rows', 10000, async () => (await rows()) === 500, rows);
+      await jobPage.locator(tid('tasks-more')).click();
+      await waitFor(`${Math.min(total, 1000)} task rows after Show more`, 10000, async () => (await rows()) === Math.min(total, 1000), rows);
+      check(sizes.length >= 2 && sizes.every((n) => n <= 500), `task pages read: ${JSON.stringify(sizes)}, want pages of at most 500`);
+      console.log(`             ${total} tasks read in pages of ${JSON.stringify(sizes)}`);
+    } finally {
+      jobPage.off('response', onResponse);
+    }
+  });
+
   console.log(`${clock()}  PASS dashboard.spec (screenshot: ${shot})`);
 } catch (e) {
   exitCode = 1;

@@ -85,7 +85,10 @@ export async function getSession() {
 }
 export const api = {
     jobs: () => request("GET", "api/jobs"),
+    /** The job and the first page of its tasks. */
     job: (id) => request("GET", `api/jobs/${encodeURIComponent(id)}`),
+    /** A page of the job's tasks in plan order; pageToken from the page before. */
+    tasks: (id, pageToken) => request("GET", `api/jobs/${encodeURIComponent(id)}/tasks?pageToken=${encodeURIComponent(pageToken)}`),
     /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
     workers: (pageToken = "") => request("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
     /** The scene file's text, sent as it is (the server parses and validates it). */

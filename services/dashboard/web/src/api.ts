@@ -3,7 +3,7 @@
 //
 // Paths are relative ("api/jobs"), so the dashboard also works mounted under a prefix.
 
-import type { Job, Session, Task, WorkerPage } from "./types.js";
+import type { Job, Session, TaskPage, WorkerPage } from "./types.js";
 
 /** An API answer other than 2xx, with the server's {"error": "..."} message. */
 export class ApiError extends Error {
@@ -97,7 +97,11 @@ export async function getSession(): Promise<Session> {
 
 export const api = {
   jobs: () => request<{ jobs?: Job[] }>("GET", "api/jobs"),
-  job: (id: string) => request<{ job: Job; tasks?: Task[] }>("GET", `api/jobs/${encodeURIComponent(id)}`),
+  /** The job and the first page of its tasks. */
+  job: (id: string) => request<{ job: Job } & TaskPage>("GET", `api/jobs/${encodeURIComponent(id)}`),
+  /** A page of the job's tasks in plan order; pageToken from the page before. */
+  tasks: (id: string, pageToken: string) =>
+    request<TaskPage>("GET", `api/jobs/${encodeURIComponent(id)}/tasks?pageToken=${encodeURIComponent(pageToken)}`),
   /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
   workers: (pageToken = "") =>
     request<WorkerPage>("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
