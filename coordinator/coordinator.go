@@ -205,7 +205,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	opts := append([]grpc.ServerOption{
 		grpc.ChainUnaryInterceptor(c.metrics.UnaryServerInterceptor),
 		grpc.ChainStreamInterceptor(c.metrics.StreamServerInterceptor),
-	}, c.auth.ServerOptions()...)
+	}, c.auth.ServerOptions(c.metrics.CallRefused)...)
 	if c.cfg.TLS != nil {
 		opts = append(opts, grpc.Creds(credentials.NewTLS(c.cfg.TLS)))
 	}

@@ -2,14 +2,23 @@ package coordinator_test
 
 import (
 	"bytes"
+	"context"
 	"encoding/binary"
+	"fmt"
 	"net"
+	"net/http"
+	"net/http/httptest"
+	"strings"
 	"testing"
 	"time"
 
 	"golang.org/x/net/http2"
 	"golang.org/x/net/http2/hpack"
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/status"
+	"google.golang.org/protobuf/types/known/emptypb"
 
+	"photonfarm/client"
 	"photonfarm/coordinator"
 	"photonfarm/coordinator/service"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -110,6 +119,51 @@ func TestUnauthenticatedCallIsRefusedBeforeItsMessage(t *testing.T) {
 		t.Errorf("grpc-status %q (%s), want 16 UNAUTHENTICATED", code, field(got, "grpc-message"))
 	}
 	t.Logf("refused after %v with the message's first 16 KiB of 60 MB: %s", time.Since(start).Round(time.Millisecond), field(got, "grpc-message"))
+}
+
+// TestRefusedCallsAreCounted: a call refused by the token check never reaches the
+// metrics interceptor, so farm_rpc_refused_total counts it, by method and code; a method
+// the farm does not serve counts as "unknown", whatever name the caller made up.
+func TestRefusedCallsAreCounted(t *testing.T) {
+	s := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}})
+	conn := s.Dial(t)
+	jobs := pb.NewJobServiceClient(conn)
+	ctx := context.Background()
+	for _, c := range []struct {
+		call func() error
+		want codes.Code
+	}{
+		{func() error { _, err := jobs.ListJobs(ctx, &pb.ListJobsRequest{}); return err }, codes.Unauthenticated},
+		{func() error {
+			_, err := jobs.ListJobs(client.ContextWithToken(ctx, "guessed-token"), &pb.ListJobsRequest{})
+			return err
+		}, codes.Unauthenticated},
+		{func() error {
+			_, err := jobs.ListJobs(client.ContextWithToken(ctx, workerToken), &pb.ListJobsRequest{})
+			return err
+		}, codes.PermissionDenied},
+		{func() error { return conn.Invoke(ctx, "/made.up.Service/One", &emptypb.Empty{}, &emptypb.Empty{}) }, codes.Unauthenticated},
+		{func() error { return conn.Invoke(ctx, "/made.up.Service/Two", &emptypb.Empty{}, &emptypb.Empty{}) }, codes.Unauthenticated},
+	} {
+		if err := c.call(); status.Code(err) != c.want {
+			t.Fatalf("got %v, want %v", err, c.want)
+		}
+	}
+	rec := httptest.NewRecorder()
+	s.Coordinator.MetricsHandler().ServeHTTP(rec, httptest.NewRequest(http.MethodGet, "/metrics", nil))
+	listJobs := pb.JobService_ListJobs_FullMethodName
+	for _, want := range []string{
+		fmt.Sprintf(`farm_rpc_refused_total{code="Unauthenticated",method=%q} 2`, listJobs),
+		fmt.Sprintf(`farm_rpc_refused_total{code="PermissionDenied",method=%q} 1`, listJobs),
+		`farm_rpc_refused_total{code="Unauthenticated",method="unknown"} 2`,
+	} {
+		if !strings.Contains(rec.Body.String(), want+"\n") {
+			t.Errorf("the metrics lack %s", want)
+		}
+	}
+	if strings.Contains(rec.Body.String(), "made.up") {
+		t.Error("a made-up method name became a label")
+	}
 }
 
 // field is the value of the header field name in h, or "".

@@ -225,10 +225,35 @@ func (a *Authenticator) TapHandle(ctx context.Context, info *tap.Info) (context.
 	return ctx, a.authorize(info.Header, info.FullMethodName)
 }
 
+// UnknownMethod is what MethodLabel makes of a method name not in Rules.
+const UnknownMethod = "unknown"
+
+// MethodLabel is fullMethod if it is one of the farm's methods (Rules), else
+// UnknownMethod: a refused caller may name any method, and a metric labelled with what
+// callers make up would grow without bound.
+func MethodLabel(fullMethod string) string {
+	if _, ok := Rules[fullMethod]; ok {
+		return fullMethod
+	}
+	return UnknownMethod
+}
+
 // ServerOptions returns the tap handle as a gRPC server option (none when a is off).
-func (a *Authenticator) ServerOptions() []grpc.ServerOption {
+// refused, when not nil, is told of every call the tap handle refuses, by MethodLabel
+// and code: such calls never reach an interceptor.
+func (a *Authenticator) ServerOptions(refused func(method string, code codes.Code)) []grpc.ServerOption {
 	if !a.Enabled() {
 		return nil
 	}
-	return []grpc.ServerOption{grpc.InTapHandle(a.TapHandle)}
+	handle := a.TapHandle
+	if refused != nil {
+		handle = func(ctx context.Context, info *tap.Info) (context.Context, error) {
+			ctx, err := a.TapHandle(ctx, info)
+			if err != nil {
+				refused(MethodLabel(info.FullMethodName), status.Code(err))
+			}
+			return ctx, err
+		}
+	}
+	return []grpc.ServerOption{grpc.InTapHandle(handle)}
 }
