@@ -1,0 +1,144 @@
+package storetest
+
+import (
+	"context"
+	"fmt"
+	"slices"
+	"sync"
+	"testing"
+	"time"
+
+	"photonfarm/coordinator/store"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// Scale measurements shared by the stores' own tests (reduced counts) and tests/fault (the
+// issue's figures): how LeaseTask behaves with many tasks queued.
+
+// Fill queues about n render tasks in s, in jobs of at most perJob tiles (a round has at
+// most about 95,500 tasks, so a million queued tasks are several jobs), and returns the
+// jobs.
+func Fill(t testing.TB, s store.Store, n, perJob int) []*pb.Job {
+	t.Helper()
+	var jobs []*pb.Job
+	for left := n; left > 0; left -= perJob {
+		j, err := s.CreateJob(context.Background(), TileJob(fmt.Sprint("backlog", len(jobs)), min(left, perJob)))
+		if err != nil {
+			t.Fatalf("CreateJob: %v", err)
+		}
+		jobs = append(jobs, j)
+	}
+	return jobs
+}
+
+// Latencies are measured durations, with their percentiles.
+type Latencies []time.Duration
+
+// Pct is the p-th percentile (nearest rank), 0 if there is none.
+func (l Latencies) Pct(p int) time.Duration {
+	if len(l) == 0 {
+		return 0
+	}
+	s := slices.Clone(l)
+	slices.Sort(s)
+	return s[max((len(s)*p+99)/100-1, 0)]
+}
+
+func (l Latencies) String() string {
+	return fmt.Sprintf("p50 %v, p99 %v, max %v (%d calls)", l.Pct(50).Round(time.Microsecond),
+		l.Pct(99).Round(time.Microsecond), l.Pct(100).Round(time.Microsecond), len(l))
+}
+
+// Worker is a fake worker: it leases any task and completes it after taskTime (with an
+// output named as the contract expects of its phase), timing every LeaseTask.
+type Worker struct {
+	S        store.Store
+	ID       string
+	TaskTime time.Duration
+}
+
+// Run leases and completes tasks until stop is closed or stopWhen says the job of the
+// task it just completed is done, and returns its LeaseTask latencies. Errors are
+// reported with t.Errorf (Run may run on a goroutine of its own).
+func (w Worker) Run(t testing.TB, stop <-chan struct{}, stopWhen func(store.Change) bool) Latencies {
+	ctx := context.Background()
+	var lat Latencies
+	for {
+		select {
+		case <-stop:
+			return lat
+		default:
+		}
+		t0 := time.Now()
+		l, err := w.S.LeaseTask(ctx, w.ID, store.WorkerPhases)
+		lat = append(lat, time.Since(t0))
+		if err != nil {
+			t.Errorf("%s: LeaseTask: %v", w.ID, err)
+			return lat
+		}
+		if l == nil {
+			time.Sleep(time.Millisecond)
+			continue
+		}
+		time.Sleep(w.TaskTime)
+		name := "tile.exr"
+		if l.Task.GetComposite() != nil {
+			name = "image.exr"
+		}
+		c, err := w.S.CompleteTask(ctx, store.LeaseRef{WorkerID: w.ID, TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch},
+			[]*pb.Artifact{artifact(name, l.Lease.TaskId)})
+		if err != nil {
+			t.Errorf("%s: CompleteTask(%s): %v", w.ID, l.Lease.TaskId, err)
+			return lat
+		}
+		if stopWhen != nil && stopWhen(c) {
+			return lat
+		}
+	}
+}
+
+// UrgentJob times a job of `tiles` tiles at the highest priority from submission to
+// success, run by `workers` fake workers taking taskTime a task while the rest of s waits,
+// and returns how long it took and every LeaseTask latency its workers saw.
+func UrgentJob(t testing.TB, s store.Store, tiles, workers int, taskTime time.Duration) (time.Duration, Latencies) {
+	t.Helper()
+	nj := TileJob("urgent", tiles)
+	nj.Priority = store.MaxPriority
+	start := time.Now()
+	j, err := s.CreateJob(context.Background(), nj)
+	if err != nil {
+		t.Fatalf("CreateJob: %v", err)
+	}
+	done := make(chan struct{})
+	var once sync.Once
+	finished := func(c store.Change) bool {
+		if c.Job.GetId() == j.Id && c.Job.GetState() == pb.JobState_JOB_STATE_SUCCEEDED {
+			once.Do(func() { close(done) })
+		}
+		return false
+	}
+	var (
+		mu  sync.Mutex
+		all Latencies
+		wg  sync.WaitGroup
+	)
+	for i := range workers {
+		wg.Add(1)
+		go func() {
+			defer wg.Done()
+			lat := Worker{S: s, ID: fmt.Sprint("urgent-worker-", i), TaskTime: taskTime}.Run(t, done, finished)
+			mu.Lock()
+			all = append(all, lat...)
+			mu.Unlock()
+		}()
+	}
+	select {
+	case <-done:
+	case <-time.After(10 * time.Minute):
+		t.Errorf("the urgent job did not finish in 10 minutes")
+		once.Do(func() { close(done) })
+	}
+	elapsed := time.Since(start)
+	wg.Wait()
+	return elapsed, all
+}
