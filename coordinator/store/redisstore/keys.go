@@ -9,8 +9,10 @@ package redisstore
 //	j:{job}               hash: the job record (see codec.go) and its counters
 //	r:{job}               list: the job's RoundReports (binary protobuf)
 //	s:{job}               hash: first task index of a stage -> index after its last
+//	l:{job}               set of task ids: the job's live leases (cancelled with the job)
 //	t:{job}.{index}       hash: one task record (see codec.go)
-//	q:{job}:{phase}       zset task index, score = index: the job's leasable tasks
+//	q:{job}:{phase}       zset task index, score = index: the current stage's tasks put
+//	                      back in the queue (those never leased are a range: scripts.go)
 //	ready:{phase}         zset "{seq, 16 digits}:{job}", score = (1000 - priority)·2^32 +
 //	                      leases held: jobs with leasable tasks of phase (scripts.go)
 //	leases                zset task id, score = lease expiry (µs): live leases
@@ -25,6 +27,7 @@ const (
 	jobPrefix    = "j:"
 	roundsPrefix = "r:"
 	stagesPrefix = "s:"
+	leasesPrefix = "l:"
 	taskPrefix   = "t:"
 	queuePrefix  = "q:"
 	readyPrefix  = "ready:"

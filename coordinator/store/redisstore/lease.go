@@ -86,7 +86,7 @@ func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.He
 				continue
 			}
 		default: // stuck: revoked and failed
-			r, err := decodeReply(a)
+			r, err := s.decodeReply(ctx, a)
 			if err != nil {
 				return hb, err
 			}
@@ -97,9 +97,28 @@ func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.He
 	return hb, nil
 }
 
+// expireBatch is how many expired leases one expireScript looks at: a sweep after many
+// workers died runs several short scripts rather than one long one.
+const expireBatch = 256
+
 // ExpireLeases implements store.Store.
 func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
-	return s.changes(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage)
+	var all []store.Change
+	for {
+		v, err := s.run(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage, expireBatch)
+		if err != nil {
+			return all, err
+		}
+		l, _ := v.([]any)
+		if len(l) == 0 {
+			return all, errs.E(errs.Internal, "unexpected expire answer %v", v)
+		}
+		cs, err := s.decodeChanges(ctx, l[1:])
+		all = append(all, cs...)
+		if err != nil || l[0] != int64(expireBatch) {
+			return all, err
+		}
+	}
 }
 
 // CompleteTask implements store.Store.

@@ -34,7 +34,7 @@ func buildPreamble() string {
 	}
 	fmt.Fprintf(&b, "local BLOCKED, FAILURES = %s, %s\n", lua(blockedField), lua(failuresField))
 	for _, k := range []struct{ fn, prefix string }{
-		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix},
+		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"lkey", leasesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix},
 	} {
 		fmt.Fprintf(&b, "local function %s(id) return P .. %s .. id end\n", k.fn, lua(k.prefix))
 	}

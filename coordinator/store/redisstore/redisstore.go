@@ -8,7 +8,8 @@
 // task's epoch, worker and expiry in the script that applies it. Scripts were chosen over
 // WATCH/MULTI because a lease must search the queues and then write, and many lessees
 // compete for the same queue: optimistic transactions would retry under exactly the load
-// that matters. Reads are single commands or MULTI blocks, so each sees one state.
+// that matters. Reads are single commands, pipelined: a job's record is one hash (its
+// round reports are only ever appended), so each record is read in one state.
 //
 // Epochs (fencing tokens) are task fields in Redis, grown by HINCRBY on every lease and
 // never reset. Time comes from Options.Clock of the calling coordinator, passed to each
@@ -48,6 +49,7 @@ type Store struct {
 	rdb    redis.UniversalClient
 	prefix string
 	opts   store.Options
+	rounds roundCache
 }
 
 var _ store.Store = (*Store)(nil)
@@ -78,7 +80,7 @@ func (s *Store) change(ctx context.Context, sc *redis.Script, args ...any) (repl
 	if err != nil {
 		return reply{}, err
 	}
-	return decodeReply(v)
+	return s.decodeReply(ctx, v)
 }
 
 // changes runs a script that answers with a list of replies.
@@ -88,9 +90,13 @@ func (s *Store) changes(ctx context.Context, sc *redis.Script, args ...any) ([]s
 		return nil, err
 	}
 	l, _ := v.([]any)
+	return s.decodeChanges(ctx, l)
+}
+
+func (s *Store) decodeChanges(ctx context.Context, l []any) ([]store.Change, error) {
 	var out []store.Change
 	for _, x := range l {
-		r, err := decodeReply(x)
+		r, err := s.decodeReply(ctx, x)
 		if err != nil {
 			return nil, err
 		}
@@ -147,30 +153,46 @@ func (s *Store) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	return jobs[0], nil
 }
 
-// jobs reads jobs in one MULTI block.
+// jobs reads jobs, each record with one HGETALL (pipelined), and their round reports.
 func (s *Store) jobs(ctx context.Context, ids []string) ([]*pb.Job, error) {
-	records := make([]*redis.MapStringStringCmd, len(ids))
-	rounds := make([]*redis.StringSliceCmd, len(ids))
-	_, err := s.rdb.TxPipelined(ctx, func(p redis.Pipeliner) error {
+	cmds := make([]*redis.MapStringStringCmd, len(ids))
+	_, err := s.rdb.Pipelined(ctx, func(p redis.Pipeliner) error {
 		for i, id := range ids {
-			records[i] = p.HGetAll(ctx, s.jobKey(id))
-			rounds[i] = p.LRange(ctx, s.roundsKey(id), 0, -1)
+			cmds[i] = p.HGetAll(ctx, s.jobKey(id))
 		}
 		return nil
 	})
 	if err != nil {
 		return nil, redisErr(err)
 	}
-	out := make([]*pb.Job, len(ids))
+	records := make([]map[string]string, len(ids))
 	for i, id := range ids {
-		if len(records[i].Val()) == 0 {
-			return nil, &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
-		}
-		if out[i], err = decodeJob(records[i].Val(), rounds[i].Val()); err != nil {
-			return nil, err
+		if records[i] = cmds[i].Val(); len(records[i]) == 0 {
+			return nil, noJob(id)
 		}
 	}
-	return out, nil
+	return s.decodeJobs(ctx, records)
+}
+
+func noJob(id string) error {
+	return &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
+}
+
+// view reads what the state of a job's tasks depends on, and how many it has; NotFound
+// for an unknown job.
+func (s *Store) view(ctx context.Context, jobID string) (jobView, uint64, error) {
+	v, err := s.rdb.HMGet(ctx, s.jobKey(jobID), "state", "cur", "curend", "ntasks").Result()
+	if err != nil {
+		return jobView{}, 0, redisErr(err)
+	}
+	h := map[string]string{}
+	for i, f := range []string{"state", "cur", "curend", "ntasks"} {
+		h[f], _ = v[i].(string)
+	}
+	if h["state"] == "" {
+		return jobView{}, 0, noJob(jobID)
+	}
+	return viewOf(h), number(h["ntasks"]), nil
 }
 
 // GetTask implements store.Store.
@@ -182,7 +204,11 @@ func (s *Store) GetTask(ctx context.Context, taskID string) (*pb.Task, error) {
 	if len(h) == 0 {
 		return nil, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", taskID)}
 	}
-	return decodeTask(h)
+	v, _, err := s.view(ctx, h["job"])
+	if err != nil {
+		return nil, err
+	}
+	return decodeTask(h, v)
 }
 
 // ListJobs implements store.Store.
@@ -224,12 +250,9 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	if err != nil {
 		return nil, "", err
 	}
-	n, err := s.rdb.HGet(ctx, s.jobKey(jobID), "ntasks").Uint64()
-	if err == redis.Nil {
-		return nil, "", &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", jobID)}
-	}
+	v, n, err := s.view(ctx, jobID)
 	if err != nil {
-		return nil, "", redisErr(err)
+		return nil, "", err
 	}
 	to, next := min(from+uint64(pageSize), n), ""
 	if to < n {
@@ -238,9 +261,11 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	if from >= to {
 		return nil, next, nil
 	}
-	// Tasks are only ever added, so the n read above still bounds them.
+	// Tasks are only ever added, so the n read above still bounds them. A plain pipeline,
+	// not MULTI: Redis serves other clients between its commands, where it would run a
+	// transaction of a page of 10,000 records without a pause.
 	cmds := make([]*redis.MapStringStringCmd, 0, to-from)
-	_, err = s.rdb.TxPipelined(ctx, func(p redis.Pipeliner) error {
+	_, err = s.rdb.Pipelined(ctx, func(p redis.Pipeliner) error {
 		for i := from; i < to; i++ {
 			cmds = append(cmds, p.HGetAll(ctx, s.taskKey(store.TaskID(jobID, uint32(i)))))
 		}
@@ -251,7 +276,7 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	}
 	out := make([]*pb.Task, len(cmds))
 	for i, c := range cmds {
-		if out[i], err = decodeTask(c.Val()); err != nil {
+		if out[i], err = decodeTask(c.Val(), v); err != nil {
 			return nil, "", err
 		}
 	}

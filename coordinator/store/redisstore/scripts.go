@@ -16,6 +16,15 @@ import "github.com/redis/go-redis/v9"
 // queued, HGETALL job, LRANGE rounds, HGETALL task}; a refusal is {"E", kind, field,
 // message}; a repeated report is {"NOOP"}.
 //
+// Stages: the tasks of a job's current stage [cur, curend) are one phase (cphase); those
+// never leased since it opened are the range [next, curend), so opening a stage writes no
+// task record, and those that went back to the queue (released, expired, out of their
+// backoff) are the members of q:{job}:{phase}. A task record keeps the state it was last
+// given: a WAITING task inside the current stage is QUEUED, and any unfinished task of an
+// ended job is CANCELLED (codec.go's taskState), so that ending a job touches its leases,
+// not its tasks. Every script's work is bounded by its own arguments and the leases it
+// touches, never by the tasks of a job.
+//
 // Scheduling (store package comment): a job with leasable tasks of its current stage's
 // phase is a member of ready:{phase} (see place), scored (1000 - priority)·2^32 + leases
 // held, so the lowest score is the highest priority and then the fewest leases held; the
@@ -26,19 +35,21 @@ import "github.com/redis/go-redis/v9"
 // blocklist, is checked on the head members until one has not blocked the caller: a
 // worker is blocked from few jobs. Tasks in backoff wait in the delayed set, outside
 // their job's queue, so they never hide a leasable job; each lease first moves the due
-// ones back (promote).
+// ones back (promote, a bounded number a call).
 const lib = `
 local function tid(jid, i) return jid .. '.' .. i end
 local function num(key, field) return tonumber(redis.call('HGET', key, field) or '0') end
 
 local function refuse(kind, field, msg) return {'E', kind, field, msg} end
 
+local function ended(st) return st == JSUCCEEDED or st == JFAILED or st == JCANCELLED end
+
 -- live refuses a job that does not exist or has ended.
 local function live(jid)
   local st = redis.call('HGET', jkey(jid), 'state')
   if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
   st = tonumber(st)
-  if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED then
+  if ended(st) then
     return refuse('precondition', '', 'job ' .. jid .. ' has already ended (JOB_STATE_' .. JOB_STATES[st] .. ')')
   end
   return nil
@@ -58,39 +69,46 @@ local function greater(a, b) return #a > #b or (#a == #b and a > b) end
 local function jobof(member) return string.match(member, ':(.*)$') end
 
 -- place puts the job in the ready set of its current stage's phase, ranked by priority
--- and leases held, or takes it out when that phase has no leasable task.
+-- and leases held, or takes it out when that phase has no leasable task or the job has
+-- ended. (A stage's phase only changes when the stage before has nothing left to lease,
+-- so the job is then in no ready set.)
 local function place(jid)
   local jk = jkey(jid)
-  local h = redis.call('HMGET', jk, 'seq', 'prio', 'held', 'cur')
-  local phase = redis.call('HGET', tkey(tid(jid, h[4] or '0')), 'phase')
+  local h = redis.call('HMGET', jk, 'seq', 'prio', 'held', 'cphase', 'next', 'curend', 'state')
+  local phase = h[4]
   local member = string.rep('0', 16 - #h[1]) .. h[1] .. ':' .. jid
-  if redis.call('EXISTS', qkey(jid, phase)) == 1 then
+  if not ended(tonumber(h[7])) and (tonumber(h[5]) < tonumber(h[6]) or redis.call('EXISTS', qkey(jid, phase)) == 1) then
     redis.call('ZADD', readykey(phase), (1000 - tonumber(h[2] or '0')) * 4294967296 + tonumber(h[3] or '0'), member)
   else
     redis.call('ZREM', readykey(phase), member)
   end
 end
 
--- unlease ends t's lease: it leaves LEASES and its job holds one lease less.
+-- unlease ends t's lease: it leaves LEASES and its job's leases (lkey), and the job holds
+-- one lease less.
 local function unlease(t, jid)
   redis.call('ZREM', LEASES, t)
+  redis.call('SREM', lkey(jid), t)
   redis.call('HINCRBY', jkey(jid), 'held', -1)
 end
 
 local function ok(changed, queued, jid, t)
   local task = {}
   if t then task = redis.call('HGETALL', tkey(t)) end
-  return {'OK', changed, queued, redis.call('HGETALL', jkey(jid)), redis.call('LRANGE', rkey(jid), 0, -1), task}
+  return {'OK', changed, queued, redis.call('HGETALL', jkey(jid)), task}
 end
 
--- held refuses a report unless (worker, epoch) holds t's live lease.
+-- held refuses a report unless (worker, epoch) holds t's live lease. The lease of a task
+-- of an ended job was cancelled with it.
 local function held(t, worker, epoch)
-  local h = redis.call('HMGET', tkey(t), 'epoch', 'worker', 'state', 'expire')
+  local h = redis.call('HMGET', tkey(t), 'epoch', 'worker', 'state', 'expire', 'job')
   if not h[3] then return refuse('notfound', 'task_id', 'no task "' .. t .. '"') end
   local pre = 'task ' .. t .. ': lease epoch ' .. epoch
-  if h[1] ~= epoch then return refuse('precondition', '', pre .. ' is retired (current epoch ' .. h[1] .. ')') end
+  local cur = h[1] or '0'
+  if cur ~= epoch then return refuse('precondition', '', pre .. ' is retired (current epoch ' .. cur .. ')') end
   if h[2] ~= worker then return refuse('precondition', '', pre .. ' is held by another worker, not ' .. worker) end
   local st = tonumber(h[3])
+  if st == LEASED and ended(tonumber(redis.call('HGET', jkey(h[5]), 'state'))) then st = CANCELLED end
   if st ~= LEASED then return refuse('precondition', '', pre .. ' is no longer held (task is TASK_STATE_' .. TASK_STATES[st] .. ')') end
   if NOW >= tonumber(h[4]) then return refuse('precondition', '', pre .. ' expired') end
   return nil
@@ -102,17 +120,12 @@ local function repeated(t, worker, epoch)
   return tonumber(h[1]) == SUCCEEDED and h[2] == epoch and h[3] == worker
 end
 
--- openstage queues the stage starting at task index start and makes it the current one.
+-- openstage queues the stage starting at task index start and makes it the current one:
+-- its tasks are the range [next, curend), none is written.
 local function openstage(jid, start)
-  local jk = jkey(jid)
   local stop = tonumber(redis.call('HGET', skey(jid), start))
   local phase = redis.call('HGET', tkey(tid(jid, start)), 'phase')
-  local q = qkey(jid, phase)
-  for i = start, stop - 1 do
-    redis.call('HSET', tkey(tid(jid, i)), 'state', QUEUED)
-    redis.call('ZADD', q, i, i)
-  end
-  redis.call('HSET', jk, 'cur', start, 'curend', stop, 'left', stop - start)
+  redis.call('HSET', jkey(jid), 'cur', start, 'curend', stop, 'next', start, 'left', stop - start, 'cphase', phase)
   place(jid)
 end
 
@@ -136,8 +149,7 @@ local function append(jid, a)
     local spec, phase, round, st = ARGV[a + 1 + 4 * i], ARGV[a + 2 + 4 * i], ARGV[a + 3 + 4 * i], ARGV[a + 4 + 4 * i]
     local idx = base + i
     redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', spec, 'phase', phase, 'round', round,
-      'stage', st, 'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
-      'outputs', '', 'expire', 0, 'retry', '', 'progress', '0', 'ptime', 0)
+      'stage', st, 'state', WAITING)
     if st ~= stage then
       if stage then redis.call('HSET', skey(jid), stageStart, idx) end
       stage, stageStart = st, idx
@@ -172,13 +184,16 @@ local function requeue(t, retry)
   return h[1]
 end
 
--- promote queues the delayed tasks whose backoff has ended.
+-- promote queues up to 64 of the delayed tasks whose backoff has ended (the others go at
+-- the next leases), dropping those whose job has ended or gone.
 local function promote()
-  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S)) do
+  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S, 'LIMIT', 0, 64)) do
     redis.call('ZREM', DELAYED, t)
     local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'phase')
-    redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
-    place(h[1])
+    if h[1] and not ended(tonumber(redis.call('HGET', jkey(h[1]), 'state'))) then
+      redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
+      place(h[1])
+    end
   end
 end
 
@@ -200,30 +215,22 @@ local function succeedjob(jid, outputs)
 end
 
 -- endjob moves a job to a terminal state (with why and the failure kind for JFAILED),
--- empties its queue and cancels its unfinished tasks. Only the current stage and those
--- after it can be unfinished.
+-- empties its queue and cancels its leases; its unfinished tasks read as CANCELLED from
+-- now on, and its delayed ones are dropped when due (promote).
 local function endjob(jid, state, msg, kind)
   local jk = jkey(jid)
   redis.call('HSET', jk, 'state', state, 'error', msg, 'fkind', kind, 'end', NOW_S, 'update', NOW_S, 'held', 0)
-  local cur, n = num(jk, 'cur'), num(jk, 'ntasks')
-  redis.call('DEL', qkey(jid, redis.call('HGET', tkey(tid(jid, cur)), 'phase')))
+  redis.call('DEL', qkey(jid, redis.call('HGET', jk, 'cphase')))
+  for _, t in ipairs(redis.call('SMEMBERS', lkey(jid))) do redis.call('ZREM', LEASES, t) end
+  redis.call('DEL', lkey(jid))
   place(jid)
-  for i = cur, n - 1 do
-    local t = tid(jid, i)
-    local st = tonumber(redis.call('HGET', tkey(t), 'state'))
-    if st == WAITING or st == QUEUED or st == LEASED then
-      redis.call('HSET', tkey(t), 'state', CANCELLED)
-      redis.call('ZREM', LEASES, t)
-      redis.call('ZREM', DELAYED, t)
-    end
-  end
 end
 
 -- failjob fails leased task t and its job with msg, of the kind of t's last failure.
 local function failjob(t, jid, msg)
   local k = tkey(t)
   redis.call('HSET', k, 'state', FAILED)
-  redis.call('ZREM', LEASES, t)
+  unlease(t, jid)
   endjob(jid, JFAILED, msg, redis.call('HGET', k, 'fkind'))
   return ok(1, 0, jid, t)
 end
@@ -267,7 +274,7 @@ end
 if redis.call('EXISTS', jkey(jid)) == 1 then return refuse('internal', '', 'job id ' .. jid .. ' is taken') end
 local seq = redis.call('INCR', SEQ)
 redis.call('HSET', jkey(jid), 'static', ARGV[5], 'seq', seq, 'state', JQUEUED, 'update', NOW_S,
-  'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0)
+  'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0, 'nrounds', 0)
 redis.call('ZADD', JOBS, seq, jid)
 if req ~= '' then redis.call('HSET', REQUESTS, req, jid) end
 append(jid, 7)
@@ -276,7 +283,7 @@ return ok(0, 0, jid, nil)
 
 // leaseScript: ARGV[3] worker, [4] lease expiry, [5...] phases. The job comes from the
 // heads of the phases' ready sets (first: the best one that has not blocked the worker),
-// the task is its lowest queued index in the job's per-phase queues.
+// the task is its lowest leasable index (see Stages).
 var leaseScript = newScript(`
 local worker, expire = ARGV[3], ARGV[4]
 
@@ -302,19 +309,22 @@ for i = 5, #ARGV do
 end
 if not best then return {'NONE'} end
 local jid = jobof(best)
-local idx, member, phase
-for i = 5, #ARGV do
-  local r = redis.call('ZRANGE', qkey(jid, ARGV[i]), 0, 0, 'WITHSCORES')
-  if r[1] and (not idx or tonumber(r[2]) < idx) then idx, member, phase = tonumber(r[2]), r[1], ARGV[i] end
+local jk = jkey(jid)
+-- The lowest leasable index: a task put back is below the never-leased range.
+local q = qkey(jid, redis.call('HGET', jk, 'cphase'))
+local idx = redis.call('ZRANGE', q, 0, 0)[1]
+if idx then
+  redis.call('ZREM', q, idx)
+else
+  idx = redis.call('HINCRBY', jk, 'next', 1) - 1
 end
-redis.call('ZREM', qkey(jid, phase), member)
-local t = tid(jid, member)
+local t = tid(jid, idx)
 local k = tkey(t)
 redis.call('HINCRBY', k, 'epoch', 1)
 redis.call('HINCRBY', k, 'attempts', 1)
 redis.call('HSET', k, 'state', LEASED, 'worker', worker, 'expire', expire, 'retry', '', 'progress', '0', 'ptime', NOW_S)
 redis.call('ZADD', LEASES, expire, t)
-local jk = jkey(jid)
+redis.call('SADD', lkey(jid), t)
 redis.call('HINCRBY', jk, 'held', 1)
 place(jid)
 local started = 0
@@ -367,6 +377,7 @@ if n > 0 and tonumber(ARGV[13]) <= tonumber(h[3]) then
 end
 succeed(t, ARGV[6])
 redis.call('RPUSH', rkey(jid), ARGV[7])
+redis.call('HINCRBY', jk, 'nrounds', 1)
 if n > 0 then
   append(jid, 9)
   return ok(0, 1, jid, t)
@@ -458,12 +469,14 @@ end
 return out
 `)
 
-// expireScript: ARGV[3] MaxExpiries, [4] the expiry message. It requeues every task whose
-// lease expiry (its score in LEASES) is not after now, counting the expiry, or fails the
-// task and its job at MaxExpiries; it answers one ok() per task.
+// expireScript: ARGV[3] MaxExpiries, [4] the expiry message, [5] the most leases to look
+// at. It requeues each task whose lease expiry (its score in LEASES) is not after now,
+// counting the expiry, or fails the task and its job at MaxExpiries; it answers the
+// number of leases it looked at, then one ok() per task.
 var expireScript = newScript(`
-local out = {}
-for _, t in ipairs(redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S)) do
+local expired = redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S, 'LIMIT', 0, tonumber(ARGV[5]))
+local out = {#expired}
+for _, t in ipairs(expired) do
   local k = tkey(t)
   -- An earlier failure in this loop may have ended the job, cancelling the lease.
   if tonumber(redis.call('HGET', k, 'state')) == LEASED then
