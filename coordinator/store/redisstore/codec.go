@@ -238,6 +238,8 @@ func refusal(kind, field, msg any) error {
 		k = errs.NotFound
 	case "precondition":
 		k = errs.FailedPrecondition
+	case "gone":
+		k = errs.Unavailable
 	}
 	f, _ := field.(string)
 	return &errs.Error{Kind: k, Field: f, Message: fmt.Sprint(msg)}

@@ -6,6 +6,7 @@ package redisstore
 //	seq                   INCR counter: job creation sequence
 //	jobs                  zset job id, score = sequence: ListJobs paging, newest first
 //	req                   hash request id -> job id: CreateJob deduplication
+//	pending               zset job id, score = when it last grew (µs): jobs being created
 //	j:{job}               hash: the job record (see codec.go) and its counters
 //	r:{job}               list: the job's RoundReports (binary protobuf)
 //	s:{job}               hash: first task index of a stage -> index after its last
@@ -23,6 +24,7 @@ const (
 	requestsKey = "req"
 	leasesKey   = "leases"
 	delayedKey  = "delayed"
+	pendingKey  = "pending"
 
 	jobPrefix    = "j:"
 	roundsPrefix = "r:"

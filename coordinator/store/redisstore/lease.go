@@ -152,12 +152,33 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 	if err != nil {
 		return store.Change{}, errs.Wrap(errs.Internal, err, "encode round report")
 	}
-	next, err := taskArgs(end.Next)
-	if err != nil {
-		return store.Change{}, err
+	// The next round's tasks go after the composite, the job's last task ("{job}.{index}").
+	k := strings.LastIndexByte(ref.TaskID, '.')
+	index, perr := strconv.ParseUint(ref.TaskID[k+1:], 10, 32)
+	if k < 0 || perr != nil {
+		return store.Change{}, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", ref.TaskID)}
 	}
-	args := append(refArgs(ref), outs, report, final)
-	r, err := s.change(ctx, completeRoundScript, append(args, next...)...)
+	n := len(end.Next)
+	var (
+		stages, counts string
+		round          uint32
+	)
+	if n > 0 {
+		owner := ref.TaskID + "@" + strconv.FormatUint(ref.Epoch, 10)
+		staged, err := s.stage(ctx, ref.TaskID[:k], owner, &ref, uint32(index)+1, end.Next)
+		if err != nil {
+			return store.Change{}, err
+		}
+		if !staged {
+			n = 0 // a repeated report, which the script answers
+		}
+		stages, counts, round = summary(end.Next, uint32(index)+1)
+	}
+	args := append(refArgs(ref), outs, report, final, n)
+	if n > 0 {
+		args = append(args, strconv.FormatUint(store.Stage(end.Next[0]), 10), stages, counts, round)
+	}
+	r, err := s.change(ctx, completeRoundScript, args...)
 	return r.change, err
 }
 

@@ -36,8 +36,6 @@ import (
 	"strconv"
 
 	"github.com/redis/go-redis/v9"
-	"google.golang.org/protobuf/proto"
-	"google.golang.org/protobuf/types/known/timestamppb"
 
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -115,35 +113,6 @@ func redisErr(err error) error {
 	return errs.Wrap(errs.Unavailable, err, "redis")
 }
 
-// CreateJob implements store.Store.
-func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
-	if err := nj.Check(); err != nil {
-		return nil, err
-	}
-	id := store.NewJobID()
-	static, err := proto.Marshal(&pb.Job{
-		Id:          id,
-		DisplayName: nj.DisplayName,
-		CreateTime:  timestamppb.New(s.opts.Clock.Now()),
-		SceneDigest: nj.SceneDigest,
-		Width:       nj.Width,
-		Height:      nj.Height,
-		Plan:        nj.Plan,
-	})
-	if err != nil {
-		return nil, errs.Wrap(errs.Internal, err, "encode job")
-	}
-	tasks, err := taskArgs(nj.Tasks)
-	if err != nil {
-		return nil, err
-	}
-	r, err := s.change(ctx, createScript, append([]any{id, nj.RequestID, static, nj.Priority}, tasks...)...)
-	if err != nil {
-		return nil, err
-	}
-	return r.change.Job, nil
-}
-
 // GetJob implements store.Store.
 func (s *Store) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	jobs, err := s.jobs(ctx, []string{jobID})
@@ -167,7 +136,8 @@ func (s *Store) jobs(ctx context.Context, ids []string) ([]*pb.Job, error) {
 	}
 	records := make([]map[string]string, len(ids))
 	for i, id := range ids {
-		if records[i] = cmds[i].Val(); len(records[i]) == 0 {
+		// A job still being created (scripts.go, beginScript) is not there yet.
+		if records[i] = cmds[i].Val(); len(records[i]) == 0 || records[i]["building"] != "" {
 			return nil, noJob(id)
 		}
 	}
@@ -181,15 +151,16 @@ func noJob(id string) error {
 // view reads what the state of a job's tasks depends on, and how many it has; NotFound
 // for an unknown job.
 func (s *Store) view(ctx context.Context, jobID string) (jobView, uint64, error) {
-	v, err := s.rdb.HMGet(ctx, s.jobKey(jobID), "state", "cur", "curend", "ntasks").Result()
+	fields := []string{"state", "cur", "curend", "ntasks", "building"}
+	v, err := s.rdb.HMGet(ctx, s.jobKey(jobID), fields...).Result()
 	if err != nil {
 		return jobView{}, 0, redisErr(err)
 	}
 	h := map[string]string{}
-	for i, f := range []string{"state", "cur", "curend", "ntasks"} {
+	for i, f := range fields {
 		h[f], _ = v[i].(string)
 	}
-	if h["state"] == "" {
+	if h["state"] == "" || h["building"] != "" {
 		return jobView{}, 0, noJob(jobID)
 	}
 	return viewOf(h), number(h["ntasks"]), nil

@@ -2,9 +2,12 @@ package redisstore_test
 
 import (
 	"context"
+	"fmt"
 	"regexp"
 	"strconv"
+	"strings"
 	"testing"
+	"time"
 
 	"github.com/redis/go-redis/v9"
 
@@ -117,5 +120,113 @@ func TestOpeningAStageAndCancellingDoNotTouchEveryTask(t *testing.T) {
 		if ts[i].State != want {
 			t.Errorf("task %d is %v, want %v", i, ts[i].State, want)
 		}
+	}
+}
+
+// slowest returns the longest command Redis ran since the slow log was last reset (those
+// over 1 ms are logged), and resets it.
+func slowest(t *testing.T, rdb *redis.Client) (time.Duration, string) {
+	t.Helper()
+	ctx := context.Background()
+	logs, err := rdb.Do(ctx, "SLOWLOG", "GET", "-1").Slice()
+	if err != nil {
+		t.Fatal(err)
+	}
+	var worst time.Duration
+	var what string
+	for _, l := range logs {
+		e, _ := l.([]any)
+		us, _ := e[2].(int64)
+		if d := time.Duration(us) * time.Microsecond; d > worst {
+			worst, what = d, fmt.Sprint(e[3])[:min(60, len(fmt.Sprint(e[3])))]
+		}
+	}
+	if err := rdb.Do(ctx, "SLOWLOG", "RESET").Err(); err != nil {
+		t.Fatal(err)
+	}
+	return worst, what
+}
+
+// TestLargestRoundNeverBlocksRedis creates a job of the largest round validation allows
+// (95,539 tasks), appends a second round of that size to another job with CompleteRound,
+// leases from both and cancels them: each is done in scripts of about a millisecond, so
+// that Redis never stops serving other clients for long. Redis's slow log times every
+// command; the longest is printed and must stay under 20 ms (a generous margin on a shared
+// machine: one script writing such a job took over a second). tests/fault's
+// TestJobAtTheLimitOnRedis renders such a job beside other clients.
+func TestLargestRoundNeverBlocksRedis(t *testing.T) {
+	const limit = 20 * time.Millisecond
+	srv := redistest.Start(t)
+	rdb := srv.Client()
+	ctx := context.Background()
+	for k, v := range map[string]string{"slowlog-log-slower-than": "1000", "slowlog-max-len": "100000"} {
+		if err := rdb.ConfigSet(ctx, k, v).Err(); err != nil {
+			t.Fatal(err)
+		}
+	}
+	s := newStore(t, srv, "big:", store.Options{LeaseDuration: time.Hour})
+	slowest(t, rdb)
+	check := func(what string, t0 time.Time) {
+		t.Helper()
+		worst, cmd := slowest(t, rdb)
+		t.Logf("%s: %v; longest Redis command %v %s", what, time.Since(t0).Round(time.Millisecond), worst, cmd)
+		if worst > limit {
+			t.Errorf("%s: Redis ran a command for %v, want under %v", what, worst, limit)
+		}
+	}
+	lease := func() *store.Leased {
+		t.Helper()
+		l, err := s.LeaseTask(ctx, "w", append(store.WorkerPhases, store.BuilderPhases...))
+		if err != nil || l == nil {
+			t.Fatalf("LeaseTask = %v, %v", l, err)
+		}
+		return l
+	}
+	ref := func(l *store.Leased) store.LeaseRef {
+		return store.LeaseRef{WorkerID: "w", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch}
+	}
+
+	round := storetest.LargestRound(1)
+	t0 := time.Now()
+	big, err := s.CreateJob(ctx, store.NewJob{DisplayName: "largest", SceneDigest: "sha256:" + strings.Repeat("0", 64), Tasks: round})
+	if err != nil {
+		t.Fatal(err)
+	}
+	check(fmt.Sprintf("CreateJob of %d tasks", len(round)), t0)
+	t0 = time.Now()
+	if ts, _, err := s.ListTasks(ctx, big.Id, 10000, ""); err != nil || len(ts) != 10000 || ts[0].State != pb.TaskState_TASK_STATE_QUEUED {
+		t.Fatalf("ListTasks = %d tasks, %v", len(ts), err)
+	}
+	check("ListTasks of 10,000", t0)
+
+	small := storetest.TileJob("small", 1)
+	small.Priority = store.MaxPriority
+	progressive, err := s.CreateJob(ctx, small)
+	if err != nil {
+		t.Fatal(err)
+	}
+	if _, err := s.CompleteTask(ctx, ref(lease()), nil); err != nil {
+		t.Fatal(err)
+	}
+	comp := lease()
+	t0 = time.Now()
+	if c, err := s.CompleteRound(ctx, ref(comp), store.RoundEnd{Report: &pb.RoundReport{Round: 1}, Next: storetest.LargestRound(2)}); err != nil || !c.Queued {
+		t.Fatalf("CompleteRound = %+v, %v", c, err)
+	}
+	check(fmt.Sprintf("CompleteRound appending %d tasks", len(round)), t0)
+
+	t0 = time.Now()
+	for range 1000 {
+		if _, err := s.CompleteTask(ctx, ref(lease()), nil); err != nil {
+			t.Fatal(err)
+		}
+	}
+	check("1,000 leases and completions", t0)
+	for _, j := range []*pb.Job{big, progressive} {
+		t0 = time.Now()
+		if _, err := s.CancelJob(ctx, j.Id); err != nil {
+			t.Fatal(err)
+		}
+		check("CancelJob", t0)
 	}
 }

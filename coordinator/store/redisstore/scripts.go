@@ -129,40 +129,23 @@ local function openstage(jid, start)
   place(jid)
 end
 
--- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round and
--- stage per task: store.Stage, computed by Go) after the job's last task, records their
--- stages and the progress of the latest round, and queues their first stage.
-local function append(jid, a)
+-- addtasks makes the new tasks of a job known: ntasks grows to top, their stages are
+-- ranges (stages: "start:end,...") and the progress counters those of their last round
+-- (counts: "phase:total,..." in plan order; both from Go's summary), and their first
+-- stage, at base, is queued. Their records were staged before (stageScript).
+local function addtasks(jid, base, top, stages, counts, round)
   local jk = jkey(jid)
-  local n = tonumber(ARGV[a])
-  local base = num(jk, 'ntasks')
-  local R = ARGV[a + 4 * n - 1]
-  if redis.call('HGET', jk, 'pround') ~= R then
-    for ph in string.gmatch(redis.call('HGET', jk, 'pphases') or '', '%d+') do
-      redis.call('HDEL', jk, 'pt:' .. ph, 'ps:' .. ph)
-    end
-    redis.call('HSET', jk, 'pround', R, 'pphases', '')
+  for ph in string.gmatch(redis.call('HGET', jk, 'pphases') or '', '%d+') do
+    redis.call('HDEL', jk, 'pt:' .. ph, 'ps:' .. ph)
   end
-  local plist = redis.call('HGET', jk, 'pphases')
-  local stage, stageStart
-  for i = 0, n - 1 do
-    local spec, phase, round, st = ARGV[a + 1 + 4 * i], ARGV[a + 2 + 4 * i], ARGV[a + 3 + 4 * i], ARGV[a + 4 + 4 * i]
-    local idx = base + i
-    redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', spec, 'phase', phase, 'round', round,
-      'stage', st, 'state', WAITING)
-    if st ~= stage then
-      if stage then redis.call('HSET', skey(jid), stageStart, idx) end
-      stage, stageStart = st, idx
-    end
-    if round == R then
-      if redis.call('HEXISTS', jk, 'pt:' .. phase) == 0 then
-        if plist == '' then plist = phase else plist = plist .. ',' .. phase end
-      end
-      redis.call('HINCRBY', jk, 'pt:' .. phase, 1)
-    end
+  local plist = {}
+  for ph, n in string.gmatch(counts, '(%d+):(%d+)') do
+    plist[#plist + 1] = ph
+    redis.call('HSET', jk, 'pt:' .. ph, n)
   end
-  redis.call('HSET', skey(jid), stageStart, base + n)
-  redis.call('HSET', jk, 'ntasks', base + n, 'pphases', plist)
+  for a, b in string.gmatch(stages, '(%d+):(%d+)') do redis.call('HSET', skey(jid), a, b) end
+  redis.call('HSET', jk, 'ntasks', top, 'pphases', table.concat(plist, ','), 'pround', round)
+  redis.call('HDEL', jk, 'sowner', 'stop')
   openstage(jid, base)
 end
 
@@ -262,22 +245,98 @@ local function fail(t, worker, msg, pol, kind)
 end
 `
 
-// createScript: ARGV[3] job id, [4] request id, [5] the job's static record, [6] its
-// priority, [7...] the tasks (see append). A request id seen before answers with the job
-// it created.
-var createScript = newScript(`
+// A job is created in bounded steps, so that Redis serves everyone else in between:
+// beginScript writes its record (flagged "building": no listing, read or lease sees it)
+// and puts it in PENDING; stageScript writes a chunk of task records at a time; and
+// publishScript makes it a job in one step: numbered, listed, its first stage queued.
+// CompleteRound stages the next round's tasks the same way (beyond ntasks, where nothing
+// reads them) before completeRoundScript appends them in one step. A coordinator that dies
+// midway leaves a half-made job in PENDING (score: when it last grew): a retry of the
+// submission with the same request id finishes it (planning is deterministic, and a stage
+// already written is skipped), and otherwise the purge deletes it (PurgeJobs). Staged
+// records of a round whose composite was not completed are rewritten when the redone
+// composite stages its next round, or deleted with the job.
+
+// beginScript: ARGV[3] job id, [4] request id, [5] the job's static record, [6] its
+// priority, [7] its number of tasks, [8] its scene digest. A request id seen before
+// answers with the job it created ({'BUILD', id} if that one is still being made: the
+// caller carries on making it, which must be from the same scene).
+var beginScript = newScript(`
 local jid, req = ARGV[3], ARGV[4]
 if req ~= '' then
   local old = redis.call('HGET', REQUESTS, req)
-  if old then return ok(0, 0, old, nil) end
+  if old then
+    local h = redis.call('HMGET', jkey(old), 'building', 'total', 'digest')
+    if not h[1] then return ok(0, 0, old, nil) end
+    if h[2] ~= ARGV[7] or h[3] ~= ARGV[8] then
+      return refuse('precondition', 'request_id', 'request id ' .. req .. ' names a job being created from another scene')
+    end
+    return {'BUILD', old}
+  end
 end
 if redis.call('EXISTS', jkey(jid)) == 1 then return refuse('internal', '', 'job id ' .. jid .. ' is taken') end
-local seq = redis.call('INCR', SEQ)
-redis.call('HSET', jkey(jid), 'static', ARGV[5], 'seq', seq, 'state', JQUEUED, 'update', NOW_S,
-  'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0, 'nrounds', 0)
-redis.call('ZADD', JOBS, seq, jid)
+redis.call('HSET', jkey(jid), 'static', ARGV[5], 'state', JQUEUED, 'update', NOW_S, 'error', '', 'outputs', '',
+  'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0, 'nrounds', 0,
+  'building', 1, 'total', ARGV[7], 'digest', ARGV[8], 'req', req)
+redis.call('ZADD', PENDING, NOW_S, jid)
 if req ~= '' then redis.call('HSET', REQUESTS, req, jid) end
-append(jid, 7)
+return {'BUILD', jid}
+`)
+
+// stageScript: ARGV[3] job id, [4] the staging's owner (the job id when creating it, the
+// composite's "task@epoch" for a round), [5] that composite's task id (empty when
+// creating), [6] its worker, [7] its epoch, [8] the first index of the chunk, [9...] its
+// tasks: a count, then spec, phase, round and stage (store.Stage, computed by Go) of
+// each. Chunks come in order from ntasks; one written before (a retry, or a second
+// attempt of the same submission) is skipped. It answers {'STAGED'}, or {'NOOP'} if the
+// composite's report was accepted already.
+var stageScript = newScript(`
+local jid, owner, from = ARGV[3], ARGV[4], tonumber(ARGV[8])
+local jk = jkey(jid)
+if redis.call('EXISTS', jk) == 0 then return refuse('gone', '', 'job ' .. jid .. ' is gone: its creation was abandoned and cleaned up; submit again') end
+if ARGV[5] ~= '' then
+  if repeated(ARGV[5], ARGV[6], ARGV[7]) then return {'NOOP'} end
+  local e = held(ARGV[5], ARGV[6], ARGV[7])
+  if e then return e end
+end
+local base = num(jk, 'ntasks')
+local top = num(jk, 'stop')
+if redis.call('HGET', jk, 'sowner') ~= owner then
+  if from ~= base then return refuse('internal', '', 'job ' .. jid .. ': staging starts at task ' .. base .. ', not ' .. from) end
+  redis.call('HSET', jk, 'sowner', owner, 'stop', base)
+  top = base
+end
+local n = tonumber(ARGV[9])
+if from + n <= top then return {'STAGED'} end
+if from ~= top then return refuse('internal', '', 'job ' .. jid .. ': chunk at task ' .. from .. ' but the staged tasks end at ' .. top) end
+for i = 0, n - 1 do
+  local a = 10 + 4 * i
+  local idx = from + i
+  redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', ARGV[a], 'phase', ARGV[a + 1], 'round', ARGV[a + 2],
+    'stage', ARGV[a + 3], 'state', WAITING)
+end
+redis.call('HSET', jk, 'stop', from + n)
+if redis.call('HEXISTS', jk, 'building') == 1 then redis.call('ZADD', PENDING, NOW_S, jid) end
+return {'STAGED'}
+`)
+
+// publishScript: ARGV[3] job id, [4] its stages, [5] its phase counts, [6] its last round
+// (see addtasks).
+var publishScript = newScript(`
+local jid = ARGV[3]
+local jk = jkey(jid)
+if redis.call('EXISTS', jk) == 0 then return refuse('gone', '', 'job ' .. jid .. ' is gone: its creation was abandoned and cleaned up; submit again') end
+if redis.call('HEXISTS', jk, 'building') == 0 then return ok(0, 0, jid, nil) end
+local total = num(jk, 'total')
+if redis.call('HGET', jk, 'sowner') ~= jid or num(jk, 'stop') ~= total then
+  return refuse('internal', '', 'job ' .. jid .. ' is published before its ' .. total .. ' tasks are staged')
+end
+local seq = redis.call('INCR', SEQ)
+redis.call('HSET', jk, 'seq', seq)
+redis.call('HDEL', jk, 'building', 'total', 'digest')
+redis.call('ZREM', PENDING, jid)
+redis.call('ZADD', JOBS, seq, jid)
+addtasks(jid, 0, total, ARGV[4], ARGV[5], ARGV[6])
 return ok(0, 0, jid, nil)
 `)
 
@@ -358,8 +417,9 @@ return ok(1, 0, jid, t)
 `)
 
 // completeRoundScript: ARGV[3] task, [4] worker, [5] epoch, [6] outputs, [7] the round's
-// report, [8] the final outputs, [9...] the next round's tasks (see append; count 0 ends
-// the job).
+// report, [8] the final outputs, [9] the number of the next round's tasks (0 ends the
+// job), staged before by this lease (stageScript), [10] the stage of the first, [11] their
+// stages, [12] phase counts and [13] round (see addtasks).
 var completeRoundScript = newScript(`
 local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
 if repeated(t, worker, epoch) then return {'NOOP'} end
@@ -372,14 +432,17 @@ if num(jk, 'cur') ~= idx or num(jk, 'ntasks') ~= idx + 1 then
   return refuse('internal', '', 'task ' .. t .. ' is not the last task of its round')
 end
 local n = tonumber(ARGV[9])
-if n > 0 and tonumber(ARGV[13]) <= tonumber(h[3]) then
-  return refuse('internal', '', 'next round\'s task 0 is out of order')
+if n > 0 then
+  if tonumber(ARGV[10]) <= tonumber(h[3]) then return refuse('internal', '', 'next round\'s task 0 is out of order') end
+  if redis.call('HGET', jk, 'sowner') ~= t .. '@' .. epoch or num(jk, 'stop') ~= idx + 1 + n then
+    return refuse('internal', '', 'the next round of job ' .. jid .. ' is not staged')
+  end
 end
 succeed(t, ARGV[6])
 redis.call('RPUSH', rkey(jid), ARGV[7])
 redis.call('HINCRBY', jk, 'nrounds', 1)
 if n > 0 then
-  append(jid, 9)
+  addtasks(jid, idx + 1, idx + 1 + n, ARGV[11], ARGV[12], ARGV[13])
   return ok(0, 1, jid, t)
 end
 succeedjob(jid, ARGV[8])

@@ -8,6 +8,8 @@ import (
 	"testing"
 	"time"
 
+	"photonfarm/contract/rules"
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -141,4 +143,44 @@ func UrgentJob(t testing.TB, s store.Store, tiles, workers int, taskTime time.Du
 	elapsed := time.Since(start)
 	wg.Wait()
 	return elapsed, all
+}
+
+// LargestRound is round r of the largest plan scene validation allows (docs/limits.md,
+// "Planning"): per map max_shards_per_map emission shards for the global and the caustic
+// map, a build, max_shards_per_map precompute tasks, a merge, max_tiles_per_round tiles
+// and a composite, indexed from 0.
+func LargestRound(r uint32) []*pb.Task {
+	shards, tiles := int(rules.Scene.GetMaxShardsPerMap()), int(rules.Scene.GetMaxTilesPerRound())
+	var ts []*pb.Task
+	add := func(n int, t func(i int) *pb.Task) {
+		for i := range n {
+			task := t(i)
+			task.Index, task.Round = uint32(len(ts)), r
+			task.Phase = tasks.PhaseOf(task)
+			ts = append(ts, task)
+		}
+	}
+	add(2*shards, func(i int) *pb.Task {
+		kind := pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL
+		if i >= shards {
+			kind = pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC
+		}
+		return &pb.Task{Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{Map: kind, FirstPhoton: uint64(1000 * (i % shards)),
+			PhotonCount: 1000, TotalPhotons: uint64(1000 * shards)}}}
+	})
+	add(1, func(int) *pb.Task {
+		return &pb.Task{Spec: &pb.Task_BuildPhotonMap{BuildPhotonMap: &pb.BuildPhotonMapSpec{}}}
+	})
+	add(shards, func(int) *pb.Task {
+		return &pb.Task{Spec: &pb.Task_PrecomputeIrradiance{PrecomputeIrradiance: &pb.PrecomputeIrradianceSpec{RadiusScale: 1}}}
+	})
+	add(1, func(int) *pb.Task {
+		return &pb.Task{Spec: &pb.Task_MergeIrradiance{MergeIrradiance: &pb.MergeIrradianceSpec{}}}
+	})
+	add(tiles, func(i int) *pb.Task {
+		return &pb.Task{Spec: &pb.Task_RenderTile{RenderTile: &pb.RenderTileSpec{
+			Rect: &pb.PixelRect{X: uint32(64 * (i % 256)), Y: uint32(64 * (i / 256)), Width: 64, Height: 64}, RadiusScale: 1}}}
+	})
+	add(1, func(int) *pb.Task { return &pb.Task{Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}} })
+	return ts
 }
