@@ -18,6 +18,7 @@ package redisstore
 //	                      leases held: jobs with leasable tasks of phase (scripts.go)
 //	leases                zset task id, score = lease expiry (µs): live leases
 //	delayed               zset task id, score = retry time (µs): queued tasks in backoff
+//	op:{token}            string, expires: an operation's answer (scripts.go, Operations)
 const (
 	seqKey      = "seq"
 	jobsKey     = "jobs"
@@ -25,6 +26,7 @@ const (
 	leasesKey   = "leases"
 	delayedKey  = "delayed"
 	pendingKey  = "pending"
+	opPrefix    = "op:"
 
 	jobPrefix    = "j:"
 	roundsPrefix = "r:"

@@ -31,9 +31,13 @@ package redisstore
 
 import (
 	"context"
+	"crypto/rand"
+	"encoding/hex"
 	"errors"
 	"fmt"
 	"strconv"
+	"strings"
+	"time"
 
 	"github.com/redis/go-redis/v9"
 
@@ -53,23 +57,74 @@ type Store struct {
 var _ store.Store = (*Store)(nil)
 
 // New returns a Store keeping its keys under prefix in the Redis rdb talks to. It checks
-// that Redis answers; the data already under prefix (a restarted coordinator's) is used
+// that Redis answers and loads the scripts; the data already under prefix (a restarted coordinator's) is used
 // as it is.
 func New(ctx context.Context, rdb redis.UniversalClient, prefix string, opts store.Options) (*Store, error) {
 	if err := rdb.Ping(ctx).Err(); err != nil {
 		return nil, fmt.Errorf("redisstore: %w", err)
 	}
+	// Loaded now, the scripts are called by their digest from the first call on (a Redis
+	// that lost them, restarted without its data, gets them again: redis.Script.Run).
+	for _, sc := range scripts {
+		if err := sc.Load(ctx, rdb).Err(); err != nil {
+			return nil, fmt.Errorf("redisstore: load scripts: %w", err)
+		}
+	}
 	return &Store{rdb: rdb, prefix: prefix, opts: opts.WithDefaults()}, nil
 }
 
-// run runs a script with the prefix and the time in front of args.
+// An operation's answer is kept for opTTL (scripts.go, Operations); run retries a call
+// whose outcome it does not know for at most retryWindow, well within it.
+const (
+	opTTL       = 2 * time.Minute
+	retryWindow = time.Minute
+)
+
+// run runs a script as one operation (scripts.go, Operations), with the prefix and the time
+// in front of args. A failure that leaves the outcome unknown (the connection lost, a
+// timeout, Redis busy or loading) is retried with the same operation key until Redis
+// answers, so that the answer is that of the one run; past retryWindow or ctx, run
+// reports Unavailable, saying the outcome is unknown.
 func (s *Store) run(ctx context.Context, sc *redis.Script, args ...any) (any, error) {
 	args = append([]any{s.prefix, micros(s.opts.Clock.Now())}, args...)
-	v, err := sc.Run(ctx, s.rdb, []string{s.key("jobs")}, args...).Result()
-	if err != nil {
-		return nil, redisErr(err)
+	var token [16]byte
+	_, _ = rand.Read(token[:])
+	keys := []string{s.key(jobsKey), s.key(opPrefix + hex.EncodeToString(token[:]))}
+	start := time.Now()
+	for attempt := 0; ; attempt++ {
+		v, err := sc.Run(ctx, s.rdb, keys, args...).Result()
+		if err == nil {
+			return v, nil
+		}
+		if !unknownOutcome(err) {
+			return nil, redisErr(err)
+		}
+		wait := min(10*time.Millisecond<<min(attempt, 7), time.Second)
+		if ctx.Err() != nil || time.Since(start)+wait > retryWindow {
+			return nil, errs.Wrap(errs.Unavailable, err, "redis (the outcome is unknown; a retry of the same request is safe)")
+		}
+		select {
+		case <-time.After(wait):
+		case <-ctx.Done():
+		}
 	}
-	return v, nil
+}
+
+// unknownOutcome reports whether a failed call may or may not have run: any failure but
+// an error Redis answered the script with, or answers Redis gives before running
+// anything (busy with another script, loading its data, a replica or cluster not ready).
+func unknownOutcome(err error) bool {
+	var answered redis.Error
+	if !errors.As(err, &answered) {
+		return !errors.Is(err, context.Canceled) && !errors.Is(err, context.DeadlineExceeded)
+	}
+	msg := answered.Error()
+	for _, p := range []string{"BUSY", "LOADING", "TRYAGAIN", "MASTERDOWN", "READONLY", "CLUSTERDOWN"} {
+		if strings.HasPrefix(msg, p) {
+			return true
+		}
+	}
+	return false
 }
 
 // change runs a script that answers with one reply.

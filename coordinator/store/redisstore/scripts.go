@@ -1,10 +1,15 @@
 package redisstore
 
-import "github.com/redis/go-redis/v9"
+import (
+	"strconv"
+
+	"github.com/redis/go-redis/v9"
+)
 
 // Every script gets ARGV[1] = the key prefix and ARGV[2] = now (Unix microseconds, from
 // Options.Clock), then its own arguments. KEYS[1] is the prefix's "jobs" key and only
-// routes the call; the scripts build the other keys from the prefix with the functions
+// routes the call; KEYS[2] is the call's operation key (below); the scripts build the
+// other keys from the prefix with the functions
 // the preamble (preamble.go) declares from keys.go, and name task and job states by the
 // preamble's locals (WAITING ... CANCELLED, JQUEUED ... JCANCELLED).
 //
@@ -13,8 +18,16 @@ import "github.com/redis/go-redis/v9"
 // print such a number with only 14 digits.
 //
 // Scripts that change a task or a job answer through ok(): {"OK", jobStateChanged,
-// queued, HGETALL job, LRANGE rounds, HGETALL task}; a refusal is {"E", kind, field,
-// message}; a repeated report is {"NOOP"}.
+// queued, HGETALL job, HGETALL task}; a refusal is {"E", kind, field, message}; a
+// repeated report is {"NOOP"}.
+//
+// Operations: a call whose answer is lost (the connection dropped after Redis ran the
+// script, a read timeout) may be sent again, by go-redis's retries or by Store.run, and
+// must then get the answer of the first run, not run again: a second CreateJob would
+// make a second job, a second FailTask find the lease gone. Each call carries a fresh
+// operation key (KEYS[2], "op:{token}"); the first run keeps its answer's skeleton there
+// for opTTL (ok() answers {"OK", changed, queued, job id, task id}, and render expands it
+// to the records as they stand), and a run that finds the key answers from it.
 //
 // Stages: the tasks of a job's current stage [cur, curend) are one phase (cphase); those
 // never leased since it opened are the range [next, curend), so opening a stage writes no
@@ -92,10 +105,19 @@ local function unlease(t, jid)
   redis.call('HINCRBY', jkey(jid), 'held', -1)
 end
 
-local function ok(changed, queued, jid, t)
-  local task = {}
-  if t then task = redis.call('HGETALL', tkey(t)) end
-  return {'OK', changed, queued, redis.call('HGETALL', jkey(jid)), task}
+-- ok is the skeleton of a change's answer (see Operations); render expands it.
+local function ok(changed, queued, jid, t) return {'OK', changed, queued, jid, t or ''} end
+
+local function render(r)
+  if type(r) ~= 'table' then return r end
+  if r[1] == 'OK' then
+    local task = {}
+    if r[5] ~= '' then task = redis.call('HGETALL', tkey(r[5])) end
+    return {'OK', r[2], r[3], redis.call('HGETALL', jkey(r[4])), task}
+  end
+  local out = {}
+  for i, x in ipairs(r) do out[i] = render(x) end
+  return out
 end
 
 -- held refuses a report unless (worker, epoch) holds t's live lease. The lease of a task
@@ -606,4 +628,23 @@ if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
 return ok(0, unblocked, jid, nil)
 `)
 
-func newScript(body string) *redis.Script { return redis.NewScript(preamble + lib + body) }
+// scripts are every script, loaded into Redis when a Store opens.
+var scripts []*redis.Script
+
+// newScript makes a script of body run as one operation (see Operations).
+func newScript(body string) *redis.Script {
+	sc := redis.NewScript(preamble + lib + "local function main()\n" + body + `
+end
+local done = redis.call('GET', KEYS[2])
+local r
+if done then
+  r = cmsgpack.unpack(done)
+else
+  r = main()
+  redis.call('SET', KEYS[2], cmsgpack.pack(r), 'PX', ` + strconv.FormatInt(opTTL.Milliseconds(), 10) + `)
+end
+return render(r)
+`)
+	scripts = append(scripts, sc)
+	return sc
+}

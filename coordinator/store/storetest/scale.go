@@ -184,3 +184,14 @@ func LargestRound(r uint32) []*pb.Task {
 	add(1, func(int) *pb.Task { return &pb.Task{Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}} })
 	return ts
 }
+
+// CountState counts the tasks of ts in state st.
+func CountState(ts []*pb.Task, st pb.TaskState) int {
+	n := 0
+	for _, t := range ts {
+		if t.GetState() == st {
+			n++
+		}
+	}
+	return n
+}
