@@ -76,6 +76,8 @@ import (
 	"strings"
 	"time"
 
+	"google.golang.org/protobuf/proto"
+
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/errs"
@@ -110,13 +112,16 @@ type Store interface {
 	ExpireLeases(ctx context.Context) ([]Change, error)
 
 	// CompleteTask records a task's success. Repeating an accepted report (same worker,
-	// same epoch) succeeds and changes nothing (an empty Change).
+	// same epoch, same outputs) succeeds and changes nothing (an empty Change); a repeat
+	// with other outputs is refused (ConflictingReport).
 	CompleteTask(ctx context.Context, ref LeaseRef, outputs []*pb.Artifact) (Change, error)
 	// CompleteRound is CompleteTask for the composite task of a progressive round, which
 	// must be the round's last task: it records the outputs, appends end.Report to the
 	// job's rounds, and then either appends end.Next (renumbered after the job's last task,
 	// its first phase queued) or, if end.Next is empty, marks the job SUCCEEDED with
-	// end.Final as its outputs. Repeating an accepted report succeeds and changes nothing.
+	// end.Final as its outputs. Repeating an accepted report succeeds and changes nothing
+	// if its outputs and its report's metrics (SameMetrics) are those accepted, and is
+	// refused otherwise (ConflictingReport).
 	CompleteRound(ctx context.Context, ref LeaseRef, end RoundEnd) (Change, error)
 	// GetTask returns a task; errs.NotFound if it does not exist.
 	GetTask(ctx context.Context, taskID string) (*pb.Task, error)
@@ -325,6 +330,29 @@ func JobFailure(taskID string, n int, last string) string {
 func PermanentFailure(taskID, message string) string {
 	return fmt.Sprintf("task %s failed: %s", taskID, message)
 }
+
+// ConflictingReport refuses a repeat of an accepted report under ref whose what
+// ("outputs", "metrics") differ from those accepted: one of the two is wrong, and the
+// first stands.
+func ConflictingReport(ref LeaseRef, what string) error {
+	return errs.E(errs.FailedPrecondition, "task %s: lease epoch %d was already completed with other %s; a repeated report must be the same",
+		ref.TaskID, ref.Epoch, what)
+}
+
+// SameOutputs reports whether two reports' outputs are the same artifacts in the same
+// order.
+func SameOutputs(a, b []*pb.Artifact) bool {
+	return slices.EqualFunc(a, b, func(x, y *pb.Artifact) bool { return proto.Equal(x, y) })
+}
+
+// Metrics is the part of a round's report the composite's worker measured
+// (CompleteTaskRequest.metrics); the rest is the coordinator's (elapsed time, counts).
+func Metrics(r *pb.RoundReport) *pb.RoundMetrics {
+	return &pb.RoundMetrics{ErrorEstimate: r.ErrorEstimate, ReferenceRmse: r.ReferenceRmse, LayerReferenceRmse: r.GetLayerReferenceRmse()}
+}
+
+// SameMetrics reports whether two round reports carry the same metrics.
+func SameMetrics(a, b *pb.RoundReport) bool { return proto.Equal(Metrics(a), Metrics(b)) }
 
 // BlockedJobFailure is the job's error when every one of n workers is blocked from it;
 // last is the reason of the latest block.

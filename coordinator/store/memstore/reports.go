@@ -16,8 +16,11 @@ import (
 func (s *Store) CompleteTask(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) (store.Change, error) {
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	if s.repeated(ref) {
-		return store.Change{}, nil // a repeated report that was accepted
+	if t := s.repeated(ref); t != nil { // a repeated report that was accepted
+		if !store.SameOutputs(t.pb.Outputs, outputs) {
+			return store.Change{}, store.ConflictingReport(ref, "outputs")
+		}
+		return store.Change{}, nil
 	}
 	t, err := s.held(ref)
 	if err != nil {
@@ -56,8 +59,8 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	if s.repeated(ref) {
-		return store.Change{}, nil
+	if t := s.repeated(ref); t != nil {
+		return store.Change{}, t.sameRound(ref, end)
 	}
 	t, err := s.held(ref)
 	if err != nil {
@@ -88,10 +91,28 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 	return s.change(t, true, false), nil
 }
 
-// repeated reports whether ref names a task that already succeeded under that lease.
-func (s *Store) repeated(ref store.LeaseRef) bool {
+// repeated returns the task ref names if it already succeeded under that lease.
+func (s *Store) repeated(ref store.LeaseRef) *task {
 	t := s.task(ref.TaskID)
-	return t != nil && t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED && t.epoch == ref.Epoch && t.pb.WorkerId == ref.WorkerID
+	if t != nil && t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED && t.epoch == ref.Epoch && t.pb.WorkerId == ref.WorkerID {
+		return t
+	}
+	return nil
+}
+
+// sameRound refuses a repeat of composite t's accepted CompleteRound under ref that
+// differs in its outputs or metrics from the report of t's round.
+func (t *task) sameRound(ref store.LeaseRef, end store.RoundEnd) error {
+	if !store.SameOutputs(t.pb.Outputs, end.Outputs) {
+		return store.ConflictingReport(ref, "outputs")
+	}
+	rounds := t.job.pb.Rounds
+	for i := len(rounds) - 1; i >= 0; i-- {
+		if rounds[i].GetRound() == end.Report.GetRound() && !store.SameMetrics(rounds[i], end.Report) {
+			return store.ConflictingReport(ref, "metrics")
+		}
+	}
+	return nil
 }
 
 // succeed records the success of leased task t.

@@ -174,9 +174,13 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 		}
 		stages, counts, round = summary(end.Next, uint32(index)+1)
 	}
-	args := append(refArgs(ref), outs, report, final, n)
+	metrics, err := proto.MarshalOptions{Deterministic: true}.Marshal(store.Metrics(end.Report))
+	if err != nil {
+		return store.Change{}, errs.Wrap(errs.Internal, err, "encode round metrics")
+	}
+	args := append(refArgs(ref), outs, report, final, n, "", "", "", "", metrics)
 	if n > 0 {
-		args = append(args, strconv.FormatUint(store.Stage(end.Next[0]), 10), stages, counts, round)
+		args[7], args[8], args[9], args[10] = strconv.FormatUint(store.Stage(end.Next[0]), 10), stages, counts, round
 	}
 	r, err := s.change(ctx, completeRoundScript, args...)
 	return r.change, err

@@ -142,6 +142,18 @@ local function repeated(t, worker, epoch)
   return tonumber(h[1]) == SUCCEEDED and h[2] == epoch and h[3] == worker
 end
 
+-- again answers a repeat of t's accepted report: NOOP if its outputs (and, for a round's
+-- composite, metrics) are those recorded, else a refusal naming what differs
+-- (store.ConflictingReport).
+local function again(t, epoch, outputs, metrics)
+  local h = redis.call('HMGET', tkey(t), 'outputs', 'metrics')
+  local what
+  if h[1] ~= outputs then what = 'outputs' elseif metrics and (h[2] or '') ~= metrics then what = 'metrics' end
+  if not what then return {'NOOP'} end
+  return refuse('precondition', '', 'task ' .. t .. ': lease epoch ' .. epoch .. ' was already completed with other ' .. what ..
+    '; a repeated report must be the same')
+end
+
 -- openstage queues the stage starting at task index start and makes it the current one:
 -- its tasks are the range [next, curend), none is written.
 local function openstage(jid, start)
@@ -421,7 +433,7 @@ return ok(started, 0, jid, t)
 // stage opens the next one; the last of the job ends it with its stage's outputs.
 var completeScript = newScript(`
 local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
-if repeated(t, worker, epoch) then return {'NOOP'} end
+if repeated(t, worker, epoch) then return again(t, epoch, ARGV[6]) end
 local e = held(t, worker, epoch)
 if e then return e end
 local jid = succeed(t, ARGV[6])
@@ -439,12 +451,13 @@ return ok(1, 0, jid, t)
 `)
 
 // completeRoundScript: ARGV[3] task, [4] worker, [5] epoch, [6] outputs, [7] the round's
-// report, [8] the final outputs, [9] the number of the next round's tasks (0 ends the
+// report, [8] the final outputs, [14] the report's metrics (store.Metrics, kept with the
+// task to compare a repeat with), [9] the number of the next round's tasks (0 ends the
 // job), staged before by this lease (stageScript), [10] the stage of the first, [11] their
 // stages, [12] phase counts and [13] round (see addtasks).
 var completeRoundScript = newScript(`
 local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
-if repeated(t, worker, epoch) then return {'NOOP'} end
+if repeated(t, worker, epoch) then return again(t, epoch, ARGV[6], ARGV[14]) end
 local e = held(t, worker, epoch)
 if e then return e end
 local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'stage')
@@ -461,6 +474,7 @@ if n > 0 then
   end
 end
 succeed(t, ARGV[6])
+redis.call('HSET', tkey(t), 'metrics', ARGV[14])
 redis.call('RPUSH', rkey(jid), ARGV[7])
 redis.call('HINCRBY', jk, 'nrounds', 1)
 if n > 0 then

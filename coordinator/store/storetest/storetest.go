@@ -74,6 +74,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"LastTileOpensCompositePhase", testPhaseOpening},
 		{"LastTaskSucceedsJobWithCompositeOutputs", testJobSucceeds},
 		{"RepeatedCompleteIsIdempotent", testIdempotentComplete},
+		{"RepeatedReportWithOtherOutputsOrMetricsIsRefused", testRepeatedReportsMustBeTheSame},
 		{"ReportsUnderStaleEpochOrOtherWorkerAreRefused", testStaleReports},
 		{"ExpiredLeaseIsRequeuedWithNewEpoch", testExpiry},
 		{"ReportAfterExpiryBeforeSweepIsRefused", testReportAfterDeadline},
