@@ -238,7 +238,11 @@ type Leased struct {
 	Lease       *pb.Lease
 	Task        *pb.Task
 	SceneDigest string
-	Change      Change
+	// StageStart and StageEnd bound the task's stage: the job's tasks [StageStart,
+	// StageEnd), so that the caller finds the stages before it (whose outputs the task
+	// needs) without reading the rest of the job.
+	StageStart, StageEnd uint32
+	Change               Change
 }
 
 // Change says what an operation changed, so that the caller can publish events and wake

@@ -60,6 +60,8 @@ func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phas
 		Lease:       &pb.Lease{TaskId: t.pb.Id, Epoch: t.epoch, ExpireTime: timestamppb.New(t.expire)},
 		Task:        t.snapshot(),
 		SceneDigest: j.pb.SceneDigest,
+		StageStart:  uint32(j.cur),
+		StageEnd:    uint32(j.end),
 		Change:      s.change(t, started, false),
 	}, nil
 }

@@ -190,6 +190,7 @@ func hash(v any) map[string]string {
 type reply struct {
 	change store.Change
 	task   map[string]string // the task record behind change.Task
+	view   jobView           // of the job record behind change.Job
 	none   bool              // nothing to lease
 }
 
@@ -222,7 +223,7 @@ func (s *Store) decodeOK(ctx context.Context, l []any) (reply, error) {
 	if err != nil {
 		return reply{}, err
 	}
-	r := reply{change: store.Change{Job: jobs[0], JobStateChanged: l[1] == int64(1), Queued: l[2] == int64(1)}}
+	r := reply{change: store.Change{Job: jobs[0], JobStateChanged: l[1] == int64(1), Queued: l[2] == int64(1)}, view: viewOf(h)}
 	if r.task = hash(l[4]); len(r.task) > 0 {
 		if r.change.Task, err = decodeTask(r.task, viewOf(h)); err != nil {
 			return reply{}, err

@@ -33,6 +33,8 @@ func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phas
 		// published to watchers, who must not see it half-written.
 		Task:        proto.Clone(r.change.Task).(*pb.Task),
 		SceneDigest: r.change.Job.SceneDigest,
+		StageStart:  uint32(r.view.cur),
+		StageEnd:    uint32(r.view.curend),
 		Change:      r.change,
 	}, nil
 }
