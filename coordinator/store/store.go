@@ -19,6 +19,7 @@
 //   - FailBlockedJob fails a job that every worker the caller knows is blocked from;
 //   - ReleaseTask and ReleaseWorker requeue without counting a failure;
 //   - CancelJob drops queued tasks and revokes held leases;
+//   - PurgeJobs deletes ended jobs past their retention, a bounded step at a time;
 //   - SetJobPriority reorders a job; UnblockWorker takes workers off its blocklist.
 //
 // Scheduling: LeaseTask picks, among the jobs with a leasable task of the caller's
@@ -148,10 +149,24 @@ type Store interface {
 	// returns errs.NotFound for an unknown job and errs.FailedPrecondition for an ended
 	// one.
 	SetJobPriority(ctx context.Context, jobID string, priority int32) (Change, error)
+	// PurgeJobs deletes, in one bounded step, the jobs that ended before endedBefore and
+	// those whose creation was abandoned midway (not finished, and not grown since
+	// abandonedBefore: a coordinator died making it), with their tasks, round reports and
+	// request ids. A job being deleted is gone for every read at once. A step deletes about
+	// budget task records at most, so that a large job takes several; Purge.More says to
+	// call again.
+	PurgeJobs(ctx context.Context, endedBefore, abandonedBefore time.Time, budget int) (Purge, error)
+
 	// UnblockWorker takes workerID (every worker if empty) off the job's blocklist and
 	// resets its failure count; unblocking a worker that is not blocked changes nothing.
 	// It returns errs.NotFound for an unknown job.
 	UnblockWorker(ctx context.Context, jobID, workerID string) (Change, error)
+}
+
+// Purge is what a PurgeJobs step did.
+type Purge struct {
+	Deleted []string // the jobs deleted
+	More    bool     // there is more to delete: call again
 }
 
 // Heartbeat is what ExtendLeases did.

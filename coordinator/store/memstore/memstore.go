@@ -53,6 +53,8 @@ type job struct {
 	failures map[string]int
 	// blockKind is the kind of the failure that made the latest block.
 	blockKind pb.FailureKind
+	// request is the CreateJob request id that made it, if any.
+	request string
 
 	// The current stage is tasks[cur:end]: next is the first of them never leased since
 	// the stage opened, returned the indices of those that went back to the queue, and
@@ -133,6 +135,7 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	s.ordered = append(s.ordered, j)
 	if nj.RequestID != "" {
 		s.requests[nj.RequestID] = j
+		j.request = nj.RequestID
 	}
 	s.openRound(j, 0)
 	return j.snapshot(), nil

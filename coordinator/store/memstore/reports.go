@@ -3,6 +3,7 @@ package memstore
 import (
 	"context"
 	"slices"
+	"time"
 
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
@@ -291,4 +292,30 @@ func (s *Store) UnblockWorker(ctx context.Context, jobID, workerID string) (stor
 		j.pb.UpdateTime = timestamppb.New(s.now())
 	}
 	return store.Change{Job: j.snapshot(), Queued: unblocked}, nil
+}
+
+// PurgeJobs implements store.Store. Nothing here is ever half-made, and deleting a job is
+// dropping it from the maps, so budget counts the tasks freed.
+func (s *Store) PurgeJobs(ctx context.Context, endedBefore, abandonedBefore time.Time, budget int) (store.Purge, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	var p store.Purge
+	freed := 0
+	s.ordered = slices.DeleteFunc(s.ordered, func(j *job) bool {
+		if p.More || !j.ended() || !j.pb.EndTime.AsTime().Before(endedBefore) {
+			return false
+		}
+		if freed > 0 && freed+len(j.tasks) > budget {
+			p.More = true
+			return false
+		}
+		freed += len(j.tasks)
+		delete(s.jobs, j.pb.Id)
+		if s.requests[j.request] == j {
+			delete(s.requests, j.request)
+		}
+		p.Deleted = append(p.Deleted, j.pb.Id)
+		return true
+	})
+	return p, nil
 }

@@ -5,6 +5,7 @@ import (
 	"fmt"
 	"strconv"
 	"strings"
+	"time"
 
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
@@ -117,4 +118,23 @@ func summary(tasks []*pb.Task, base uint32) (stages, counts string, round uint32
 		}
 	}
 	return sb.String(), cb.String(), round
+}
+
+// PurgeJobs implements store.Store: one purgeScript, about budget keys deleted.
+func (s *Store) PurgeJobs(ctx context.Context, endedBefore, abandonedBefore time.Time, budget int) (store.Purge, error) {
+	v, err := s.run(ctx, purgeScript, micros(endedBefore), micros(abandonedBefore), max(budget, 1))
+	if err != nil {
+		return store.Purge{}, err
+	}
+	l, _ := v.([]any)
+	if len(l) == 0 {
+		return store.Purge{}, errs.E(errs.Internal, "unexpected purge answer %v", v)
+	}
+	p := store.Purge{More: l[0] == int64(1)}
+	for _, x := range l[1:] {
+		id, _ := x.(string)
+		s.rounds.forget(id)
+		p.Deleted = append(p.Deleted, id)
+	}
+	return p, nil
 }

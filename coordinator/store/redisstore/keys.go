@@ -7,6 +7,8 @@ package redisstore
 //	jobs                  zset job id, score = sequence: ListJobs paging, newest first
 //	req                   hash request id -> job id: CreateJob deduplication
 //	pending               zset job id, score = when it last grew (µs): jobs being created
+//	ended                 zset job id, score = end time (µs): ended jobs, for the purge
+//	doomed                zset job id: jobs being deleted (purgeScript)
 //	j:{job}               hash: the job record (see codec.go) and its counters
 //	r:{job}               list: the job's RoundReports (binary protobuf)
 //	s:{job}               hash: first task index of a stage -> index after its last
@@ -26,6 +28,8 @@ const (
 	leasesKey   = "leases"
 	delayedKey  = "delayed"
 	pendingKey  = "pending"
+	endedKey    = "ended"
+	doomedKey   = "doomed"
 	opPrefix    = "op:"
 
 	jobPrefix    = "j:"

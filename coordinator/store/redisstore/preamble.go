@@ -28,7 +28,7 @@ func buildPreamble() string {
 	enumLocals(&b, pb.JobState(0).Descriptor(), "JOB_STATE_", "J", "JOB_STATES")
 	enumLocals(&b, pb.FailureKind(0).Descriptor(), "FAILURE_KIND_", "F", "")
 	for _, k := range []struct{ local, name string }{
-		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey}, {"PENDING", pendingKey},
+		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey}, {"PENDING", pendingKey}, {"ENDED", endedKey}, {"DOOMED", doomedKey},
 	} {
 		fmt.Fprintf(&b, "local %s = P .. %s\n", k.local, lua(k.name))
 	}

@@ -191,13 +191,16 @@ func (s *Store) jobs(ctx context.Context, ids []string) ([]*pb.Job, error) {
 	}
 	records := make([]map[string]string, len(ids))
 	for i, id := range ids {
-		// A job still being created (scripts.go, beginScript) is not there yet.
-		if records[i] = cmds[i].Val(); len(records[i]) == 0 || records[i]["building"] != "" {
+		if records[i] = cmds[i].Val(); len(records[i]) == 0 || !visible(records[i]) {
 			return nil, noJob(id)
 		}
 	}
 	return s.decodeJobs(ctx, records)
 }
+
+// visible reports whether a job record is one a read may see: not still being created
+// (scripts.go, beginScript) nor being deleted (purgeScript).
+func visible(h map[string]string) bool { return h["building"] == "" && h["doomed"] == "" }
 
 func noJob(id string) error {
 	return &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
@@ -206,7 +209,7 @@ func noJob(id string) error {
 // view reads what the state of a job's tasks depends on, and how many it has; NotFound
 // for an unknown job.
 func (s *Store) view(ctx context.Context, jobID string) (jobView, uint64, error) {
-	fields := []string{"state", "cur", "curend", "ntasks", "building"}
+	fields := []string{"state", "cur", "curend", "ntasks", "building", "doomed"}
 	v, err := s.rdb.HMGet(ctx, s.jobKey(jobID), fields...).Result()
 	if err != nil {
 		return jobView{}, 0, redisErr(err)
@@ -215,7 +218,7 @@ func (s *Store) view(ctx context.Context, jobID string) (jobView, uint64, error)
 	for i, f := range fields {
 		h[f], _ = v[i].(string)
 	}
-	if h["state"] == "" || h["building"] != "" {
+	if h["state"] == "" || !visible(h) {
 		return jobView{}, 0, noJob(jobID)
 	}
 	return viewOf(h), number(h["ntasks"]), nil

@@ -149,7 +149,7 @@ func slowest(t *testing.T, rdb *redis.Client) (time.Duration, string) {
 
 // TestLargestRoundNeverBlocksRedis creates a job of the largest round validation allows
 // (95,539 tasks), appends a second round of that size to another job with CompleteRound,
-// leases from both and cancels them: each is done in scripts of about a millisecond, so
+// leases from both, cancels them and purges them: each is done in scripts of about a millisecond, so
 // that Redis never stops serving other clients for long. Redis's slow log times every
 // command; the longest is printed and must stay under 20 ms (a generous margin on a shared
 // machine: one script writing such a job took over a second). tests/fault's
@@ -228,5 +228,21 @@ func TestLargestRoundNeverBlocksRedis(t *testing.T) {
 			t.Fatal(err)
 		}
 		check("CancelJob", t0)
+	}
+	t0 = time.Now()
+	var deleted []string
+	for steps := 1; ; steps++ {
+		p, err := s.PurgeJobs(ctx, time.Now().Add(time.Hour), time.Now(), 1000)
+		if err != nil {
+			t.Fatal(err)
+		}
+		if deleted = append(deleted, p.Deleted...); !p.More {
+			check(fmt.Sprintf("PurgeJobs of both in %d steps", steps), t0)
+			break
+		}
+	}
+	left, err := rdb.Keys(ctx, "big:[tjrsqlp]:*").Result() // records, rounds, stages, queues, leases
+	if err != nil || len(deleted) != 2 || len(left) != 0 {
+		t.Errorf("after the purge: %v deleted, %d keys left (%v): %.200v", deleted, len(left), err, left)
 	}
 }

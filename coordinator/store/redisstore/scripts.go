@@ -57,10 +57,19 @@ local function refuse(kind, field, msg) return {'E', kind, field, msg} end
 
 local function ended(st) return st == JSUCCEEDED or st == JFAILED or st == JCANCELLED end
 
+-- unknown refuses a job that does not exist, or no longer: it is being deleted
+-- (purgeScript) or was never finished (beginScript).
+local function unknown(jid)
+  local h = redis.call('HMGET', jkey(jid), 'state', 'doomed', 'building')
+  if not h[1] or h[2] or h[3] then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+  return nil
+end
+
 -- live refuses a job that does not exist or has ended.
 local function live(jid)
+  local e = unknown(jid)
+  if e then return e end
   local st = redis.call('HGET', jkey(jid), 'state')
-  if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
   st = tonumber(st)
   if ended(st) then
     return refuse('precondition', '', 'job ' .. jid .. ' has already ended (JOB_STATE_' .. JOB_STATES[st] .. ')')
@@ -229,6 +238,7 @@ end
 
 local function succeedjob(jid, outputs)
   redis.call('HSET', jkey(jid), 'state', JSUCCEEDED, 'end', NOW_S, 'outputs', outputs)
+  redis.call('ZADD', ENDED, NOW_S, jid)
 end
 
 -- endjob moves a job to a terminal state (with why and the failure kind for JFAILED),
@@ -237,6 +247,7 @@ end
 local function endjob(jid, state, msg, kind)
   local jk = jkey(jid)
   redis.call('HSET', jk, 'state', state, 'error', msg, 'fkind', kind, 'end', NOW_S, 'update', NOW_S, 'held', 0)
+  redis.call('ZADD', ENDED, NOW_S, jid)
   redis.call('DEL', qkey(jid, redis.call('HGET', jk, 'cphase')))
   for _, t in ipairs(redis.call('SMEMBERS', lkey(jid))) do redis.call('ZREM', LEASES, t) end
   redis.call('DEL', lkey(jid))
@@ -317,17 +328,28 @@ if req ~= '' then redis.call('HSET', REQUESTS, req, jid) end
 return {'BUILD', jid}
 `)
 
+// gone refuses to go on making a job that was deleted, or is being: it was abandoned (its
+// maker gave up midway) and the purge took it.
+var goneLib = `
+local function gone(jid)
+  local jk = jkey(jid)
+  if redis.call('EXISTS', jk) == 1 and redis.call('HEXISTS', jk, 'doomed') == 0 then return nil end
+  return refuse('gone', '', 'job ' .. jid .. ' is gone: its creation was abandoned and cleaned up; submit again')
+end
+`
+
 // stageScript: ARGV[3] job id, [4] the staging's owner (the job id when creating it, the
 // composite's "task@epoch" for a round), [5] that composite's task id (empty when
 // creating), [6] its worker, [7] its epoch, [8] the first index of the chunk, [9...] its
 // tasks: a count, then spec, phase, round and stage (store.Stage, computed by Go) of
-// each. Chunks come in order from ntasks; one written before (a retry, or a second
-// attempt of the same submission) is skipped. It answers {'STAGED'}, or {'NOOP'} if the
+// each. Chunks come in order from ntasks; what was written before (by a retry, or a
+// second attempt of the same submission) is skipped. It answers {'STAGED'}, or {'NOOP'} if the
 // composite's report was accepted already.
-var stageScript = newScript(`
+var stageScript = newScript(goneLib + `
 local jid, owner, from = ARGV[3], ARGV[4], tonumber(ARGV[8])
 local jk = jkey(jid)
-if redis.call('EXISTS', jk) == 0 then return refuse('gone', '', 'job ' .. jid .. ' is gone: its creation was abandoned and cleaned up; submit again') end
+local e = gone(jid)
+if e then return e end
 if ARGV[5] ~= '' then
   if repeated(ARGV[5], ARGV[6], ARGV[7]) then return {'NOOP'} end
   local e = held(ARGV[5], ARGV[6], ARGV[7])
@@ -342,8 +364,8 @@ if redis.call('HGET', jk, 'sowner') ~= owner then
 end
 local n = tonumber(ARGV[9])
 if from + n <= top then return {'STAGED'} end
-if from ~= top then return refuse('internal', '', 'job ' .. jid .. ': chunk at task ' .. from .. ' but the staged tasks end at ' .. top) end
-for i = 0, n - 1 do
+if from > top then return refuse('internal', '', 'job ' .. jid .. ': chunk at task ' .. from .. ' but the staged tasks end at ' .. top) end
+for i = top - from, n - 1 do
   local a = 10 + 4 * i
   local idx = from + i
   redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', ARGV[a], 'phase', ARGV[a + 1], 'round', ARGV[a + 2],
@@ -356,10 +378,11 @@ return {'STAGED'}
 
 // publishScript: ARGV[3] job id, [4] its stages, [5] its phase counts, [6] its last round
 // (see addtasks).
-var publishScript = newScript(`
+var publishScript = newScript(goneLib + `
 local jid = ARGV[3]
 local jk = jkey(jid)
-if redis.call('EXISTS', jk) == 0 then return refuse('gone', '', 'job ' .. jid .. ' is gone: its creation was abandoned and cleaned up; submit again') end
+local e = gone(jid)
+if e then return e end
 if redis.call('HEXISTS', jk, 'building') == 0 then return ok(0, 0, jid, nil) end
 local total = num(jk, 'total')
 if redis.call('HGET', jk, 'sowner') ~= jid or num(jk, 'stop') ~= total then
@@ -503,10 +526,9 @@ return failjob(t, redis.call('HGET', tkey(t), 'job'), ARGV[9])
 var failBlockedScript = newScript(`
 local jid = ARGV[3]
 local jk = jkey(jid)
-local st = redis.call('HGET', jk, 'state')
-if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
-st = tonumber(st)
-if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED or #ARGV < 5 then return {'NOOP'} end
+local e = unknown(jid)
+if e then return e end
+if ended(tonumber(redis.call('HGET', jk, 'state'))) or #ARGV < 5 then return {'NOOP'} end
 for i = 5, #ARGV do
   if redis.call('HEXISTS', jk, BLOCKED .. ARGV[i]) == 0 then return {'NOOP'} end
 end
@@ -625,7 +647,8 @@ return ok(0, 0, jid, nil)
 var unblockScript = newScript(`
 local jid, worker = ARGV[3], ARGV[4]
 local jk = jkey(jid)
-if redis.call('EXISTS', jk) == 0 then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+local e = unknown(jid)
+if e then return e end
 local drop, unblocked = {}, 0
 if worker == '' then
   for _, f in ipairs(redis.call('HKEYS', jk)) do
@@ -640,6 +663,53 @@ end
 if #drop > 0 then redis.call('HDEL', jk, unpack(drop)) end
 if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
 return ok(0, unblocked, jid, nil)
+`)
+
+// purgeScript: ARGV[3] ended-before (µs), [4] abandoned-before (µs), [5] budget. It marks
+// for deletion (doomed: no read sees the job from then on, its request id is forgotten)
+// up to 16 jobs that ended before ARGV[3] and 16 half-made jobs not grown since ARGV[4],
+// then deletes the records of the doomed jobs, a batch of task records at a time, from
+// their last task down, at most budget keys in all: a job of 95,539 tasks takes many
+// calls, each about a millisecond. It answers {1 if work is left, the ids of the jobs
+// finished}.
+var purgeScript = newScript(`
+local budget = tonumber(ARGV[5])
+local function doom(jid)
+  local jk = jkey(jid)
+  local h = redis.call('HMGET', jk, 'req', 'ntasks', 'stop')
+  redis.call('ZREM', JOBS, jid)
+  redis.call('ZREM', ENDED, jid)
+  redis.call('ZREM', PENDING, jid)
+  if h[1] and h[1] ~= '' and redis.call('HGET', REQUESTS, h[1]) == jid then redis.call('HDEL', REQUESTS, h[1]) end
+  redis.call('HSET', jk, 'doomed', math.max(tonumber(h[2] or '0'), tonumber(h[3] or '0')))
+  redis.call('ZADD', DOOMED, NOW_S, jid)
+end
+for _, jid in ipairs(redis.call('ZRANGEBYSCORE', ENDED, '-inf', '(' .. ARGV[3], 'LIMIT', 0, 16)) do doom(jid) end
+for _, jid in ipairs(redis.call('ZRANGEBYSCORE', PENDING, '-inf', '(' .. ARGV[4], 'LIMIT', 0, 16)) do doom(jid) end
+local out = {0}
+for _, jid in ipairs(redis.call('ZRANGE', DOOMED, 0, 15)) do
+  if budget <= 0 then out[1] = 1 break end
+  local jk = jkey(jid)
+  local top = num(jk, 'doomed')
+  while top > 0 and budget > 0 do
+    local keys = {}
+    for i = top - 1, math.max(top - 256, 0, top - budget), -1 do keys[#keys + 1] = tkey(tid(jid, i)) end
+    redis.call('DEL', unpack(keys))
+    top, budget = top - #keys, budget - #keys
+  end
+  if top > 0 then
+    redis.call('HSET', jk, 'doomed', top)
+    out[1] = 1
+  else
+    redis.call('DEL', jk, rkey(jid), skey(jid), lkey(jid), qkey(jid, redis.call('HGET', jk, 'cphase') or '0'))
+    redis.call('ZREM', DOOMED, jid)
+    out[#out + 1] = jid
+    budget = budget - 1
+  end
+end
+if redis.call('ZCARD', DOOMED) > 0 or redis.call('ZCOUNT', ENDED, '-inf', '(' .. ARGV[3]) > 0 or
+  redis.call('ZCOUNT', PENDING, '-inf', '(' .. ARGV[4]) > 0 then out[1] = 1 end
+return out
 `)
 
 // scripts are every script, loaded into Redis when a Store opens.
