@@ -2,13 +2,11 @@ package blobstore_test
 
 import (
 	"context"
-	"os"
-	"path/filepath"
-	"strings"
 	"testing"
 	"time"
 
 	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/blobstore/blobtest"
 	"photonfarm/coordinator/errs"
 )
 
@@ -17,27 +15,9 @@ import (
 // that is gone says so.
 func TestWalkTouchAndDeleteUnused(t *testing.T) {
 	ctx := context.Background()
-	root := t.TempDir()
-	s, err := blobstore.New(root, 0)
-	if err != nil {
-		t.Fatal(err)
-	}
-	put := func(content string) string {
-		t.Helper()
-		info, err := s.Put(ctx, strings.NewReader(content), int64(len(content)), "")
-		if err != nil {
-			t.Fatal(err)
-		}
-		return info.Digest
-	}
-	old, touched, fresh := put("old"), put("touched"), put("fresh")
-	past := time.Now().Add(-48 * time.Hour)
-	for _, d := range []string{old, touched} {
-		p := filepath.Join(root, "sha256", d[7:9], d[7:])
-		if err := os.Chtimes(p, past, past); err != nil {
-			t.Fatal(err)
-		}
-	}
+	s := blobtest.New(t)
+	old, touched, fresh := s.Put("old"), s.Put("touched"), s.Put("fresh")
+	s.Age(time.Now().Add(-48*time.Hour), old, touched)
 	cutoff := time.Now().Add(-24 * time.Hour)
 	if _, err := s.Touch(ctx, touched); err != nil {
 		t.Fatal(err)
@@ -66,7 +46,7 @@ func TestWalkTouchAndDeleteUnused(t *testing.T) {
 			t.Errorf("Stat(%s) after the collection: %v", d, err)
 		}
 	}
-	if ents, _ := os.ReadDir(filepath.Join(root, "tmp")); len(ents) != 0 {
-		t.Errorf("left in tmp: %v", ents)
+	if left := s.Temp(); len(left) != 0 {
+		t.Errorf("left in tmp: %v", left)
 	}
 }

@@ -2,16 +2,13 @@ package retention_test
 
 import (
 	"context"
-	"os"
-	"path/filepath"
-	"strings"
 	"testing"
 	"time"
 
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/scene/scenetest"
-	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/blobstore/blobtest"
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/retention"
@@ -32,19 +29,8 @@ func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 	now := time.Now()
 	clk := clock.NewFake(now.Add(-200 * time.Hour))
 	st := memstore.New(store.Options{Clock: clk})
-	root := t.TempDir()
-	blobs, err := blobstore.New(root, 0)
-	if err != nil {
-		t.Fatal(err)
-	}
-	put := func(content string) string {
-		t.Helper()
-		info, err := blobs.Put(ctx, strings.NewReader(content), int64(len(content)), "")
-		if err != nil {
-			t.Fatal(err)
-		}
-		return info.Digest
-	}
+	blobs := blobtest.New(t)
+	put := blobs.Put
 	mesh, reference := put("a mesh"), put("a reference")
 	sceneNaming := func(name string) string {
 		t.Helper()
@@ -86,18 +72,13 @@ func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 	orphan, inFlight := put("an orphan"), put("uploaded for a submit in flight")
 
 	// Everything but the fresh upload is two days old.
-	for _, d := range []string{mesh, reference, old.SceneDigest, oldTile, live.SceneDigest, liveTile, orphan, inFlight} {
-		past := now.Add(-48 * time.Hour)
-		if err := os.Chtimes(filepath.Join(root, "sha256", d[7:9], d[7:]), past, past); err != nil {
-			t.Fatal(err)
-		}
-	}
+	blobs.Age(now.Add(-48*time.Hour), mesh, reference, old.SceneDigest, oldTile, live.SceneDigest, liveTile, orphan, inFlight)
 	fresh := put("a fresh upload")
 	if _, err := blobs.Touch(ctx, inFlight); err != nil { // what SubmitJob does
 		t.Fatal(err)
 	}
 
-	r, err := retention.New(retention.Config{Store: st, Blobs: blobs, Clock: clk}).Sweep(ctx)
+	r, err := retention.New(retention.Config{Store: st, Blobs: blobs.Store, Clock: clk}).Sweep(ctx)
 	if err != nil {
 		t.Fatal(err)
 	}
