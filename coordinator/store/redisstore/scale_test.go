@@ -12,10 +12,19 @@ import (
 	"github.com/redis/go-redis/v9"
 
 	"photonfarm/coordinator/store"
+	"photonfarm/coordinator/store/redisstore"
 	"photonfarm/coordinator/store/redisstore/redistest"
 	"photonfarm/coordinator/store/storetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
+
+// storeOnItsOwnRedis starts a redis-server for the test alone and returns a store on it
+// (prefix "farm:") and a client of it, to count what the store makes it do.
+func storeOnItsOwnRedis(t *testing.T, opts store.Options) (*redisstore.Store, *redis.Client) {
+	t.Helper()
+	srv := redistest.Start(t)
+	return newStore(t, srv, "farm:", opts), srv.Client()
+}
 
 // commands counts the commands Redis ran since the last count (those run by scripts
 // included), from INFO commandstats.
@@ -41,9 +50,7 @@ func commands(t *testing.T, rdb *redis.Client) int {
 // run a few dozen Redis commands, not one per task.
 func TestLeaseAndCompleteDoNotScanTheJob(t *testing.T) {
 	const tiles, budget = 10000, 60
-	srv := redistest.Start(t)
-	rdb := srv.Client()
-	s := newStore(t, srv, "farm:", store.Options{})
+	s, rdb := storeOnItsOwnRedis(t, store.Options{})
 	ctx := context.Background()
 	if _, err := s.CreateJob(ctx, storetest.TileJob("huge", tiles)); err != nil {
 		t.Fatal(err)
@@ -72,9 +79,7 @@ func TestLeaseAndCompleteDoNotScanTheJob(t *testing.T) {
 // cancelled without being rewritten.
 func TestOpeningAStageAndCancellingDoNotTouchEveryTask(t *testing.T) {
 	const tiles, budget = 10000, 60
-	srv := redistest.Start(t)
-	rdb := srv.Client()
-	s := newStore(t, srv, "farm:", store.Options{})
+	s, rdb := storeOnItsOwnRedis(t, store.Options{})
 	ctx := context.Background()
 	nj := storetest.TileJob("staged", tiles)
 	emit := &pb.Task{Phase: pb.Phase_PHASE_EMIT, Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{PhotonCount: 1000, TotalPhotons: 1000}}}
@@ -123,30 +128,6 @@ func TestOpeningAStageAndCancellingDoNotTouchEveryTask(t *testing.T) {
 	}
 }
 
-// slowest returns the longest command Redis ran since the slow log was last reset (those
-// over 1 ms are logged), and resets it.
-func slowest(t *testing.T, rdb *redis.Client) (time.Duration, string) {
-	t.Helper()
-	ctx := context.Background()
-	logs, err := rdb.Do(ctx, "SLOWLOG", "GET", "-1").Slice()
-	if err != nil {
-		t.Fatal(err)
-	}
-	var worst time.Duration
-	var what string
-	for _, l := range logs {
-		e, _ := l.([]any)
-		us, _ := e[2].(int64)
-		if d := time.Duration(us) * time.Microsecond; d > worst {
-			worst, what = d, fmt.Sprint(e[3])[:min(60, len(fmt.Sprint(e[3])))]
-		}
-	}
-	if err := rdb.Do(ctx, "SLOWLOG", "RESET").Err(); err != nil {
-		t.Fatal(err)
-	}
-	return worst, what
-}
-
 // TestLargestRoundNeverBlocksRedis creates a job of the largest round validation allows
 // (95,539 tasks), appends a second round of that size to another job with CompleteRound,
 // leases from both, cancels them and purges them: each is done in scripts of about a millisecond, so
@@ -158,17 +139,12 @@ func TestLargestRoundNeverBlocksRedis(t *testing.T) {
 	const limit = 20 * time.Millisecond
 	srv := redistest.Start(t)
 	rdb := srv.Client()
+	s := newStore(t, srv, "farm:", store.Options{LeaseDuration: time.Hour})
 	ctx := context.Background()
-	for k, v := range map[string]string{"slowlog-log-slower-than": "1000", "slowlog-max-len": "100000"} {
-		if err := rdb.ConfigSet(ctx, k, v).Err(); err != nil {
-			t.Fatal(err)
-		}
-	}
-	s := newStore(t, srv, "big:", store.Options{LeaseDuration: time.Hour})
-	slowest(t, rdb)
+	srv.LogSlowCommands(time.Millisecond)
 	check := func(what string, t0 time.Time) {
 		t.Helper()
-		worst, cmd := slowest(t, rdb)
+		worst, cmd := srv.SlowestCommand()
 		t.Logf("%s: %v; longest Redis command %v %s", what, time.Since(t0).Round(time.Millisecond), worst, cmd)
 		if worst > limit {
 			t.Errorf("%s: Redis ran a command for %v, want under %v", what, worst, limit)
@@ -241,7 +217,7 @@ func TestLargestRoundNeverBlocksRedis(t *testing.T) {
 			break
 		}
 	}
-	left, err := rdb.Keys(ctx, "big:[tjrsqlp]:*").Result() // records, rounds, stages, queues, leases
+	left, err := rdb.Keys(ctx, "farm:[tjrsqlp]:*").Result() // records, rounds, stages, queues, leases
 	if err != nil || len(deleted) != 2 || len(left) != 0 {
 		t.Errorf("after the purge: %v deleted, %d keys left (%v): %.200v", deleted, len(left), err, left)
 	}

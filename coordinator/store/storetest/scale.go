@@ -5,6 +5,7 @@ import (
 	"fmt"
 	"slices"
 	"sync"
+	"sync/atomic"
 	"testing"
 	"time"
 
@@ -59,23 +60,21 @@ type Worker struct {
 	TaskTime time.Duration
 }
 
-// Run leases and completes tasks until stop is closed or stopWhen says the job of the
-// task it just completed is done, and returns its LeaseTask latencies. Errors are
-// reported with t.Errorf (Run may run on a goroutine of its own).
-func (w Worker) Run(t testing.TB, stop <-chan struct{}, stopWhen func(store.Change) bool) Latencies {
+// Run leases and completes tasks until stop says so, and returns its LeaseTask latencies.
+// stop is asked after every LeaseTask (with the zero Change) and every completion (with
+// its Change). Errors are reported with t.Errorf (Run may run on a goroutine of its own).
+func (w Worker) Run(t testing.TB, stop func(store.Change) bool) Latencies {
 	ctx := context.Background()
 	var lat Latencies
 	for {
-		select {
-		case <-stop:
-			return lat
-		default:
-		}
 		t0 := time.Now()
 		l, err := w.S.LeaseTask(ctx, w.ID, store.WorkerPhases)
 		lat = append(lat, time.Since(t0))
 		if err != nil {
 			t.Errorf("%s: LeaseTask: %v", w.ID, err)
+			return lat
+		}
+		if stop(store.Change{}) {
 			return lat
 		}
 		if l == nil {
@@ -93,10 +92,40 @@ func (w Worker) Run(t testing.TB, stop <-chan struct{}, stopWhen func(store.Chan
 			t.Errorf("%s: CompleteTask(%s): %v", w.ID, l.Lease.TaskId, err)
 			return lat
 		}
-		if stopWhen != nil && stopWhen(c) {
+		if stop(c) {
 			return lat
 		}
 	}
+}
+
+// crew runs n Workers on s until stop says so and returns all their latencies.
+func crew(t testing.TB, s store.Store, name string, n int, taskTime time.Duration, stop func(store.Change) bool) Latencies {
+	var (
+		mu  sync.Mutex
+		all Latencies
+		wg  sync.WaitGroup
+	)
+	for i := range n {
+		wg.Add(1)
+		go func() {
+			defer wg.Done()
+			lat := Worker{S: s, ID: fmt.Sprint(name, "-", i), TaskTime: taskTime}.Run(t, stop)
+			mu.Lock()
+			all = append(all, lat...)
+			mu.Unlock()
+		}()
+	}
+	wg.Wait()
+	return all
+}
+
+// Leases has `workers` fake workers lease and complete tasks of s, each held taskTime,
+// until they have made n LeaseTask calls between them, and returns their latencies.
+func Leases(t testing.TB, s store.Store, workers, n int, taskTime time.Duration) Latencies {
+	var calls atomic.Int64
+	return crew(t, s, "busy-worker", workers, taskTime, func(c store.Change) bool {
+		return c.Job == nil && calls.Add(1) >= int64(n)
+	})
 }
 
 // UrgentJob times a job of `tiles` tiles at the highest priority from submission to
@@ -111,38 +140,18 @@ func UrgentJob(t testing.TB, s store.Store, tiles, workers int, taskTime time.Du
 	if err != nil {
 		t.Fatalf("CreateJob: %v", err)
 	}
-	done := make(chan struct{})
-	var once sync.Once
-	finished := func(c store.Change) bool {
+	var done atomic.Bool
+	deadline := start.Add(10 * time.Minute)
+	lat := crew(t, s, "urgent-worker", workers, taskTime, func(c store.Change) bool {
 		if c.Job.GetId() == j.Id && c.Job.GetState() == pb.JobState_JOB_STATE_SUCCEEDED {
-			once.Do(func() { close(done) })
+			done.Store(true)
 		}
-		return false
-	}
-	var (
-		mu  sync.Mutex
-		all Latencies
-		wg  sync.WaitGroup
-	)
-	for i := range workers {
-		wg.Add(1)
-		go func() {
-			defer wg.Done()
-			lat := Worker{S: s, ID: fmt.Sprint("urgent-worker-", i), TaskTime: taskTime}.Run(t, done, finished)
-			mu.Lock()
-			all = append(all, lat...)
-			mu.Unlock()
-		}()
-	}
-	select {
-	case <-done:
-	case <-time.After(10 * time.Minute):
+		return done.Load() || time.Now().After(deadline)
+	})
+	if !done.Load() {
 		t.Errorf("the urgent job did not finish in 10 minutes")
-		once.Do(func() { close(done) })
 	}
-	elapsed := time.Since(start)
-	wg.Wait()
-	return elapsed, all
+	return time.Since(start), lat
 }
 
 // LargestRound is round r of the largest plan scene validation allows (docs/limits.md,
