@@ -87,7 +87,7 @@ func (s *Service) fillPrecompute(ctx context.Context, l *store.Leased, spec *pb.
 // fillMerge gives the merge the round's built snapshot and irradiance shards in plan order:
 // the precompute stage before it, and the build before that.
 func (s *Service) fillMerge(ctx context.Context, l *store.Leased, spec *pb.MergeIrradianceSpec) error {
-	from, to, err := stageBefore(l, pb.Phase_PHASE_PRECOMPUTE)
+	from, _, err := stageBefore(l, pb.Phase_PHASE_PRECOMPUTE)
 	if err != nil {
 		return err
 	}
@@ -97,10 +97,10 @@ func (s *Service) fillMerge(ctx context.Context, l *store.Leased, spec *pb.Merge
 	if spec.PhotonSnapshot, err = s.outputOf(ctx, l.Task.GetJobId(), from-1, pb.Phase_PHASE_BUILD, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT); err != nil {
 		return err
 	}
-	spec.IrradianceShards = make([]*pb.Artifact, 0, to-from)
-	return s.outputs(ctx, l.Task.GetJobId(), from, to, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) {
-		spec.IrradianceShards = append(spec.IrradianceShards, a)
+	spec.IrradianceShards, err = stageOutputs(ctx, s, l, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) *pb.Artifact {
+		return a
 	})
+	return err
 }
 
 // globalPhotons reads the stored photon count of a snapshot's global map from its header

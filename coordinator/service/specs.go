@@ -116,30 +116,30 @@ func output(t *pb.Task, k pb.ArtifactKind) (*pb.Artifact, error) {
 	return nil, errs.E(errs.Internal, "task %s succeeded without a %q output", t.GetId(), tasks.ArtifactName(k))
 }
 
-// tiles lists the rectangles and tile EXRs of the render stage before composite l.
-func (s *Service) tiles(ctx context.Context, l *store.Leased) ([]*pb.TileInput, error) {
-	from, to, err := stageBefore(l, pb.Phase_PHASE_RENDER)
+// stageOutputs returns, for each task of phase p in the stage before l's, in plan order,
+// what item makes of it and its output of kind k.
+func stageOutputs[T any](ctx context.Context, s *Service, l *store.Leased, p pb.Phase, k pb.ArtifactKind, item func(*pb.Task, *pb.Artifact) T) ([]T, error) {
+	from, to, err := stageBefore(l, p)
 	if err != nil {
 		return nil, err
 	}
-	tiles := make([]*pb.TileInput, 0, to-from)
-	err = s.outputs(ctx, l.Task.GetJobId(), from, to, pb.Phase_PHASE_RENDER, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR, func(t *pb.Task, tile *pb.Artifact) {
-		tiles = append(tiles, &pb.TileInput{Rect: t.GetRenderTile().GetRect(), Tile: tile})
+	out := make([]T, 0, to-from)
+	err = s.outputs(ctx, l.Task.GetJobId(), from, to, p, k, func(t *pb.Task, a *pb.Artifact) { out = append(out, item(t, a)) })
+	return out, err
+}
+
+// tiles lists the rectangles and tile EXRs of the render stage before composite l.
+func (s *Service) tiles(ctx context.Context, l *store.Leased) ([]*pb.TileInput, error) {
+	return stageOutputs(ctx, s, l, pb.Phase_PHASE_RENDER, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR, func(t *pb.Task, tile *pb.Artifact) *pb.TileInput {
+		return &pb.TileInput{Rect: t.GetRenderTile().GetRect(), Tile: tile}
 	})
-	return tiles, err
 }
 
 // shards lists the emission shards before build l, in plan order, with what each produced.
 func (s *Service) shards(ctx context.Context, l *store.Leased) ([]*pb.EmittedShard, error) {
-	from, to, err := stageBefore(l, pb.Phase_PHASE_EMIT)
-	if err != nil {
-		return nil, err
-	}
-	shards := make([]*pb.EmittedShard, 0, to-from)
-	err = s.outputs(ctx, l.Task.GetJobId(), from, to, pb.Phase_PHASE_EMIT, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD, func(t *pb.Task, shard *pb.Artifact) {
-		shards = append(shards, &pb.EmittedShard{Spec: t.GetEmitPhotons(), Shard: shard})
+	return stageOutputs(ctx, s, l, pb.Phase_PHASE_EMIT, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD, func(t *pb.Task, shard *pb.Artifact) *pb.EmittedShard {
+		return &pb.EmittedShard{Spec: t.GetEmitPhotons(), Shard: shard}
 	})
-	return shards, err
 }
 
 // snapshot returns the photon snapshot the tiles of l's round render with: the output of
