@@ -3,6 +3,7 @@ package redisstore
 // Key layout under the prefix. These names are the only place keys are spelled: the Go
 // methods below and the Lua library (the preamble, preamble.go) are both built from them.
 //
+//	layout                string: the key layout's version (redisstore.go, layoutVersion)
 //	seq                   INCR counter: job creation sequence
 //	jobs                  zset job id, score = sequence: ListJobs paging, newest first
 //	req                   hash request id -> job id: CreateJob deduplication
@@ -22,6 +23,7 @@ package redisstore
 //	delayed               zset task id, score = retry time (µs): queued tasks in backoff
 //	op:{token}            string, expires: an operation's answer (scripts.go, Operations)
 const (
+	layoutKey   = "layout"
 	seqKey      = "seq"
 	jobsKey     = "jobs"
 	requestsKey = "req"

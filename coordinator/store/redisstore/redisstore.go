@@ -63,6 +63,9 @@ func New(ctx context.Context, rdb redis.UniversalClient, prefix string, opts sto
 	if err := rdb.Ping(ctx).Err(); err != nil {
 		return nil, fmt.Errorf("redisstore: %w", err)
 	}
+	if err := checkLayout(ctx, rdb, prefix); err != nil {
+		return nil, err
+	}
 	// Loaded now, the scripts are called by their digest from the first call on (a Redis
 	// that lost them, restarted without its data, gets them again: redis.Script.Run).
 	for _, sc := range scripts {
@@ -71,6 +74,29 @@ func New(ctx context.Context, rdb redis.UniversalClient, prefix string, opts sto
 		}
 	}
 	return &Store{rdb: rdb, prefix: prefix, opts: opts.WithDefaults()}, nil
+}
+
+// layoutVersion names the key layout of keys.go and scripts.go. Version 2 (issue 12: stages
+// as ranges, jobs made in chunks, lease sets, operations) cannot read jobs the scripts of
+// version 1 wrote, which had no layout key.
+const layoutVersion = "2"
+
+// checkLayout records the layout under an empty prefix and refuses a prefix whose keys are
+// of another layout, rather than fail in the middle of its jobs.
+func checkLayout(ctx context.Context, rdb redis.UniversalClient, prefix string) error {
+	v, err := rdb.Eval(ctx, `
+local v = redis.call('GET', KEYS[1])
+if v then return v end
+if redis.call('EXISTS', KEYS[2]) == 1 then return '1' end
+redis.call('SET', KEYS[1], ARGV[1])
+return ARGV[1]`, []string{prefix + layoutKey, prefix + seqKey}, layoutVersion).Text()
+	if err != nil {
+		return fmt.Errorf("redisstore: %w", err)
+	}
+	if v != layoutVersion {
+		return fmt.Errorf("redisstore: the keys under prefix %q are of layout %s, this coordinator's are of layout %s: finish their jobs with the coordinator that made them, or use another prefix", prefix, v, layoutVersion)
+	}
+	return nil
 }
 
 // An operation's answer is kept for opTTL (scripts.go, Operations); run retries a call
