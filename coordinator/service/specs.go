@@ -67,15 +67,15 @@ func stageBefore(l *store.Leased, p pb.Phase) (from, to uint32, err error) {
 	return l.StageStart - n, l.StageStart, nil
 }
 
-// readPage is how many tasks a fill reads at a time (the in-memory store copies a page
+// ReadPage is how many tasks a fill reads at a time (the in-memory store copies a page
 // under its lock).
-const readPage = 1000
+const ReadPage = 1000
 
 // outputs calls fn with each task of job jobID in [from, to), in plan order, and its
 // output of kind k; every one of them must be of phase p and have succeeded.
 func (s *Service) outputs(ctx context.Context, jobID string, from, to uint32, p pb.Phase, k pb.ArtifactKind, fn func(*pb.Task, *pb.Artifact)) error {
 	for from < to {
-		ts, _, err := s.cfg.Store.ListTasks(ctx, jobID, int(min(to-from, readPage)), store.EncodePageToken('t', uint64(from)))
+		ts, _, err := s.cfg.Store.ListTasks(ctx, jobID, int(min(to-from, ReadPage)), store.EncodePageToken('t', uint64(from)))
 		if err != nil {
 			return err
 		}

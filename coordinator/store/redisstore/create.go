@@ -16,10 +16,10 @@ import (
 )
 
 // Jobs and rounds are written in chunks (scripts.go, beginScript), each a script of at
-// most stageChunk tasks or stageChunkBytes of arguments: a millisecond or two of Redis.
+// most StageChunk tasks or StageChunkBytes of arguments: a millisecond or two of Redis.
 const (
-	stageChunk      = 128
-	stageChunkBytes = 256 << 10
+	StageChunk      = 128
+	StageChunkBytes = 256 << 10
 )
 
 // CreateJob implements store.Store in bounded steps: the record, the tasks a chunk at a
@@ -70,7 +70,7 @@ func (s *Store) stage(ctx context.Context, jobID, owner string, ref *store.Lease
 	}
 	for from := 0; from < len(tasks); {
 		chunk, bytes := 0, 0
-		for from+chunk < len(tasks) && chunk < stageChunk && bytes < stageChunkBytes {
+		for from+chunk < len(tasks) && chunk < StageChunk && bytes < StageChunkBytes {
 			bytes += proto.Size(tasks[from+chunk])
 			chunk++
 		}

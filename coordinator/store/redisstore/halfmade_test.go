@@ -51,7 +51,7 @@ func TestHalfMadeJobsAreFinishedByARetryOrPurged(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	nj := storetest.TileJob("half", 1000) // 8 chunks of stageChunk
+	nj := storetest.TileJob("half", 1000) // 8 chunks of StageChunk
 	nj.RequestID = "submit-1"
 	id := halfMake(t, s, nj, 300)
 

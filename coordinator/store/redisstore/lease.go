@@ -99,15 +99,20 @@ func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.He
 	return hb, nil
 }
 
-// expireBatch is how many expired leases one expireScript looks at: a sweep after many
-// workers died runs several short scripts rather than one long one.
-const expireBatch = 256
+// ExpireBatch is how many expired leases one expireScript looks at: a sweep after many
+// workers died runs several short scripts rather than one long one. PromoteBatch is how
+// many tasks whose backoff has ended a lease moves back to their queues (scripts.go,
+// promote); the others go at the next leases.
+const (
+	ExpireBatch  = 256
+	PromoteBatch = 64
+)
 
 // ExpireLeases implements store.Store.
 func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
 	var all []store.Change
 	for {
-		v, err := s.run(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage, expireBatch)
+		v, err := s.run(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage, ExpireBatch)
 		if err != nil {
 			return all, err
 		}
@@ -117,7 +122,7 @@ func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
 		}
 		cs, err := s.decodeChanges(ctx, l[1:])
 		all = append(all, cs...)
-		if err != nil || l[0] != int64(expireBatch) {
+		if err != nil || l[0] != int64(ExpireBatch) {
 			return all, err
 		}
 	}

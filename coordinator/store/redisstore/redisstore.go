@@ -99,17 +99,17 @@ return ARGV[1]`, []string{prefix + layoutKey, prefix + seqKey}, layoutVersion).T
 	return nil
 }
 
-// An operation's answer is kept for opTTL (scripts.go, Operations); run retries a call
-// whose outcome it does not know for at most retryWindow, well within it.
+// An operation's answer is kept for OpTTL (scripts.go, Operations); run retries a call
+// whose outcome it does not know for at most RetryWindow, well within it.
 const (
-	opTTL       = 2 * time.Minute
-	retryWindow = time.Minute
+	OpTTL       = 2 * time.Minute
+	RetryWindow = time.Minute
 )
 
 // run runs a script as one operation (scripts.go, Operations), with the prefix and the time
 // in front of args. A failure that leaves the outcome unknown (the connection lost, a
 // timeout, Redis busy or loading) is retried with the same operation key until Redis
-// answers, so that the answer is that of the one run; past retryWindow or ctx, run
+// answers, so that the answer is that of the one run; past RetryWindow or ctx, run
 // reports Unavailable, saying the outcome is unknown.
 func (s *Store) run(ctx context.Context, sc *redis.Script, args ...any) (any, error) {
 	args = append([]any{s.prefix, micros(s.opts.Clock.Now())}, args...)
@@ -126,7 +126,7 @@ func (s *Store) run(ctx context.Context, sc *redis.Script, args ...any) (any, er
 			return nil, redisErr(err)
 		}
 		wait := min(10*time.Millisecond<<min(attempt, 7), time.Second)
-		if ctx.Err() != nil || time.Since(start)+wait > retryWindow {
+		if ctx.Err() != nil || time.Since(start)+wait > RetryWindow {
 			return nil, errs.Wrap(errs.Unavailable, err, "redis (the outcome is unknown; a retry of the same request is safe)")
 		}
 		select {

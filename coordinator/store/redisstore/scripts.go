@@ -26,7 +26,7 @@ import (
 // must then get the answer of the first run, not run again: a second CreateJob would
 // make a second job, a second FailTask find the lease gone. Each call carries a fresh
 // operation key (KEYS[2], "op:{token}"); the first run keeps its answer's skeleton there
-// for opTTL (ok() answers {"OK", changed, queued, job id, task id}, and render expands it
+// for OpTTL (ok() answers {"OK", changed, queued, job id, task id}, and render expands it
 // to the records as they stand), and a run that finds the key answers from it.
 //
 // Stages: the tasks of a job's current stage [cur, curend) are one phase (cphase); those
@@ -210,10 +210,11 @@ local function requeue(t, retry)
   return h[1]
 end
 
--- promote queues up to 64 of the delayed tasks whose backoff has ended (the others go at
--- the next leases), dropping those whose job has ended or gone.
+-- promote queues up to PROMOTE_BATCH (Go's PromoteBatch) of the delayed tasks whose
+-- backoff has ended (the others go at the next leases), dropping those whose job has
+-- ended or gone.
 local function promote()
-  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S, 'LIMIT', 0, 64)) do
+  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S, 'LIMIT', 0, PROMOTE_BATCH)) do
     redis.call('ZREM', DELAYED, t)
     local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'phase')
     if h[1] and not ended(tonumber(redis.call('HGET', jkey(h[1]), 'state'))) then
@@ -725,7 +726,7 @@ if done then
   r = cmsgpack.unpack(done)
 else
   r = main()
-  redis.call('SET', KEYS[2], cmsgpack.pack(r), 'PX', ` + strconv.FormatInt(opTTL.Milliseconds(), 10) + `)
+  redis.call('SET', KEYS[2], cmsgpack.pack(r), 'PX', ` + strconv.FormatInt(OpTTL.Milliseconds(), 10) + `)
 end
 return render(r)
 `)
