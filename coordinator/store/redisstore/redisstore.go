@@ -277,7 +277,7 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 		upper = "(" + strconv.FormatUint(before, 10)
 	}
 	// One more than a page tells whether another page follows.
-	zs, err := s.rdb.ZRevRangeByScoreWithScores(ctx, s.key("jobs"), &redis.ZRangeBy{
+	zs, err := s.rdb.ZRevRangeByScoreWithScores(ctx, s.key(jobsKey), &redis.ZRangeBy{
 		Max: upper, Min: "-inf", Count: int64(pageSize) + 1,
 	}).Result()
 	if err != nil {
