@@ -113,9 +113,8 @@ func (p *probe) run(ctx context.Context, interval time.Duration, call func() err
 // workers; four fake workers (fakeOutputs) do the big job's tasks through the gRPC API and
 // release the small job's. Meanwhile a Redis client PINGs every 5 ms and a registered
 // worker calls LeaseTask (releasing what it gets) every 20 ms. Both jobs must succeed, no
-// PING may see BUSY or any error, no Redis command may run redistest.LongestCommand (its
-// slow log), and the p99 of every LeaseTask (the probe's and the fake workers') must stay
-// under 50 ms, the figure; it prints p50, p99 and max of each (the fake workers'
+// PING may see BUSY or any error, and the p99 of every LeaseTask (the probe's and the fake
+// workers') must stay under 50 ms, the figure; it prints p50, p99 and max of each (the fake workers'
 // by phase: the composite's lease carries every tile), of PING, the longest Redis
 // command, the submit's time and the job's.
 func TestJobAtTheLimitOnRedis(t *testing.T) {
@@ -221,11 +220,11 @@ func TestJobAtTheLimitOnRedis(t *testing.T) {
 	}
 	t.Logf("probe's LeaseTask: %v", lease.lat)
 	t.Logf("PING: %v", ping.lat)
+	// Printed, not bounded: the slow log times by the clock, which a loaded machine
+	// stretches; redisstore's TestLargestRoundNeverBlocksRedis bounds the CPU a script
+	// takes, and the clients' view is bounded above and below.
 	slowest, cmd := rs.SlowestCommand()
 	t.Logf("longest Redis command: %v (%s)", slowest, cmd)
-	if slowest > redistest.LongestCommand {
-		t.Errorf("Redis ran a command for %v, want under %v", slowest, redistest.LongestCommand)
-	}
 	for msg, k := range ping.errors {
 		t.Errorf("PING failed %d times: %s", k, msg)
 	}

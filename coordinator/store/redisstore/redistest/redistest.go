@@ -148,14 +148,6 @@ func freePort(t testing.TB) int {
 	return l.Addr().(*net.TCPAddr).Port
 }
 
-// LongestCommand is the most a test lets one command (a script) of the store run, as
-// SlowestCommand measures it. The store's scripts take 1 to 8 ms here, but the slow log
-// times them by the clock, and a Redis descheduled on a shared machine stretches them (a
-// 3 ms script was seen at 55 ms with 12 processes runnable on two cores): the bound is
-// there to fail a script whose work grows with the job (one script writing a job of
-// 95,539 tasks took over a second), not to time the machine.
-const LongestCommand = 100 * time.Millisecond
-
 // LogSlowCommands has the server log every command that runs longer than over (scripts
 // included), for SlowestCommand.
 func (s *Server) LogSlowCommands(over time.Duration) {
