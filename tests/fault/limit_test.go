@@ -84,18 +84,22 @@ func (o fakeOutputs) of(t *testing.T, task *pb.Task) []*pb.Artifact {
 }
 
 // probe times a call every interval until ctx is done, and counts its errors by message.
+// A call may return what to do after it (a release of what it leased), which is not timed.
 type probe struct {
 	mu     sync.Mutex
 	lat    storetest.Latencies
 	errors map[string]int
 }
 
-func (p *probe) run(ctx context.Context, interval time.Duration, call func() error) {
+func (p *probe) run(ctx context.Context, interval time.Duration, call func() (after func() error, err error)) {
 	p.errors = map[string]int{}
 	for ctx.Err() == nil {
 		t0 := time.Now()
-		err := call()
+		after, err := call()
 		d := time.Since(t0)
+		if err == nil && after != nil {
+			err = after()
+		}
 		p.mu.Lock()
 		if err != nil && ctx.Err() == nil {
 			p.errors[err.Error()]++
@@ -131,18 +135,22 @@ func TestJobAtTheLimitOnRedis(t *testing.T) {
 	wg.Add(2)
 	go func() {
 		defer wg.Done()
-		ping.run(probes, 5*time.Millisecond, func() error { return rdb.Ping(probes).Err() })
+		ping.run(probes, 5*time.Millisecond, func() (func() error, error) { return nil, rdb.Ping(probes).Err() })
 	}()
 	prober := fakeWorker(t, f.Addr, 99)
 	defer prober.close()
 	go func() {
 		defer wg.Done()
-		lease.run(probes, 20*time.Millisecond, func() error {
+		lease.run(probes, 20*time.Millisecond, func() (func() error, error) {
 			resp, err := prober.ws.LeaseTask(probes, &pb.LeaseTaskRequest{WorkerId: prober.id})
-			if l := resp.GetLease(); err == nil && l != nil {
-				_, err = prober.ws.ReleaseTask(probes, &pb.ReleaseTaskRequest{WorkerId: prober.id, TaskId: l.GetTaskId(), Epoch: l.GetEpoch()})
+			l := resp.GetLease()
+			if err != nil || l == nil {
+				return nil, err
 			}
-			return err
+			return func() error {
+				_, err := prober.ws.ReleaseTask(probes, &pb.ReleaseTaskRequest{WorkerId: prober.id, TaskId: l.GetTaskId(), Epoch: l.GetEpoch()})
+				return err
+			}, nil
 		})
 	}()
 
