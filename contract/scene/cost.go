@@ -25,7 +25,7 @@ func ShardsPerMap(s *pb.Scene, photons uint64) uint64 { return ceilDiv(photons, 
 func checkTiles(s *pb.Scene) *FieldError {
 	if n, limit := TilesPerRound(s), rules.Scene.GetMaxTilesPerRound(); n > limit {
 		f := s.GetFilm()
-		return rules.Errorf("film.tile_size", "%d-pixel tiles make %d tiles of a %dx%d film per round, more than %d: use larger tiles",
+		return rules.Errorf("film.tile_size", "%d-pixel tiles (film.tile_size) make %d tiles of a %dx%d film (film.width x film.height) per round, more than max_tiles_per_round, %d: use larger tiles or a smaller film",
 			TileSize(s), n, f.GetWidth(), f.GetHeight(), limit)
 	}
 	return nil
@@ -42,8 +42,8 @@ func checkShards(s *pb.Scene) *FieldError {
 		photons uint64
 	}{{"global", GlobalPhotons(s)}, {"caustic", CausticPhotons(s)}} {
 		if n := ShardsPerMap(s, m.photons); n > limit {
-			return rules.Errorf("photons.photons_per_shard", "%d photons per shard make %d emission shards of the %s map (%d photons) per round, more than %d: use more photons per shard",
-				PhotonsPerShard(s), n, m.name, m.photons, limit)
+			return rules.Errorf("photons.photons_per_shard", "%d photons per shard (photons.photons_per_shard) make %d emission shards of the %s map's %d photons (photons.%s_photons) per round, more than max_shards_per_map, %d: use more photons per shard",
+				PhotonsPerShard(s), n, m.name, m.photons, m.name, limit)
 		}
 	}
 	return nil

@@ -47,3 +47,13 @@ func MeshRefs(s *pb.Scene) []MeshRef {
 	}
 	return refs
 }
+
+// BlobRefs lists every blob s refers to by digest: its mesh files in shape order, then its
+// reference image (Field "progressive.reference.digest"), if it names one.
+func BlobRefs(s *pb.Scene) []MeshRef {
+	refs := MeshRefs(s)
+	if d := ReferenceDigest(s); d != "" {
+		refs = append(refs, MeshRef{Field: "progressive.reference.digest", Digest: d})
+	}
+	return refs
+}

@@ -121,14 +121,12 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	return &pb.SubmitJobResponse{Job: job}, nil
 }
 
-// checkInputBlobs checks that the blobs a scene names (meshes, reference image) exist.
+// checkInputBlobs checks that the blobs a scene names (meshes, reference image) exist,
+// touching each (blobstore.Touch) so that the collector of unreferenced blobs, which may
+// not see the job yet, keeps them.
 func (s *Service) checkInputBlobs(ctx context.Context, sc *pb.Scene) error {
-	refs := scene.MeshRefs(sc)
-	if d := scene.ReferenceDigest(sc); d != "" {
-		refs = append(refs, scene.MeshRef{Field: "progressive.reference.digest", Digest: d})
-	}
-	for _, ref := range refs {
-		if _, err := s.cfg.Blobs.Stat(ctx, ref.Digest); err != nil {
+	for _, ref := range scene.BlobRefs(sc) {
+		if _, err := s.cfg.Blobs.Touch(ctx, ref.Digest); err != nil {
 			if errs.Is(err, errs.NotFound) {
 				return errs.Field(ref.Field, "no blob %s in the blob store; upload the file first", ref.Digest)
 			}

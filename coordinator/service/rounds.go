@@ -21,22 +21,30 @@ import (
 // leased, and what happens when a round's composite completes.
 
 // fillComposite gives a composite its round's tiles, the previous round's accumulation and
-// the scene's reference image.
+// the scene's reference image. The previous round's composite is the task just before
+// this round's first, which is as many tasks before this one as the round has of the
+// other phases.
 func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.CompositeSpec) error {
-	task := l.Task
-	round := max(task.GetRound(), 1)
-	tiles, err := s.tiles(ctx, task.GetJobId(), round)
+	tiles, err := s.tiles(ctx, l)
 	if err != nil {
 		return err
 	}
 	spec.Tiles = tiles
-	if round > 1 {
-		err := s.roundOutputs(ctx, task.GetJobId(), round-1, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR, func(_ *pb.Task, a *pb.Artifact) {
-			spec.PreviousAccumulation = a
-		})
+	if max(l.Task.GetRound(), 1) > 1 {
+		var before uint32
+		for _, ph := range l.Change.Job.GetPhases() {
+			if ph.GetPhase() != pb.Phase_PHASE_COMPOSITE {
+				before += ph.GetTasksTotal()
+			}
+		}
+		if before >= l.StageStart {
+			return errs.E(errs.Internal, "task %s of round %d has no round before it", l.Task.GetId(), l.Task.GetRound())
+		}
+		prev, err := s.outputOf(ctx, l.Task.GetJobId(), l.StageStart-before-1, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
 		if err != nil {
 			return err
 		}
+		spec.PreviousAccumulation = prev
 	}
 	sc, err := s.scene(ctx, l.SceneDigest)
 	if err != nil {
@@ -52,28 +60,16 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 	return nil
 }
 
-// fillPrecompute gives precompute task i of the round's K its share of the global map's n
-// stored photons, [n·i/K, n·(i+1)/K), and the round's built snapshot. n is read from the
-// snapshot's header (docs/photon-snapshot.md).
-func (s *Service) fillPrecompute(ctx context.Context, task *pb.Task, spec *pb.PrecomputeIrradianceSpec) error {
-	round := max(task.GetRound(), 1)
-	i, k := -1, 0
-	err := s.roundTasks(ctx, task.GetJobId(), round, func(t *pb.Task) error {
-		if t.GetPrecomputeIrradiance() != nil {
-			if t.GetIndex() == task.GetIndex() {
-				i = k
-			}
-			k++
-		}
-		return nil
-	})
-	if err != nil {
-		return err
+// fillPrecompute gives precompute task i of the round's K (its place in its stage) its
+// share of the global map's n stored photons, [n·i/K, n·(i+1)/K), and the round's built
+// snapshot, the output of the build just before the stage. n is read from the snapshot's
+// header (docs/photon-snapshot.md).
+func (s *Service) fillPrecompute(ctx context.Context, l *store.Leased, spec *pb.PrecomputeIrradianceSpec) error {
+	i, k := uint64(l.Task.GetIndex()-l.StageStart), uint64(l.StageEnd-l.StageStart)
+	if l.StageStart == 0 {
+		return errs.E(errs.Internal, "precompute task %s has no build before it", l.Task.GetId())
 	}
-	if i < 0 {
-		return errs.E(errs.Internal, "task %s is not among its round's precompute tasks", task.GetId())
-	}
-	snap, err := s.builtSnapshot(ctx, task.GetJobId(), round)
+	snap, err := s.outputOf(ctx, l.Task.GetJobId(), l.StageStart-1, pb.Phase_PHASE_BUILD, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 	if err != nil {
 		return err
 	}
@@ -81,25 +77,30 @@ func (s *Service) fillPrecompute(ctx context.Context, task *pb.Task, spec *pb.Pr
 	if err != nil {
 		return err
 	}
-	first := n * uint64(i) / uint64(k)
+	first := n * i / k
 	spec.FirstPhoton = first
-	spec.PhotonCount = n*uint64(i+1)/uint64(k) - first
+	spec.PhotonCount = n*(i+1)/k - first
 	spec.PhotonSnapshot = snap
 	return nil
 }
 
-// fillMerge gives the merge the round's built snapshot and irradiance shards in plan order.
-func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIrradianceSpec) error {
-	round := max(task.GetRound(), 1)
-	snap, err := s.builtSnapshot(ctx, task.GetJobId(), round)
+// fillMerge gives the merge the round's built snapshot and irradiance shards in plan order:
+// the precompute stage before it, and the build before that.
+func (s *Service) fillMerge(ctx context.Context, l *store.Leased, spec *pb.MergeIrradianceSpec) error {
+	from, _, err := stageBefore(l, pb.Phase_PHASE_PRECOMPUTE)
 	if err != nil {
 		return err
 	}
-	spec.PhotonSnapshot = snap
-	spec.IrradianceShards = nil
-	return s.roundOutputs(ctx, task.GetJobId(), round, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) {
-		spec.IrradianceShards = append(spec.IrradianceShards, a)
+	if from == 0 {
+		return errs.E(errs.Internal, "merge task %s has no build before it", l.Task.GetId())
+	}
+	if spec.PhotonSnapshot, err = s.outputOf(ctx, l.Task.GetJobId(), from-1, pb.Phase_PHASE_BUILD, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT); err != nil {
+		return err
+	}
+	spec.IrradianceShards, err = stageOutputs(ctx, s, l, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) *pb.Artifact {
+		return a
 	})
+	return err
 }
 
 // globalPhotons reads the stored photon count of a snapshot's global map from its header

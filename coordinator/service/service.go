@@ -31,6 +31,8 @@ import (
 // Blobs is what the service needs of a blob store.
 type Blobs interface {
 	Stat(ctx context.Context, digest string) (blobstore.Info, error)
+	// Touch is Stat that also marks the blob in use now (blobstore's collection protocol).
+	Touch(ctx context.Context, digest string) (blobstore.Info, error)
 	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 	Create(size int64, digest string) (*blobstore.Writer, error)

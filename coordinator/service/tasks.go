@@ -107,7 +107,8 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 }
 
 // Complete records a task's success with its outputs, which must name blobs in the blob
-// store with their true sizes.
+// store with their true sizes. Each is touched (blobstore.Touch) before it is recorded,
+// so that the collector of unreferenced blobs keeps it.
 func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) error {
 	return s.CompleteWithMetrics(ctx, ref, outputs, nil)
 }
@@ -133,7 +134,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		if !rules.ValidDigest(a.GetDigest()) {
 			return errs.Field(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", a.GetDigest())
 		}
-		info, err := s.cfg.Blobs.Stat(ctx, a.GetDigest())
+		info, err := s.cfg.Blobs.Touch(ctx, a.GetDigest())
 		if errs.Is(err, errs.NotFound) {
 			return errs.Field(p+".digest", "no blob %s; upload it before completing the task", a.GetDigest())
 		}

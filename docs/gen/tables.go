@@ -164,7 +164,15 @@ func planning() string {
 		"a round has at most %d render tiles and a composite, and per photon map (global, caustic) at most %d emission shards, "+
 		"then a build, %d irradiance precompute tasks (one per global shard) and a merge: %d tasks at most "+
 		"(`TestPlanLargestRoundStaysWithinLimits` plans that round). A job has at most %d rounds; each is planned when the one before has ended.",
-		tiles, shards, shards, tiles+1+2*shards+1+shards+1, rounds)
+		tiles, shards, shards, largestRound(), rounds)
+}
+
+// largestRound is how many tasks the largest round the limits allow has: its tiles and a
+// composite, the shards of both maps, a build, a precompute task per global shard and a
+// merge.
+func largestRound() int {
+	tiles, shards := int(rules.Scene.GetMaxTilesPerRound()), int(rules.Scene.GetMaxShardsPerMap())
+	return tiles + 1 + 2*shards + 1 + shards + 1
 }
 
 func join(path, name string) string {

@@ -74,6 +74,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"LastTileOpensCompositePhase", testPhaseOpening},
 		{"LastTaskSucceedsJobWithCompositeOutputs", testJobSucceeds},
 		{"RepeatedCompleteIsIdempotent", testIdempotentComplete},
+		{"RepeatedReportWithOtherOutputsOrMetricsIsRefused", testRepeatedReportsMustBeTheSame},
 		{"ReportsUnderStaleEpochOrOtherWorkerAreRefused", testStaleReports},
 		{"ExpiredLeaseIsRequeuedWithNewEpoch", testExpiry},
 		{"ReportAfterExpiryBeforeSweepIsRefused", testReportAfterDeadline},
@@ -96,6 +97,8 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"PermanentFailureFailsTheJobAtOnceAndBlamesNoWorker", testPermanentFailure},
 		{"TransientKindsRetryAndRecordTheirKind", testTransientKinds},
 		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
+		{"PurgeDeletesEndedJobsWithTheirTasksAndRequestIDs", testPurgeDeletesEndedJobs},
+		{"PurgeGoesInBoundedSteps", testPurgeGoesInBoundedSteps},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) { tt.fn(setup(t, newStore)) })
