@@ -127,16 +127,18 @@ func TestArtifactNamesAndFailureKindsComeFromTheContract(t *testing.T) {
 	if a := tasks.Find(list, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR); a != nil {
 		t.Errorf("Find(tile.exr) = %v, want nil", a)
 	}
-	for k, permanent := range map[pb.FailureKind]bool{
-		pb.FailureKind_FAILURE_KIND_UNSPECIFIED:        false,
-		pb.FailureKind_FAILURE_KIND_TRANSIENT:          false,
-		pb.FailureKind_FAILURE_KIND_BAD_INPUT:          true,
-		pb.FailureKind_FAILURE_KIND_UNSUPPORTED:        true,
-		pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED: false,
-		pb.FailureKind(42):                             false, // a kind from a newer worker
+	type treated struct{ permanent, blames bool }
+	for k, want := range map[pb.FailureKind]treated{
+		pb.FailureKind_FAILURE_KIND_UNSPECIFIED:        {false, true},
+		pb.FailureKind_FAILURE_KIND_TRANSIENT:          {false, true},
+		pb.FailureKind_FAILURE_KIND_BAD_INPUT:          {true, false},
+		pb.FailureKind_FAILURE_KIND_UNSUPPORTED:        {true, false},
+		pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED: {false, false}, // a full disk is not a broken worker
+		pb.FailureKind_FAILURE_KIND_LOST_INPUT:         {true, false},
+		pb.FailureKind(42):                             {false, true}, // a kind from a newer worker
 	} {
-		if f := tasks.FailureOf(k); f.Permanent != permanent || f.Label == "" {
-			t.Errorf("FailureOf(%v) = %+v, want permanent %v with a label", k, f, permanent)
+		if f := tasks.FailureOf(k); f.Permanent != want.permanent || f.BlamesWorker != want.blames || f.Label == "" {
+			t.Errorf("FailureOf(%v) = %+v, want permanent %v, blames worker %v, with a label", k, f, want.permanent, want.blames)
 		}
 	}
 }

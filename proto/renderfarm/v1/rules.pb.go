@@ -155,7 +155,7 @@ type FailureKind int32
 const (
 	// Treated as TRANSIENT (a report from a worker that does not say).
 	FailureKind_FAILURE_KIND_UNSPECIFIED FailureKind = 0
-	// Worth retrying, on this worker or another: a network error, a lost blob download, a
+	// Worth retrying, on this worker or another: a network error, a broken blob transfer, a
 	// crash.
 	FailureKind_FAILURE_KIND_TRANSIENT FailureKind = 1
 	// The scene or an asset it names is wrong (a mesh that does not parse, a value out of
@@ -163,9 +163,15 @@ const (
 	FailureKind_FAILURE_KIND_BAD_INPUT FailureKind = 2
 	// The task asks for something this farm cannot do (a feature no worker has).
 	FailureKind_FAILURE_KIND_UNSUPPORTED FailureKind = 3
-	// The worker ran out of memory, disk or another resource: another worker, or this one
-	// later, may have enough, so it is retried (and a worker that keeps failing is blocked).
+	// The worker ran out of memory, disk, cache space or another resource: another worker,
+	// or this one later, may have enough, so it is retried, and the worker is not blamed (a
+	// full disk is not a broken worker).
 	FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED FailureKind = 4
+	// A blob the task reads is missing from the coordinator's blob store or does not match
+	// its digest there (lost or damaged on disk, or a coordinator started on another data
+	// folder): no attempt can succeed until it is stored again, so the job fails at once with
+	// the blob's digest and what it holds ("the scene", "tile x 32 y 64 of round 1").
+	FailureKind_FAILURE_KIND_LOST_INPUT FailureKind = 5
 )
 
 // Enum value maps for FailureKind.
@@ -176,6 +182,7 @@ var (
 		2: "FAILURE_KIND_BAD_INPUT",
 		3: "FAILURE_KIND_UNSUPPORTED",
 		4: "FAILURE_KIND_RESOURCE_EXHAUSTED",
+		5: "FAILURE_KIND_LOST_INPUT",
 	}
 	FailureKind_value = map[string]int32{
 		"FAILURE_KIND_UNSPECIFIED":        0,
@@ -183,6 +190,7 @@ var (
 		"FAILURE_KIND_BAD_INPUT":          2,
 		"FAILURE_KIND_UNSUPPORTED":        3,
 		"FAILURE_KIND_RESOURCE_EXHAUSTED": 4,
+		"FAILURE_KIND_LOST_INPUT":         5,
 	}
 )
 
@@ -590,7 +598,13 @@ type FailureInfo struct {
 	// that reported it is not blamed (no blocklist).
 	Permanent bool `protobuf:"varint,1,opt,name=permanent,proto3" json:"permanent,omitempty"`
 	// For people: "bad input".
-	Label         string `protobuf:"bytes,2,opt,name=label,proto3" json:"label,omitempty"`
+	Label string `protobuf:"bytes,2,opt,name=label,proto3" json:"label,omitempty"`
+	// The failed attempt counts toward the reporting worker's blocklist threshold for the
+	// job (store: BlockAfterFailures). Kinds that say something about the worker's state
+	// rather than its behaviour (a full disk) do not: a healthy worker is never blocked for
+	// them. A worker that reports a kind that does not blame it waits before leasing again,
+	// so that it does not fail the next task the same way at once.
+	BlamesWorker  bool `protobuf:"varint,3,opt,name=blames_worker,json=blamesWorker,proto3" json:"blames_worker,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -637,6 +651,13 @@ func (x *FailureInfo) GetLabel() string {
 		return x.Label
 	}
 	return ""
+}
+
+func (x *FailureInfo) GetBlamesWorker() bool {
+	if x != nil {
+		return x.BlamesWorker
+	}
+	return false
 }
 
 // Limits of the RPC layer that clients, the coordinator and workers share (an option of
@@ -860,10 +881,11 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\aoutputs\x18\x04 \x03(\x0e2\x1b.renderfarm.v1.ArtifactKindR\aoutputs\"I\n" +
 	"\fArtifactInfo\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12%\n" +
-	"\x0eprevious_round\x18\x02 \x01(\bR\rpreviousRound\"A\n" +
+	"\x0eprevious_round\x18\x02 \x01(\bR\rpreviousRound\"f\n" +
 	"\vFailureInfo\x12\x1c\n" +
 	"\tpermanent\x18\x01 \x01(\bR\tpermanent\x12\x14\n" +
-	"\x05label\x18\x02 \x01(\tR\x05label\"\xf3\x01\n" +
+	"\x05label\x18\x02 \x01(\tR\x05label\x12#\n" +
+	"\rblames_worker\x18\x03 \x01(\bR\fblamesWorker\"\xf3\x01\n" +
 	"\tRpcLimits\x12*\n" +
 	"\x11max_message_bytes\x18\x01 \x01(\x04R\x0fmaxMessageBytes\x123\n" +
 	"\x16max_upload_chunk_bytes\x18\x02 \x01(\x04R\x13maxUploadChunkBytes\x127\n" +
@@ -893,13 +915,15 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x19ARTIFACT_KIND_PREVIEW_PNG\x10\a\x1a\x11\xa2\xb5\x18\r\n" +
 	"\vpreview.png\x12<\n" +
 	"\x1eARTIFACT_KIND_ACCUMULATION_EXR\x10\b\x1a\x18\xa2\xb5\x18\x14\n" +
-	"\x10accumulation.exr\x10\x01*\x90\x02\n" +
-	"\vFailureKind\x12+\n" +
-	"\x18FAILURE_KIND_UNSPECIFIED\x10\x00\x1a\r\xaa\xb5\x18\t\x12\afailure\x123\n" +
-	"\x16FAILURE_KIND_TRANSIENT\x10\x01\x1a\x17\xaa\xb5\x18\x13\x12\x11transient failure\x12-\n" +
+	"\x10accumulation.exr\x10\x01*\xc5\x02\n" +
+	"\vFailureKind\x12-\n" +
+	"\x18FAILURE_KIND_UNSPECIFIED\x10\x00\x1a\x0f\xaa\xb5\x18\v\x12\afailure\x18\x01\x125\n" +
+	"\x16FAILURE_KIND_TRANSIENT\x10\x01\x1a\x19\xaa\xb5\x18\x15\x12\x11transient failure\x18\x01\x12-\n" +
 	"\x16FAILURE_KIND_BAD_INPUT\x10\x02\x1a\x11\xaa\xb5\x18\r\b\x01\x12\tbad input\x121\n" +
 	"\x18FAILURE_KIND_UNSUPPORTED\x10\x03\x1a\x13\xaa\xb5\x18\x0f\b\x01\x12\vunsupported\x12=\n" +
-	"\x1fFAILURE_KIND_RESOURCE_EXHAUSTED\x10\x04\x1a\x18\xaa\xb5\x18\x14\x12\x12resource exhausted:M\n" +
+	"\x1fFAILURE_KIND_RESOURCE_EXHAUSTED\x10\x04\x1a\x18\xaa\xb5\x18\x14\x12\x12resource exhausted\x12/\n" +
+	"\x17FAILURE_KIND_LOST_INPUT\x10\x05\x1a\x12\xaa\xb5\x18\x0e\b\x01\x12\n" +
+	"lost input:M\n" +
 	"\x04rule\x12\x1d.google.protobuf.FieldOptions\x18ц\x03 \x01(\v2\x18.renderfarm.v1.FieldRuleR\x04rule:B\n" +
 	"\fone_required\x12\x1d.google.protobuf.OneofOptions\x18׆\x03 \x01(\bR\voneRequired:`\n" +
 	"\fscene_limits\x12\x1f.google.protobuf.MessageOptions\x18҆\x03 \x01(\v2\x1a.renderfarm.v1.SceneLimitsR\vsceneLimits:\\\n" +
