@@ -95,6 +95,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"CancelledJobGetsNoNewRound", testCancelledRoundIsNotExtended},
 		{"PermanentFailureFailsTheJobAtOnceAndBlamesNoWorker", testPermanentFailure},
 		{"TransientKindsRetryAndRecordTheirKind", testTransientKinds},
+		{"ResourceExhaustionRetriesWithoutBlamingTheWorker", testResourceExhaustionBlamesNoWorker},
 		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
 	}
 	for _, tt := range tests {
