@@ -8,6 +8,8 @@ import (
 	"testing"
 	"time"
 
+	"google.golang.org/protobuf/proto"
+
 	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
@@ -62,8 +64,18 @@ func (f *fixture) createJob(shards int) *pb.Job {
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: uint64(1000 * shards), PhotonsPerShard: 1000}
 	// Without final gathering the build is followed by the tiles directly.
 	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
-	j, err := f.st.CreateJob(f.ctx, store.NewJob{DisplayName: "j", SceneDigest: "sha256:" + strings.Repeat("0", 64),
-		Width: 8, Height: 8, Tasks: planner.Plan(scene.Defaults(sc))})
+	sc = scene.Defaults(sc)
+	// Workers' leases need the scene in the blob store, as SubmitJob leaves it.
+	data, err := proto.Marshal(sc)
+	if err != nil {
+		f.t.Fatal(err)
+	}
+	stored, err := f.blobs.Put(f.ctx, bytes.NewReader(data), int64(len(data)), "")
+	if err != nil {
+		f.t.Fatal(err)
+	}
+	j, err := f.st.CreateJob(f.ctx, store.NewJob{DisplayName: "j", SceneDigest: stored.Digest,
+		Width: 8, Height: 8, Tasks: planner.Plan(sc)})
 	if err != nil {
 		f.t.Fatal(err)
 	}

@@ -27,6 +27,9 @@ const (
 	ResourceExhausted
 	// Unavailable: the coordinator is shutting down.
 	Unavailable
+	// DataLoss: stored data is damaged (a blob whose content no longer matches its
+	// digest).
+	DataLoss
 )
 
 func (k Kind) String() string {
@@ -43,6 +46,8 @@ func (k Kind) String() string {
 		return "resource exhausted"
 	case Unavailable:
 		return "unavailable"
+	case DataLoss:
+		return "data loss"
 	default:
 		return "internal"
 	}

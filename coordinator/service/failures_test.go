@@ -68,7 +68,7 @@ func TestJobFailsWhenEveryLiveWorkerIsBlocked(t *testing.T) {
 	w1, w2 := f.register(), f.register()
 	block := func(w, reason string) {
 		for range 3 {
-			f.failTask(w, f.lease(w), pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED, reason)
+			f.failTask(w, f.lease(w), pb.FailureKind_FAILURE_KIND_TRANSIENT, reason)
 		}
 	}
 	block(w1, "out of memory")
@@ -80,7 +80,7 @@ func TestJobFailsWhenEveryLiveWorkerIsBlocked(t *testing.T) {
 	block(w2, "out of disk")
 	got := f.job(job.Id)
 	want := "every worker (2) is blocked from this job; last: 3 failed tasks: out of disk"
-	if got.State != pb.JobState_JOB_STATE_FAILED || got.Error != want || got.FailureKind != pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED {
+	if got.State != pb.JobState_JOB_STATE_FAILED || got.Error != want || got.FailureKind != pb.FailureKind_FAILURE_KIND_TRANSIENT {
 		t.Errorf("job = %v (%q), want FAILED with %q: the lost worker %s does not count", got.State, got.Error, want, lost)
 	}
 }

@@ -31,6 +31,7 @@ import (
 type Blobs interface {
 	Stat(ctx context.Context, digest string) (blobstore.Info, error)
 	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
+	Verify(ctx context.Context, digest string) (blobstore.Info, error)
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 	Create(size int64, digest string) (*blobstore.Writer, error)
 }
@@ -73,6 +74,8 @@ type Service struct {
 	workers   registry
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
+	// photonCounts holds the global photons of verified snapshots, by digest.
+	photonCounts *cache[uint64]
 	// meshes holds the digests of mesh blobs that passed assets.CheckOBJ.
 	meshes *cache[assets.Mesh]
 	done   chan struct{}
@@ -94,14 +97,15 @@ func New(cfg Config) *Service {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
 	return &Service{
-		cfg:       cfg,
-		log:       cfg.Logger,
-		queued:    newNotifier(),
-		workers:   registry{m: make(map[string]*worker)},
-		snapshots: newCache[*pb.Artifact](1024),
-		scenes:    newCache[*pb.Scene](64),
-		meshes:    newCache[assets.Mesh](4096),
-		done:      make(chan struct{}),
+		cfg:          cfg,
+		log:          cfg.Logger,
+		queued:       newNotifier(),
+		workers:      registry{m: make(map[string]*worker)},
+		snapshots:    newCache[*pb.Artifact](1024),
+		scenes:       newCache[*pb.Scene](64),
+		photonCounts: newCache[uint64](1024),
+		meshes:       newCache[assets.Mesh](4096),
+		done:         make(chan struct{}),
 	}
 }
 

@@ -23,6 +23,7 @@ var codeOf = map[errs.Kind]codes.Code{
 	errs.FailedPrecondition: codes.FailedPrecondition,
 	errs.ResourceExhausted:  codes.ResourceExhausted,
 	errs.Unavailable:        codes.Unavailable,
+	errs.DataLoss:           codes.DataLoss,
 }
 
 // toStatus converts a handler's error to a gRPC status error. A field error carries an

@@ -2,6 +2,7 @@ package service
 
 import (
 	"context"
+	"errors"
 	"fmt"
 	"slices"
 	"time"
@@ -35,7 +36,11 @@ func (s *Service) Lease(ctx context.Context, workerID string, phases []pb.Phase,
 			return nil, err
 		}
 		if l != nil {
-			return s.granted(ctx, workerID, l)
+			resp, err := s.granted(ctx, workerID, l)
+			if resp != nil || err != nil {
+				return resp, err
+			}
+			continue // the task's input was lost and its job failed: lease another
 		}
 		if wait == 0 {
 			return &pb.LeaseTaskResponse{}, nil
@@ -67,12 +72,22 @@ func (s *Service) retryTimer() (<-chan time.Time, func() bool) {
 	return t.C, t.Stop
 }
 
-// granted completes a lease by filling in what the task needs from earlier phases. If that
-// fails, the lease is handed back rather than left to expire.
+// granted completes a lease by filling in what the task needs from earlier phases and
+// checking that the blobs it reads are there. If one is lost (missing or damaged), the task
+// and its job fail (failLostInput) and granted returns neither a lease nor an error; if
+// anything else fails, the lease is handed back rather than left to expire.
 func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased) (*pb.LeaseTaskResponse, error) {
 	s.publish(l.Change)
-	if err := s.fillSpec(ctx, l); err != nil {
-		if c, rerr := s.cfg.Store.ReleaseTask(ctx, store.LeaseRef{WorkerID: workerID, TaskID: l.Lease.GetTaskId(), Epoch: l.Lease.GetEpoch()}); rerr == nil {
+	err := s.fillSpec(ctx, l)
+	if err == nil {
+		err = s.checkInputs(ctx, l)
+	}
+	if err != nil {
+		ref := store.LeaseRef{WorkerID: workerID, TaskID: l.Lease.GetTaskId(), Epoch: l.Lease.GetEpoch()}
+		if li := (*lostInput)(nil); errors.As(err, &li) {
+			return nil, s.failLostInput(ctx, ref, li)
+		}
+		if c, rerr := s.cfg.Store.ReleaseTask(ctx, ref); rerr == nil {
 			s.publish(c)
 		}
 		return nil, err
@@ -151,6 +166,12 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 	var c store.Change
 	if task.GetComposite() != nil {
 		end, why, err := s.roundEnd(ctx, task, outputs, metrics)
+		if li := (*lostInput)(nil); errors.As(err, &li) {
+			if err := s.failLostInput(ctx, ref, li); err != nil {
+				return err
+			}
+			return errs.E(errs.FailedPrecondition, "the job failed instead: %v", li)
+		}
 		if err != nil {
 			return err
 		}
