@@ -376,8 +376,15 @@ type SceneLimits struct {
 	MaxMeshTriangles uint64 `protobuf:"varint,6,opt,name=max_mesh_triangles,json=maxMeshTriangles,proto3" json:"max_mesh_triangles,omitempty"`
 	// Longest line of a mesh file in bytes, its line break included.
 	MaxMeshLineBytes uint64 `protobuf:"varint,7,opt,name=max_mesh_line_bytes,json=maxMeshLineBytes,proto3" json:"max_mesh_line_bytes,omitempty"`
-	unknownFields    protoimpl.UnknownFields
-	sizeCache        protoimpl.SizeCache
+	// Photons stored in one round's snapshot, every map together (so also in one emission
+	// shard): a path may store a photon at each diffuse bounce, so the paths a scene asks
+	// for do not bound it. Keeps the snapshot (24 bytes a global photon with irradiance, 20
+	// a caustic one) and the largest shard (28 bytes a photon) under RpcLimits.max_blob_bytes,
+	// and bounds the builder's memory. Checked by the worker as it stores photons and by the
+	// coordinator's builder; the job fails as bad input saying which setting to lower.
+	MaxSnapshotPhotons uint64 `protobuf:"varint,8,opt,name=max_snapshot_photons,json=maxSnapshotPhotons,proto3" json:"max_snapshot_photons,omitempty"`
+	unknownFields      protoimpl.UnknownFields
+	sizeCache          protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -455,6 +462,13 @@ func (x *SceneLimits) GetMaxMeshTriangles() uint64 {
 func (x *SceneLimits) GetMaxMeshLineBytes() uint64 {
 	if x != nil {
 		return x.MaxMeshLineBytes
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxSnapshotPhotons() uint64 {
+	if x != nil {
+		return x.MaxSnapshotPhotons
 	}
 	return 0
 }
@@ -865,7 +879,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xbf\x02\n" +
+	"_max_bytes\"\xf1\x02\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -873,7 +887,8 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x0fmax_asset_bytes\x18\x04 \x01(\x04R\rmaxAssetBytes\x12*\n" +
 	"\x11max_mesh_vertices\x18\x05 \x01(\x04R\x0fmaxMeshVertices\x12,\n" +
 	"\x12max_mesh_triangles\x18\x06 \x01(\x04R\x10maxMeshTriangles\x12-\n" +
-	"\x13max_mesh_line_bytes\x18\a \x01(\x04R\x10maxMeshLineBytes\"\xc2\x01\n" +
+	"\x13max_mesh_line_bytes\x18\a \x01(\x04R\x10maxMeshLineBytes\x120\n" +
+	"\x14max_snapshot_photons\x18\b \x01(\x04R\x12maxSnapshotPhotons\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +

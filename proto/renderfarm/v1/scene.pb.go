@@ -2168,7 +2168,7 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x19renderfarm/v1/rules.proto\"\x9b\x06\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x19renderfarm/v1/rules.proto\"\xa0\x06\n" +
 	"\x05Scene\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x125\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraB\x06\x8a\xb5\x18\x020\x01R\x06camera\x12/\n" +
@@ -2181,7 +2181,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\fantialiasing\x18\t \x01(\v2\x1b.renderfarm.v1.AntialiasingR\fantialiasing\x123\n" +
 	"\bindirect\x18\n" +
 	" \x01(\v2\x17.renderfarm.v1.IndirectR\bindirect\x12<\n" +
-	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive:(\x92\xb5\x18$\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x04(\x80\xe1\xeb\x170\x80\xe1\xeb\x178\x80\x80\x04\"0\n" +
+	"\vprogressive\x18\v \x01(\v2\x1a.renderfarm.v1.ProgressiveR\vprogressive:-\x92\xb5\x18)\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x04(\x80\xe1\xeb\x170\x80\xe1\xeb\x178\x80\x80\x04@\x80\x90\xa1\x0f\"0\n" +
 	"\x04Vec3\x12\f\n" +
 	"\x01x\x18\x01 \x01(\x01R\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\x01R\x01y\x12\f\n" +
