@@ -157,6 +157,36 @@ func Corrupt(digest, got string, size int64) error {
 		"blob %s is damaged in the coordinator's blob store: its %d bytes have digest %s", digest, size, got)}
 }
 
+// LostError is the error of a blob a reader needs that the store cannot give: missing
+// (errs.NotFound) or damaged (errs.DataLoss). What says what the blob holds, for people:
+// "the scene", "tile x 32 y 64 of round 1".
+type LostError struct {
+	What, Digest string
+	Err          error
+}
+
+func (e *LostError) Error() string {
+	if errs.Is(e.Err, errs.NotFound) {
+		return fmt.Sprintf("%s: blob %s is not in the coordinator's blob store", e.What, e.Digest)
+	}
+	var d *errs.Error
+	if errors.As(e.Err, &d) && d.Kind == errs.DataLoss {
+		return e.What + ": " + d.Message
+	}
+	return e.What + ": " + e.Err.Error()
+}
+
+func (e *LostError) Unwrap() error { return e.Err }
+
+// Lost makes err, the store's answer about the blob digest holding what, a *LostError if
+// it says the blob is missing or damaged; other errors (nil included) pass unchanged.
+func Lost(what, digest string, err error) error {
+	if errs.Is(err, errs.NotFound) || errs.Is(err, errs.DataLoss) {
+		return &LostError{What: what, Digest: digest, Err: err}
+	}
+	return err
+}
+
 // checkedReader reads a blob's file and, at its end, checks what it read against the digest.
 type checkedReader struct {
 	f      *os.File

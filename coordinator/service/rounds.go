@@ -40,12 +40,12 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 	}
 	sc, err := s.scene(ctx, l.SceneDigest)
 	if err != nil {
-		return lost("the scene", l.SceneDigest, err)
+		return blobstore.Lost("the scene", l.SceneDigest, err)
 	}
 	if d := scene.ReferenceDigest(sc); d != "" {
 		info, err := s.cfg.Blobs.Stat(ctx, d)
 		if err != nil {
-			return lost("the reference image", d, err)
+			return blobstore.Lost("the reference image", d, err)
 		}
 		spec.Reference = &pb.Artifact{Name: "reference.exr", Digest: d, SizeBytes: info.Size}
 	}
@@ -79,7 +79,7 @@ func (s *Service) fillPrecompute(ctx context.Context, task *pb.Task, spec *pb.Pr
 	}
 	n, err := s.globalPhotons(ctx, snap)
 	if err != nil {
-		return lost(fmt.Sprintf("the photon snapshot of round %d", round), snap.GetDigest(), err)
+		return blobstore.Lost(fmt.Sprintf("the photon snapshot of round %d", round), snap.GetDigest(), err)
 	}
 	first := n * uint64(i) / uint64(k)
 	spec.FirstPhoton = first
@@ -196,7 +196,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 	}
 	sc, err := s.scene(ctx, job.GetSceneDigest())
 	if err != nil {
-		return store.RoundEnd{}, "", lost("the scene", job.GetSceneDigest(), err)
+		return store.RoundEnd{}, "", blobstore.Lost("the scene", job.GetSceneDigest(), err)
 	}
 	round := max(task.GetRound(), 1)
 	report := &pb.RoundReport{

@@ -9,6 +9,7 @@ import (
 
 	"photonfarm/contract/rules"
 	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -84,7 +85,7 @@ func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased)
 	}
 	if err != nil {
 		ref := store.LeaseRef{WorkerID: workerID, TaskID: l.Lease.GetTaskId(), Epoch: l.Lease.GetEpoch()}
-		if li := (*lostInput)(nil); errors.As(err, &li) {
+		if li := (*blobstore.LostError)(nil); errors.As(err, &li) {
 			return nil, s.failLostInput(ctx, ref, li)
 		}
 		if c, rerr := s.cfg.Store.ReleaseTask(ctx, ref); rerr == nil {
@@ -166,7 +167,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 	var c store.Change
 	if task.GetComposite() != nil {
 		end, why, err := s.roundEnd(ctx, task, outputs, metrics)
-		if li := (*lostInput)(nil); errors.As(err, &li) {
+		if li := (*blobstore.LostError)(nil); errors.As(err, &li) {
 			if err := s.failLostInput(ctx, ref, li); err != nil {
 				return err
 			}
