@@ -282,7 +282,9 @@ func stopGracefully(srv *grpc.Server, timeout time.Duration) {
 	}
 }
 
-// sweep requeues expired leases a few times per lease duration.
+// sweep requeues expired leases a few times per lease duration, and fails the jobs every
+// live worker is blocked from (a worker lost since the last block may have been the only
+// one left that could run them).
 func (c *Coordinator) sweep(ctx context.Context) {
 	every := min(max(c.cfg.LeaseDuration/10, 10*time.Millisecond), time.Second)
 	t := time.NewTicker(every)
@@ -294,6 +296,9 @@ func (c *Coordinator) sweep(ctx context.Context) {
 		case <-t.C:
 			if err := c.svc.ExpireLeases(ctx); err != nil && ctx.Err() == nil {
 				c.log.Error("expiring leases", "err", err)
+			}
+			if err := c.svc.FailBlockedJobs(ctx); err != nil && ctx.Err() == nil {
+				c.log.Error("failing blocked jobs", "err", err)
 			}
 		}
 	}

@@ -72,6 +72,7 @@ type Service struct {
 	queued    notifier
 	retries   retries
 	workers   registry
+	blocked   blockedJobs
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
 	// photonCounts holds the global photons of verified snapshots, by digest.
@@ -101,6 +102,7 @@ func New(cfg Config) *Service {
 		log:          cfg.Logger,
 		queued:       newNotifier(),
 		workers:      registry{m: make(map[string]*worker)},
+		blocked:      blockedJobs{ids: make(map[string]bool)},
 		snapshots:    newCache[*pb.Artifact](1024),
 		scenes:       newCache[*pb.Scene](64),
 		photonCounts: newCache[uint64](1024),
@@ -147,6 +149,7 @@ func (s *Service) publish(c store.Change) {
 	if c.Job == nil {
 		return
 	}
+	s.blocked.track(c.Job)
 	now := timestamppb.New(s.cfg.Clock.Now())
 	if c.Task != nil {
 		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_TASK_UPDATED, Time: now, Job: c.Job, Task: c.Task})

@@ -238,7 +238,7 @@ func (s *Service) Release(ctx context.Context, ref store.LeaseRef) error {
 
 // failIfEveryWorkerBlocked fails c's job when the failure c records has blocked workerID
 // from it and every eligible worker is now blocked: the job would otherwise wait for
-// ever. Eligible are the workers this coordinator knows, registered and not lost, that
+// ever (FailBlockedJobs checks again later, for workers lost since). Eligible are the workers this coordinator knows, registered and not lost, that
 // lease the phase of c's task (every worker leases every worker phase, so all of them
 // for a worker phase; the builder's phases have no workers to run out of).
 func (s *Service) failIfEveryWorkerBlocked(ctx context.Context, c store.Change, workerID string) error {
@@ -251,14 +251,5 @@ func (s *Service) failIfEveryWorkerBlocked(ctx context.Context, c store.Change, 
 	if ph, ok := tasks.Phases.Of(c.Task.GetPhase()); !ok || ph.Executor != pb.Executor_EXECUTOR_WORKER {
 		return nil
 	}
-	live := s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration)
-	failed, err := s.cfg.Store.FailBlockedJob(ctx, job.GetId(), live)
-	if err != nil {
-		return err
-	}
-	if failed.Job != nil {
-		s.log.Warn("job failed: every worker is blocked", "job", job.GetId(), "workers", len(live), "error", failed.Job.GetError())
-		s.publish(failed)
-	}
-	return nil
+	return s.failBlockedJob(ctx, job.GetId(), s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration))
 }
