@@ -369,9 +369,12 @@ type SceneLimits struct {
 	// Emission shards of one photon map in one round (photons / photons_per_shard, rounded
 	// up).
 	MaxShardsPerMap uint64 `protobuf:"varint,3,opt,name=max_shards_per_map,json=maxShardsPerMap,proto3" json:"max_shards_per_map,omitempty"`
-	// Largest mesh file (and any other asset) a scene may name, in bytes.
+	// Largest mesh file (and any other asset) a scene may name, in bytes. A worker holds a
+	// mesh file's bytes while it parses them.
 	MaxAssetBytes uint64 `protobuf:"varint,4,opt,name=max_asset_bytes,json=maxAssetBytes,proto3" json:"max_asset_bytes,omitempty"`
-	// Most vertices and faces (after splitting polygons into triangles) of one mesh file.
+	// Most vertices and faces (after splitting polygons into triangles) of one mesh file:
+	// with max_asset_bytes they bound what a worker needs to build a scene's largest mesh
+	// (parsed, and in Embree's BVH: about 260 bytes a triangle, docs/limits.md).
 	MaxMeshVertices  uint64 `protobuf:"varint,5,opt,name=max_mesh_vertices,json=maxMeshVertices,proto3" json:"max_mesh_vertices,omitempty"`
 	MaxMeshTriangles uint64 `protobuf:"varint,6,opt,name=max_mesh_triangles,json=maxMeshTriangles,proto3" json:"max_mesh_triangles,omitempty"`
 	// Longest line of a mesh file in bytes, its line break included.
@@ -383,8 +386,12 @@ type SceneLimits struct {
 	// and bounds the builder's memory. Checked by the worker as it stores photons and by the
 	// coordinator's builder; the job fails as bad input saying which setting to lower.
 	MaxSnapshotPhotons uint64 `protobuf:"varint,8,opt,name=max_snapshot_photons,json=maxSnapshotPhotons,proto3" json:"max_snapshot_photons,omitempty"`
-	unknownFields      protoimpl.UnknownFields
-	sizeCache          protoimpl.SizeCache
+	// Pixels of the film (width times height): bounds the composite's memory on the worker
+	// and keeps the image and accumulation EXRs (84 and 96 bytes a pixel uncompressed) under
+	// RpcLimits.max_blob_bytes.
+	MaxFilmPixels uint64 `protobuf:"varint,9,opt,name=max_film_pixels,json=maxFilmPixels,proto3" json:"max_film_pixels,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -469,6 +476,13 @@ func (x *SceneLimits) GetMaxMeshLineBytes() uint64 {
 func (x *SceneLimits) GetMaxSnapshotPhotons() uint64 {
 	if x != nil {
 		return x.MaxSnapshotPhotons
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxFilmPixels() uint64 {
+	if x != nil {
+		return x.MaxFilmPixels
 	}
 	return 0
 }
@@ -879,7 +893,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xf1\x02\n" +
+	"_max_bytes\"\x99\x03\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -888,7 +902,8 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x11max_mesh_vertices\x18\x05 \x01(\x04R\x0fmaxMeshVertices\x12,\n" +
 	"\x12max_mesh_triangles\x18\x06 \x01(\x04R\x10maxMeshTriangles\x12-\n" +
 	"\x13max_mesh_line_bytes\x18\a \x01(\x04R\x10maxMeshLineBytes\x120\n" +
-	"\x14max_snapshot_photons\x18\b \x01(\x04R\x12maxSnapshotPhotons\"\xc2\x01\n" +
+	"\x14max_snapshot_photons\x18\b \x01(\x04R\x12maxSnapshotPhotons\x12&\n" +
+	"\x0fmax_film_pixels\x18\t \x01(\x04R\rmaxFilmPixels\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +
