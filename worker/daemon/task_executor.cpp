@@ -299,6 +299,12 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
 
 TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,
                                    Progress progress) {
+  // A composite needs neither the built scene nor the photon snapshot: they are freed
+  // first, so that the largest composite and the largest scene never add up in one worker
+  // (docs/limits.md, "Worker memory"). A next round's tiles build the scene again.
+  photons_.reset();
+  photons_file_.reset();
+  built_.reset();
   const Film film = FilmOf(Description(leased.scene_digest(), stop, progress));
   const pb::CompositeSpec& spec = leased.task().composite();
   std::vector<EncodedTile> tiles;
