@@ -298,8 +298,10 @@ func stopGracefully(srv *grpc.Server, timeout time.Duration) {
 	}
 }
 
-// sweep requeues expired leases, and forgets workers silent for ForgetAfterLeases lease
-// durations, a few times per lease duration.
+// sweep requeues expired leases, forgets workers silent for ForgetAfterLeases lease
+// durations, and fails the jobs every live worker is blocked from (a worker lost since the
+// last block may have been the only one left that could run them), a few times per lease
+// duration.
 func (c *Coordinator) sweep(ctx context.Context) {
 	every := min(max(c.cfg.LeaseDuration/10, 10*time.Millisecond), time.Second)
 	t := time.NewTicker(every)
@@ -313,6 +315,9 @@ func (c *Coordinator) sweep(ctx context.Context) {
 				c.log.Error("expiring leases", "err", err)
 			}
 			c.svc.ForgetSilentWorkers()
+			if err := c.svc.FailBlockedJobs(ctx); err != nil && ctx.Err() == nil {
+				c.log.Error("failing blocked jobs", "err", err)
+			}
 		}
 	}
 }

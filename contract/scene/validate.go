@@ -34,6 +34,7 @@ func Validate(s *pb.Scene) error {
 var structural = []func(*pb.Scene) *FieldError{
 	checkView,           // camera.look_at differs from position (camera.look_at); up non-zero, not parallel to the view (camera.up)
 	checkTiles,          // tiles per round at most max_tiles_per_round (film.tile_size)
+	checkPixels,         // pixels at most max_film_pixels (film.height)
 	checkMaterialNames,  // unique (materials[i].name)
 	checkShapeMaterials, // names a material (shapes[i].material)
 	checkSomeLight,      // at least one light (lights)

@@ -30,6 +30,9 @@ const (
 	// PermissionDenied: the caller may not act on the resource (a call about a worker
 	// without that worker's registration secret).
 	PermissionDenied
+	// DataLoss: stored data is damaged (a blob whose content no longer matches its
+	// digest).
+	DataLoss
 )
 
 func (k Kind) String() string {
@@ -48,6 +51,8 @@ func (k Kind) String() string {
 		return "unavailable"
 	case PermissionDenied:
 		return "permission denied"
+	case DataLoss:
+		return "data loss"
 	default:
 		return "internal"
 	}

@@ -26,19 +26,21 @@ func (s *Service) checkMeshes(ctx context.Context, sc *pb.Scene) error {
 			continue
 		}
 		d := m.GetDigest()
+		name := m.GetPath()
+		if name == "" {
+			name = d
+		}
 		bad, seen := refused[d]
 		if !seen {
 			var err error
-			if bad, err = s.checkMesh(ctx, d); err != nil {
+			if bad, err = s.checkMesh(ctx, d); errs.Is(err, errs.DataLoss) {
+				return errs.Field(fmt.Sprintf("shapes[%d].mesh.digest", i), "%s: %v; upload the file again", name, err)
+			} else if err != nil {
 				return err
 			}
 			refused[d] = bad
 		}
 		if bad != nil {
-			name := m.GetPath()
-			if name == "" {
-				name = d
-			}
 			return errs.Field(fmt.Sprintf("shapes[%d].mesh", i), "%s: %v", name, bad)
 		}
 	}
@@ -46,7 +48,8 @@ func (s *Service) checkMeshes(ctx context.Context, sc *pb.Scene) error {
 }
 
 // checkMesh checks the mesh blob digest: nil if it passes or is not in the blob store,
-// its *assets.Error if it does not parse, or the error of reading it.
+// its *assets.Error if it does not parse, or the error of reading it (errs.DataLoss if
+// the stored blob is damaged).
 func (s *Service) checkMesh(ctx context.Context, digest string) (*assets.Error, error) {
 	if _, ok := s.meshes.get(digest); ok {
 		return nil, nil
@@ -65,6 +68,8 @@ func (s *Service) checkMesh(ctx context.Context, digest string) (*assets.Error, 
 		return bad, nil
 	case ctx.Err() != nil:
 		return nil, ctx.Err()
+	case errs.Is(err, errs.DataLoss):
+		return nil, err
 	case err != nil:
 		return nil, errs.Wrap(errs.Internal, err, "check mesh "+digest)
 	}

@@ -3,13 +3,13 @@ package service
 import (
 	"context"
 	"fmt"
-	"io"
 	"math"
 
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/scene"
 	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/planner"
@@ -48,12 +48,12 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 	}
 	sc, err := s.scene(ctx, l.SceneDigest)
 	if err != nil {
-		return err
+		return blobstore.Lost("the scene", l.SceneDigest, err)
 	}
 	if d := scene.ReferenceDigest(sc); d != "" {
 		info, err := s.cfg.Blobs.Stat(ctx, d)
 		if err != nil {
-			return errs.Wrap(errs.Internal, err, fmt.Sprintf("reference image %s", d))
+			return blobstore.Lost("the reference image", d, err)
 		}
 		spec.Reference = &pb.Artifact{Name: "reference.exr", Digest: d, SizeBytes: info.Size}
 	}
@@ -75,7 +75,7 @@ func (s *Service) fillPrecompute(ctx context.Context, l *store.Leased, spec *pb.
 	}
 	n, err := s.globalPhotons(ctx, snap)
 	if err != nil {
-		return err
+		return blobstore.Lost(fmt.Sprintf("the photon snapshot of round %d", max(l.Task.GetRound(), 1)), snap.GetDigest(), err)
 	}
 	first := n * i / k
 	spec.FirstPhoton = first
@@ -104,39 +104,51 @@ func (s *Service) fillMerge(ctx context.Context, l *store.Leased, spec *pb.Merge
 }
 
 // globalPhotons reads the stored photon count of a snapshot's global map from its header
-// and directory (0 if it has none).
+// and directory (0 if it has none). The snapshot is verified whole first, once: the
+// ranges of every precompute task of the round follow from this count, and the answer is
+// remembered by digest (a blob never changes).
 func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64, error) {
-	r, info, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
+	d := snap.GetDigest()
+	if n, ok := s.photonCounts.get(d); ok {
+		return n, nil
+	}
+	if _, err := s.verifiedBlob(ctx, d); err != nil {
+		return 0, err
+	}
+	r, info, err := s.cfg.Blobs.Open(ctx, d)
 	if err != nil {
 		return 0, err
 	}
 	defer r.Close()
 	maps, err := photonmap.ReadMaps(r, info.Size)
 	if err != nil {
-		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", snap.GetDigest()))
+		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", d))
 	}
+	var n uint64
 	for _, m := range maps {
 		if m.Kind == photonmap.Global {
-			return m.Photons, nil
+			n = m.Photons
 		}
 	}
-	return 0, nil
+	s.photonCounts.put(d, n)
+	return n, nil
 }
 
 // scene returns the stored scene with this digest (defaults filled in at submit),
-// remembered by digest: a stored scene never changes.
+// remembered by digest: a stored scene never changes. A missing or damaged blob is the
+// blob store's error (errs.NotFound, errs.DataLoss).
 func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	if sc, ok := s.scenes.get(digest); ok {
 		return sc, nil
 	}
 	r, info, err := s.cfg.Blobs.Open(ctx, digest)
 	if err != nil {
-		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("scene %s", digest))
+		return nil, err
 	}
 	defer r.Close()
-	data := make([]byte, info.Size)
-	if _, err := io.ReadFull(r, data); err != nil {
-		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("read scene %s", digest))
+	data, err := blobstore.ReadAll(r, info.Size)
+	if err != nil {
+		return nil, err
 	}
 	sc := &pb.Scene{}
 	if err := proto.Unmarshal(data, sc); err != nil {
@@ -185,7 +197,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 	}
 	sc, err := s.scene(ctx, job.GetSceneDigest())
 	if err != nil {
-		return store.RoundEnd{}, "", err
+		return store.RoundEnd{}, "", blobstore.Lost("the scene", job.GetSceneDigest(), err)
 	}
 	round := max(task.GetRound(), 1)
 	report := &pb.RoundReport{

@@ -34,6 +34,7 @@ type Blobs interface {
 	// Touch is Stat that also marks the blob in use now (blobstore's collection protocol).
 	Touch(ctx context.Context, digest string) (blobstore.Info, error)
 	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
+	Verify(ctx context.Context, digest string) (blobstore.Info, error)
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 	Create(size int64, digest string) (*blobstore.Writer, error)
 }
@@ -74,8 +75,11 @@ type Service struct {
 	queued    notifier
 	retries   retries
 	workers   registry
+	blocked   blockedJobs
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
+	// photonCounts holds the global photons of verified snapshots, by digest.
+	photonCounts *cache[uint64]
 	// meshes holds the digests of mesh blobs that passed assets.CheckOBJ.
 	meshes *cache[assets.Mesh]
 	done   chan struct{}
@@ -97,14 +101,16 @@ func New(cfg Config) *Service {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
 	return &Service{
-		cfg:       cfg,
-		log:       cfg.Logger,
-		queued:    newNotifier(),
-		workers:   newRegistry(),
-		snapshots: newCache[*pb.Artifact](1024),
-		scenes:    newCache[*pb.Scene](64),
-		meshes:    newCache[assets.Mesh](4096),
-		done:      make(chan struct{}),
+		cfg:          cfg,
+		log:          cfg.Logger,
+		queued:       newNotifier(),
+		workers:      newRegistry(),
+		blocked:      blockedJobs{ids: make(map[string]bool)},
+		snapshots:    newCache[*pb.Artifact](1024),
+		scenes:       newCache[*pb.Scene](64),
+		photonCounts: newCache[uint64](1024),
+		meshes:       newCache[assets.Mesh](4096),
+		done:         make(chan struct{}),
 	}
 }
 
@@ -169,6 +175,7 @@ func (s *Service) publish(c store.Change) {
 	if c.Job == nil {
 		return
 	}
+	s.blocked.track(c.Job)
 	now := timestamppb.New(s.cfg.Clock.Now())
 	if c.Task != nil {
 		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_TASK_UPDATED, Time: now, Job: c.Job, Task: c.Task})

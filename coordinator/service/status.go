@@ -25,6 +25,7 @@ var codeOf = map[errs.Kind]codes.Code{
 	errs.ResourceExhausted:  codes.ResourceExhausted,
 	errs.Unavailable:        codes.Unavailable,
 	errs.PermissionDenied:   codes.PermissionDenied,
+	errs.DataLoss:           codes.DataLoss,
 }
 
 // toStatus converts a handler's error to a gRPC status error. A field error carries an

@@ -32,6 +32,8 @@
 //
 //	event                      counts toward   requeued                    blocklist
 //	FailTask, transient kind   MaxAttempts     after Backoff(failures)     counts
+//	FailTask, resource         MaxAttempts     after Backoff(failures)     does not count
+//	  exhausted
 //	FailTask, permanent kind   (fails the job at once: retrying cannot help) does not count
 //	stuck (no progress for     MaxAttempts     after Backoff(failures)     counts
 //	  StuckTimeout)
@@ -42,7 +44,9 @@
 // A failure's kind (FailTaskRequest.kind) is permanent or not as its failure_info in the
 // contract says (contract/tasks.FailureOf): bad input and unsupported are, so the job
 // fails with Job.error "task T failed: E" and Job.failure_kind set, and no worker is
-// blamed; any other kind, an unset one included, is transient. Task.failure_kind is the
+// blamed; any other kind, an unset one included, is transient, and counts toward the
+// blocklist if its failure_info says it blames the worker (Failure.BlamesWorker: not
+// resource exhaustion, which a healthy worker with a full disk reports). Task.failure_kind is the
 // kind of the task's last failure (TRANSIENT for stuck and expired leases), and a job that
 // fails at a limit takes its last failure's kind.
 //
@@ -235,6 +239,11 @@ type Failure struct {
 // Permanent reports whether retrying cannot help, as the kind's failure_info says; an
 // unset or unknown kind is transient.
 func (f Failure) Permanent() bool { return tasks.FailureOf(f.Kind).Permanent }
+
+// BlamesWorker reports whether the failed attempt counts toward the worker's blocklist
+// threshold, as the kind's failure_info says: transient and unset kinds do, resource
+// exhaustion (a full disk or cache) and the permanent kinds do not.
+func (f Failure) BlamesWorker() bool { return tasks.FailureOf(f.Kind).BlamesWorker }
 
 // Transient is a failure of the transient kind: what stuck and expired leases record.
 func Transient(message string) Failure {

@@ -95,13 +95,15 @@ func describe(fd protoreflect.FieldDescriptor) string {
 // sceneLimits is a table of the scene_limits option of Scene.
 func sceneLimits() string {
 	return optionTable(rules.Scene.ProtoReflect(), map[string]string{
-		"max_magnitude":       "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
-		"max_tiles_per_round": "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
-		"max_shards_per_map":  "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for each map the scene gets (refused as `photons.photons_per_shard`)",
-		"max_asset_bytes":     "largest mesh file (and any other asset) a scene names",
-		"max_mesh_vertices":   "most vertices in one mesh file",
-		"max_mesh_triangles":  "most triangles in one mesh file, after splitting polygons",
-		"max_mesh_line_bytes": "longest line of a mesh file, its line break included",
+		"max_magnitude":        "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
+		"max_tiles_per_round":  "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
+		"max_shards_per_map":   "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for each map the scene gets (refused as `photons.photons_per_shard`)",
+		"max_asset_bytes":      "largest mesh file (and any other asset) a scene names: a worker holds a mesh file's bytes while it parses them",
+		"max_mesh_vertices":    "most vertices in one mesh file",
+		"max_mesh_triangles":   "most triangles in one mesh file, after splitting polygons: the largest mesh takes a worker about 2.6 GB to parse and put in Embree's BVH (measured: about 260 bytes a triangle, see Worker memory below)",
+		"max_mesh_line_bytes":  "longest line of a mesh file, its line break included",
+		"max_film_pixels":      "pixels of the film, `film.width * film.height` (refused as `film.height`): the composite holds the film's tiles and images (measured: about 340 bytes a pixel on the worker), and the image and accumulation EXRs (84 and 96 bytes a pixel uncompressed: 705 and 805 MB at the limit) must stay under `max_blob_bytes`; 8,388,608 holds 3840x2160",
+		"max_snapshot_photons": "photons stored in one round's photon snapshot, every map together, and so in one emission shard (a path stores a photon at each diffuse bounce, so `photons.*_photons` alone do not bound it): the worker fails an emission shard that stores more, the builder a snapshot, as bad input naming the setting to lower; the largest snapshot is then 768 MB (24 bytes a global photon with irradiance), the largest shard 896 MB (28 bytes a photon), both under `max_blob_bytes`",
 	})
 }
 

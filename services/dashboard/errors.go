@@ -25,6 +25,8 @@ var httpStatusOf = map[codes.Code]int{
 	codes.FailedPrecondition: http.StatusConflict,
 	codes.ResourceExhausted:  http.StatusRequestEntityTooLarge,
 	codes.Unavailable:        http.StatusServiceUnavailable,
+	// A blob the coordinator holds damaged: the gateway's upstream cannot give it.
+	codes.DataLoss: http.StatusBadGateway,
 }
 
 // HTTPStatus returns the HTTP status for a gRPC code.

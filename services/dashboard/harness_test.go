@@ -46,6 +46,11 @@ func noAuth() farmOption {
 	return func(c *coordinator.Config, _ *dashboard.Config) { c.ClientTokens, c.WorkerTokens = nil, nil }
 }
 
+// dataDir runs the coordinator on dir, for tests that reach into its blob store.
+func dataDir(dir string) farmOption {
+	return func(c *coordinator.Config, _ *dashboard.Config) { c.DataDir = dir }
+}
+
 func newFarm(t *testing.T, opts ...farmOption) *farm {
 	t.Helper()
 	ctx, cancel := context.WithTimeout(context.Background(), 2*time.Minute)

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stop_token>
 #include <thread>
+#include <utility>
 
 #include "contract/failure.h"
 #include "contract/go_text.h"
@@ -39,6 +40,12 @@ constexpr seconds kGoodbyeGiveUp{5};
 // (RegisterWorkerResponse.worker_secret in worker.proto; contract/rules.WorkerSecretMetadata
 // in Go).
 constexpr char kWorkerSecretMetadata[] = "farm-worker-secret";
+
+// The pause before leasing again after a failure that does not blame the worker (a full
+// disk or cache), doubling while they repeat: another worker takes the task meanwhile,
+// and this one does not fail task after task the same way.
+constexpr Millis kSpareFirstPause{5000};
+constexpr Millis kSpareLongestPause{60000};
 
 std::string HostName() {
   char name[256] = "";
@@ -85,7 +92,7 @@ class Worker::Impl {
       : coordinator_(options.coordinator),
         hostname_(options.name.empty() ? HostName() : options.name),
         cores_(cores),
-        cache_(options.cache_dir),
+        cache_(options.cache_dir, options.cache_max_bytes),
         channel_(MakeCoordinatorChannel(options)),
         stub_(pb::WorkerService::NewStub(channel_)),
         blobs_(channel_, &cache_),
@@ -148,6 +155,9 @@ class Worker::Impl {
   std::unique_ptr<pb::WorkerService::Stub> stub_;
   BlobClient blobs_;
   TaskExecutor executor_;
+
+  Backoff spare_pause_{kSpareFirstPause, kSpareLongestPause};
+  bool pause_before_lease_ = false;  // The last task failed without blaming this worker.
 
   std::stop_source drain_;  // No more leasing.
   std::stop_source abort_;  // Abandon the current task too.
@@ -277,6 +287,11 @@ int Worker::Impl::Run() {
         exit_code = drain_.stop_requested() ? 0 : 1;
         break;
       }
+      if (std::exchange(pause_before_lease_, false)) {
+        const Millis pause = spare_pause_.Next();
+        Log(LogLevel::kInfo, "pausing before the next lease", {{"ms", pause.count()}, {"why", "the last task ran out of a resource here"}});
+        if (!SleepUnlessStopped(pause, drain_.get_token())) break;
+      }
       pb::LeaseTaskResponse leased;
       const grpc::Status status = LeaseOnce(leased);
       if (status.ok() && leased.has_lease() && drain_.stop_requested()) {
@@ -362,10 +377,13 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     Release(lease);
     log(LogLevel::kInfo, "task released unfinished", {});
   } else if (error) {
+    const contract::FailureEntry treated = contract::FailureOf(kind);
+    pause_before_lease_ = !treated.permanent && !treated.blames_worker;
     const std::string problem = ReportFailure(lease, *error, kind);
     log(LogLevel::kWarn, "task failed",
         {{"error", *error}, {"kind", contract::FailureOf(kind).label}, {"report", problem.empty() ? "sent" : problem}});
   } else {
+    spare_pause_.Reset();
     const std::string problem = ReportComplete(lease, result);
     log(problem.empty() ? LogLevel::kInfo : LogLevel::kWarn, "task done", {{"report", problem.empty() ? "sent" : problem}});
   }

@@ -9,6 +9,7 @@
 //   camera.up                    non-zero and not parallel to look_at - position
 //   film.tile_size               at most SceneLimits().max_tiles_per_round tiles in the film
 //                                (ceil(width / tile) * ceil(height / tile))
+//   film.height                  width * height at most SceneLimits().max_film_pixels
 //   materials[i].name            unique
 //   materials[i].glossy.specular.r/g/b   diffuse + specular <= 1
 //   lights[i].sun.direction      non-zero

@@ -271,8 +271,8 @@ local function limitfailure(t, n)
 end
 
 -- fail counts a transient failed attempt of kind at t's live lease by worker (FailTask,
--- a stuck lease) under pol (policy): the worker is blocked from the job at pol.block
--- failures (reason as store.BlockReason, stored as "µs reason"; the kind as the job's
+-- a stuck lease) under pol (policy): unless kind is one of SPARES, the worker is blocked
+-- from the job at pol.block failures (reason as store.BlockReason, stored as "µs reason"; the kind as the job's
 -- bkind); the task goes back after store.Options.Backoff, or at pol.attempts fails with
 -- its job.
 local function fail(t, worker, msg, pol, kind)
@@ -281,9 +281,11 @@ local function fail(t, worker, msg, pol, kind)
   local jk = jkey(jid)
   local failures = redis.call('HINCRBY', k, 'failures', 1)
   redis.call('HSET', k, 'error', msg, 'fkind', kind)
-  local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
-  if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
-    redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg, 'bkind', kind)
+  if not SPARES[tonumber(kind)] then
+    local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
+    if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
+      redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg, 'bkind', kind)
+    end
   end
   if failures >= pol.attempts then return failjob(t, jid, limitfailure(t, failures)) end
   local retry = string.format('%.0f', NOW + math.min(pol.base * 2 ^ (failures - 1), pol.cap))

@@ -96,6 +96,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"CancelledJobGetsNoNewRound", testCancelledRoundIsNotExtended},
 		{"PermanentFailureFailsTheJobAtOnceAndBlamesNoWorker", testPermanentFailure},
 		{"TransientKindsRetryAndRecordTheirKind", testTransientKinds},
+		{"ResourceExhaustionRetriesWithoutBlamingTheWorker", testResourceExhaustionBlamesNoWorker},
 		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
 		{"PurgeDeletesEndedJobsWithTheirTasksAndRequestIDs", testPurgeDeletesEndedJobs},
 		{"PurgeGoesInBoundedSteps", testPurgeGoesInBoundedSteps},
