@@ -51,8 +51,8 @@ func TestTooManyTasksAreRefusedAtSubmitAndPlan(t *testing.T) {
 		t.Errorf("ListJobs after the refusals = %v, %v; want no jobs", list, err)
 	}
 
-	atLimit := scenetest.Unlit(16384, 16384)
-	atLimit.Film.TileSize = 64
+	atLimit := scenetest.Unlit(2048, 2048) // within max_film_pixels
+	atLimit.Film.TileSize = 8
 	plan, err := f.jobs.PlanScene(f.ctx, &pb.PlanSceneRequest{Scene: atLimit})
 	if err != nil {
 		t.Fatalf("PlanScene of 65,536 tiles (the limit): %v", err)
@@ -64,6 +64,6 @@ func TestTooManyTasksAreRefusedAtSubmitAndPlan(t *testing.T) {
 		}
 	}
 	if render != 65536 {
-		t.Errorf("PlanScene of a 16384² film in 64-pixel tiles: %d render tasks, want 65536 (phases %v)", render, plan.Phases)
+		t.Errorf("PlanScene of a 2048² film in 8-pixel tiles: %d render tasks, want 65536 (phases %v)", render, plan.Phases)
 	}
 }

@@ -28,7 +28,8 @@ var (
 	limitShards = flag.Int("limit-shards", 500, "emission shards per photon map of TestJobAtTheLimitOnRedis's job (issue 12: 10000, make fault-full)")
 )
 
-// limitScene is a scene of -limit-tiles tiles of 64 pixels and, for a global and a caustic
+// limitScene is a scene of -limit-tiles tiles of 8 pixels (small tiles, so that the film of
+// the most tiles stays within max_film_pixels: 65,536 tiles are a 2048x2048 film) and, for a global and a caustic
 // photon map, -limit-shards emission shards of the fewest photons a shard may have, with
 // final gathering: with the full flags, the largest round validation allows (95,539
 // tasks: docs/limits.md, "Planning").
@@ -38,9 +39,9 @@ func limitScene(t *testing.T) *pb.Scene {
 		t.Fatalf("-limit-tiles %d is not a square number", *limitTiles)
 	}
 	per := uint64(rules.Min(&pb.PhotonMapping{}, "photons_per_shard"))
-	sc := scenetest.Valid(64*side, 64*side)
+	sc := scenetest.Valid(8*side, 8*side)
 	sc.Name = "at the limit"
-	sc.Film.TileSize = 64
+	sc.Film.TileSize = 8
 	sc.Materials = append(sc.Materials, &pb.Material{Name: "mirror", Kind: &pb.Material_Mirror{Mirror: &pb.Mirror{Reflectance: &pb.Color{R: 0.9, G: 0.9, B: 0.9}}}})
 	sc.Shapes = append(sc.Shapes, &pb.Shape{Name: "mirror ball", Material: "mirror", Geometry: &pb.Shape_Sphere{Sphere: &pb.Sphere{Center: scenetest.V(1.5, 0.5, 0), Radius: 0.5}}})
 	n := uint64(*limitShards) * per

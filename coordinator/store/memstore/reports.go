@@ -162,18 +162,21 @@ func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, f store.Failur
 }
 
 // failAttempt counts a transient failed attempt at leased task t by workerID (FailTask,
-// a stuck lease): the worker is blocked from the job at BlockAfterFailures; the task goes
-// back after a backoff, or at MaxAttempts fails with its job.
+// a stuck lease): if the failure blames the worker, the worker is blocked from the job at
+// BlockAfterFailures; the task goes back after a backoff, or at MaxAttempts fails with its
+// job.
 func (s *Store) failAttempt(t *task, workerID string, f store.Failure) store.Change {
 	j := t.job
 	t.failures++
 	t.pb.Error, t.pb.FailureKind = f.Message, f.Kind
-	j.failures[workerID]++
-	if n := j.failures[workerID]; n >= s.opts.BlockAfterFailures && !blocked(j, workerID) {
-		j.pb.BlockedWorkers = append(j.pb.BlockedWorkers, &pb.BlockedWorker{
-			WorkerId: workerID, Reason: store.BlockReason(n, f.Message), BlockTime: timestamppb.New(s.now())})
-		store.SortBlocked(j.pb.BlockedWorkers)
-		j.blockKind = f.Kind
+	if f.BlamesWorker() {
+		j.failures[workerID]++
+		if n := j.failures[workerID]; n >= s.opts.BlockAfterFailures && !blocked(j, workerID) {
+			j.pb.BlockedWorkers = append(j.pb.BlockedWorkers, &pb.BlockedWorker{
+				WorkerId: workerID, Reason: store.BlockReason(n, f.Message), BlockTime: timestamppb.New(s.now())})
+			store.SortBlocked(j.pb.BlockedWorkers)
+			j.blockKind = f.Kind
+		}
 	}
 	if t.failures >= s.opts.MaxAttempts {
 		return s.failJob(t, t.failures)
