@@ -62,7 +62,7 @@ fault-full: build
 
 # Issue 12's jobs at the size limits (the largest snapshot, composite, film and mesh), each
 # on a farm of its own, printing time and peak memory; make test runs them reduced. About
-# 20 minutes and 4 GB of memory on 2 cores.
+# 25 minutes and 3 GB of memory on 2 cores (tests/README.md, "Limits").
 limits: build
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -v -timeout 3h ./tests/limits/ -limits.full
 

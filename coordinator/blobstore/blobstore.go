@@ -23,6 +23,7 @@ import (
 	"io/fs"
 	"os"
 	"path/filepath"
+	"syscall"
 
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/errs"
@@ -257,7 +258,7 @@ func (s *Store) Create(size int64, digest string) (*Writer, error) {
 	}
 	f, err := os.CreateTemp(filepath.Join(s.root, "tmp"), "upload-*")
 	if err != nil {
-		return nil, errs.Wrap(errs.Internal, err, "blobstore")
+		return nil, writeError(err)
 	}
 	return &Writer{s: s, f: f, h: rules.NewDigestHash(), size: size, digest: digest}, nil
 }
@@ -277,7 +278,7 @@ func (w *Writer) Write(p []byte) (int, error) {
 			Message: fmt.Sprintf("blob exceeds the limit of %d bytes", w.s.maxSize)}
 	}
 	if _, err := w.f.Write(p); err != nil {
-		return 0, errs.Wrap(errs.Internal, err, "blobstore")
+		return 0, writeError(err)
 	}
 	w.h.Write(p)
 	w.n = n
@@ -300,20 +301,36 @@ func (w *Writer) Commit() (Info, error) {
 			Message: fmt.Sprintf("content has digest %s, not the declared %s", got, w.digest)}
 	}
 	if err := w.f.Sync(); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	if err := w.f.Close(); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	dst := w.s.path(got)
 	if err := os.MkdirAll(filepath.Dir(dst), 0o755); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	// Identical content may already be there; renaming over it is harmless.
 	if err := os.Rename(w.f.Name(), dst); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	return Info{Digest: got, Size: w.n}, nil
+}
+
+// writeError is err from writing a blob to disk: resource exhaustion when the disk or
+// the quota is full (IsDiskFull), so that neither the uploader nor the builder is blamed
+// for it (a worker pauses and retries; the task's attempts still end a job that never
+// gets the space), else internal.
+func writeError(err error) error {
+	if IsDiskFull(err) {
+		return errs.Wrap(errs.ResourceExhausted, err, "blobstore: the coordinator's disk is full")
+	}
+	return errs.Wrap(errs.Internal, err, "blobstore")
+}
+
+// IsDiskFull reports whether err comes from a full disk or quota (ENOSPC, EDQUOT).
+func IsDiskFull(err error) bool {
+	return errors.Is(err, syscall.ENOSPC) || errors.Is(err, syscall.EDQUOT)
 }
 
 // Abort drops the partial blob.

@@ -180,12 +180,15 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 		"bytes", out.GetSizeBytes(), "snapshot", out.GetDigest(), "took", time.Since(start).Round(time.Millisecond))
 }
 
-// failureKind is how a build's error is reported: a lost input as lost, a malformed input
-// or one over a limit as bad input (both permanent), anything else as transient.
+// failureKind is how a build's error is reported: a lost input as lost, a full disk as
+// resource exhaustion (blaming no worker), a malformed input or one over a limit as bad
+// input (both permanent), anything else as transient.
 func failureKind(err error) pb.FailureKind {
 	switch {
 	case errors.As(err, new(*blobstore.LostError)):
 		return pb.FailureKind_FAILURE_KIND_LOST_INPUT
+	case blobstore.IsDiskFull(err):
+		return pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED
 	case errors.As(err, new(*photonmap.TooManyPhotons)), errs.Is(err, errs.InvalidArgument), errs.Is(err, errs.ResourceExhausted):
 		return pb.FailureKind_FAILURE_KIND_BAD_INPUT
 	}

@@ -14,10 +14,10 @@ import (
 )
 
 // TestCompositeAtTheTileCapCompletes renders the most tiles a round may have
-// (max_tiles_per_round: 2048x2048 in 8-pixel tiles; reduced: 256x256, 1024 tiles) on two
+// (max_tiles_per_round: 2048x2048 in 8-pixel tiles; reduced: 128x128, 256 tiles) on two
 // workers and logs how big the composite's lease was against the message limit.
 func TestCompositeAtTheTileCapCompletes(t *testing.T) {
-	side := size(uint32(2048), uint32(256))
+	side := size(uint32(2048), uint32(128))
 	r := newRun(t)
 	r.f.StartWorker(t, "--threads", "1")
 	sc := scenetest.Unlit(side, side)

@@ -151,6 +151,12 @@ std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop,
     writer->WritesDone();
     return writer->Finish();
   });
+  // The coordinator's disk is full (or the blob over its size limit): not this worker's
+  // fault, so it must not count toward blocking it.
+  if (status.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED) {
+    throw TaskError(renderfarm::v1::FAILURE_KIND_RESOURCE_EXHAUSTED,
+                    "cannot upload blob " + digest + ": " + status.error_message());
+  }
   if (!status.ok()) throw BlobError("cannot upload blob " + digest + ": " + status.error_message());
   if (response.digest() != digest) {
     throw BlobError("blob store stored " + response.digest() + " for upload " + digest);
