@@ -10,6 +10,7 @@ import (
 	"google.golang.org/grpc"
 	"google.golang.org/grpc/credentials/insecure"
 
+	"photonfarm/client"
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
@@ -63,7 +64,7 @@ func TestJobNoWorkerCanRunFailsWithTheReasonWithin30Seconds(t *testing.T) {
 			sc := scenetest.Unlit(256, 64)
 			sc.Film.TileSize = 32 // 16 tiles: three failures of each worker land on different tiles
 			job := f.Submit(t, sc)
-			conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
+			conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets())
 			if err != nil {
 				t.Fatal(err)
 			}
