@@ -7,7 +7,7 @@ SCENE ?= scenes/cornell-box.json
 # Go's usual install folder, for shells whose PATH lacks it.
 export PATH := $(PATH):/usr/local/go/bin
 
-.PHONY: demo test build deps cpp go check-proto test-cpp check-dashboard test-go fuzz fault-full bench compose-test clean
+.PHONY: demo test build deps cpp go check-proto test-cpp check-dashboard test-go fuzz fault-full limits bench compose-test clean
 
 demo: build
 	$(BIN)/farm render $(SCENE) -o out/ --workers 2
@@ -53,11 +53,18 @@ fuzz:
 	scripts/fuzz.sh
 
 # Issue 5's full fault-and-load numbers (20 worker kills, 10 coordinator kills, 100 jobs
-# from 10 clients, lease throughput against Redis); make test runs the same tests with
-# fewer trials.
+# from 10 clients, lease throughput against Redis) and issue 12's job at the limit (95,539
+# tasks on Redis); make test runs the same tests with fewer trials and a smaller job.
 fault-full: build
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -v -timeout 30m ./tests/fault/ \
-	  -worker-kill-trials 20 -coordinator-kill-trials 10 -load-jobs 100 -load-clients 10
+	  -worker-kill-trials 20 -coordinator-kill-trials 10 -load-jobs 100 -load-clients 10 \
+	  -limit-tiles 65536 -limit-shards 10000
+
+# Issue 12's jobs at the size limits (the largest snapshot, composite, film and mesh), each
+# on a farm of its own, printing time and peak memory; make test runs them reduced. About
+# 25 minutes and 3 GB of memory on 2 cores (tests/README.md, "Limits").
+limits: build
+	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -v -timeout 3h ./tests/limits/ -limits.full
 
 # Issue 7's docker-compose farm, for real: starts a Docker engine if none runs, builds the
 # images, renders the Cornell box on Redis + coordinator + dashboard + 2 worker containers,

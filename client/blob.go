@@ -82,13 +82,15 @@ func (c ctxReader) Read(p []byte) (int, error) {
 	return c.r.Read(p)
 }
 
-// BlobExists reports whether the blob store holds digest.
+// BlobExists reports whether the blob store holds digest intact: GetBlobInfo checks the
+// stored content, and a damaged blob (DATA_LOSS) counts as absent, so that the caller
+// uploads it again, which repairs it.
 func (c *Client) BlobExists(ctx context.Context, digest string) (bool, error) {
 	_, err := c.blobs.GetBlobInfo(ctx, &pb.GetBlobInfoRequest{Digest: digest})
 	switch status.Code(err) {
 	case codes.OK:
 		return true, nil
-	case codes.NotFound:
+	case codes.NotFound, codes.DataLoss:
 		return false, nil
 	}
 	return false, fromRPC("blob info", err)

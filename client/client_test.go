@@ -114,8 +114,23 @@ type fakeJobs struct {
 	workers   []*pb.WorkerInfo
 }
 
-func (f *fakeJobs) ListWorkers(context.Context, *pb.ListWorkersRequest) (*pb.ListWorkersResponse, error) {
-	return &pb.ListWorkersResponse{Workers: f.workers}, nil
+func (f *fakeJobs) ListWorkers(_ context.Context, req *pb.ListWorkersRequest) (*pb.ListWorkersResponse, error) {
+	workers, next := pageOfTwo(f.workers, req.GetPageToken())
+	return &pb.ListWorkersResponse{Workers: workers, NextPageToken: next}, nil
+}
+
+// pageOfTwo is the page of items a fake listing's token names: pages of two, to
+// exercise the clients' paging loops.
+func pageOfTwo[T any](items []T, token string) (page []T, next string) {
+	start := 0
+	if token != "" {
+		fmt.Sscan(token, &start)
+	}
+	end := min(start+2, len(items))
+	if end < len(items) {
+		next = fmt.Sprint(end)
+	}
+	return items[start:end], next
 }
 
 func (f *fakeJobs) SubmitJob(_ context.Context, req *pb.SubmitJobRequest) (*pb.SubmitJobResponse, error) {
@@ -159,17 +174,8 @@ func (f *fakeJobs) WatchJob(req *pb.WatchJobRequest, stream grpc.ServerStreaming
 }
 
 func (f *fakeJobs) ListTasks(_ context.Context, req *pb.ListTasksRequest) (*pb.ListTasksResponse, error) {
-	// Pages of two, to exercise the paging loop.
-	start := 0
-	if req.GetPageToken() != "" {
-		fmt.Sscan(req.GetPageToken(), &start)
-	}
-	end := min(start+2, len(f.tasks))
-	resp := &pb.ListTasksResponse{Tasks: f.tasks[start:end]}
-	if end < len(f.tasks) {
-		resp.NextPageToken = fmt.Sprint(end)
-	}
-	return resp, nil
+	tasks, next := pageOfTwo(f.tasks, req.GetPageToken())
+	return &pb.ListTasksResponse{Tasks: tasks, NextPageToken: next}, nil
 }
 
 func startFake(t *testing.T, opts ...Option) (*Client, *fakeBlobs, *fakeJobs) {
@@ -382,9 +388,10 @@ func TestListWorkersReturnsTheWorkers(t *testing.T) {
 	jobs.workers = []*pb.WorkerInfo{
 		{Id: "w-1", State: pb.WorkerState_WORKER_STATE_BUSY, CurrentTaskId: "j1.0"},
 		{Id: "w-2", State: pb.WorkerState_WORKER_STATE_IDLE},
+		{Id: "w-3", State: pb.WorkerState_WORKER_STATE_LOST},
 	}
 	got, err := c.ListWorkers(context.Background())
-	if err != nil || len(got) != 2 || got[0].GetCurrentTaskId() != "j1.0" || got[1].GetId() != "w-2" {
+	if err != nil || len(got) != 3 || got[0].GetCurrentTaskId() != "j1.0" || got[1].GetId() != "w-2" || got[2].GetId() != "w-3" {
 		t.Fatalf("ListWorkers = %v, %v", got, err)
 	}
 }

@@ -92,8 +92,9 @@ func (c *Client) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 
 // Page sizes the SDK asks for: the coordinator's largest (job.proto).
 const (
-	jobsPage  = 1000
-	tasksPage = 10000
+	jobsPage    = 1000
+	tasksPage   = 10000
+	workersPage = 1000
 )
 
 // ListJobs returns every job, newest first, following the pages.
@@ -124,13 +125,12 @@ func AllTasks(ctx context.Context, jobs pb.JobServiceClient, jobID string) ([]*p
 }
 
 // ListWorkers returns the workers registered with the coordinator, oldest first, with
-// their state (idle, busy, lost), current task and task counts.
+// their state (idle, busy, lost), current task and task counts, following the pages.
 func (c *Client) ListWorkers(ctx context.Context) ([]*pb.WorkerInfo, error) {
-	resp, err := c.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
-	if err != nil {
-		return nil, fromRPC("list workers", err)
-	}
-	return resp.GetWorkers(), nil
+	return pages.All(func(token string) ([]*pb.WorkerInfo, string, error) {
+		resp, err := c.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{PageSize: workersPage, PageToken: token})
+		return resp.GetWorkers(), resp.GetNextPageToken(), fromRPC("list workers", err)
+	})
 }
 
 // Cancel cancels the job.

@@ -27,6 +27,7 @@ import (
 	"photonfarm/coordinator/clock"
 	"photonfarm/coordinator/events"
 	"photonfarm/coordinator/metrics"
+	"photonfarm/coordinator/retention"
 	"photonfarm/coordinator/service"
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/memstore"
@@ -37,6 +38,8 @@ import (
 const (
 	DefaultLeaseDuration = store.DefaultLeaseDuration
 	DefaultStuckTimeout  = store.DefaultStuckTimeout
+	DefaultRetention     = retention.DefaultRetention
+	DefaultBlobGrace     = retention.DefaultBlobGrace
 	// StopTimeout is how long Serve waits for RPCs in flight after ctx is cancelled
 	// before closing connections.
 	StopTimeout = 10 * time.Second
@@ -54,6 +57,10 @@ type Config struct {
 	// StuckTimeout: a lease whose progress (HeldLease.progress) has not grown for this
 	// long is revoked at a heartbeat and counted as a failed attempt (default 10m).
 	StuckTimeout time.Duration
+	// Retention is how long an ended job is kept before it is deleted with its tasks
+	// (default a week), and BlobGrace how old a blob no job refers to must be before it
+	// is deleted (default a day): package retention.
+	Retention, BlobGrace time.Duration
 	// Clock defaults to the system clock.
 	Clock clock.Clock
 	// Logger defaults to slog.Default().
@@ -95,6 +102,7 @@ type Coordinator struct {
 	metrics *metrics.Metrics
 	svc     *service.Service
 	builder *builder.Builder
+	sweeper *retention.Sweeper
 }
 
 // New checks cfg, opens the blob store under DataDir and the store (Redis if
@@ -104,7 +112,7 @@ func New(cfg Config) (*Coordinator, error) {
 	if cfg.DataDir == "" {
 		return nil, errors.New("coordinator: Config.DataDir is required")
 	}
-	if cfg.LeaseDuration < 0 || cfg.HeartbeatInterval < 0 || cfg.StuckTimeout < 0 {
+	if cfg.LeaseDuration < 0 || cfg.HeartbeatInterval < 0 || cfg.StuckTimeout < 0 || cfg.Retention < 0 || cfg.BlobGrace < 0 {
 		return nil, errors.New("coordinator: durations must not be negative")
 	}
 	if cfg.LeaseDuration == 0 {
@@ -160,7 +168,9 @@ func New(cfg Config) (*Coordinator, error) {
 		HeartbeatInterval: cfg.HeartbeatInterval,
 		Logger:            cfg.Logger,
 	})
-	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, closers: closers, metrics: m, svc: svc, builder: b}, nil
+	sw := retention.New(retention.Config{Store: st, Blobs: blobs, Clock: cfg.Clock, Logger: cfg.Logger,
+		Retention: cfg.Retention, BlobGrace: cfg.BlobGrace})
+	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, closers: closers, metrics: m, svc: svc, builder: b, sweeper: sw}, nil
 }
 
 // openStore opens the store cfg names, and what must be closed after it.
@@ -205,7 +215,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	opts := append([]grpc.ServerOption{
 		grpc.ChainUnaryInterceptor(c.metrics.UnaryServerInterceptor),
 		grpc.ChainStreamInterceptor(c.metrics.StreamServerInterceptor),
-	}, c.auth.ServerOptions()...)
+	}, c.auth.ServerOptions(c.metrics.CallRefused)...)
 	if c.cfg.TLS != nil {
 		opts = append(opts, grpc.Creds(credentials.NewTLS(c.cfg.TLS)))
 	}
@@ -222,6 +232,11 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	go func() {
 		defer close(buildDone)
 		_ = c.builder.Run(ctx)
+	}()
+	retainDone := make(chan struct{})
+	go func() {
+		defer close(retainDone)
+		c.sweeper.Run(ctx)
 	}()
 
 	served := make(chan error, 1)
@@ -245,6 +260,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	}
 	<-sweepDone
 	<-buildDone
+	<-retainDone
 	if err != nil {
 		return fmt.Errorf("coordinator: %w", err)
 	}
@@ -282,7 +298,10 @@ func stopGracefully(srv *grpc.Server, timeout time.Duration) {
 	}
 }
 
-// sweep requeues expired leases a few times per lease duration.
+// sweep requeues expired leases, forgets workers silent for ForgetAfterLeases lease
+// durations, and fails the jobs every live worker is blocked from (a worker lost since the
+// last block may have been the only one left that could run them), a few times per lease
+// duration.
 func (c *Coordinator) sweep(ctx context.Context) {
 	every := min(max(c.cfg.LeaseDuration/10, 10*time.Millisecond), time.Second)
 	t := time.NewTicker(every)
@@ -294,6 +313,10 @@ func (c *Coordinator) sweep(ctx context.Context) {
 		case <-t.C:
 			if err := c.svc.ExpireLeases(ctx); err != nil && ctx.Err() == nil {
 				c.log.Error("expiring leases", "err", err)
+			}
+			c.svc.ForgetSilentWorkers()
+			if err := c.svc.FailBlockedJobs(ctx); err != nil && ctx.Err() == nil {
+				c.log.Error("failing blocked jobs", "err", err)
 			}
 		}
 	}

@@ -9,6 +9,7 @@ import (
 	"google.golang.org/grpc"
 	"google.golang.org/protobuf/types/known/durationpb"
 
+	"photonfarm/client"
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator"
 	"photonfarm/coordinator/coordinatortest"
@@ -27,7 +28,7 @@ func serve(t *testing.T, cfg coordinator.Config) *coordinatortest.Server {
 func startServing(t *testing.T, lease time.Duration) (*grpc.ClientConn, func() error) {
 	t.Helper()
 	s := serve(t, coordinator.Config{LeaseDuration: lease})
-	return s.Dial(t), s.Stop
+	return s.Dial(t, client.WorkerSecrets()), s.Stop
 }
 
 func TestNewRejectsBadConfig(t *testing.T) {

@@ -45,7 +45,7 @@ func wantCode(t *testing.T, what string, err error, code codes.Code, msgParts ..
 // TestTokensGateEachServiceByRole talks real gRPC to a coordinator configured with one
 // client and one worker token.
 func TestTokensGateEachServiceByRole(t *testing.T) {
-	conn := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t)
+	conn := serve(t, coordinator.Config{ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t, client.WorkerSecrets())
 	jobs, workers, blobs := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
 	submit := &pb.SubmitJobRequest{Scene: scenetest.Unlit(8, 8)}
 

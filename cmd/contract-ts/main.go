@@ -67,12 +67,12 @@ func generate() []byte {
 
 	failures := pb.FailureKind(0).Descriptor()
 	writeUnion(&b, "FailureKind", failures, "Why a task or job failed (rules.proto), as protojson names it.")
-	b.WriteString("\n/** How each failure kind is shown and treated (failure_info): a permanent kind fails the job at once. */\n")
-	b.WriteString("export const FAILURE_KINDS: Record<FailureKind, { label: string; permanent: boolean }> = {\n")
+	b.WriteString("\n/** How each failure kind is shown and treated (failure_info): a permanent kind fails the job at once; one that blames the worker counts toward its blocklist. */\n")
+	b.WriteString("export const FAILURE_KINDS: Record<FailureKind, { label: string; permanent: boolean; blamesWorker: boolean }> = {\n")
 	for i := 0; i < failures.Values().Len(); i++ {
 		v := failures.Values().Get(i)
 		f := tasks.FailureOf(pb.FailureKind(v.Number()))
-		fmt.Fprintf(&b, "  %s: { label: %s, permanent: %t },\n", v.Name(), quote(f.Label), f.Permanent)
+		fmt.Fprintf(&b, "  %s: { label: %s, permanent: %t, blamesWorker: %t },\n", v.Name(), quote(f.Label), f.Permanent, f.BlamesWorker)
 	}
 	b.WriteString("};\n")
 	return b.Bytes()

@@ -153,10 +153,6 @@ func usageErrorf(format string, args ...any) error {
 	return &exitError{code: exitUsage, err: fmt.Errorf(format, args...)}
 }
 
-func oneLine(s string) string {
-	return strings.Join(strings.Fields(strings.ReplaceAll(s, "\n", " ")), " ")
-}
-
 // flagSet is a verb's flags and how to print its usage.
 type flagSet struct {
 	*flag.FlagSet

@@ -6,6 +6,7 @@ import (
 	"path/filepath"
 	"strings"
 	"testing"
+	"time"
 
 	"photonfarm/tests/farmtest"
 )
@@ -106,6 +107,29 @@ func TestUnreachableCoordinatorExitsOne(t *testing.T) {
 	code, _, stderr := runForTest(t, nil, "status", "job-1", "--coordinator", closedAddress(t))
 	if code != exitFailure || !strings.Contains(stderr, "coordinator unavailable") || strings.Count(stderr, "\n") != 1 {
 		t.Errorf("exit %d, stderr %q", code, stderr)
+	}
+}
+
+// TestRenderChecksTheOutputFolderFirst: an -o that names a file, or a folder that cannot
+// be made, is refused at once, before a farm starts (the worker binary would do nothing).
+func TestRenderChecksTheOutputFolderFirst(t *testing.T) {
+	dir := t.TempDir()
+	path := filepath.Join(dir, "s.json")
+	os.WriteFile(path, []byte(`{"name": "s"}`), 0o644)
+	file := filepath.Join(dir, "out.png")
+	os.WriteFile(file, []byte("not a folder"), 0o644)
+	for _, out := range []string{file, filepath.Join(file, "sub")} {
+		start := time.Now()
+		code, _, stderr := runForTest(t, nil, "render", path, "-o", out, "--worker-bin", "/bin/true", "--no-dashboard")
+		if code != exitUsage || !strings.Contains(stderr, "-o") || strings.Count(stderr, "\n") != 1 {
+			t.Errorf("-o %s: exit %d, stderr %q; want exit 2 and one line naming -o", out, code, stderr)
+		}
+		if took := time.Since(start); took > 5*time.Second {
+			t.Errorf("-o %s: refused after %v, want at once", out, took)
+		}
+	}
+	if b, _ := os.ReadFile(file); string(b) != "not a folder" {
+		t.Errorf("the file named by -o changed: %q", b)
 	}
 }
 

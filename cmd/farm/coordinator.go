@@ -19,7 +19,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }
@@ -38,6 +38,8 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "how long a task lease lasts without a heartbeat")
 	heartbeat := fs.Duration("heartbeat-interval", 0, "how often workers heartbeat (0: a quarter of the lease duration)")
 	stuck := fs.Duration("stuck-timeout", coordinator.DefaultStuckTimeout, "revoke a lease whose progress has not grown for this long, counting a failed attempt")
+	retain := fs.Duration("retention", coordinator.DefaultRetention, "delete an ended job, with its tasks, this long after it ended")
+	grace := fs.Duration("blob-grace", coordinator.DefaultBlobGrace, "delete a blob no job refers to once it is this old (untouched for this long)")
 	logLevel := fs.String("log-level", "info", "log level: debug, info, warn, error")
 	clientTokenFile := fs.String("client-token-file", "", "`file` of client tokens, one a line (# comments); also $FARM_CLIENT_TOKENS, comma-separated")
 	workerTokenFile := fs.String("worker-token-file", "", "`file` of worker tokens, one a line (# comments); also $FARM_WORKER_TOKENS, comma-separated")
@@ -75,7 +77,7 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	if *dataDir == "" {
 		return usageErrorf("coordinator: --data-dir must not be empty")
 	}
-	if *lease < 0 || *heartbeat < 0 || *stuck < 0 {
+	if *lease < 0 || *heartbeat < 0 || *stuck < 0 || *retain < 0 || *grace < 0 {
 		return usageErrorf("coordinator: durations must not be negative")
 	}
 	if *redisURL == "" {
@@ -98,6 +100,8 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 		LeaseDuration:     *lease,
 		HeartbeatInterval: *heartbeat,
 		StuckTimeout:      *stuck,
+		Retention:         *retain,
+		BlobGrace:         *grace,
 		Logger:            logger,
 		ClientTokens:      clientTokens,
 		WorkerTokens:      workerTokens,

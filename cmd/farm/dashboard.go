@@ -89,8 +89,11 @@ func serveDashboard(ctx context.Context, lis net.Listener, conn grpc.ClientConnI
 	srv := &http.Server{
 		Handler:           dashboard.New(dashboard.Config{Conn: conn, Logger: logger}),
 		ReadHeaderTimeout: 10 * time.Second,
-		BaseContext:       func(net.Listener) context.Context { return ctx },
-		ErrorLog:          slog.NewLogLogger(logger.Handler(), slog.LevelWarn),
+		// Headers carry a token of at most 4096 bytes; a browser's others are small.
+		MaxHeaderBytes: 64 << 10,
+		IdleTimeout:    2 * time.Minute,
+		BaseContext:    func(net.Listener) context.Context { return ctx },
+		ErrorLog:       slog.NewLogLogger(logger.Handler(), slog.LevelWarn),
 	}
 	done := make(chan error, 1)
 	go func() { done <- srv.Serve(lis) }()

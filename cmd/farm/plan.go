@@ -49,7 +49,7 @@ func printPlan(w io.Writer, plan *pb.Plan, phases []*pb.PhaseProgress) {
 		if p.GetEnabled() {
 			verdict = "run"
 		}
-		fmt.Fprintf(tw, "  %s\t%s\t%s\n", verdict, p.GetName(), p.GetReason())
+		fmt.Fprintf(tw, "  %s\t%s\t%s\n", verdict, printable(p.GetName()), oneLine(p.GetReason()))
 	}
 	tw.Flush()
 	if len(phases) == 0 {

@@ -275,23 +275,24 @@ func (p *progress) drawTTY(final bool) {
 
 func (p *progress) drawPlain(final bool) {
 	job := p.job
+	id := printable(job.GetId())
 	phase, done, total := current(job)
 	name := roundLabel(job) + phase
 	var text string
 	switch state := job.GetState(); {
 	case client.JobEnded(state):
-		text = fmt.Sprintf("job %s: %s%s", job.GetId(), roundLabel(job), tasks.JobStateName(state))
+		text = fmt.Sprintf("job %s: %s%s", id, roundLabel(job), tasks.JobStateName(state))
 		if s := phaseSummary(job); s != "" {
 			text += " (" + s + ")"
 		}
 	case state == pb.JobState_JOB_STATE_QUEUED:
-		text = fmt.Sprintf("job %s: queued", job.GetId())
+		text = fmt.Sprintf("job %s: queued", id)
 	default:
-		text = fmt.Sprintf("job %s: %s %d/%d %s (%d%%)", job.GetId(), name, done, total, unit(phase), percent(done, total))
+		text = fmt.Sprintf("job %s: %s %d/%d %s (%d%%)", id, name, done, total, unit(phase), percent(done, total))
 	}
 	now := p.now()
 	changed := text != p.plainText
-	phaseChanged := !strings.HasPrefix(p.plainText, fmt.Sprintf("job %s: %s ", job.GetId(), name))
+	phaseChanged := !strings.HasPrefix(p.plainText, fmt.Sprintf("job %s: %s ", id, name))
 	if !changed || (!final && !phaseChanged && now.Sub(p.lastPlain) < plainEvery) {
 		return
 	}

@@ -67,6 +67,9 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 		return err
 	}
 	defer cleanup()
+	if err := checkOutputDir(*out); err != nil {
+		return err
+	}
 	bin, err := findWorkerBin(*workerBin)
 	if err != nil {
 		return err
@@ -145,6 +148,24 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 		fmt.Fprintln(e.stdout, p)
 	}
 	return nil
+}
+
+// checkOutputDir makes the output folder (FetchAs would at the end) and checks that
+// files can be created in it, so that a render never runs only to find that its image
+// cannot be written.
+func checkOutputDir(dir string) error {
+	if fi, err := os.Stat(dir); err == nil && !fi.IsDir() {
+		return usageErrorf("render: -o %s is a file: -o names the folder the EXR and the PNG are written to", dir)
+	}
+	if err := os.MkdirAll(dir, 0o755); err != nil {
+		return usageErrorf("render: -o: %v", err)
+	}
+	f, err := os.CreateTemp(dir, ".farm-render-check-*")
+	if err != nil {
+		return usageErrorf("render: -o %s: cannot write there: %v", dir, err)
+	}
+	f.Close()
+	return os.Remove(f.Name())
 }
 
 // startRenderDashboard serves the dashboard of the local farm on listen, logging to

@@ -51,7 +51,7 @@ func printReport(w io.Writer, job *pb.Job) {
 	if name == "" {
 		name = job.GetId()
 	}
-	fmt.Fprintf(w, "job %s (%s): %s, %d rounds\n", job.GetId(), name, tasks.JobStateName(job.GetState()), len(job.GetRounds()))
+	fmt.Fprintf(w, "job %s (%s): %s, %d rounds\n", printable(job.GetId()), printable(name), tasks.JobStateName(job.GetState()), len(job.GetRounds()))
 	var layers []string
 	for _, l := range layerOrder {
 		for _, r := range job.GetRounds() {

@@ -49,7 +49,7 @@ func runPriority(ctx context.Context, e *env, args []string) error {
 		if err != nil {
 			return err
 		}
-		fmt.Fprintf(e.stdout, "job %s priority %d\n", job.GetId(), job.GetPriority())
+		fmt.Fprintf(e.stdout, "job %s priority %d\n", printable(job.GetId()), job.GetPriority())
 		return nil
 	})
 }
@@ -64,7 +64,7 @@ func runUnblock(ctx context.Context, e *env, args []string) error {
 		if err != nil {
 			return err
 		}
-		fmt.Fprintf(e.stdout, "job %s: %d blocked workers\n", job.GetId(), len(job.GetBlockedWorkers()))
+		fmt.Fprintf(e.stdout, "job %s: %d blocked workers\n", printable(job.GetId()), len(job.GetBlockedWorkers()))
 		return nil
 	})
 }

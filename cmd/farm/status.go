@@ -54,8 +54,8 @@ func runStatus(ctx context.Context, e *env, args []string) error {
 
 func printJob(w io.Writer, job *pb.Job, now time.Time) {
 	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', 0)
-	fmt.Fprintf(tw, "job\t%s\n", job.GetId())
-	fmt.Fprintf(tw, "name\t%s\n", job.GetDisplayName())
+	fmt.Fprintf(tw, "job\t%s\n", printable(job.GetId()))
+	fmt.Fprintf(tw, "name\t%s\n", printable(job.GetDisplayName()))
 	fmt.Fprintf(tw, "state\t%s\n", tasks.JobStateName(job.GetState()))
 	fmt.Fprintf(tw, "priority\t%d\n", job.GetPriority())
 	fmt.Fprintf(tw, "image\t%dx%d\n", job.GetWidth(), job.GetHeight())
@@ -71,10 +71,10 @@ func printJob(w io.Writer, job *pb.Job, now time.Time) {
 		fmt.Fprintf(tw, "phase %s\t%d/%d tasks\n", tasks.Name(ph.GetPhase()), ph.GetTasksSucceeded(), ph.GetTasksTotal())
 	}
 	for _, a := range job.GetOutputs() {
-		fmt.Fprintf(tw, "output %s\t%s (%d bytes)\n", a.GetName(), a.GetDigest(), a.GetSizeBytes())
+		fmt.Fprintf(tw, "output %s\t%s (%d bytes)\n", printable(a.GetName()), printable(a.GetDigest()), a.GetSizeBytes())
 	}
 	for _, b := range job.GetBlockedWorkers() {
-		fmt.Fprintf(tw, "blocked %s\t%s (since %s)\n", b.GetWorkerId(), oneLine(b.GetReason()),
+		fmt.Fprintf(tw, "blocked %s\t%s (since %s)\n", printable(b.GetWorkerId()), oneLine(b.GetReason()),
 			b.GetBlockTime().AsTime().Local().Format(time.DateTime))
 	}
 	if job.GetError() != "" {
@@ -96,7 +96,7 @@ func runList(ctx context.Context, e *env, args []string) error {
 			if t := j.GetCreateTime(); t != nil {
 				created = t.AsTime().Local().Format(time.DateTime)
 			}
-			fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%dx%d\t%s\n", j.GetId(), j.GetDisplayName(),
+			fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%dx%d\t%s\n", printable(j.GetId()), printable(j.GetDisplayName()),
 				tasks.JobStateName(j.GetState()), j.GetPriority(), phaseSummary(j), j.GetWidth(), j.GetHeight(), created)
 		}
 		return tw.Flush()
@@ -121,8 +121,8 @@ func runTasks(ctx context.Context, e *env, args []string) error {
 		tw := tabwriter.NewWriter(e.stdout, 0, 4, 2, ' ', 0)
 		fmt.Fprintln(tw, "TASK\tPHASE\tSTATE\tATTEMPTS\tWORKER\tWORK\tERROR")
 		for _, t := range list {
-			fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", t.GetId(), tasks.Name(t.GetPhase()),
-				tasks.TaskStateName(t.GetState()), t.GetAttempts(), t.GetWorkerId(), taskWork(t), oneLine(t.GetError()))
+			fmt.Fprintf(tw, "%s\t%s\t%s\t%d\t%s\t%s\t%s\n", printable(t.GetId()), tasks.Name(t.GetPhase()),
+				tasks.TaskStateName(t.GetState()), t.GetAttempts(), printable(t.GetWorkerId()), taskWork(t), oneLine(t.GetError()))
 		}
 		return tw.Flush()
 	})
@@ -147,7 +147,7 @@ func runCancel(ctx context.Context, e *env, args []string) error {
 		if err != nil {
 			return err
 		}
-		fmt.Fprintf(e.stdout, "job %s %s\n", job.GetId(), tasks.JobStateName(job.GetState()))
+		fmt.Fprintf(e.stdout, "job %s %s\n", printable(job.GetId()), tasks.JobStateName(job.GetState()))
 		return nil
 	})
 }

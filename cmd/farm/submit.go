@@ -38,7 +38,7 @@ func runSubmit(ctx context.Context, e *env, args []string) error {
 		if err != nil {
 			return err
 		}
-		fmt.Fprintln(e.stdout, job.GetId())
+		fmt.Fprintln(e.stdout, printable(job.GetId()))
 		if *watch {
 			return watchJob(ctx, e, c, job.GetId())
 		}

@@ -34,6 +34,7 @@ func Validate(s *pb.Scene) error {
 var structural = []func(*pb.Scene) *FieldError{
 	checkView,           // camera.look_at differs from position (camera.look_at); up non-zero, not parallel to the view (camera.up)
 	checkTiles,          // tiles per round at most max_tiles_per_round (film.tile_size)
+	checkPixels,         // pixels at most max_film_pixels (film.height)
 	checkNames,          // unique (materials[i].name, meshes[i].name, textures[i].name)
 	checkShapeMaterials, // names a material, or none for an instance (shapes[i].material); names a mesh (shapes[i].instance.mesh)
 	checkPartMaterials,  // names a material (meshes[i].parts[j].material)

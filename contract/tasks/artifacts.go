@@ -43,6 +43,8 @@ type Failure struct {
 	// Permanent: retrying cannot help; the job fails at once and no worker is blamed.
 	Permanent bool
 	Label     string
+	// BlamesWorker: the failed attempt counts toward the worker's blocklist threshold.
+	BlamesWorker bool
 }
 
 // FailureOf returns kind k's failure_info; an unknown kind is treated as transient.
@@ -51,5 +53,5 @@ func FailureOf(k pb.FailureKind) Failure {
 	if !ok {
 		return FailureOf(pb.FailureKind_FAILURE_KIND_TRANSIENT)
 	}
-	return Failure{Permanent: info.GetPermanent(), Label: info.GetLabel()}
+	return Failure{Permanent: info.GetPermanent(), Label: info.GetLabel(), BlamesWorker: info.GetBlamesWorker()}
 }

@@ -1,6 +1,7 @@
 package tasks_test
 
 import (
+	"slices"
 	"testing"
 
 	"photonfarm/contract/tasks"
@@ -127,16 +128,49 @@ func TestArtifactNamesAndFailureKindsComeFromTheContract(t *testing.T) {
 	if a := tasks.Find(list, pb.ArtifactKind_ARTIFACT_KIND_TILE_EXR); a != nil {
 		t.Errorf("Find(tile.exr) = %v, want nil", a)
 	}
-	for k, permanent := range map[pb.FailureKind]bool{
-		pb.FailureKind_FAILURE_KIND_UNSPECIFIED:        false,
-		pb.FailureKind_FAILURE_KIND_TRANSIENT:          false,
-		pb.FailureKind_FAILURE_KIND_BAD_INPUT:          true,
-		pb.FailureKind_FAILURE_KIND_UNSUPPORTED:        true,
-		pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED: false,
-		pb.FailureKind(42):                             false, // a kind from a newer worker
+	type treated struct{ permanent, blames bool }
+	for k, want := range map[pb.FailureKind]treated{
+		pb.FailureKind_FAILURE_KIND_UNSPECIFIED:        {false, true},
+		pb.FailureKind_FAILURE_KIND_TRANSIENT:          {false, true},
+		pb.FailureKind_FAILURE_KIND_BAD_INPUT:          {true, false},
+		pb.FailureKind_FAILURE_KIND_UNSUPPORTED:        {true, false},
+		pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED: {false, false}, // a full disk is not a broken worker
+		pb.FailureKind_FAILURE_KIND_LOST_INPUT:         {true, false},
+		pb.FailureKind(42):                             {false, true}, // a kind from a newer worker
 	} {
-		if f := tasks.FailureOf(k); f.Permanent != permanent || f.Label == "" {
-			t.Errorf("FailureOf(%v) = %+v, want permanent %v with a label", k, f, permanent)
+		if f := tasks.FailureOf(k); f.Permanent != want.permanent || f.BlamesWorker != want.blames || f.Label == "" {
+			t.Errorf("FailureOf(%v) = %+v, want permanent %v, blames worker %v, with a label", k, f, want.permanent, want.blames)
+		}
+	}
+}
+
+func TestInputsNameWhatEachBlobHolds(t *testing.T) {
+	a := func(d string) *pb.Artifact { return &pb.Artifact{Digest: d} }
+	tests := []struct {
+		task *pb.Task
+		want []string
+	}{
+		{&pb.Task{Round: 2, Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{
+			Tiles:                []*pb.TileInput{{Rect: &pb.PixelRect{X: 32, Y: 64}, Tile: a("t")}},
+			PreviousAccumulation: a("acc"), Reference: a("ref")}}},
+			[]string{"tile x 32 y 64 of round 2 t", "the accumulation of round 1 acc", "the reference image ref"}},
+		{&pb.Task{Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}}, nil},
+		{&pb.Task{Round: 1, Spec: &pb.Task_BuildPhotonMap{BuildPhotonMap: &pb.BuildPhotonMapSpec{Shards: []*pb.EmittedShard{
+			{Spec: &pb.EmitPhotonsSpec{Map: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, FirstPhoton: 300, PhotonCount: 100}, Shard: a("s")}}}}},
+			[]string{"the caustic photon shard of paths 300+100 of round 1 s"}},
+		{&pb.Task{Round: 3, Spec: &pb.Task_MergeIrradiance{MergeIrradiance: &pb.MergeIrradianceSpec{
+			PhotonSnapshot: a("p"), IrradianceShards: []*pb.Artifact{a("i0"), a("i1")}}}},
+			[]string{"the photon snapshot of round 3 p", "irradiance shard 0 of round 3 i0", "irradiance shard 1 of round 3 i1"}},
+		{&pb.Task{Spec: &pb.Task_RenderTile{RenderTile: &pb.RenderTileSpec{PhotonSnapshot: a("p")}}}, []string{"the photon snapshot of round 1 p"}},
+		{&pb.Task{Spec: &pb.Task_RenderTile{RenderTile: &pb.RenderTileSpec{}}}, nil},
+	}
+	for _, tt := range tests {
+		var got []string
+		for _, in := range tasks.Inputs(tt.task) {
+			got = append(got, in.What+" "+in.Artifact.GetDigest())
+		}
+		if !slices.Equal(got, tt.want) {
+			t.Errorf("Inputs(%v) = %q, want %q", tt.task, got, tt.want)
 		}
 	}
 }

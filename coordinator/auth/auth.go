@@ -1,6 +1,6 @@
 // Package auth is the coordinator's access control: bearer tokens, each belonging to one
-// role, and gRPC server interceptors that let a call through only if its token's role may
-// call that method.
+// role, and a gRPC tap handle that lets a call through only if its token's role may call
+// that method, checked from the call's headers before any of its message is read.
 //
 // Two roles: a client submits and follows jobs (JobService), a worker leases and reports
 // tasks (WorkerService); both move blobs (BlobService). Tokens travel as the gRPC metadata
@@ -26,6 +26,7 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
+	"google.golang.org/grpc/tap"
 
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -157,9 +158,8 @@ var (
 	errBadScheme = errors.New(`malformed authorization metadata: want "Bearer TOKEN"`)
 )
 
-// bearer extracts the token from ctx's incoming metadata.
-func bearer(ctx context.Context) (string, error) {
-	md, _ := metadata.FromIncomingContext(ctx)
+// bearer extracts the token from a call's metadata.
+func bearer(md metadata.MD) (string, error) {
 	vals := md.Get(MetadataKey)
 	if len(vals) == 0 {
 		return "", errNoToken
@@ -179,10 +179,15 @@ func bearer(ctx context.Context) (string, error) {
 // status error: UNAUTHENTICATED for a missing, malformed or unknown token,
 // PERMISSION_DENIED for a token whose role may not call the method.
 func (a *Authenticator) Authorize(ctx context.Context, fullMethod string) error {
+	md, _ := metadata.FromIncomingContext(ctx)
+	return a.authorize(md, fullMethod)
+}
+
+func (a *Authenticator) authorize(md metadata.MD, fullMethod string) error {
 	if !a.Enabled() || IsOpen(fullMethod) {
 		return nil
 	}
-	tok, err := bearer(ctx)
+	tok, err := bearer(md)
 	if err != nil {
 		return status.Errorf(codes.Unauthenticated, "%s: %v", fullMethod, err)
 	}
@@ -211,33 +216,44 @@ func joinRoles(roles []Role) string {
 	return strings.Join(s, " or ")
 }
 
-// UnaryInterceptor checks each unary call with Authorize.
-func (a *Authenticator) UnaryInterceptor() grpc.UnaryServerInterceptor {
-	return func(ctx context.Context, req any, info *grpc.UnaryServerInfo, h grpc.UnaryHandler) (any, error) {
-		if err := a.Authorize(ctx, info.FullMethod); err != nil {
-			return nil, err
-		}
-		return h(ctx, req)
-	}
+// TapHandle checks each call, unary or streaming, with Authorize's rules from the
+// metadata of its headers, before gRPC creates the stream: a refused call costs the
+// coordinator its headers only. (An interceptor runs after gRPC has read and decoded the
+// request message, up to max_message_bytes, so an unauthenticated caller could make the
+// coordinator hold 64 MiB per stream.) It is a grpc/tap.ServerInHandle.
+func (a *Authenticator) TapHandle(ctx context.Context, info *tap.Info) (context.Context, error) {
+	return ctx, a.authorize(info.Header, info.FullMethodName)
 }
 
-// StreamInterceptor checks each streaming call with Authorize before the handler runs.
-func (a *Authenticator) StreamInterceptor() grpc.StreamServerInterceptor {
-	return func(srv any, ss grpc.ServerStream, info *grpc.StreamServerInfo, h grpc.StreamHandler) error {
-		if err := a.Authorize(ss.Context(), info.FullMethod); err != nil {
-			return err
-		}
-		return h(srv, ss)
+// UnknownMethod is what MethodLabel makes of a method name not in Rules.
+const UnknownMethod = "unknown"
+
+// MethodLabel is fullMethod if it is one of the farm's methods (Rules), else
+// UnknownMethod: a refused caller may name any method, and a metric labelled with what
+// callers make up would grow without bound.
+func MethodLabel(fullMethod string) string {
+	if _, ok := Rules[fullMethod]; ok {
+		return fullMethod
 	}
+	return UnknownMethod
 }
 
-// ServerOptions returns the interceptors as gRPC server options (none when a is off).
-func (a *Authenticator) ServerOptions() []grpc.ServerOption {
+// ServerOptions returns the tap handle as a gRPC server option (none when a is off).
+// refused, when not nil, is told of every call the tap handle refuses, by MethodLabel
+// and code: such calls never reach an interceptor.
+func (a *Authenticator) ServerOptions(refused func(method string, code codes.Code)) []grpc.ServerOption {
 	if !a.Enabled() {
 		return nil
 	}
-	return []grpc.ServerOption{
-		grpc.ChainUnaryInterceptor(a.UnaryInterceptor()),
-		grpc.ChainStreamInterceptor(a.StreamInterceptor()),
+	handle := a.TapHandle
+	if refused != nil {
+		handle = func(ctx context.Context, info *tap.Info) (context.Context, error) {
+			ctx, err := a.TapHandle(ctx, info)
+			if err != nil {
+				refused(MethodLabel(info.FullMethodName), status.Code(err))
+			}
+			return ctx, err
+		}
 	}
+	return []grpc.ServerOption{grpc.InTapHandle(handle)}
 }

@@ -117,7 +117,7 @@ func TestNoTokensMeansOff(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	if a.Enabled() || len(a.ServerOptions()) != 0 {
+	if a.Enabled() || len(a.ServerOptions(nil)) != 0 {
 		t.Error("an Authenticator without tokens is enabled")
 	}
 	if err := a.Authorize(context.Background(), pb.JobService_SubmitJob_FullMethodName); err != nil {

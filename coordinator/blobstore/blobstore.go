@@ -4,6 +4,14 @@
 // root/sha256/<first two hex digits>/<hex>. Writes go to a temporary file under root/tmp,
 // are hashed on the way in, checked against the declared size and digest, synced, and
 // renamed into place, so a blob is either absent or complete.
+//
+// A disk can still damage a blob after it was stored (or an operator truncate one), so
+// every read is checked too: Open's reader hashes what it reads and ends in an
+// errs.DataLoss error instead of io.EOF when the content does not match the digest, and
+// Verify hashes a blob whole before anything of it is served. Checking on read rather
+// than by a periodic scrub means corrupt bytes are never used or served, however recently
+// they were damaged; the cost is one hash per read (SHA-256 runs at about 1.5 GB/s a
+// core, against a network or disk that is slower).
 package blobstore
 
 import (
@@ -15,6 +23,7 @@ import (
 	"io/fs"
 	"os"
 	"path/filepath"
+	"syscall"
 
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/errs"
@@ -52,9 +61,13 @@ func New(root string, maxSize int64) (*Store, error) {
 // MaxSize is the largest blob the store accepts.
 func (s *Store) MaxSize() int64 { return s.maxSize }
 
-func (s *Store) path(digest string) string {
+func (s *Store) path(digest string) string { return PathIn(s.root, digest) }
+
+// PathIn is where the blob of a valid digest lives in a store rooted at root: for
+// operators looking for a blob, and tests that damage one.
+func PathIn(root, digest string) string {
 	hexd := digest[len("sha256:"):]
-	return filepath.Join(s.root, "sha256", hexd[:2], hexd)
+	return filepath.Join(root, "sha256", hexd[:2], hexd)
 }
 
 func checkDigest(field, d string) error {
@@ -79,7 +92,10 @@ func (s *Store) Stat(ctx context.Context, digest string) (Info, error) {
 	return Info{Digest: digest, Size: fi.Size()}, nil
 }
 
-// Open opens a blob for reading; the caller closes it.
+// Open opens a blob for reading; the caller closes it. The reader checks the content as
+// it goes: at the end of a blob whose bytes do not match its digest it returns an
+// errs.DataLoss error (Corrupt) instead of io.EOF, so that a caller reading to the end
+// never takes damaged bytes for the blob. A caller that stops early has checked nothing.
 func (s *Store) Open(ctx context.Context, digest string) (io.ReadCloser, Info, error) {
 	info, err := s.Stat(ctx, digest)
 	if err != nil {
@@ -89,8 +105,119 @@ func (s *Store) Open(ctx context.Context, digest string) (io.ReadCloser, Info, e
 	if err != nil {
 		return nil, Info{}, errs.Wrap(errs.Internal, err, "blobstore")
 	}
-	return f, info, nil
+	return &checkedReader{f: f, h: rules.NewDigestHash(), digest: digest}, info, nil
 }
+
+// Verify reads the blob whole and checks it against its digest: errs.NotFound if it is
+// absent, errs.DataLoss if its content does not match (Corrupt). It stops with ctx's error
+// when ctx ends.
+func (s *Store) Verify(ctx context.Context, digest string) (Info, error) {
+	r, info, err := s.Open(ctx, digest)
+	if err != nil {
+		return Info{}, err
+	}
+	defer r.Close()
+	buf := make([]byte, 1<<20)
+	for {
+		if err := ctx.Err(); err != nil {
+			return Info{}, err
+		}
+		_, err := r.Read(buf)
+		if errors.Is(err, io.EOF) {
+			return info, nil
+		}
+		if err != nil {
+			return Info{}, err
+		}
+	}
+}
+
+// ReadAll reads a blob opened with Open whole: its size bytes (Info.Size), then its end,
+// where the reader checks the content, so that damage is an error here.
+func ReadAll(r io.Reader, size int64) ([]byte, error) {
+	data := make([]byte, size)
+	if _, err := io.ReadFull(r, data); err != nil {
+		if errors.Is(err, io.ErrUnexpectedEOF) || errors.Is(err, io.EOF) {
+			err = errs.E(errs.DataLoss, "blob shrank to fewer than its %d bytes while read", size)
+		}
+		return nil, err
+	}
+	n, err := r.Read(make([]byte, 1))
+	if n > 0 {
+		err = errs.E(errs.DataLoss, "blob grew past its %d bytes while read", size)
+	}
+	if !errors.Is(err, io.EOF) {
+		return nil, err
+	}
+	return data, nil
+}
+
+// Corrupt is the error of a blob whose stored content does not match its digest.
+func Corrupt(digest, got string, size int64) error {
+	return &errs.Error{Kind: errs.DataLoss, Message: fmt.Sprintf(
+		"blob %s is damaged in the coordinator's blob store: its %d bytes have digest %s", digest, size, got)}
+}
+
+// LostError is the error of a blob a reader needs that the store cannot give: missing
+// (errs.NotFound) or damaged (errs.DataLoss). What says what the blob holds, for people:
+// "the scene", "tile x 32 y 64 of round 1".
+type LostError struct {
+	What, Digest string
+	Err          error
+}
+
+func (e *LostError) Error() string {
+	if errs.Is(e.Err, errs.NotFound) {
+		return fmt.Sprintf("%s: blob %s is not in the coordinator's blob store", e.What, e.Digest)
+	}
+	var d *errs.Error
+	if errors.As(e.Err, &d) && d.Kind == errs.DataLoss {
+		return e.What + ": " + d.Message
+	}
+	return e.What + ": " + e.Err.Error()
+}
+
+func (e *LostError) Unwrap() error { return e.Err }
+
+// Lost makes err, the store's answer about the blob digest holding what, a *LostError if
+// it says the blob is missing or damaged; other errors (nil included) pass unchanged.
+func Lost(what, digest string, err error) error {
+	if errs.Is(err, errs.NotFound) || errs.Is(err, errs.DataLoss) {
+		return &LostError{What: what, Digest: digest, Err: err}
+	}
+	return err
+}
+
+// checkedReader reads a blob's file and, at its end, checks what it read against the digest.
+type checkedReader struct {
+	f      *os.File
+	h      hash.Hash
+	n      int64
+	digest string
+	err    error // sticky: the end's verdict, or a read error
+}
+
+func (r *checkedReader) Read(p []byte) (int, error) {
+	if r.err != nil {
+		return 0, r.err
+	}
+	n, err := r.f.Read(p)
+	r.h.Write(p[:n])
+	r.n += int64(n)
+	switch {
+	case errors.Is(err, io.EOF):
+		if got := rules.DigestSum(r.h); got != r.digest {
+			err = Corrupt(r.digest, got, r.n)
+		}
+		r.err = err
+	case err != nil:
+		err = errs.Wrap(errs.Internal, err, "blobstore: read "+r.digest)
+		r.err = err
+	}
+	return n, err
+}
+
+func (r *checkedReader) Close() error { return r.f.Close() }
 
 // Put stores everything r yields. size and digest, when not negative and not empty, are
 // what the content must match.
@@ -131,7 +258,7 @@ func (s *Store) Create(size int64, digest string) (*Writer, error) {
 	}
 	f, err := os.CreateTemp(filepath.Join(s.root, "tmp"), "upload-*")
 	if err != nil {
-		return nil, errs.Wrap(errs.Internal, err, "blobstore")
+		return nil, writeError(err)
 	}
 	return &Writer{s: s, f: f, h: rules.NewDigestHash(), size: size, digest: digest}, nil
 }
@@ -151,7 +278,7 @@ func (w *Writer) Write(p []byte) (int, error) {
 			Message: fmt.Sprintf("blob exceeds the limit of %d bytes", w.s.maxSize)}
 	}
 	if _, err := w.f.Write(p); err != nil {
-		return 0, errs.Wrap(errs.Internal, err, "blobstore")
+		return 0, writeError(err)
 	}
 	w.h.Write(p)
 	w.n = n
@@ -174,20 +301,36 @@ func (w *Writer) Commit() (Info, error) {
 			Message: fmt.Sprintf("content has digest %s, not the declared %s", got, w.digest)}
 	}
 	if err := w.f.Sync(); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	if err := w.f.Close(); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	dst := w.s.path(got)
 	if err := os.MkdirAll(filepath.Dir(dst), 0o755); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	// Identical content may already be there; renaming over it is harmless.
 	if err := os.Rename(w.f.Name(), dst); err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, writeError(err)
 	}
 	return Info{Digest: got, Size: w.n}, nil
+}
+
+// writeError is err from writing a blob to disk: resource exhaustion when the disk or
+// the quota is full (IsDiskFull), so that neither the uploader nor the builder is blamed
+// for it (a worker pauses and retries; the task's attempts still end a job that never
+// gets the space), else internal.
+func writeError(err error) error {
+	if IsDiskFull(err) {
+		return errs.Wrap(errs.ResourceExhausted, err, "blobstore: the coordinator's disk is full")
+	}
+	return errs.Wrap(errs.Internal, err, "blobstore")
+}
+
+// IsDiskFull reports whether err comes from a full disk or quota (ENOSPC, EDQUOT).
+func IsDiskFull(err error) bool {
+	return errors.Is(err, syscall.ENOSPC) || errors.Is(err, syscall.EDQUOT)
 }
 
 // Abort drops the partial blob.

@@ -102,3 +102,67 @@ func TestStatMissing(t *testing.T) {
 		t.Errorf("Open = %v, want InvalidArgument", err)
 	}
 }
+
+// damage rewrites the stored file of digest under root with what change makes of it.
+func damage(t *testing.T, root, digest string, change func([]byte) []byte) {
+	t.Helper()
+	path := blobstore.PathIn(root, digest)
+	b, err := os.ReadFile(path)
+	if err != nil {
+		t.Fatal(err)
+	}
+	if err := os.WriteFile(path, change(b), 0o644); err != nil {
+		t.Fatal(err)
+	}
+}
+
+func TestDamagedBlobIsNeverReadAsIntact(t *testing.T) {
+	ctx := context.Background()
+	data := bytes.Repeat([]byte("photon"), 400000) // more than one read buffer
+	digest := rules.DigestOf(data)
+	for name, change := range map[string]func([]byte) []byte{
+		"truncated":   func(b []byte) []byte { return b[:len(b)/2] },
+		"one bit off": func(b []byte) []byte { b[len(b)/3] ^= 1; return b },
+		"emptied":     func([]byte) []byte { return nil },
+	} {
+		t.Run(name, func(t *testing.T) {
+			root := t.TempDir()
+			s, _ := blobstore.New(root, 0)
+			if _, err := s.Put(ctx, bytes.NewReader(data), int64(len(data)), digest); err != nil {
+				t.Fatal(err)
+			}
+			if _, err := s.Verify(ctx, digest); err != nil {
+				t.Fatalf("Verify of the intact blob: %v", err)
+			}
+			damage(t, root, digest, change)
+
+			_, err := s.Verify(ctx, digest)
+			if errs.KindOf(err) != errs.DataLoss || !strings.Contains(err.Error(), digest) {
+				t.Errorf("Verify = %v, want DataLoss naming %s", err, digest)
+			}
+			r, _, err := s.Open(ctx, digest)
+			if err != nil {
+				t.Fatal(err)
+			}
+			defer r.Close()
+			_, err = io.ReadAll(r)
+			if errs.KindOf(err) != errs.DataLoss {
+				t.Errorf("reading to the end = %v, want DataLoss", err)
+			}
+			// Uploading the blob again repairs it.
+			if _, err := s.Put(ctx, bytes.NewReader(data), int64(len(data)), digest); err != nil {
+				t.Fatal(err)
+			}
+			if _, err := s.Verify(ctx, digest); err != nil {
+				t.Errorf("Verify after uploading again: %v", err)
+			}
+		})
+	}
+}
+
+func TestVerifyMissingIsNotFound(t *testing.T) {
+	s, _ := blobstore.New(t.TempDir(), 0)
+	if _, err := s.Verify(context.Background(), rules.DigestOf([]byte("x"))); errs.KindOf(err) != errs.NotFound {
+		t.Errorf("Verify = %v, want NotFound", err)
+	}
+}

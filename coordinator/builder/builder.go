@@ -1,12 +1,21 @@
 // Package builder is the coordinator's own worker for the build and merge phases: it
 // leases BUILD and MERGE tasks through the same task service as the farm's workers (so
-// leases, epochs and expiry protect it like any worker). A build downloads the emission
-// shards the lease names and merges them with photonmap.Build into a kd-tree snapshot; a
-// merge downloads the round's snapshot and irradiance shards and adds the irradiance with
-// photonmap.MergeIrradiance. Either stores the result in the blob store and completes the
-// task with it as "photons.snapshot". Malformed shards (or a malformed snapshot) fail the
-// task as bad input, which fails the job at once: another attempt would read the same
-// bytes. Anything else that goes wrong (a blob that cannot be read) is transient.
+// leases, epochs and expiry protect it like any worker). A build reads the emission
+// shards the lease names and merges them with photonmap.BuildFrom into a kd-tree
+// snapshot; a merge reads the round's snapshot and irradiance shards and adds the
+// irradiance with photonmap.MergeIrradianceFrom. Either stores the result in the blob store
+// and completes the task with it as "photons.snapshot".
+//
+// Inputs are read through the blob store's checked reader, record by record (never held
+// whole: the builder's memory is its output and working records, docs/photon-snapshot.md).
+// How a failure is reported:
+//   - an input missing from the blob store or damaged there: lost input, naming the blob
+//     and what it holds ("the global photon shard of paths 0+100000 of round 1");
+//   - malformed shards, or more photons than a snapshot may hold
+//     (scene_limits.max_snapshot_photons, saying which setting to lower): bad input;
+//
+// both fail the job at once (another attempt would read the same bytes). Anything else is
+// transient.
 package builder
 
 import (
@@ -18,8 +27,10 @@ import (
 	"log/slog"
 	"time"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -56,10 +67,12 @@ const (
 type Config struct {
 	Tasks Tasks
 	Blobs Blobs
-	// Build merges shards into a snapshot; photonmap.Build by default.
-	Build func([]photonmap.Shard) ([]byte, error)
-	// Merge adds irradiance shards to a snapshot; photonmap.MergeIrradiance by default.
-	Merge func(snapshot []byte, shards [][]byte) ([]byte, error)
+	// Build merges shards into a snapshot; by default photonmap.BuildFrom with the
+	// contract's max_snapshot_photons.
+	Build func(shards []photonmap.Source) ([]byte, error)
+	// Merge adds irradiance shards to a snapshot of snapshotSize bytes;
+	// photonmap.MergeIrradianceFrom by default.
+	Merge func(snapshot photonmap.Source, snapshotSize int64, shards []photonmap.Source) ([]byte, error)
 	// WorkerID is the name the builder's leases go under (DefaultWorkerID by default).
 	WorkerID string
 	// HeartbeatInterval is how often a held lease is extended (1s by default); it must be
@@ -67,6 +80,9 @@ type Config struct {
 	HeartbeatInterval time.Duration
 	Logger            *slog.Logger
 }
+
+// MaxSnapshotPhotons is the contract's limit on the photons of one snapshot.
+var MaxSnapshotPhotons = int(rules.Scene.GetMaxSnapshotPhotons())
 
 // Builder runs build tasks one at a time. Create it with New and run it with Run.
 type Builder struct {
@@ -77,10 +93,12 @@ type Builder struct {
 // New returns a Builder with cfg's defaults filled in.
 func New(cfg Config) *Builder {
 	if cfg.Build == nil {
-		cfg.Build = photonmap.Build
+		cfg.Build = func(shards []photonmap.Source) ([]byte, error) {
+			return photonmap.BuildFrom(shards, MaxSnapshotPhotons)
+		}
 	}
 	if cfg.Merge == nil {
-		cfg.Merge = photonmap.MergeIrradiance
+		cfg.Merge = photonmap.MergeIrradianceFrom
 	}
 	if cfg.WorkerID == "" {
 		cfg.WorkerID = DefaultWorkerID
@@ -133,23 +151,21 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 
 	var out *pb.Artifact
 	var err error
+	inputs := tasks.Inputs(l.GetTask())
 	switch spec := l.GetTask().GetSpec().(type) {
 	case *pb.Task_BuildPhotonMap:
-		out, err = b.build(taskCtx, spec.BuildPhotonMap)
+		out, err = b.build(taskCtx, spec.BuildPhotonMap, inputs)
 	case *pb.Task_MergeIrradiance:
-		out, err = b.merge(taskCtx, spec.MergeIrradiance)
+		out, err = b.merge(taskCtx, inputs)
 	default:
-		err = badInput{fmt.Errorf("the coordinator's builder cannot do task %s (%T)", ref.TaskID, spec)}
+		err = errs.E(errs.InvalidArgument, "the coordinator's builder cannot do task %s (%T)", ref.TaskID, spec)
 	}
 	if cause := context.Cause(taskCtx); cause != nil {
 		b.log.Info("builder: build abandoned", "task", ref.TaskID, "why", cause)
 		return
 	}
 	if err != nil {
-		kind := pb.FailureKind_FAILURE_KIND_TRANSIENT
-		if errors.As(err, new(badInput)) {
-			kind = pb.FailureKind_FAILURE_KIND_BAD_INPUT
-		}
+		kind := failureKind(err)
 		b.log.Warn("builder: build failed", "task", ref.TaskID, "kind", kind.String(), "err", err)
 		if ferr := b.cfg.Tasks.Fail(ctx, ref, store.Failure{Message: err.Error(), Kind: kind}); ferr != nil {
 			b.log.Error("builder: reporting failure", "task", ref.TaskID, "err", ferr)
@@ -164,11 +180,20 @@ func (b *Builder) runTask(ctx context.Context, l *pb.LeaseTaskResponse) {
 		"bytes", out.GetSizeBytes(), "snapshot", out.GetDigest(), "took", time.Since(start).Round(time.Millisecond))
 }
 
-// badInput marks an error in what the task's inputs hold (a malformed shard): every
-// attempt would fail the same way.
-type badInput struct{ error }
-
-func (e badInput) Unwrap() error { return e.error }
+// failureKind is how a build's error is reported: a lost input as lost, a full disk as
+// resource exhaustion (blaming no worker), a malformed input or one over a limit as bad
+// input (both permanent), anything else as transient.
+func failureKind(err error) pb.FailureKind {
+	switch {
+	case errors.As(err, new(*blobstore.LostError)):
+		return pb.FailureKind_FAILURE_KIND_LOST_INPUT
+	case blobstore.IsDiskFull(err):
+		return pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED
+	case errors.As(err, new(*photonmap.TooManyPhotons)), errs.Is(err, errs.InvalidArgument), errs.Is(err, errs.ResourceExhausted):
+		return pb.FailureKind_FAILURE_KIND_BAD_INPUT
+	}
+	return pb.FailureKind_FAILURE_KIND_TRANSIENT
+}
 
 // errLeaseLost is the cause of a build's cancellation when its lease was revoked.
 var errLeaseLost = errors.New("lease lost")
@@ -199,42 +224,55 @@ func (b *Builder) heartbeat(ctx context.Context, ref store.LeaseRef, cancel cont
 	}
 }
 
-// build downloads the shards, merges them and stores the snapshot.
-func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec) (*pb.Artifact, error) {
-	shards := make([]photonmap.Shard, len(spec.GetShards()))
-	for i, s := range spec.GetShards() {
-		data, err := b.download(ctx, s.GetShard())
-		if err != nil {
-			return nil, fmt.Errorf("shard %d (photons %d+%d of the %s map): %w", i,
-				s.GetSpec().GetFirstPhoton(), s.GetSpec().GetPhotonCount(), mapName(s.GetSpec().GetMap()), err)
-		}
-		shards[i].Data = data
+// build reads the shards, merges them and stores the snapshot.
+func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec, inputs []tasks.Input) (*pb.Artifact, error) {
+	snap, err := b.cfg.Build(b.sources(ctx, inputs))
+	var many *photonmap.TooManyPhotons
+	if errors.As(err, &many) {
+		return nil, tooManyPhotons(many, spec.GetShards()[many.Shard].GetSpec(), inputs[many.Shard])
 	}
-	snap, err := b.cfg.Build(shards)
 	if err != nil {
-		return nil, badInput{fmt.Errorf("build photon map: %w", err)}
+		return nil, named(inputs, "shards", 0, fmt.Errorf("build photon map: %w", err))
 	}
 	return b.store(ctx, snap)
 }
 
-// merge downloads the snapshot and the irradiance shards, merges them and stores the
-// snapshot with irradiance.
-func (b *Builder) merge(ctx context.Context, spec *pb.MergeIrradianceSpec) (*pb.Artifact, error) {
-	snap, err := b.download(ctx, spec.GetPhotonSnapshot())
-	if err != nil {
-		return nil, fmt.Errorf("photon snapshot: %w", err)
+// tooManyPhotons says, for people, that a build stopped at shard (emitted as spec) because
+// the snapshot would hold more photons than the contract allows, and which setting lowers
+// the count.
+func tooManyPhotons(e *photonmap.TooManyPhotons, spec *pb.EmitPhotonsSpec, shard tasks.Input) error {
+	setting := "photons." + tasks.MapName(spec.GetMap()) + "_photons"
+	return &errs.Error{Kind: errs.InvalidArgument, Message: fmt.Sprintf(
+		"the photon maps store more than the %d photons a snapshot may hold (scene_limits.max_snapshot_photons): "+
+			"the %s map's shards up to %s store %d photons from %d paths (%.3g a path); lower %s",
+		e.Limit, tasks.MapName(spec.GetMap()), shard.What, e.MapPhotons, e.MapPaths, float64(e.MapPhotons)/float64(max(e.MapPaths, 1)), setting)}
+}
+
+// merge reads the snapshot and the irradiance shards, merges them and stores the snapshot
+// with irradiance. The first input is the snapshot (tasks.Inputs), the others the shards.
+func (b *Builder) merge(ctx context.Context, inputs []tasks.Input) (*pb.Artifact, error) {
+	if len(inputs) == 0 || inputs[0].Artifact.GetName() != tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT) {
+		return nil, errs.E(errs.InvalidArgument, "merge_irradiance names no photon_snapshot")
 	}
-	shards := make([][]byte, len(spec.GetIrradianceShards()))
-	for i, a := range spec.GetIrradianceShards() {
-		if shards[i], err = b.download(ctx, a); err != nil {
-			return nil, fmt.Errorf("irradiance shard %d: %w", i, err)
-		}
-	}
-	merged, err := b.cfg.Merge(snap, shards)
+	sources := b.sources(ctx, inputs)
+	merged, err := b.cfg.Merge(sources[0], inputs[0].Artifact.GetSizeBytes(), sources[1:])
 	if err != nil {
-		return nil, badInput{fmt.Errorf("merge irradiance: %w", err)}
+		return nil, named(inputs, "irradiance_shards", 1, fmt.Errorf("merge irradiance: %w", err))
 	}
 	return b.store(ctx, merged)
+}
+
+// named puts what the input holds before a malformed-input error that names it as
+// list[i] (inputs[first+i]).
+func named(inputs []tasks.Input, list string, first int, err error) error {
+	var e *errs.Error
+	var i int
+	if errors.As(err, &e) {
+		if _, serr := fmt.Sscanf(e.Field, list+"[%d]", &i); serr == nil && first+i < len(inputs) {
+			return fmt.Errorf("%s: %w", inputs[first+i].What, err)
+		}
+	}
+	return err
 }
 
 // store puts a snapshot in the blob store as the task's "photons.snapshot".
@@ -249,28 +287,41 @@ func (b *Builder) store(ctx context.Context, snap []byte) (*pb.Artifact, error) 
 	return &pb.Artifact{Name: tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT), Digest: info.Digest, SizeBytes: info.Size}, nil
 }
 
-func (b *Builder) download(ctx context.Context, a *pb.Artifact) ([]byte, error) {
-	r, info, err := b.cfg.Blobs.Open(ctx, a.GetDigest())
-	if err != nil {
-		return nil, err
+// sources opens each input through the blob store's checked reader; an input that is
+// missing, of another size than its artifact says, or damaged (found at its end) is a
+// *blobstore.LostError naming what it holds.
+func (b *Builder) sources(ctx context.Context, inputs []tasks.Input) []photonmap.Source {
+	out := make([]photonmap.Source, len(inputs))
+	for i, in := range inputs {
+		d := in.Artifact.GetDigest()
+		out[i] = func() (io.ReadCloser, error) {
+			if err := ctx.Err(); err != nil {
+				return nil, err
+			}
+			r, info, err := b.cfg.Blobs.Open(ctx, d)
+			if err != nil {
+				return nil, blobstore.Lost(in.What, d, err)
+			}
+			if info.Size != in.Artifact.GetSizeBytes() {
+				r.Close()
+				return nil, blobstore.Lost(in.What, d, errs.E(errs.DataLoss, "blob %s has %d bytes, the task says %d", d, info.Size, in.Artifact.GetSizeBytes()))
+			}
+			return lostReader{r, in.What, d}, nil
+		}
 	}
-	defer r.Close()
-	if info.Size != a.GetSizeBytes() {
-		return nil, fmt.Errorf("blob %s has %d bytes, the task says %d", a.GetDigest(), info.Size, a.GetSizeBytes())
-	}
-	data := make([]byte, info.Size)
-	if _, err := io.ReadFull(r, data); err != nil {
-		return nil, fmt.Errorf("read blob %s: %w", a.GetDigest(), err)
-	}
-	return data, nil
+	return out
 }
 
-func mapName(k pb.PhotonMapKind) string {
-	switch k {
-	case pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL:
-		return "global"
-	case pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC:
-		return "caustic"
+// lostReader names the input a blob holds in the errors of reading it.
+type lostReader struct {
+	io.ReadCloser
+	what, digest string
+}
+
+func (r lostReader) Read(p []byte) (int, error) {
+	n, err := r.ReadCloser.Read(p)
+	if err != nil && !errors.Is(err, io.EOF) {
+		err = blobstore.Lost(r.what, r.digest, err)
 	}
-	return k.String()
+	return n, err
 }

@@ -4,9 +4,12 @@ import (
 	"bytes"
 	"context"
 	"io"
+	"os"
 	"strings"
 	"testing"
 	"time"
+
+	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
@@ -31,11 +34,13 @@ type fixture struct {
 	st    store.Store
 	svc   *service.Service
 	blobs *blobstore.Store
+	dir   string // the blob store's
 }
 
-func newFixture(t *testing.T, build func([]photonmap.Shard) ([]byte, error)) *fixture {
+func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *fixture {
 	t.Helper()
-	bs, err := blobstore.New(t.TempDir(), 0)
+	dir := t.TempDir()
+	bs, err := blobstore.New(dir, 0)
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -52,7 +57,7 @@ func newFixture(t *testing.T, build func([]photonmap.Shard) ([]byte, error)) *fi
 			t.Errorf("Run: %v", err)
 		}
 	})
-	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs}
+	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs, dir: dir}
 }
 
 // createJob plans a Valid scene with `shards` global-map shards of 1000 photons.
@@ -62,8 +67,18 @@ func (f *fixture) createJob(shards int) *pb.Job {
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: uint64(1000 * shards), PhotonsPerShard: 1000}
 	// Without final gathering the build is followed by the tiles directly.
 	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
-	j, err := f.st.CreateJob(f.ctx, store.NewJob{DisplayName: "j", SceneDigest: "sha256:" + strings.Repeat("0", 64),
-		Width: 8, Height: 8, Tasks: planner.Plan(scene.Defaults(sc))})
+	sc = scene.Defaults(sc)
+	// Workers' leases need the scene in the blob store, as SubmitJob leaves it.
+	data, err := proto.Marshal(sc)
+	if err != nil {
+		f.t.Fatal(err)
+	}
+	stored, err := f.blobs.Put(f.ctx, bytes.NewReader(data), int64(len(data)), "")
+	if err != nil {
+		f.t.Fatal(err)
+	}
+	j, err := f.st.CreateJob(f.ctx, store.NewJob{DisplayName: "j", SceneDigest: stored.Digest,
+		Width: 8, Height: 8, Tasks: planner.Plan(sc)})
 	if err != nil {
 		f.t.Fatal(err)
 	}
@@ -187,7 +202,7 @@ func TestBuilderFailsTheJobAtOnceOnMalformedShards(t *testing.T) {
 func TestBuilderAbandonsABuildWhoseLeaseIsLost(t *testing.T) {
 	release := make(chan struct{})
 	started := make(chan struct{}, 1)
-	f := newFixture(t, func(s []photonmap.Shard) ([]byte, error) {
+	f := newFixture(t, func([]photonmap.Source) ([]byte, error) {
 		started <- struct{}{}
 		<-release
 		return []byte("late snapshot"), nil
@@ -207,5 +222,47 @@ func TestBuilderAbandonsABuildWhoseLeaseIsLost(t *testing.T) {
 	}
 	if _, err := f.blobs.Stat(f.ctx, rules.DigestOf([]byte("late snapshot"))); err == nil {
 		t.Error("the abandoned build's snapshot was stored")
+	}
+}
+
+// A shard damaged on disk after its upload, in a way that still parses (a coordinate's
+// byte flipped), was merged silently; the builder reads through the checked reader, so the
+// job fails at once naming the shard and the damage.
+func TestBuilderFailsTheJobWhenAShardIsDamagedOnDisk(t *testing.T) {
+	f := newFixture(t, nil)
+	j := f.createJob(3)
+	var damaged string
+	f.emit(func(i int, spec *pb.EmitPhotonsSpec) []byte {
+		if i == 2 { // shard 1 is stored; the build waits for this last one
+			prev := validShard(1, &pb.EmitPhotonsSpec{FirstPhoton: 1000, PhotonCount: 1000})
+			damaged = rules.DigestOf(prev)
+			prev[40+4] ^= 0x01 // the first photon's y, still a finite float
+			if err := os.WriteFile(blobstore.PathIn(f.dir, damaged), prev, 0o644); err != nil {
+				t.Fatal(err)
+			}
+		}
+		return validShard(i, spec)
+	})
+	build, job := f.waitFor(j.Id, func(_ *pb.Task, job *pb.Job) bool { return store.Ended(job.State) })
+	lost := pb.FailureKind_FAILURE_KIND_LOST_INPUT
+	want := "the global photon shard of paths 1000+1000 of round 1: blob " + damaged + " is damaged in the coordinator's blob store"
+	if job.State != pb.JobState_JOB_STATE_FAILED || build.FailureKind != lost || job.FailureKind != lost ||
+		!strings.Contains(job.Error, want) || build.Attempts != 1 || len(job.BlockedWorkers) != 0 {
+		t.Fatalf("job %v %v %q, build %v after %d attempts; want both failed at once as lost input with %q",
+			job.State, job.FailureKind, job.Error, build.State, build.Attempts, want)
+	}
+}
+
+func TestBuilderRefusesMorePhotonsThanASnapshotMayHoldSayingWhatToLower(t *testing.T) {
+	const limit = 12 // each shard stores 5 photons: the third goes over
+	f := newFixture(t, func(s []photonmap.Source) ([]byte, error) { return photonmap.BuildFrom(s, limit) })
+	j := f.createJob(3)
+	f.emit(validShard)
+	build, job := f.waitFor(j.Id, func(_ *pb.Task, job *pb.Job) bool { return store.Ended(job.State) })
+	bad := pb.FailureKind_FAILURE_KIND_BAD_INPUT
+	want := "the photon maps store more than the 12 photons a snapshot may hold (scene_limits.max_snapshot_photons): " +
+		"the global map's shards up to the global photon shard of paths 2000+1000 of round 1 store 15 photons from 3000 paths (0.005 a path); lower photons.global_photons"
+	if job.State != pb.JobState_JOB_STATE_FAILED || build.FailureKind != bad || !strings.Contains(job.Error, want) {
+		t.Fatalf("job %v %v %q; want it failed as bad input with %q", job.State, build.FailureKind, job.Error, want)
 	}
 }

@@ -22,10 +22,12 @@ const stopTimeout = 5 * time.Second
 // Server is a coordinator serving on a loopback port.
 type Server struct {
 	// Addr is where it listens: "127.0.0.1:PORT".
-	Addr   string
-	cancel context.CancelFunc
-	done   chan struct{}
-	err    error
+	Addr string
+	// Coordinator is what serves there (for its MetricsHandler).
+	Coordinator *coordinator.Coordinator
+	cancel      context.CancelFunc
+	done        chan struct{}
+	err         error
 }
 
 // Serve runs cfg's coordinator (in a temporary folder when cfg names no DataDir) on a
@@ -45,7 +47,7 @@ func Serve(t testing.TB, cfg coordinator.Config) *Server {
 		t.Fatal(err)
 	}
 	ctx, cancel := context.WithCancel(context.Background())
-	s := &Server{Addr: lis.Addr().String(), cancel: cancel, done: make(chan struct{})}
+	s := &Server{Addr: lis.Addr().String(), Coordinator: c, cancel: cancel, done: make(chan struct{})}
 	go func() {
 		s.err = c.Serve(ctx, lis)
 		close(s.done)

@@ -27,6 +27,12 @@ const (
 	ResourceExhausted
 	// Unavailable: the coordinator is shutting down.
 	Unavailable
+	// PermissionDenied: the caller may not act on the resource (a call about a worker
+	// without that worker's registration secret).
+	PermissionDenied
+	// DataLoss: stored data is damaged (a blob whose content no longer matches its
+	// digest).
+	DataLoss
 )
 
 func (k Kind) String() string {
@@ -43,6 +49,10 @@ func (k Kind) String() string {
 		return "resource exhausted"
 	case Unavailable:
 		return "unavailable"
+	case PermissionDenied:
+		return "permission denied"
+	case DataLoss:
+		return "data loss"
 	default:
 		return "internal"
 	}

@@ -5,6 +5,7 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
+	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 )
 
@@ -27,4 +28,12 @@ func (m *Metrics) StreamServerInterceptor(srv any, ss grpc.ServerStream, info *g
 
 func (m *Metrics) observe(method string, start time.Time, err error) {
 	m.rpcSeconds.WithLabelValues(method, status.Code(err).String()).Observe(time.Since(start).Seconds())
+}
+
+// CallRefused counts a call the token check refused before its stream was created, which
+// no interceptor sees. method must come from a bounded set (auth.MethodLabel).
+func (m *Metrics) CallRefused(method string, code codes.Code) {
+	if m != nil {
+		m.rpcRefused.WithLabelValues(method, code.String()).Inc()
+	}
 }

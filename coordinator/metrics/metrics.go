@@ -34,6 +34,7 @@ const ScrapeTimeout = 5 * time.Second
 type Metrics struct {
 	reg           *prometheus.Registry
 	rpcSeconds    *prometheus.HistogramVec
+	rpcRefused    *prometheus.CounterVec
 	leases        *prometheus.CounterVec
 	leaseExpiries prometheus.Counter
 	retries       prometheus.Counter
@@ -49,6 +50,10 @@ func New(count CountFunc) *Metrics {
 			Name:    "farm_rpc_duration_seconds",
 			Help:    "Latency of the coordinator's gRPC calls, by method and status code (streams: until they end).",
 			Buckets: prometheus.ExponentialBuckets(0.0005, 2.5, 14),
+		}, []string{"method", "code"}),
+		rpcRefused: prometheus.NewCounterVec(prometheus.CounterOpts{
+			Name: "farm_rpc_refused_total",
+			Help: "Calls refused by the token check before any of their message was read (not in farm_rpc_duration_seconds), by method (\"unknown\" for a name the farm does not serve) and status code.",
 		}, []string{"method", "code"}),
 		leases: prometheus.NewCounterVec(prometheus.CounterOpts{
 			Name: "farm_leases_granted_total",
@@ -71,7 +76,7 @@ func New(count CountFunc) *Metrics {
 			Help: "Jobs accepted by SubmitJob.",
 		}),
 	}
-	m.reg.MustRegister(m.rpcSeconds, m.leases, m.leaseExpiries, m.retries, m.completions, m.jobsSubmitted,
+	m.reg.MustRegister(m.rpcSeconds, m.rpcRefused, m.leases, m.leaseExpiries, m.retries, m.completions, m.jobsSubmitted,
 		collectors.NewGoCollector(), collectors.NewProcessCollector(collectors.ProcessCollectorOpts{}))
 	if count != nil {
 		m.reg.MustRegister(&stateCollector{count: count})

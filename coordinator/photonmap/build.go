@@ -1,27 +1,62 @@
 package photonmap
 
 import (
+	"errors"
 	"fmt"
+	"io"
 	"math"
 
 	"photonfarm/coordinator/errs"
 )
 
-// mapInput is one map's shards, validated, in plan order.
+// mapInput is one map's shards, checked, in plan order, with what the first pass learnt.
 type mapInput struct {
 	kind         Kind
 	pathsEmitted uint64
 	photons      int
 	shards       []int // indices into the Build argument
+	scale        float32
+	bounds       box
 }
 
-// Build merges emission shards, given in plan order (all global shards in path order, then
-// all caustic shards), into a snapshot: per map a left-balanced kd-tree of 20-byte photons
-// (docs/photon-snapshot.md). Shards are untrusted: a malformed one gives an InvalidArgument
-// error naming it ("shards[3]: ..."), a map over the photon limit ResourceExhausted. The
-// same shards always give the same bytes.
+// Build merges emission shards held in memory into a snapshot: BuildFrom with no limit
+// but the format's (2^31 - 1 photons a map).
 func Build(shards []Shard) ([]byte, error) {
-	maps, err := planMaps(shards)
+	sources := make([]Source, len(shards))
+	for i, s := range shards {
+		sources[i] = BytesSource(s.Data)
+	}
+	return BuildFrom(sources, math.MaxInt)
+}
+
+// TooManyPhotons is BuildFrom's error when the shards store more photons than a snapshot
+// may hold: the shard at which the count went over, and what the map it belongs to
+// stores so far.
+type TooManyPhotons struct {
+	Limit      int
+	Shard      int
+	Map        Kind
+	MapPhotons int    // stored by the map's shards up to and including Shard
+	MapPaths   uint64 // traced by them
+}
+
+func (e *TooManyPhotons) Error() string {
+	return fmt.Sprintf("shards[%d]: more than the %d photons a snapshot may hold: the %s map's shards up to this one store %d photons from %d paths",
+		e.Shard, e.Limit, e.Map, e.MapPhotons, e.MapPaths)
+}
+
+// BuildFrom merges emission shards, given in plan order (all global shards in path order,
+// then all caustic shards), into a snapshot of at most maxPhotons photons over all maps:
+// per map a left-balanced kd-tree of 20-byte photons (docs/photon-snapshot.md). Shards are
+// untrusted: a malformed one gives an InvalidArgument error naming it ("shards[3]: ..."),
+// a map over the format's limit ResourceExhausted, more photons than maxPhotons a
+// *TooManyPhotons. The same shards always give the same bytes.
+//
+// Each shard is read twice, record by record, and never held: at its peak a build holds
+// the output (20 bytes a photon) and the working records of its largest map (24 bytes a
+// photon).
+func BuildFrom(shards []Source, maxPhotons int) ([]byte, error) {
+	maps, err := planMaps(shards, maxPhotons)
 	if err != nil {
 		return nil, err
 	}
@@ -43,33 +78,40 @@ func Build(shards []Shard) ([]byte, error) {
 	le.PutUint64(out[24:], uint64(size))
 
 	for i, m := range maps {
-		items, bounds, scale := gatherMap(shards, m)
+		items, err := gatherMap(shards, m)
+		if err != nil {
+			return nil, err
+		}
 		dir := out[headerSize+i*dirEntrySize:]
 		le.PutUint32(dir[0:], uint32(m.kind))
 		le.PutUint32(dir[4:], uint32(m.photons))
 		le.PutUint64(dir[8:], m.pathsEmitted)
 		le.PutUint64(dir[16:], uint64(offsets[i]))
 		for c := 0; c < 3; c++ {
-			le.PutUint32(dir[24+4*c:], math.Float32bits(bounds.min[c]))
-			le.PutUint32(dir[36+4*c:], math.Float32bits(bounds.max[c]))
+			le.PutUint32(dir[24+4*c:], math.Float32bits(m.bounds.min[c]))
+			le.PutUint32(dir[36+4*c:], math.Float32bits(m.bounds.max[c]))
 		}
-		le.PutUint32(dir[48:], math.Float32bits(scale))
+		le.PutUint32(dir[48:], math.Float32bits(m.scale))
 		le.PutUint32(dir[52:], recordSize)
 		buildTree(items, out[offsets[i]:offsets[i]+recordSize*m.photons])
 	}
 	return out, nil
 }
 
-// planMaps validates every shard and the plan order, and groups shards by map.
-func planMaps(shards []Shard) ([]mapInput, error) {
+// planMaps reads every shard once: it checks each whole and the plan order, groups the
+// shards by map and finds each map's power scale (largest power component, 1 if none is
+// positive) and bounds.
+func planMaps(shards []Source, maxPhotons int) ([]mapInput, error) {
 	var maps []mapInput
-	for i, s := range shards {
-		h, err := parseShard(i, s.Data)
+	total := 0
+	for i, src := range shards {
+		s, h, err := openShard(i, src)
 		if err != nil {
 			return nil, err
 		}
 		if len(maps) == 0 || maps[len(maps)-1].kind != h.kind {
 			if len(maps) > 0 && maps[len(maps)-1].kind > h.kind {
+				s.Close()
 				return nil, shardErr(i, "%s shard after %s shards: global shards come first", h.kind, maps[len(maps)-1].kind)
 			}
 			maps = append(maps, mapInput{kind: h.kind})
@@ -78,72 +120,103 @@ func planMaps(shards []Shard) ([]mapInput, error) {
 		// Shards of a map must tile its path range exactly: a gap or an overlap means a
 		// shard is missing or repeated, and the powers (divided by the total) would be wrong.
 		if h.firstPhoton != m.pathsEmitted {
+			s.Close()
 			return nil, shardErr(i, "%s shard starts at photon %d, want %d (shards must tile the path range in order)",
 				h.kind, h.firstPhoton, m.pathsEmitted)
 		}
 		if h.photonCount > math.MaxUint64-m.pathsEmitted {
+			s.Close()
 			return nil, shardErr(i, "photon_count %d overflows the path range", h.photonCount)
 		}
 		m.pathsEmitted += h.photonCount
-		if h.records > maxMapPhotons-m.photons {
-			return nil, errs.E(errs.ResourceExhausted, "%s photon map: more than %d photons (shards[%d])",
-				h.kind, maxMapPhotons, i)
+		n, err := scanShard(i, s, m)
+		s.Close()
+		if err != nil {
+			return nil, err
 		}
-		m.photons += h.records
+		// Counted from the records read, not the header's claim: the shard is whole here.
+		if n > maxPhotons-total {
+			return nil, &TooManyPhotons{Limit: maxPhotons, Shard: i, Map: h.kind, MapPhotons: m.photons + n, MapPaths: m.pathsEmitted}
+		}
+		if n > maxMapPhotons-m.photons {
+			return nil, errs.E(errs.ResourceExhausted, "%s photon map: more than %d photons (shards[%d])", h.kind, maxMapPhotons, i)
+		}
+		m.photons += n
+		total += n
 		m.shards = append(m.shards, i)
+	}
+	for i := range maps {
+		if !(maps[i].scale > 0) {
+			maps[i].scale = 1
+		}
 	}
 	return maps, nil
 }
 
-type box struct{ min, max [3]float32 }
-
-// gatherMap concatenates a map's validated shards into working records, with the bounds and
-// the power scale (largest power component, 1 if none is positive).
-func gatherMap(shards []Shard, m mapInput) ([]item, box, float32) {
-	var scale float32
-	for _, si := range m.shards {
-		data := shards[si].Data
-		for r := shardHeaderSize; r < len(data); r += shardRecordSize {
-			for c := 0; c < 3; c++ {
-				scale = max(scale, math.Float32frombits(le.Uint32(data[r+12+4*c:])))
-			}
+// scanShard reads shard i's records, checking each, and grows m's power scale and bounds;
+// it returns how many there were.
+func scanShard(i int, s *scanner, m *mapInput) (int, error) {
+	n := 0
+	for {
+		rec, err := nextShardRecord(i, s)
+		if errors.Is(err, io.EOF) {
+			return n, nil
 		}
-	}
-	if !(scale > 0) {
-		scale = 1
-	}
-	items := make([]item, 0, m.photons)
-	for _, si := range m.shards {
-		data := shards[si].Data
-		for r := shardHeaderSize; r < len(data); r += shardRecordSize {
-			var it item
-			var rel [3]float64
-			for c := 0; c < 3; c++ {
-				it.pos[c] = math.Float32frombits(le.Uint32(data[r+4*c:]))
-				rel[c] = float64(math.Float32frombits(le.Uint32(data[r+12+4*c:]))) / float64(scale)
-			}
-			it.power = EncodeRGB9E5(rel)
-			it.wi = le.Uint16(data[r+24:])
-			it.normal = le.Uint16(data[r+26:])
-			it.src = uint32(len(items))
-			items = append(items, it)
+		if err != nil {
+			return n, err
 		}
+		p := shardPhoton(rec)
+		if m.photons == 0 && n == 0 {
+			m.bounds = box{min: p.Position, max: p.Position}
+		}
+		for c := 0; c < 3; c++ {
+			m.scale = max(m.scale, p.Power[c])
+			m.bounds.min[c] = min(m.bounds.min[c], p.Position[c])
+			m.bounds.max[c] = max(m.bounds.max[c], p.Position[c])
+		}
+		n++
 	}
-	return items, boundsOf(items), scale
 }
 
-func boundsOf(items []item) box {
-	if len(items) == 0 {
-		return box{}
-	}
-	b := box{min: items[0].pos, max: items[0].pos}
-	for i := range items {
-		for c := 0; c < 3; c++ {
-			b.min[c] = min(b.min[c], items[i].pos[c])
-			b.max[c] = max(b.max[c], items[i].pos[c])
+type box struct{ min, max [3]float32 }
+
+// gatherMap reads a map's shards again into working records, powers encoded relative to
+// the map's scale. A shard that no longer holds what the first pass read (changed between
+// the reads) is an error.
+func gatherMap(shards []Source, m mapInput) ([]item, error) {
+	items := make([]item, 0, m.photons)
+	for _, si := range m.shards {
+		s, _, err := openShard(si, shards[si])
+		if err != nil {
+			return nil, err
 		}
+		for {
+			rec, err := nextShardRecord(si, s)
+			if errors.Is(err, io.EOF) {
+				break
+			}
+			if err == nil && len(items) == m.photons {
+				err = errs.E(errs.Internal, "shards[%d] changed between the two reads of the build", si)
+			}
+			if err != nil {
+				s.Close()
+				return nil, err
+			}
+			p := shardPhoton(rec)
+			it := item{pos: p.Position, wi: p.Wi, normal: p.Normal, src: uint32(len(items))}
+			var rel [3]float64
+			for c := 0; c < 3; c++ {
+				rel[c] = float64(p.Power[c]) / float64(m.scale)
+			}
+			it.power = EncodeRGB9E5(rel)
+			items = append(items, it)
+		}
+		s.Close()
 	}
-	return b
+	if len(items) != m.photons {
+		return nil, errs.E(errs.Internal, "the %s map's shards changed between the two reads of the build", m.kind)
+	}
+	return items, nil
 }
 
 func alignUp(n, a int) int { return (n + a - 1) / a * a }

@@ -2,6 +2,8 @@ package photonmap
 
 import (
 	"bytes"
+	"errors"
+	"io"
 	"math"
 	"math/rand/v2"
 	"slices"
@@ -36,16 +38,24 @@ func testCases() []testCase {
 func inputPhotons(t *testing.T, shards []Shard, kind Kind) (photons []ShardPhoton, paths uint64) {
 	t.Helper()
 	for i, s := range shards {
-		h, err := parseShard(i, s.Data)
+		sc, h, err := openShard(i, BytesSource(s.Data))
 		if err != nil {
 			t.Fatal(err)
 		}
+		defer sc.Close()
 		if h.kind != kind {
 			continue
 		}
 		paths += h.photonCount
-		for r := 0; r < h.records; r++ {
-			photons = append(photons, shardPhoton(s.Data, r))
+		for {
+			rec, err := nextShardRecord(i, sc)
+			if errors.Is(err, io.EOF) {
+				break
+			}
+			if err != nil {
+				t.Fatal(err)
+			}
+			photons = append(photons, shardPhoton(rec))
 		}
 	}
 	return photons, paths
@@ -269,5 +279,51 @@ func TestRGB9E5(t *testing.T) {
 		if [3]float64{float64(got[0]), float64(got[1]), float64(got[2])} != exact {
 			t.Errorf("%v decodes to %v", exact, got)
 		}
+	}
+}
+
+func TestBuildFromStopsAtTheSnapshotLimitCountingEveryMap(t *testing.T) {
+	r := rand.New(rand.NewPCG(3, 4))
+	shards := append(splitShards(Global, uniformPhotons(r, 10), 6), splitShards(Caustic, uniformPhotons(r, 10), 4)...)
+	var sources []Source
+	for _, s := range shards {
+		sources = append(sources, BytesSource(s.Data))
+	}
+	if _, err := BuildFrom(sources, 20); err != nil {
+		t.Fatalf("20 photons at a limit of 20: %v", err)
+	}
+	_, err := BuildFrom(sources, 15) // 10 global photons, 4 caustic; the last 6 go over
+	var many *TooManyPhotons
+	paths := le.Uint64(shards[2].Data[24:]) + le.Uint64(shards[3].Data[24:])
+	if !errors.As(err, &many) || *many != (TooManyPhotons{Limit: 15, Shard: 3, Map: Caustic, MapPhotons: 10, MapPaths: paths}) {
+		t.Fatalf("BuildFrom at a limit of 15 = %v, want TooManyPhotons at shards[3]", err)
+	}
+}
+
+// failingAtEnd is a source whose reader fails where the input ends, as the blob store's
+// checked reader does for a damaged blob.
+func failingAtEnd(data []byte, err error) Source {
+	return func() (io.ReadCloser, error) {
+		return io.NopCloser(io.MultiReader(bytes.NewReader(data), errReader{err})), nil
+	}
+}
+
+type errReader struct{ err error }
+
+func (e errReader) Read([]byte) (int, error) { return 0, e.err }
+
+func TestBuildAndMergeReturnTheirSourcesErrorsUnchanged(t *testing.T) {
+	damaged := errs.E(errs.DataLoss, "blob is damaged")
+	shards := splitShards(Global, uniformPhotons(rand.New(rand.NewPCG(5, 6)), 10))
+	if _, err := BuildFrom([]Source{failingAtEnd(shards[0].Data, damaged)}, math.MaxInt); err != damaged {
+		t.Errorf("BuildFrom = %v, want the source's error %v", err, damaged)
+	}
+	snap := snapshotOf(t, 10)
+	irr := EncodeIrradianceShard(0, make([][3]float32, 10))
+	if _, err := MergeIrradianceFrom(failingAtEnd(snap, damaged), int64(len(snap)), []Source{BytesSource(irr)}); err != damaged {
+		t.Errorf("MergeIrradianceFrom, damaged snapshot = %v, want %v", err, damaged)
+	}
+	if _, err := MergeIrradianceFrom(BytesSource(snap), int64(len(snap)), []Source{failingAtEnd(irr, damaged)}); err != damaged {
+		t.Errorf("MergeIrradianceFrom, damaged shard = %v, want %v", err, damaged)
 	}
 }

@@ -1,9 +1,12 @@
 package photonmap
 
 import (
+	"errors"
 	"fmt"
 	"io"
 	"math"
+
+	"photonfarm/coordinator/errs"
 )
 
 // Photon is a snapshot record, fields as stored.
@@ -156,17 +159,7 @@ type MapInfo struct {
 // returns its maps in directory order. The coordinator uses it to learn how many photons
 // a built map holds without loading the snapshot.
 func ReadMaps(r io.Reader, size int64) ([]MapInfo, error) {
-	head := make([]byte, headerSize, headerSize+2*dirEntrySize)
-	if _, err := io.ReadFull(r, head); err != nil {
-		return nil, snapErr("reading the header: %v", err)
-	}
-	if count := le.Uint32(head[16:]); count <= 2 {
-		head = head[:headerSize+dirEntrySize*int(count)]
-		if _, err := io.ReadFull(r, head[headerSize:]); err != nil {
-			return nil, snapErr("reading the directory: %v", err)
-		}
-	}
-	l, err := parseHead(head, uint64(max(size, 0)))
+	_, l, err := readHead(r, size)
 	if err != nil {
 		return nil, err
 	}
@@ -175,6 +168,43 @@ func ReadMaps(r io.Reader, size int64) ([]MapInfo, error) {
 		maps[i] = MapInfo{Kind: m.kind, Photons: m.count}
 	}
 	return maps, nil
+}
+
+// readHead reads the header and directory at the start of r, a snapshot of size bytes, and
+// checks them (parseHead); it returns the bytes read and the layout.
+func readHead(r io.Reader, size int64) ([]byte, snapshotLayout, error) {
+	head := make([]byte, headerSize, headerSize+2*dirEntrySize)
+	if _, err := io.ReadFull(r, head); err != nil {
+		return nil, snapshotLayout{}, snapErr("reading the header: %v", err)
+	}
+	if count := le.Uint32(head[16:]); count <= 2 {
+		head = head[:headerSize+dirEntrySize*int(count)]
+		if _, err := io.ReadFull(r, head[headerSize:]); err != nil {
+			return nil, snapshotLayout{}, snapErr("reading the directory: %v", err)
+		}
+	}
+	l, err := parseHead(head, uint64(max(size, 0)))
+	return head, l, err
+}
+
+// readRest reads the rest of a snapshot after its head into rest, then its end: a
+// snapshot shorter or longer than its size, or one its source finds damaged, is an error.
+func readRest(r io.Reader, rest []byte) error {
+	if _, err := io.ReadFull(r, rest); err != nil {
+		if isShort(err) {
+			return errs.Field("photon_snapshot", "shorter than its file_size")
+		}
+		return err
+	}
+	var b [1]byte
+	n, err := r.Read(b[:])
+	if n > 0 {
+		return errs.Field("photon_snapshot", "longer than its file_size")
+	}
+	if errors.Is(err, io.EOF) {
+		return nil
+	}
+	return err
 }
 
 // Decode parses and validates a snapshot; tests and tools use it to check what Build wrote.

@@ -1,76 +1,98 @@
 package photonmap
 
 import (
+	"errors"
 	"fmt"
+	"io"
 	"math"
 
 	"photonfarm/coordinator/errs"
 )
 
-// irradianceShard is a validated IRRADIANCE SHARD: its records decoded to binary32
-// irradiance, exactly as a C++ reader decodes them.
-type irradianceShard struct {
-	first  uint64
-	values [][3]float32
+// irradianceHeader is a validated IRRADIANCE SHARD header.
+type irradianceHeader struct {
+	first, count uint64
+	scale        float32
 }
 
 func irrShardErr(i int, format string, args ...any) error {
 	return errs.Field(fmt.Sprintf("irradiance_shards[%d]", i), format, args...)
 }
 
-// parseIrradianceShard validates shard i (untrusted) completely: header, size and every
-// record (each component relative to the shard's scale must lie in [0, 1], as the encoder
-// writes them, so a forged exponent cannot overflow the irradiance).
-func parseIrradianceShard(i int, data []byte) (irradianceShard, error) {
-	var s irradianceShard
-	if len(data) < irrShardHeaderSize {
-		return s, irrShardErr(i, "%d bytes is shorter than the %d-byte header", len(data), irrShardHeaderSize)
+// openIrradianceShard opens irradiance shard i (untrusted) and checks its header; its
+// records are checked as they are read (nextIrradiance).
+func openIrradianceShard(i int, src Source) (*scanner, irradianceHeader, error) {
+	wrong := func(format string, args ...any) error { return irrShardErr(i, format, args...) }
+	s, head, err := openScanner(src, irrShardHeaderSize, irrRecordSize, "photon_count", wrong)
+	if err != nil {
+		return nil, irradianceHeader{}, err
 	}
-	if string(data[:8]) != irrShardMagic {
-		return s, irrShardErr(i, "bad magic %q, want %q", data[:8], irrShardMagic)
+	h := irradianceHeader{first: le.Uint64(head[16:]), count: le.Uint64(head[24:]), scale: math.Float32frombits(le.Uint32(head[32:]))}
+	switch {
+	case string(head[:8]) != irrShardMagic:
+		err = wrong("bad magic %q, want %q", head[:8], irrShardMagic)
+	case le.Uint32(head[8:]) != irrShardVersion:
+		err = wrong("unsupported version %d, want %d", le.Uint32(head[8:]), irrShardVersion)
+	case le.Uint32(head[12:]) != irrRecordSize:
+		err = wrong("record_size %d, want %d", le.Uint32(head[12:]), irrRecordSize)
+	case le.Uint32(head[36:]) != 0:
+		err = wrong("reserved bytes are not zero")
+	case !(h.scale > 0) || math.IsInf(float64(h.scale), 0):
+		err = wrong("irradiance_scale %g must be finite and > 0", h.scale)
 	}
-	if v := le.Uint32(data[8:]); v != irrShardVersion {
-		return s, irrShardErr(i, "unsupported version %d, want %d", v, irrShardVersion)
+	if err != nil {
+		s.Close()
+		return nil, irradianceHeader{}, err
 	}
-	if r := le.Uint32(data[12:]); r != irrRecordSize {
-		return s, irrShardErr(i, "record_size %d, want %d", r, irrRecordSize)
-	}
-	s.first = le.Uint64(data[16:])
-	count := le.Uint64(data[24:])
-	scale := math.Float32frombits(le.Uint32(data[32:]))
-	if le.Uint32(data[36:]) != 0 {
-		return s, irrShardErr(i, "reserved bytes are not zero")
-	}
-	if !(scale > 0) || math.IsInf(float64(scale), 0) {
-		return s, irrShardErr(i, "irradiance_scale %g must be finite and > 0", scale)
-	}
-	body := uint64(len(data) - irrShardHeaderSize)
-	// Divide rather than multiply: a forged photon_count cannot overflow the check.
-	if body%irrRecordSize != 0 || count != body/irrRecordSize {
-		return s, irrShardErr(i, "photon_count %d does not match %d bytes of records", count, body)
-	}
-	s.values = make([][3]float32, count)
-	for j := range s.values {
-		rel := DecodeRGB9E5(le.Uint32(data[irrShardHeaderSize+j*irrRecordSize:]))
-		for c, v := range rel {
-			if v > 1 {
-				return s, irrShardErr(i, "photon %d: component %g of the scale is above 1", s.first+uint64(j), v)
-			}
-			s.values[j][c] = v * scale // binary32, as the C++ reader decodes it
-		}
-	}
-	return s, nil
+	s.count = h.count
+	return s, h, nil
 }
 
-// MergeIrradiance adds the precomputed irradiance to a snapshot (docs/photon-snapshot.md,
-// "Irradiance section"): shards, in plan order, must tile the global map's photons [0, N)
-// exactly, without gaps or overlaps. The result stores one RGB9E5 record per global photon
-// relative to the largest component of all shards, re-encoded in binary64 so that the same
-// inputs always give the same bytes. Shards are untrusted: a malformed one gives an
-// InvalidArgument error naming it ("irradiance_shards[2]: ..."); a snapshot that is
-// malformed, has no global map or already has irradiance gives InvalidArgument too.
+// nextIrradiance decodes shard i's next record to binary32 irradiance, exactly as a C++
+// reader decodes it, or returns io.EOF. Each component relative to the shard's scale must
+// lie in [0, 1], as the encoder writes them, so a forged exponent cannot overflow.
+func nextIrradiance(i int, s *scanner, h irradianceHeader) ([3]float32, error) {
+	var v [3]float32
+	rec, err := s.next()
+	if err != nil {
+		return v, err
+	}
+	for c, rel := range DecodeRGB9E5(le.Uint32(rec)) {
+		if rel > 1 {
+			return v, irrShardErr(i, "photon %d: component %g of the scale is above 1", h.first+s.read-1, rel)
+		}
+		v[c] = rel * h.scale // binary32, as the C++ reader decodes it
+	}
+	return v, nil
+}
+
+// MergeIrradiance is MergeIrradianceFrom on inputs held in memory.
 func MergeIrradiance(snapshot []byte, shards [][]byte) ([]byte, error) {
-	l, err := parseLayout(snapshot)
+	sources := make([]Source, len(shards))
+	for i, d := range shards {
+		sources[i] = BytesSource(d)
+	}
+	return MergeIrradianceFrom(BytesSource(snapshot), int64(len(snapshot)), sources)
+}
+
+// MergeIrradianceFrom adds the precomputed irradiance to a snapshot of snapshotSize bytes
+// (docs/photon-snapshot.md, "Irradiance section"): shards, in plan order, must tile the
+// global map's photons [0, N) exactly, without gaps or overlaps. The result stores one
+// RGB9E5 record per global photon relative to the largest component of all shards,
+// re-encoded in binary64 so that the same inputs always give the same bytes. Shards are
+// untrusted: a malformed one gives an InvalidArgument error naming it
+// ("irradiance_shards[2]: ..."); a snapshot that is malformed, has no global map or
+// already has irradiance gives InvalidArgument too (naming photon_snapshot).
+//
+// The shards are read twice (to check them and find the scale, then to encode), the
+// snapshot once, straight into the output: the merge holds the output alone.
+func MergeIrradianceFrom(snapshot Source, snapshotSize int64, shards []Source) ([]byte, error) {
+	rc, err := snapshot()
+	if err != nil {
+		return nil, err
+	}
+	defer rc.Close()
+	head, l, err := readHead(rc, snapshotSize)
 	if err != nil {
 		return nil, errs.Field("photon_snapshot", "%v", err)
 	}
@@ -81,52 +103,93 @@ func MergeIrradiance(snapshot []byte, shards [][]byte) ([]byte, error) {
 		return nil, errs.Field("photon_snapshot", "has no global photon map to add irradiance to")
 	}
 	n := l.maps[0].count
-
-	parsed := make([]irradianceShard, len(shards))
-	var next uint64
-	var scale float32
-	for i, data := range shards {
-		s, err := parseIrradianceShard(i, data)
-		if err != nil {
-			return nil, err
-		}
-		// A gap or an overlap means a shard is missing or repeated: some photons would
-		// keep no irradiance or two.
-		if s.first != next {
-			return nil, irrShardErr(i, "starts at photon %d, want %d (shards must tile [0, %d) in order)", s.first, next, n)
-		}
-		if uint64(len(s.values)) > n-next {
-			return nil, irrShardErr(i, "photons [%d, %d) run past the global map's %d", s.first, s.first+uint64(len(s.values)), n)
-		}
-		next += uint64(len(s.values))
-		for _, v := range s.values {
-			scale = max(scale, v[0], v[1], v[2])
-		}
-		parsed[i] = s
-	}
-	if next != n {
-		return nil, errs.Field("irradiance_shards", "cover photons [0, %d) of the global map's %d", next, n)
-	}
-	if !(scale > 0) {
-		scale = 1
+	scale, err := irradianceScale(shards, n)
+	if err != nil {
+		return nil, err
 	}
 
 	offset := alignUp(int(l.photonsEnd), mapAlignment)
 	out := make([]byte, offset+int(n)*irrRecordSize)
-	copy(out, snapshot)
+	copy(out, head)
+	if err := readRest(rc, out[len(head):snapshotSize]); err != nil {
+		return nil, err
+	}
 	le.PutUint64(out[24:], uint64(len(out)))
 	le.PutUint64(out[irrOffsetAt:], uint64(offset))
 	le.PutUint32(out[irrCountAt:], uint32(n))
 	le.PutUint32(out[irrScaleAt:], math.Float32bits(scale))
 	at := offset
-	for _, s := range parsed {
-		for _, v := range s.values {
+	for i, src := range shards {
+		s, h, err := openIrradianceShard(i, src)
+		if err != nil {
+			return nil, err
+		}
+		for {
+			v, err := nextIrradiance(i, s, h)
+			if errors.Is(err, io.EOF) {
+				break
+			}
+			if err == nil && at == len(out) {
+				err = errs.E(errs.Internal, "irradiance_shards[%d] changed between the two reads of the merge", i)
+			}
+			if err != nil {
+				s.Close()
+				return nil, err
+			}
 			rel := [3]float64{float64(v[0]) / float64(scale), float64(v[1]) / float64(scale), float64(v[2]) / float64(scale)}
 			le.PutUint32(out[at:], EncodeRGB9E5(rel))
 			at += irrRecordSize
 		}
+		s.Close()
+	}
+	if at != len(out) {
+		return nil, errs.E(errs.Internal, "the irradiance shards changed between the two reads of the merge")
 	}
 	return out, nil
+}
+
+// irradianceScale reads the irradiance shards once, checking each whole and that they tile
+// the global map's n photons, and returns the largest component of all (1 if none is
+// positive).
+func irradianceScale(shards []Source, n uint64) (float32, error) {
+	var next uint64
+	var scale float32
+	for i, src := range shards {
+		s, h, err := openIrradianceShard(i, src)
+		if err != nil {
+			return 0, err
+		}
+		// A gap or an overlap means a shard is missing or repeated: some photons would
+		// keep no irradiance or two.
+		if h.first != next {
+			s.Close()
+			return 0, irrShardErr(i, "starts at photon %d, want %d (shards must tile [0, %d) in order)", h.first, next, n)
+		}
+		if h.count > n-next {
+			s.Close()
+			return 0, irrShardErr(i, "photons [%d, %d) run past the global map's %d", h.first, h.first+h.count, n)
+		}
+		for {
+			v, err := nextIrradiance(i, s, h)
+			if errors.Is(err, io.EOF) {
+				break
+			}
+			if err != nil {
+				s.Close()
+				return 0, err
+			}
+			scale = max(scale, v[0], v[1], v[2])
+		}
+		s.Close()
+		next += h.count
+	}
+	if next != n {
+		return 0, errs.Field("irradiance_shards", "cover photons [0, %d) of the global map's %d", next, n)
+	}
+	if !(scale > 0) {
+		scale = 1
+	}
+	return scale, nil
 }
 
 // EncodeIrradianceShard writes an IRRADIANCE SHARD as a worker does (the worker's encoder is

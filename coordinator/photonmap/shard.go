@@ -26,7 +26,7 @@ type shardHeader struct {
 	kind        Kind
 	firstPhoton uint64
 	photonCount uint64
-	records     int
+	records     uint64 // as the header says; checked against the records read
 }
 
 var le = binary.LittleEndian
@@ -35,55 +35,75 @@ func shardErr(i int, format string, args ...any) error {
 	return errs.Field(fmt.Sprintf("shards[%d]", i), format, args...)
 }
 
-// parseShard validates shard i (untrusted) completely, header and every record, so that
-// the build afterwards cannot fail half-way.
-func parseShard(i int, data []byte) (shardHeader, error) {
-	if len(data) < shardHeaderSize {
-		return shardHeader{}, shardErr(i, "%d bytes is shorter than the %d-byte header", len(data), shardHeaderSize)
+// openShard opens shard i of a build and reads its header. Errors of the source (a blob
+// that cannot be read) are returned unchanged; a malformed shard is an InvalidArgument
+// error naming shards[i].
+func openShard(i int, src Source) (*scanner, shardHeader, error) {
+	wrong := func(format string, args ...any) error { return shardErr(i, format, args...) }
+	s, head, err := openScanner(src, shardHeaderSize, shardRecordSize, "record_count", wrong)
+	if err != nil {
+		return nil, shardHeader{}, err
 	}
-	if string(data[:8]) != shardMagic {
-		return shardHeader{}, shardErr(i, "bad magic %q, want %q", data[:8], shardMagic)
+	h, err := parseShardHeader(i, head)
+	if err != nil {
+		s.Close()
+		return nil, shardHeader{}, err
 	}
-	if v := le.Uint32(data[8:]); v != shardVersion {
+	s.count = h.records
+	return s, h, nil
+}
+
+// nextShardRecord returns shard i's next record, checked (checkShardRecord), or io.EOF.
+func nextShardRecord(i int, s *scanner) ([]byte, error) {
+	rec, err := s.next()
+	if err == nil {
+		err = checkShardRecord(i, int(s.read-1), rec)
+	}
+	return rec, err
+}
+
+// parseShardHeader validates the header of shard i; its record count is checked against
+// the records that follow as they are read.
+func parseShardHeader(i int, head []byte) (shardHeader, error) {
+	if string(head[:8]) != shardMagic {
+		return shardHeader{}, shardErr(i, "bad magic %q, want %q", head[:8], shardMagic)
+	}
+	if v := le.Uint32(head[8:]); v != shardVersion {
 		return shardHeader{}, shardErr(i, "unsupported version %d, want %d", v, shardVersion)
 	}
 	h := shardHeader{
-		kind:        Kind(le.Uint32(data[12:])),
-		firstPhoton: le.Uint64(data[16:]),
-		photonCount: le.Uint64(data[24:]),
+		kind:        Kind(le.Uint32(head[12:])),
+		firstPhoton: le.Uint64(head[16:]),
+		photonCount: le.Uint64(head[24:]),
+		records:     le.Uint64(head[32:]),
 	}
 	if h.kind != Global && h.kind != Caustic {
 		return shardHeader{}, shardErr(i, "unknown map kind %d", uint32(h.kind))
 	}
-	n := le.Uint64(data[32:])
-	body := uint64(len(data) - shardHeaderSize)
-	// Divide rather than multiply: a forged record_count cannot overflow the check.
-	if body%shardRecordSize != 0 || body/shardRecordSize != n {
-		return shardHeader{}, shardErr(i, "record_count %d does not match %d bytes", n, len(data))
-	}
-	h.records = int(n)
-	for r := 0; r < h.records; r++ {
-		rec := data[shardHeaderSize+r*shardRecordSize:]
-		for c := 0; c < 3; c++ {
-			p := math.Float32frombits(le.Uint32(rec[4*c:]))
-			if math.IsNaN(float64(p)) || math.IsInf(float64(p), 0) {
-				return shardHeader{}, shardErr(i, "record %d: position is not finite", r)
-			}
-			w := math.Float32frombits(le.Uint32(rec[12+4*c:]))
-			if !(w >= 0) || math.IsInf(float64(w), 0) {
-				return shardHeader{}, shardErr(i, "record %d: power must be finite and >= 0, got %g", r, w)
-			}
-		}
-		if le.Uint16(rec[26:])&normalAxisMask != 0 {
-			return shardHeader{}, shardErr(i, "record %d: normal bits 0-1 must be zero", r)
-		}
-	}
 	return h, nil
 }
 
-// shardPhoton reads record r of a validated shard.
-func shardPhoton(data []byte, r int) ShardPhoton {
-	rec := data[shardHeaderSize+r*shardRecordSize:]
+// checkShardRecord checks record r of shard i: a finite position, a finite power >= 0,
+// the normal's reserved bits zero.
+func checkShardRecord(i, r int, rec []byte) error {
+	for c := 0; c < 3; c++ {
+		p := math.Float32frombits(le.Uint32(rec[4*c:]))
+		if math.IsNaN(float64(p)) || math.IsInf(float64(p), 0) {
+			return shardErr(i, "record %d: position is not finite", r)
+		}
+		w := math.Float32frombits(le.Uint32(rec[12+4*c:]))
+		if !(w >= 0) || math.IsInf(float64(w), 0) {
+			return shardErr(i, "record %d: power must be finite and >= 0, got %g", r, w)
+		}
+	}
+	if le.Uint16(rec[26:])&normalAxisMask != 0 {
+		return shardErr(i, "record %d: normal bits 0-1 must be zero", r)
+	}
+	return nil
+}
+
+// shardPhoton reads a checked record.
+func shardPhoton(rec []byte) ShardPhoton {
 	var p ShardPhoton
 	for c := 0; c < 3; c++ {
 		p.Position[c] = math.Float32frombits(le.Uint32(rec[4*c:]))

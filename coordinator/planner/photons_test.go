@@ -130,8 +130,8 @@ func TestPlanPhotonPhases(t *testing.T) {
 func TestPlanLargestRoundStaysWithinLimits(t *testing.T) {
 	maxTiles, maxShards := rules.Scene.GetMaxTilesPerRound(), rules.Scene.GetMaxShardsPerMap()
 	perShard := uint64(rules.Min(&pb.PhotonMapping{}, "photons_per_shard"))
-	s := scenetest.Valid(16384, 16384)
-	s.Film.TileSize = 64
+	s := scenetest.Valid(2048, 2048) // 4,194,304 pixels: at 8 pixels a tile, the most tiles
+	s.Film.TileSize = 8
 	shapes("mirror", "white")(s)
 	s.Photons = &pb.PhotonMapping{GlobalPhotons: maxShards * perShard, CausticPhotons: maxShards * perShard, PhotonsPerShard: perShard}
 	if err := scene.Validate(s); err != nil {

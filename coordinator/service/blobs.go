@@ -6,6 +6,7 @@ import (
 	"io"
 
 	"photonfarm/contract/rules"
+	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -78,12 +79,19 @@ func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
 	return stream.SendAndClose(&pb.UploadBlobResponse{Digest: info.Digest, SizeBytes: info.Size})
 }
 
-// DownloadBlob streams a blob in chunks of the contract's download chunk size.
+// DownloadBlob streams a blob in chunks of the contract's download chunk size. The blob
+// is verified whole first, so that a damaged one is an error before any byte (a browser
+// behind the dashboard would show the start of a broken image), and read through the
+// checked reader again, so that damage done meanwhile still ends the stream in an error.
 func (b *blobServer) DownloadBlob(req *pb.DownloadBlobRequest, stream pb.BlobService_DownloadBlobServer) error {
 	if err := checkDigest(req.GetDigest()); err != nil {
 		return err
 	}
-	r, info, err := b.s.cfg.Blobs.Open(stream.Context(), req.GetDigest())
+	ctx := stream.Context()
+	if _, err := b.s.verifiedBlob(ctx, req.GetDigest()); err != nil {
+		return err
+	}
+	r, info, err := b.s.cfg.Blobs.Open(ctx, req.GetDigest())
 	if err != nil {
 		return err
 	}
@@ -106,7 +114,7 @@ func (b *blobServer) DownloadBlob(req *pb.DownloadBlobRequest, stream pb.BlobSer
 			return nil
 		}
 		if err != nil {
-			return errs.Wrap(errs.Internal, err, "read blob")
+			return err // the store's kind: DataLoss for damage, Internal for a failed read
 		}
 	}
 }
@@ -115,11 +123,21 @@ func (b *blobServer) GetBlobInfo(ctx context.Context, req *pb.GetBlobInfoRequest
 	if err := checkDigest(req.GetDigest()); err != nil {
 		return nil, err
 	}
-	info, err := b.s.cfg.Blobs.Stat(ctx, req.GetDigest())
+	info, err := b.s.verifiedBlob(ctx, req.GetDigest())
 	if err != nil {
 		return nil, err
 	}
 	return &pb.GetBlobInfoResponse{Digest: info.Digest, SizeBytes: info.Size}, nil
+}
+
+// verifiedBlob checks a stored blob whole against its digest (blobstore.Store.Verify),
+// logging damage, which an operator should hear of: a disk may be failing.
+func (s *Service) verifiedBlob(ctx context.Context, digest string) (blobstore.Info, error) {
+	info, err := s.cfg.Blobs.Verify(ctx, digest)
+	if errs.Is(err, errs.DataLoss) {
+		s.log.Error("damaged blob", "digest", digest, "err", err)
+	}
+	return info, err
 }
 
 // inHeader names the blob store's complaints about size and digest as the header fields

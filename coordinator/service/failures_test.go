@@ -68,7 +68,7 @@ func TestJobFailsWhenEveryLiveWorkerIsBlocked(t *testing.T) {
 	w1, w2 := f.register(), f.register()
 	block := func(w, reason string) {
 		for range 3 {
-			f.failTask(w, f.lease(w), pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED, reason)
+			f.failTask(w, f.lease(w), pb.FailureKind_FAILURE_KIND_TRANSIENT, reason)
 		}
 	}
 	block(w1, "out of memory")
@@ -80,7 +80,7 @@ func TestJobFailsWhenEveryLiveWorkerIsBlocked(t *testing.T) {
 	block(w2, "out of disk")
 	got := f.job(job.Id)
 	want := "every worker (2) is blocked from this job; last: 3 failed tasks: out of disk"
-	if got.State != pb.JobState_JOB_STATE_FAILED || got.Error != want || got.FailureKind != pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED {
+	if got.State != pb.JobState_JOB_STATE_FAILED || got.Error != want || got.FailureKind != pb.FailureKind_FAILURE_KIND_TRANSIENT {
 		t.Errorf("job = %v (%q), want FAILED with %q: the lost worker %s does not count", got.State, got.Error, want, lost)
 	}
 }
@@ -98,5 +98,32 @@ func TestBlockedJobWaitsWhileAnotherLiveWorkerMayRunIt(t *testing.T) {
 	}
 	if !strings.Contains(got.BlockedWorkers[0].Reason, "flaky GPU") {
 		t.Errorf("block reason %q", got.BlockedWorkers[0].Reason)
+	}
+}
+
+// A job every live worker is blocked from fails even when the last worker that could run
+// it is lost after the last block (the check at the block saw it alive).
+func TestJobFailsWhenTheLastUnblockedWorkerIsLostAfterTheBlock(t *testing.T) {
+	f := newFarm(t)
+	job := f.submit(scenetest.Unlit(192, 32))
+	w1, other := f.register(), f.register()
+	for range 3 {
+		f.failTask(w1, f.lease(w1), pb.FailureKind_FAILURE_KIND_TRANSIENT, "flaky GPU")
+	}
+	if err := f.svc.FailBlockedJobs(f.ctx); err != nil {
+		t.Fatal(err)
+	}
+	if got := f.job(job.Id); got.State != pb.JobState_JOB_STATE_RUNNING {
+		t.Fatalf("job = %v while %s may still run it, want it running", got.State, other)
+	}
+	f.clock.Advance(leaseDuration + time.Second) // other is lost; w1 is still heard from
+	f.heartbeat(w1)
+	if err := f.svc.FailBlockedJobs(f.ctx); err != nil {
+		t.Fatal(err)
+	}
+	got := f.job(job.Id)
+	want := "every worker (1) is blocked from this job; last: 3 failed tasks: flaky GPU"
+	if got.State != pb.JobState_JOB_STATE_FAILED || got.Error != want {
+		t.Errorf("job = %v (%q), want FAILED with %q once %s was lost", got.State, got.Error, want, other)
 	}
 }

@@ -30,24 +30,31 @@ func (s *Service) checkFiles(ctx context.Context, sc *pb.Scene) error {
 		bad, seen := refused[k]
 		if !seen {
 			var err error
-			if bad, err = s.checkFile(ctx, f, sc); err != nil {
+			if bad, err = s.checkFile(ctx, f, sc); errs.Is(err, errs.DataLoss) {
+				return errs.Field(f.Field+".digest", "%s: %v; upload the file again", fileName(f), err)
+			} else if err != nil {
 				return err
 			}
 			refused[k] = bad
 		}
 		if bad != nil {
-			name := f.Path
-			if name == "" {
-				name = f.Digest
-			}
-			return errs.Field(f.Field, "%s: %v", name, bad)
+			return errs.Field(f.Field, "%s: %v", fileName(f), bad)
 		}
 	}
 	return nil
 }
 
+// fileName is f as the scene names it: its path, else its digest.
+func fileName(f scene.File) string {
+	if f.Path != "" {
+		return f.Path
+	}
+	return f.Digest
+}
+
 // checkFile checks the blob of f: nil if it passes or is not in the blob store, its
-// assets.Refusal if it breaks the rules, or the error of reading it.
+// assets.Refusal if it breaks the rules, or the error of reading it (errs.DataLoss if the
+// stored blob is damaged).
 func (s *Service) checkFile(ctx context.Context, f scene.File, sc *pb.Scene) (assets.Refusal, error) {
 	// A reference image is checked against the film's size, so it is not remembered alone.
 	remember := f.Kind != scene.ReferenceFile
@@ -68,6 +75,8 @@ func (s *Service) checkFile(ctx context.Context, f scene.File, sc *pb.Scene) (as
 		return bad, nil
 	case ctx.Err() != nil:
 		return nil, ctx.Err()
+	case errs.Is(err, errs.DataLoss):
+		return nil, err
 	case err != nil:
 		return nil, errs.Wrap(errs.Internal, err, "check "+f.Field+" "+f.Digest)
 	}

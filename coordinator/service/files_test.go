@@ -95,3 +95,20 @@ func TestSubmitRefusesBadTexturesMeshPartsAndReferences(t *testing.T) {
 		}
 	}
 }
+
+func TestSubmitRefusesADamagedMeshBlobUntilItIsUploadedAgain(t *testing.T) {
+	f := newFarm(t)
+	obj := []byte("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+	mesh := f.upload(obj)
+	f.truncate(mesh.Digest)
+	sc := withMesh(scenetest.Unlit(16, 16), &pb.MeshFile{Path: "tri.obj", Digest: mesh.Digest})
+	_, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: sc})
+	wantCode(t, "SubmitJob with a damaged mesh blob", err, codes.InvalidArgument, "shapes[3].mesh.digest")
+	if msg := status.Convert(err).Message(); !strings.Contains(msg, "tri.obj: blob "+mesh.Digest+" is damaged") || !strings.HasSuffix(msg, "upload the file again") {
+		t.Errorf("message %q, want it to name the file, the damaged blob and the remedy", msg)
+	}
+	f.upload(obj)
+	if _, err := f.jobs.SubmitJob(f.ctx, &pb.SubmitJobRequest{Scene: sc}); err != nil {
+		t.Errorf("SubmitJob after uploading the mesh again: %v", err)
+	}
+}

@@ -9,9 +9,11 @@ import (
 
 	"google.golang.org/genproto/googleapis/rpc/errdetails"
 	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/blobstore"
@@ -69,7 +71,7 @@ func (ff *fuzzFarm) checkRefusal(t *testing.T, method string, err error) {
 		if field == "" || !strings.HasPrefix(st.Message(), field+": ") || len(st.Message()) == len(field)+2 {
 			t.Fatalf("%s: INVALID_ARGUMENT %q does not name its field (detail %q) and what is wrong", method, st.Message(), field)
 		}
-	case codes.NotFound, codes.FailedPrecondition, codes.ResourceExhausted:
+	case codes.NotFound, codes.FailedPrecondition, codes.ResourceExhausted, codes.PermissionDenied:
 		if st.Message() == "" {
 			t.Fatalf("%s: %v without a message", method, st.Code())
 		}
@@ -133,9 +135,9 @@ func FuzzSubmitJobRequest(f *testing.F) {
 }
 
 // FuzzCompleteTaskRequest reports completions against a job whose first task is leased
-// by worker "w-fuzz" at epoch 1: "$TASK" in the request's task id stands for that task's
-// id (job ids are random), so that mutations of the outputs and metrics reach the
-// handling behind the lease check.
+// by a worker at epoch 1, with that worker's secret: "$WORKER" in the request's worker id
+// stands for its id and "$TASK" in the task id for that task's id (both are random), so
+// that mutations of the outputs and metrics reach the handling behind the lease check.
 func FuzzCompleteTaskRequest(f *testing.F) {
 	blobs := fuzzBlobs(f)
 	const tileBytes = "a tile"
@@ -146,12 +148,12 @@ func FuzzCompleteTaskRequest(f *testing.F) {
 	out := &pb.Artifact{Name: "tile.exr", Digest: tile.Digest, SizeBytes: tile.Size}
 	estimate := 0.5
 	for _, req := range []*pb.CompleteTaskRequest{
-		{WorkerId: "w-fuzz", TaskId: "$TASK", Epoch: 1, Outputs: []*pb.Artifact{out}},
-		{WorkerId: "w-fuzz", TaskId: "$TASK", Epoch: 1, Outputs: []*pb.Artifact{out},
+		{WorkerId: "$WORKER", TaskId: "$TASK", Epoch: 1, Outputs: []*pb.Artifact{out}},
+		{WorkerId: "$WORKER", TaskId: "$TASK", Epoch: 1, Outputs: []*pb.Artifact{out},
 			Metrics: &pb.RoundMetrics{ErrorEstimate: &estimate, LayerReferenceRmse: map[string]float64{"direct": 0.1}}},
-		{WorkerId: "w-fuzz", TaskId: "$TASK", Epoch: 2, Outputs: []*pb.Artifact{out}},
+		{WorkerId: "$WORKER", TaskId: "$TASK", Epoch: 2, Outputs: []*pb.Artifact{out}},
 		{WorkerId: "w-other", TaskId: "$TASK", Epoch: 1},
-		{WorkerId: "w-fuzz", TaskId: "$TASK", Epoch: 1, Outputs: []*pb.Artifact{{Name: "tile.exr", Digest: tile.Digest, SizeBytes: 99}}},
+		{WorkerId: "$WORKER", TaskId: "$TASK", Epoch: 1, Outputs: []*pb.Artifact{{Name: "tile.exr", Digest: tile.Digest, SizeBytes: 99}}},
 		{WorkerId: "w-fuzz", TaskId: "j-none.0", Epoch: 1},
 		{},
 	} {
@@ -171,9 +173,12 @@ func FuzzCompleteTaskRequest(f *testing.F) {
 		if err != nil {
 			t.Fatal(err)
 		}
-		if l, err := ff.s.cfg.Store.LeaseTask(ctx, "w-fuzz", store.WorkerPhases); err != nil || l == nil {
+		secret, worker := newWorkerSecret()
+		if l, err := ff.s.cfg.Store.LeaseTask(ctx, worker, store.WorkerPhases); err != nil || l == nil {
 			t.Fatalf("lease: %v, %v", l, err)
 		}
+		ctx = metadata.NewIncomingContext(ctx, metadata.Pairs(rules.WorkerSecretMetadata, secret))
+		req.WorkerId = strings.ReplaceAll(req.GetWorkerId(), "$WORKER", worker)
 		req.TaskId = strings.ReplaceAll(req.GetTaskId(), "$TASK", store.TaskID(job.GetId(), 0))
 		_, err = ff.worker.CompleteTask(ctx, req)
 		ff.checkRefusal(t, "CompleteTask", err)

@@ -19,6 +19,7 @@ import (
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/types/known/durationpb"
 
+	"photonfarm/client"
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/clock"
@@ -45,6 +46,12 @@ type farm struct {
 
 func newFarm(t *testing.T) *farm {
 	t.Helper()
+	return newFarmOn(t, func(opts store.Options) store.Store { return memstore.New(opts) })
+}
+
+// newFarmOn is newFarm on the store newStore makes.
+func newFarmOn(t *testing.T, newStore func(store.Options) store.Store) *farm {
+	t.Helper()
 	clk := clock.NewFake(time.Date(2030, 1, 1, 0, 0, 0, 0, time.UTC))
 	dir := t.TempDir()
 	bs, err := blobstore.New(dir, 0)
@@ -52,7 +59,7 @@ func newFarm(t *testing.T) *farm {
 		t.Fatal(err)
 	}
 	svc := service.New(service.Config{
-		Store:         memstore.New(store.Options{Clock: clk, LeaseDuration: leaseDuration}),
+		Store:         newStore(store.Options{Clock: clk, LeaseDuration: leaseDuration}),
 		Blobs:         bs,
 		Events:        events.NewBroker(0),
 		Clock:         clk,
@@ -65,7 +72,7 @@ func newFarm(t *testing.T) *farm {
 	}
 	go srv.Serve(lis)
 	conn, err := grpc.NewClient(lis.Addr().String(),
-		grpc.WithTransportCredentials(insecure.NewCredentials()),
+		grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets(),
 		grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(int(rules.RPC.GetMaxMessageBytes()))))
 	if err != nil {
 		t.Fatal(err)

@@ -121,10 +121,12 @@ func (j *jobServer) SubmitJob(ctx context.Context, req *pb.SubmitJobRequest) (*p
 	return &pb.SubmitJobResponse{Job: job}, nil
 }
 
-// checkInputBlobs checks that the blobs a scene names (scene.Files) exist.
+// checkInputBlobs checks that the blobs a scene names (scene.Files: mesh files and parts,
+// textures, the reference image) exist, touching each (blobstore.Touch) so that the
+// collector of unreferenced blobs, which may not see the job yet, keeps them.
 func (s *Service) checkInputBlobs(ctx context.Context, sc *pb.Scene) error {
 	for _, f := range scene.Files(sc) {
-		if _, err := s.cfg.Blobs.Stat(ctx, f.Digest); err != nil {
+		if _, err := s.cfg.Blobs.Touch(ctx, f.Digest); err != nil {
 			if errs.Is(err, errs.NotFound) {
 				return errs.Field(f.Field+".digest", "no blob %s in the blob store; upload the file first", f.Digest)
 			}

@@ -3,13 +3,13 @@ package service
 import (
 	"context"
 	"fmt"
-	"io"
 	"math"
 
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/scene"
 	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/planner"
@@ -21,126 +21,135 @@ import (
 // leased, and what happens when a round's composite completes.
 
 // fillComposite gives a composite its round's tiles, the previous round's accumulation,
-// the scene's reference image and the time the job has taken so far.
+// the scene's reference image and the time the job has taken so far. The previous round's
+// composite is the task just before this round's first, which is as many tasks before this
+// one as the round has of the other phases.
 func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.CompositeSpec) error {
-	task := l.Task
-	round := max(task.GetRound(), 1)
-	job, err := s.cfg.Store.GetJob(ctx, task.GetJobId())
-	if err != nil {
-		return err
-	}
-	spec.ElapsedSeconds = s.cfg.Clock.Now().Sub(job.GetCreateTime().AsTime()).Seconds()
-	tiles, err := s.tiles(ctx, task.GetJobId(), round)
+	spec.ElapsedSeconds = s.cfg.Clock.Now().Sub(l.Change.Job.GetCreateTime().AsTime()).Seconds()
+	tiles, err := s.tiles(ctx, l)
 	if err != nil {
 		return err
 	}
 	spec.Tiles = tiles
-	if round > 1 {
-		err := s.roundOutputs(ctx, task.GetJobId(), round-1, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR, func(_ *pb.Task, a *pb.Artifact) {
-			spec.PreviousAccumulation = a
-		})
+	if max(l.Task.GetRound(), 1) > 1 {
+		var before uint32
+		for _, ph := range l.Change.Job.GetPhases() {
+			if ph.GetPhase() != pb.Phase_PHASE_COMPOSITE {
+				before += ph.GetTasksTotal()
+			}
+		}
+		if before >= l.StageStart {
+			return errs.E(errs.Internal, "task %s of round %d has no round before it", l.Task.GetId(), l.Task.GetRound())
+		}
+		prev, err := s.outputOf(ctx, l.Task.GetJobId(), l.StageStart-before-1, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
 		if err != nil {
 			return err
 		}
+		spec.PreviousAccumulation = prev
 	}
 	sc, err := s.scene(ctx, l.SceneDigest)
 	if err != nil {
-		return err
+		return blobstore.Lost("the scene", l.SceneDigest, err)
 	}
 	if d := scene.ReferenceDigest(sc); d != "" {
 		info, err := s.cfg.Blobs.Stat(ctx, d)
 		if err != nil {
-			return errs.Wrap(errs.Internal, err, fmt.Sprintf("reference image %s", d))
+			return blobstore.Lost("the reference image", d, err)
 		}
 		spec.Reference = &pb.Artifact{Name: "reference.exr", Digest: d, SizeBytes: info.Size}
 	}
 	return nil
 }
 
-// fillPrecompute gives precompute task i of the round's K its share of the global map's n
-// stored photons, [n·i/K, n·(i+1)/K), and the round's built snapshot. n is read from the
-// snapshot's header (docs/photon-snapshot.md).
-func (s *Service) fillPrecompute(ctx context.Context, task *pb.Task, spec *pb.PrecomputeIrradianceSpec) error {
-	round := max(task.GetRound(), 1)
-	i, k := -1, 0
-	err := s.roundTasks(ctx, task.GetJobId(), round, func(t *pb.Task) error {
-		if t.GetPrecomputeIrradiance() != nil {
-			if t.GetIndex() == task.GetIndex() {
-				i = k
-			}
-			k++
-		}
-		return nil
-	})
-	if err != nil {
-		return err
+// fillPrecompute gives precompute task i of the round's K (its place in its stage) its
+// share of the global map's n stored photons, [n·i/K, n·(i+1)/K), and the round's built
+// snapshot, the output of the build just before the stage. n is read from the snapshot's
+// header (docs/photon-snapshot.md).
+func (s *Service) fillPrecompute(ctx context.Context, l *store.Leased, spec *pb.PrecomputeIrradianceSpec) error {
+	i, k := uint64(l.Task.GetIndex()-l.StageStart), uint64(l.StageEnd-l.StageStart)
+	if l.StageStart == 0 {
+		return errs.E(errs.Internal, "precompute task %s has no build before it", l.Task.GetId())
 	}
-	if i < 0 {
-		return errs.E(errs.Internal, "task %s is not among its round's precompute tasks", task.GetId())
-	}
-	snap, err := s.builtSnapshot(ctx, task.GetJobId(), round)
+	snap, err := s.outputOf(ctx, l.Task.GetJobId(), l.StageStart-1, pb.Phase_PHASE_BUILD, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT)
 	if err != nil {
 		return err
 	}
 	n, err := s.globalPhotons(ctx, snap)
 	if err != nil {
-		return err
+		return blobstore.Lost(fmt.Sprintf("the photon snapshot of round %d", max(l.Task.GetRound(), 1)), snap.GetDigest(), err)
 	}
-	first := n * uint64(i) / uint64(k)
+	first := n * i / k
 	spec.FirstPhoton = first
-	spec.PhotonCount = n*uint64(i+1)/uint64(k) - first
+	spec.PhotonCount = n*(i+1)/k - first
 	spec.PhotonSnapshot = snap
 	return nil
 }
 
-// fillMerge gives the merge the round's built snapshot and irradiance shards in plan order.
-func (s *Service) fillMerge(ctx context.Context, task *pb.Task, spec *pb.MergeIrradianceSpec) error {
-	round := max(task.GetRound(), 1)
-	snap, err := s.builtSnapshot(ctx, task.GetJobId(), round)
+// fillMerge gives the merge the round's built snapshot and irradiance shards in plan order:
+// the precompute stage before it, and the build before that.
+func (s *Service) fillMerge(ctx context.Context, l *store.Leased, spec *pb.MergeIrradianceSpec) error {
+	from, _, err := stageBefore(l, pb.Phase_PHASE_PRECOMPUTE)
 	if err != nil {
 		return err
 	}
-	spec.PhotonSnapshot = snap
-	spec.IrradianceShards = nil
-	return s.roundOutputs(ctx, task.GetJobId(), round, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) {
-		spec.IrradianceShards = append(spec.IrradianceShards, a)
+	if from == 0 {
+		return errs.E(errs.Internal, "merge task %s has no build before it", l.Task.GetId())
+	}
+	if spec.PhotonSnapshot, err = s.outputOf(ctx, l.Task.GetJobId(), from-1, pb.Phase_PHASE_BUILD, pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT); err != nil {
+		return err
+	}
+	spec.IrradianceShards, err = stageOutputs(ctx, s, l, pb.Phase_PHASE_PRECOMPUTE, pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(_ *pb.Task, a *pb.Artifact) *pb.Artifact {
+		return a
 	})
+	return err
 }
 
 // globalPhotons reads the stored photon count of a snapshot's global map from its header
-// and directory (0 if it has none).
+// and directory (0 if it has none). The snapshot is verified whole first, once: the
+// ranges of every precompute task of the round follow from this count, and the answer is
+// remembered by digest (a blob never changes).
 func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64, error) {
-	r, info, err := s.cfg.Blobs.Open(ctx, snap.GetDigest())
+	d := snap.GetDigest()
+	if n, ok := s.photonCounts.get(d); ok {
+		return n, nil
+	}
+	if _, err := s.verifiedBlob(ctx, d); err != nil {
+		return 0, err
+	}
+	r, info, err := s.cfg.Blobs.Open(ctx, d)
 	if err != nil {
 		return 0, err
 	}
 	defer r.Close()
 	maps, err := photonmap.ReadMaps(r, info.Size)
 	if err != nil {
-		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", snap.GetDigest()))
+		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", d))
 	}
+	var n uint64
 	for _, m := range maps {
 		if m.Kind == photonmap.Global {
-			return m.Photons, nil
+			n = m.Photons
 		}
 	}
-	return 0, nil
+	s.photonCounts.put(d, n)
+	return n, nil
 }
 
 // scene returns the stored scene with this digest (defaults filled in at submit),
-// remembered by digest: a stored scene never changes.
+// remembered by digest: a stored scene never changes. A missing or damaged blob is the
+// blob store's error (errs.NotFound, errs.DataLoss).
 func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	if sc, ok := s.scenes.get(digest); ok {
 		return sc, nil
 	}
 	r, info, err := s.cfg.Blobs.Open(ctx, digest)
 	if err != nil {
-		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("scene %s", digest))
+		return nil, err
 	}
 	defer r.Close()
-	data := make([]byte, info.Size)
-	if _, err := io.ReadFull(r, data); err != nil {
-		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("read scene %s", digest))
+	data, err := blobstore.ReadAll(r, info.Size)
+	if err != nil {
+		return nil, err
 	}
 	sc := &pb.Scene{}
 	if err := proto.Unmarshal(data, sc); err != nil {
@@ -189,7 +198,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 	}
 	sc, err := s.scene(ctx, job.GetSceneDigest())
 	if err != nil {
-		return store.RoundEnd{}, "", err
+		return store.RoundEnd{}, "", blobstore.Lost("the scene", job.GetSceneDigest(), err)
 	}
 	round := max(task.GetRound(), 1)
 	report := &pb.RoundReport{

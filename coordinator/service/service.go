@@ -15,6 +15,7 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
+	"google.golang.org/grpc/keepalive"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
 	"photonfarm/contract/rules"
@@ -29,7 +30,10 @@ import (
 // Blobs is what the service needs of a blob store.
 type Blobs interface {
 	Stat(ctx context.Context, digest string) (blobstore.Info, error)
+	// Touch is Stat that also marks the blob in use now (blobstore's collection protocol).
+	Touch(ctx context.Context, digest string) (blobstore.Info, error)
 	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
+	Verify(ctx context.Context, digest string) (blobstore.Info, error)
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 	Create(size int64, digest string) (*blobstore.Writer, error)
 }
@@ -70,8 +74,11 @@ type Service struct {
 	queued    notifier
 	retries   retries
 	workers   registry
+	blocked   blockedJobs
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
+	// photonCounts holds the global photons of verified snapshots, by digest.
+	photonCounts *cache[uint64]
 	// checked remembers the blobs that passed as a kind of file (checkedKey).
 	checked *cache[struct{}]
 	done    chan struct{}
@@ -93,23 +100,48 @@ func New(cfg Config) *Service {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
 	return &Service{
-		cfg:       cfg,
-		log:       cfg.Logger,
-		queued:    newNotifier(),
-		workers:   registry{m: make(map[string]*worker)},
-		snapshots: newCache[*pb.Artifact](1024),
-		scenes:    newCache[*pb.Scene](64),
-		checked:   newCache[struct{}](4096),
-		done:      make(chan struct{}),
+		cfg:          cfg,
+		log:          cfg.Logger,
+		queued:       newNotifier(),
+		workers:      newRegistry(),
+		blocked:      blockedJobs{ids: make(map[string]bool)},
+		snapshots:    newCache[*pb.Artifact](1024),
+		scenes:       newCache[*pb.Scene](64),
+		photonCounts: newCache[uint64](1024),
+		checked:      newCache[struct{}](4096),
+		done:         make(chan struct{}),
 	}
 }
 
+// Connection limits of NewGRPCServer's server (docs/limits.md).
+const (
+	// MaxStreamsPerConnection bounds the calls in flight on one connection (HTTP/2
+	// SETTINGS_MAX_CONCURRENT_STREAMS); a client's further calls wait for one to end.
+	// The dashboard multiplexes every browser over one connection: its event streams
+	// (dashboard.DefaultMaxStreams) must fit with room for its other calls.
+	MaxStreamsPerConnection = 256
+	// HandshakeTimeout bounds a new connection's TLS handshake and HTTP/2 preface.
+	HandshakeTimeout = 10 * time.Second
+	// MaxConnectionIdle closes a connection without a call for this long (its client
+	// reconnects at its next call), so that idle connections do not pile up.
+	MaxConnectionIdle = 5 * time.Minute
+	// MaxHeaderBytes bounds a call's headers (HTTP/2 SETTINGS_MAX_HEADER_LIST_SIZE),
+	// which gRPC reads before the token check: a token is at most 4096 bytes, and the
+	// farm's other metadata is small. (gRPC's default is 16 MiB.)
+	MaxHeaderBytes = 16 << 10
+)
+
 // NewGRPCServer returns a gRPC server with the three services registered, the error
-// mapping interceptors installed and message limits set; opts are appended.
+// mapping interceptors installed and message and connection limits set; opts are
+// appended.
 func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	base := []grpc.ServerOption{
 		grpc.MaxRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())),
 		grpc.MaxSendMsgSize(int(rules.RPC.GetMaxMessageBytes())),
+		grpc.MaxConcurrentStreams(MaxStreamsPerConnection),
+		grpc.MaxHeaderListSize(MaxHeaderBytes),
+		grpc.ConnectionTimeout(HandshakeTimeout),
+		grpc.KeepaliveParams(keepalive.ServerParameters{MaxConnectionIdle: MaxConnectionIdle}),
 		grpc.ChainUnaryInterceptor(s.unaryErrors),
 		grpc.ChainStreamInterceptor(s.streamErrors),
 	}
@@ -142,6 +174,7 @@ func (s *Service) publish(c store.Change) {
 	if c.Job == nil {
 		return
 	}
+	s.blocked.track(c.Job)
 	now := timestamppb.New(s.cfg.Clock.Now())
 	if c.Task != nil {
 		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_TASK_UPDATED, Time: now, Job: c.Job, Task: c.Task})

@@ -4,6 +4,7 @@ import (
 	"context"
 	"errors"
 	"strings"
+	"syscall"
 
 	"google.golang.org/genproto/googleapis/rpc/errdetails"
 	"google.golang.org/grpc"
@@ -23,6 +24,8 @@ var codeOf = map[errs.Kind]codes.Code{
 	errs.FailedPrecondition: codes.FailedPrecondition,
 	errs.ResourceExhausted:  codes.ResourceExhausted,
 	errs.Unavailable:        codes.Unavailable,
+	errs.PermissionDenied:   codes.PermissionDenied,
+	errs.DataLoss:           codes.DataLoss,
 }
 
 // toStatus converts a handler's error to a gRPC status error. A field error carries an
@@ -52,7 +55,9 @@ func (s *Service) toStatus(method string, err error) error {
 		code = codes.DeadlineExceeded
 	}
 	if code == codes.Internal {
-		s.log.Error("internal error", "method", method, "err", err)
+		code, msg = storageStatus(err, msg)
+		// Either is for the operator: a bug, or a data folder to fix.
+		s.log.Error("internal error", "method", method, "code", code.String(), "err", err)
 	}
 	st := status.New(code, msg)
 	if field != "" {
@@ -63,6 +68,21 @@ func (s *Service) toStatus(method string, err error) error {
 		}
 	}
 	return st.Err()
+}
+
+// storageStatus says what a failure of the coordinator's own files (the data folder:
+// blobs) means to the caller, instead of INTERNAL, which would blame a bug: a full disk
+// (or quota) is RESOURCE_EXHAUSTED, a read-only or unwritable data folder UNAVAILABLE
+// (the call may succeed once an operator has made room or fixed the folder; nothing was
+// stored). The message keeps the failed operation and path. Other errors stay INTERNAL.
+func storageStatus(err error, msg string) (codes.Code, string) {
+	switch {
+	case errors.Is(err, syscall.ENOSPC) || errors.Is(err, syscall.EDQUOT):
+		return codes.ResourceExhausted, "the coordinator's disk is full: " + msg
+	case errors.Is(err, syscall.EROFS) || errors.Is(err, syscall.EACCES) || errors.Is(err, syscall.EPERM):
+		return codes.Unavailable, "the coordinator cannot write its data folder: " + msg
+	}
+	return codes.Internal, msg
 }
 
 func (s *Service) unaryErrors(ctx context.Context, req any, info *grpc.UnaryServerInfo, h grpc.UnaryHandler) (any, error) {

@@ -2,12 +2,14 @@ package service
 
 import (
 	"context"
+	"errors"
 	"fmt"
 	"slices"
 	"time"
 
 	"photonfarm/contract/rules"
 	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -35,7 +37,11 @@ func (s *Service) Lease(ctx context.Context, workerID string, phases []pb.Phase,
 			return nil, err
 		}
 		if l != nil {
-			return s.granted(ctx, workerID, l)
+			resp, err := s.granted(ctx, workerID, l)
+			if resp != nil || err != nil {
+				return resp, err
+			}
+			continue // the task's input was lost and its job failed: lease another
 		}
 		if wait == 0 {
 			return &pb.LeaseTaskResponse{}, nil
@@ -67,12 +73,22 @@ func (s *Service) retryTimer() (<-chan time.Time, func() bool) {
 	return t.C, t.Stop
 }
 
-// granted completes a lease by filling in what the task needs from earlier phases. If that
-// fails, the lease is handed back rather than left to expire.
+// granted completes a lease by filling in what the task needs from earlier phases and
+// checking that the blobs it reads are there. If one is lost (missing or damaged), the task
+// and its job fail (failLostInput) and granted returns neither a lease nor an error; if
+// anything else fails, the lease is handed back rather than left to expire.
 func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased) (*pb.LeaseTaskResponse, error) {
 	s.publish(l.Change)
-	if err := s.fillSpec(ctx, l); err != nil {
-		if c, rerr := s.cfg.Store.ReleaseTask(ctx, store.LeaseRef{WorkerID: workerID, TaskID: l.Lease.GetTaskId(), Epoch: l.Lease.GetEpoch()}); rerr == nil {
+	err := s.fillSpec(ctx, l)
+	if err == nil {
+		err = s.checkInputs(ctx, l)
+	}
+	if err != nil {
+		ref := store.LeaseRef{WorkerID: workerID, TaskID: l.Lease.GetTaskId(), Epoch: l.Lease.GetEpoch()}
+		if li := (*blobstore.LostError)(nil); errors.As(err, &li) {
+			return nil, s.failLostInput(ctx, ref, li)
+		}
+		if c, rerr := s.cfg.Store.ReleaseTask(ctx, ref); rerr == nil {
 			s.publish(c)
 		}
 		return nil, err
@@ -107,7 +123,8 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 }
 
 // Complete records a task's success with its outputs, which must name blobs in the blob
-// store with their true sizes.
+// store with their true sizes. Each is touched (blobstore.Touch) before it is recorded,
+// so that the collector of unreferenced blobs keeps it.
 func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact) error {
 	return s.CompleteWithMetrics(ctx, ref, outputs, nil)
 }
@@ -133,7 +150,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		if !rules.ValidDigest(a.GetDigest()) {
 			return errs.Field(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", a.GetDigest())
 		}
-		info, err := s.cfg.Blobs.Stat(ctx, a.GetDigest())
+		info, err := s.cfg.Blobs.Touch(ctx, a.GetDigest())
 		if errs.Is(err, errs.NotFound) {
 			return errs.Field(p+".digest", "no blob %s; upload it before completing the task", a.GetDigest())
 		}
@@ -151,6 +168,12 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 	var c store.Change
 	if task.GetComposite() != nil {
 		end, why, err := s.roundEnd(ctx, task, outputs, metrics)
+		if li := (*blobstore.LostError)(nil); errors.As(err, &li) {
+			if err := s.failLostInput(ctx, ref, li); err != nil {
+				return err
+			}
+			return errs.E(errs.FailedPrecondition, "the job failed instead: %v", li)
+		}
 		if err != nil {
 			return err
 		}
@@ -216,7 +239,7 @@ func (s *Service) Release(ctx context.Context, ref store.LeaseRef) error {
 
 // failIfEveryWorkerBlocked fails c's job when the failure c records has blocked workerID
 // from it and every eligible worker is now blocked: the job would otherwise wait for
-// ever. Eligible are the workers this coordinator knows, registered and not lost, that
+// ever (FailBlockedJobs checks again later, for workers lost since). Eligible are the workers this coordinator knows, registered and not lost, that
 // lease the phase of c's task (every worker leases every worker phase, so all of them
 // for a worker phase; the builder's phases have no workers to run out of).
 func (s *Service) failIfEveryWorkerBlocked(ctx context.Context, c store.Change, workerID string) error {
@@ -229,14 +252,5 @@ func (s *Service) failIfEveryWorkerBlocked(ctx context.Context, c store.Change, 
 	if ph, ok := tasks.Phases.Of(c.Task.GetPhase()); !ok || ph.Executor != pb.Executor_EXECUTOR_WORKER {
 		return nil
 	}
-	live := s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration)
-	failed, err := s.cfg.Store.FailBlockedJob(ctx, job.GetId(), live)
-	if err != nil {
-		return err
-	}
-	if failed.Job != nil {
-		s.log.Warn("job failed: every worker is blocked", "job", job.GetId(), "workers", len(live), "error", failed.Job.GetError())
-		s.publish(failed)
-	}
-	return nil
+	return s.failBlockedJob(ctx, job.GetId(), s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration))
 }

@@ -2,17 +2,13 @@ package service
 
 import (
 	"context"
-	"crypto/rand"
-	"encoding/hex"
 	"fmt"
-	"slices"
-	"strings"
-	"sync"
 	"time"
 
+	"google.golang.org/grpc/metadata"
 	"google.golang.org/protobuf/types/known/durationpb"
-	"google.golang.org/protobuf/types/known/timestamppb"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -25,169 +21,27 @@ type workerServer struct {
 
 var _ pb.WorkerServiceServer = (*workerServer)(nil)
 
-// registry is the in-memory list of registered workers and what each is doing, for
-// ListWorkers. Leases themselves live in the store; the registry only mirrors what this
-// coordinator saw (grants, reports, revocations, expiries), so another replica's view of
-// a worker may differ.
-type registry struct {
-	mu sync.Mutex
-	m  map[string]*worker
-}
-
-type worker struct {
-	hostname string
-	cores    uint32
-	version  string
-	// registered is when it registered; lastSeen when it last heartbeat or polled.
-	registered, lastSeen time.Time
-	// current is the task it holds a lease on ("" if none): the latest lease granted.
-	current string
-	// done and failed count the tasks it completed and failed (lost leases included).
-	done, failed uint64
-}
-
-func (r *registry) add(w *worker) string {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	for {
-		var b [6]byte
-		_, _ = rand.Read(b[:])
-		id := "w-" + hex.EncodeToString(b[:])
-		if r.m[id] == nil {
-			r.m[id] = w
-			return id
-		}
-	}
-}
-
-// touch records that id was heard from; it fails for an unknown worker.
-func (r *registry) touch(id string, now time.Time) error {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	w := r.m[id]
-	if w == nil {
-		return &errs.Error{Kind: errs.NotFound, Field: "worker_id", Message: fmt.Sprintf("unknown worker %q; register again", id)}
-	}
-	w.lastSeen = now
-	return nil
-}
-
-// leased records that id was granted a lease on taskID. Unknown ids (the coordinator's
-// builder) are ignored, as in the methods below.
-func (r *registry) leased(id, taskID string) {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	if w := r.m[id]; w != nil {
-		w.current = taskID
-	}
-}
-
-// ended records that id's attempt at taskID ended, successfully (ok) or not.
-func (r *registry) ended(id, taskID string, ok bool) {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	w := r.m[id]
-	if w == nil {
-		return
-	}
-	if ok {
-		w.done++
-	} else {
-		w.failed++
-	}
-	if w.current == taskID {
-		w.current = ""
-	}
-}
-
-// dropped records that id no longer holds taskID (released, revoked), counting nothing.
-func (r *registry) dropped(id, taskID string) {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	if w := r.m[id]; w != nil && w.current == taskID {
-		w.current = ""
-	}
-}
-
-// expired records that the lease on taskID expired: its holder (the store no longer names
-// it) failed the task.
-func (r *registry) expired(taskID string) {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	for _, w := range r.m {
-		if w.current == taskID {
-			w.current = ""
-			w.failed++
-		}
-	}
-}
-
-// list returns every worker by registration time, oldest first; a worker not heard from
-// for longer than lost is LOST.
-func (r *registry) list(now time.Time, lost time.Duration) []*pb.WorkerInfo {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	out := make([]*pb.WorkerInfo, 0, len(r.m))
-	for id, w := range r.m {
-		state := pb.WorkerState_WORKER_STATE_IDLE
-		switch {
-		case now.Sub(w.lastSeen) > lost:
-			state = pb.WorkerState_WORKER_STATE_LOST
-		case w.current != "":
-			state = pb.WorkerState_WORKER_STATE_BUSY
-		}
-		out = append(out, &pb.WorkerInfo{
-			Id:            id,
-			Hostname:      w.hostname,
-			Cores:         w.cores,
-			Version:       w.version,
-			State:         state,
-			CurrentTaskId: w.current,
-			TasksDone:     w.done,
-			TasksFailed:   w.failed,
-			RegisterTime:  timestamppb.New(w.registered),
-			LastHeartbeat: timestamppb.New(w.lastSeen),
-		})
-	}
-	slices.SortFunc(out, func(a, b *pb.WorkerInfo) int {
-		if c := a.RegisterTime.AsTime().Compare(b.RegisterTime.AsTime()); c != 0 {
-			return c
-		}
-		return strings.Compare(a.Id, b.Id)
-	})
-	return out
-}
-
-// live returns the ids of the workers heard from within lost: registered and not LOST.
-func (r *registry) live(now time.Time, lost time.Duration) []string {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	var ids []string
-	for id, w := range r.m {
-		if now.Sub(w.lastSeen) <= lost {
-			ids = append(ids, id)
-		}
-	}
-	slices.Sort(ids)
-	return ids
-}
-
-// remove forgets a worker; NotFound if it was not registered.
-func (r *registry) remove(id string) error {
-	r.mu.Lock()
-	defer r.mu.Unlock()
-	if r.m[id] == nil {
-		return &errs.Error{Kind: errs.NotFound, Field: "worker_id", Message: fmt.Sprintf("unknown worker %q", id)}
-	}
-	delete(r.m, id)
-	return nil
-}
-
-// ListWorkers returns the registered workers, oldest first: LOST if not heard from for
-// longer than a lease lasts, else BUSY while holding a lease, else IDLE.
+// ListWorkers returns a page of the registered workers, oldest first: LOST if not heard
+// from for longer than a lease lasts, else BUSY while holding a lease, else IDLE.
 func (j *jobServer) ListWorkers(ctx context.Context, req *pb.ListWorkersRequest) (*pb.ListWorkersResponse, error) {
 	s := j.s
-	return &pb.ListWorkersResponse{Workers: s.workers.list(s.cfg.Clock.Now(), s.cfg.LeaseDuration)}, nil
+	n, err := pageSize("page_size", req.GetPageSize(), DefaultWorkersPage, MaxWorkersPage)
+	if err != nil {
+		return nil, err
+	}
+	workers, next, err := s.workers.list(s.cfg.Clock.Now(), s.cfg.LeaseDuration, n, req.GetPageToken())
+	if err != nil {
+		return nil, err
+	}
+	return &pb.ListWorkersResponse{Workers: workers, NextPageToken: next}, nil
+}
+
+// ForgetSilentWorkers forgets the workers not heard from for ForgetAfterLeases lease
+// durations. The coordinator calls it periodically.
+func (s *Service) ForgetSilentWorkers() {
+	if n := s.workers.forgetSilent(s.cfg.Clock.Now(), ForgetAfterLeases*s.cfg.LeaseDuration); n > 0 {
+		s.log.Info("forgot silent workers", "workers", n, "silent_for", ForgetAfterLeases*s.cfg.LeaseDuration)
+	}
 }
 
 func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWorkerRequest) (*pb.RegisterWorkerResponse, error) {
@@ -199,18 +53,43 @@ func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWork
 		return nil, errs.Field("version", "must be at most 255 bytes, got %d", len(req.GetVersion()))
 	}
 	now := s.cfg.Clock.Now()
-	id := s.workers.add(&worker{hostname: req.GetHostname(), cores: req.GetCores(), version: req.GetVersion(), registered: now, lastSeen: now})
+	secret, id := newWorkerSecret()
+	w := &worker{id: id, hostname: req.GetHostname(), cores: req.GetCores(), version: req.GetVersion(), registered: now, lastSeen: now}
+	if err := s.workers.add(w, now, s.cfg.LeaseDuration); err != nil {
+		return nil, err
+	}
 	s.log.Info("worker registered", "worker", id, "hostname", req.GetHostname(), "cores", req.GetCores(), "version", req.GetVersion())
 	return &pb.RegisterWorkerResponse{
 		WorkerId:          id,
+		WorkerSecret:      secret,
 		HeartbeatInterval: durationpb.New(s.cfg.HeartbeatInterval),
 		LeaseDuration:     durationpb.New(s.cfg.LeaseDuration),
 	}, nil
 }
 
+// checkWorker checks the worker_id of a call about a worker and that the call carries
+// that registration's secret (worker.proto): a worker token alone may not act for
+// another worker. The secret is not named in the answer.
+func checkWorker(ctx context.Context, id string) error {
+	if err := checkID("worker_id", id); err != nil {
+		return err
+	}
+	md, _ := metadata.FromIncomingContext(ctx)
+	secrets := md.Get(rules.WorkerSecretMetadata)
+	switch {
+	case len(secrets) == 0:
+		return &errs.Error{Kind: errs.PermissionDenied, Field: "worker_id",
+			Message: fmt.Sprintf("a call about worker %s must carry the metadata %q that its RegisterWorker answered", id, rules.WorkerSecretMetadata)}
+	case len(secrets) > 1 || !secretFits(id, secrets[0]):
+		return &errs.Error{Kind: errs.PermissionDenied, Field: "worker_id",
+			Message: fmt.Sprintf("the %q metadata is not worker %s's: a worker acts only for its own registration", rules.WorkerSecretMetadata, id)}
+	}
+	return nil
+}
+
 func (ws *workerServer) Heartbeat(ctx context.Context, req *pb.HeartbeatRequest) (*pb.HeartbeatResponse, error) {
 	s := ws.s
-	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
+	if err := checkWorker(ctx, req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	for i, l := range req.GetLeases() {
@@ -236,7 +115,7 @@ func (ws *workerServer) Heartbeat(ctx context.Context, req *pb.HeartbeatRequest)
 // caller gives up, or the coordinator shuts down.
 func (ws *workerServer) LeaseTask(ctx context.Context, req *pb.LeaseTaskRequest) (*pb.LeaseTaskResponse, error) {
 	s := ws.s
-	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
+	if err := checkWorker(ctx, req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	var wait time.Duration
@@ -262,10 +141,10 @@ type leaseReport interface {
 	GetEpoch() uint64
 }
 
-// onLease validates the lease fields of req and applies the report to the lease they
-// name; the response, empty, is Resp's.
-func onLease[Resp any](req leaseReport, apply func(store.LeaseRef) error) (*Resp, error) {
-	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
+// onLease validates the lease fields of req and the worker's secret in ctx, and applies
+// the report to the lease they name; the response, empty, is Resp's.
+func onLease[Resp any](ctx context.Context, req leaseReport, apply func(store.LeaseRef) error) (*Resp, error) {
+	if err := checkWorker(ctx, req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	if err := checkID("task_id", req.GetTaskId()); err != nil {
@@ -281,25 +160,25 @@ func onLease[Resp any](req leaseReport, apply func(store.LeaseRef) error) (*Resp
 }
 
 func (ws *workerServer) CompleteTask(ctx context.Context, req *pb.CompleteTaskRequest) (*pb.CompleteTaskResponse, error) {
-	return onLease[pb.CompleteTaskResponse](req, func(ref store.LeaseRef) error {
+	return onLease[pb.CompleteTaskResponse](ctx, req, func(ref store.LeaseRef) error {
 		return ws.s.CompleteWithMetrics(ctx, ref, req.GetOutputs(), req.GetMetrics())
 	})
 }
 
 func (ws *workerServer) FailTask(ctx context.Context, req *pb.FailTaskRequest) (*pb.FailTaskResponse, error) {
-	return onLease[pb.FailTaskResponse](req, func(ref store.LeaseRef) error {
+	return onLease[pb.FailTaskResponse](ctx, req, func(ref store.LeaseRef) error {
 		return ws.s.Fail(ctx, ref, store.Failure{Message: req.GetError(), Kind: req.GetKind()})
 	})
 }
 
 func (ws *workerServer) ReleaseTask(ctx context.Context, req *pb.ReleaseTaskRequest) (*pb.ReleaseTaskResponse, error) {
-	return onLease[pb.ReleaseTaskResponse](req, func(ref store.LeaseRef) error { return ws.s.Release(ctx, ref) })
+	return onLease[pb.ReleaseTaskResponse](ctx, req, func(ref store.LeaseRef) error { return ws.s.Release(ctx, ref) })
 }
 
 // UnregisterWorker forgets the worker and releases its leases. It is idempotent.
 func (ws *workerServer) UnregisterWorker(ctx context.Context, req *pb.UnregisterWorkerRequest) (*pb.UnregisterWorkerResponse, error) {
 	s := ws.s
-	if err := checkID("worker_id", req.GetWorkerId()); err != nil {
+	if err := checkWorker(ctx, req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	if err := s.workers.remove(req.GetWorkerId()); err != nil {

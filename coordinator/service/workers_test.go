@@ -180,10 +180,10 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 		field string
 	}{
 		{"heartbeat no id", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{}), codes.InvalidArgument, "worker_id"},
-		{"heartbeat unknown", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: "w-nope"}), codes.NotFound, "worker_id"},
+		{"heartbeat unknown", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: "w-nope"}), codes.PermissionDenied, "worker_id"},
 		{"heartbeat lease without task", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: w, Leases: []*pb.HeldLease{{Epoch: 1}}}), codes.InvalidArgument, "leases[0].task_id"},
 		{"lease no id", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{}), codes.InvalidArgument, "worker_id"},
-		{"lease unknown", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-nope"}), codes.NotFound, "worker_id"},
+		{"lease unknown", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-nope"}), codes.PermissionDenied, "worker_id"},
 		{"lease negative wait", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: w, WaitTimeout: wait(-time.Second)}), codes.InvalidArgument, "wait_timeout"},
 		{"complete no task", coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, Epoch: 1}), codes.InvalidArgument, "task_id"},
 		{"complete no epoch", coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0"}), codes.InvalidArgument, "epoch"},

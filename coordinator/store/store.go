@@ -19,6 +19,7 @@
 //   - FailBlockedJob fails a job that every worker the caller knows is blocked from;
 //   - ReleaseTask and ReleaseWorker requeue without counting a failure;
 //   - CancelJob drops queued tasks and revokes held leases;
+//   - PurgeJobs deletes ended jobs past their retention, a bounded step at a time;
 //   - SetJobPriority reorders a job; UnblockWorker takes workers off its blocklist.
 //
 // Scheduling: LeaseTask picks, among the jobs with a leasable task of the caller's
@@ -31,6 +32,8 @@
 //
 //	event                      counts toward   requeued                    blocklist
 //	FailTask, transient kind   MaxAttempts     after Backoff(failures)     counts
+//	FailTask, resource         MaxAttempts     after Backoff(failures)     does not count
+//	  exhausted
 //	FailTask, permanent kind   (fails the job at once: retrying cannot help) does not count
 //	stuck (no progress for     MaxAttempts     after Backoff(failures)     counts
 //	  StuckTimeout)
@@ -41,7 +44,9 @@
 // A failure's kind (FailTaskRequest.kind) is permanent or not as its failure_info in the
 // contract says (contract/tasks.FailureOf): bad input and unsupported are, so the job
 // fails with Job.error "task T failed: E" and Job.failure_kind set, and no worker is
-// blamed; any other kind, an unset one included, is transient. Task.failure_kind is the
+// blamed; any other kind, an unset one included, is transient, and counts toward the
+// blocklist if its failure_info says it blames the worker (Failure.BlamesWorker: not
+// resource exhaustion, which a healthy worker with a full disk reports). Task.failure_kind is the
 // kind of the task's last failure (TRANSIENT for stuck and expired leases), and a job that
 // fails at a limit takes its last failure's kind.
 //
@@ -75,6 +80,8 @@ import (
 	"strconv"
 	"strings"
 	"time"
+
+	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/clock"
@@ -110,13 +117,16 @@ type Store interface {
 	ExpireLeases(ctx context.Context) ([]Change, error)
 
 	// CompleteTask records a task's success. Repeating an accepted report (same worker,
-	// same epoch) succeeds and changes nothing (an empty Change).
+	// same epoch, same outputs) succeeds and changes nothing (an empty Change); a repeat
+	// with other outputs is refused (ConflictingReport).
 	CompleteTask(ctx context.Context, ref LeaseRef, outputs []*pb.Artifact) (Change, error)
 	// CompleteRound is CompleteTask for the composite task of a progressive round, which
 	// must be the round's last task: it records the outputs, appends end.Report to the
 	// job's rounds, and then either appends end.Next (renumbered after the job's last task,
 	// its first phase queued) or, if end.Next is empty, marks the job SUCCEEDED with
-	// end.Final as its outputs. Repeating an accepted report succeeds and changes nothing.
+	// end.Final as its outputs. Repeating an accepted report succeeds and changes nothing
+	// if its outputs and its report's metrics (SameMetrics) are those accepted, and is
+	// refused otherwise (ConflictingReport).
 	CompleteRound(ctx context.Context, ref LeaseRef, end RoundEnd) (Change, error)
 	// GetTask returns a task; errs.NotFound if it does not exist.
 	GetTask(ctx context.Context, taskID string) (*pb.Task, error)
@@ -143,10 +153,24 @@ type Store interface {
 	// returns errs.NotFound for an unknown job and errs.FailedPrecondition for an ended
 	// one.
 	SetJobPriority(ctx context.Context, jobID string, priority int32) (Change, error)
+	// PurgeJobs deletes, in one bounded step, the jobs that ended before endedBefore and
+	// those whose creation was abandoned midway (not finished, and not grown since
+	// abandonedBefore: a coordinator died making it), with their tasks, round reports and
+	// request ids. A job being deleted is gone for every read at once. A step deletes about
+	// budget task records at most, so that a large job takes several; Purge.More says to
+	// call again.
+	PurgeJobs(ctx context.Context, endedBefore, abandonedBefore time.Time, budget int) (Purge, error)
+
 	// UnblockWorker takes workerID (every worker if empty) off the job's blocklist and
 	// resets its failure count; unblocking a worker that is not blocked changes nothing.
 	// It returns errs.NotFound for an unknown job.
 	UnblockWorker(ctx context.Context, jobID, workerID string) (Change, error)
+}
+
+// Purge is what a PurgeJobs step did.
+type Purge struct {
+	Deleted []string // the jobs deleted
+	More    bool     // there is more to delete: call again
 }
 
 // Heartbeat is what ExtendLeases did.
@@ -216,6 +240,11 @@ type Failure struct {
 // unset or unknown kind is transient.
 func (f Failure) Permanent() bool { return tasks.FailureOf(f.Kind).Permanent }
 
+// BlamesWorker reports whether the failed attempt counts toward the worker's blocklist
+// threshold, as the kind's failure_info says: transient and unset kinds do, resource
+// exhaustion (a full disk or cache) and the permanent kinds do not.
+func (f Failure) BlamesWorker() bool { return tasks.FailureOf(f.Kind).BlamesWorker }
+
 // Transient is a failure of the transient kind: what stuck and expired leases record.
 func Transient(message string) Failure {
 	return Failure{Message: message, Kind: pb.FailureKind_FAILURE_KIND_TRANSIENT}
@@ -233,7 +262,11 @@ type Leased struct {
 	Lease       *pb.Lease
 	Task        *pb.Task
 	SceneDigest string
-	Change      Change
+	// StageStart and StageEnd bound the task's stage: the job's tasks [StageStart,
+	// StageEnd), so that the caller finds the stages before it (whose outputs the task
+	// needs) without reading the rest of the job.
+	StageStart, StageEnd uint32
+	Change               Change
 }
 
 // Change says what an operation changed, so that the caller can publish events and wake
@@ -325,6 +358,29 @@ func JobFailure(taskID string, n int, last string) string {
 func PermanentFailure(taskID, message string) string {
 	return fmt.Sprintf("task %s failed: %s", taskID, message)
 }
+
+// ConflictingReport refuses a repeat of an accepted report under ref whose what
+// ("outputs", "metrics") differ from those accepted: one of the two is wrong, and the
+// first stands.
+func ConflictingReport(ref LeaseRef, what string) error {
+	return errs.E(errs.FailedPrecondition, "task %s: lease epoch %d was already completed with other %s; a repeated report must be the same",
+		ref.TaskID, ref.Epoch, what)
+}
+
+// SameOutputs reports whether two reports' outputs are the same artifacts in the same
+// order.
+func SameOutputs(a, b []*pb.Artifact) bool {
+	return slices.EqualFunc(a, b, func(x, y *pb.Artifact) bool { return proto.Equal(x, y) })
+}
+
+// Metrics is the part of a round's report the composite's worker measured
+// (CompleteTaskRequest.metrics); the rest is the coordinator's (elapsed time, counts).
+func Metrics(r *pb.RoundReport) *pb.RoundMetrics {
+	return &pb.RoundMetrics{ErrorEstimate: r.ErrorEstimate, ReferenceRmse: r.ReferenceRmse, LayerReferenceRmse: r.GetLayerReferenceRmse()}
+}
+
+// SameMetrics reports whether two round reports carry the same metrics.
+func SameMetrics(a, b *pb.RoundReport) bool { return proto.Equal(Metrics(a), Metrics(b)) }
 
 // BlockedJobFailure is the job's error when every one of n workers is blocked from it;
 // last is the reason of the latest block.

@@ -54,4 +54,6 @@ var blocks = map[string]func() string{
 	"scene-limits": sceneLimits,
 	"planning":     planning,
 	"rpc-limits":   rpcLimits,
+	"store-steps":  storeSteps,
+	"retention":    retentionTable,
 }

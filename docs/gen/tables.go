@@ -98,10 +98,12 @@ func sceneLimits() string {
 		"max_magnitude":                 "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
 		"max_tiles_per_round":           "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
 		"max_shards_per_map":            "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for the global and the caustic photon count, whether or not the scene gets that map (refused as `photons.photons_per_shard`)",
-		"max_asset_bytes":               "largest mesh file (and any other asset) a scene names",
+		"max_asset_bytes":               "largest mesh file (and any other asset) a scene names: a worker holds a mesh file's bytes while it parses them",
 		"max_mesh_vertices":             "most vertices in one mesh file",
-		"max_mesh_triangles":            "most triangles in one mesh file, after splitting polygons",
+		"max_mesh_triangles":            "most triangles in one mesh file, after splitting polygons: the largest mesh takes a worker about 2.6 GB to parse and put in Embree's BVH (measured: about 260 bytes a triangle, see Worker memory below)",
 		"max_mesh_line_bytes":           "longest line of a mesh file, its line break included",
+		"max_film_pixels":               "pixels of the film, `film.width * film.height` (refused as `film.height`): the composite holds the film's tiles and images (measured: about 340 bytes a pixel on the worker), and the image and accumulation EXRs (84 and 96 bytes a pixel uncompressed: 705 and 805 MB at the limit) must stay under `max_blob_bytes`; 8,388,608 holds 3840x2160",
+		"max_snapshot_photons":          "photons stored in one round's photon snapshot, every map together, and so in one emission shard (a path stores a photon at each diffuse bounce, so `photons.*_photons` alone do not bound it): the worker fails an emission shard that stores more, the builder a snapshot, as bad input naming the setting to lower; the largest snapshot is then 768 MB (24 bytes a global photon with irradiance), the largest shard 896 MB (28 bytes a photon), both under `max_blob_bytes`",
 		"max_texture_pixels":            "most pixels (width times height) of one texture, read from its header without decoding it",
 		"principled_specular_roughness": "a principled material whose roughness factor is below this counts as specular: its lobe is only sampled, never lit by light samples or photons, and the scene gets a caustic map",
 	})
@@ -166,7 +168,15 @@ func planning() string {
 		"a round has at most %d render tiles and a composite, and per photon map (global, caustic) at most %d emission shards, "+
 		"then a build, %d irradiance precompute tasks (one per global shard) and a merge: %d tasks at most "+
 		"(`TestPlanLargestRoundStaysWithinLimits` plans that round). A job has at most %d rounds; each is planned when the one before has ended.",
-		tiles, shards, shards, tiles+1+2*shards+1+shards+1, rounds)
+		tiles, shards, shards, largestRound(), rounds)
+}
+
+// largestRound is how many tasks the largest round the limits allow has: its tiles and a
+// composite, the shards of both maps, a build, a precompute task per global shard and a
+// merge.
+func largestRound() int {
+	tiles, shards := int(rules.Scene.GetMaxTilesPerRound()), int(rules.Scene.GetMaxShardsPerMap())
+	return tiles + 1 + 2*shards + 1 + shards + 1
 }
 
 func join(path, name string) string {

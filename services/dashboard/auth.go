@@ -3,9 +3,12 @@ package dashboard
 import (
 	"context"
 	"encoding/json"
+	"fmt"
 	"net/http"
 	"net/url"
+	"strconv"
 	"strings"
+	"time"
 
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
@@ -66,8 +69,48 @@ func refused(err error) bool {
 	return c == codes.Unauthenticated || c == codes.PermissionDenied
 }
 
+// The answers to a refused request: one for every token the coordinator refuses,
+// whatever the reason (unknown, another role's, malformed), so that an answer says
+// nothing about which tokens exist.
+const (
+	msgTokenRefused = "the coordinator refused this token"
+	msgNoToken      = "sign in: this request carries no token"
+)
+
+// presentsToken reports whether r carries a token, valid or not: the farm_token cookie
+// or an Authorization header.
+func presentsToken(r *http.Request) bool {
+	if c, err := r.Cookie(CookieName); err == nil && c.Value != "" {
+		return true
+	}
+	return r.Header.Get("Authorization") != ""
+}
+
+// refuseToken answers 401 to a request the coordinator refused; a token presented counts
+// against the client's address (throttle.go).
+func (s *Server) refuseToken(w http.ResponseWriter, r *http.Request, presented bool) {
+	dropBody(w, r)
+	if !presented {
+		writeJSON(w, http.StatusUnauthorized, map[string]any{"error": msgNoToken})
+		return
+	}
+	s.refused.refused(clientKey(r))
+	writeJSON(w, http.StatusUnauthorized, map[string]any{"error": msgTokenRefused})
+}
+
+// throttled answers 429 to a client address that has had too many tokens refused.
+func (s *Server) throttled(w http.ResponseWriter, r *http.Request) {
+	w.Header().Set("Retry-After", strconv.Itoa(int(RefusedTokenEvery/time.Second)))
+	s.writeError(w, r, errorf(http.StatusTooManyRequests,
+		fmt.Sprintf("too many refused tokens from this address: try again in %v", RefusedTokenEvery)))
+}
+
 // login checks {"token": "..."} with the coordinator and sets the cookie.
 func (s *Server) login(w http.ResponseWriter, r *http.Request) {
+	if !s.refused.allowed(clientKey(r)) {
+		s.throttled(w, r)
+		return
+	}
 	var body struct {
 		Token string `json:"token"`
 	}
@@ -76,7 +119,7 @@ func (s *Server) login(w http.ResponseWriter, r *http.Request) {
 		return
 	}
 	if !validToken(body.Token) {
-		s.writeError(w, r, errorf(http.StatusUnauthorized, "not a token: tokens are printable ASCII without spaces"))
+		s.refuseToken(w, r, true)
 		return
 	}
 	ctx, cancel := context.WithTimeout(r.Context(), callTimeout)
@@ -84,7 +127,7 @@ func (s *Server) login(w http.ResponseWriter, r *http.Request) {
 	if err := s.check(ctx, body.Token); err != nil {
 		if refused(err) {
 			// A worker token is refused too (PERMISSION_DENIED): it cannot read jobs.
-			s.writeError(w, r, errorf(http.StatusUnauthorized, status.Convert(err).Message()))
+			s.refuseToken(w, r, true)
 			return
 		}
 		s.writeError(w, r, err)
@@ -136,6 +179,9 @@ func (s *Server) session(w http.ResponseWriter, r *http.Request) {
 				return
 			}
 			authenticated = err == nil
+			if !authenticated {
+				s.refused.refused(clientKey(r)) // a way to try tokens, too
+			}
 		}
 	}
 	writeJSON(w, http.StatusOK, map[string]any{"authenticated": authenticated, "authRequired": required})

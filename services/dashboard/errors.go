@@ -25,6 +25,8 @@ var httpStatusOf = map[codes.Code]int{
 	codes.FailedPrecondition: http.StatusConflict,
 	codes.ResourceExhausted:  http.StatusRequestEntityTooLarge,
 	codes.Unavailable:        http.StatusServiceUnavailable,
+	// A blob the coordinator holds damaged: the gateway's upstream cannot give it.
+	codes.DataLoss: http.StatusBadGateway,
 }
 
 // HTTPStatus returns the HTTP status for a gRPC code.
@@ -45,9 +47,15 @@ func (e *apiError) Error() string { return e.message }
 
 func errorf(status int, message string) error { return &apiError{status: status, message: message} }
 
-// writeError answers err: an *apiError as it says, a gRPC status by its code (the
-// coordinator's message), anything else as 500.
+// writeError answers err: an *apiError as it says, a refused token with the one answer
+// of refuseToken, a gRPC status by its code (the coordinator's message), anything else
+// as 500.
 func (s *Server) writeError(w http.ResponseWriter, r *http.Request, err error) {
+	dropBody(w, r)
+	if refused(err) {
+		s.refuseToken(w, r, presentsToken(r))
+		return
+	}
 	code, msg := http.StatusInternalServerError, err.Error()
 	var ae *apiError
 	var mbe *http.MaxBytesError
@@ -67,6 +75,15 @@ func (s *Server) writeError(w http.ResponseWriter, r *http.Request, err error) {
 		s.log.Error("dashboard request failed", "method", r.Method, "path", r.URL.Path, "err", err)
 	}
 	writeJSON(w, code, map[string]any{"error": msg})
+}
+
+// dropBody makes an answer close the connection when the request has a body, which an
+// error answer may have left unread: net/http would otherwise read up to 256 KiB of it
+// first, and wait as long as the client likes for a body that never ends.
+func dropBody(w http.ResponseWriter, r *http.Request) {
+	if r.ContentLength != 0 {
+		w.Header().Set("Connection", "close")
+	}
 }
 
 // writeJSON answers v as JSON with status code.

@@ -79,30 +79,30 @@ func (e *sse) ping() error {
 	return e.f.Flush()
 }
 
-// farmEvents streams the job list whenever it changes (polled every JobsPoll, so at most
-// once per poll) and the workers every WorkersEvery. A refused or failed call ends the
-// stream; the browser's EventSource reconnects and then gets the HTTP error.
+// farmEvents streams the job list: all of it on connect, then the jobs that changed (a
+// job feed shared by the streams of one token polls the list every JobsPoll, so at most
+// once per poll), and the first page of workers every WorkersEvery. A refused or failed
+// call ends the stream; the browser's EventSource reconnects and then gets the HTTP error.
 func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
-	ctx := client.ContextWithToken(r.Context(), tokenOf(r))
+	token := tokenOf(r)
+	ctx := client.ContextWithToken(r.Context(), token)
 	// The first reads happen before the stream starts, so that a bad token is a 401.
-	jobs, err := s.pollJobs(ctx)
+	sub, jobs, err := s.jobFeeds.subscribe(ctx, token)
 	if err != nil {
 		s.writeError(w, r, err)
 		return
 	}
+	defer sub.leave()
 	workers, err := s.pollWorkers(ctx)
 	if err != nil {
 		s.writeError(w, r, err)
 		return
 	}
-	out, release, ok := s.startSSE(w, r,
-		event{"jobs", map[string]any{"jobs": pjs(jobs)}}, event{"workers", map[string]any{"workers": pjs(workers)}})
+	out, release, ok := s.startSSE(w, r, event{"jobs", map[string]any{"jobs": pjs(jobs)}}, event{"workers", workers})
 	if !ok {
 		return
 	}
 	defer release()
-	jobTick := time.NewTicker(s.cfg.JobsPoll)
-	defer jobTick.Stop()
 	workerTick := time.NewTicker(s.cfg.WorkersEvery)
 	defer workerTick.Stop()
 	ping := time.NewTicker(s.cfg.PingEvery)
@@ -112,15 +112,14 @@ func (s *Server) farmEvents(w http.ResponseWriter, r *http.Request) {
 		select {
 		case <-ctx.Done():
 			return
-		case <-jobTick.C:
-			var now []*pb.Job
-			if now, err = s.pollJobs(ctx); err == nil && !sameJobs(jobs, now) {
-				jobs = now
-				err = out.send("jobs", map[string]any{"jobs": pjs(jobs)})
+		case <-sub.wake:
+			changed, removed, ferr := sub.take()
+			if err = ferr; err == nil && len(changed)+len(removed) > 0 {
+				err = out.send("jobs-changed", map[string]any{"jobs": pjs(changed), "removed": append([]string{}, removed...)})
 			}
 		case <-workerTick.C:
 			if workers, err = s.pollWorkers(ctx); err == nil {
-				err = out.send("workers", map[string]any{"workers": pjs(workers)})
+				err = out.send("workers", workers)
 			}
 		case <-ping.C:
 			err = out.ping()
@@ -140,23 +139,11 @@ func (s *Server) pollJobs(ctx context.Context) ([]*pb.Job, error) {
 	return s.allJobs(ctx)
 }
 
-func (s *Server) pollWorkers(ctx context.Context) ([]*pb.WorkerInfo, error) {
+// pollWorkers reads the first page of workers (workersPage).
+func (s *Server) pollWorkers(ctx context.Context) (map[string]any, error) {
 	ctx, cancel := context.WithTimeout(ctx, callTimeout)
 	defer cancel()
-	resp, err := s.jobs.ListWorkers(ctx, &pb.ListWorkersRequest{})
-	return resp.GetWorkers(), err
-}
-
-func sameJobs(a, b []*pb.Job) bool {
-	if len(a) != len(b) {
-		return false
-	}
-	for i := range a {
-		if !proto.Equal(a[i], b[i]) {
-			return false
-		}
-	}
-	return true
+	return s.workersPage(ctx, "")
 }
 
 // jobUpdates coalesces a job's WatchJob events between two sends: the latest job, the
@@ -241,13 +228,13 @@ func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
 		s.writeError(w, r, err)
 		return
 	}
-	tasks, err := s.allTasksBounded(ctx, jobID)
+	job := snap.GetJob()
+	first, err := s.jobPage(ctx, job)
 	if err != nil {
 		s.writeError(w, r, err)
 		return
 	}
-	job := snap.GetJob()
-	out, release, ok := s.startSSE(w, r, event{"job", map[string]any{"job": pj(job), "tasks": pjs(tasks)}})
+	out, release, ok := s.startSSE(w, r, event{"job", first})
 	if !ok {
 		return
 	}
@@ -298,11 +285,11 @@ func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
 			resync = true
 		}
 		if resync && !jobEnded(job) {
-			all, err := s.allTasksBounded(ctx, jobID)
+			page, err := s.jobPage(ctx, job)
 			if err != nil {
 				return
 			}
-			if out.send("job", map[string]any{"job": pj(job), "tasks": pjs(all)}) != nil {
+			if out.send("job", page) != nil {
 				return
 			}
 			sent = job
@@ -329,10 +316,11 @@ func (s *Server) jobEvents(w http.ResponseWriter, r *http.Request) {
 	}
 }
 
-func (s *Server) allTasksBounded(ctx context.Context, jobID string) ([]*pb.Task, error) {
+// jobPage is the job event's data: the job and the first page of its tasks.
+func (s *Server) jobPage(ctx context.Context, job *pb.Job) (map[string]any, error) {
 	ctx, cancel := context.WithTimeout(ctx, callTimeout)
 	defer cancel()
-	return s.allTasks(ctx, jobID)
+	return s.withFirstTasks(ctx, job)
 }
 
 func jobEnded(j *pb.Job) bool {

@@ -46,13 +46,19 @@ func noAuth() farmOption {
 	return func(c *coordinator.Config, _ *dashboard.Config) { c.ClientTokens, c.WorkerTokens = nil, nil }
 }
 
+// dataDir runs the coordinator on dir, for tests that reach into its blob store.
+func dataDir(dir string) farmOption {
+	return func(c *coordinator.Config, _ *dashboard.Config) { c.DataDir = dir }
+}
+
 func newFarm(t *testing.T, opts ...farmOption) *farm {
 	t.Helper()
 	ctx, cancel := context.WithTimeout(context.Background(), 2*time.Minute)
 	quiet := slog.New(slog.DiscardHandler)
 	cc := coordinator.Config{LeaseDuration: time.Minute, Logger: quiet,
 		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}
-	dc := dashboard.Config{Logger: quiet, JobsPoll: 50 * time.Millisecond, WorkersEvery: 200 * time.Millisecond, JobUpdateEvery: 20 * time.Millisecond}
+	dc := dashboard.Config{Logger: quiet, JobsPoll: 50 * time.Millisecond, WorkersEvery: 200 * time.Millisecond, JobUpdateEvery: 20 * time.Millisecond,
+		RefusedTokenBurst: 1000} // the tests present many wrong tokens; throttle_test.go tests the default
 	for _, o := range opts {
 		o(&cc, &dc)
 	}
@@ -70,7 +76,8 @@ func newFarm(t *testing.T, opts ...farmOption) *farm {
 		srv.Close()
 		c.Close()
 	})
-	return &farm{t: t, ctx: ctx, url: srv.URL, http: srv.Client(), c: c, workers: pb.NewWorkerServiceClient(conn), conn: conn}
+	workers := pb.NewWorkerServiceClient(coord.Dial(t, client.WorkerSecrets()))
+	return &farm{t: t, ctx: ctx, url: srv.URL, http: srv.Client(), c: c, workers: workers, conn: conn}
 }
 
 // worker returns ctx with the worker token.
@@ -105,6 +112,9 @@ func (f *farm) do(b *http.Client, method, path, body string) response {
 	req, err := http.NewRequestWithContext(f.ctx, method, f.url+path, strings.NewReader(body))
 	if err != nil {
 		f.t.Fatal(err)
+	}
+	if method == http.MethodPost {
+		req.Header.Set("Content-Type", "application/json") // as the front end sends
 	}
 	resp, err := b.Do(req)
 	if err != nil {

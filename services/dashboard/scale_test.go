@@ -2,15 +2,18 @@ package dashboard_test
 
 import (
 	"net/http"
+	"net/url"
 	"testing"
 	"time"
 
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/services/dashboard"
 )
 
 // TestReadsOfAFullFarm: with 100 jobs and over 10,000 tasks stored (one job of 10,000
-// tiles), the list and the big job answer whole; the durations are logged, not asserted.
+// tiles), the list answers whole and the big job a page of its tasks at a time; the
+// durations and sizes are logged, not asserted.
 func TestReadsOfAFullFarm(t *testing.T) {
 	if testing.Short() {
 		t.Skip("stores 20,000 tasks")
@@ -46,11 +49,29 @@ func TestReadsOfAFullFarm(t *testing.T) {
 	wantStatus(t, "big job", r, http.StatusOK)
 	var tasks []*pb.Task
 	var got pb.Job
-	decode(t, r.Body, map[string]any{"job": &got, "tasks": &tasks})
-	if len(tasks) != 10001 || tasks[10000].GetComposite() == nil {
-		t.Fatalf("%d tasks, want 10,000 tiles and the composite", len(tasks))
+	var next string
+	decode(t, r.Body, map[string]any{"job": &got, "tasks": &tasks, "nextPageToken": &next})
+	if len(tasks) != dashboard.TasksPage || next == "" {
+		t.Fatalf("%d tasks and next page %q, want the first %d and a token", len(tasks), next, dashboard.TasksPage)
 	}
-	t.Logf("GET /api/jobs/{id}: 10,001 tasks, %d bytes in %v", len(r.Body), took)
+	t.Logf("GET /api/jobs/{id}: the job and its first %d tasks, %d bytes in %v", len(tasks), len(r.Body), took)
+
+	// The rest, a page at a time.
+	all, pages, largest, start := tasks, 1, len(r.Body), time.Now()
+	for next != "" {
+		r = f.do(b, "GET", "/api/jobs/"+job.Id+"/tasks?pageToken="+url.QueryEscape(next), "")
+		wantStatus(t, "a page of tasks", r, http.StatusOK)
+		decode(t, r.Body, map[string]any{"tasks": &tasks, "nextPageToken": &next})
+		if len(tasks) > dashboard.TasksPage {
+			t.Fatalf("a page of %d tasks, over %d", len(tasks), dashboard.TasksPage)
+		}
+		all, pages, largest = append(all, tasks...), pages+1, max(largest, len(r.Body))
+	}
+	if len(all) != 10001 || all[10000].GetComposite() == nil {
+		t.Fatalf("%d tasks, want 10,000 tiles and the composite", len(all))
+	}
+	t.Logf("GET /api/jobs/{id}/tasks: 10,001 tasks in %d pages of at most %d bytes, %v",
+		pages, largest, time.Since(start).Round(time.Millisecond))
 
 	start = time.Now()
 	s := f.openStream(b, "/api/jobs/"+job.Id+"/events")

@@ -19,13 +19,8 @@ import (
 	"google.golang.org/grpc"
 
 	"photonfarm/client"
-	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
-
-// MaxBodyBytes limits request bodies (a scene with inline meshes): as large as a gRPC
-// message may be.
-var MaxBodyBytes = int64(rules.RPC.GetMaxMessageBytes())
 
 // Defaults of Config's intervals and limits (API.md).
 const (
@@ -54,26 +49,32 @@ type Config struct {
 	Conn grpc.ClientConnInterface
 	// Logger defaults to slog.Default().
 	Logger *slog.Logger
-	// JobsPoll is how often /api/events looks for changed jobs (at most one jobs event
-	// per poll); WorkersEvery how often it sends the workers; PingEvery how often an idle
+	// JobsPoll is how often the job list is read for the /api/events streams of a token
+	// (at most one jobs-changed event per poll); WorkersEvery how often a stream sends
+	// the workers; PingEvery how often an idle
 	// stream gets a comment; JobUpdateEvery the least time between two updates of
 	// /api/jobs/{id}/events. Zero means the default.
 	JobsPoll, WorkersEvery, PingEvery, JobUpdateEvery time.Duration
 	// MaxStreams bounds the event streams open at once (0: DefaultMaxStreams); more get
 	// 503.
 	MaxStreams int
+	// RefusedTokenBurst is how many refused tokens a client address may present before
+	// it is throttled (0: DefaultRefusedTokenBurst; throttle.go).
+	RefusedTokenBurst int
 	// Static serves the front end; nil serves the embedded web/dist.
 	Static fs.FS
 }
 
 // Server is the dashboard's http.Handler.
 type Server struct {
-	cfg     Config
-	log     *slog.Logger
-	jobs    pb.JobServiceClient
-	blobs   pb.BlobServiceClient
-	mux     *http.ServeMux
-	streams chan struct{} // a slot per open event stream
+	cfg      Config
+	log      *slog.Logger
+	jobs     pb.JobServiceClient
+	blobs    pb.BlobServiceClient
+	mux      *http.ServeMux
+	streams  chan struct{} // a slot per open event stream
+	refused  *throttle     // refused tokens per client address
+	jobFeeds *jobFeeds     // the job list, polled once per token for every /api/events stream
 }
 
 var _ http.Handler = (*Server)(nil)
@@ -89,6 +90,7 @@ func New(cfg Config) *Server {
 	cfg.PingEvery = cmp.Or(max(cfg.PingEvery, 0), DefaultPingEvery)
 	cfg.JobUpdateEvery = cmp.Or(max(cfg.JobUpdateEvery, 0), DefaultJobUpdateEvery)
 	cfg.MaxStreams = cmp.Or(max(cfg.MaxStreams, 0), DefaultMaxStreams)
+	cfg.RefusedTokenBurst = cmp.Or(max(cfg.RefusedTokenBurst, 0), DefaultRefusedTokenBurst)
 	if cfg.Static == nil {
 		sub, err := fs.Sub(webFiles, "web/dist")
 		if err != nil {
@@ -103,28 +105,31 @@ func New(cfg Config) *Server {
 		blobs:   pb.NewBlobServiceClient(cfg.Conn),
 		mux:     http.NewServeMux(),
 		streams: make(chan struct{}, cfg.MaxStreams),
+		refused: newThrottle(cfg.RefusedTokenBurst, time.Now),
 	}
+	s.jobFeeds = newJobFeeds(s)
 	s.routes()
 	return s
 }
 
 func (s *Server) routes() {
 	m := s.mux
-	m.HandleFunc("POST /api/login", s.login)
-	m.HandleFunc("POST /api/logout", s.logout)
+	m.HandleFunc("POST /api/login", s.jsonPost(MaxSmallBody, s.login))
+	m.HandleFunc("POST /api/logout", s.jsonPost(MaxSmallBody, s.logout))
 	m.HandleFunc("GET /api/session", s.session)
 
 	m.HandleFunc("GET /api/jobs", s.listJobs)
 	m.HandleFunc("GET /api/jobs/{id}", s.getJob)
+	m.HandleFunc("GET /api/jobs/{id}/tasks", s.listTasks)
 	m.HandleFunc("GET /api/workers", s.listWorkers)
 	m.HandleFunc("GET /api/blobs/{digest}", s.blob)
 
 	m.HandleFunc("GET /api/events", s.farmEvents)
 	m.HandleFunc("GET /api/jobs/{id}/events", s.jobEvents)
 
-	m.HandleFunc("POST /api/jobs", s.submit)
-	m.HandleFunc("POST /api/jobs/{id}/cancel", s.cancel)
-	m.HandleFunc("POST /api/jobs/{id}/priority", s.setPriority)
+	m.HandleFunc("POST /api/jobs", s.jsonPost(MaxSceneBody, s.signedIn(s.submit)))
+	m.HandleFunc("POST /api/jobs/{id}/cancel", s.jsonPost(MaxSmallBody, s.cancel))
+	m.HandleFunc("POST /api/jobs/{id}/priority", s.jsonPost(MaxSmallBody, s.setPriority))
 
 	// Anything else under /api/ is a JSON 404 (or 405), never the front end's page.
 	m.HandleFunc("/api/", func(w http.ResponseWriter, r *http.Request) {
@@ -144,15 +149,23 @@ func (s *Server) routes() {
 	}))
 }
 
-// ServeHTTP sets the security headers every answer carries and routes the request.
+// ServeHTTP sets the security headers every answer carries, refuses cross-origin
+// state changes and the tokens of a client address that has had too many refused, and
+// routes the request. Bodies are read (within their endpoint's limit) by the handlers
+// that need them.
 func (s *Server) ServeHTTP(w http.ResponseWriter, r *http.Request) {
 	h := w.Header()
 	h.Set("Content-Security-Policy", "default-src 'self'")
 	h.Set("X-Content-Type-Options", "nosniff")
 	h.Set("X-Frame-Options", "DENY")
 	h.Set("Referrer-Policy", "same-origin")
-	if r.Body != nil {
-		r.Body = http.MaxBytesReader(w, r.Body, MaxBodyBytes)
+	if err := crossOrigin.Check(r); err != nil {
+		s.writeError(w, r, errorf(http.StatusForbidden, "refused a cross-origin request: the dashboard takes actions only from its own pages"))
+		return
+	}
+	if presentsToken(r) && !s.refused.allowed(clientKey(r)) {
+		s.throttled(w, r)
+		return
 	}
 	s.mux.ServeHTTP(w, r)
 }

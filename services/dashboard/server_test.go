@@ -4,6 +4,7 @@ import (
 	"bytes"
 	"encoding/json"
 	"net/http"
+	"net/url"
 	"strings"
 	"testing"
 	"time"
@@ -108,16 +109,16 @@ func TestEveryCallIsRefusedWithoutAValidToken(t *testing.T) {
 			{"POST", "/api/jobs/" + job.Id + "/priority", `{"priority": 3}`},
 		} {
 			req, _ := http.NewRequestWithContext(f.ctx, c.method, f.url+c.path, strings.NewReader(c.body))
+			req.Header.Set("Content-Type", "application/json")
 			if token != "" {
 				req.AddCookie(&http.Cookie{Name: dashboard.CookieName, Value: token})
 			}
 			resp, err := b.Do(req)
 			must(t, err)
 			resp.Body.Close()
+			// A worker token is refused as an unknown one is: the answer does not say
+			// which tokens exist.
 			want := http.StatusUnauthorized
-			if token == workerToken && !strings.HasPrefix(c.path, "/api/blobs/") {
-				want = http.StatusForbidden // the coordinator knows the token, not for this
-			}
 			if token == workerToken && strings.HasPrefix(c.path, "/api/blobs/") {
 				want = http.StatusOK // blobs are the workers' too
 			}
@@ -238,7 +239,7 @@ func TestSubmitRefusesBadScenes(t *testing.T) {
 		t.Errorf("mesh by path: %s, want it to say why in the user's terms", r.Body)
 	}
 
-	big := bytes.Repeat([]byte(" "), int(dashboard.MaxBodyBytes)+1)
+	big := bytes.Repeat([]byte(" "), int(dashboard.MaxSceneBody)+1)
 	wantStatus(t, "a body over 64 MiB", f.do(b, "POST", "/api/jobs", string(big)), http.StatusRequestEntityTooLarge)
 	jobs, err := f.c.ListJobs(f.ctx)
 	if err != nil || len(jobs) != 0 {
@@ -282,6 +283,23 @@ func TestWorkersAreListed(t *testing.T) {
 	if len(workers) != 1 || workers[0].Id != reg.WorkerId || workers[0].Hostname != "render-1" || workers[0].State != pb.WorkerState_WORKER_STATE_IDLE {
 		t.Errorf("workers = %v", workers)
 	}
+
+	// Past a page, the answer holds the first page and the token of the next.
+	for range dashboard.WorkersPage {
+		_, err := f.workers.RegisterWorker(f.worker(), &pb.RegisterWorkerRequest{Hostname: "more"})
+		must(t, err)
+	}
+	var next string
+	r = f.do(b, "GET", "/api/workers", "")
+	decode(t, r.Body, map[string]any{"workers": &workers, "nextPageToken": &next})
+	if len(workers) != dashboard.WorkersPage || workers[0].Id != reg.WorkerId || next == "" {
+		t.Fatalf("first page: %d workers from %s, next %q; want %d from %s and a token", len(workers), workers[0].Id, next, dashboard.WorkersPage, reg.WorkerId)
+	}
+	r = f.do(b, "GET", "/api/workers?pageToken="+url.QueryEscape(next), "")
+	decode(t, r.Body, map[string]any{"workers": &workers, "nextPageToken": &next})
+	if len(workers) != 1 || workers[0].Hostname != "more" || next != "" {
+		t.Errorf("second page: %d workers, next %q; want the last one and no token", len(workers), next)
+	}
 }
 
 func TestFarmEventsSendTheJobList(t *testing.T) {
@@ -299,23 +317,24 @@ func TestFarmEventsSendTheJobList(t *testing.T) {
 		t.Fatalf("second event %s, want workers", ev.name)
 	}
 	job := f.submit(b, sceneJSON(t, 16, 16))
-	ev = s.until("a jobs event with the new job", func(ev event) bool { return ev.name == "jobs" })
+	ev = s.until("a jobs-changed event with the new job", func(ev event) bool { return ev.name == "jobs-changed" })
 	var jobs []*pb.Job
-	decode(t, ev.data, map[string]any{"jobs": &jobs})
-	if len(jobs) != 1 || jobs[0].Id != job.Id {
-		t.Fatalf("jobs event %v, want the new job", jobs)
+	var removed []string
+	decode(t, ev.data, map[string]any{"jobs": &jobs, "removed": &removed})
+	if len(jobs) != 1 || jobs[0].Id != job.Id || len(removed) != 0 {
+		t.Fatalf("jobs-changed event %v, removed %v; want the new job", jobs, removed)
 	}
 	// A change (the cancel) is sent too; nothing is sent while nothing changes.
 	wantStatus(t, "cancel", f.do(b, "POST", "/api/jobs/"+job.Id+"/cancel", ""), http.StatusOK)
-	ev = s.until("a jobs event with the job cancelled", func(ev event) bool { return ev.name == "jobs" })
+	ev = s.until("a jobs-changed event with the job cancelled", func(ev event) bool { return ev.name == "jobs-changed" })
 	decode(t, ev.data, map[string]any{"jobs": &jobs})
-	if jobs[0].State != pb.JobState_JOB_STATE_CANCELLED {
-		t.Errorf("jobs event after the cancel: %v", jobs)
+	if len(jobs) != 1 || jobs[0].State != pb.JobState_JOB_STATE_CANCELLED {
+		t.Errorf("jobs-changed event after the cancel: %v", jobs)
 	}
 	s.until("a workers event", func(ev event) bool { return ev.name == "workers" })
 	for range 2 {
-		if ev := s.until("another workers event", func(ev event) bool { return ev.name != "" }); ev.name == "jobs" {
-			t.Errorf("a jobs event although nothing changed: %s", ev.data)
+		if ev := s.until("another workers event", func(ev event) bool { return ev.name != "" }); ev.name != "workers" {
+			t.Errorf("a %s event although nothing changed: %s", ev.name, ev.data)
 		}
 	}
 }

@@ -9,7 +9,6 @@ import (
 	"os"
 	"os/exec"
 	"path/filepath"
-	"regexp"
 	"testing"
 	"time"
 
@@ -32,7 +31,7 @@ func TestDashboardInABrowser(t *testing.T) {
 	e2e := filepath.Join(farmtest.RepoRoot(), "tests", "dashboard", "e2e")
 	node := browserTools(t, e2e)
 
-	f := farmtest.StartFarm(t, tokenFlags(t), client.WithToken(clientToken))
+	f := farmtest.StartFarm(t, farmtest.TokenFlags(t, clientToken, workerToken), client.WithToken(clientToken))
 	// Before the workers start, so that no real worker leases its task first.
 	failedJob := failAsBadInput(t, f)
 	for range 2 {
@@ -41,7 +40,7 @@ func TestDashboardInABrowser(t *testing.T) {
 			t.Fatalf("%s did not register within 15 s", w.Name)
 		}
 	}
-	url := startDashboard(t, f)
+	_, url := f.StartDashboard(t)
 
 	shots := os.Getenv("DASHBOARD_SCREENSHOT_DIR")
 	if shots == "" {
@@ -109,40 +108,4 @@ func browserTools(t *testing.T, e2e string) string {
 		t.Fatalf("playwright-core is not installed in tests/dashboard/e2e/node_modules%s", fix)
 	}
 	return node
-}
-
-// tokenFlags writes token files and returns the coordinator flags that name them.
-func tokenFlags(t *testing.T) []string {
-	dir := t.TempDir()
-	clientFile, workerFile := filepath.Join(dir, "client-tokens"), filepath.Join(dir, "worker-tokens")
-	if err := os.WriteFile(clientFile, []byte(clientToken+"\n"), 0o600); err != nil {
-		t.Fatal(err)
-	}
-	if err := os.WriteFile(workerFile, []byte(workerToken+"\n"), 0o600); err != nil {
-		t.Fatal(err)
-	}
-	return []string{"--client-token-file", clientFile, "--worker-token-file", workerFile}
-}
-
-var dashboardLine = regexp.MustCompile(`dashboard on (http://\S+)`)
-
-// startDashboard runs `farm dashboard` in front of the farm's coordinator and returns the
-// URL it says it serves on (the line may go to stdout or stderr; both reach its log).
-func startDashboard(t *testing.T, f *farmtest.Farm) string {
-	t.Helper()
-	p := farmtest.Start(t, "dashboard", filepath.Join(f.Bin, "farm"),
-		[]string{"dashboard", "--coordinator", f.Addr, "--listen", "127.0.0.1:0"}, nil)
-	deadline := time.Now().Add(15 * time.Second)
-	for time.Now().Before(deadline) {
-		b, _ := os.ReadFile(p.LogPath)
-		if m := dashboardLine.FindSubmatch(b); m != nil {
-			return string(m[1])
-		}
-		if p.Exited() {
-			t.Fatalf("farm dashboard exited (%v) before saying where it serves:\n%s", p.Err(), p.LogTail(40))
-		}
-		time.Sleep(20 * time.Millisecond)
-	}
-	t.Fatalf("farm dashboard did not print `dashboard on http://...` within 15 s:\n%s", p.LogTail(40))
-	return ""
 }

@@ -3,6 +3,7 @@ package farmtest
 import (
 	"fmt"
 	"path/filepath"
+	"slices"
 	"strings"
 	"syscall"
 	"testing"
@@ -24,6 +25,7 @@ type Farm struct {
 	Client *client.Client
 
 	coord    *Proc
+	wrap     []string // the command the coordinator runs through, if any (StartFarmIn)
 	args     []string // the coordinator's flags after --listen, kept for restarts
 	starts   int      // coordinators started
 	workers  int      // workers started, for their names
@@ -35,8 +37,17 @@ type Farm struct {
 // it to say where it listens and connects a client with opts (a token, TLS).
 func StartFarm(t testing.TB, coordArgs []string, opts ...client.Option) *Farm {
 	t.Helper()
+	return StartFarmIn(t, nil, coordArgs, opts...)
+}
+
+// StartFarmIn is StartFarm with the coordinator run through wrap, a command line that
+// runs the command line after it (`unshare ... sh -c 'mount ...; exec "$@"' sh`): the
+// coordinator process is what wrap execs, and restarts go through wrap again.
+func StartFarmIn(t testing.TB, wrap, coordArgs []string, opts ...client.Option) *Farm {
+	t.Helper()
 	f := &Farm{
 		Bin:      BinDir(t),
+		wrap:     wrap,
 		args:     append([]string{"--lease-duration", LeaseDuration, "--data-dir", filepath.Join(t.TempDir(), "data")}, coordArgs...),
 		cacheDir: t.TempDir(),
 	}
@@ -72,7 +83,11 @@ func (f *Farm) startCoordinator(t testing.TB, listen string) string {
 		name = fmt.Sprintf("coordinator-%d", f.starts)
 	}
 	addrc := make(chan string, 1)
-	f.coord = Start(t, name, filepath.Join(f.Bin, "farm"), append([]string{"coordinator", "--listen", listen}, f.args...),
+	cmd := append([]string{filepath.Join(f.Bin, "farm"), "coordinator", "--listen", listen}, f.args...)
+	if len(f.wrap) > 0 {
+		cmd = append(slices.Clone(f.wrap), cmd...)
+	}
+	f.coord = Start(t, name, cmd[0], cmd[1:],
 		func(line string) {
 			if _, addr, ok := strings.Cut(line, "coordinator listening on "); ok {
 				select {

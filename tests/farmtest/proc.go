@@ -7,6 +7,7 @@ import (
 	"os/exec"
 	"path/filepath"
 	"regexp"
+	"strconv"
 	"strings"
 	"sync"
 	"syscall"
@@ -146,4 +147,25 @@ func (p *Proc) WorkerID(t testing.TB, timeout time.Duration) string {
 	}
 	t.Logf("%s did not log its registration within %s", p.Name, timeout)
 	return ""
+}
+
+// PeakRSS is the most resident memory the running process has used so far (VmHWM in
+// /proc/PID/status), in bytes.
+func (p *Proc) PeakRSS(t testing.TB) uint64 {
+	t.Helper()
+	status, err := os.ReadFile(fmt.Sprintf("/proc/%d/status", p.cmd.Process.Pid))
+	if err != nil {
+		t.Fatalf("%s: %v", p.Name, err)
+	}
+	for _, line := range strings.Split(string(status), "\n") {
+		if rest, ok := strings.CutPrefix(line, "VmHWM:"); ok {
+			kb, err := strconv.ParseUint(strings.TrimSuffix(strings.TrimSpace(rest), " kB"), 10, 64)
+			if err != nil {
+				t.Fatalf("%s: VmHWM %q: %v", p.Name, rest, err)
+			}
+			return kb << 10
+		}
+	}
+	t.Fatalf("%s: no VmHWM in /proc/%d/status", p.Name, p.cmd.Process.Pid)
+	return 0
 }

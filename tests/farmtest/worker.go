@@ -18,7 +18,7 @@ import (
 // next task, fails it with reason as kind, and unregisters. It returns the task's id.
 func (f *Farm) FailNextTask(t testing.TB, workerToken string, kind pb.FailureKind, reason string) string {
 	t.Helper()
-	conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
+	conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets())
 	if err != nil {
 		t.Fatal(err)
 	}

@@ -12,6 +12,8 @@ import (
 	"google.golang.org/grpc/credentials/insecure"
 	"google.golang.org/protobuf/types/known/durationpb"
 
+	"photonfarm/client"
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -66,7 +68,12 @@ func TestLeaseThroughputOnRedis(t *testing.T) {
 			defer wg.Done()
 			lw := fakeWorker(t, f.Addr, w)
 			defer lw.close()
-			cl := lw.run(t, ctx, ended, output)
+			cl := lw.run(t, ctx, ended, func(resp *pb.LeaseTaskResponse) []*pb.Artifact {
+				if resp.GetTask().GetComposite() != nil {
+					return named(output, "image.exr", "preview.png")
+				}
+				return named(output, "tile.exr")
+			})
 			mu.Lock()
 			defer mu.Unlock()
 			leaseLat = append(leaseLat, cl.leases...)
@@ -98,6 +105,7 @@ func TestLeaseThroughputOnRedis(t *testing.T) {
 // completedLog is what one fake worker measured and completed.
 type completedLog struct {
 	leases, completes []time.Duration // latencies of LeaseTask calls that got a task, and of CompleteTask
+	phases            []pb.Phase      // of each of those leases' task
 	tasks             []string        // the tasks it completed
 }
 
@@ -123,7 +131,8 @@ type leaseWorker struct {
 // with t.Errorf (it runs on a goroutine of its own) and returns a worker whose run does
 // nothing.
 func fakeWorker(t *testing.T, addr string, n int) *leaseWorker {
-	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()))
+	conn, err := grpc.NewClient(addr, grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets(),
+		grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())))) // a composite of 65,536 tiles is 6.6 MB
 	if err != nil {
 		t.Errorf("fake worker %d: %v", n, err)
 		return &leaseWorker{}
@@ -144,9 +153,19 @@ func (lw *leaseWorker) close() {
 	}
 }
 
-// run leases and completes tasks until the job has ended and nothing is left to lease,
-// completing a composite with the final image names so that the job succeeds.
-func (lw *leaseWorker) run(t *testing.T, ctx context.Context, ended <-chan struct{}, output *pb.Artifact) (cl completedLog) {
+// named is output under each of names.
+func named(output *pb.Artifact, names ...string) []*pb.Artifact {
+	var out []*pb.Artifact
+	for _, n := range names {
+		out = append(out, &pb.Artifact{Name: n, Digest: output.GetDigest(), SizeBytes: output.GetSizeBytes()})
+	}
+	return out
+}
+
+// run leases and completes tasks until ended is closed and nothing is left to lease,
+// completing each with the outputs finish gives it; a task finish gives none is released
+// (someone else's: a real worker's) and the worker pauses, to let others lease it.
+func (lw *leaseWorker) run(t *testing.T, ctx context.Context, ended <-chan struct{}, finish func(*pb.LeaseTaskResponse) []*pb.Artifact) (cl completedLog) {
 	if lw.id == "" {
 		return cl
 	}
@@ -166,12 +185,15 @@ func (lw *leaseWorker) run(t *testing.T, ctx context.Context, ended <-chan struc
 			}
 		}
 		cl.leases = append(cl.leases, time.Since(t0))
-		outputs := []*pb.Artifact{{Name: "tile.exr", Digest: output.GetDigest(), SizeBytes: output.GetSizeBytes()}}
-		if resp.GetTask().GetComposite() != nil {
-			outputs = []*pb.Artifact{
-				{Name: "image.exr", Digest: output.GetDigest(), SizeBytes: output.GetSizeBytes()},
-				{Name: "preview.png", Digest: output.GetDigest(), SizeBytes: output.GetSizeBytes()},
+		cl.phases = append(cl.phases, resp.GetTask().GetPhase())
+		outputs := finish(resp)
+		if outputs == nil {
+			if _, err := lw.ws.ReleaseTask(ctx, &pb.ReleaseTaskRequest{WorkerId: lw.id, TaskId: resp.GetLease().GetTaskId(), Epoch: resp.GetLease().GetEpoch()}); err != nil {
+				t.Errorf("worker %s: release %s: %v", lw.id, resp.GetLease().GetTaskId(), err)
+				return
 			}
+			time.Sleep(50 * time.Millisecond)
+			continue
 		}
 		t1 := time.Now()
 		_, err = lw.ws.CompleteTask(ctx, &pb.CompleteTaskRequest{WorkerId: lw.id, TaskId: resp.GetLease().GetTaskId(), Epoch: resp.GetLease().GetEpoch(), Outputs: outputs})

@@ -26,19 +26,21 @@ func repoRoot() string {
 }
 
 // farm is a coordinator serving on loopback, a client of it, and what is stored before
-// the hostile requests: one job with a task leased by a registered worker, and one
-// cancelled job.
+// the hostile requests: one job with a task leased by a registered worker, one cancelled
+// job, and a second registered worker (the thief) that holds no lease.
 type farm struct {
 	ctx      context.Context
 	c        *client.Client
 	jobs     pb.JobServiceClient
-	workers  pb.WorkerServiceClient
+	workers  pb.WorkerServiceClient // sends each registered worker's secret
+	bare     pb.WorkerServiceClient // sends no worker secret
 	blobs    pb.BlobServiceClient
 	scene    *pb.Scene // valid, its mesh uploaded
 	job      *pb.Job
 	ended    *pb.Job
 	workerID string
 	lease    *pb.Lease
+	thief    *pb.RegisterWorkerResponse
 	srv      *coordinatortest.Server
 }
 
@@ -52,8 +54,9 @@ func startFarm(t *testing.T) *farm {
 		t.Fatal(err)
 	}
 	t.Cleanup(func() { f.c.Close() })
-	conn := f.srv.Dial(t, grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(128<<20), grpc.MaxCallSendMsgSize(128<<20)))
+	conn := f.srv.Dial(t, client.WorkerSecrets(), grpc.WithDefaultCallOptions(grpc.MaxCallRecvMsgSize(128<<20), grpc.MaxCallSendMsgSize(128<<20)))
 	f.jobs, f.workers, f.blobs = pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
+	f.bare = pb.NewWorkerServiceClient(f.srv.Dial(t))
 
 	sc, err := f.c.LoadSceneFile(ctx, filepath.Join(repoRoot(), "scenes", "test-small.json"))
 	if err != nil {
@@ -79,6 +82,9 @@ func startFarm(t *testing.T) *farm {
 		t.Fatalf("lease: %v, %v", l, err)
 	}
 	f.lease = l.GetLease()
+	if f.thief, err = f.workers.RegisterWorker(ctx, &pb.RegisterWorkerRequest{Hostname: "thief", Cores: 1}); err != nil {
+		t.Fatal(err)
+	}
 	return f
 }
 

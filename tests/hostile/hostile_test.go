@@ -13,7 +13,7 @@ func TestHostileRequestsAreRefusedAndChangeNothing(t *testing.T) {
 	f := startFarm(t)
 	before := f.state(t)
 	var cases []hostileCase
-	for _, group := range [][]hostileCase{sceneCases(f), jobCases(f), workerCases(f), blobCases(f)} {
+	for _, group := range [][]hostileCase{sceneCases(f), jobCases(f), workerCases(f), impersonationCases(f), blobCases(f)} {
 		cases = append(cases, group...)
 	}
 	if len(cases) < minCases {

@@ -7,8 +7,10 @@ import (
 	"time"
 
 	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/metadata"
 	"google.golang.org/protobuf/types/known/durationpb"
 
+	"photonfarm/contract/rules"
 	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -82,19 +84,19 @@ func workerCases(f *farm) []hostileCase {
 	return []hostileCase{
 		{"register: hostname too long", coordinatortest.Call(f.workers.RegisterWorker, &pb.RegisterWorkerRequest{Hostname: strings.Repeat("h", 256)}), codes.InvalidArgument, "hostname"},
 		{"heartbeat: no worker", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{}), codes.InvalidArgument, "worker_id"},
-		{"heartbeat: unknown worker", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: "w-forged"}), codes.NotFound, "worker_id"},
+		{"heartbeat: unknown worker", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: "w-forged"}), codes.PermissionDenied, "worker_id"},
 		{"heartbeat: lease without task", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: f.workerID, Leases: []*pb.HeldLease{{Epoch: 1}}}), codes.InvalidArgument, "leases[0].task_id"},
 		{"heartbeat: lease without epoch", coordinatortest.Call(f.workers.Heartbeat, &pb.HeartbeatRequest{WorkerId: f.workerID, Leases: []*pb.HeldLease{{TaskId: f.lease.GetTaskId()}}}), codes.InvalidArgument, "leases[0].epoch"},
 		{"lease: no worker", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{}), codes.InvalidArgument, "worker_id"},
-		{"lease: unknown worker", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-forged"}), codes.NotFound, "worker_id"},
-		{"lease: negative wait", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-forged", WaitTimeout: durationpb.New(-time.Second)}), codes.InvalidArgument, "wait_timeout"},
-		{"lease: invalid wait", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-forged", WaitTimeout: &durationpb.Duration{Seconds: 1, Nanos: -5}}), codes.InvalidArgument, "wait_timeout"},
+		{"lease: unknown worker", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: "w-forged"}), codes.PermissionDenied, "worker_id"},
+		{"lease: negative wait", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: f.thief.GetWorkerId(), WaitTimeout: durationpb.New(-time.Second)}), codes.InvalidArgument, "wait_timeout"},
+		{"lease: invalid wait", coordinatortest.Call(f.workers.LeaseTask, &pb.LeaseTaskRequest{WorkerId: f.thief.GetWorkerId(), WaitTimeout: &durationpb.Duration{Seconds: 1, Nanos: -5}}), codes.InvalidArgument, "wait_timeout"},
 		{"complete: no task", complete(func(r *pb.CompleteTaskRequest) { r.TaskId = "" }), codes.InvalidArgument, "task_id"},
 		{"complete: no epoch", complete(func(r *pb.CompleteTaskRequest) { r.Epoch = 0 }), codes.InvalidArgument, "epoch"},
 		{"complete: no worker", complete(func(r *pb.CompleteTaskRequest) { r.WorkerId = "" }), codes.InvalidArgument, "worker_id"},
 		{"complete: unknown task", complete(func(r *pb.CompleteTaskRequest) { r.TaskId = "j-nope.0" }), codes.NotFound, "task_id"},
 		{"complete: stale epoch", complete(func(r *pb.CompleteTaskRequest) { r.Epoch++ }), codes.FailedPrecondition, "epoch"},
-		{"complete: another worker's lease", complete(func(r *pb.CompleteTaskRequest) { r.WorkerId = "w-thief" }), codes.FailedPrecondition, "another worker"},
+		{"complete: another worker's lease", complete(func(r *pb.CompleteTaskRequest) { r.WorkerId = f.thief.GetWorkerId() }), codes.FailedPrecondition, "another worker"},
 		{"complete: a task never leased", complete(func(r *pb.CompleteTaskRequest) {
 			r.TaskId = f.job.GetId() + ".1"
 		}), codes.FailedPrecondition, ".1"},
@@ -116,14 +118,58 @@ func workerCases(f *farm) []hostileCase {
 		{"fail: no message", fail(func(r *pb.FailTaskRequest) { r.Error = "" }), codes.InvalidArgument, "error"},
 		{"fail: no worker", fail(func(r *pb.FailTaskRequest) { r.WorkerId = "" }), codes.InvalidArgument, "worker_id"},
 		{"fail: stale epoch", fail(func(r *pb.FailTaskRequest) { r.Epoch = 99 }), codes.FailedPrecondition, "epoch"},
-		{"fail: another worker's lease", fail(func(r *pb.FailTaskRequest) { r.WorkerId = "w-thief" }), codes.FailedPrecondition, "another worker"},
+		{"fail: another worker's lease", fail(func(r *pb.FailTaskRequest) { r.WorkerId = f.thief.GetWorkerId() }), codes.FailedPrecondition, "another worker"},
 		{"fail: unknown task", fail(func(r *pb.FailTaskRequest) { r.TaskId = "j-nope.3" }), codes.NotFound, "task_id"},
 		{"release: no epoch", release(func(r *pb.ReleaseTaskRequest) { r.Epoch = 0 }), codes.InvalidArgument, "epoch"},
 		{"release: stale epoch", release(func(r *pb.ReleaseTaskRequest) { r.Epoch += 5 }), codes.FailedPrecondition, "epoch"},
-		{"release: another worker's lease", release(func(r *pb.ReleaseTaskRequest) { r.WorkerId = "w-thief" }), codes.FailedPrecondition, "another worker"},
+		{"release: another worker's lease", release(func(r *pb.ReleaseTaskRequest) { r.WorkerId = f.thief.GetWorkerId() }), codes.FailedPrecondition, "another worker"},
 		{"unregister: no id", coordinatortest.Call(f.workers.UnregisterWorker, &pb.UnregisterWorkerRequest{}), codes.InvalidArgument, "worker_id"},
-		{"unregister: unknown", coordinatortest.Call(f.workers.UnregisterWorker, &pb.UnregisterWorkerRequest{WorkerId: "w-forged"}), codes.NotFound, "worker_id"},
+		{"unregister: unknown", coordinatortest.Call(f.workers.UnregisterWorker, &pb.UnregisterWorkerRequest{WorkerId: "w-forged"}), codes.PermissionDenied, "worker_id"},
 	}
+}
+
+// impersonationCases are calls naming the honest worker (who holds a lease) by a caller
+// with a worker token but not that registration's secret: none, the thief's own, or one
+// made up. Each must be refused before it touches the lease or the registration.
+func impersonationCases(f *farm) []hostileCase {
+	id, l := f.workerID, f.lease
+	calls := []struct {
+		name string
+		call func(w pb.WorkerServiceClient) func(context.Context) error
+	}{
+		{"heartbeat", func(w pb.WorkerServiceClient) func(context.Context) error {
+			return coordinatortest.Call(w.Heartbeat, &pb.HeartbeatRequest{WorkerId: id, Leases: []*pb.HeldLease{{TaskId: l.GetTaskId(), Epoch: l.GetEpoch()}}})
+		}},
+		{"lease", func(w pb.WorkerServiceClient) func(context.Context) error {
+			return coordinatortest.Call(w.LeaseTask, &pb.LeaseTaskRequest{WorkerId: id})
+		}},
+		{"complete", func(w pb.WorkerServiceClient) func(context.Context) error {
+			return coordinatortest.Call(w.CompleteTask, &pb.CompleteTaskRequest{WorkerId: id, TaskId: l.GetTaskId(), Epoch: l.GetEpoch()})
+		}},
+		{"fail", func(w pb.WorkerServiceClient) func(context.Context) error {
+			return coordinatortest.Call(w.FailTask, &pb.FailTaskRequest{WorkerId: id, TaskId: l.GetTaskId(), Epoch: l.GetEpoch(), Error: "sabotage", Kind: pb.FailureKind_FAILURE_KIND_BAD_INPUT})
+		}},
+		{"release", func(w pb.WorkerServiceClient) func(context.Context) error {
+			return coordinatortest.Call(w.ReleaseTask, &pb.ReleaseTaskRequest{WorkerId: id, TaskId: l.GetTaskId(), Epoch: l.GetEpoch()})
+		}},
+		{"unregister", func(w pb.WorkerServiceClient) func(context.Context) error {
+			return coordinatortest.Call(w.UnregisterWorker, &pb.UnregisterWorkerRequest{WorkerId: id})
+		}},
+	}
+	withSecret := func(secret string, call func(context.Context) error) func(context.Context) error {
+		return func(ctx context.Context) error {
+			return call(metadata.AppendToOutgoingContext(ctx, rules.WorkerSecretMetadata, secret))
+		}
+	}
+	var out []hostileCase
+	for _, c := range calls {
+		out = append(out,
+			hostileCase{c.name + ": another worker, no secret", c.call(f.bare), codes.PermissionDenied, "must carry the metadata"},
+			hostileCase{c.name + ": another worker, the caller's own secret", withSecret(f.thief.GetWorkerSecret(), c.call(f.bare)), codes.PermissionDenied, "is not worker " + id},
+			hostileCase{c.name + ": another worker, a made-up secret", withSecret(strings.Repeat("0", 64), c.call(f.bare)), codes.PermissionDenied, "is not worker " + id},
+		)
+	}
+	return out
 }
 
 func ptr(v float64) *float64 { return &v }

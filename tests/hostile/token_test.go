@@ -10,6 +10,7 @@ import (
 	"google.golang.org/grpc/metadata"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/client"
 	"photonfarm/coordinator"
 	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -28,7 +29,7 @@ func TestHostileTokensAreRefused(t *testing.T) {
 	ctx, stop := context.WithCancel(context.Background())
 	defer stop()
 	conn := coordinatortest.Serve(t, coordinator.Config{LeaseDuration: time.Minute,
-		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t)
+		ClientTokens: []string{clientToken}, WorkerTokens: []string{workerToken}}).Dial(t, client.WorkerSecrets())
 	jobs, workers, blobs := pb.NewJobServiceClient(conn), pb.NewWorkerServiceClient(conn), pb.NewBlobServiceClient(conn)
 	as := func(authorization string) context.Context {
 		if authorization == "" {

@@ -15,6 +15,7 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/status"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -120,8 +121,8 @@ func TestPermanentFailureFailsTheJobAtOnceAndTheCLISaysWhy(t *testing.T) {
 	}
 }
 
-// TestSubmitStopsAtSIGTERMWhileReadingALargeMesh: farm submit reading a large file (a
-// gigabyte, sparse) stops at SIGTERM instead of reading on.
+// TestSubmitStopsAtSIGTERMWhileReadingALargeMesh: farm submit reading a large file (the
+// largest a mesh may be, sparse) stops at SIGTERM instead of reading on.
 func TestSubmitStopsAtSIGTERMWhileReadingALargeMesh(t *testing.T) {
 	dir := t.TempDir()
 	big := filepath.Join(dir, "big.obj")
@@ -129,7 +130,7 @@ func TestSubmitStopsAtSIGTERMWhileReadingALargeMesh(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	fh.Truncate(1 << 30) // at the size limit, so it is read
+	fh.Truncate(int64(rules.Scene.GetMaxAssetBytes())) // at the size limit, so it is read
 	fh.Close()
 	os.WriteFile(filepath.Join(dir, "s.json"), []byte(`{"shapes": [{"mesh": {"path": "big.obj"}}]}`), 0o644)
 	cmd, _, stderr, _ := farmCommand(t, "submit", filepath.Join(dir, "s.json"), "--coordinator", farmtest.ClosedAddress(t))

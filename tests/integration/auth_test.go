@@ -16,7 +16,7 @@ import (
 // token is refused at registration and exits 1 saying why; one with the worker token
 // renders the job submitted with the client token.
 func TestWorkerNeedsTheWorkerToken(t *testing.T) {
-	f := farmtest.StartFarm(t, tokenFlags(t), client.WithToken(testClientToken))
+	f := farmtest.StartFarm(t, farmtest.TokenFlags(t, testClientToken, testWorkerToken), client.WithToken(testClientToken))
 
 	anonymous := f.StartWorker(t)
 	select {
@@ -41,15 +41,6 @@ const (
 	testWorkerToken = "worker-token-for-the-test"
 )
 
-// tokenFlags writes token files and returns the coordinator flags that name them.
-func tokenFlags(t *testing.T) []string {
-	dir := t.TempDir()
-	clientFile, workerFile := filepath.Join(dir, "client-tokens"), filepath.Join(dir, "worker-tokens")
-	os.WriteFile(clientFile, []byte("# clients\n"+testClientToken+"\n"), 0o600)
-	os.WriteFile(workerFile, []byte(testWorkerToken+"\n"), 0o600)
-	return []string{"--client-token-file", clientFile, "--worker-token-file", workerFile}
-}
-
 // TestWorkerOverTLS serves the coordinator over TLS with a self-signed certificate and
 // tokens; the worker (grpc::SslCredentials) and the client trust it through --tls-ca and
 // WithTLS.
@@ -57,7 +48,7 @@ func TestWorkerOverTLS(t *testing.T) {
 	dir := t.TempDir()
 	tc := tlstest.SelfSigned(t, dir)
 	cert, key := tc.CertFile, tc.KeyFile
-	f := farmtest.StartFarm(t, append(tokenFlags(t), "--tls-cert", cert, "--tls-key", key),
+	f := farmtest.StartFarm(t, append(farmtest.TokenFlags(t, testClientToken, testWorkerToken), "--tls-cert", cert, "--tls-key", key),
 		client.WithTLS(cert), client.WithToken(testClientToken))
 	w := f.StartWorkerWithCache(t, filepath.Join(t.TempDir(), "cache"), "--tls-ca", cert, "--token", testWorkerToken)
 	w.WorkerID(t, 15*time.Second)

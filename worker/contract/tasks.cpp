@@ -93,7 +93,7 @@ FailureEntry FailureOf(pb::FailureKind kind) {
   const pb::FailureInfo* info =
       OptionOf<pb::FailureInfo>(pb::FailureKind_descriptor()->FindValueByNumber(kind), pb::failure_info);
   if (info == nullptr) return FailureOf(pb::FAILURE_KIND_TRANSIENT);
-  return {info->permanent(), info->label()};
+  return {info->permanent(), info->label(), info->blames_worker()};
 }
 
 }  // namespace farm::contract

@@ -54,8 +54,9 @@ const ArtifactEntry& ArtifactOf(pb::ArtifactKind kind);
 inline const std::string& ArtifactName(pb::ArtifactKind kind) { return ArtifactOf(kind).name; }
 
 struct FailureEntry {
-  bool permanent = false;  // the job fails at once and no worker is blamed
-  std::string label;       // "bad input"
+  bool permanent = false;      // the job fails at once and no worker is blamed
+  std::string label;           // "bad input"
+  bool blames_worker = false;  // counts toward the worker's blocklist threshold
 };
 // An undeclared kind is treated as transient, as the coordinator treats it.
 FailureEntry FailureOf(pb::FailureKind kind);

@@ -52,5 +52,15 @@ TEST(Failures, PermanenceAndLabelsComeFromFailureInfo) {
   EXPECT_EQ(FailureOf(static_cast<pb::FailureKind>(42)).label, "transient failure");
 }
 
+TEST(Failures, OnlyTransientFailuresBlameTheWorker) {
+  EXPECT_TRUE(FailureOf(pb::FAILURE_KIND_TRANSIENT).blames_worker);
+  EXPECT_TRUE(FailureOf(pb::FAILURE_KIND_UNSPECIFIED).blames_worker);
+  EXPECT_TRUE(FailureOf(static_cast<pb::FailureKind>(42)).blames_worker);
+  EXPECT_FALSE(FailureOf(pb::FAILURE_KIND_RESOURCE_EXHAUSTED).blames_worker);
+  EXPECT_FALSE(FailureOf(pb::FAILURE_KIND_BAD_INPUT).blames_worker);
+  EXPECT_TRUE(FailureOf(pb::FAILURE_KIND_LOST_INPUT).permanent);
+  EXPECT_FALSE(FailureOf(pb::FAILURE_KIND_LOST_INPUT).blames_worker);
+}
+
 }  // namespace
 }  // namespace farm::contract

@@ -1,22 +1,102 @@
 #include "daemon/blob_cache.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <fstream>
-#include <iterator>
+#include <chrono>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include "contract/digest.h"
 #include "daemon/sha256.h"
 
 namespace farm {
+namespace {
 
-BlobCache::BlobCache(std::filesystem::path dir) : dir_(std::move(dir)) {
+// A file descriptor closed on every way out.
+struct Fd {
+  int fd = -1;
+  Fd() = default;
+  explicit Fd(int f) : fd(f) {}
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+  int release() { return std::exchange(fd, -1); }
+};
+
+// Marks the file used now, with the clock's full precision (file systems stamp their own
+// times coarsely, a few milliseconds apart).
+void Touch(int fd) {
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                      std::chrono::system_clock::now().time_since_epoch())
+                      .count();
+  const timespec now{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+  const timespec times[2] = {now, now};
+  ::futimens(fd, times);  // Failing costs only the order of eviction.
+}
+
+// Whether fd is still the file at path (not replaced or deleted since it was opened).
+bool StillAt(int fd, const std::filesystem::path& path) {
+  struct stat open_file {}, named {};
+  return ::fstat(fd, &open_file) == 0 && ::stat(path.c_str(), &named) == 0 &&
+         open_file.st_dev == named.st_dev && open_file.st_ino == named.st_ino;
+}
+
+// Reads fd to its end and checks the bytes against digest; the bytes are kept if `keep`.
+bool ReadsAs(int fd, std::string_view digest, std::string* keep) {
+  Sha256 hash;
+  std::string chunk(1 << 20, '\0');
+  while (true) {
+    const ssize_t n = ::read(fd, chunk.data(), chunk.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return false;
+    if (n == 0) break;
+    const std::string_view part(chunk.data(), static_cast<std::size_t>(n));
+    hash.Update(part);
+    if (keep) keep->append(part);
+  }
+  return hash.Finish() == digest;
+}
+
+std::system_error NoSpace(const std::string& what) {
+  return std::system_error(std::make_error_code(std::errc::no_space_on_device), what);
+}
+
+struct Entry {
+  std::filesystem::path path;
+  std::uint64_t size;
+  std::chrono::nanoseconds used;
+};
+
+}  // namespace
+
+BlobCache::Pinned::Pinned(Pinned&& other) noexcept
+    : path_(std::move(other.path_)), fd_(std::exchange(other.fd_, -1)) {}
+
+BlobCache::Pinned& BlobCache::Pinned::operator=(Pinned&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(other.path_);
+    fd_ = std::exchange(other.fd_, -1);
+  }
+  return *this;
+}
+
+BlobCache::Pinned::~Pinned() {
+  if (fd_ >= 0) ::close(fd_);  // Releases the lock.
+}
+
+BlobCache::BlobCache(std::filesystem::path dir, std::uint64_t max_bytes)
+    : dir_(std::move(dir)), max_bytes_(max_bytes) {
   std::error_code ec;
   std::filesystem::create_directories(dir_ / "sha256", ec);
   if (ec) throw std::runtime_error("cannot create cache dir " + dir_.string() + ": " + ec.message());
@@ -30,34 +110,80 @@ std::filesystem::path BlobCache::PathOf(std::string_view digest) const {
 std::optional<std::string> BlobCache::Get(std::string_view digest) const {
   if (!contract::IsDigest(digest)) return std::nullopt;
   const auto path = PathOf(digest);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad() || Sha256Digest(bytes) != digest) {
+  Fd file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  if (file.fd < 0) return std::nullopt;
+  std::string bytes;
+  if (!ReadsAs(file.fd, digest, &bytes)) {
     std::error_code ignored;
     std::filesystem::remove(path, ignored);
     return std::nullopt;
   }
+  Touch(file.fd);
   return bytes;
 }
 
-std::optional<std::filesystem::path> BlobCache::Path(std::string_view digest) const {
+std::optional<BlobCache::Pinned> BlobCache::Pin(std::string_view digest) const {
   if (!contract::IsDigest(digest)) return std::nullopt;
   auto path = PathOf(digest);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  Sha256 hash;
-  std::string chunk(1 << 20, '\0');
-  while (in) {
-    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
-    hash.Update(std::string_view(chunk.data(), static_cast<std::size_t>(in.gcount())));
+  Fd file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  if (file.fd < 0) return std::nullopt;
+  // Locked first, then checked to be still the entry: an eviction between the open and the
+  // lock would leave a deleted file, which callers that map the path cannot use.
+  while (::flock(file.fd, LOCK_SH) != 0) {
+    if (errno != EINTR) return std::nullopt;
   }
-  if (in.bad() || hash.Finish() != digest) {
+  if (!StillAt(file.fd, path)) return std::nullopt;
+  if (!ReadsAs(file.fd, digest, nullptr)) {
     std::error_code ignored;
     std::filesystem::remove(path, ignored);
     return std::nullopt;
   }
-  return path;
+  Touch(file.fd);
+  return Pinned(std::move(path), file.release());
+}
+
+void BlobCache::MakeRoom(std::string_view digest, std::uint64_t needed) const {
+  if (needed > max_bytes_) {
+    throw NoSpace("blob " + std::string(digest) + " of " + std::to_string(needed) +
+                  " bytes is larger than the worker's cache of " + std::to_string(max_bytes_) +
+                  " bytes (--cache-max-bytes)");
+  }
+  std::vector<Entry> entries;
+  std::uint64_t total = 0;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir_ / "sha256", ec)) {
+    if (e.path().filename().string().find('.') != std::string::npos) continue;  // temporary
+    struct stat st {};
+    if (::stat(e.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+    const auto used = std::chrono::seconds(st.st_mtim.tv_sec) + std::chrono::nanoseconds(st.st_mtim.tv_nsec);
+    entries.push_back({e.path(), static_cast<std::uint64_t>(st.st_size), used});
+    total += static_cast<std::uint64_t>(st.st_size);
+  }
+  if (total + needed <= max_bytes_) return;
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.used != b.used ? a.used < b.used : a.path < b.path;
+  });
+  std::uint64_t pinned = 0;
+  for (const Entry& e : entries) {
+    if (total + needed <= max_bytes_) return;
+    Fd file(::open(e.path.c_str(), O_RDONLY | O_CLOEXEC));
+    if (file.fd < 0) {  // Gone already: another worker evicted it.
+      total -= e.size;
+      continue;
+    }
+    // An exclusive lock fails while anyone holds the entry pinned.
+    if (::flock(file.fd, LOCK_EX | LOCK_NB) != 0 || !StillAt(file.fd, e.path)) {
+      pinned += e.size;
+      continue;
+    }
+    std::filesystem::remove(e.path, ec);
+    total -= e.size;
+  }
+  if (total + needed > max_bytes_) {
+    throw NoSpace("the worker's cache is full: blob " + std::string(digest) + " of " + std::to_string(needed) +
+                  " bytes does not fit beside " + std::to_string(pinned) + " bytes of entries in use, in " +
+                  std::to_string(max_bytes_) + " bytes (--cache-max-bytes)");
+  }
 }
 
 void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
@@ -67,17 +193,14 @@ void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
   if (Sha256Digest(bytes) != digest) {
     throw std::invalid_argument("blob content does not match digest " + std::string(digest));
   }
-  // A name unique to this process and call, renamed into place once complete.
-  static std::atomic<unsigned> counter{0};
   const auto final_path = PathOf(digest);
+  if (std::filesystem::exists(final_path)) return;  // Checked whenever it is read.
+  MakeRoom(digest, bytes.size());
+  // A name unique to this process and call, linked into place once complete.
+  static std::atomic<unsigned> counter{0};
   auto temp = final_path;
   temp += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-  struct File {  // closed on every way out
-    int fd;
-    ~File() {
-      if (fd >= 0) ::close(fd);
-    }
-  } file{::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)};
+  Fd file(::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
   const auto fail = [&temp](const char* what) {
     const std::error_code error(errno, std::generic_category());
     std::error_code ignored;
@@ -91,14 +214,16 @@ void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
     if (n < 0) fail("cannot write cache file ");
     at += static_cast<std::size_t>(n);
   }
-  const int closed = ::close(std::exchange(file.fd, -1));  // close reports late write errors (NFS)
-  if (closed != 0) fail("cannot write cache file ");
-  std::error_code ec;
-  std::filesystem::rename(temp, final_path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw std::system_error(ec, "cannot store cache file " + final_path.string());
+  Touch(file.fd);
+  if (::close(file.release()) != 0) fail("cannot write cache file ");  // close reports late write errors (NFS)
+  // A link, unlike a rename, never replaces an entry another worker stored meanwhile (which
+  // it may have pinned); the content is the same.
+  const int linked = ::link(temp.c_str(), final_path.c_str());
+  const std::error_code error(errno, std::generic_category());
+  std::error_code ignored;
+  std::filesystem::remove(temp, ignored);
+  if (linked != 0 && error != std::errc::file_exists) {
+    throw std::system_error(error, "cannot store cache file " + final_path.string());
   }
 }
 

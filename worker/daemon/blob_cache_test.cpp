@@ -16,6 +16,11 @@ using namespace std::string_literals;
 namespace farm {
 namespace {
 
+constexpr std::uint64_t kRoomy = std::uint64_t{1} << 30;
+
+// A blob of n bytes, different for each tag.
+std::string Blob(char tag, std::size_t n) { return std::string(n, tag); }
+
 class BlobCacheTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -30,18 +35,18 @@ class BlobCacheTest : public ::testing::Test {
 };
 
 TEST_F(BlobCacheTest, PutThenGet) {
-  BlobCache cache(dir_);
+  BlobCache cache(dir_, kRoomy);
   const std::string bytes = "mesh bytes\0with a nul"s;
   const std::string digest = Sha256Digest(bytes);
   EXPECT_FALSE(cache.Get(digest));
   cache.Put(digest, bytes);
   EXPECT_EQ(cache.Get(digest), bytes);
   // Another cache over the same folder (a restarted worker) sees it too.
-  EXPECT_EQ(BlobCache(dir_).Get(digest), bytes);
+  EXPECT_EQ(BlobCache(dir_, kRoomy).Get(digest), bytes);
 }
 
 TEST_F(BlobCacheTest, WriteErrorsKeepTheirErrorCode) {
-  BlobCache cache(dir_);
+  BlobCache cache(dir_, kRoomy);
   // The folder entries go in is a file now: creating one fails with ENOTDIR.
   std::filesystem::remove_all(dir_ / "sha256");
   std::ofstream(dir_ / "sha256") << "not a folder";
@@ -54,14 +59,14 @@ TEST_F(BlobCacheTest, WriteErrorsKeepTheirErrorCode) {
 }
 
 TEST_F(BlobCacheTest, RefusesBytesThatDoNotMatchTheDigest) {
-  BlobCache cache(dir_);
+  BlobCache cache(dir_, kRoomy);
   EXPECT_THROW(cache.Put(Sha256Digest("one"), "two"), std::invalid_argument);
   EXPECT_THROW(cache.Put("sha256:../../etc/passwd", "two"), std::invalid_argument);
   EXPECT_FALSE(cache.Get(Sha256Digest("one")));
 }
 
 TEST_F(BlobCacheTest, DropsCorruptEntries) {
-  BlobCache cache(dir_);
+  BlobCache cache(dir_, kRoomy);
   const std::string digest = Sha256Digest("original");
   cache.Put(digest, "original");
   const auto file = dir_ / "sha256" / digest.substr(7);
@@ -72,35 +77,92 @@ TEST_F(BlobCacheTest, DropsCorruptEntries) {
 }
 
 TEST_F(BlobCacheTest, IgnoresMalformedDigests) {
-  BlobCache cache(dir_);
+  BlobCache cache(dir_, kRoomy);
   EXPECT_FALSE(cache.Get("sha256:../x"));
   EXPECT_FALSE(cache.Get(""));
-  EXPECT_FALSE(cache.Path("sha256:../x"));
+  EXPECT_FALSE(cache.Pin("sha256:../x"));
 }
 
-TEST_F(BlobCacheTest, PathOfAVerifiedEntryLargerThanOneChunk) {
-  BlobCache cache(dir_);
+TEST_F(BlobCacheTest, PinOfAVerifiedEntryLargerThanOneChunk) {
+  BlobCache cache(dir_, kRoomy);
   std::string bytes(3 * (1 << 20) + 17, '\0');
   for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 31 % 251);
   const std::string digest = Sha256Digest(bytes);
-  EXPECT_FALSE(cache.Path(digest));
+  EXPECT_FALSE(cache.Pin(digest));
   cache.Put(digest, bytes);
-  const auto path = cache.Path(digest);
-  ASSERT_TRUE(path);
-  EXPECT_EQ(std::filesystem::file_size(*path), bytes.size());
+  const auto pinned = cache.Pin(digest);
+  ASSERT_TRUE(pinned);
+  EXPECT_EQ(std::filesystem::file_size(pinned->path()), bytes.size());
   // Storing the same blob again (another worker sharing the folder) keeps it valid.
-  BlobCache(dir_).Put(digest, bytes);
-  EXPECT_EQ(cache.Path(digest), path);
+  BlobCache(dir_, kRoomy).Put(digest, bytes);
+  EXPECT_EQ(cache.Pin(digest)->path(), pinned->path());
 }
 
-TEST_F(BlobCacheTest, PathDropsCorruptEntries) {
-  BlobCache cache(dir_);
+TEST_F(BlobCacheTest, PinDropsCorruptEntries) {
+  BlobCache cache(dir_, kRoomy);
   const std::string digest = Sha256Digest("snapshot");
   cache.Put(digest, "snapshot");
   const auto file = dir_ / "sha256" / digest.substr(7);
   std::ofstream(file, std::ios::binary | std::ios::trunc) << "snapshoT";
-  EXPECT_FALSE(cache.Path(digest));
+  EXPECT_FALSE(cache.Pin(digest));
   EXPECT_FALSE(std::filesystem::exists(file));
+}
+
+// Least recently used first: each read marks an entry used.
+TEST_F(BlobCacheTest, EvictsTheLeastRecentlyUsedToStayWithinItsSize) {
+  BlobCache cache(dir_, 3000);
+  const std::string a = Blob('a', 1000), b = Blob('b', 1000), c = Blob('c', 1000), d = Blob('d', 1000);
+  cache.Put(Sha256Digest(a), a);
+  cache.Put(Sha256Digest(b), b);
+  cache.Put(Sha256Digest(c), c);
+  ASSERT_TRUE(cache.Get(Sha256Digest(a)));  // a is now the most recently used; b the least
+  cache.Put(Sha256Digest(d), d);
+  EXPECT_TRUE(cache.Get(Sha256Digest(a)));
+  EXPECT_FALSE(cache.Get(Sha256Digest(b))) << "the least recently used entry was kept";
+  EXPECT_TRUE(cache.Get(Sha256Digest(c)));
+  EXPECT_TRUE(cache.Get(Sha256Digest(d)));
+  std::uint64_t total = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir_ / "sha256")) total += e.file_size();
+  EXPECT_LE(total, 3000u);
+}
+
+// A pinned entry (a mapped photon snapshot) is never evicted, by this cache or another
+// over the same folder (another worker process): a blob that does not fit beside it is
+// refused as a full disk, which the worker reports as resource exhaustion.
+TEST_F(BlobCacheTest, NeverEvictsAPinnedEntry) {
+  BlobCache cache(dir_, 2500);
+  const std::string snapshot = Blob('s', 2000), other = Blob('o', 1000);
+  cache.Put(Sha256Digest(snapshot), snapshot);
+  {
+    const auto pinned = cache.Pin(Sha256Digest(snapshot));
+    ASSERT_TRUE(pinned);
+    BlobCache neighbour(dir_, 2500);
+    try {
+      neighbour.Put(Sha256Digest(other), other);
+      FAIL() << "stored beside a pinned entry, over the size";
+    } catch (const std::system_error& e) {
+      EXPECT_EQ(e.code(), std::errc::no_space_on_device) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--cache-max-bytes"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(std::filesystem::exists(pinned->path()));
+    EXPECT_TRUE(cache.Get(Sha256Digest(snapshot)));
+  }
+  // Unpinned, it is the least recently used entry and makes room.
+  BlobCache(dir_, 2500).Put(Sha256Digest(other), other);
+  EXPECT_FALSE(cache.Get(Sha256Digest(snapshot)));
+  EXPECT_TRUE(cache.Get(Sha256Digest(other)));
+}
+
+TEST_F(BlobCacheTest, RefusesABlobLargerThanTheWholeCache) {
+  BlobCache cache(dir_, 100);
+  const std::string big = Blob('b', 101);
+  try {
+    cache.Put(Sha256Digest(big), big);
+    FAIL() << "stored";
+  } catch (const std::system_error& e) {
+    EXPECT_EQ(e.code(), std::errc::no_space_on_device) << e.what();
+  }
+  EXPECT_FALSE(cache.Get(Sha256Digest(big)));
 }
 
 }  // namespace

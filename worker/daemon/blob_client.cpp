@@ -48,20 +48,21 @@ std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop,
   return bytes;
 }
 
-std::filesystem::path BlobClient::FetchFile(const std::string& digest, std::stop_token stop,
-                                            Progress progress) {
+BlobCache::Pinned BlobClient::FetchFile(const std::string& digest, std::stop_token stop,
+                                        Progress progress) {
   if (!cache_) throw BlobError("no cache folder to keep blob " + digest + " in");
-  if (auto path = cache_->Path(digest)) return std::move(*path);
+  if (auto pinned = cache_->Pin(digest)) return std::move(*pinned);
   {
     const std::string bytes = Download(digest, stop, progress);
     try {
-      cache_->Put(digest, bytes);  // Atomic: a temporary file renamed into place.
+      cache_->Put(digest, bytes);  // Atomic: a temporary file linked into place.
     } catch (const std::system_error& e) {
-      // Keeps the error's code: a full disk is another kind of failure than a lost blob.
+      // Keeps the error's code: a full disk or cache is another kind of failure than a
+      // lost blob.
       throw std::system_error(e.code(), "cannot cache blob " + digest + ": " + e.what());
     }
   }  // The bytes are freed before the file is mapped.
-  if (auto path = cache_->Path(digest)) return std::move(*path);
+  if (auto pinned = cache_->Pin(digest)) return std::move(*pinned);
   throw BlobError("blob " + digest + " vanished from the cache right after it was stored");
 }
 
@@ -116,6 +117,10 @@ std::string BlobClient::Download(const std::string& digest, std::stop_token stop
     }
     return grpc::Status::OK;
   });
+  if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
+    throw LostBlobError("blob " + digest + " is not in the coordinator's blob store");
+  }
+  if (status.error_code() == grpc::StatusCode::DATA_LOSS) throw LostBlobError(status.error_message());
   if (!status.ok()) {
     throw BlobError("cannot download blob " + digest + ": " + status.error_message());
   }
@@ -146,6 +151,12 @@ std::string BlobClient::Upload(std::string_view bytes, std::stop_token stop,
     writer->WritesDone();
     return writer->Finish();
   });
+  // The coordinator's disk is full (or the blob over its size limit): not this worker's
+  // fault, so it must not count toward blocking it.
+  if (status.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED) {
+    throw TaskError(renderfarm::v1::FAILURE_KIND_RESOURCE_EXHAUSTED,
+                    "cannot upload blob " + digest + ": " + status.error_message());
+  }
   if (!status.ok()) throw BlobError("cannot upload blob " + digest + ": " + status.error_message());
   if (response.digest() != digest) {
     throw BlobError("blob store stored " + response.digest() + " for upload " + digest);

@@ -13,17 +13,27 @@
 #include <string>
 #include <string_view>
 
+#include "contract/failure.h"
 #include "daemon/blob_cache.h"
 #include "renderfarm/v1/blob.grpc.pb.h"
 #include "util/progress.h"
 
 namespace farm {
 
-// A blob could not be fetched or stored: not found, corrupt, or the store stayed
-// unreachable. The message names the digest.
+// A blob could not be fetched or stored: the bytes that came were wrong, or the store
+// stayed unreachable. The message names the digest.
 class BlobError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+// The coordinator's blob store does not have the blob (NOT_FOUND) or holds it damaged
+// (DATA_LOSS): no attempt can succeed until it is stored again, so the task fails as lost
+// input (the job fails at once; no worker is blamed). The message names the digest.
+class LostBlobError : public TaskError {
+ public:
+  explicit LostBlobError(const std::string& what)
+      : TaskError(renderfarm::v1::FAILURE_KIND_LOST_INPUT, what) {}
 };
 
 // Every transfer advances `progress` by the bytes it moves, chunk by chunk, so a task
@@ -37,11 +47,12 @@ class BlobClient {
   // blobs many tasks need (scenes, meshes).
   std::string Fetch(const std::string& digest, std::stop_token stop, Progress progress = {});
 
-  // The path of the blob's verified file in the cache, downloading it first if it is not
-  // there. Use for big blobs mapped into memory (photon snapshots). Throws BlobError if the
-  // blob cannot be fetched or the client has no cache to keep it in.
-  std::filesystem::path FetchFile(const std::string& digest, std::stop_token stop,
-                                  Progress progress = {});
+  // The blob's verified file in the cache, pinned (not evicted while the result lives),
+  // downloading it first if it is not there. Use for big blobs mapped into memory (photon
+  // snapshots). Throws BlobError if the blob cannot be fetched or the client has no cache
+  // to keep it in, std::system_error with ENOSPC if it does not fit in the cache.
+  BlobCache::Pinned FetchFile(const std::string& digest, std::stop_token stop,
+                              Progress progress = {});
 
   // Downloads and verifies without caching. Use for blobs read once (tile EXRs).
   std::string Download(const std::string& digest, std::stop_token stop, Progress progress = {});

@@ -7,8 +7,9 @@
 namespace farm {
 
 const char kWorkerUsage[] =
-    "usage: farm-worker --coordinator HOST:PORT [--cache-dir DIR] [--threads N] [--name NAME]\n"
-    "                   [--token TOKEN] [--tls-ca FILE] [--insecure] [--texture-cache-mib N]\n"
+    "usage: farm-worker --coordinator HOST:PORT [--cache-dir DIR] [--cache-max-bytes N]\n"
+    "                   [--threads N] [--name NAME] [--token TOKEN] [--tls-ca FILE] [--insecure]\n"
+    "                   [--texture-cache-mib N]\n"
     "\n"
     "Leases photon emission, render and composite tasks from a photonfarm coordinator until\n"
     "stopped.\n"
@@ -21,6 +22,9 @@ const char kWorkerUsage[] =
     "                           (default, shared by this user's workers on the host:\n"
     "                           $XDG_CACHE_HOME/photonfarm/worker, else\n"
     "                           ~/.cache/photonfarm/worker)\n"
+    "  --cache-max-bytes N      the most the cache folder may hold: the least recently used\n"
+    "                           entries are deleted to make room, never a photon snapshot a\n"
+    "                           task is using; suffix K, M, G or T for KiB to TiB (default 8G)\n"
     "  --threads N              render threads (default: all cores)\n"
     "  --name NAME              the name the farm shows for this worker (default: hostname)\n"
     "  --token TOKEN            worker token the coordinator was given, sent on every call\n"
@@ -36,6 +40,25 @@ namespace {
 
 constexpr int kMaxThreads = 4096;
 constexpr int kMaxTextureCacheMib = 1 << 20;
+
+// A byte count: a whole number, optionally followed by K, M, G or T (powers of 1024).
+std::optional<std::uint64_t> ParseBytes(std::string_view s) {
+  int shift = 0;
+  if (!s.empty()) {
+    switch (s.back()) {
+      case 'K': shift = 10; break;
+      case 'M': shift = 20; break;
+      case 'G': shift = 30; break;
+      case 'T': shift = 40; break;
+      default: break;
+    }
+  }
+  if (shift != 0) s.remove_suffix(1);
+  std::uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (s.empty() || ec != std::errc() || end != s.data() + s.size() || v > (UINT64_MAX >> shift)) return std::nullopt;
+  return v << shift;
+}
 
 std::optional<int> ParseInt(std::string_view s) {
   int v = 0;
@@ -100,8 +123,9 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       name = arg.substr(0, eq);
       value = std::string(arg.substr(eq + 1));
     }
-    if (name != "--coordinator" && name != "--cache-dir" && name != "--threads" &&
-        name != "--name" && name != "--token" && name != "--tls-ca" && name != "--texture-cache-mib") {
+    if (name != "--coordinator" && name != "--cache-dir" && name != "--cache-max-bytes" &&
+        name != "--threads" && name != "--name" && name != "--token" && name != "--tls-ca" &&
+        name != "--texture-cache-mib") {
       return fail("unknown flag " + std::string(name));
     }
     if (!value) {
@@ -118,6 +142,12 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       if (value->empty()) return fail("--cache-dir is empty");
       out.options.cache_dir = *value;
       have_cache_dir = true;
+    } else if (name == "--cache-max-bytes") {
+      const auto n = ParseBytes(*value);
+      if (!n || *n == 0) {
+        return fail("--cache-max-bytes \"" + *value + "\" is not a positive byte count (e.g. 8G)");
+      }
+      out.options.cache_max_bytes = *n;
     } else if (name == "--threads" || name == "--texture-cache-mib") {
       const bool threads = name == "--threads";
       const int max = threads ? kMaxThreads : kMaxTextureCacheMib;

@@ -37,6 +37,7 @@ TEST(WorkerFlags, Defaults) {
   EXPECT_EQ(f.options.cache_dir, "/home/u/.cache/photonfarm/worker");
   EXPECT_EQ(f.options.threads, 0);
   EXPECT_EQ(f.options.name, "");
+  EXPECT_EQ(f.options.cache_max_bytes, kDefaultCacheMaxBytes);
   EXPECT_EQ(f.options.texture_cache_mib, 512);
   f = Parse({"--coordinator=localhost:50051"}, {{{"HOME", "/home/u"}, {"XDG_CACHE_HOME", "/xdg"}}});
   EXPECT_EQ(f.options.cache_dir, "/xdg/photonfarm/worker");
@@ -44,6 +45,16 @@ TEST(WorkerFlags, Defaults) {
   EXPECT_EQ(f.options.cache_dir, "/home/u/.cache/photonfarm/worker");
   f = Parse({"--coordinator=localhost:50051"}, FakeEnv{});
   EXPECT_NE(f.error.find("--cache-dir"), std::string::npos) << f.error;
+}
+
+TEST(WorkerFlags, CacheMaxBytesTakesBinarySuffixes) {
+  for (const auto& [value, want] : std::vector<std::pair<std::string, std::uint64_t>>{
+           {"1", 1}, {"4096", 4096}, {"3K", 3 << 10}, {"64M", 64 << 20}, {"8G", std::uint64_t{8} << 30},
+           {"2T", std::uint64_t{2} << 40}}) {
+    const ParsedFlags f = Parse({"--coordinator=h:1", "--cache-max-bytes", value});
+    EXPECT_EQ(f.error, "") << value;
+    EXPECT_EQ(f.options.cache_max_bytes, want) << value;
+  }
 }
 
 TEST(WorkerFlags, Help) {
@@ -74,6 +85,10 @@ TEST(WorkerFlags, ClearErrors) {
       {{"--coordinator=h:1", "--texture-cache-mib=0"}, "--texture-cache-mib \"0\" is not a whole number from 1"},
       {{"--coordinator=h:1", "--texture-cache-mib", "lots"}, "--texture-cache-mib \"lots\""},
       {{"--coordinator=h:1", "--cache-dir="}, "--cache-dir is empty"},
+      {{"--coordinator=h:1", "--cache-max-bytes=0"}, "--cache-max-bytes \"0\" is not a positive byte count"},
+      {{"--coordinator=h:1", "--cache-max-bytes=8GB"}, "--cache-max-bytes \"8GB\""},
+      {{"--coordinator=h:1", "--cache-max-bytes=G"}, "--cache-max-bytes \"G\""},
+      {{"--coordinator=h:1", "--cache-max-bytes=99999999T"}, "--cache-max-bytes \"99999999T\""},
       {{"--coordinator=h:1", "--verbose"}, "unknown flag --verbose"},
       {{"--coordinator=h:1", "stray"}, "unexpected argument \"stray\""},
       {{"--coordinator=h:1", "--token="}, "--token is empty"},

@@ -1,14 +1,20 @@
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
 namespace farm {
 
+// --cache-max-bytes by default: room for a few of the largest photon snapshots (768 MB,
+// docs/limits.md) beside the scenes and meshes of the jobs at hand.
+inline constexpr std::uint64_t kDefaultCacheMaxBytes = std::uint64_t{8} << 30;
+
 // How a farm-worker process is configured (from its command line).
 struct WorkerOptions {
   std::string coordinator;           // HOST:PORT of the coordinator's gRPC endpoint.
   std::filesystem::path cache_dir;   // Where fetched scenes and meshes are kept.
+  std::uint64_t cache_max_bytes = kDefaultCacheMaxBytes;  // The most the cache may hold.
   int threads = 0;                   // Render threads; 0 means all cores.
   std::string name;                  // Shown as the worker's hostname; empty: the host's.
   std::string token;                 // Worker token sent on every RPC; empty: none.

@@ -141,6 +141,29 @@ OutputSettings OutputOf(const pb::Scene& scene, const Film& film, std::uint32_t 
   return out;
 }
 
+// The task's round, from 1.
+std::uint32_t RoundOf(const pb::Task& task) { return std::max<std::uint32_t>(task.round(), 1); }
+
+// Runs `fetch` (a blob transfer), putting what the blob holds before the message of any
+// error it throws, whose kind it keeps: "the scene: blob sha256:... is not in the
+// coordinator's blob store" (lost input), "the photon snapshot of round 2: cannot cache
+// blob ...: No space left on device" (resource exhaustion).
+template <typename Fetch>
+auto Fetching(const std::string& what, std::stop_token stop, Fetch fetch) -> decltype(fetch()) {
+  try {
+    return fetch();
+  } catch (const TaskCancelled&) {
+    throw;
+  } catch (const std::exception& e) {
+    ThrowIfStopped(stop);
+    throw TaskError(FailureKindOf(e), what + ": " + e.what());
+  }
+}
+
+std::string SnapshotOfRound(const pb::Task& task) {
+  return "the photon snapshot of round " + std::to_string(RoundOf(task));
+}
+
 }  // namespace
 
 std::string DescribeTask(const pb::Task& task) {
@@ -202,7 +225,7 @@ TaskResult TaskExecutor::Execute(const pb::LeaseTaskResponse& leased, std::stop_
 const pb::Scene& TaskExecutor::Description(const std::string& digest, std::stop_token stop,
                                            Progress progress) {
   if (!description_ || description_digest_ != digest) {
-    const std::string bytes = blobs_.Fetch(digest, stop, progress);
+    const std::string bytes = Fetching("the scene", stop, [&] { return blobs_.Fetch(digest, stop, progress); });
     auto scene = std::make_unique<pb::Scene>();
     if (!scene->ParseFromString(bytes)) {
       throw BadInputError("scene blob " + digest + " is not a binary renderfarm.v1.Scene");
@@ -236,16 +259,17 @@ const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop
   return *built_;
 }
 
-const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, std::stop_token stop,
-                                            Progress progress) {
+const PhotonSnapshot& TaskExecutor::Photons(const std::string& digest, const std::string& what,
+                                            std::stop_token stop, Progress progress) {
   if (!photons_ || photons_digest_ != digest) {
-    photons_.reset();  // Unmaps the previous job's snapshot first.
-    const std::filesystem::path file = blobs_.FetchFile(digest, stop, progress);
+    photons_.reset();  // Unmaps the previous job's snapshot first, then unpins it.
+    photons_file_.reset();
+    photons_file_ = Fetching(what, stop, [&] { return blobs_.FetchFile(digest, stop, progress); });
     ThrowIfStopped(stop);
     try {
-      photons_ = std::make_unique<PhotonSnapshot>(PhotonSnapshot::Open(file));
+      photons_ = std::make_unique<PhotonSnapshot>(PhotonSnapshot::Open(photons_file_->path()));
     } catch (const std::exception& e) {
-      throw TaskError(FailureKindOf(e), "photon snapshot " + digest + ": " + e.what());
+      throw TaskError(FailureKindOf(e), what + " (blob " + digest + "): " + e.what());
     }
     photons_digest_ = digest;
   }
@@ -270,7 +294,8 @@ TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& lease
     throw BadInputError("precompute_irradiance has no photon_snapshot");
   }
   const Scene& scene = Built(leased.scene_digest(), stop, progress);
-  const PhotonSnapshot& photons = Photons(spec.photon_snapshot().digest(), stop, progress);
+  const PhotonSnapshot& photons =
+      Photons(spec.photon_snapshot().digest(), SnapshotOfRound(leased.task()), stop, progress);
   ThrowIfStopped(stop);
   const std::string shard = ComputeIrradianceShard(scene, photons, spec.first_photon(),
                                                    spec.photon_count(),
@@ -291,7 +316,7 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   const pb::RenderTileSpec& spec = leased.task().render_tile();
   const PhotonSnapshot* photons = nullptr;
   if (spec.has_photon_snapshot()) {
-    photons = &Photons(spec.photon_snapshot().digest(), stop, progress);
+    photons = &Photons(spec.photon_snapshot().digest(), SnapshotOfRound(leased.task()), stop, progress);
   }
   ThrowIfStopped(stop);
   const RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
@@ -310,36 +335,39 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
 
 TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,
                                    Progress progress) {
+  // A composite needs neither the built scene nor the photon snapshot: they are freed
+  // first, so that the largest composite and the largest scene never add up in one worker
+  // (docs/limits.md, "Worker memory"). A next round's tiles build the scene again.
+  photons_.reset();
+  photons_file_.reset();
+  built_.reset();
   const pb::Scene& description = Description(leased.scene_digest(), stop, progress);
   const Film film = FilmOf(description);
   const pb::CompositeSpec& spec = leased.task().composite();
   std::vector<EncodedTile> tiles;
   tiles.reserve(static_cast<std::size_t>(spec.tiles_size()));
+  const std::uint32_t round = RoundOf(leased.task());
+  const auto download = [&](const std::string& what, const pb::Artifact& a) {
+    return Fetching(what, stop, [&] { return blobs_.Download(a.digest(), stop, progress); });
+  };
   for (const pb::TileInput& t : spec.tiles()) {
     const PixelRect rect = RectIn(t.rect(), film.size, "composite.tiles.rect");
-    try {
-      tiles.push_back({rect, blobs_.Download(t.tile().digest(), stop, progress)});
-    } catch (const BlobError& e) {
-      ThrowIfStopped(stop);
-      throw TaskError(FailureKindOf(e),
-                      "tile at x " + std::to_string(rect.x) + ", y " + std::to_string(rect.y) + ": " + e.what());
-    }
+    tiles.push_back({rect, download("tile x " + std::to_string(rect.x) + " y " + std::to_string(rect.y) +
+                                        " of round " + std::to_string(round),
+                                    t.tile())});
     ThrowIfStopped(stop);
   }
   RoundInputs in;
   in.size = film.size;
   in.tile_size = film.tile_size;
-  const std::uint32_t round = std::max<std::uint32_t>(leased.task().round(), 1);
   in.round = static_cast<int>(round);
   in.tiles = tiles;
   in.output = OutputOf(description, film, round, spec);
   if (spec.has_previous_accumulation()) {
     in.previous_accumulation =
-        blobs_.Download(spec.previous_accumulation().digest(), stop, progress);
+        download("the accumulation of round " + std::to_string(round - 1), spec.previous_accumulation());
   }
-  if (spec.has_reference()) {
-    in.reference_exr = blobs_.Download(spec.reference().digest(), stop, progress);
-  }
+  if (spec.has_reference()) in.reference_exr = download("the reference image", spec.reference());
   ThrowIfStopped(stop);
   RoundOutputs out;
   try {

@@ -68,10 +68,11 @@ class TaskExecutor {
                                            Progress progress);
   // The renderable scene, built once per scene digest; the last one is kept.
   const Scene& Built(const std::string& digest, std::stop_token stop, Progress progress);
-  // The photon snapshot, fetched into the on-disk cache and mapped into memory once per
-  // digest; the last one is kept.
-  const PhotonSnapshot& Photons(const std::string& digest, std::stop_token stop,
-                                Progress progress);
+  // The photon snapshot, fetched into the on-disk cache, pinned there and mapped into
+  // memory once per digest; the last one is kept. `what` names it in errors ("the photon
+  // snapshot of round 2").
+  const PhotonSnapshot& Photons(const std::string& digest, const std::string& what,
+                                std::stop_token stop, Progress progress);
 
   TaskResult EmitPhotons(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
                          Progress progress);
@@ -90,6 +91,7 @@ class TaskExecutor {
   std::string built_digest_;
   std::unique_ptr<Scene> built_;
   std::string photons_digest_;
+  std::optional<BlobCache::Pinned> photons_file_;  // declared first: unpinned after unmapping
   std::unique_ptr<PhotonSnapshot> photons_;
 };
 

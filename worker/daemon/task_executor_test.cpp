@@ -9,6 +9,7 @@
 
 #include "contract/failure.h"
 #include "daemon/blob_cache.h"
+#include "daemon/options.h"
 #include "daemon/sha256.h"
 #include "scene/test_scenes.h"
 
@@ -23,7 +24,7 @@ class TaskExecutorTest : public ::testing::Test {
  protected:
   TaskExecutorTest()
       : dir_(std::filesystem::temp_directory_path() / ("task_executor_test_" + std::to_string(::getpid()))),
-        cache_(dir_),
+        cache_(dir_, kDefaultCacheMaxBytes),
         blobs_(grpc::CreateChannel("127.0.0.1:1", grpc::InsecureChannelCredentials()), &cache_),
         executor_(blobs_) {}
   ~TaskExecutorTest() override { std::filesystem::remove_all(dir_); }

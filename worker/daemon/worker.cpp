@@ -8,6 +8,7 @@
 #include <optional>
 #include <stop_token>
 #include <thread>
+#include <utility>
 
 #include "contract/failure.h"
 #include "contract/go_text.h"
@@ -36,6 +37,16 @@ constexpr seconds kLeaseWait{10};
 constexpr seconds kCallDeadline{30};
 // How long shutdown keeps trying to release a lease or say goodbye.
 constexpr seconds kGoodbyeGiveUp{5};
+// The metadata that carries the registration's secret on every call about this worker
+// (RegisterWorkerResponse.worker_secret in worker.proto; contract/rules.WorkerSecretMetadata
+// in Go).
+constexpr char kWorkerSecretMetadata[] = "farm-worker-secret";
+
+// The pause before leasing again after a failure that does not blame the worker (a full
+// disk or cache), doubling while they repeat: another worker takes the task meanwhile,
+// and this one does not fail task after task the same way.
+constexpr Millis kSpareFirstPause{5000};
+constexpr Millis kSpareLongestPause{60000};
 
 std::string HostName() {
   char name[256] = "";
@@ -82,7 +93,7 @@ class Worker::Impl {
       : coordinator_(options.coordinator),
         hostname_(options.name.empty() ? HostName() : options.name),
         cores_(cores),
-        cache_(options.cache_dir),
+        cache_(options.cache_dir, options.cache_max_bytes),
         channel_(MakeCoordinatorChannel(options)),
         stub_(pb::WorkerService::NewStub(channel_)),
         blobs_(channel_, &cache_),
@@ -130,6 +141,13 @@ class Worker::Impl {
     std::lock_guard lock(mu_);
     return worker_id_;
   }
+  // Makes ctx carry the registration's secret, as every call about this worker must. The
+  // id and the secret change together only in Register, on the thread that makes the
+  // calls other than heartbeats (which read both at once).
+  void Identify(grpc::ClientContext& ctx) {
+    std::lock_guard lock(mu_);
+    ctx.AddMetadata(kWorkerSecretMetadata, worker_secret_);
+  }
 
   const std::string coordinator_;
   const std::string hostname_;
@@ -140,12 +158,16 @@ class Worker::Impl {
   BlobClient blobs_;
   TaskExecutor executor_;
 
+  Backoff spare_pause_{kSpareFirstPause, kSpareLongestPause};
+  bool pause_before_lease_ = false;  // The last task failed without blaming this worker.
+
   std::stop_source drain_;  // No more leasing.
   std::stop_source abort_;  // Abandon the current task too.
   std::atomic<bool> reregister_{false};
 
   std::mutex mu_;  // Guards what follows.
   std::string worker_id_;
+  std::string worker_secret_;
   Millis heartbeat_interval_{5000};
   std::optional<CurrentTask> current_;  // Shared with the heartbeat thread.
 };
@@ -176,6 +198,7 @@ bool Worker::Impl::Register() {
   }
   std::lock_guard lock(mu_);
   worker_id_ = response.worker_id();
+  worker_secret_ = response.worker_secret();
   heartbeat_interval_ = std::max(Millis(100), ToMillis(response.heartbeat_interval(), Millis(5000)));
   Log(LogLevel::kInfo, "registered",
       {{"coordinator", coordinator_},
@@ -198,6 +221,7 @@ void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
   while (true) {
     Millis interval;
     pb::HeartbeatRequest request;
+    std::string secret;
     {
       std::lock_guard lock(mu_);
       interval = heartbeat_interval_;
@@ -207,9 +231,11 @@ void Worker::Impl::HeartbeatLoop(std::stop_token stop) {
       std::lock_guard lock(mu_);
       if (worker_id_.empty()) continue;
       request = MakeHeartbeatRequest(worker_id_, current_);
+      secret = worker_secret_;
     }
     pb::HeartbeatResponse response;
     grpc::ClientContext ctx;
+    ctx.AddMetadata(kWorkerSecretMetadata, secret);
     SetDeadline(ctx, std::max<std::chrono::system_clock::duration>(interval, seconds(5)));
     std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
     const grpc::Status status = stub_->Heartbeat(&ctx, request, &response);
@@ -241,6 +267,7 @@ grpc::Status Worker::Impl::LeaseOnce(pb::LeaseTaskResponse& leased) {
   request.set_worker_id(WorkerId());
   request.mutable_wait_timeout()->set_seconds(kLeaseWait.count());
   grpc::ClientContext ctx;
+  Identify(ctx);
   SetDeadline(ctx, kLeaseWait + kCallDeadline);
   // While the coordinator is away, wait for the connection instead of failing at once:
   // the lease is asked for the moment it is back.
@@ -261,6 +288,11 @@ int Worker::Impl::Run() {
       if (reregister_.exchange(false) && !Register()) {
         exit_code = drain_.stop_requested() ? 0 : 1;
         break;
+      }
+      if (std::exchange(pause_before_lease_, false)) {
+        const Millis pause = spare_pause_.Next();
+        Log(LogLevel::kInfo, "pausing before the next lease", {{"ms", pause.count()}, {"why", "the last task ran out of a resource here"}});
+        if (!SleepUnlessStopped(pause, drain_.get_token())) break;
       }
       pb::LeaseTaskResponse leased;
       const grpc::Status status = LeaseOnce(leased);
@@ -355,10 +387,13 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     Release(lease);
     log(LogLevel::kInfo, "task released unfinished", {});
   } else if (error) {
+    const contract::FailureEntry treated = contract::FailureOf(kind);
+    pause_before_lease_ = !treated.permanent && !treated.blames_worker;
     const std::string problem = ReportFailure(lease, *error, kind);
     log(LogLevel::kWarn, "task failed",
         {{"error", *error}, {"kind", contract::FailureOf(kind).label}, {"report", problem.empty() ? "sent" : problem}});
   } else {
+    spare_pause_.Reset();
     const std::string problem = ReportComplete(lease, result);
     log(problem.empty() ? LogLevel::kInfo : LogLevel::kWarn, "task done", {{"report", problem.empty() ? "sent" : problem}});
   }
@@ -374,6 +409,7 @@ std::string Worker::Impl::Report(const pb::Lease& lease, const std::string& meth
       RetryTransient(method + " " + lease.task_id(), abort_.get_token(), seconds(0), [&] {
         grpc::ClientContext ctx;
         SetDeadline(ctx, kCallDeadline);
+        Identify(ctx);
         return call(ctx);
       });
   if (status.ok()) return "";
@@ -417,6 +453,7 @@ void Worker::Impl::Release(const pb::Lease& lease) {
         pb::ReleaseTaskResponse response;
         grpc::ClientContext ctx;
         SetDeadline(ctx, seconds(5));
+        Identify(ctx);
         return stub_->ReleaseTask(&ctx, request, &response);
       });
   // If this fails the lease simply expires and the task is queued again.
@@ -432,6 +469,7 @@ void Worker::Impl::Unregister() {
     pb::UnregisterWorkerResponse response;
     grpc::ClientContext ctx;
     SetDeadline(ctx, seconds(5));
+    Identify(ctx);
     return stub_->UnregisterWorker(&ctx, request, &response);
   });
   if (status.ok()) {

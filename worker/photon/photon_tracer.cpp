@@ -4,7 +4,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <stdexcept>
+#include <string>
+
+#include "contract/failure.h"
+#include "contract/rules.h"
 
 #include "math/math.h"
 #include "photon/photon_emission.h"
@@ -119,22 +124,34 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
   const SceneData& data = scene.data();
   const float power_scale = static_cast<float>(1.0 / static_cast<double>(request.total_photons));
   const uint64_t chunks = (request.photon_count + kChunkPaths - 1) / kChunkPaths;
+  const uint64_t max_photons =
+      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_snapshot_photons();
   std::vector<std::vector<ShardPhoton>> per_chunk(chunks);
+  std::atomic<uint64_t> stored{0};
   // Each chunk fills its own vector; concatenating them in chunk order gives path-index
   // order, whatever the number of threads or the order chunks finish in.
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, chunks, 1),
                     [&](const tbb::blocked_range<uint64_t>& range) {
                       for (uint64_t c = range.begin(); c < range.end(); ++c) {
-                        if (stop.stop_requested()) return;
+                        if (stop.stop_requested() || stored.load() > max_photons) return;
                         const uint64_t begin = request.first_photon + c * kChunkPaths;
                         const uint64_t end = std::min(request.first_photon + request.photon_count,
                                                       begin + kChunkPaths);
                         for (uint64_t i = begin; i < end; ++i)
                           TracePhotonPath(data, request.map, request.round_offset + i,
                                           power_scale, options, per_chunk[c]);
+                        stored += per_chunk[c].size();
                         progress.Advance(end - begin);  // Once a chunk, beside the stop check.
                       }
                     });
+  if (stored.load() > max_photons) {
+    const char* map = request.map == PhotonMapKind::kGlobal ? "global" : "caustic";
+    throw BadInputError(std::string("photons.") + map + "_photons: the " + map + " map's paths " +
+                        std::to_string(request.first_photon) + "+" + std::to_string(request.photon_count) +
+                        " store more than the " + std::to_string(max_photons) +
+                        " photons a snapshot may hold (scene_limits.max_snapshot_photons); lower photons." +
+                        map + "_photons");
+  }
   std::size_t total = 0;
   for (const auto& c : per_chunk) total += c.size();
   std::vector<ShardPhoton> photons;

@@ -14,6 +14,7 @@
 #include <functional>
 #include <numbers>
 
+#include "contract/failure.h"
 #include "math/math.h"
 #include "photon/trace_photons.h"
 #include "photonmap/shard_format.h"
@@ -369,6 +370,25 @@ TEST(PhotonTracer, CausticMapIsEmptyWithoutSpecularSurfacesAndBadRequestsThrow) 
   EXPECT_THROW(TracePhotonShard(scene, {PhotonMapKind::kGlobal, 0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(TracePhotonShard(scene, {static_cast<PhotonMapKind>(7), 0, 1, 1}),
                std::invalid_argument);
+}
+
+// A shard that stores more photons than a snapshot may hold could never be built: tracing
+// stops and says which setting to lower. The closed box of MixedScene stores several
+// photons a path.
+TEST(PhotonTracer, AShardStoringMoreThanASnapshotMayHoldIsBadInput) {
+  const Scene scene = Scene::Build(MixedScene(), NoBlobs());
+  PhotonTraceOptions options;
+  options.max_photons = 1000;
+  const std::vector<ShardPhoton> few = TracePhotons(scene, {PhotonMapKind::kGlobal, 0, 100, 100'000}, options);
+  ASSERT_LT(few.size(), 1000u);
+  try {
+    TracePhotons(scene, {PhotonMapKind::kGlobal, 0, 100'000, 100'000}, options);
+    FAIL() << "traced a shard over the limit";
+  } catch (const BadInputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "photons.global_photons: the global map's paths 0+100000 store more than the 1000 photons a "
+                 "snapshot may hold (scene_limits.max_snapshot_photons); lower photons.global_photons");
+  }
 }
 
 // Progress counts photon paths traced, chunk by chunk, whatever they store: a shard of n

@@ -3,6 +3,7 @@
 // The photon tracer behind TracePhotonShard, with the photons still decoded: for tests,
 // tools and the benchmark.
 
+#include <cstdint>
 #include <stop_token>
 #include <vector>
 
@@ -17,6 +18,11 @@ struct PhotonTraceOptions {
   // global map, with direct light). The farm never sets it: direct light comes from shadow
   // rays. Tests use it to check emitted flux against closed forms of direct irradiance.
   bool store_direct = false;
+  // The most photons the request's paths may store; 0 selects the contract's
+  // scene_limits.max_snapshot_photons. A shard that stores more could never be built into
+  // a snapshot (nor, past about 38M photons, uploaded as one blob), and would hold the
+  // worker's memory meanwhile: tracing stops and throws BadInputError.
+  std::uint64_t max_photons = 0;
 };
 
 // Appends the photons path `index` of the map stores, in bounce order. power_scale is
@@ -26,8 +32,9 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
                      std::vector<ShardPhoton>& out);
 
 // The photons of request's paths in path-index order, traced in parallel over chunks of
-// the range. Throws std::invalid_argument for a bad request; returns early (partial) if
-// stop is requested. progress advances by each chunk's paths once they are traced.
+// the range. Throws std::invalid_argument for a bad request, BadInputError (naming the
+// setting to lower) once the paths store more than options.max_photons; returns early
+// (partial) if stop is requested. progress advances by each chunk's paths once they are traced.
 std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardRequest& request,
                                       const PhotonTraceOptions& options = {},
                                       std::stop_token stop = {}, Progress progress = {});

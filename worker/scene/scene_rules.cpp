@@ -64,6 +64,11 @@ void CheckFilm(const pb::Film& f) {
                                  " x " + std::to_string(down) + " of " + std::to_string(tile) + " pixels) in the " +
                                  std::to_string(f.width()) + "x" + std::to_string(f.height()) +
                                  " film, more than the " + std::to_string(limit) + " a round may have");
+  const std::uint64_t pixels = std::uint64_t{f.width()} * f.height();
+  if (pixels > contract::SceneLimits().max_film_pixels())
+    Refuse("film.height", "a " + std::to_string(f.width()) + "x" + std::to_string(f.height()) + " film has " +
+                              std::to_string(pixels) + " pixels, more than the " +
+                              std::to_string(contract::SceneLimits().max_film_pixels()) + " a film may have");
 }
 
 // How a message quotes a name: at most 80 bytes of it, as in Go.

@@ -9,6 +9,7 @@
 //   camera.up                    non-zero and not parallel to look_at - position
 //   film.tile_size               at most SceneLimits().max_tiles_per_round tiles in the film
 //                                (ceil(width / tile) * ceil(height / tile))
+//   film.height                  width * height at most SceneLimits().max_film_pixels
 //   materials[i].name, meshes[i].name, textures[i].name   unique among their kind
 //   shapes[i].material           names a material; empty for an instance
 //   shapes[i].instance.mesh      names a mesh

@@ -74,13 +74,22 @@ TEST(CheckScene, Camera) {
 
 TEST(CheckScene, TilesPerRound) {
   ExpectRefusals({
-      {"default tiles", [](pb::Scene& s) { s.mutable_film()->set_width(16384); s.mutable_film()->set_height(4096); },
-       "accepted"},  // 512 x 128 tiles of 32
+      {"default tiles", [](pb::Scene& s) { s.mutable_film()->set_width(16384); s.mutable_film()->set_height(512); },
+       "accepted"},  // 512 x 16 tiles of 32
       {"small tiles", [](pb::Scene& s) { s.mutable_film()->set_width(16384); s.mutable_film()->set_height(4096); s.mutable_film()->set_tile_size(8); },
        "film.tile_size: makes 1048576 tiles (2048 x 512 of 8 pixels) in the 16384x4096 film, more than the 65536 a "
        "round may have"},
       {"exactly the limit", [](pb::Scene& s) { s.mutable_film()->set_width(2048); s.mutable_film()->set_height(2041); s.mutable_film()->set_tile_size(8); },
        "accepted"},  // 256 x 256 (2041 / 8 rounds up)
+  });
+}
+
+TEST(CheckScene, FilmPixels) {
+  ExpectRefusals({
+      {"at the limit", [](pb::Scene& s) { s.mutable_film()->set_width(4096); s.mutable_film()->set_height(2048); },
+       "accepted"},
+      {"one row more", [](pb::Scene& s) { s.mutable_film()->set_width(4096); s.mutable_film()->set_height(2049); },
+       "film.height: a 4096x2049 film has 8392704 pixels, more than the 8388608 a film may have"},
   });
 }
 

@@ -1,11 +1,21 @@
-// Package memstore is the in-process store.Store: all state in maps behind one mutex, so
-// every method is trivially atomic. It is the embedded default (one-machine farms, unit
-// tests); state is lost when the process exits.
+// Package memstore is the in-process store.Store: all state in memory behind one mutex, so
+// every method is trivially atomic. It is the embedded default (one-machine farms, `farm
+// render`, unit tests); state is lost when the process exits.
+//
+// Cost: a lease, a completion or a report costs O(log n) in the queued tasks and the jobs
+// (queue.go), never a scan of a job's tasks, so that a farm with a million tasks queued
+// leases as fast as an empty one. Opening a stage and ending a job early touch that
+// stage's or that round's tasks; a new job's or a new round's tasks are built before the
+// lock is taken, so that creating a large job holds the lock for O(1).
 package memstore
 
 import (
+	"cmp"
 	"context"
 	"fmt"
+	"slices"
+	"strconv"
+	"strings"
 	"sync"
 	"time"
 
@@ -24,29 +34,49 @@ type Store struct {
 	mu      sync.Mutex
 	seq     uint64
 	jobs    map[string]*job
-	ordered []*job // creation order; the queue's job order
-	tasks   map[string]*task
+	ordered []*job // creation order: ListJobs
 	// requests maps a CreateJob request id to the job it created.
 	requests map[string]*job
+	ready    map[pb.Phase]*readyQueue
+	delayed  delayQueue
+	leases   map[*task]struct{} // tasks leased now
 }
 
 var _ store.Store = (*Store)(nil)
 
 type job struct {
-	seq   uint64
-	pb    *pb.Job // without phases: computed on read
+	seq uint64
+	pb  *pb.Job // without phases: progress holds them
+	// tasks in plan order; a task's index is its position.
 	tasks []*task
 	// failures counts each worker's failed attempts at the job's tasks (the blocklist).
 	failures map[string]int
 	// blockKind is the kind of the failure that made the latest block.
 	blockKind pb.FailureKind
+	// request is the CreateJob request id that made it, if any.
+	request string
+
+	// The current stage is tasks[cur:end]: next is the first of them never leased since
+	// the stage opened, returned the indices of those that went back to the queue, and
+	// left the number not yet succeeded.
+	cur, end, next, left int
+	returned             indexHeap
+	held                 int // leases held now
+	// readyAt is the job's position in the ready queue of readyPhase, -1 if in none.
+	readyAt    int
+	readyPhase pb.Phase
+	// progress is Job.phases: the latest round's tasks per phase.
+	progress []*pb.PhaseProgress
 }
+
+func (j *job) ended() bool { return store.Ended(j.pb.State) }
 
 type task struct {
 	job      *job
 	pb       *pb.Task
 	epoch    uint64
 	expire   time.Time
+	retryAt  time.Time // while in the delay queue
 	failures int
 	expiries int
 	// progress is the largest HeldLease.progress of the current lease, reported (or the
@@ -60,31 +90,22 @@ func New(opts store.Options) *Store {
 	return &Store{
 		opts:     opts.WithDefaults(),
 		jobs:     make(map[string]*job),
-		tasks:    make(map[string]*task),
 		requests: make(map[string]*job),
+		ready:    make(map[pb.Phase]*readyQueue),
+		leases:   make(map[*task]struct{}),
 	}
 }
 
 func (s *Store) now() time.Time { return s.opts.Clock.Now() }
 
-// CreateJob implements store.Store.
+// CreateJob implements store.Store. The job and its tasks are built before the lock is
+// taken.
 func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
 	if err := nj.Check(); err != nil {
 		return nil, err
 	}
-	s.mu.Lock()
-	defer s.mu.Unlock()
-	if j := s.requests[nj.RequestID]; nj.RequestID != "" && j != nil {
-		return j.snapshot(), nil // a retried submission
-	}
 	now := timestamppb.New(s.now())
-	s.seq++
-	id := store.NewJobID()
-	for s.jobs[id] != nil {
-		id = store.NewJobID()
-	}
-	j := &job{seq: s.seq, failures: make(map[string]int), pb: &pb.Job{
-		Id:          id,
+	j := &job{failures: make(map[string]int), readyAt: -1, pb: &pb.Job{
 		DisplayName: nj.DisplayName,
 		State:       pb.JobState_JOB_STATE_QUEUED,
 		CreateTime:  now,
@@ -97,52 +118,106 @@ func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error)
 	if nj.Plan != nil {
 		j.pb.Plan = proto.Clone(nj.Plan).(*pb.Plan)
 	}
-	s.appendTasks(j, nj.Tasks)
-	s.jobs[id] = j
+	j.tasks = newTasks(j, nj.Tasks, 0)
+	j.stamp(store.NewJobID())
+
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	if old := s.requests[nj.RequestID]; nj.RequestID != "" && old != nil {
+		return old.snapshot(), nil // a retried submission
+	}
+	for s.jobs[j.pb.Id] != nil {
+		j.stamp(store.NewJobID())
+	}
+	s.seq++
+	j.seq = s.seq
+	s.jobs[j.pb.Id] = j
 	s.ordered = append(s.ordered, j)
 	if nj.RequestID != "" {
 		s.requests[nj.RequestID] = j
+		j.request = nj.RequestID
 	}
+	s.openRound(j, 0)
 	return j.snapshot(), nil
 }
 
-// appendTasks adds tasks (in plan order) after j's last task, numbered on from it, with
-// their first stage queued and the rest waiting.
-func (s *Store) appendTasks(j *job, tasks []*pb.Task) {
-	base := uint32(len(j.tasks))
-	first := store.Stage(tasks[0])
-	for i, t := range tasks {
+// newTasks copies a plan's tasks into tasks of j numbered from base, all waiting.
+func newTasks(j *job, plan []*pb.Task, base int) []*task {
+	out := make([]*task, len(plan))
+	for i, t := range plan {
 		pt := proto.Clone(t).(*pb.Task)
-		pt.Index = base + uint32(i)
-		pt.Id = store.TaskID(j.pb.Id, pt.Index)
-		pt.JobId = j.pb.Id
+		pt.Index = uint32(base + i)
 		pt.State = pb.TaskState_TASK_STATE_WAITING
-		if store.Stage(pt) == first {
-			pt.State = pb.TaskState_TASK_STATE_QUEUED
-		}
-		tk := &task{job: j, pb: pt}
-		j.tasks = append(j.tasks, tk)
-		s.tasks[pt.Id] = tk
+		out[i] = &task{job: j, pb: pt}
+	}
+	return out
+}
+
+// stamp gives j the id id and its tasks theirs.
+func (j *job) stamp(id string) {
+	j.pb.Id = id
+	for _, t := range j.tasks {
+		t.pb.JobId = id
+		t.pb.Id = store.TaskID(id, t.pb.Index)
 	}
 }
 
-// snapshot returns a copy of the job with the phase progress of its latest round.
-func (j *job) snapshot() *pb.Job {
-	out := proto.Clone(j.pb).(*pb.Job)
-	round := j.tasks[len(j.tasks)-1].pb.GetRound()
-	for _, t := range j.tasks {
+// openRound starts the round whose first task is tasks[first]: its progress is the job's
+// phases from now on, and its first stage is queued.
+func (s *Store) openRound(j *job, first int) {
+	j.progress = nil
+	round := j.tasks[first].pb.GetRound()
+	for _, t := range j.tasks[first:] {
 		if t.pb.GetRound() != round {
-			continue
+			break
 		}
-		n := len(out.Phases)
-		if n == 0 || out.Phases[n-1].Phase != t.pb.Phase {
-			out.Phases = append(out.Phases, &pb.PhaseProgress{Phase: t.pb.Phase})
+		n := len(j.progress)
+		if n == 0 || j.progress[n-1].Phase != t.pb.Phase {
+			j.progress = append(j.progress, &pb.PhaseProgress{Phase: t.pb.Phase})
 			n++
 		}
-		out.Phases[n-1].TasksTotal++
-		if t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED {
-			out.Phases[n-1].TasksSucceeded++
+		j.progress[n-1].TasksTotal++
+	}
+	s.openStage(j, first)
+}
+
+// openStage queues the stage whose first task is tasks[first].
+func (s *Store) openStage(j *job, first int) {
+	stage := store.Stage(j.tasks[first].pb)
+	end := first
+	for end < len(j.tasks) && store.Stage(j.tasks[end].pb) == stage {
+		j.tasks[end].pb.State = pb.TaskState_TASK_STATE_QUEUED
+		end++
+	}
+	j.cur, j.end, j.next, j.left = first, end, first, end-first
+	j.returned = j.returned[:0]
+	s.place(j)
+}
+
+// countSucceeded counts t's success in the progress of the latest round.
+func (j *job) countSucceeded(t *task) {
+	if t.pb.GetRound() != j.tasks[len(j.tasks)-1].pb.GetRound() {
+		return
+	}
+	for _, p := range j.progress {
+		if p.Phase == t.pb.Phase {
+			p.TasksSucceeded++
+			return
 		}
+	}
+}
+
+// snapshot returns a copy of the job with the phase progress of its latest round. The
+// round reports are shared, not copied (they never change once recorded), so that the
+// cost of a snapshot does not grow with the rounds.
+func (j *job) snapshot() *pb.Job {
+	rounds := j.pb.Rounds
+	j.pb.Rounds = nil
+	out := proto.Clone(j.pb).(*pb.Job)
+	j.pb.Rounds = rounds
+	out.Rounds = slices.Clone(rounds)
+	for _, p := range j.progress {
+		out.Phases = append(out.Phases, proto.Clone(p).(*pb.PhaseProgress))
 	}
 	return out
 }
@@ -153,13 +228,31 @@ func (s *Store) change(t *task, stateChanged, queued bool) store.Change {
 	return store.Change{Job: t.job.snapshot(), Task: t.snapshot(), JobStateChanged: stateChanged, Queued: queued}
 }
 
+// task returns the task taskID names ("{job}.{index}"), or nil.
+func (s *Store) task(taskID string) *task {
+	k := strings.LastIndexByte(taskID, '.')
+	if k < 0 {
+		return nil
+	}
+	j := s.jobs[taskID[:k]]
+	i, err := strconv.Atoi(taskID[k+1:])
+	if j == nil || err != nil || i < 0 || i >= len(j.tasks) || j.tasks[i].pb.Id != taskID {
+		return nil
+	}
+	return j.tasks[i]
+}
+
+func noTask(taskID string) error {
+	return &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", taskID)}
+}
+
 // GetTask implements store.Store.
 func (s *Store) GetTask(ctx context.Context, taskID string) (*pb.Task, error) {
 	s.mu.Lock()
 	defer s.mu.Unlock()
-	t := s.tasks[taskID]
+	t := s.task(taskID)
 	if t == nil {
-		return nil, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", taskID)}
+		return nil, noTask(taskID)
 	}
 	return t.snapshot(), nil
 }
@@ -194,18 +287,14 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 	}
 	s.mu.Lock()
 	defer s.mu.Unlock()
+	// ordered is sorted by seq: start below the first job not older than the token.
+	i, _ := slices.BinarySearchFunc(s.ordered, before, func(j *job, seq uint64) int { return cmp.Compare(j.seq, seq) })
 	var out []*pb.Job
-	var last uint64
-	for i := len(s.ordered) - 1; i >= 0; i-- {
-		j := s.ordered[i]
-		if j.seq >= before {
-			continue
-		}
+	for i--; i >= 0; i-- {
 		if len(out) == pageSize {
-			return out, store.EncodePageToken('j', last), nil
+			return out, store.EncodePageToken('j', s.ordered[i+1].seq), nil
 		}
-		out = append(out, j.snapshot())
-		last = j.seq
+		out = append(out, s.ordered[i].snapshot())
 	}
 	return out, "", nil
 }

@@ -1,6 +1,7 @@
 package redisstore
 
 import (
+	"context"
 	"fmt"
 	"strconv"
 	"strings"
@@ -25,16 +26,18 @@ import (
 //	b:{worker}             blocked: "{block time µs} {reason}"
 //	bkind                  the failure kind of the latest block
 //	f:{worker}             the worker's failed attempts at the job's tasks
-//	ntasks                 tasks so far
+//	ntasks, nrounds        tasks so far; round reports so far (the list r:{job})
 //	cur, curend, left      the current stage [cur, curend) and its tasks not yet succeeded
+//	cphase, next           the current stage's phase; its first task never leased
 //	pround, pphases        the latest round and its phases in plan order ("5,6")
 //	pt:{phase}, ps:{phase} that round's tasks of phase: total, succeeded
 //
 // A task record (hash t:{job}.{index}) keeps the planner's task as "spec" (the pb.Task
 // without id, job, index, state, attempts, worker, error or outputs) and: job, idx, phase,
-// round, stage (store.Stage), state, epoch (the fencing token; only grows), attempts,
-// failures, expiries, worker, error, fkind (Task.failure_kind), outputs, expire (µs),
-// retry (µs, or empty: Task.retry_time), progress (the lease's largest
+// round, stage (store.Stage), state (as last written: see jobView.taskState), and, once
+// leased (a field not written yet reads as zero or empty), epoch (the fencing token; only
+// grows), attempts, failures, expiries, worker, error, fkind (Task.failure_kind), outputs,
+// expire (µs), retry (µs, or empty: Task.retry_time), progress (the lease's largest
 // HeldLease.progress, decimal) and ptime (µs, when it last grew).
 
 // encodeArtifacts stores a list of artifacts as a serialized pb.Task holding only them, so
@@ -81,8 +84,8 @@ func number(s string) uint64 {
 	return n
 }
 
-// decodeJob rebuilds a pb.Job from its record and its round reports.
-func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
+// decodeJob rebuilds a pb.Job from its record, without its round reports (roundCache).
+func decodeJob(h map[string]string) (*pb.Job, error) {
 	j := &pb.Job{}
 	if err := proto.Unmarshal([]byte(h["static"]), j); err != nil {
 		return nil, errs.Wrap(errs.Internal, err, "decode job record")
@@ -108,13 +111,6 @@ func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode outputs of job %s", j.Id))
 	}
 	j.Outputs = outs
-	for _, r := range rounds {
-		rr := &pb.RoundReport{}
-		if err := proto.Unmarshal([]byte(r), rr); err != nil {
-			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode round report of job %s", j.Id))
-		}
-		j.Rounds = append(j.Rounds, rr)
-	}
 	for _, ph := range strings.Split(h["pphases"], ",") {
 		if ph == "" {
 			continue
@@ -128,8 +124,33 @@ func decodeJob(h map[string]string, rounds []string) (*pb.Job, error) {
 	return j, nil
 }
 
-// decodeTask rebuilds a pb.Task from its record.
-func decodeTask(h map[string]string) (*pb.Task, error) {
+// jobView is what a task's state depends on besides its record: its job's state and
+// current stage.
+type jobView struct {
+	state       pb.JobState
+	cur, curend uint64
+}
+
+func viewOf(h map[string]string) jobView {
+	return jobView{state: pb.JobState(number(h["state"])), cur: number(h["cur"]), curend: number(h["curend"])}
+}
+
+// taskState is the state of task index idx whose record says stored: an unfinished task
+// of an ended job was cancelled with it, and a waiting one in the current stage is queued
+// (the scripts write neither: scripts.go, Stages).
+func (v jobView) taskState(stored pb.TaskState, idx uint64) pb.TaskState {
+	switch {
+	case store.Ended(v.state) && (stored == pb.TaskState_TASK_STATE_WAITING || stored == pb.TaskState_TASK_STATE_QUEUED ||
+		stored == pb.TaskState_TASK_STATE_LEASED):
+		return pb.TaskState_TASK_STATE_CANCELLED
+	case stored == pb.TaskState_TASK_STATE_WAITING && v.cur <= idx && idx < v.curend:
+		return pb.TaskState_TASK_STATE_QUEUED
+	}
+	return stored
+}
+
+// decodeTask rebuilds a pb.Task from its record and its job's view.
+func decodeTask(h map[string]string, v jobView) (*pb.Task, error) {
 	t := &pb.Task{}
 	if err := proto.Unmarshal([]byte(h["spec"]), t); err != nil {
 		return nil, errs.Wrap(errs.Internal, err, "decode task record")
@@ -137,7 +158,7 @@ func decodeTask(h map[string]string) (*pb.Task, error) {
 	t.Index = uint32(number(h["idx"]))
 	t.JobId = h["job"]
 	t.Id = store.TaskID(t.JobId, t.Index)
-	t.State = pb.TaskState(number(h["state"]))
+	t.State = v.taskState(pb.TaskState(number(h["state"])), uint64(t.Index))
 	t.Attempts = uint32(number(h["attempts"]))
 	t.WorkerId = h["worker"]
 	t.Error = h["error"]
@@ -164,25 +185,17 @@ func hash(v any) map[string]string {
 	return m
 }
 
-func strs(v any) []string {
-	l, _ := v.([]any)
-	out := make([]string, len(l))
-	for i, x := range l {
-		out[i], _ = x.(string)
-	}
-	return out
-}
-
 // reply is a script's answer decoded: a change and its task record. A repeated report
 // decodes to the zero reply, the empty Change the Store contract asks for.
 type reply struct {
 	change store.Change
 	task   map[string]string // the task record behind change.Task
+	view   jobView           // of the job record behind change.Job
 	none   bool              // nothing to lease
 }
 
 // decodeReply decodes the answers described in scripts.go.
-func decodeReply(v any) (reply, error) {
+func (s *Store) decodeReply(ctx context.Context, v any) (reply, error) {
 	l, _ := v.([]any)
 	if len(l) == 0 {
 		return reply{}, errs.E(errs.Internal, "unexpected script answer %v", v)
@@ -197,21 +210,22 @@ func decodeReply(v any) (reply, error) {
 			return reply{}, refusal(l[1], l[2], l[3])
 		}
 	case "OK":
-		if len(l) == 6 {
-			return decodeOK(l)
+		if len(l) == 5 {
+			return s.decodeOK(ctx, l)
 		}
 	}
 	return reply{}, errs.E(errs.Internal, "unexpected script answer %v", v)
 }
 
-func decodeOK(l []any) (reply, error) {
-	job, err := decodeJob(hash(l[3]), strs(l[4]))
+func (s *Store) decodeOK(ctx context.Context, l []any) (reply, error) {
+	h := hash(l[3])
+	jobs, err := s.decodeJobs(ctx, []map[string]string{h})
 	if err != nil {
 		return reply{}, err
 	}
-	r := reply{change: store.Change{Job: job, JobStateChanged: l[1] == int64(1), Queued: l[2] == int64(1)}}
-	if r.task = hash(l[5]); len(r.task) > 0 {
-		if r.change.Task, err = decodeTask(r.task); err != nil {
+	r := reply{change: store.Change{Job: jobs[0], JobStateChanged: l[1] == int64(1), Queued: l[2] == int64(1)}, view: viewOf(h)}
+	if r.task = hash(l[4]); len(r.task) > 0 {
+		if r.change.Task, err = decodeTask(r.task, viewOf(h)); err != nil {
 			return reply{}, err
 		}
 	}
@@ -225,6 +239,8 @@ func refusal(kind, field, msg any) error {
 		k = errs.NotFound
 	case "precondition":
 		k = errs.FailedPrecondition
+	case "gone":
+		k = errs.Unavailable
 	}
 	f, _ := field.(string)
 	return &errs.Error{Kind: k, Field: f, Message: fmt.Sprint(msg)}

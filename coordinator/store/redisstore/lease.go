@@ -33,6 +33,8 @@ func (s *Store) LeaseTask(ctx context.Context, workerID string, phases []pb.Phas
 		// published to watchers, who must not see it half-written.
 		Task:        proto.Clone(r.change.Task).(*pb.Task),
 		SceneDigest: r.change.Job.SceneDigest,
+		StageStart:  uint32(r.view.cur),
+		StageEnd:    uint32(r.view.curend),
 		Change:      r.change,
 	}, nil
 }
@@ -86,7 +88,7 @@ func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.He
 				continue
 			}
 		default: // stuck: revoked and failed
-			r, err := decodeReply(a)
+			r, err := s.decodeReply(ctx, a)
 			if err != nil {
 				return hb, err
 			}
@@ -97,9 +99,33 @@ func (s *Store) ExtendLeases(ctx context.Context, workerID string, held []*pb.He
 	return hb, nil
 }
 
+// ExpireBatch is how many expired leases one expireScript looks at: a sweep after many
+// workers died runs several short scripts rather than one long one. PromoteBatch is how
+// many tasks whose backoff has ended a lease moves back to their queues (scripts.go,
+// promote); the others go at the next leases.
+const (
+	ExpireBatch  = 256
+	PromoteBatch = 64
+)
+
 // ExpireLeases implements store.Store.
 func (s *Store) ExpireLeases(ctx context.Context) ([]store.Change, error) {
-	return s.changes(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage)
+	var all []store.Change
+	for {
+		v, err := s.run(ctx, expireScript, s.opts.MaxExpiries, store.ExpiredMessage, ExpireBatch)
+		if err != nil {
+			return all, err
+		}
+		l, _ := v.([]any)
+		if len(l) == 0 {
+			return all, errs.E(errs.Internal, "unexpected expire answer %v", v)
+		}
+		cs, err := s.decodeChanges(ctx, l[1:])
+		all = append(all, cs...)
+		if err != nil || l[0] != int64(ExpireBatch) {
+			return all, err
+		}
+	}
 }
 
 // CompleteTask implements store.Store.
@@ -133,12 +159,37 @@ func (s *Store) CompleteRound(ctx context.Context, ref store.LeaseRef, end store
 	if err != nil {
 		return store.Change{}, errs.Wrap(errs.Internal, err, "encode round report")
 	}
-	next, err := taskArgs(end.Next)
-	if err != nil {
-		return store.Change{}, err
+	// The next round's tasks go after the composite, the job's last task ("{job}.{index}").
+	k := strings.LastIndexByte(ref.TaskID, '.')
+	index, perr := strconv.ParseUint(ref.TaskID[k+1:], 10, 32)
+	if k < 0 || perr != nil {
+		return store.Change{}, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", ref.TaskID)}
 	}
-	args := append(refArgs(ref), outs, report, final)
-	r, err := s.change(ctx, completeRoundScript, append(args, next...)...)
+	n := len(end.Next)
+	var (
+		stages, counts string
+		round          uint32
+	)
+	if n > 0 {
+		owner := ref.TaskID + "@" + strconv.FormatUint(ref.Epoch, 10)
+		staged, err := s.stage(ctx, ref.TaskID[:k], owner, &ref, uint32(index)+1, end.Next)
+		if err != nil {
+			return store.Change{}, err
+		}
+		if !staged {
+			n = 0 // a repeated report, which the script answers
+		}
+		stages, counts, round = summary(end.Next, uint32(index)+1)
+	}
+	metrics, err := proto.MarshalOptions{Deterministic: true}.Marshal(store.Metrics(end.Report))
+	if err != nil {
+		return store.Change{}, errs.Wrap(errs.Internal, err, "encode round metrics")
+	}
+	args := append(refArgs(ref), outs, report, final, n, "", "", "", "", metrics)
+	if n > 0 {
+		args[7], args[8], args[9], args[10] = strconv.FormatUint(store.Stage(end.Next[0]), 10), stages, counts, round
+	}
+	r, err := s.change(ctx, completeRoundScript, args...)
 	return r.change, err
 }
 

@@ -6,13 +6,16 @@ import (
 
 	"google.golang.org/protobuf/reflect/protoreflect"
 
+	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
 // preamble is the head of every script: the facts the Lua library shares with Go, written
-// out from Go so that the two cannot drift. The task and job state numbers and names and the
-// failure kind numbers come from the pb enums, the key names and the job record's field prefixes from keys.go. (Stages are not among them: Go computes
-// each task's stage, store.Stage, and passes it with the task, so Lua only compares them.)
+// out from Go so that the two cannot drift. The task and job state numbers and names and
+// the failure kind numbers come from the pb enums (and the kinds that blame no worker from
+// their failure_info), the key names and the job record's field prefixes from keys.go, the
+// promote batch from lease.go. (Stages are not among them: Go computes each task's stage,
+// store.Stage, and passes it with the task, so Lua only compares them.)
 //
 // Why a generated preamble rather than KEYS and ARGV alone: a lease discovers the keys it
 // needs while it runs (which job is ready, then its queue), so they cannot all be named
@@ -28,18 +31,34 @@ func buildPreamble() string {
 	enumLocals(&b, pb.JobState(0).Descriptor(), "JOB_STATE_", "J", "JOB_STATES")
 	enumLocals(&b, pb.FailureKind(0).Descriptor(), "FAILURE_KIND_", "F", "")
 	for _, k := range []struct{ local, name string }{
-		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey},
+		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey}, {"PENDING", pendingKey}, {"ENDED", endedKey}, {"DOOMED", doomedKey},
 	} {
 		fmt.Fprintf(&b, "local %s = P .. %s\n", k.local, lua(k.name))
 	}
 	fmt.Fprintf(&b, "local BLOCKED, FAILURES = %s, %s\n", lua(blockedField), lua(failuresField))
+	fmt.Fprintf(&b, "local PROMOTE_BATCH = %d\n", PromoteBatch)
+	fmt.Fprintf(&b, "local SPARES = {%s}\n", sparedKinds())
 	for _, k := range []struct{ fn, prefix string }{
-		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix},
+		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"lkey", leasesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix},
 	} {
 		fmt.Fprintf(&b, "local function %s(id) return P .. %s .. id end\n", k.fn, lua(k.prefix))
 	}
 	fmt.Fprintf(&b, "local function qkey(jid, phase) return P .. %s .. jid .. %s .. phase end\n", lua(queuePrefix), lua(queueSeparator))
 	return b.String()
+}
+
+// sparedKinds lists, as Lua table entries ("[4] = true"), the failure kinds whose
+// failure_info does not blame the worker (tasks.FailureOf): their failed attempts do not
+// count toward the blocklist. Unknown kinds blame it, as in Go.
+func sparedKinds() string {
+	var entries []string
+	values := pb.FailureKind(0).Descriptor().Values()
+	for i := 0; i < values.Len(); i++ {
+		if n := values.Get(i).Number(); !tasks.FailureOf(pb.FailureKind(n)).BlamesWorker {
+			entries = append(entries, fmt.Sprintf("[%d] = true", n))
+		}
+	}
+	return strings.Join(entries, ", ")
 }
 
 // enumLocals declares a Lua local per value of enum ed but 0, named prefix + the value's

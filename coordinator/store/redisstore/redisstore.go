@@ -8,7 +8,8 @@
 // task's epoch, worker and expiry in the script that applies it. Scripts were chosen over
 // WATCH/MULTI because a lease must search the queues and then write, and many lessees
 // compete for the same queue: optimistic transactions would retry under exactly the load
-// that matters. Reads are single commands or MULTI blocks, so each sees one state.
+// that matters. Reads are single commands, pipelined: a job's record is one hash (its
+// round reports are only ever appended), so each record is read in one state.
 //
 // Epochs (fencing tokens) are task fields in Redis, grown by HINCRBY on every lease and
 // never reset. Time comes from Options.Clock of the calling coordinator, passed to each
@@ -30,13 +31,15 @@ package redisstore
 
 import (
 	"context"
+	"crypto/rand"
+	"encoding/hex"
 	"errors"
 	"fmt"
 	"strconv"
+	"strings"
+	"time"
 
 	"github.com/redis/go-redis/v9"
-	"google.golang.org/protobuf/proto"
-	"google.golang.org/protobuf/types/known/timestamppb"
 
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
@@ -48,28 +51,106 @@ type Store struct {
 	rdb    redis.UniversalClient
 	prefix string
 	opts   store.Options
+	rounds roundCache
 }
 
 var _ store.Store = (*Store)(nil)
 
 // New returns a Store keeping its keys under prefix in the Redis rdb talks to. It checks
-// that Redis answers; the data already under prefix (a restarted coordinator's) is used
+// that Redis answers and loads the scripts; the data already under prefix (a restarted coordinator's) is used
 // as it is.
 func New(ctx context.Context, rdb redis.UniversalClient, prefix string, opts store.Options) (*Store, error) {
 	if err := rdb.Ping(ctx).Err(); err != nil {
 		return nil, fmt.Errorf("redisstore: %w", err)
 	}
+	if err := checkLayout(ctx, rdb, prefix); err != nil {
+		return nil, err
+	}
+	// Loaded now, the scripts are called by their digest from the first call on (a Redis
+	// that lost them, restarted without its data, gets them again: redis.Script.Run).
+	for _, sc := range scripts {
+		if err := sc.Load(ctx, rdb).Err(); err != nil {
+			return nil, fmt.Errorf("redisstore: load scripts: %w", err)
+		}
+	}
 	return &Store{rdb: rdb, prefix: prefix, opts: opts.WithDefaults()}, nil
 }
 
-// run runs a script with the prefix and the time in front of args.
+// layoutVersion names the key layout of keys.go and scripts.go. Version 2 (issue 12: stages
+// as ranges, jobs made in chunks, lease sets, operations) cannot read jobs the scripts of
+// version 1 wrote, which had no layout key.
+const layoutVersion = "2"
+
+// checkLayout records the layout under an empty prefix and refuses a prefix whose keys are
+// of another layout, rather than fail in the middle of its jobs.
+func checkLayout(ctx context.Context, rdb redis.UniversalClient, prefix string) error {
+	v, err := rdb.Eval(ctx, `
+local v = redis.call('GET', KEYS[1])
+if v then return v end
+if redis.call('EXISTS', KEYS[2]) == 1 then return '1' end
+redis.call('SET', KEYS[1], ARGV[1])
+return ARGV[1]`, []string{prefix + layoutKey, prefix + seqKey}, layoutVersion).Text()
+	if err != nil {
+		return fmt.Errorf("redisstore: %w", err)
+	}
+	if v != layoutVersion {
+		return fmt.Errorf("redisstore: the keys under prefix %q are of layout %s, this coordinator's are of layout %s: finish their jobs with the coordinator that made them, or use another prefix", prefix, v, layoutVersion)
+	}
+	return nil
+}
+
+// An operation's answer is kept for OpTTL (scripts.go, Operations); run retries a call
+// whose outcome it does not know for at most RetryWindow, well within it.
+const (
+	OpTTL       = 2 * time.Minute
+	RetryWindow = time.Minute
+)
+
+// run runs a script as one operation (scripts.go, Operations), with the prefix and the time
+// in front of args. A failure that leaves the outcome unknown (the connection lost, a
+// timeout, Redis busy or loading) is retried with the same operation key until Redis
+// answers, so that the answer is that of the one run; past RetryWindow or ctx, run
+// reports Unavailable, saying the outcome is unknown.
 func (s *Store) run(ctx context.Context, sc *redis.Script, args ...any) (any, error) {
 	args = append([]any{s.prefix, micros(s.opts.Clock.Now())}, args...)
-	v, err := sc.Run(ctx, s.rdb, []string{s.key("jobs")}, args...).Result()
-	if err != nil {
-		return nil, redisErr(err)
+	var token [16]byte
+	_, _ = rand.Read(token[:])
+	keys := []string{s.key(jobsKey), s.key(opPrefix + hex.EncodeToString(token[:]))}
+	start := time.Now()
+	for attempt := 0; ; attempt++ {
+		v, err := sc.Run(ctx, s.rdb, keys, args...).Result()
+		if err == nil {
+			return v, nil
+		}
+		if !unknownOutcome(err) {
+			return nil, redisErr(err)
+		}
+		wait := min(10*time.Millisecond<<min(attempt, 7), time.Second)
+		if ctx.Err() != nil || time.Since(start)+wait > RetryWindow {
+			return nil, errs.Wrap(errs.Unavailable, err, "redis (the outcome is unknown; a retry of the same request is safe)")
+		}
+		select {
+		case <-time.After(wait):
+		case <-ctx.Done():
+		}
 	}
-	return v, nil
+}
+
+// unknownOutcome reports whether a failed call may or may not have run: any failure but
+// an error Redis answered the script with, or answers Redis gives before running
+// anything (busy with another script, loading its data, a replica or cluster not ready).
+func unknownOutcome(err error) bool {
+	var answered redis.Error
+	if !errors.As(err, &answered) {
+		return !errors.Is(err, context.Canceled) && !errors.Is(err, context.DeadlineExceeded)
+	}
+	msg := answered.Error()
+	for _, p := range []string{"BUSY", "LOADING", "TRYAGAIN", "MASTERDOWN", "READONLY", "CLUSTERDOWN"} {
+		if strings.HasPrefix(msg, p) {
+			return true
+		}
+	}
+	return false
 }
 
 // change runs a script that answers with one reply.
@@ -78,7 +159,7 @@ func (s *Store) change(ctx context.Context, sc *redis.Script, args ...any) (repl
 	if err != nil {
 		return reply{}, err
 	}
-	return decodeReply(v)
+	return s.decodeReply(ctx, v)
 }
 
 // changes runs a script that answers with a list of replies.
@@ -88,9 +169,13 @@ func (s *Store) changes(ctx context.Context, sc *redis.Script, args ...any) ([]s
 		return nil, err
 	}
 	l, _ := v.([]any)
+	return s.decodeChanges(ctx, l)
+}
+
+func (s *Store) decodeChanges(ctx context.Context, l []any) ([]store.Change, error) {
 	var out []store.Change
 	for _, x := range l {
-		r, err := decodeReply(x)
+		r, err := s.decodeReply(ctx, x)
 		if err != nil {
 			return nil, err
 		}
@@ -109,35 +194,6 @@ func redisErr(err error) error {
 	return errs.Wrap(errs.Unavailable, err, "redis")
 }
 
-// CreateJob implements store.Store.
-func (s *Store) CreateJob(ctx context.Context, nj store.NewJob) (*pb.Job, error) {
-	if err := nj.Check(); err != nil {
-		return nil, err
-	}
-	id := store.NewJobID()
-	static, err := proto.Marshal(&pb.Job{
-		Id:          id,
-		DisplayName: nj.DisplayName,
-		CreateTime:  timestamppb.New(s.opts.Clock.Now()),
-		SceneDigest: nj.SceneDigest,
-		Width:       nj.Width,
-		Height:      nj.Height,
-		Plan:        nj.Plan,
-	})
-	if err != nil {
-		return nil, errs.Wrap(errs.Internal, err, "encode job")
-	}
-	tasks, err := taskArgs(nj.Tasks)
-	if err != nil {
-		return nil, err
-	}
-	r, err := s.change(ctx, createScript, append([]any{id, nj.RequestID, static, nj.Priority}, tasks...)...)
-	if err != nil {
-		return nil, err
-	}
-	return r.change.Job, nil
-}
-
 // GetJob implements store.Store.
 func (s *Store) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	jobs, err := s.jobs(ctx, []string{jobID})
@@ -147,30 +203,51 @@ func (s *Store) GetJob(ctx context.Context, jobID string) (*pb.Job, error) {
 	return jobs[0], nil
 }
 
-// jobs reads jobs in one MULTI block.
+// jobs reads jobs, each record with one HGETALL (pipelined), and their round reports.
 func (s *Store) jobs(ctx context.Context, ids []string) ([]*pb.Job, error) {
-	records := make([]*redis.MapStringStringCmd, len(ids))
-	rounds := make([]*redis.StringSliceCmd, len(ids))
-	_, err := s.rdb.TxPipelined(ctx, func(p redis.Pipeliner) error {
+	cmds := make([]*redis.MapStringStringCmd, len(ids))
+	_, err := s.rdb.Pipelined(ctx, func(p redis.Pipeliner) error {
 		for i, id := range ids {
-			records[i] = p.HGetAll(ctx, s.jobKey(id))
-			rounds[i] = p.LRange(ctx, s.roundsKey(id), 0, -1)
+			cmds[i] = p.HGetAll(ctx, s.jobKey(id))
 		}
 		return nil
 	})
 	if err != nil {
 		return nil, redisErr(err)
 	}
-	out := make([]*pb.Job, len(ids))
+	records := make([]map[string]string, len(ids))
 	for i, id := range ids {
-		if len(records[i].Val()) == 0 {
-			return nil, &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
-		}
-		if out[i], err = decodeJob(records[i].Val(), rounds[i].Val()); err != nil {
-			return nil, err
+		if records[i] = cmds[i].Val(); len(records[i]) == 0 || !visible(records[i]) {
+			return nil, noJob(id)
 		}
 	}
-	return out, nil
+	return s.decodeJobs(ctx, records)
+}
+
+// visible reports whether a job record is one a read may see: not still being created
+// (scripts.go, beginScript) nor being deleted (purgeScript).
+func visible(h map[string]string) bool { return h["building"] == "" && h["doomed"] == "" }
+
+func noJob(id string) error {
+	return &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", id)}
+}
+
+// view reads what the state of a job's tasks depends on, and how many it has; NotFound
+// for an unknown job.
+func (s *Store) view(ctx context.Context, jobID string) (jobView, uint64, error) {
+	fields := []string{"state", "cur", "curend", "ntasks", "building", "doomed"}
+	v, err := s.rdb.HMGet(ctx, s.jobKey(jobID), fields...).Result()
+	if err != nil {
+		return jobView{}, 0, redisErr(err)
+	}
+	h := map[string]string{}
+	for i, f := range fields {
+		h[f], _ = v[i].(string)
+	}
+	if h["state"] == "" || !visible(h) {
+		return jobView{}, 0, noJob(jobID)
+	}
+	return viewOf(h), number(h["ntasks"]), nil
 }
 
 // GetTask implements store.Store.
@@ -182,7 +259,11 @@ func (s *Store) GetTask(ctx context.Context, taskID string) (*pb.Task, error) {
 	if len(h) == 0 {
 		return nil, &errs.Error{Kind: errs.NotFound, Field: "task_id", Message: fmt.Sprintf("no task %q", taskID)}
 	}
-	return decodeTask(h)
+	v, _, err := s.view(ctx, h["job"])
+	if err != nil {
+		return nil, err
+	}
+	return decodeTask(h, v)
 }
 
 // ListJobs implements store.Store.
@@ -196,7 +277,7 @@ func (s *Store) ListJobs(ctx context.Context, pageSize int, pageToken string) ([
 		upper = "(" + strconv.FormatUint(before, 10)
 	}
 	// One more than a page tells whether another page follows.
-	zs, err := s.rdb.ZRevRangeByScoreWithScores(ctx, s.key("jobs"), &redis.ZRangeBy{
+	zs, err := s.rdb.ZRevRangeByScoreWithScores(ctx, s.key(jobsKey), &redis.ZRangeBy{
 		Max: upper, Min: "-inf", Count: int64(pageSize) + 1,
 	}).Result()
 	if err != nil {
@@ -224,12 +305,9 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	if err != nil {
 		return nil, "", err
 	}
-	n, err := s.rdb.HGet(ctx, s.jobKey(jobID), "ntasks").Uint64()
-	if err == redis.Nil {
-		return nil, "", &errs.Error{Kind: errs.NotFound, Field: "job_id", Message: fmt.Sprintf("no job %q", jobID)}
-	}
+	v, n, err := s.view(ctx, jobID)
 	if err != nil {
-		return nil, "", redisErr(err)
+		return nil, "", err
 	}
 	to, next := min(from+uint64(pageSize), n), ""
 	if to < n {
@@ -238,9 +316,11 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	if from >= to {
 		return nil, next, nil
 	}
-	// Tasks are only ever added, so the n read above still bounds them.
+	// Tasks are only ever added, so the n read above still bounds them. A plain pipeline,
+	// not MULTI: Redis serves other clients between its commands, where it would run a
+	// transaction of a page of 10,000 records without a pause.
 	cmds := make([]*redis.MapStringStringCmd, 0, to-from)
-	_, err = s.rdb.TxPipelined(ctx, func(p redis.Pipeliner) error {
+	_, err = s.rdb.Pipelined(ctx, func(p redis.Pipeliner) error {
 		for i := from; i < to; i++ {
 			cmds = append(cmds, p.HGetAll(ctx, s.taskKey(store.TaskID(jobID, uint32(i)))))
 		}
@@ -251,7 +331,7 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	}
 	out := make([]*pb.Task, len(cmds))
 	for i, c := range cmds {
-		if out[i], err = decodeTask(c.Val()); err != nil {
+		if out[i], err = decodeTask(c.Val(), v); err != nil {
 			return nil, "", err
 		}
 	}

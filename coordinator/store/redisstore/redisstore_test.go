@@ -3,6 +3,7 @@ package redisstore_test
 import (
 	"context"
 	"fmt"
+	"strings"
 	"sync/atomic"
 	"testing"
 
@@ -25,4 +26,27 @@ func TestStore(t *testing.T) {
 		}
 		return s
 	})
+}
+
+// TestAPrefixOfAnOlderLayoutIsRefused: keys written by the scripts of before issue 12
+// (a job sequence, no layout key) make New fail naming the prefix, and stay as they were,
+// instead of jobs failing midway; an empty prefix is claimed and opens again.
+func TestAPrefixOfAnOlderLayoutIsRefused(t *testing.T) {
+	srv := redistest.Start(t)
+	rdb := srv.Client()
+	ctx := context.Background()
+	if err := rdb.Set(ctx, "old:seq", "7", 0).Err(); err != nil {
+		t.Fatal(err)
+	}
+	if _, err := redisstore.New(ctx, rdb, "old:", store.Options{}); err == nil || !strings.Contains(err.Error(), `prefix "old:"`) {
+		t.Errorf("New on keys of an older layout: %v, want a refusal naming the prefix", err)
+	}
+	if n, err := rdb.Exists(ctx, "old:layout").Result(); err != nil || n != 0 {
+		t.Errorf("the refused prefix got a layout key (%d, %v): its keys must be left as they were", n, err)
+	}
+	for range 2 {
+		if _, err := redisstore.New(ctx, rdb, "new:", store.Options{}); err != nil {
+			t.Errorf("New on an empty prefix: %v", err)
+		}
+	}
 }

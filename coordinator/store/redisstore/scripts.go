@@ -1,10 +1,15 @@
 package redisstore
 
-import "github.com/redis/go-redis/v9"
+import (
+	"strconv"
+
+	"github.com/redis/go-redis/v9"
+)
 
 // Every script gets ARGV[1] = the key prefix and ARGV[2] = now (Unix microseconds, from
 // Options.Clock), then its own arguments. KEYS[1] is the prefix's "jobs" key and only
-// routes the call; the scripts build the other keys from the prefix with the functions
+// routes the call; KEYS[2] is the call's operation key (below); the scripts build the
+// other keys from the prefix with the functions
 // the preamble (preamble.go) declares from keys.go, and name task and job states by the
 // preamble's locals (WAITING ... CANCELLED, JQUEUED ... JCANCELLED).
 //
@@ -13,8 +18,25 @@ import "github.com/redis/go-redis/v9"
 // print such a number with only 14 digits.
 //
 // Scripts that change a task or a job answer through ok(): {"OK", jobStateChanged,
-// queued, HGETALL job, LRANGE rounds, HGETALL task}; a refusal is {"E", kind, field,
-// message}; a repeated report is {"NOOP"}.
+// queued, HGETALL job, HGETALL task}; a refusal is {"E", kind, field, message}; a
+// repeated report is {"NOOP"}.
+//
+// Operations: a call whose answer is lost (the connection dropped after Redis ran the
+// script, a read timeout) may be sent again, by go-redis's retries or by Store.run, and
+// must then get the answer of the first run, not run again: a second CreateJob would
+// make a second job, a second FailTask find the lease gone. Each call carries a fresh
+// operation key (KEYS[2], "op:{token}"); the first run keeps its answer's skeleton there
+// for OpTTL (ok() answers {"OK", changed, queued, job id, task id}, and render expands it
+// to the records as they stand), and a run that finds the key answers from it.
+//
+// Stages: the tasks of a job's current stage [cur, curend) are one phase (cphase); those
+// never leased since it opened are the range [next, curend), so opening a stage writes no
+// task record, and those that went back to the queue (released, expired, out of their
+// backoff) are the members of q:{job}:{phase}. A task record keeps the state it was last
+// given: a WAITING task inside the current stage is QUEUED, and any unfinished task of an
+// ended job is CANCELLED (codec.go's taskState), so that ending a job touches its leases,
+// not its tasks. Every script's work is bounded by its own arguments and the leases it
+// touches, never by the tasks of a job.
 //
 // Scheduling (store package comment): a job with leasable tasks of its current stage's
 // phase is a member of ready:{phase} (see place), scored (1000 - priority)·2^32 + leases
@@ -26,19 +48,30 @@ import "github.com/redis/go-redis/v9"
 // blocklist, is checked on the head members until one has not blocked the caller: a
 // worker is blocked from few jobs. Tasks in backoff wait in the delayed set, outside
 // their job's queue, so they never hide a leasable job; each lease first moves the due
-// ones back (promote).
+// ones back (promote, a bounded number a call).
 const lib = `
 local function tid(jid, i) return jid .. '.' .. i end
 local function num(key, field) return tonumber(redis.call('HGET', key, field) or '0') end
 
 local function refuse(kind, field, msg) return {'E', kind, field, msg} end
 
+local function ended(st) return st == JSUCCEEDED or st == JFAILED or st == JCANCELLED end
+
+-- unknown refuses a job that does not exist, or no longer: it is being deleted
+-- (purgeScript) or was never finished (beginScript).
+local function unknown(jid)
+  local h = redis.call('HMGET', jkey(jid), 'state', 'doomed', 'building')
+  if not h[1] or h[2] or h[3] then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+  return nil
+end
+
 -- live refuses a job that does not exist or has ended.
 local function live(jid)
+  local e = unknown(jid)
+  if e then return e end
   local st = redis.call('HGET', jkey(jid), 'state')
-  if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
   st = tonumber(st)
-  if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED then
+  if ended(st) then
     return refuse('precondition', '', 'job ' .. jid .. ' has already ended (JOB_STATE_' .. JOB_STATES[st] .. ')')
   end
   return nil
@@ -58,39 +91,55 @@ local function greater(a, b) return #a > #b or (#a == #b and a > b) end
 local function jobof(member) return string.match(member, ':(.*)$') end
 
 -- place puts the job in the ready set of its current stage's phase, ranked by priority
--- and leases held, or takes it out when that phase has no leasable task.
+-- and leases held, or takes it out when that phase has no leasable task or the job has
+-- ended. (A stage's phase only changes when the stage before has nothing left to lease,
+-- so the job is then in no ready set.)
 local function place(jid)
   local jk = jkey(jid)
-  local h = redis.call('HMGET', jk, 'seq', 'prio', 'held', 'cur')
-  local phase = redis.call('HGET', tkey(tid(jid, h[4] or '0')), 'phase')
+  local h = redis.call('HMGET', jk, 'seq', 'prio', 'held', 'cphase', 'next', 'curend', 'state')
+  local phase = h[4]
   local member = string.rep('0', 16 - #h[1]) .. h[1] .. ':' .. jid
-  if redis.call('EXISTS', qkey(jid, phase)) == 1 then
+  if not ended(tonumber(h[7])) and (tonumber(h[5]) < tonumber(h[6]) or redis.call('EXISTS', qkey(jid, phase)) == 1) then
     redis.call('ZADD', readykey(phase), (1000 - tonumber(h[2] or '0')) * 4294967296 + tonumber(h[3] or '0'), member)
   else
     redis.call('ZREM', readykey(phase), member)
   end
 end
 
--- unlease ends t's lease: it leaves LEASES and its job holds one lease less.
+-- unlease ends t's lease: it leaves LEASES and its job's leases (lkey), and the job holds
+-- one lease less.
 local function unlease(t, jid)
   redis.call('ZREM', LEASES, t)
+  redis.call('SREM', lkey(jid), t)
   redis.call('HINCRBY', jkey(jid), 'held', -1)
 end
 
-local function ok(changed, queued, jid, t)
-  local task = {}
-  if t then task = redis.call('HGETALL', tkey(t)) end
-  return {'OK', changed, queued, redis.call('HGETALL', jkey(jid)), redis.call('LRANGE', rkey(jid), 0, -1), task}
+-- ok is the skeleton of a change's answer (see Operations); render expands it.
+local function ok(changed, queued, jid, t) return {'OK', changed, queued, jid, t or ''} end
+
+local function render(r)
+  if type(r) ~= 'table' then return r end
+  if r[1] == 'OK' then
+    local task = {}
+    if r[5] ~= '' then task = redis.call('HGETALL', tkey(r[5])) end
+    return {'OK', r[2], r[3], redis.call('HGETALL', jkey(r[4])), task}
+  end
+  local out = {}
+  for i, x in ipairs(r) do out[i] = render(x) end
+  return out
 end
 
--- held refuses a report unless (worker, epoch) holds t's live lease.
+-- held refuses a report unless (worker, epoch) holds t's live lease. The lease of a task
+-- of an ended job was cancelled with it.
 local function held(t, worker, epoch)
-  local h = redis.call('HMGET', tkey(t), 'epoch', 'worker', 'state', 'expire')
+  local h = redis.call('HMGET', tkey(t), 'epoch', 'worker', 'state', 'expire', 'job')
   if not h[3] then return refuse('notfound', 'task_id', 'no task "' .. t .. '"') end
   local pre = 'task ' .. t .. ': lease epoch ' .. epoch
-  if h[1] ~= epoch then return refuse('precondition', '', pre .. ' is retired (current epoch ' .. h[1] .. ')') end
+  local cur = h[1] or '0'
+  if cur ~= epoch then return refuse('precondition', '', pre .. ' is retired (current epoch ' .. cur .. ')') end
   if h[2] ~= worker then return refuse('precondition', '', pre .. ' is held by another worker, not ' .. worker) end
   local st = tonumber(h[3])
+  if st == LEASED and ended(tonumber(redis.call('HGET', jkey(h[5]), 'state'))) then st = CANCELLED end
   if st ~= LEASED then return refuse('precondition', '', pre .. ' is no longer held (task is TASK_STATE_' .. TASK_STATES[st] .. ')') end
   if NOW >= tonumber(h[4]) then return refuse('precondition', '', pre .. ' expired') end
   return nil
@@ -102,55 +151,44 @@ local function repeated(t, worker, epoch)
   return tonumber(h[1]) == SUCCEEDED and h[2] == epoch and h[3] == worker
 end
 
--- openstage queues the stage starting at task index start and makes it the current one.
+-- again answers a repeat of t's accepted report: NOOP if its outputs (and, for a round's
+-- composite, metrics) are those recorded, else a refusal naming what differs
+-- (store.ConflictingReport).
+local function again(t, epoch, outputs, metrics)
+  local h = redis.call('HMGET', tkey(t), 'outputs', 'metrics')
+  local what
+  if h[1] ~= outputs then what = 'outputs' elseif metrics and (h[2] or '') ~= metrics then what = 'metrics' end
+  if not what then return {'NOOP'} end
+  return refuse('precondition', '', 'task ' .. t .. ': lease epoch ' .. epoch .. ' was already completed with other ' .. what ..
+    '; a repeated report must be the same')
+end
+
+-- openstage queues the stage starting at task index start and makes it the current one:
+-- its tasks are the range [next, curend), none is written.
 local function openstage(jid, start)
-  local jk = jkey(jid)
   local stop = tonumber(redis.call('HGET', skey(jid), start))
   local phase = redis.call('HGET', tkey(tid(jid, start)), 'phase')
-  local q = qkey(jid, phase)
-  for i = start, stop - 1 do
-    redis.call('HSET', tkey(tid(jid, i)), 'state', QUEUED)
-    redis.call('ZADD', q, i, i)
-  end
-  redis.call('HSET', jk, 'cur', start, 'curend', stop, 'left', stop - start)
+  redis.call('HSET', jkey(jid), 'cur', start, 'curend', stop, 'next', start, 'left', stop - start, 'cphase', phase)
   place(jid)
 end
 
--- append adds the tasks described from ARGV[a] on (a count, then spec, phase, round and
--- stage per task: store.Stage, computed by Go) after the job's last task, records their
--- stages and the progress of the latest round, and queues their first stage.
-local function append(jid, a)
+-- addtasks makes the new tasks of a job known: ntasks grows to top, their stages are
+-- ranges (stages: "start:end,...") and the progress counters those of their last round
+-- (counts: "phase:total,..." in plan order; both from Go's summary), and their first
+-- stage, at base, is queued. Their records were staged before (stageScript).
+local function addtasks(jid, base, top, stages, counts, round)
   local jk = jkey(jid)
-  local n = tonumber(ARGV[a])
-  local base = num(jk, 'ntasks')
-  local R = ARGV[a + 4 * n - 1]
-  if redis.call('HGET', jk, 'pround') ~= R then
-    for ph in string.gmatch(redis.call('HGET', jk, 'pphases') or '', '%d+') do
-      redis.call('HDEL', jk, 'pt:' .. ph, 'ps:' .. ph)
-    end
-    redis.call('HSET', jk, 'pround', R, 'pphases', '')
+  for ph in string.gmatch(redis.call('HGET', jk, 'pphases') or '', '%d+') do
+    redis.call('HDEL', jk, 'pt:' .. ph, 'ps:' .. ph)
   end
-  local plist = redis.call('HGET', jk, 'pphases')
-  local stage, stageStart
-  for i = 0, n - 1 do
-    local spec, phase, round, st = ARGV[a + 1 + 4 * i], ARGV[a + 2 + 4 * i], ARGV[a + 3 + 4 * i], ARGV[a + 4 + 4 * i]
-    local idx = base + i
-    redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', spec, 'phase', phase, 'round', round,
-      'stage', st, 'state', WAITING, 'epoch', 0, 'attempts', 0, 'failures', 0, 'expiries', 0, 'worker', '', 'error', '',
-      'outputs', '', 'expire', 0, 'retry', '', 'progress', '0', 'ptime', 0)
-    if st ~= stage then
-      if stage then redis.call('HSET', skey(jid), stageStart, idx) end
-      stage, stageStart = st, idx
-    end
-    if round == R then
-      if redis.call('HEXISTS', jk, 'pt:' .. phase) == 0 then
-        if plist == '' then plist = phase else plist = plist .. ',' .. phase end
-      end
-      redis.call('HINCRBY', jk, 'pt:' .. phase, 1)
-    end
+  local plist = {}
+  for ph, n in string.gmatch(counts, '(%d+):(%d+)') do
+    plist[#plist + 1] = ph
+    redis.call('HSET', jk, 'pt:' .. ph, n)
   end
-  redis.call('HSET', skey(jid), stageStart, base + n)
-  redis.call('HSET', jk, 'ntasks', base + n, 'pphases', plist)
+  for a, b in string.gmatch(stages, '(%d+):(%d+)') do redis.call('HSET', skey(jid), a, b) end
+  redis.call('HSET', jk, 'ntasks', top, 'pphases', table.concat(plist, ','), 'pround', round)
+  redis.call('HDEL', jk, 'sowner', 'stop')
   openstage(jid, base)
 end
 
@@ -172,13 +210,17 @@ local function requeue(t, retry)
   return h[1]
 end
 
--- promote queues the delayed tasks whose backoff has ended.
+-- promote queues up to PROMOTE_BATCH (Go's PromoteBatch) of the delayed tasks whose
+-- backoff has ended (the others go at the next leases), dropping those whose job has
+-- ended or gone.
 local function promote()
-  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S)) do
+  for _, t in ipairs(redis.call('ZRANGEBYSCORE', DELAYED, '-inf', NOW_S, 'LIMIT', 0, PROMOTE_BATCH)) do
     redis.call('ZREM', DELAYED, t)
     local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'phase')
-    redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
-    place(h[1])
+    if h[1] and not ended(tonumber(redis.call('HGET', jkey(h[1]), 'state'))) then
+      redis.call('ZADD', qkey(h[1], h[3]), h[2], h[2])
+      place(h[1])
+    end
   end
 end
 
@@ -197,33 +239,27 @@ end
 
 local function succeedjob(jid, outputs)
   redis.call('HSET', jkey(jid), 'state', JSUCCEEDED, 'end', NOW_S, 'outputs', outputs)
+  redis.call('ZADD', ENDED, NOW_S, jid)
 end
 
 -- endjob moves a job to a terminal state (with why and the failure kind for JFAILED),
--- empties its queue and cancels its unfinished tasks. Only the current stage and those
--- after it can be unfinished.
+-- empties its queue and cancels its leases; its unfinished tasks read as CANCELLED from
+-- now on, and its delayed ones are dropped when due (promote).
 local function endjob(jid, state, msg, kind)
   local jk = jkey(jid)
   redis.call('HSET', jk, 'state', state, 'error', msg, 'fkind', kind, 'end', NOW_S, 'update', NOW_S, 'held', 0)
-  local cur, n = num(jk, 'cur'), num(jk, 'ntasks')
-  redis.call('DEL', qkey(jid, redis.call('HGET', tkey(tid(jid, cur)), 'phase')))
+  redis.call('ZADD', ENDED, NOW_S, jid)
+  redis.call('DEL', qkey(jid, redis.call('HGET', jk, 'cphase')))
+  for _, t in ipairs(redis.call('SMEMBERS', lkey(jid))) do redis.call('ZREM', LEASES, t) end
+  redis.call('DEL', lkey(jid))
   place(jid)
-  for i = cur, n - 1 do
-    local t = tid(jid, i)
-    local st = tonumber(redis.call('HGET', tkey(t), 'state'))
-    if st == WAITING or st == QUEUED or st == LEASED then
-      redis.call('HSET', tkey(t), 'state', CANCELLED)
-      redis.call('ZREM', LEASES, t)
-      redis.call('ZREM', DELAYED, t)
-    end
-  end
 end
 
 -- failjob fails leased task t and its job with msg, of the kind of t's last failure.
 local function failjob(t, jid, msg)
   local k = tkey(t)
   redis.call('HSET', k, 'state', FAILED)
-  redis.call('ZREM', LEASES, t)
+  unlease(t, jid)
   endjob(jid, JFAILED, msg, redis.call('HGET', k, 'fkind'))
   return ok(1, 0, jid, t)
 end
@@ -235,8 +271,8 @@ local function limitfailure(t, n)
 end
 
 -- fail counts a transient failed attempt of kind at t's live lease by worker (FailTask,
--- a stuck lease) under pol (policy): the worker is blocked from the job at pol.block
--- failures (reason as store.BlockReason, stored as "µs reason"; the kind as the job's
+-- a stuck lease) under pol (policy): unless kind is one of SPARES, the worker is blocked
+-- from the job at pol.block failures (reason as store.BlockReason, stored as "µs reason"; the kind as the job's
 -- bkind); the task goes back after store.Options.Backoff, or at pol.attempts fails with
 -- its job.
 local function fail(t, worker, msg, pol, kind)
@@ -245,9 +281,11 @@ local function fail(t, worker, msg, pol, kind)
   local jk = jkey(jid)
   local failures = redis.call('HINCRBY', k, 'failures', 1)
   redis.call('HSET', k, 'error', msg, 'fkind', kind)
-  local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
-  if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
-    redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg, 'bkind', kind)
+  if not SPARES[tonumber(kind)] then
+    local n = redis.call('HINCRBY', jk, FAILURES .. worker, 1)
+    if n >= pol.block and redis.call('HEXISTS', jk, BLOCKED .. worker) == 0 then
+      redis.call('HSET', jk, BLOCKED .. worker, NOW_S .. ' ' .. n .. ' failed tasks: ' .. msg, 'bkind', kind)
+    end
   end
   if failures >= pol.attempts then return failjob(t, jid, limitfailure(t, failures)) end
   local retry = string.format('%.0f', NOW + math.min(pol.base * 2 ^ (failures - 1), pol.cap))
@@ -255,28 +293,116 @@ local function fail(t, worker, msg, pol, kind)
 end
 `
 
-// createScript: ARGV[3] job id, [4] request id, [5] the job's static record, [6] its
-// priority, [7...] the tasks (see append). A request id seen before answers with the job
-// it created.
-var createScript = newScript(`
+// A job is created in bounded steps, so that Redis serves everyone else in between:
+// beginScript writes its record (flagged "building": no listing, read or lease sees it)
+// and puts it in PENDING; stageScript writes a chunk of task records at a time; and
+// publishScript makes it a job in one step: numbered, listed, its first stage queued.
+// CompleteRound stages the next round's tasks the same way (beyond ntasks, where nothing
+// reads them) before completeRoundScript appends them in one step. A coordinator that dies
+// midway leaves a half-made job in PENDING (score: when it last grew): a retry of the
+// submission with the same request id finishes it (planning is deterministic, and a stage
+// already written is skipped), and otherwise the purge deletes it (PurgeJobs). Staged
+// records of a round whose composite was not completed are rewritten when the redone
+// composite stages its next round, or deleted with the job.
+
+// beginScript: ARGV[3] job id, [4] request id, [5] the job's static record, [6] its
+// priority, [7] its number of tasks, [8] its scene digest. A request id seen before
+// answers with the job it created ({'BUILD', id} if that one is still being made: the
+// caller carries on making it, which must be from the same scene).
+var beginScript = newScript(`
 local jid, req = ARGV[3], ARGV[4]
 if req ~= '' then
   local old = redis.call('HGET', REQUESTS, req)
-  if old then return ok(0, 0, old, nil) end
+  if old then
+    local h = redis.call('HMGET', jkey(old), 'building', 'total', 'digest')
+    if not h[1] then return ok(0, 0, old, nil) end
+    if h[2] ~= ARGV[7] or h[3] ~= ARGV[8] then
+      return refuse('precondition', 'request_id', 'request id ' .. req .. ' names a job being created from another scene')
+    end
+    return {'BUILD', old}
+  end
 end
 if redis.call('EXISTS', jkey(jid)) == 1 then return refuse('internal', '', 'job id ' .. jid .. ' is taken') end
-local seq = redis.call('INCR', SEQ)
-redis.call('HSET', jkey(jid), 'static', ARGV[5], 'seq', seq, 'state', JQUEUED, 'update', NOW_S,
-  'error', '', 'outputs', '', 'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0)
-redis.call('ZADD', JOBS, seq, jid)
+redis.call('HSET', jkey(jid), 'static', ARGV[5], 'state', JQUEUED, 'update', NOW_S, 'error', '', 'outputs', '',
+  'ntasks', 0, 'pphases', '', 'prio', ARGV[6], 'held', 0, 'nrounds', 0,
+  'building', 1, 'total', ARGV[7], 'digest', ARGV[8], 'req', req)
+redis.call('ZADD', PENDING, NOW_S, jid)
 if req ~= '' then redis.call('HSET', REQUESTS, req, jid) end
-append(jid, 7)
+return {'BUILD', jid}
+`)
+
+// gone refuses to go on making a job that was deleted, or is being: it was abandoned (its
+// maker gave up midway) and the purge took it.
+var goneLib = `
+local function gone(jid)
+  local jk = jkey(jid)
+  if redis.call('EXISTS', jk) == 1 and redis.call('HEXISTS', jk, 'doomed') == 0 then return nil end
+  return refuse('gone', '', 'job ' .. jid .. ' is gone: its creation was abandoned and cleaned up; submit again')
+end
+`
+
+// stageScript: ARGV[3] job id, [4] the staging's owner (the job id when creating it, the
+// composite's "task@epoch" for a round), [5] that composite's task id (empty when
+// creating), [6] its worker, [7] its epoch, [8] the first index of the chunk, [9...] its
+// tasks: a count, then spec, phase, round and stage (store.Stage, computed by Go) of
+// each. Chunks come in order from ntasks; what was written before (by a retry, or a
+// second attempt of the same submission) is skipped. It answers {'STAGED'}, or {'NOOP'} if the
+// composite's report was accepted already.
+var stageScript = newScript(goneLib + `
+local jid, owner, from = ARGV[3], ARGV[4], tonumber(ARGV[8])
+local jk = jkey(jid)
+local e = gone(jid)
+if e then return e end
+if ARGV[5] ~= '' then
+  if repeated(ARGV[5], ARGV[6], ARGV[7]) then return {'NOOP'} end
+  local e = held(ARGV[5], ARGV[6], ARGV[7])
+  if e then return e end
+end
+local base = num(jk, 'ntasks')
+local top = num(jk, 'stop')
+if redis.call('HGET', jk, 'sowner') ~= owner then
+  if from ~= base then return refuse('internal', '', 'job ' .. jid .. ': staging starts at task ' .. base .. ', not ' .. from) end
+  redis.call('HSET', jk, 'sowner', owner, 'stop', base)
+  top = base
+end
+local n = tonumber(ARGV[9])
+if from + n <= top then return {'STAGED'} end
+if from > top then return refuse('internal', '', 'job ' .. jid .. ': chunk at task ' .. from .. ' but the staged tasks end at ' .. top) end
+for i = top - from, n - 1 do
+  local a = 10 + 4 * i
+  local idx = from + i
+  redis.call('HSET', tkey(tid(jid, idx)), 'job', jid, 'idx', idx, 'spec', ARGV[a], 'phase', ARGV[a + 1], 'round', ARGV[a + 2],
+    'stage', ARGV[a + 3], 'state', WAITING)
+end
+redis.call('HSET', jk, 'stop', from + n)
+if redis.call('HEXISTS', jk, 'building') == 1 then redis.call('ZADD', PENDING, NOW_S, jid) end
+return {'STAGED'}
+`)
+
+// publishScript: ARGV[3] job id, [4] its stages, [5] its phase counts, [6] its last round
+// (see addtasks).
+var publishScript = newScript(goneLib + `
+local jid = ARGV[3]
+local jk = jkey(jid)
+local e = gone(jid)
+if e then return e end
+if redis.call('HEXISTS', jk, 'building') == 0 then return ok(0, 0, jid, nil) end
+local total = num(jk, 'total')
+if redis.call('HGET', jk, 'sowner') ~= jid or num(jk, 'stop') ~= total then
+  return refuse('internal', '', 'job ' .. jid .. ' is published before its ' .. total .. ' tasks are staged')
+end
+local seq = redis.call('INCR', SEQ)
+redis.call('HSET', jk, 'seq', seq)
+redis.call('HDEL', jk, 'building', 'total', 'digest')
+redis.call('ZREM', PENDING, jid)
+redis.call('ZADD', JOBS, seq, jid)
+addtasks(jid, 0, total, ARGV[4], ARGV[5], ARGV[6])
 return ok(0, 0, jid, nil)
 `)
 
 // leaseScript: ARGV[3] worker, [4] lease expiry, [5...] phases. The job comes from the
 // heads of the phases' ready sets (first: the best one that has not blocked the worker),
-// the task is its lowest queued index in the job's per-phase queues.
+// the task is its lowest leasable index (see Stages).
 var leaseScript = newScript(`
 local worker, expire = ARGV[3], ARGV[4]
 
@@ -302,19 +428,22 @@ for i = 5, #ARGV do
 end
 if not best then return {'NONE'} end
 local jid = jobof(best)
-local idx, member, phase
-for i = 5, #ARGV do
-  local r = redis.call('ZRANGE', qkey(jid, ARGV[i]), 0, 0, 'WITHSCORES')
-  if r[1] and (not idx or tonumber(r[2]) < idx) then idx, member, phase = tonumber(r[2]), r[1], ARGV[i] end
+local jk = jkey(jid)
+-- The lowest leasable index: a task put back is below the never-leased range.
+local q = qkey(jid, redis.call('HGET', jk, 'cphase'))
+local idx = redis.call('ZRANGE', q, 0, 0)[1]
+if idx then
+  redis.call('ZREM', q, idx)
+else
+  idx = redis.call('HINCRBY', jk, 'next', 1) - 1
 end
-redis.call('ZREM', qkey(jid, phase), member)
-local t = tid(jid, member)
+local t = tid(jid, idx)
 local k = tkey(t)
 redis.call('HINCRBY', k, 'epoch', 1)
 redis.call('HINCRBY', k, 'attempts', 1)
 redis.call('HSET', k, 'state', LEASED, 'worker', worker, 'expire', expire, 'retry', '', 'progress', '0', 'ptime', NOW_S)
 redis.call('ZADD', LEASES, expire, t)
-local jk = jkey(jid)
+redis.call('SADD', lkey(jid), t)
 redis.call('HINCRBY', jk, 'held', 1)
 place(jid)
 local started = 0
@@ -330,7 +459,7 @@ return ok(started, 0, jid, t)
 // stage opens the next one; the last of the job ends it with its stage's outputs.
 var completeScript = newScript(`
 local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
-if repeated(t, worker, epoch) then return {'NOOP'} end
+if repeated(t, worker, epoch) then return again(t, epoch, ARGV[6]) end
 local e = held(t, worker, epoch)
 if e then return e end
 local jid = succeed(t, ARGV[6])
@@ -348,11 +477,13 @@ return ok(1, 0, jid, t)
 `)
 
 // completeRoundScript: ARGV[3] task, [4] worker, [5] epoch, [6] outputs, [7] the round's
-// report, [8] the final outputs, [9...] the next round's tasks (see append; count 0 ends
-// the job).
+// report, [8] the final outputs, [14] the report's metrics (store.Metrics, kept with the
+// task to compare a repeat with), [9] the number of the next round's tasks (0 ends the
+// job), staged before by this lease (stageScript), [10] the stage of the first, [11] their
+// stages, [12] phase counts and [13] round (see addtasks).
 var completeRoundScript = newScript(`
 local t, worker, epoch = ARGV[3], ARGV[4], ARGV[5]
-if repeated(t, worker, epoch) then return {'NOOP'} end
+if repeated(t, worker, epoch) then return again(t, epoch, ARGV[6], ARGV[14]) end
 local e = held(t, worker, epoch)
 if e then return e end
 local h = redis.call('HMGET', tkey(t), 'job', 'idx', 'stage')
@@ -362,13 +493,18 @@ if num(jk, 'cur') ~= idx or num(jk, 'ntasks') ~= idx + 1 then
   return refuse('internal', '', 'task ' .. t .. ' is not the last task of its round')
 end
 local n = tonumber(ARGV[9])
-if n > 0 and tonumber(ARGV[13]) <= tonumber(h[3]) then
-  return refuse('internal', '', 'next round\'s task 0 is out of order')
+if n > 0 then
+  if tonumber(ARGV[10]) <= tonumber(h[3]) then return refuse('internal', '', 'next round\'s task 0 is out of order') end
+  if redis.call('HGET', jk, 'sowner') ~= t .. '@' .. epoch or num(jk, 'stop') ~= idx + 1 + n then
+    return refuse('internal', '', 'the next round of job ' .. jid .. ' is not staged')
+  end
 end
 succeed(t, ARGV[6])
+redis.call('HSET', tkey(t), 'metrics', ARGV[14])
 redis.call('RPUSH', rkey(jid), ARGV[7])
+redis.call('HINCRBY', jk, 'nrounds', 1)
 if n > 0 then
-  append(jid, 9)
+  addtasks(jid, idx + 1, idx + 1 + n, ARGV[11], ARGV[12], ARGV[13])
   return ok(0, 1, jid, t)
 end
 succeedjob(jid, ARGV[8])
@@ -393,10 +529,9 @@ return failjob(t, redis.call('HGET', tkey(t), 'job'), ARGV[9])
 var failBlockedScript = newScript(`
 local jid = ARGV[3]
 local jk = jkey(jid)
-local st = redis.call('HGET', jk, 'state')
-if not st then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
-st = tonumber(st)
-if st == JSUCCEEDED or st == JFAILED or st == JCANCELLED or #ARGV < 5 then return {'NOOP'} end
+local e = unknown(jid)
+if e then return e end
+if ended(tonumber(redis.call('HGET', jk, 'state'))) or #ARGV < 5 then return {'NOOP'} end
 for i = 5, #ARGV do
   if redis.call('HEXISTS', jk, BLOCKED .. ARGV[i]) == 0 then return {'NOOP'} end
 end
@@ -458,12 +593,14 @@ end
 return out
 `)
 
-// expireScript: ARGV[3] MaxExpiries, [4] the expiry message. It requeues every task whose
-// lease expiry (its score in LEASES) is not after now, counting the expiry, or fails the
-// task and its job at MaxExpiries; it answers one ok() per task.
+// expireScript: ARGV[3] MaxExpiries, [4] the expiry message, [5] the most leases to look
+// at. It requeues each task whose lease expiry (its score in LEASES) is not after now,
+// counting the expiry, or fails the task and its job at MaxExpiries; it answers the
+// number of leases it looked at, then one ok() per task.
 var expireScript = newScript(`
-local out = {}
-for _, t in ipairs(redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S)) do
+local expired = redis.call('ZRANGEBYSCORE', LEASES, '-inf', NOW_S, 'LIMIT', 0, tonumber(ARGV[5]))
+local out = {#expired}
+for _, t in ipairs(expired) do
   local k = tkey(t)
   -- An earlier failure in this loop may have ended the job, cancelling the lease.
   if tonumber(redis.call('HGET', k, 'state')) == LEASED then
@@ -513,7 +650,8 @@ return ok(0, 0, jid, nil)
 var unblockScript = newScript(`
 local jid, worker = ARGV[3], ARGV[4]
 local jk = jkey(jid)
-if redis.call('EXISTS', jk) == 0 then return refuse('notfound', 'job_id', 'no job "' .. jid .. '"') end
+local e = unknown(jid)
+if e then return e end
 local drop, unblocked = {}, 0
 if worker == '' then
   for _, f in ipairs(redis.call('HKEYS', jk)) do
@@ -530,4 +668,70 @@ if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
 return ok(0, unblocked, jid, nil)
 `)
 
-func newScript(body string) *redis.Script { return redis.NewScript(preamble + lib + body) }
+// purgeScript: ARGV[3] ended-before (µs), [4] abandoned-before (µs), [5] budget. It marks
+// for deletion (doomed: no read sees the job from then on, its request id is forgotten)
+// up to 16 jobs that ended before ARGV[3] and 16 half-made jobs not grown since ARGV[4],
+// then deletes the records of the doomed jobs, a batch of task records at a time, from
+// their last task down, at most budget keys in all: a job of 95,539 tasks takes many
+// calls, each about a millisecond. It answers {1 if work is left, the ids of the jobs
+// finished}.
+var purgeScript = newScript(`
+local budget = tonumber(ARGV[5])
+local function doom(jid)
+  local jk = jkey(jid)
+  local h = redis.call('HMGET', jk, 'req', 'ntasks', 'stop')
+  redis.call('ZREM', JOBS, jid)
+  redis.call('ZREM', ENDED, jid)
+  redis.call('ZREM', PENDING, jid)
+  if h[1] and h[1] ~= '' and redis.call('HGET', REQUESTS, h[1]) == jid then redis.call('HDEL', REQUESTS, h[1]) end
+  redis.call('HSET', jk, 'doomed', math.max(tonumber(h[2] or '0'), tonumber(h[3] or '0')))
+  redis.call('ZADD', DOOMED, NOW_S, jid)
+end
+for _, jid in ipairs(redis.call('ZRANGEBYSCORE', ENDED, '-inf', '(' .. ARGV[3], 'LIMIT', 0, 16)) do doom(jid) end
+for _, jid in ipairs(redis.call('ZRANGEBYSCORE', PENDING, '-inf', '(' .. ARGV[4], 'LIMIT', 0, 16)) do doom(jid) end
+local out = {0}
+for _, jid in ipairs(redis.call('ZRANGE', DOOMED, 0, 15)) do
+  if budget <= 0 then out[1] = 1 break end
+  local jk = jkey(jid)
+  local top = num(jk, 'doomed')
+  while top > 0 and budget > 0 do
+    local keys = {}
+    for i = top - 1, math.max(top - 256, 0, top - budget), -1 do keys[#keys + 1] = tkey(tid(jid, i)) end
+    redis.call('DEL', unpack(keys))
+    top, budget = top - #keys, budget - #keys
+  end
+  if top > 0 then
+    redis.call('HSET', jk, 'doomed', top)
+    out[1] = 1
+  else
+    redis.call('DEL', jk, rkey(jid), skey(jid), lkey(jid), qkey(jid, redis.call('HGET', jk, 'cphase') or '0'))
+    redis.call('ZREM', DOOMED, jid)
+    out[#out + 1] = jid
+    budget = budget - 1
+  end
+end
+if redis.call('ZCARD', DOOMED) > 0 or redis.call('ZCOUNT', ENDED, '-inf', '(' .. ARGV[3]) > 0 or
+  redis.call('ZCOUNT', PENDING, '-inf', '(' .. ARGV[4]) > 0 then out[1] = 1 end
+return out
+`)
+
+// scripts are every script, loaded into Redis when a Store opens.
+var scripts []*redis.Script
+
+// newScript makes a script of body run as one operation (see Operations).
+func newScript(body string) *redis.Script {
+	sc := redis.NewScript(preamble + lib + "local function main()\n" + body + `
+end
+local done = redis.call('GET', KEYS[2])
+local r
+if done then
+  r = cmsgpack.unpack(done)
+else
+  r = main()
+  redis.call('SET', KEYS[2], cmsgpack.pack(r), 'PX', ` + strconv.FormatInt(OpTTL.Milliseconds(), 10) + `)
+end
+return render(r)
+`)
+	scripts = append(scripts, sc)
+	return sc
+}

@@ -23,7 +23,7 @@ func (f *fixture) failKind(worker string, l *store.Leased, kind pb.FailureKind, 
 
 func testPermanentFailure(f *fixture) {
 	const msg = "shapes[8].mesh: meshes/broken.obj: line 5: face refers to vertex 7 but the file has 3 vertices"
-	for _, kind := range []pb.FailureKind{pb.FailureKind_FAILURE_KIND_BAD_INPUT, pb.FailureKind_FAILURE_KIND_UNSUPPORTED} {
+	for _, kind := range []pb.FailureKind{pb.FailureKind_FAILURE_KIND_BAD_INPUT, pb.FailureKind_FAILURE_KIND_UNSUPPORTED, pb.FailureKind_FAILURE_KIND_LOST_INPUT} {
 		j := f.create(kind.String(), 3)
 		// Two transient failures first: with the permanent one they would reach the
 		// blocklist threshold if it counted.
@@ -75,12 +75,31 @@ func testTransientKinds(f *fixture) {
 	}
 }
 
+func testResourceExhaustionBlamesNoWorker(f *fixture) {
+	a := f.create("a", 2*blockAfter)
+	for i := 0; i < 2*blockAfter; i++ { // each a different tile: no task reaches its attempt limit
+		c := f.failKind("w1", f.lease("w1"), pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED, "cache full")
+		if c.JobStateChanged || len(c.Job.GetBlockedWorkers()) != 0 {
+			f.t.Fatalf("resource exhaustion %d: job = %v, want it running with no worker blocked", i+1, c.Job)
+		}
+	}
+	if bw := f.job(a.Id).BlockedWorkers; len(bw) != 0 {
+		f.t.Fatalf("blocked workers = %v after %d resource exhaustions, want none", bw, 2*blockAfter)
+	}
+	// A transient failure after them counts from one: w1 is not blocked yet.
+	f.clock.Advance(f.opts.MaxRetryBackoff)
+	f.failKind("w1", f.lease("w1"), pb.FailureKind_FAILURE_KIND_TRANSIENT, "flaky")
+	if bw := f.job(a.Id).BlockedWorkers; len(bw) != 0 {
+		f.t.Errorf("blocked workers = %v after one transient failure, want none", bw)
+	}
+}
+
 func testFailBlockedJob(f *fixture) {
 	a := f.create("a", 6)
 	blockWorker := func(worker, msg string) {
 		f.t.Helper()
 		for i := 0; i < blockAfter; i++ {
-			f.failKind(worker, f.lease(worker), pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED, msg)
+			f.failKind(worker, f.lease(worker), pb.FailureKind_FAILURE_KIND_TRANSIENT, msg)
 		}
 	}
 	nothing := func(what string, workers ...string) {
@@ -100,7 +119,7 @@ func testFailBlockedJob(f *fixture) {
 	c, err := f.s.FailBlockedJob(f.ctx, a.Id, []string{"w2", "w1"})
 	want := store.BlockedJobFailure(2, store.BlockReason(blockAfter, "out of disk"))
 	if err != nil || !c.JobStateChanged || c.Job.State != pb.JobState_JOB_STATE_FAILED || c.Job.Error != want ||
-		c.Job.FailureKind != pb.FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED {
+		c.Job.FailureKind != pb.FailureKind_FAILURE_KIND_TRANSIENT {
 		f.t.Fatalf("every worker blocked: FailBlockedJob = %+v, %v; want the job FAILED with %q", c.Job, err, want)
 	}
 	if got := taskStates(f.tasks(a.Id)); got != "CCCCCCC" { // six tiles and the composite

@@ -91,6 +91,11 @@ func testPhotonPhasesOpenInOrder(f *fixture) {
 	opened(f.complete(builder, build, artifact("photons.snapshot", "snap")), true)
 	states("SSSQQW")
 	r0, r1 := f.lease("w1"), f.lease("w2")
+	for _, l := range []*store.Leased{e0, build, r1} {
+		if want := map[pb.Phase][2]uint32{pb.Phase_PHASE_EMIT: {0, 2}, pb.Phase_PHASE_BUILD: {2, 3}, pb.Phase_PHASE_RENDER: {3, 5}}[l.Task.Phase]; l.StageStart != want[0] || l.StageEnd != want[1] {
+			f.t.Errorf("lease of %s: stage [%d, %d), want [%d, %d)", l.Lease.TaskId, l.StageStart, l.StageEnd, want[0], want[1])
+		}
+	}
 	opened(f.complete("w1", r0, artifact("tile.exr", "t0")), false)
 	states("SSSSLW")
 	opened(f.complete("w2", r1, artifact("tile.exr", "t1")), true)

@@ -1,6 +1,8 @@
 package storetest
 
 import (
+	"fmt"
+	"strings"
 	"time"
 
 	"google.golang.org/protobuf/proto"
@@ -50,10 +52,8 @@ func testCompleteRoundAppendsNextRound(f *fixture) {
 	}
 	comp := f.finishTiles(2)
 	report := &pb.RoundReport{Round: 1, ElapsedSeconds: 1.5, Photons: 100, SamplesPerPixel: 1}
-	c, err := f.s.CompleteRound(f.ctx, ref("w1", comp), store.RoundEnd{
-		Outputs: []*pb.Artifact{artifact("image.exr", "i1"), artifact("accumulation.exr", "a1")},
-		Report:  report, Next: roundTasks(2, 2),
-	})
+	outs := []*pb.Artifact{artifact("image.exr", "i1"), artifact("accumulation.exr", "a1")}
+	c, err := f.s.CompleteRound(f.ctx, ref("w1", comp), store.RoundEnd{Outputs: outs, Report: report, Next: roundTasks(2, 2)})
 	if err != nil {
 		f.t.Fatalf("CompleteRound: %v", err)
 	}
@@ -81,7 +81,7 @@ func testCompleteRoundAppendsNextRound(f *fixture) {
 		f.t.Errorf("phases = %v, want round 2's (0 of 2 tiles)", job.Phases)
 	}
 	// A repeated report changes nothing, not even the rounds.
-	if c, err := f.s.CompleteRound(f.ctx, ref("w1", comp), store.RoundEnd{Report: report, Next: roundTasks(2, 2)}); err != nil || c.Job != nil {
+	if c, err := f.s.CompleteRound(f.ctx, ref("w1", comp), store.RoundEnd{Outputs: outs, Report: report, Next: roundTasks(2, 2)}); err != nil || c.Job != nil {
 		f.t.Errorf("repeated CompleteRound = %+v, %v; want no change", c, err)
 	}
 	if n := len(f.tasks(j.Id)); n != 6 {
@@ -147,5 +147,54 @@ func testCancelledRoundIsNotExtended(f *fixture) {
 	wantKind(f.t, "CompleteRound of a cancelled job", err, errs.FailedPrecondition)
 	if n := len(f.tasks(j.Id)); n != 2 {
 		f.t.Errorf("%d tasks, want 2: a cancelled job gets no new round", n)
+	}
+}
+
+func testRepeatedReportsMustBeTheSame(f *fixture) {
+	j, err := f.s.CreateJob(f.ctx, store.NewJob{DisplayName: "p", SceneDigest: digest("p"), Width: 16, Height: 8, Tasks: roundTasks(1, 1)})
+	if err != nil {
+		f.t.Fatalf("CreateJob: %v", err)
+	}
+	tile := f.lease("w1")
+	f.complete("w1", tile, artifact("tile.exr", "t0"))
+	if c := f.complete("w1", tile, artifact("tile.exr", "t0")); c.Job != nil {
+		f.t.Errorf("the same report again changed %+v", c)
+	}
+	for _, outs := range [][]*pb.Artifact{{artifact("tile.exr", "other")}, nil, {artifact("tile.exr", "t0"), artifact("x", "y")}} {
+		_, err := f.s.CompleteTask(f.ctx, ref("w1", tile), outs)
+		wantKind(f.t, fmt.Sprintf("a repeat with outputs %v", outs), err, errs.FailedPrecondition)
+		if err != nil && !strings.Contains(err.Error(), "other outputs") {
+			f.t.Errorf("refusal %q does not name the outputs", err)
+		}
+	}
+	if ts := f.tasks(j.Id); len(ts[0].Outputs) != 1 || ts[0].Outputs[0].Digest != digest("t0") {
+		f.t.Errorf("outputs after refused repeats = %v, want the first", ts[0].Outputs)
+	}
+
+	comp := f.lease("w1")
+	outs := []*pb.Artifact{artifact("image.exr", "i1"), artifact("accumulation.exr", "a1")}
+	report := &pb.RoundReport{Round: 1, ElapsedSeconds: 1, ErrorEstimate: proto.Float64(0.5), LayerReferenceRmse: map[string]float64{"direct": 0.1}}
+	end := store.RoundEnd{Outputs: outs, Report: report, Next: roundTasks(2, 1)}
+	if _, err := f.s.CompleteRound(f.ctx, ref("w1", comp), end); err != nil {
+		f.t.Fatalf("CompleteRound: %v", err)
+	}
+	// The coordinator's own part of the report (the elapsed time) may differ in a repeat.
+	later := proto.Clone(report).(*pb.RoundReport)
+	later.ElapsedSeconds = 7
+	if c, err := f.s.CompleteRound(f.ctx, ref("w1", comp), store.RoundEnd{Outputs: outs, Report: later, Next: roundTasks(2, 1)}); err != nil || c.Job != nil {
+		f.t.Errorf("the same outputs and metrics again = %+v, %v; want no change", c, err)
+	}
+	for what, end := range map[string]store.RoundEnd{
+		"outputs": {Outputs: outs[:1], Report: report, Next: roundTasks(2, 1)},
+		"metrics": {Outputs: outs, Report: &pb.RoundReport{Round: 1, ErrorEstimate: proto.Float64(0.25)}, Next: roundTasks(2, 1)},
+	} {
+		_, err := f.s.CompleteRound(f.ctx, ref("w1", comp), end)
+		wantKind(f.t, "a repeat with other "+what, err, errs.FailedPrecondition)
+		if err != nil && !strings.Contains(err.Error(), "other "+what) {
+			f.t.Errorf("refusal %q does not name the %s", err, what)
+		}
+	}
+	if job := f.job(j.Id); len(job.Rounds) != 1 || job.Rounds[0].GetErrorEstimate() != 0.5 || len(f.tasks(j.Id)) != 4 {
+		f.t.Errorf("after refused repeats: rounds %v, %d tasks; want the first report and one round appended", job.Rounds, len(f.tasks(j.Id)))
 	}
 }

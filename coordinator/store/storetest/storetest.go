@@ -74,6 +74,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"LastTileOpensCompositePhase", testPhaseOpening},
 		{"LastTaskSucceedsJobWithCompositeOutputs", testJobSucceeds},
 		{"RepeatedCompleteIsIdempotent", testIdempotentComplete},
+		{"RepeatedReportWithOtherOutputsOrMetricsIsRefused", testRepeatedReportsMustBeTheSame},
 		{"ReportsUnderStaleEpochOrOtherWorkerAreRefused", testStaleReports},
 		{"ExpiredLeaseIsRequeuedWithNewEpoch", testExpiry},
 		{"ReportAfterExpiryBeforeSweepIsRefused", testReportAfterDeadline},
@@ -95,7 +96,10 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"CancelledJobGetsNoNewRound", testCancelledRoundIsNotExtended},
 		{"PermanentFailureFailsTheJobAtOnceAndBlamesNoWorker", testPermanentFailure},
 		{"TransientKindsRetryAndRecordTheirKind", testTransientKinds},
+		{"ResourceExhaustionRetriesWithoutBlamingTheWorker", testResourceExhaustionBlamesNoWorker},
 		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
+		{"PurgeDeletesEndedJobsWithTheirTasksAndRequestIDs", testPurgeDeletesEndedJobs},
+		{"PurgeGoesInBoundedSteps", testPurgeGoesInBoundedSteps},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) { tt.fn(setup(t, newStore)) })

@@ -36,12 +36,15 @@ const (
 type BlobServiceClient interface {
 	// Stores a blob sent as a header message followed by chunks (at most 4 MiB each). Returns
 	// INVALID_ARGUMENT if the bytes do not match the declared size or digest, and
-	// RESOURCE_EXHAUSTED past the size limit. Uploading a blob that exists already is cheap
-	// and succeeds.
+	// RESOURCE_EXHAUSTED past the size limit. Uploading a blob that exists already succeeds,
+	// and replaces a stored copy that was damaged.
 	UploadBlob(ctx context.Context, opts ...grpc.CallOption) (grpc.ClientStreamingClient[UploadBlobRequest, UploadBlobResponse], error)
-	// Streams a blob in chunks. Returns NOT_FOUND if it does not exist.
+	// Streams a blob in chunks. Returns NOT_FOUND if it does not exist, and DATA_LOSS if its
+	// stored content no longer matches its digest: the blob is checked whole before the first
+	// chunk is sent, so a damaged blob gives an error and no bytes.
 	DownloadBlob(ctx context.Context, in *DownloadBlobRequest, opts ...grpc.CallOption) (grpc.ServerStreamingClient[DownloadBlobResponse], error)
-	// Returns NOT_FOUND if the blob does not exist.
+	// Checks the stored content against the digest (reading it whole): NOT_FOUND if the blob
+	// does not exist, DATA_LOSS if it is damaged (upload it again to repair it).
 	GetBlobInfo(ctx context.Context, in *GetBlobInfoRequest, opts ...grpc.CallOption) (*GetBlobInfoResponse, error)
 }
 
@@ -107,12 +110,15 @@ func (c *blobServiceClient) GetBlobInfo(ctx context.Context, in *GetBlobInfoRequ
 type BlobServiceServer interface {
 	// Stores a blob sent as a header message followed by chunks (at most 4 MiB each). Returns
 	// INVALID_ARGUMENT if the bytes do not match the declared size or digest, and
-	// RESOURCE_EXHAUSTED past the size limit. Uploading a blob that exists already is cheap
-	// and succeeds.
+	// RESOURCE_EXHAUSTED past the size limit. Uploading a blob that exists already succeeds,
+	// and replaces a stored copy that was damaged.
 	UploadBlob(grpc.ClientStreamingServer[UploadBlobRequest, UploadBlobResponse]) error
-	// Streams a blob in chunks. Returns NOT_FOUND if it does not exist.
+	// Streams a blob in chunks. Returns NOT_FOUND if it does not exist, and DATA_LOSS if its
+	// stored content no longer matches its digest: the blob is checked whole before the first
+	// chunk is sent, so a damaged blob gives an error and no bytes.
 	DownloadBlob(*DownloadBlobRequest, grpc.ServerStreamingServer[DownloadBlobResponse]) error
-	// Returns NOT_FOUND if the blob does not exist.
+	// Checks the stored content against the digest (reading it whole): NOT_FOUND if the blob
+	// does not exist, DATA_LOSS if it is damaged (upload it again to repair it).
 	GetBlobInfo(context.Context, *GetBlobInfoRequest) (*GetBlobInfoResponse, error)
 	mustEmbedUnimplementedBlobServiceServer()
 }

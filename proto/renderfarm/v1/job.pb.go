@@ -275,7 +275,7 @@ const (
 	WorkerState_WORKER_STATE_IDLE WorkerState = 1
 	// Holding a lease.
 	WorkerState_WORKER_STATE_BUSY WorkerState = 2
-	// No heartbeat for longer than a lease lasts.
+	// No heartbeat for longer than a lease lasts (forgotten after four).
 	WorkerState_WORKER_STATE_LOST WorkerState = 3
 )
 
@@ -1981,7 +1981,11 @@ func (x *SetJobPriorityResponse) GetJob() *Job {
 }
 
 type ListWorkersRequest struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// At most this many workers; 0 selects 100, values above 1000 are treated as 1000.
+	PageSize int32 `protobuf:"varint,1,opt,name=page_size,json=pageSize,proto3" json:"page_size,omitempty"`
+	// From a previous ListWorkersResponse; empty for the first page.
+	PageToken     string `protobuf:"bytes,2,opt,name=page_token,json=pageToken,proto3" json:"page_token,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -2016,10 +2020,26 @@ func (*ListWorkersRequest) Descriptor() ([]byte, []int) {
 	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
 }
 
+func (x *ListWorkersRequest) GetPageSize() int32 {
+	if x != nil {
+		return x.PageSize
+	}
+	return 0
+}
+
+func (x *ListWorkersRequest) GetPageToken() string {
+	if x != nil {
+		return x.PageToken
+	}
+	return ""
+}
+
 type ListWorkersResponse struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// By registration time, oldest first.
-	Workers       []*WorkerInfo `protobuf:"bytes,1,rep,name=workers,proto3" json:"workers,omitempty"`
+	Workers []*WorkerInfo `protobuf:"bytes,1,rep,name=workers,proto3" json:"workers,omitempty"`
+	// Empty on the last page.
+	NextPageToken string `protobuf:"bytes,2,opt,name=next_page_token,json=nextPageToken,proto3" json:"next_page_token,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -2059,6 +2079,13 @@ func (x *ListWorkersResponse) GetWorkers() []*WorkerInfo {
 		return x.Workers
 	}
 	return nil
+}
+
+func (x *ListWorkersResponse) GetNextPageToken() string {
+	if x != nil {
+		return x.NextPageToken
+	}
+	return ""
 }
 
 type WorkerInfo struct {
@@ -3032,10 +3059,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06job_id\x18\x01 \x01(\tR\x05jobId\x12\x1a\n" +
 	"\bpriority\x18\x02 \x01(\x05R\bpriority\">\n" +
 	"\x16SetJobPriorityResponse\x12$\n" +
-	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"\x14\n" +
-	"\x12ListWorkersRequest\"J\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"P\n" +
+	"\x12ListWorkersRequest\x12\x1b\n" +
+	"\tpage_size\x18\x01 \x01(\x05R\bpageSize\x12\x1d\n" +
+	"\n" +
+	"page_token\x18\x02 \x01(\tR\tpageToken\"r\n" +
 	"\x13ListWorkersResponse\x123\n" +
-	"\aworkers\x18\x01 \x03(\v2\x19.renderfarm.v1.WorkerInfoR\aworkers\"\x88\x03\n" +
+	"\aworkers\x18\x01 \x03(\v2\x19.renderfarm.v1.WorkerInfoR\aworkers\x12&\n" +
+	"\x0fnext_page_token\x18\x02 \x01(\tR\rnextPageToken\"\x88\x03\n" +
 	"\n" +
 	"WorkerInfo\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12\x1a\n" +

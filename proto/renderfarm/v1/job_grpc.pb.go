@@ -68,8 +68,9 @@ type JobServiceClient interface {
 	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
 	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
 	UnblockWorker(ctx context.Context, in *UnblockWorkerRequest, opts ...grpc.CallOption) (*UnblockWorkerResponse, error)
-	// Lists the workers this coordinator knows (registered and not unregistered), for
-	// monitoring: what each is doing and how it has fared.
+	// Lists the workers this coordinator knows (registered, not unregistered and heard
+	// from lately: a worker silent for four lease durations is forgotten), for
+	// monitoring: what each is doing and how it has fared. Paged like ListJobs.
 	ListWorkers(ctx context.Context, in *ListWorkersRequest, opts ...grpc.CallOption) (*ListWorkersResponse, error)
 }
 
@@ -227,8 +228,9 @@ type JobServiceServer interface {
 	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
 	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
 	UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error)
-	// Lists the workers this coordinator knows (registered and not unregistered), for
-	// monitoring: what each is doing and how it has fared.
+	// Lists the workers this coordinator knows (registered, not unregistered and heard
+	// from lately: a worker silent for four lease durations is forgotten), for
+	// monitoring: what each is doing and how it has fared. Paged like ListJobs.
 	ListWorkers(context.Context, *ListWorkersRequest) (*ListWorkersResponse, error)
 	mustEmbedUnimplementedJobServiceServer()
 }

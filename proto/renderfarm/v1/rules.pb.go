@@ -155,7 +155,7 @@ type FailureKind int32
 const (
 	// Treated as TRANSIENT (a report from a worker that does not say).
 	FailureKind_FAILURE_KIND_UNSPECIFIED FailureKind = 0
-	// Worth retrying, on this worker or another: a network error, a lost blob download, a
+	// Worth retrying, on this worker or another: a network error, a broken blob transfer, a
 	// crash.
 	FailureKind_FAILURE_KIND_TRANSIENT FailureKind = 1
 	// The scene or an asset it names is wrong (a mesh that does not parse, a value out of
@@ -163,9 +163,15 @@ const (
 	FailureKind_FAILURE_KIND_BAD_INPUT FailureKind = 2
 	// The task asks for something this farm cannot do (a feature no worker has).
 	FailureKind_FAILURE_KIND_UNSUPPORTED FailureKind = 3
-	// The worker ran out of memory, disk or another resource: another worker, or this one
-	// later, may have enough, so it is retried (and a worker that keeps failing is blocked).
+	// The worker ran out of memory, disk, cache space or another resource: another worker,
+	// or this one later, may have enough, so it is retried, and the worker is not blamed (a
+	// full disk is not a broken worker).
 	FailureKind_FAILURE_KIND_RESOURCE_EXHAUSTED FailureKind = 4
+	// A blob the task reads is missing from the coordinator's blob store or does not match
+	// its digest there (lost or damaged on disk, or a coordinator started on another data
+	// folder): no attempt can succeed until it is stored again, so the job fails at once with
+	// the blob's digest and what it holds ("the scene", "tile x 32 y 64 of round 1").
+	FailureKind_FAILURE_KIND_LOST_INPUT FailureKind = 5
 )
 
 // Enum value maps for FailureKind.
@@ -176,6 +182,7 @@ var (
 		2: "FAILURE_KIND_BAD_INPUT",
 		3: "FAILURE_KIND_UNSUPPORTED",
 		4: "FAILURE_KIND_RESOURCE_EXHAUSTED",
+		5: "FAILURE_KIND_LOST_INPUT",
 	}
 	FailureKind_value = map[string]int32{
 		"FAILURE_KIND_UNSPECIFIED":        0,
@@ -183,6 +190,7 @@ var (
 		"FAILURE_KIND_BAD_INPUT":          2,
 		"FAILURE_KIND_UNSUPPORTED":        3,
 		"FAILURE_KIND_RESOURCE_EXHAUSTED": 4,
+		"FAILURE_KIND_LOST_INPUT":         5,
 	}
 )
 
@@ -361,20 +369,34 @@ type SceneLimits struct {
 	// Emission shards of one photon map in one round (photons / photons_per_shard, rounded
 	// up).
 	MaxShardsPerMap uint64 `protobuf:"varint,3,opt,name=max_shards_per_map,json=maxShardsPerMap,proto3" json:"max_shards_per_map,omitempty"`
-	// Largest mesh file (and any other asset) a scene may name, in bytes.
+	// Largest mesh file (and any other asset) a scene may name, in bytes. A worker holds a
+	// mesh file's bytes while it parses them.
 	MaxAssetBytes uint64 `protobuf:"varint,4,opt,name=max_asset_bytes,json=maxAssetBytes,proto3" json:"max_asset_bytes,omitempty"`
-	// Most vertices and faces (after splitting polygons into triangles) of one mesh file.
+	// Most vertices and faces (after splitting polygons into triangles) of one mesh file:
+	// with max_asset_bytes they bound what a worker needs to build a scene's largest mesh
+	// (parsed, and in Embree's BVH: about 260 bytes a triangle, docs/limits.md).
 	MaxMeshVertices  uint64 `protobuf:"varint,5,opt,name=max_mesh_vertices,json=maxMeshVertices,proto3" json:"max_mesh_vertices,omitempty"`
 	MaxMeshTriangles uint64 `protobuf:"varint,6,opt,name=max_mesh_triangles,json=maxMeshTriangles,proto3" json:"max_mesh_triangles,omitempty"`
 	// Longest line of a mesh file in bytes, its line break included.
 	MaxMeshLineBytes uint64 `protobuf:"varint,7,opt,name=max_mesh_line_bytes,json=maxMeshLineBytes,proto3" json:"max_mesh_line_bytes,omitempty"`
+	// Photons stored in one round's snapshot, every map together (so also in one emission
+	// shard): a path may store a photon at each diffuse bounce, so the paths a scene asks
+	// for do not bound it. Keeps the snapshot (24 bytes a global photon with irradiance, 20
+	// a caustic one) and the largest shard (28 bytes a photon) under RpcLimits.max_blob_bytes,
+	// and bounds the builder's memory. Checked by the worker as it stores photons and by the
+	// coordinator's builder; the job fails as bad input saying which setting to lower.
+	MaxSnapshotPhotons uint64 `protobuf:"varint,8,opt,name=max_snapshot_photons,json=maxSnapshotPhotons,proto3" json:"max_snapshot_photons,omitempty"`
+	// Pixels of the film (width times height): bounds the composite's memory on the worker
+	// and keeps the image and accumulation EXRs (84 and 96 bytes a pixel uncompressed) under
+	// RpcLimits.max_blob_bytes.
+	MaxFilmPixels uint64 `protobuf:"varint,9,opt,name=max_film_pixels,json=maxFilmPixels,proto3" json:"max_film_pixels,omitempty"`
 	// Most pixels of one texture (width times height).
-	MaxTexturePixels uint64 `protobuf:"varint,8,opt,name=max_texture_pixels,json=maxTexturePixels,proto3" json:"max_texture_pixels,omitempty"`
+	MaxTexturePixels uint64 `protobuf:"varint,10,opt,name=max_texture_pixels,json=maxTexturePixels,proto3" json:"max_texture_pixels,omitempty"`
 	// A principled material whose roughness (its factor, before any texture) is below this
 	// counts as specular: its microfacet lobe is only ever sampled (no light samples, no
 	// photons stored on it), caustic photons are aimed at it and the scene gets a caustic
 	// map. The coordinator's planner and the workers read this one value.
-	PrincipledSpecularRoughness float64 `protobuf:"fixed64,9,opt,name=principled_specular_roughness,json=principledSpecularRoughness,proto3" json:"principled_specular_roughness,omitempty"`
+	PrincipledSpecularRoughness float64 `protobuf:"fixed64,11,opt,name=principled_specular_roughness,json=principledSpecularRoughness,proto3" json:"principled_specular_roughness,omitempty"`
 	unknownFields               protoimpl.UnknownFields
 	sizeCache                   protoimpl.SizeCache
 }
@@ -454,6 +476,20 @@ func (x *SceneLimits) GetMaxMeshTriangles() uint64 {
 func (x *SceneLimits) GetMaxMeshLineBytes() uint64 {
 	if x != nil {
 		return x.MaxMeshLineBytes
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxSnapshotPhotons() uint64 {
+	if x != nil {
+		return x.MaxSnapshotPhotons
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxFilmPixels() uint64 {
+	if x != nil {
+		return x.MaxFilmPixels
 	}
 	return 0
 }
@@ -611,7 +647,13 @@ type FailureInfo struct {
 	// that reported it is not blamed (no blocklist).
 	Permanent bool `protobuf:"varint,1,opt,name=permanent,proto3" json:"permanent,omitempty"`
 	// For people: "bad input".
-	Label         string `protobuf:"bytes,2,opt,name=label,proto3" json:"label,omitempty"`
+	Label string `protobuf:"bytes,2,opt,name=label,proto3" json:"label,omitempty"`
+	// The failed attempt counts toward the reporting worker's blocklist threshold for the
+	// job (store: BlockAfterFailures). Kinds that say something about the worker's state
+	// rather than its behaviour (a full disk) do not: a healthy worker is never blocked for
+	// them. A worker that reports a kind that does not blame it waits before leasing again,
+	// so that it does not fail the next task the same way at once.
+	BlamesWorker  bool `protobuf:"varint,3,opt,name=blames_worker,json=blamesWorker,proto3" json:"blames_worker,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -658,6 +700,13 @@ func (x *FailureInfo) GetLabel() string {
 		return x.Label
 	}
 	return ""
+}
+
+func (x *FailureInfo) GetBlamesWorker() bool {
+	if x != nil {
+		return x.BlamesWorker
+	}
+	return false
 }
 
 // Limits of the RPC layer that clients, the coordinator and workers share (an option of
@@ -865,7 +914,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xb1\x03\n" +
+	"_max_bytes\"\x8b\x04\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -873,9 +922,12 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x0fmax_asset_bytes\x18\x04 \x01(\x04R\rmaxAssetBytes\x12*\n" +
 	"\x11max_mesh_vertices\x18\x05 \x01(\x04R\x0fmaxMeshVertices\x12,\n" +
 	"\x12max_mesh_triangles\x18\x06 \x01(\x04R\x10maxMeshTriangles\x12-\n" +
-	"\x13max_mesh_line_bytes\x18\a \x01(\x04R\x10maxMeshLineBytes\x12,\n" +
-	"\x12max_texture_pixels\x18\b \x01(\x04R\x10maxTexturePixels\x12B\n" +
-	"\x1dprincipled_specular_roughness\x18\t \x01(\x01R\x1bprincipledSpecularRoughness\"\xc2\x01\n" +
+	"\x13max_mesh_line_bytes\x18\a \x01(\x04R\x10maxMeshLineBytes\x120\n" +
+	"\x14max_snapshot_photons\x18\b \x01(\x04R\x12maxSnapshotPhotons\x12&\n" +
+	"\x0fmax_film_pixels\x18\t \x01(\x04R\rmaxFilmPixels\x12,\n" +
+	"\x12max_texture_pixels\x18\n" +
+	" \x01(\x04R\x10maxTexturePixels\x12B\n" +
+	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +
@@ -883,10 +935,11 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\aoutputs\x18\x04 \x03(\x0e2\x1b.renderfarm.v1.ArtifactKindR\aoutputs\"I\n" +
 	"\fArtifactInfo\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12%\n" +
-	"\x0eprevious_round\x18\x02 \x01(\bR\rpreviousRound\"A\n" +
+	"\x0eprevious_round\x18\x02 \x01(\bR\rpreviousRound\"f\n" +
 	"\vFailureInfo\x12\x1c\n" +
 	"\tpermanent\x18\x01 \x01(\bR\tpermanent\x12\x14\n" +
-	"\x05label\x18\x02 \x01(\tR\x05label\"\xf3\x01\n" +
+	"\x05label\x18\x02 \x01(\tR\x05label\x12#\n" +
+	"\rblames_worker\x18\x03 \x01(\bR\fblamesWorker\"\xf3\x01\n" +
 	"\tRpcLimits\x12*\n" +
 	"\x11max_message_bytes\x18\x01 \x01(\x04R\x0fmaxMessageBytes\x123\n" +
 	"\x16max_upload_chunk_bytes\x18\x02 \x01(\x04R\x13maxUploadChunkBytes\x127\n" +
@@ -916,13 +969,15 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x19ARTIFACT_KIND_PREVIEW_PNG\x10\a\x1a\x11\xa2\xb5\x18\r\n" +
 	"\vpreview.png\x12<\n" +
 	"\x1eARTIFACT_KIND_ACCUMULATION_EXR\x10\b\x1a\x18\xa2\xb5\x18\x14\n" +
-	"\x10accumulation.exr\x10\x01*\x90\x02\n" +
-	"\vFailureKind\x12+\n" +
-	"\x18FAILURE_KIND_UNSPECIFIED\x10\x00\x1a\r\xaa\xb5\x18\t\x12\afailure\x123\n" +
-	"\x16FAILURE_KIND_TRANSIENT\x10\x01\x1a\x17\xaa\xb5\x18\x13\x12\x11transient failure\x12-\n" +
+	"\x10accumulation.exr\x10\x01*\xc5\x02\n" +
+	"\vFailureKind\x12-\n" +
+	"\x18FAILURE_KIND_UNSPECIFIED\x10\x00\x1a\x0f\xaa\xb5\x18\v\x12\afailure\x18\x01\x125\n" +
+	"\x16FAILURE_KIND_TRANSIENT\x10\x01\x1a\x19\xaa\xb5\x18\x15\x12\x11transient failure\x18\x01\x12-\n" +
 	"\x16FAILURE_KIND_BAD_INPUT\x10\x02\x1a\x11\xaa\xb5\x18\r\b\x01\x12\tbad input\x121\n" +
 	"\x18FAILURE_KIND_UNSUPPORTED\x10\x03\x1a\x13\xaa\xb5\x18\x0f\b\x01\x12\vunsupported\x12=\n" +
-	"\x1fFAILURE_KIND_RESOURCE_EXHAUSTED\x10\x04\x1a\x18\xaa\xb5\x18\x14\x12\x12resource exhausted:M\n" +
+	"\x1fFAILURE_KIND_RESOURCE_EXHAUSTED\x10\x04\x1a\x18\xaa\xb5\x18\x14\x12\x12resource exhausted\x12/\n" +
+	"\x17FAILURE_KIND_LOST_INPUT\x10\x05\x1a\x12\xaa\xb5\x18\x0e\b\x01\x12\n" +
+	"lost input:M\n" +
 	"\x04rule\x12\x1d.google.protobuf.FieldOptions\x18ц\x03 \x01(\v2\x18.renderfarm.v1.FieldRuleR\x04rule:B\n" +
 	"\fone_required\x12\x1d.google.protobuf.OneofOptions\x18׆\x03 \x01(\bR\voneRequired:`\n" +
 	"\fscene_limits\x12\x1f.google.protobuf.MessageOptions\x18҆\x03 \x01(\v2\x1a.renderfarm.v1.SceneLimitsR\vsceneLimits:\\\n" +

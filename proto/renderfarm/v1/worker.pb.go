@@ -84,12 +84,20 @@ func (x *RegisterWorkerRequest) GetVersion() string {
 }
 
 type RegisterWorkerResponse struct {
-	state    protoimpl.MessageState `protogen:"open.v1"`
-	WorkerId string                 `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Derived from worker_secret: the coordinator (any coordinator sharing the store)
+	// checks a secret against the id it is sent with.
+	WorkerId string `protobuf:"bytes,1,opt,name=worker_id,json=workerId,proto3" json:"worker_id,omitempty"`
 	// How often to call Heartbeat.
 	HeartbeatInterval *durationpb.Duration `protobuf:"bytes,2,opt,name=heartbeat_interval,json=heartbeatInterval,proto3" json:"heartbeat_interval,omitempty"`
 	// How long a lease lasts without a heartbeat.
 	LeaseDuration *durationpb.Duration `protobuf:"bytes,3,opt,name=lease_duration,json=leaseDuration,proto3" json:"lease_duration,omitempty"`
+	// Binds the registration to whoever got this answer: every later call naming
+	// worker_id (Heartbeat, LeaseTask, CompleteTask, FailTask, ReleaseTask,
+	// UnregisterWorker) must carry it as the gRPC metadata "farm-worker-secret: SECRET";
+	// without it, or with another registration's, the call fails with PERMISSION_DENIED,
+	// so a worker token alone cannot act for another worker. 64 lowercase hex digits.
+	WorkerSecret  string `protobuf:"bytes,4,opt,name=worker_secret,json=workerSecret,proto3" json:"worker_secret,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -143,6 +151,13 @@ func (x *RegisterWorkerResponse) GetLeaseDuration() *durationpb.Duration {
 		return x.LeaseDuration
 	}
 	return nil
+}
+
+func (x *RegisterWorkerResponse) GetWorkerSecret() string {
+	if x != nil {
+		return x.WorkerSecret
+	}
+	return ""
 }
 
 // The right to report on one task, until expire_time unless extended.
@@ -965,11 +980,12 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\x15RegisterWorkerRequest\x12\x1a\n" +
 	"\bhostname\x18\x01 \x01(\tR\bhostname\x12\x14\n" +
 	"\x05cores\x18\x02 \x01(\rR\x05cores\x12\x18\n" +
-	"\aversion\x18\x03 \x01(\tR\aversion\"\xc1\x01\n" +
+	"\aversion\x18\x03 \x01(\tR\aversion\"\xe6\x01\n" +
 	"\x16RegisterWorkerResponse\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12H\n" +
 	"\x12heartbeat_interval\x18\x02 \x01(\v2\x19.google.protobuf.DurationR\x11heartbeatInterval\x12@\n" +
-	"\x0elease_duration\x18\x03 \x01(\v2\x19.google.protobuf.DurationR\rleaseDuration\"s\n" +
+	"\x0elease_duration\x18\x03 \x01(\v2\x19.google.protobuf.DurationR\rleaseDuration\x12#\n" +
+	"\rworker_secret\x18\x04 \x01(\tR\fworkerSecret\"s\n" +
 	"\x05Lease\x12\x17\n" +
 	"\atask_id\x18\x01 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x02 \x01(\x04R\x05epoch\x12;\n" +

@@ -34,11 +34,12 @@ const (
 //
 // WorkerService is how render workers take part in the farm.
 //
-// Resource model: a worker registers and gets an id, then repeatedly leases a Task,
-// performs it and completes or fails it. A lease lasts lease_duration and is extended by
-// heartbeats; a lease that expires goes back to the queue and its epoch is retired. Every
-// report about a task names the lease epoch it was granted under: a report under a retired
-// epoch is refused with FAILED_PRECONDITION, so a task never has two results.
+// Resource model: a worker registers and gets an id and a secret (sent with every later
+// call about it), then repeatedly leases a Task, performs it and completes or fails it.
+// A lease lasts lease_duration and is extended by heartbeats; a lease that expires goes
+// back to the queue and its epoch is retired. Every report about a task names the lease
+// epoch it was granted under: a report under a retired epoch is refused with
+// FAILED_PRECONDITION, so a task never has two results.
 type WorkerServiceClient interface {
 	RegisterWorker(ctx context.Context, in *RegisterWorkerRequest, opts ...grpc.CallOption) (*RegisterWorkerResponse, error)
 	// Extends the leases the worker holds. Returns NOT_FOUND for an unknown worker (it
@@ -146,11 +147,12 @@ func (c *workerServiceClient) UnregisterWorker(ctx context.Context, in *Unregist
 //
 // WorkerService is how render workers take part in the farm.
 //
-// Resource model: a worker registers and gets an id, then repeatedly leases a Task,
-// performs it and completes or fails it. A lease lasts lease_duration and is extended by
-// heartbeats; a lease that expires goes back to the queue and its epoch is retired. Every
-// report about a task names the lease epoch it was granted under: a report under a retired
-// epoch is refused with FAILED_PRECONDITION, so a task never has two results.
+// Resource model: a worker registers and gets an id and a secret (sent with every later
+// call about it), then repeatedly leases a Task, performs it and completes or fails it.
+// A lease lasts lease_duration and is extended by heartbeats; a lease that expires goes
+// back to the queue and its epoch is retired. Every report about a task names the lease
+// epoch it was granted under: a report under a retired epoch is refused with
+// FAILED_PRECONDITION, so a task never has two results.
 type WorkerServiceServer interface {
 	RegisterWorker(context.Context, *RegisterWorkerRequest) (*RegisterWorkerResponse, error)
 	// Extends the leases the worker holds. Returns NOT_FOUND for an unknown worker (it

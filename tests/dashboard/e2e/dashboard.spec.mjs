@@ -16,6 +16,7 @@
 import fs from 'node:fs';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
+import { startCrossOriginSite } from './cross-origin.mjs';
 
 const env = (name, fallback) => {
   const v = process.env[name] ?? fallback;
@@ -168,6 +169,41 @@ try {
     check(ids.length === 1 && ids[0] === failedJobId, `the refused POST made a job: ${JSON.stringify(ids)}, want only ${failedJobId}`);
   });
 
+  // (b2) Pages on another port of the same host (the same site, so SameSite=Strict cookies
+  // go with their requests) post text/plain forms to the login and the submit: both are
+  // refused, the browser is not logged in and no job is made.
+  const site = await startCrossOriginSite(baseURL, token, sceneText);
+  await step(`text/plain forms posted from ${site.origin} to the login and the submit are refused`, async () => {
+    const formPost = async (ctx, page, endpoint) => {
+      const p = await ctx.newPage();
+      try {
+        const answered = p.waitForResponse((r) => r.request().method() === 'POST' && new URL(r.url()).pathname === endpoint, { timeout: 15000 });
+        await p.goto(`${site.origin}${page}`);
+        const r = await answered;
+        const sent = r.request().headers()['content-type'] ?? '';
+        check(sent.startsWith('text/plain'), `the form sent ${sent}, not text/plain`);
+        check(r.status() === 403 || r.status() === 415, `the form post to ${endpoint} from ${site.origin} was answered ${r.status()}: ${await r.text().catch(() => '')}`);
+        return r.status();
+      } finally {
+        await p.close();
+      }
+    };
+    const stranger = await browser.newContext();
+    try {
+      const status = await formPost(stranger, '/login', '/api/login');
+      const session = await (await stranger.request.get(api('/api/session'))).json();
+      check(session.authenticated === false, `after the cross-port login form, the browser's session: ${JSON.stringify(session)}`);
+      console.log(`             login form: ${status}`);
+    } finally {
+      await stranger.close();
+    }
+    const status = await formPost(context, '/submit', '/api/jobs');
+    const ids = (await jobs(list)).map((j) => j.id);
+    check(ids.length === 1 && ids[0] === failedJobId, `the cross-port submit form made a job: ${JSON.stringify(ids)}`);
+    console.log(`             submit form (logged-in browser): ${status}`);
+  });
+  site.close();
+
   // The job that failed as bad input opens with a banner saying so, above everything else.
   await step('a job that failed as bad input shows the failure kind and the reason in a banner at the top', async () => {
     await list.goto(`${baseURL}#/jobs/${failedJobId}`);
@@ -316,6 +352,44 @@ try {
       return ws.length === 2 && ws.every((w) => norm(w.state) === 'idle' && !w.currentTaskId);
     }, () => workers(list));
     console.log(`             idle ${((Date.now() - cancelledAt) / 1000).toFixed(1)}s after the job showed cancelled`);
+  });
+
+  // (j) A job of more tasks than a page: its page reads them a page at a time (no answer
+  // holds them all), draws every tile, shows 500 rows and 500 more on "Show more".
+  await step('a job of more than 500 tasks: its page reads them in pages of 500 and shows them 500 rows at a time', async () => {
+    const many = structuredClone(scene);
+    many.name = `${scene.name}-many-tiles`;
+    many.film = { ...scene.film, tileSize: 8 }; // 32 x 24 tiles
+    const r = await list.request.post(api('/api/jobs'), { data: JSON.stringify(many), headers: { 'content-type': 'application/json' } });
+    check(r.status() === 200, `POST /api/jobs answered ${r.status()}: ${await r.text()}`);
+    const { job } = await r.json();
+    await list.request.post(api(`/api/jobs/${job.id}/cancel`), { data: {} });
+    const total = (job.phases ?? []).reduce((n, p) => n + (p.tasksTotal ?? 0), 0);
+    const tiles = (job.phases ?? []).find((p) => p.phase === 'PHASE_RENDER')?.tasksTotal ?? 0;
+    check(tiles === 768 && total > 500, `the job has ${tiles} tiles and ${total} tasks, want 768 tiles`);
+    const sizes = [];
+    const onResponse = async (res) => {
+      const p = new URL(res.url()).pathname;
+      if (p === `/api/jobs/${job.id}` || p === `/api/jobs/${job.id}/tasks`) {
+        const body = await res.json().catch(() => ({}));
+        sizes.push((body.tasks ?? []).length);
+      }
+    };
+    jobPage.on('response', onResponse);
+    try {
+      await jobPage.goto(`${baseURL}#/jobs/${job.id}`);
+      await waitFor(`${tiles} tile slots in the mosaic`, 20000,
+        async () => (await jobPage.locator(`${tid('mosaic')} .mosaic__slot`).count()) === tiles,
+        () => jobPage.locator(`${tid('mosaic')} .mosaic__slot`).count());
+      const rows = () => jobPage.locator(tid('task-row')).count();
+      await waitFor('500 task rows', 10000, async () => (await rows()) === 500, rows);
+      await jobPage.locator(tid('tasks-more')).click();
+      await waitFor(`${Math.min(total, 1000)} task rows after Show more`, 10000, async () => (await rows()) === Math.min(total, 1000), rows);
+      check(sizes.length >= 2 && sizes.every((n) => n <= 500), `task pages read: ${JSON.stringify(sizes)}, want pages of at most 500`);
+      console.log(`             ${total} tasks read in pages of ${JSON.stringify(sizes)}`);
+    } finally {
+      jobPage.off('response', onResponse);
+    }
   });
 
   console.log(`${clock()}  PASS dashboard.spec (screenshot: ${shot})`);

@@ -5,6 +5,7 @@ package redistest
 
 import (
 	"context"
+	"fmt"
 	"net"
 	"os"
 	"os/exec"
@@ -145,4 +146,50 @@ func freePort(t testing.TB) int {
 	}
 	defer l.Close()
 	return l.Addr().(*net.TCPAddr).Port
+}
+
+// LogSlowCommands has the server log every command that runs longer than over (scripts
+// included), for SlowestCommand.
+func (s *Server) LogSlowCommands(over time.Duration) {
+	s.t.Helper()
+	c := redis.NewClient(&redis.Options{Addr: s.addr})
+	defer c.Close()
+	ctx := context.Background()
+	for k, v := range map[string]string{"slowlog-log-slower-than": strconv.FormatInt(over.Microseconds(), 10), "slowlog-max-len": "100000"} {
+		if err := c.ConfigSet(ctx, k, v).Err(); err != nil {
+			s.t.Fatal(err)
+		}
+	}
+	if err := c.Do(ctx, "SLOWLOG", "RESET").Err(); err != nil {
+		s.t.Fatal(err)
+	}
+}
+
+// SlowestCommand returns the longest command logged since the last call (or
+// LogSlowCommands), with the start of its arguments, and empties the log.
+func (s *Server) SlowestCommand() (time.Duration, string) {
+	s.t.Helper()
+	c := redis.NewClient(&redis.Options{Addr: s.addr})
+	defer c.Close()
+	ctx := context.Background()
+	logs, err := c.Do(ctx, "SLOWLOG", "GET", "-1").Slice()
+	if err != nil {
+		s.t.Fatal(err)
+	}
+	var worst time.Duration
+	var what string
+	for _, l := range logs {
+		e, _ := l.([]any)
+		if len(e) < 4 {
+			continue
+		}
+		us, _ := e[2].(int64)
+		if d := time.Duration(us) * time.Microsecond; d > worst {
+			worst, what = d, fmt.Sprint(e[3])
+		}
+	}
+	if err := c.Do(ctx, "SLOWLOG", "RESET").Err(); err != nil {
+		s.t.Fatal(err)
+	}
+	return worst, what[:min(len(what), 60)]
 }

@@ -69,7 +69,13 @@ export async function login(token) {
         throw new ApiError(res.status, await readError(res));
 }
 export async function logout() {
-    await fetch("api/logout", { method: "POST", credentials: "same-origin" });
+    // Every state-changing endpoint takes JSON only (API.md, "Cross-origin requests").
+    await fetch("api/logout", {
+        method: "POST",
+        credentials: "same-origin",
+        headers: { "Content-Type": "application/json" },
+        body: "{}",
+    });
 }
 export async function getSession() {
     const res = await fetch("api/session", { credentials: "same-origin" });
@@ -79,8 +85,12 @@ export async function getSession() {
 }
 export const api = {
     jobs: () => request("GET", "api/jobs"),
+    /** The job and the first page of its tasks. */
     job: (id) => request("GET", `api/jobs/${encodeURIComponent(id)}`),
-    workers: () => request("GET", "api/workers"),
+    /** A page of the job's tasks in plan order; pageToken from the page before. */
+    tasks: (id, pageToken) => request("GET", `api/jobs/${encodeURIComponent(id)}/tasks?pageToken=${encodeURIComponent(pageToken)}`),
+    /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
+    workers: (pageToken = "") => request("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
     /** The scene file's text, sent as it is (the server parses and validates it). */
     submit: (sceneJson) => request("POST", "api/jobs", sceneJson),
     cancel: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),

@@ -20,11 +20,12 @@ export const ARTIFACT = {
     PREVIEW_PNG: "preview.png",
     ACCUMULATION_EXR: "accumulation.exr",
 };
-/** How each failure kind is shown and treated (failure_info): a permanent kind fails the job at once. */
+/** How each failure kind is shown and treated (failure_info): a permanent kind fails the job at once; one that blames the worker counts toward its blocklist. */
 export const FAILURE_KINDS = {
-    FAILURE_KIND_UNSPECIFIED: { label: "failure", permanent: false },
-    FAILURE_KIND_TRANSIENT: { label: "transient failure", permanent: false },
-    FAILURE_KIND_BAD_INPUT: { label: "bad input", permanent: true },
-    FAILURE_KIND_UNSUPPORTED: { label: "unsupported", permanent: true },
-    FAILURE_KIND_RESOURCE_EXHAUSTED: { label: "resource exhausted", permanent: false },
+    FAILURE_KIND_UNSPECIFIED: { label: "failure", permanent: false, blamesWorker: true },
+    FAILURE_KIND_TRANSIENT: { label: "transient failure", permanent: false, blamesWorker: true },
+    FAILURE_KIND_BAD_INPUT: { label: "bad input", permanent: true, blamesWorker: false },
+    FAILURE_KIND_UNSUPPORTED: { label: "unsupported", permanent: true, blamesWorker: false },
+    FAILURE_KIND_RESOURCE_EXHAUSTED: { label: "resource exhausted", permanent: false, blamesWorker: false },
+    FAILURE_KIND_LOST_INPUT: { label: "lost input", permanent: true, blamesWorker: false },
 };

@@ -3,7 +3,7 @@
 //
 // Paths are relative ("api/jobs"), so the dashboard also works mounted under a prefix.
 
-import type { Job, Session, Task, WorkerInfo } from "./types.js";
+import type { Job, Session, TaskPage, WorkerPage } from "./types.js";
 
 /** An API answer other than 2xx, with the server's {"error": "..."} message. */
 export class ApiError extends Error {
@@ -80,7 +80,13 @@ export async function login(token: string): Promise<void> {
 }
 
 export async function logout(): Promise<void> {
-  await fetch("api/logout", { method: "POST", credentials: "same-origin" });
+  // Every state-changing endpoint takes JSON only (API.md, "Cross-origin requests").
+  await fetch("api/logout", {
+    method: "POST",
+    credentials: "same-origin",
+    headers: { "Content-Type": "application/json" },
+    body: "{}",
+  });
 }
 
 export async function getSession(): Promise<Session> {
@@ -91,8 +97,14 @@ export async function getSession(): Promise<Session> {
 
 export const api = {
   jobs: () => request<{ jobs?: Job[] }>("GET", "api/jobs"),
-  job: (id: string) => request<{ job: Job; tasks?: Task[] }>("GET", `api/jobs/${encodeURIComponent(id)}`),
-  workers: () => request<{ workers?: WorkerInfo[] }>("GET", "api/workers"),
+  /** The job and the first page of its tasks. */
+  job: (id: string) => request<{ job: Job } & TaskPage>("GET", `api/jobs/${encodeURIComponent(id)}`),
+  /** A page of the job's tasks in plan order; pageToken from the page before. */
+  tasks: (id: string, pageToken: string) =>
+    request<TaskPage>("GET", `api/jobs/${encodeURIComponent(id)}/tasks?pageToken=${encodeURIComponent(pageToken)}`),
+  /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
+  workers: (pageToken = "") =>
+    request<WorkerPage>("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
   /** The scene file's text, sent as it is (the server parses and validates it). */
   submit: (sceneJson: string) => request<{ job: Job }>("POST", "api/jobs", sceneJson),
   cancel: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),

@@ -119,6 +119,18 @@ export interface WorkerInfo {
   lastHeartbeat?: string;
 }
 
+/** A page of a job's tasks (/api/jobs/{id}/tasks, and the first with the job): nextPageToken is "" on the last. */
+export interface TaskPage {
+  tasks?: Task[];
+  nextPageToken?: string;
+}
+
+/** A page of /api/workers and the workers event: nextPageToken is "" on the last. */
+export interface WorkerPage {
+  workers?: WorkerInfo[];
+  nextPageToken?: string;
+}
+
 export interface Session {
   authenticated: boolean;
   authRequired: boolean;

@@ -3,10 +3,12 @@ package main
 import (
 	"bytes"
 	"encoding/binary"
+	"fmt"
 	"math"
 
 	"photonfarm/contract/assets"
 	"photonfarm/contract/assets/assetstest"
+	"photonfarm/contract/rules"
 )
 
 // farmCase is one farm mesh vector: a file and what every reader must make of it, "" to
@@ -63,6 +65,13 @@ func cases() []farmCase {
 	degenerate := assetstest.Quad()
 	degenerate.Indices = append(degenerate.Indices, 1, 1, 2)
 	nan, inf := float32(math.NaN()), float32(math.Inf(1))
+	// The counts at the scene limits; with every section, the most vertices and triangles
+	// a mesh may have make a file larger than an asset may be.
+	maxV, maxT := rules.Scene.GetMaxMeshVertices(), rules.Scene.GetMaxMeshTriangles()
+	implied := 32 + maxV*(12+12+8+16) + maxT*12
+	if implied <= rules.Scene.GetMaxAssetBytes() {
+		panic("the asset limit no longer refuses a header at the mesh limits: choose another case")
+	}
 	return []farmCase{
 		{"accept-quad-with-every-section", good, 0, ""},
 		{"accept-quad-of-positions-only", bare, 0, ""},
@@ -77,10 +86,10 @@ func cases() []farmCase {
 		{"refuse-version-2", put32(good, 8, 2), 8, "version 2, but this farm reads version 1"},
 		{"refuse-unknown-flag", put32(good, 12, 0x17), 12, "unknown flags 0x10"},
 		{"refuse-no-vertices", put64(good, 16, 0), 16, "the mesh has no vertices"},
-		{"refuse-too-many-vertices", put64(bare, 16, 50000001), 16, "50000001 vertices, more than the 50000000 of one mesh"},
+		{"refuse-too-many-vertices", put64(bare, 16, maxV+1), 16, fmt.Sprintf("%d vertices, more than the %d of one mesh", maxV+1, maxV)},
 		{"refuse-no-triangles", put64(good, 24, 0), 24, "the mesh has no triangles"},
-		{"refuse-too-many-triangles", put64(bare, 24, 50000001), 24, "50000001 triangles, more than the 50000000 of one mesh"},
-		{"refuse-header-implying-more-than-an-asset", put64(good, 16, 50000000), 16, "the header implies 2400000056 bytes, more than the 1073741824 of one asset"},
+		{"refuse-too-many-triangles", put64(bare, 24, maxT+1), 24, fmt.Sprintf("%d triangles, more than the %d of one mesh", maxT+1, maxT)},
+		{"refuse-header-implying-more-than-an-asset", put64(put64(good, 16, maxV), 24, maxT), 16, fmt.Sprintf("the header implies %d bytes, more than the %d of one asset", implied, rules.Scene.GetMaxAssetBytes())},
 		{"refuse-nan-position", float(good, 36, nan), 36, "position 1 is not finite"},
 		{"refuse-position-out-of-range", float(good, 32, 2e12), 32, "position 0's coordinate 1.999999991808e+12 is out of range: numbers are at most ±1e+12"},
 		{"refuse-infinite-normal", float(good, normals+8, inf), normals + 8, "normal 2 is not finite"},

@@ -32,11 +32,14 @@ var accepted = []vectorCase{
 
 	// Film and sampling.
 	accept("accept-film-of-1-pixel", "Film.width:gte= Film.height:gte=", func(s *pb.Scene) { s.Film.Width, s.Film.Height = 1, 1 }),
-	accept("accept-largest-film-in-65536-tiles", "Film.width:lte= Film.height:lte= Scene:max_tiles_per_round=", func(s *pb.Scene) {
-		s.Film.Width, s.Film.Height, s.Film.TileSize = 16384, 16384, 64
+	accept("accept-film-16384-wide-at-the-pixel-limit", "Film.width:lte= Scene:max_film_pixels=", func(s *pb.Scene) {
+		s.Film.Width, s.Film.Height, s.Film.TileSize = 16384, 512, 64
 	}),
-	accept("accept-65536-tiles-per-round-at-the-default-tile-size", "Scene:max_tiles_per_round= Film.tile_size:default", func(s *pb.Scene) {
-		s.Film.Width, s.Film.Height, s.Film.TileSize = 8192, 8192, 0
+	accept("accept-film-16384-high-at-the-pixel-limit", "Film.height:lte=", func(s *pb.Scene) {
+		s.Film.Width, s.Film.Height, s.Film.TileSize = 512, 16384, 64
+	}),
+	accept("accept-65536-tiles-per-round-of-8-pixels", "Scene:max_tiles_per_round=", func(s *pb.Scene) {
+		s.Film.Width, s.Film.Height, s.Film.TileSize = 2048, 2048, 8
 	}),
 	accept("accept-tile-size-8", "Film.tile_size:gte=", func(s *pb.Scene) { s.Film.TileSize = 8 }),
 	accept("accept-tile-size-256", "Film.tile_size:lte=", func(s *pb.Scene) { s.Film.TileSize = 256 }),

@@ -50,7 +50,7 @@ func ruleKeys() (refused, accepted map[string]bool) {
 		}
 	}
 	walk((*pb.Scene)(nil).ProtoReflect().Descriptor())
-	for _, limit := range []string{"max_magnitude", "max_tiles_per_round", "max_shards_per_map"} {
+	for _, limit := range []string{"max_magnitude", "max_tiles_per_round", "max_shards_per_map", "max_film_pixels"} {
 		accepted["Scene:"+limit+"="] = true
 	}
 	return refused, accepted

@@ -87,6 +87,9 @@ var refused = slices.Concat(refusedAssets, refusedLooks, []vectorCase{
 	refuse("refuse-262144-tiles-per-round", "film.tile_size", "Film.tile_size:note", func(s *pb.Scene) {
 		s.Film.Width, s.Film.Height, s.Film.TileSize = 16384, 16384, 32
 	}),
+	refuse("refuse-film-of-one-row-more-than-the-pixel-limit", "film.height", "Film.height:note", func(s *pb.Scene) {
+		s.Film.Width, s.Film.Height, s.Film.TileSize = 16384, 513, 256
+	}),
 	refuse("refuse-65792-tiles-per-round-at-the-default-tile-size", "film.tile_size", "Film.tile_size:note", func(s *pb.Scene) {
 		// ceil(8193 / 32) · (8192 / 32) = 257 · 256 tiles of the default 32 pixels; one
 		// pixel less wide is exactly the limit (accepted).

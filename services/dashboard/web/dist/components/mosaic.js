@@ -32,7 +32,8 @@ export class Mosaic {
         this.caption = h("figcaption", { class: "mosaic__caption" });
         this.element = h("figure", { class: "mosaic-figure" }, this.box, this.caption);
     }
-    update(job, tasks) {
+    /** Shows the render tiles among tasks; complete says whether they are all the job's. */
+    update(job, tasks, complete = true) {
         const width = job.width ?? 0;
         const height = job.height ?? 0;
         const size = `${width}x${height}`;
@@ -115,6 +116,6 @@ export class Mosaic {
             this.box.replaceChildren(...order);
         setText(this.caption, cells.size === 0
             ? "No render tiles yet."
-            : `Round ${round || 1} · ${formatNumber(done)} of ${formatNumber(cells.size)} tiles · ${width}×${height} px`);
+            : `Round ${round || 1} · ${formatNumber(done)} of ${formatNumber(cells.size)} tiles${complete ? "" : " read so far"} · ${width}×${height} px`);
     }
 }

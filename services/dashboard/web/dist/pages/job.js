@@ -1,6 +1,9 @@
 // One job (#/jobs/{id}): header and actions (priority, cancel), progress figures, the live
 // tile mosaic, phases, plan, error chart, final image, blocked workers and the task table,
-// live from /api/jobs/{id}/events.
+// live from /api/jobs/{id}/events. The server sends the job with the first page of its
+// tasks; the page reads the next pages itself (/api/jobs/{id}/tasks), by itself up to
+// AUTO_LOAD_TASKS and then a page per "Show more", so a job of 95,000 tasks is never
+// read whole at once.
 import { ApiError, LiveStream, api, blobUrl } from "../api.js";
 import { ErrorChart } from "../components/chart.js";
 import { Mosaic } from "../components/mosaic.js";
@@ -15,6 +18,8 @@ import { artifact, jobEnded } from "../types.js";
 import { progressLabel } from "./jobs.js";
 /** Rows the task table shows at first, and adds per "Show more". */
 const PAGE_ROWS = 500;
+/** Tasks the page reads by itself (pages of the server's 500); past this, "Show more" reads a page more. */
+const AUTO_LOAD_TASKS = 5000;
 const TASK_STATES = [
     "TASK_STATE_WAITING",
     "TASK_STATE_QUEUED",
@@ -46,6 +51,11 @@ export function jobPage(id) {
     let job = null;
     const tasks = [];
     const byId = new Map();
+    // The token of the next page of tasks not read yet ("" once every task is here), and
+    // the generation of the list: a page read for an older list is dropped.
+    let next = "";
+    let generation = 0;
+    let loading = false;
     let now = Date.now();
     let stateFilter = "";
     let phaseFilter = "";
@@ -134,8 +144,8 @@ export function jobPage(id) {
     // ---- task table
     const stateSelect = h("select", { id: "task-state-filter", class: "input", "data-testid": "task-state-filter" }, h("option", { value: "" }, "All states"), ...TASK_STATES.map((s) => h("option", { value: s }, taskStateLabel(s))));
     const phaseSelect = h("select", { id: "task-phase-filter", class: "input" }, h("option", { value: "" }, "All phases"));
-    const tableInfo = h("p", { class: "muted table-info", "aria-live": "polite" });
-    const moreButton = h("button", { type: "button", class: "button", hidden: true }, "Show more");
+    const tableInfo = h("p", { class: "muted table-info", "aria-live": "polite", "data-testid": "task-table-info" });
+    const moreButton = h("button", { type: "button", class: "button", hidden: true, "data-testid": "tasks-more" }, "Show more");
     stateSelect.addEventListener("change", () => {
         stateFilter = stateSelect.value;
         limit = PAGE_ROWS;
@@ -148,6 +158,8 @@ export function jobPage(id) {
     });
     moreButton.addEventListener("click", () => {
         limit += PAGE_ROWS;
+        if (next)
+            void loadPage();
         render.schedule();
     });
     const taskTable = new DataTable({
@@ -197,12 +209,54 @@ export function jobPage(id) {
             tasks.push(t);
         }
     }
+    /** A job and the first page of its tasks (the job event, GET /api/jobs/{id}): the list starts again. */
+    function firstPage(page) {
+        generation++;
+        loading = false;
+        setTasks(page.tasks ?? []);
+        next = page.nextPageToken ?? "";
+        if (tasks.length < AUTO_LOAD_TASKS)
+            void loadPage();
+    }
+    /** Reads the next page of tasks, and more while under AUTO_LOAD_TASKS. */
+    async function loadPage() {
+        if (!next || loading)
+            return;
+        const gen = generation;
+        loading = true;
+        try {
+            const page = await api.tasks(id, next);
+            if (gen !== generation)
+                return;
+            for (const t of page.tasks ?? []) {
+                if (!byId.has(t.id)) {
+                    byId.set(t.id, tasks.length);
+                    tasks.push(t);
+                }
+            }
+            next = page.nextPageToken ?? "";
+            render.schedule();
+        }
+        catch (err) {
+            showNotice("error", `Could not read the job's tasks: ${errorMessage(err)}`);
+            return;
+        }
+        finally {
+            if (gen === generation)
+                loading = false;
+        }
+        if (tasks.length < AUTO_LOAD_TASKS)
+            void loadPage();
+    }
     function upsertTask(t) {
         const i = byId.get(t.id);
         if (i !== undefined) {
             tasks[i] = t;
             return;
         }
+        // A task of a page not read yet comes with that page.
+        if (next)
+            return;
         // New tasks (a new round) come after the others in plan order.
         const last = tasks[tasks.length - 1];
         if (!last || (last.index ?? 0) <= (t.index ?? 0)) {
@@ -308,24 +362,25 @@ export function jobPage(id) {
         if (total > limit)
             filtered = filtered.slice(0, limit);
         taskTable.update(filtered, now);
-        setText(tableInfo, total === tasks.length
+        const loaded = next ? ` (the first ${tasks.length} read; more to read)` : "";
+        setText(tableInfo, (total === tasks.length
             ? `${tasks.length} ${tasks.length === 1 ? "task" : "tasks"}${total > limit ? `, showing the first ${limit}` : ""}`
-            : `${total} of ${tasks.length} tasks match${total > limit ? `, showing the first ${limit}` : ""}`);
-        moreButton.hidden = total <= limit;
-        setText(moreButton, `Show ${Math.min(PAGE_ROWS, total - limit)} more`);
+            : `${total} of ${tasks.length} tasks match${total > limit ? `, showing the first ${limit}` : ""}`) + loaded);
+        moreButton.hidden = total <= limit && !next;
+        setText(moreButton, total > limit ? `Show ${Math.min(PAGE_ROWS, total - limit)} more` : "Read more tasks");
     }
     const render = frameScheduler(() => {
         if (!job)
             return;
         body.hidden = false;
         renderJob(job);
-        mosaic.update(job, tasks);
+        mosaic.update(job, tasks, !next);
         renderTasks();
     });
     const stream = new LiveStream(`api/jobs/${encodeURIComponent(id)}/events`, {
         events: {
             job: (data) => {
-                setTasks(data.tasks ?? []);
+                firstPage(data);
                 now = Date.now();
                 applyJob(data.job);
             },
@@ -338,9 +393,9 @@ export function jobPage(id) {
                 stream.close();
                 now = Date.now();
                 applyJob(data.job);
-                // The last task changes may have been coalesced away: read the final task list once.
+                // The last task changes may have been coalesced away: read the final tasks once.
                 api.job(id).then((res) => {
-                    setTasks(res.tasks ?? []);
+                    firstPage(res);
                     applyJob(res.job);
                 }, () => { });
             },

@@ -1,5 +1,6 @@
 // The workers (#/workers): host, state, current task, tasks done and failed, last
-// heartbeat and cores, live from /api/events ("workers", every 2 s).
+// heartbeat and cores, live from /api/events ("workers", every 2 s: the first page of
+// them); "Show more" adds the next pages, as they were when asked for.
 import { LiveStream, api } from "../api.js";
 import { DataTable } from "../components/table.js";
 import { badgeCell, timeElement } from "../components/widgets.js";
@@ -12,9 +13,17 @@ function jobOfTask(taskId) {
     return dot > 0 ? taskId.slice(0, dot) : taskId;
 }
 export function workersPage() {
+    let live = []; // the first page, live
+    let more = []; // the pages after it that "Show more" loaded
+    let next = ""; // the token of the page after the last one shown
     let workers = [];
     let received = false;
     let now = Date.now();
+    /** The first page, then the loaded ones (without workers the first page now holds). */
+    function merge() {
+        const seen = new Set(live.map((w) => w.id));
+        workers = [...live, ...more.filter((w) => !seen.has(w.id))];
+    }
     const table = new DataTable({
         caption: "Workers, by registration time",
         captionHidden: true,
@@ -51,7 +60,21 @@ export function workersPage() {
         ],
     });
     const summary = h("p", { class: "page__summary muted", "aria-live": "polite" }, "Loading workers…");
-    const element = h("section", { class: "page", "aria-labelledby": "workers-title" }, h("div", { class: "page__header" }, h("div", null, h("h1", { id: "workers-title" }, "Workers"), summary)), h("div", { class: "card card--flush table-wrap" }, table.element));
+    const moreButton = h("button", { type: "button", class: "button", hidden: true, "data-testid": "workers-more" }, "Show more");
+    moreButton.addEventListener("click", async () => {
+        moreButton.disabled = true;
+        try {
+            const page = await api.workers(next);
+            more = [...more, ...(page.workers ?? [])];
+            next = page.nextPageToken ?? "";
+            merge();
+            render.schedule();
+        }
+        finally {
+            moreButton.disabled = false;
+        }
+    });
+    const element = h("section", { class: "page", "aria-labelledby": "workers-title" }, h("div", { class: "page__header" }, h("div", null, h("h1", { id: "workers-title" }, "Workers"), summary)), h("div", { class: "card card--flush table-wrap" }, table.element), h("div", { class: "table-more" }, moreButton));
     const render = frameScheduler(() => {
         table.update(workers, now);
         if (!received)
@@ -59,13 +82,20 @@ export function workersPage() {
         table.setEmptyText("No worker has registered yet.");
         const count = (s) => workers.filter((w) => w.state === s).length;
         const cores = workers.filter((w) => w.state !== "WORKER_STATE_LOST").reduce((n, w) => n + (w.cores ?? 0), 0);
-        setText(summary, `${workers.length} ${workers.length === 1 ? "worker" : "workers"} · ${count("WORKER_STATE_BUSY")} busy · ` +
-            `${count("WORKER_STATE_IDLE")} idle · ${count("WORKER_STATE_LOST")} lost · ${cores} cores online`);
+        setText(summary, `${workers.length}${next ? "+" : ""} ${workers.length === 1 ? "worker" : "workers"} · ${count("WORKER_STATE_BUSY")} busy · ` +
+            `${count("WORKER_STATE_IDLE")} idle · ${count("WORKER_STATE_LOST")} lost · ${cores} cores online` +
+            (next ? " (of those shown)" : ""));
+        moreButton.hidden = !next;
     });
     const stream = new LiveStream("api/events", {
         events: {
             workers: (data) => {
-                workers = data.workers ?? [];
+                live = data.workers ?? [];
+                // The first page's token names the page after it; once more pages are loaded,
+                // the last of them says where to go on.
+                if (!more.length)
+                    next = data.nextPageToken ?? "";
+                merge();
                 received = true;
                 now = Date.now();
                 render.schedule();

@@ -55,7 +55,8 @@ export class Mosaic {
     this.element = h("figure", { class: "mosaic-figure" }, this.box, this.caption);
   }
 
-  update(job: Job, tasks: readonly Task[]): void {
+  /** Shows the render tiles among tasks; complete says whether they are all the job's. */
+  update(job: Job, tasks: readonly Task[], complete = true): void {
     const width = job.width ?? 0;
     const height = job.height ?? 0;
     const size = `${width}x${height}`;
@@ -136,7 +137,7 @@ export class Mosaic {
       this.caption,
       cells.size === 0
         ? "No render tiles yet."
-        : `Round ${round || 1} · ${formatNumber(done)} of ${formatNumber(cells.size)} tiles · ${width}×${height} px`,
+        : `Round ${round || 1} · ${formatNumber(done)} of ${formatNumber(cells.size)} tiles${complete ? "" : " read so far"} · ${width}×${height} px`,
     );
   }
 }

@@ -1,5 +1,6 @@
 // The job list (#/): every job with its state, priority, progress, elapsed time and ETA,
-// live from /api/events ("jobs"), and the "Submit scene" upload.
+// live from /api/events ("jobs" on connect, then "jobs-changed"), and the "Submit scene"
+// upload.
 
 import { ApiError, LiveStream, api } from "../api.js";
 import { badgeCell, progressBar, timeElement, updateProgressBar } from "../components/widgets.js";
@@ -60,6 +61,18 @@ function submitRefusal(fileName: string, err: unknown): [string, string] {
       return [`The farm is not reachable now; try again: `, message];
   }
   return [`Could not submit ${fileName}: `, message];
+}
+
+/**
+ * The list after a jobs-changed event: changed jobs replace theirs in place, new ones
+ * (the newest, as the event lists them first) lead, removed ones go.
+ */
+export function mergeJobs(list: readonly Job[], changed: readonly Job[], removed: readonly string[]): Job[] {
+  const fresh = new Map(changed.map((j) => [j.id, j]));
+  const gone = new Set(removed);
+  const kept = list.filter((j) => !gone.has(j.id)).map((j) => fresh.get(j.id) ?? j);
+  const known = new Set(list.map((j) => j.id));
+  return [...changed.filter((j) => !known.has(j.id) && !gone.has(j.id)), ...kept];
 }
 
 export function jobsPage(): Page {
@@ -166,6 +179,11 @@ export function jobsPage(): Page {
       jobs: (data: { jobs?: Job[] }) => {
         jobs = data.jobs ?? [];
         received = true;
+        now = Date.now();
+        render.schedule();
+      },
+      "jobs-changed": (data: { jobs?: Job[]; removed?: string[] }) => {
+        jobs = mergeJobs(jobs, data.jobs ?? [], data.removed ?? []);
         now = Date.now();
         render.schedule();
       },

@@ -1,0 +1,102 @@
+package retention_test
+
+import (
+	"context"
+	"testing"
+	"time"
+
+	"google.golang.org/protobuf/proto"
+
+	"photonfarm/contract/scene/scenetest"
+	"photonfarm/coordinator/blobstore/blobtest"
+	"photonfarm/coordinator/clock"
+	"photonfarm/coordinator/errs"
+	"photonfarm/coordinator/retention"
+	"photonfarm/coordinator/store"
+	"photonfarm/coordinator/store/memstore"
+	"photonfarm/coordinator/store/storetest"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+// TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed: a job that ended 200 hours ago (the
+// retention is a week) is deleted; then of the blobs older than the grace period, those
+// no remaining job refers to (its scene, its task's output, an orphan) are deleted, and
+// those the running job refers to (its scene, a mesh and a reference image its scene
+// names, also named by the deleted job's scene, and its task's output) are kept, as is
+// a fresh upload no job names yet and an old one just touched by a submit in flight.
+func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
+	ctx := context.Background()
+	now := time.Now()
+	clk := clock.NewFake(now.Add(-200 * time.Hour))
+	st := memstore.New(store.Options{Clock: clk})
+	blobs := blobtest.New(t)
+	put := blobs.Put
+	mesh, reference := put("a mesh"), put("a reference")
+	sceneNaming := func(name string) string {
+		t.Helper()
+		sc := scenetest.Valid(8, 8)
+		sc.Name = name
+		sc.Shapes = append(sc.Shapes, &pb.Shape{Material: "white", Geometry: &pb.Shape_Mesh{Mesh: &pb.MeshFile{Path: "m.obj", Digest: mesh}}})
+		sc.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Path: "r.exr", Digest: reference}}
+		b, err := proto.Marshal(sc)
+		if err != nil {
+			t.Fatal(err)
+		}
+		return put(string(b))
+	}
+	create := func(name string) (*pb.Job, string) {
+		t.Helper()
+		nj := storetest.TileJob(name, 1)
+		nj.SceneDigest = sceneNaming(name)
+		j, err := st.CreateJob(ctx, nj)
+		if err != nil {
+			t.Fatal(err)
+		}
+		l, err := st.LeaseTask(ctx, "w1", store.WorkerPhases)
+		if err != nil || l == nil {
+			t.Fatalf("LeaseTask = %v, %v", l, err)
+		}
+		out := put("tile of " + name)
+		if _, err := st.CompleteTask(ctx, store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch},
+			[]*pb.Artifact{{Name: "tile.exr", Digest: out, SizeBytes: int64(len("tile of " + name))}}); err != nil {
+			t.Fatal(err)
+		}
+		return j, out
+	}
+	old, oldTile := create("old")
+	if _, err := st.CancelJob(ctx, old.Id); err != nil {
+		t.Fatal(err)
+	}
+	clk.Advance(200 * time.Hour)
+	live, liveTile := create("live")
+	orphan, inFlight := put("an orphan"), put("uploaded for a submit in flight")
+
+	// Everything but the fresh upload is two days old.
+	blobs.Age(now.Add(-48*time.Hour), mesh, reference, old.SceneDigest, oldTile, live.SceneDigest, liveTile, orphan, inFlight)
+	fresh := put("a fresh upload")
+	if _, err := blobs.Touch(ctx, inFlight); err != nil { // what SubmitJob does
+		t.Fatal(err)
+	}
+
+	r, err := retention.New(retention.Config{Store: st, Blobs: blobs.Store, Clock: clk}).Sweep(ctx)
+	if err != nil {
+		t.Fatal(err)
+	}
+	t.Logf("sweep: %+v", r)
+	if _, err := st.GetJob(ctx, old.Id); errs.KindOf(err) != errs.NotFound {
+		t.Errorf("the job that ended 200 h ago: %v, want it deleted", err)
+	}
+	if _, err := st.GetJob(ctx, live.Id); err != nil {
+		t.Errorf("the live job: %v", err)
+	}
+	for d, kept := range map[string]bool{old.SceneDigest: false, oldTile: false, orphan: false,
+		live.SceneDigest: true, liveTile: true, mesh: true, reference: true, fresh: true, inFlight: true} {
+		_, err := blobs.Stat(ctx, d)
+		if got := err == nil; got != kept {
+			t.Errorf("blob %s kept = %v, want %v", d[:15], got, kept)
+		}
+	}
+	if r.Jobs != 1 || r.Blobs != 3 {
+		t.Errorf("report %+v, want 1 job and 3 blobs deleted", r)
+	}
+}
