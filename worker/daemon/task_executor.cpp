@@ -246,11 +246,15 @@ const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop
       return blobs_.Fetch(mesh_digest, stop, progress);
     };
     SceneOptions options;
+    // Texture blobs stay pinned in the cache (no worker sharing it evicts them) until the
+    // scene is built: the texture system prepares its own copies from them.
+    std::vector<BlobCache::Pinned> texture_blobs;
     if (description.textures_size() > 0 && texture_options_) {
       if (!textures_) textures_ = std::make_unique<TextureSystem>(*texture_options_);
       options.textures = textures_.get();
-      options.load_file = [this, stop, progress](const std::string& texture_digest) {
-        return blobs_.FetchFile(texture_digest, stop, progress);
+      options.load_file = [this, stop, progress, &texture_blobs](const std::string& texture_digest) {
+        texture_blobs.push_back(blobs_.FetchFile(texture_digest, stop, progress));
+        return texture_blobs.back().path();
       };
     }
     built_ = std::make_unique<Scene>(Scene::Build(description, load, options));
