@@ -16,6 +16,7 @@ import (
 	"github.com/qmuntal/gltf/modeler"
 
 	"photonfarm/client/importer"
+	"photonfarm/client/importer/importertest"
 )
 
 // pngHeader is a PNG whose header declares w x h pixels and that has no pixels.
@@ -89,11 +90,11 @@ func TestBadModelsAreRefusedNamingWhatIsWrong(t *testing.T) {
 			break_: func(t *testing.T, doc *gltf.Document) { doc.Nodes[1].Children = []int{0} }},
 	} {
 		t.Run(tt.name, func(t *testing.T) {
-			doc := model(t)
+			doc := importertest.Model(t)
 			if tt.break_ != nil {
 				tt.break_(t, doc)
 			}
-			path := save(t, doc, tt.file)
+			path := importertest.Save(t, doc, tt.file)
 			if tt.bytes != nil {
 				b, _ := os.ReadFile(path)
 				os.WriteFile(path, tt.bytes(b), 0o644)
