@@ -3,7 +3,6 @@ package importertest
 import (
 	"bytes"
 	"encoding/binary"
-	"hash/crc32"
 	"math"
 	"os"
 	"strings"
@@ -11,6 +10,8 @@ import (
 
 	"github.com/qmuntal/gltf"
 	"github.com/qmuntal/gltf/modeler"
+
+	"photonfarm/contract/assets/assetstest"
 )
 
 // BadModel is Model broken in one way, and what refusing it must say.
@@ -41,21 +42,6 @@ func (m BadModel) Write(t testing.TB) string {
 	return path
 }
 
-// PNGHeader is a PNG whose header declares w x h pixels and that has no pixels.
-func PNGHeader(w, h uint32) []byte {
-	ihdr := make([]byte, 17)
-	copy(ihdr, "IHDR")
-	binary.BigEndian.PutUint32(ihdr[4:], w)
-	binary.BigEndian.PutUint32(ihdr[8:], h)
-	ihdr[12], ihdr[13] = 8, 6
-	var b bytes.Buffer
-	b.WriteString("\x89PNG\r\n\x1a\n")
-	binary.Write(&b, binary.BigEndian, uint32(13))
-	b.Write(ihdr)
-	binary.Write(&b, binary.BigEndian, crc32.ChecksumIEEE(ihdr))
-	return b.Bytes()
-}
-
 // BadModels are the broken glTF models of issue 13's acceptance (a truncated .glb, a
 // buffer shorter than its accessor, an index out of range, a NaN position, an image that
 // is not an image, a 65,536 x 65,536 texture, an unsupported required extension, 10,000
@@ -84,7 +70,7 @@ var BadModels = []BadModel{
 		}},
 	{Name: "a 65536 x 65536 texture", File: "m.glb", Want: "a png image of 65536x65536 pixels is larger than",
 		Break: func(doc *gltf.Document) {
-			i, _ := modeler.WriteImage(doc, "huge", "image/png", bytes.NewReader(PNGHeader(65536, 65536)))
+			i, _ := modeler.WriteImage(doc, "huge", "image/png", bytes.NewReader(assetstest.PNGHeader(65536, 65536)))
 			doc.Textures[0].Source = gltf.Index(i)
 		}},
 	{Name: "an unsupported required extension", File: "m.gltf", Want: "requires the extension KHR_draco_mesh_compression",
