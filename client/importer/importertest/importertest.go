@@ -20,8 +20,9 @@ import (
 	"github.com/qmuntal/gltf/modeler"
 )
 
-// Checker is a side x side PNG of opaque white and fully transparent cells, alternating:
-// under an alpha mask, half of what it covers is cut out.
+// Checker is a side x side PNG of opaque white and fully transparent texels, alternating:
+// an alpha mask cuts holes where the filtered alpha falls below its cutoff (round ones
+// about the transparent texels when a few texels are magnified and the cutoff is low).
 func Checker(t testing.TB, side int) []byte {
 	t.Helper()
 	img := image.NewNRGBA(image.Rect(0, 0, side, side))
