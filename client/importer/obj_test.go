@@ -1,10 +1,7 @@
 package importer_test
 
 import (
-	"bytes"
 	"context"
-	"image"
-	"image/png"
 	"math"
 	"os"
 	"path/filepath"
@@ -12,56 +9,14 @@ import (
 	"testing"
 
 	"photonfarm/client/importer"
+	"photonfarm/client/importer/importertest"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-const quadsOBJ = `# two quads, two materials
-mtllib look.mtl
-v 0 0 0
-v 1 0 0
-v 1 1 0
-v 0 1 0
-v 0 0 1
-v 1 0 1
-vt 0 0
-vt 1 0
-vt 1 1
-vt 0 1
-vn 0 0 1
-usemtl painted
-f 1/1/1 2/2/1 3/3/1 4/4/1
-usemtl glass
-f 5 6 2
-`
-
-const lookMTL = `newmtl painted
-Kd 0.5 0.25 1
-Ns 98
-Ke 0 0 0
-map_Kd -s 2 2 1 paint.png
-newmtl glass
-illum 7
-Ni 1.45
-Tf 0.9 0.9 1
-`
-
-func writeOBJ(t *testing.T, mtl bool) string {
-	t.Helper()
-	dir := t.TempDir()
-	os.WriteFile(filepath.Join(dir, "quads.obj"), []byte(quadsOBJ), 0o644)
-	if mtl {
-		os.WriteFile(filepath.Join(dir, "look.mtl"), []byte(lookMTL), 0o644)
-		var img bytes.Buffer
-		png.Encode(&img, image.NewRGBA(image.Rect(0, 0, 2, 2)))
-		os.WriteFile(filepath.Join(dir, "paint.png"), img.Bytes(), 0o644)
-	}
-	return filepath.Join(dir, "quads.obj")
-}
-
 func TestImportOBJMakesOneMeshWithAPartPerMaterial(t *testing.T) {
 	out := t.TempDir()
-	r, err := importer.Import(context.Background(), writeOBJ(t, true), out, importer.Options{Width: 64})
+	r, err := importer.Import(context.Background(), importertest.WriteOBJ(t, true), out, importer.Options{Width: 64})
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -93,7 +48,7 @@ func TestImportOBJMakesOneMeshWithAPartPerMaterial(t *testing.T) {
 }
 
 func TestImportOBJRefusesAMissingMTL(t *testing.T) {
-	path := writeOBJ(t, false)
+	path := importertest.WriteOBJ(t, false)
 	_, err := importer.Import(context.Background(), path, t.TempDir(), importer.Options{})
 	if err == nil || !strings.Contains(err.Error(), "mtllib look.mtl") || !strings.HasPrefix(err.Error(), path) {
 		t.Errorf("Import = %v, want the missing look.mtl named", err)
@@ -111,7 +66,7 @@ func TestImportOBJRefusesWhatTheCheckerRefuses(t *testing.T) {
 }
 
 func TestImportLightsAModelWithTheEnvironmentItIsGiven(t *testing.T) {
-	path := writeOBJ(t, true)
+	path := importertest.WriteOBJ(t, true)
 	sky := filepath.Join(filepath.Dir(path), "sky.hdr")
 	os.WriteFile(sky, []byte("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n\x80\x80\x80\x80\x80\x80\x80\x80"), 0o644)
 	r, err := importer.Import(context.Background(), path, t.TempDir(), importer.Options{Environment: sky})

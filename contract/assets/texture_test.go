@@ -5,7 +5,6 @@ import (
 	"context"
 	"encoding/binary"
 	"errors"
-	"hash/crc32"
 	"image"
 	"image/jpeg"
 	"image/png"
@@ -14,6 +13,7 @@ import (
 	"testing"
 
 	"photonfarm/contract/assets"
+	"photonfarm/contract/assets/assetstest"
 )
 
 func pngOf(t *testing.T, w, h int) []byte {
@@ -22,22 +22,6 @@ func pngOf(t *testing.T, w, h int) []byte {
 	if err := png.Encode(&b, image.NewRGBA(image.Rect(0, 0, w, h))); err != nil {
 		t.Fatal(err)
 	}
-	return b.Bytes()
-}
-
-// pngHeaderOnly is a PNG signature and an IHDR chunk declaring w x h pixels, with a valid
-// CRC and nothing after it: what a huge image starts with.
-func pngHeaderOnly(w, h uint32) []byte {
-	ihdr := make([]byte, 17)
-	copy(ihdr, "IHDR")
-	binary.BigEndian.PutUint32(ihdr[4:], w)
-	binary.BigEndian.PutUint32(ihdr[8:], h)
-	ihdr[12], ihdr[13] = 8, 6 // 8-bit RGBA
-	var b bytes.Buffer
-	b.WriteString("\x89PNG\r\n\x1a\n")
-	binary.Write(&b, binary.BigEndian, uint32(13))
-	b.Write(ihdr)
-	binary.Write(&b, binary.BigEndian, crc32.ChecksumIEEE(ihdr))
 	return b.Bytes()
 }
 
@@ -92,7 +76,7 @@ func TestCheckTextureRefusals(t *testing.T) {
 	}{
 		{"not an image", "not an image this farm reads", []byte("v 0 0 0\nf 1 2 3\n")},
 		{"empty file", "not an image", nil},
-		{"65536 x 65536 PNG", "a png image of 65536x65536 pixels is larger than", pngHeaderOnly(65536, 65536)},
+		{"65536 x 65536 PNG", "a png image of 65536x65536 pixels is larger than", assetstest.PNGHeader(65536, 65536)},
 		{"truncated PNG", "does not parse", pngOf(t, 4, 4)[:20]},
 		{"EXR without a data window", "without a dataWindow", []byte{0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0, 0}},
 		{"empty EXR data window", "is empty", exrOf(5, 0, 4, 3)},

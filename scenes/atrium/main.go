@@ -43,7 +43,7 @@ func Write(dir string) (Stats, error) {
 	if err := gltf.SaveBinary(doc, filepath.Join(dir, "atrium.glb")); err != nil {
 		return Stats{}, err
 	}
-	if err := os.WriteFile(filepath.Join(dir, "sky.hdr"), sky(512, 256), 0o644); err != nil {
+	if err := os.WriteFile(filepath.Join(dir, "sky.hdr"), Sky(512, 256), 0o644); err != nil {
 		return Stats{}, err
 	}
 	return Stats{Triangles: triangles, Textures: len(doc.Images), Nodes: len(doc.Nodes)}, nil

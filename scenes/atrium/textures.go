@@ -176,9 +176,9 @@ func textures() []texture {
 	}
 }
 
-// sky is an equirectangular Radiance HDR sky: a blue gradient overhead, a brighter
-// horizon and dark ground; the sun is a separate light (KHR_lights_punctual).
-func sky(w, h int) []byte {
+// Sky is an equirectangular Radiance HDR sky of w x h pixels: a blue gradient overhead, a
+// brighter horizon and dark ground; the sun is a separate light (KHR_lights_punctual).
+func Sky(w, h int) []byte {
 	var b bytes.Buffer
 	fmt.Fprintf(&b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n", h, w)
 	for y := 0; y < h; y++ {

@@ -2,11 +2,14 @@ package integration
 
 import (
 	"bytes"
+	"context"
 	"testing"
 	"time"
 
+	"photonfarm/client/importer/importertest"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/scenes/atrium"
 	"photonfarm/tests/farmtest"
 )
 
@@ -25,12 +28,28 @@ func sizedScene(t *testing.T, f *farmtest.Farm, s sceneSize) *pb.Scene {
 	return f.TestScene(t, s.width, s.height, s.tile, s.spp)
 }
 
-// outdoors lights s as the issue 13 lights do besides its lamp: a constant sky, which the
-// camera sees, and a sun with a disc, each emitting photons through the scene's disc.
-func outdoors(s *pb.Scene) *pb.Scene {
-	s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.3, G: 0.4, B: 0.6}}
+// outdoors lights s as the issue 13 lights do besides its lamp: the atrium's
+// equirectangular sky (a Radiance HDR map, which the camera sees) and a sun with a disc,
+// each emitting photons through the scene's disc; and textures its floor: a principled
+// material whose base colour is a checker (a PNG, sRGB), a blob as the sky's map is.
+func outdoors(t *testing.T, f *farmtest.Farm, s *pb.Scene) *pb.Scene {
+	t.Helper()
+	upload := func(name string, data []byte) string {
+		digest, err := f.Client.UploadBytes(context.Background(), data)
+		if err != nil {
+			t.Fatalf("upload %s: %v", name, err)
+		}
+		s.Textures = append(s.Textures, &pb.Texture{Name: name, Path: name, Digest: digest})
+		return name
+	}
+	s.Environment = &pb.Environment{Map: &pb.TextureRef{Texture: upload("sky.hdr", atrium.Sky(64, 32))}, RotationDegrees: 30}
 	s.Lights = append(s.Lights, &pb.Light{Kind: &pb.Light_Sun{Sun: &pb.SunLight{
 		Direction: &pb.Vec3{X: -0.4, Y: -1, Z: -0.3}, Irradiance: &pb.Color{R: 2, G: 1.9, B: 1.7}, AngularDiameterDegrees: 3}}})
+	s.Materials = append(s.Materials, &pb.Material{Name: "checker", Kind: &pb.Material_Principled{Principled: &pb.Principled{
+		BaseColor: &pb.Color{R: 0.8, G: 0.7, B: 0.6}, BaseColorTexture: &pb.TextureRef{Texture: upload("checker.png", importertest.Checker(t, 16))},
+		Roughness: 0.6,
+	}}})
+	s.Shapes[0].Material = "checker" // the floor
 	return s
 }
 
@@ -76,7 +95,7 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	w1, w2 := two.StartWorker(t), two.StartWorker(t)
 	w1.WorkerID(t, 15*time.Second)
 	w2.WorkerID(t, 15*time.Second)
-	job := two.Render(t, outdoors(sizedScene(t, two, stitchScene)), 90*time.Second)
+	job := two.Render(t, outdoors(t, two, sizedScene(t, two, stitchScene)), 90*time.Second)
 	exrTwo := checkOutputs(t, two, job, stitchScene)
 
 	list := two.Tasks(t, job.GetId())
@@ -90,7 +109,7 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	// One worker, a fresh farm.
 	one := farmtest.StartFarm(t, nil)
 	one.StartWorker(t)
-	jobOne := one.Render(t, outdoors(sizedScene(t, one, stitchScene)), 90*time.Second)
+	jobOne := one.Render(t, outdoors(t, one, sizedScene(t, one, stitchScene)), 90*time.Second)
 	exrOne := checkOutputs(t, one, jobOne, stitchScene)
 	if !bytes.Equal(farmtest.WithoutRenderTime(exrTwo), farmtest.WithoutRenderTime(exrOne)) {
 		t.Errorf("EXR from two workers (%d bytes) differs from the one from one worker (%d bytes)", len(exrTwo), len(exrOne))
@@ -100,7 +119,7 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 func TestKilledWorkerLeaseExpiresAndJobCompletes(t *testing.T) {
 	f := farmtest.StartFarm(t, nil)
 	first := f.StartWorker(t)
-	sc := sizedScene(t, f, leaseScene)
+	sc := outdoors(t, f, sizedScene(t, f, leaseScene))
 	job := f.Submit(t, sc)
 
 	victim := killWhileLeasing(t, f, first, job.GetId(), pb.Phase_PHASE_RENDER)

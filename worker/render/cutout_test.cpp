@@ -1,15 +1,23 @@
-// The alpha-test hook: a test-only cut-out, a checkerboard of holes over a fence, must let
-// camera rays, shadow rays and photons through its holes and nowhere else, on shapes and
-// on instanced mesh parts alike.
+// The alpha-test hook: a checkerboard of holes over a fence must let camera rays, shadow
+// rays and photons through its holes and nowhere else, on shapes and on instanced mesh
+// parts alike; whether the holes are a test-only cut-out given to Scene::Build or what the
+// scene says (an alpha-masked principled fence whose base colour texture's alpha is 0 in
+// the holes, which Scene::Build connects to the hook by itself).
+
+// Before OIIO's headers (texture/texture_system.cpp says why).
+#include "scene/test_scenes.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <memory>
 
 #include "photon/trace_photons.h"
 #include "scene/scene_data.h"
-#include "scene/test_scenes.h"
+#include "texture/test_images.h"
+#include "texture/texture_system.h"
 
 namespace farm {
 namespace {
@@ -30,13 +38,38 @@ SceneOptions CheckerOnFences() {
   return options;
 }
 
+// How the fence gets its holes.
+enum class Holes {
+  kHook,       // a Lambert fence, the holes cut by CheckerOnFences given to Scene::Build
+  kAlphaMask,  // an alpha-masked principled fence whose texture's alpha is 0 in the holes
+};
+
+constexpr int kTexels = 64;  // per side of the mask's texture: 16 a cell, so that the
+                             // filtered alpha crosses the cutoff at the cells' edges
+
 // A 2 x 2 fence at y = 1 over a wide floor at y = 0, a point light above: the fence a quad
 // (u along x from -1, v along z from -1), or a mesh of the same square placed by an
 // instance.
-pb::Scene FenceScene(bool instanced) {
+pb::Scene FenceScene(bool instanced, Holes holes) {
   pb::Scene s = MakeScene(8, 8, {0, 6, -1}, {0, 0, 0}, {0, 1, 0}, 40);
   AddLambert(s, "floor", Rgb(0.5f));
-  AddLambert(s, "fence", Rgb(0.5f));
+  if (holes == Holes::kHook) {
+    AddLambert(s, "fence", Rgb(0.5f));
+  } else {
+    pb::Material* m = s.add_materials();
+    m->set_name("fence");
+    pb::Principled* p = m->mutable_principled();
+    Set(p->mutable_base_color(), Rgb(0.5f));
+    p->set_roughness(1);
+    p->mutable_base_color_texture()->set_texture("holes");
+    p->set_alpha_mode(pb::ALPHA_MODE_MASK);
+    p->set_alpha_cutoff(0.5);
+    pb::Texture* t = s.add_textures();
+    t->set_name("holes");
+    t->set_path("holes.png");
+    t->set_digest(FakeDigest("holes"));
+    t->set_wrap(pb::TEXTURE_WRAP_CLAMP);
+  }
   AddQuad(s, "floor", {-10, 0, 10}, {20, 0, 0}, {0, 0, -20});
   if (instanced) {
     AddMesh(s, "fence", {{FakeDigest("fence"), "fence"}});
@@ -58,8 +91,57 @@ std::string FenceMesh() {
   return FarmMeshBytes(m);
 }
 
-Scene BuildFence(bool instanced, const SceneOptions& options) {
-  return Scene::Build(FenceScene(instanced), MapLoader({{FakeDigest("fence"), FenceMesh()}}), options);
+// Builds fences: with the holes cut one way or the other, or solid (the Lambert fence
+// without the hook). The alpha-masked fence's texture is a PNG (texture space's v runs down
+// the image) in a scratch folder, read by a texture system of the builder's own.
+class FenceBuilder {
+ public:
+  explicit FenceBuilder(Holes holes) : holes_(holes) {
+    if (holes != Holes::kAlphaMask) return;
+    dir_ = FreshTestDir("cutout_test", ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    textures_ = std::make_unique<TextureSystem>(TextureSystemOptions{16, dir_ / "prepared"});
+    WriteTestImage(dir_ / "holes", "png", kTexels, kTexels, 4, OIIO::TypeDesc::UINT8, [](int x, int y, int c) {
+      return c < 3 ? 1.0f : Hole({(x + 0.5f) / kTexels, (y + 0.5f) / kTexels}) ? 0.0f : 1.0f;
+    });
+  }
+  ~FenceBuilder() {
+    textures_.reset();
+    if (!dir_.empty()) std::filesystem::remove_all(dir_);
+  }
+
+  Scene Build(bool instanced) const {
+    SceneOptions options;
+    if (holes_ == Holes::kHook) options = CheckerOnFences();
+    options.textures = textures_.get();
+    options.load_file = [this](const std::string&) { return dir_ / "holes"; };
+    return Scene::Build(FenceScene(instanced, holes_), FenceBlobs(), options);
+  }
+
+  static Scene Solid(bool instanced) { return Scene::Build(FenceScene(instanced, Holes::kHook), FenceBlobs()); }
+
+ private:
+  static BlobLoader FenceBlobs() { return MapLoader({{FakeDigest("fence"), FenceMesh()}}); }
+
+  Holes holes_;
+  std::filesystem::path dir_;
+  std::unique_ptr<TextureSystem> textures_;
+};
+
+// Every combination the tests run: the fence a quad or an instance, its holes cut by the
+// hook or by its alpha mask.
+struct FenceCase {
+  bool instanced;
+  Holes holes;
+  std::string Name() const {
+    return std::string(instanced ? "instanced fence" : "fence quad") + (holes == Holes::kHook ? ", test hook" : ", alpha mask");
+  }
+};
+
+std::vector<FenceCase> FenceCases() {
+  std::vector<FenceCase> cases;
+  for (const Holes holes : {Holes::kHook, Holes::kAlphaMask})
+    for (const bool instanced : {false, true}) cases.push_back({instanced, holes});
+  return cases;
 }
 
 // Where on the fence (u, v) a point of the fence's plane lies.
@@ -77,10 +159,11 @@ std::vector<Vec2> CellPoints() {
 Vec3 FencePoint(Vec2 uv, float y) { return {2 * uv.x - 1, y, 2 * uv.y - 1}; }
 
 TEST(Cutouts, CameraRaysPassThroughTheHoles) {
-  for (const bool instanced : {false, true}) {
-    SCOPED_TRACE(instanced ? "instanced fence" : "fence quad");
-    const Scene scene = BuildFence(instanced, CheckerOnFences());
-    const Scene solid = BuildFence(instanced, {});
+  for (const FenceCase& c : FenceCases()) {
+    SCOPED_TRACE(c.Name());
+    const FenceBuilder builder(c.holes);  // outlives the scene: it holds the texture system
+    const Scene scene = builder.Build(c.instanced);
+    const Scene solid = FenceBuilder::Solid(c.instanced);
     for (const Vec2 uv : CellPoints()) {
       const Ray down{FencePoint(uv, 3), {0, -1, 0}};
       const std::optional<SurfaceHit> hit = scene.data().Intersect(down);
@@ -93,9 +176,10 @@ TEST(Cutouts, CameraRaysPassThroughTheHoles) {
 }
 
 TEST(Cutouts, ShadowRaysPassThroughTheHoles) {
-  for (const bool instanced : {false, true}) {
-    SCOPED_TRACE(instanced ? "instanced fence" : "fence quad");
-    const Scene scene = BuildFence(instanced, CheckerOnFences());
+  for (const FenceCase& c : FenceCases()) {
+    SCOPED_TRACE(c.Name());
+    const FenceBuilder builder(c.holes);
+    const Scene scene = builder.Build(c.instanced);
     const Vec3 up(0, 1, 0), light(0, 3, 0);
     for (const Vec2 uv : CellPoints()) {
       // A floor point below the cell along the line from the light through the cell.
@@ -107,9 +191,10 @@ TEST(Cutouts, ShadowRaysPassThroughTheHoles) {
 }
 
 TEST(Cutouts, PhotonsPassThroughTheHoles) {
-  for (const bool instanced : {false, true}) {
-    SCOPED_TRACE(instanced ? "instanced fence" : "fence quad");
-    const Scene scene = BuildFence(instanced, CheckerOnFences());
+  for (const FenceCase& c : FenceCases()) {
+    SCOPED_TRACE(c.Name());
+    const FenceBuilder builder(c.holes);
+    const Scene scene = builder.Build(c.instanced);
     const std::vector<ShardPhoton> photons =
         TracePhotons(scene, {PhotonMapKind::kGlobal, 0, 20000, 20000}, {.store_direct = true});
     const Vec3 light(0.1f, 5, 0.2f);

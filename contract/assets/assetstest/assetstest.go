@@ -1,7 +1,13 @@
 // Package assetstest holds the asset files tests and the vector generators start from.
 package assetstest
 
-import "photonfarm/contract/assets"
+import (
+	"bytes"
+	"encoding/binary"
+	"hash/crc32"
+
+	"photonfarm/contract/assets"
+)
 
 // Quad is a unit square of two triangles with every optional section of a farm mesh file:
 // normals, texture coordinates (v down: the top edge at v = 0) and tangents.
@@ -13,4 +19,20 @@ func Quad() *assets.MeshData {
 		Tangents:  []float32{1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1},
 		Indices:   []uint32{0, 1, 2, 0, 2, 3},
 	}
+}
+
+// PNGHeader is a PNG signature and an IHDR chunk declaring w x h pixels (8-bit RGBA), with
+// a valid CRC and nothing after it: what a huge image starts with.
+func PNGHeader(w, h uint32) []byte {
+	ihdr := make([]byte, 17)
+	copy(ihdr, "IHDR")
+	binary.BigEndian.PutUint32(ihdr[4:], w)
+	binary.BigEndian.PutUint32(ihdr[8:], h)
+	ihdr[12], ihdr[13] = 8, 6
+	var b bytes.Buffer
+	b.WriteString("\x89PNG\r\n\x1a\n")
+	binary.Write(&b, binary.BigEndian, uint32(13))
+	b.Write(ihdr)
+	binary.Write(&b, binary.BigEndian, crc32.ChecksumIEEE(ihdr))
+	return b.Bytes()
 }
