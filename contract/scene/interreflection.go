@@ -54,7 +54,7 @@ func InterreflectionOf(s *pb.Scene) Interreflection {
 	}
 	switch {
 	case spheres+others+len(planes) == 0:
-		return Interreflection{Why: "no diffuse surface (Lambert or glossy)"}
+		return Interreflection{Why: "no diffuse surface (Lambert, glossy or principled)"}
 	case surf.Specular:
 		return Interreflection{Possible: true, Why: "diffuse surfaces can light each other, directly or through specular ones"}
 	case others == 0 && spheres == 1 && len(planes) == 0 && !anyLightInside(s, materials, sphere):

@@ -155,6 +155,19 @@ func TestSurfacesOf(t *testing.T) {
 			s.Materials = append(s.Materials, glossy(rgb(0.5, 0.5, 0.5), rgb(0.5, 0.5, 0.5), 20))
 			s.Shapes[0].Material, s.Shapes[1].Material = "shiny", "shiny"
 		}, scene.Surfaces{Diffuse: true}},
+		{"rough principled metal is diffuse", func(s *pb.Scene) {
+			s.Materials = append(s.Materials, principled("steel", &pb.Principled{Roughness: 0.5, Metallic: 1}))
+			s.Shapes[0].Material, s.Shapes[1].Material = "steel", "steel"
+		}, scene.Surfaces{Diffuse: true}},
+		{"smooth principled metal is specular", func(s *pb.Scene) {
+			threshold := rules.Scene.GetPrincipledSpecularRoughness()
+			s.Materials = append(s.Materials, principled("chrome", &pb.Principled{Roughness: math.Nextafter(threshold, 0), Metallic: 1}))
+			s.Shapes[0].Material, s.Shapes[1].Material = "chrome", "chrome"
+		}, scene.Surfaces{Specular: true}},
+		{"smooth principled plastic is both", func(s *pb.Scene) {
+			s.Materials = append(s.Materials, principled("plastic", &pb.Principled{Roughness: 0, Metallic: 0}))
+			s.Shapes[0].Material, s.Shapes[1].Material = "plastic", "plastic"
+		}, scene.Surfaces{Diffuse: true, Specular: true}},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
@@ -162,5 +175,28 @@ func TestSurfacesOf(t *testing.T) {
 				t.Errorf("SurfacesOf = %+v, want %+v", got, tt.want)
 			}
 		})
+	}
+}
+
+// TestASmoothPrincipledSurfaceGetsACausticMap: the planner's side of the roughness
+// threshold the worker also reads (worker/scene/principled_test.cpp): a principled ball
+// just smoother than principled_specular_roughness gets the scene a caustic map, one at the
+// threshold does not.
+func TestASmoothPrincipledSurfaceGetsACausticMap(t *testing.T) {
+	threshold := rules.Scene.GetPrincipledSpecularRoughness()
+	for _, tt := range []struct {
+		roughness float64
+		caustic   bool
+	}{{math.Nextafter(threshold, 0), true}, {threshold, false}} {
+		s := scenetest.Valid(8, 8)
+		s.Materials = append(s.Materials, principled("ball", &pb.Principled{Roughness: tt.roughness, Metallic: 1}))
+		s.Shapes[0].Material = "ball"
+		caustic := false
+		for _, m := range scene.PhotonMaps(s) {
+			caustic = caustic || m.Kind == pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC
+		}
+		if caustic != tt.caustic {
+			t.Errorf("roughness %v: caustic map %v, want %v", tt.roughness, caustic, tt.caustic)
+		}
 	}
 }

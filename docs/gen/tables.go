@@ -95,14 +95,15 @@ func describe(fd protoreflect.FieldDescriptor) string {
 // sceneLimits is a table of the scene_limits option of Scene.
 func sceneLimits() string {
 	return optionTable(rules.Scene.ProtoReflect(), map[string]string{
-		"max_magnitude":       "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
-		"max_tiles_per_round": "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
-		"max_shards_per_map":  "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for the global and the caustic photon count, whether or not the scene gets that map (refused as `photons.photons_per_shard`)",
-		"max_asset_bytes":     "largest mesh file (and any other asset) a scene names",
-		"max_mesh_vertices":   "most vertices in one mesh file",
-		"max_mesh_triangles":  "most triangles in one mesh file, after splitting polygons",
-		"max_mesh_line_bytes": "longest line of a mesh file, its line break included",
-		"max_texture_pixels":  "most pixels (width times height) of one texture, read from its header without decoding it",
+		"max_magnitude":                 "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
+		"max_tiles_per_round":           "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
+		"max_shards_per_map":            "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for the global and the caustic photon count, whether or not the scene gets that map (refused as `photons.photons_per_shard`)",
+		"max_asset_bytes":               "largest mesh file (and any other asset) a scene names",
+		"max_mesh_vertices":             "most vertices in one mesh file",
+		"max_mesh_triangles":            "most triangles in one mesh file, after splitting polygons",
+		"max_mesh_line_bytes":           "longest line of a mesh file, its line break included",
+		"max_texture_pixels":            "most pixels (width times height) of one texture, read from its header without decoding it",
+		"principled_specular_roughness": "a principled material whose roughness factor is below this counts as specular: its lobe is only sampled, never lit by light samples or photons, and the scene gets a caustic map",
 	})
 }
 

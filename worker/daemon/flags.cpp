@@ -8,7 +8,7 @@ namespace farm {
 
 const char kWorkerUsage[] =
     "usage: farm-worker --coordinator HOST:PORT [--cache-dir DIR] [--threads N] [--name NAME]\n"
-    "                   [--token TOKEN] [--tls-ca FILE] [--insecure]\n"
+    "                   [--token TOKEN] [--tls-ca FILE] [--insecure] [--texture-cache-mib N]\n"
     "\n"
     "Leases photon emission, render and composite tasks from a photonfarm coordinator until\n"
     "stopped.\n"
@@ -28,11 +28,14 @@ const char kWorkerUsage[] =
     "                           command line is visible to every user of the host\n"
     "  --tls-ca FILE            connect with TLS, trusting the CA certificates in FILE (PEM)\n"
     "  --insecure               allow a token without TLS to a coordinator not on loopback\n"
+    "  --texture-cache-mib N    memory for texture tiles, MiB (default 512); textures are\n"
+    "                           prepared once into DIR/textures under the cache directory\n"
     "  --help                   show this help\n";
 
 namespace {
 
 constexpr int kMaxThreads = 4096;
+constexpr int kMaxTextureCacheMib = 1 << 20;
 
 std::optional<int> ParseInt(std::string_view s) {
   int v = 0;
@@ -98,7 +101,7 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       value = std::string(arg.substr(eq + 1));
     }
     if (name != "--coordinator" && name != "--cache-dir" && name != "--threads" &&
-        name != "--name" && name != "--token" && name != "--tls-ca") {
+        name != "--name" && name != "--token" && name != "--tls-ca" && name != "--texture-cache-mib") {
       return fail("unknown flag " + std::string(name));
     }
     if (!value) {
@@ -115,13 +118,14 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       if (value->empty()) return fail("--cache-dir is empty");
       out.options.cache_dir = *value;
       have_cache_dir = true;
-    } else if (name == "--threads") {
+    } else if (name == "--threads" || name == "--texture-cache-mib") {
+      const bool threads = name == "--threads";
+      const int max = threads ? kMaxThreads : kMaxTextureCacheMib;
       const auto n = ParseInt(*value);
-      if (!n || *n < 1 || *n > kMaxThreads) {
-        return fail("--threads \"" + *value + "\" is not a whole number from 1 to " +
-                    std::to_string(kMaxThreads));
+      if (!n || *n < 1 || *n > max) {
+        return fail(std::string(name) + " \"" + *value + "\" is not a whole number from 1 to " + std::to_string(max));
       }
-      out.options.threads = *n;
+      (threads ? out.options.threads : out.options.texture_cache_mib) = *n;
     } else if (name == "--token") {
       if (value->empty()) return fail("--token is empty");
       out.options.token = *value;

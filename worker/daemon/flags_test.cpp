@@ -21,13 +21,14 @@ ParsedFlags Parse(std::vector<std::string> args, FakeEnv env = {{{"HOME", "/home
 
 TEST(WorkerFlags, AllFlagsInBothForms) {
   const ParsedFlags f = Parse({"--coordinator", "farm.example:50051", "--cache-dir=/tmp/c",
-                               "--threads", "3", "--name=render-07"});
+                               "--threads", "3", "--name=render-07", "--texture-cache-mib", "64"});
   ASSERT_EQ(f.error, "");
   EXPECT_FALSE(f.help);
   EXPECT_EQ(f.options.coordinator, "farm.example:50051");
   EXPECT_EQ(f.options.cache_dir, "/tmp/c");
   EXPECT_EQ(f.options.threads, 3);
   EXPECT_EQ(f.options.name, "render-07");
+  EXPECT_EQ(f.options.texture_cache_mib, 64);
 }
 
 TEST(WorkerFlags, Defaults) {
@@ -36,6 +37,7 @@ TEST(WorkerFlags, Defaults) {
   EXPECT_EQ(f.options.cache_dir, "/home/u/.cache/photonfarm/worker");
   EXPECT_EQ(f.options.threads, 0);
   EXPECT_EQ(f.options.name, "");
+  EXPECT_EQ(f.options.texture_cache_mib, 512);
   f = Parse({"--coordinator=localhost:50051"}, {{{"HOME", "/home/u"}, {"XDG_CACHE_HOME", "/xdg"}}});
   EXPECT_EQ(f.options.cache_dir, "/xdg/photonfarm/worker");
   f = Parse({"--coordinator=localhost:50051"}, {{{"HOME", "/home/u"}, {"XDG_CACHE_HOME", "rel"}}});
@@ -69,6 +71,8 @@ TEST(WorkerFlags, ClearErrors) {
       {{"--coordinator=h:1", "--threads", "2x"}, "--threads \"2x\""},
       {{"--coordinator=h:1", "--threads=-1"}, "--threads \"-1\""},
       {{"--coordinator=h:1", "--name="}, "--name is empty"},
+      {{"--coordinator=h:1", "--texture-cache-mib=0"}, "--texture-cache-mib \"0\" is not a whole number from 1"},
+      {{"--coordinator=h:1", "--texture-cache-mib", "lots"}, "--texture-cache-mib \"lots\""},
       {{"--coordinator=h:1", "--cache-dir="}, "--cache-dir is empty"},
       {{"--coordinator=h:1", "--verbose"}, "unknown flag --verbose"},
       {{"--coordinator=h:1", "stray"}, "unexpected argument \"stray\""},

@@ -14,6 +14,7 @@ struct WorkerOptions {
   std::string token;                 // Worker token sent on every RPC; empty: none.
   std::filesystem::path tls_ca;      // PEM CA file: connect with TLS trusting it; empty: plaintext.
   bool insecure = false;             // Allow a token in plaintext to a non-loopback address.
+  int texture_cache_mib = 512;       // Bound of the texture tile cache, MiB.
 };
 
 }  // namespace farm

@@ -174,6 +174,8 @@ std::string DescribeTask(const pb::Task& task) {
 }
 
 TaskExecutor::TaskExecutor(BlobClient& blobs) : blobs_(blobs) {}
+TaskExecutor::TaskExecutor(BlobClient& blobs, TextureSystemOptions textures)
+    : blobs_(blobs), texture_options_(std::move(textures)) {}
 TaskExecutor::~TaskExecutor() = default;
 
 TaskResult TaskExecutor::Execute(const pb::LeaseTaskResponse& leased, std::stop_token stop,
@@ -220,7 +222,15 @@ const Scene& TaskExecutor::Built(const std::string& digest, std::stop_token stop
     const BlobLoader load = [this, stop, progress](const std::string& mesh_digest) {
       return blobs_.Fetch(mesh_digest, stop, progress);
     };
-    built_ = std::make_unique<Scene>(Scene::Build(description, load));
+    SceneOptions options;
+    if (description.textures_size() > 0 && texture_options_) {
+      if (!textures_) textures_ = std::make_unique<TextureSystem>(*texture_options_);
+      options.textures = textures_.get();
+      options.load_file = [this, stop, progress](const std::string& texture_digest) {
+        return blobs_.FetchFile(texture_digest, stop, progress);
+      };
+    }
+    built_ = std::make_unique<Scene>(Scene::Build(description, load, options));
     built_digest_ = digest;
   }
   return *built_;

@@ -5,6 +5,7 @@
 // job has one) or composite a round into the image so far, with the blobs and the scene
 // that takes. Knows nothing of leases and reports (worker.cpp does). Internal to daemon/.
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 
 #include "daemon/blob_client.h"
 #include "renderfarm/v1/worker.pb.h"
+#include "texture/texture_system.h"
 #include "util/progress.h"
 
 namespace farm {
@@ -40,7 +42,11 @@ struct TaskResult {
 
 class TaskExecutor {
  public:
+  // Without texture options, a scene whose materials name textures cannot be built.
   explicit TaskExecutor(BlobClient& blobs);
+  // Textures read through a texture system made with these options when a scene first
+  // names one, kept for the process (its prepared files and tile cache outlive jobs).
+  TaskExecutor(BlobClient& blobs, TextureSystemOptions textures);
   ~TaskExecutor();
 
   // Performs the task and returns what to report. Throws TaskCancelled if `stop` was
@@ -51,6 +57,10 @@ class TaskExecutor {
   // for all, since the coordinator only watches it grow).
   TaskResult Execute(const renderfarm::v1::LeaseTaskResponse& leased, std::stop_token stop,
                      Progress progress = {});
+
+  // Bytes of texture tiles the texture system's cache holds now (0 before a scene with
+  // textures): at most about --texture-cache-mib MiB.
+  std::uint64_t TextureCacheBytes() const { return textures_ ? textures_->CacheBytes() : 0; }
 
  private:
   // The job's scene description, fetched by digest; the last one is kept.
@@ -73,6 +83,8 @@ class TaskExecutor {
                        Progress progress);
 
   BlobClient& blobs_;
+  std::optional<TextureSystemOptions> texture_options_;
+  std::unique_ptr<TextureSystem> textures_;
   std::string description_digest_;
   std::unique_ptr<renderfarm::v1::Scene> description_;
   std::string built_digest_;

@@ -86,7 +86,8 @@ class Worker::Impl {
         channel_(MakeCoordinatorChannel(options)),
         stub_(pb::WorkerService::NewStub(channel_)),
         blobs_(channel_, &cache_),
-        executor_(blobs_) {}
+        executor_(blobs_, TextureSystemOptions{static_cast<std::size_t>(options.texture_cache_mib),
+                                               options.cache_dir / "textures"}) {}
 
   int Run();
 
@@ -344,6 +345,8 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
       if (memory.since_start()) attrs.emplace_back("peak_memory_since", "process start");
     }
     attrs.insert(attrs.end(), more);
+    // Only once textures are in use, so that other tasks' lines stay as they were.
+    if (const std::uint64_t bytes = executor_.TextureCacheBytes(); bytes > 0) attrs.emplace_back("texture_cache_bytes", bytes);
     Log(level, msg, attrs);
   };
   if (!lost.empty()) {

@@ -10,6 +10,7 @@
 #include "photon/photon_emission.h"
 #include "photon/trace_photons.h"
 #include "scene/scene_data.h"
+#include "scene/surface_shading.h"
 
 namespace farm {
 namespace {
@@ -58,12 +59,13 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
 
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return;
-    const Material& material = scene.material_of(*hit);
+    // A photon is one sample among very many: a point lookup of the textures.
+    const Material material = MaterialAt(scene, *hit, ray.direction, 0);
     const Vec3 wi = -ray.direction;  // towards where the photon came from
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
-    if (!can.specular) {
-      if (!can.reflects) return;  // emitters absorb
+    if (!can.specular && !can.reflects) return;  // emitters absorb
+    if (can.reflects) {
       // Global: indirect light only (after a diffuse or glossy bounce). Caustic: L S+ D,
       // stored at the first non-specular surface, where the path ends.
       const bool wanted = kind == PhotonMapKind::kCaustic
@@ -76,18 +78,21 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
         if (keep > 0 && u_store < keep)
           out.push_back({hit->p, power / keep, wi, FaceForward(hit->n, wi)});
       }
-      if (kind == PhotonMapKind::kCaustic) return;
+      if (kind == PhotonMapKind::kCaustic && !can.specular) return;
     }
 
     const std::optional<BsdfSample> s =
         SampleBsdf(material, hit->ns, wi, u_lobe, u_direction, TransportMode::kImportance);
     if (!s) return;
+    // A caustic path goes on only through specular bounces (a smooth principled surface's
+    // diffuse base ends it: the photon was stored above).
+    if (kind == PhotonMapKind::kCaustic && !s->specular) return;
     Rgb next = power * s->weight;
-    // A shading normal makes the BSDF non-symmetric for what photons carry (Veach's
-    // adjoint): |wi.ns| |wo.n| / (|wi.n| |wo.ns|), for wi towards where the photon came from
-    // and wo where it goes. Exactly 1 without one.
-    if (hit->ns != hit->n) {
-      const float scale = AbsDot(wi, hit->ns) * AbsDot(s->wi, hit->n) / (AbsDot(wi, hit->n) * AbsDot(s->wi, hit->ns));
+    // A shading normal (a mesh's smooth normals, a normal map) makes the BSDF non-symmetric
+    // for what photons carry (Veach's adjoint): |wi.ns| |wo.n| / (|wi.n| |wo.ns|), for wi
+    // towards where the photon came from and wo where it goes. Exactly 1 without one.
+    if (const Vec3 ns = ShadingNormalOf(material, hit->ns); ns != hit->n) {
+      const float scale = AbsDot(wi, ns) * AbsDot(s->wi, hit->n) / (AbsDot(wi, hit->n) * AbsDot(s->wi, ns));
       if (!std::isfinite(scale)) return;
       next = next * scale;
     }

@@ -169,6 +169,32 @@ TEST(PhotonTracer, MirrorCausticMatchesTheMirrorImageOfAPointLight) {
   }
 }
 
+TEST(PhotonTracer, ASmoothPrincipledMetalCausticIsTheImageLightTimesSchlicksFresnel) {
+  // As above with a smooth principled metal ceiling (base colour 0.8): its lobe counts as
+  // a delta, so light -> ceiling -> floor is a caustic, weighted by Schlick's Fresnel at
+  // the angle the image light's ray meets the floor at (the angle of reflection).
+  pb::Scene s = FloorScene();
+  pb::Material* m = s.add_materials();
+  m->set_name("metal");
+  Set(m->mutable_principled()->mutable_base_color(), Rgb(0.8f));
+  m->mutable_principled()->set_metallic(1);
+  AddQuad(s, "metal", {-6, -6, 2}, {12, 0, 0}, {0, 12, 0});
+  auto* light = s.add_lights()->mutable_point();
+  Set(light->mutable_position(), {0, 0, 1});
+  Set(light->mutable_intensity(), Rgb(5));
+  const auto photons = Trace(s, PhotonMapKind::kCaustic, 400'000);
+  const auto E = [&](double x, double y) {
+    const double r2 = 9 + x * x + y * y, cos = 3 / std::sqrt(r2);
+    return (0.8 + 0.2 * std::pow(1 - cos, 5)) * 5 * 3 / std::pow(r2, 1.5);
+  };
+  for (double x : {0.0, 1.5}) {
+    const double expected = DiscAverage(E, x, 0, 0.3);
+    EXPECT_NEAR(DiscIrradiance(photons, Vec3(float(x), 0, 0), 0.3f), expected, 0.06 * expected)
+        << "x = " << x;
+  }
+  for (const ShardPhoton& p : photons) ASSERT_LT(p.position.z, 1) << "no photon on the ceiling";
+}
+
 TEST(PhotonTracer, GlassBallFocusesSunlightNearTheParaxialFocus) {
   // A ball lens of radius R and index n focuses paraxial rays at f = n R / (2 (n - 1)) from
   // its centre: 1.5 for R = 1, n = 1.5. Caustic photons of a sun straight down land on a

@@ -22,10 +22,12 @@ constexpr int kCells = 4;  // per side of the fence
 bool Hole(Vec2 uv) { return (int(std::floor(uv.x * kCells)) + int(std::floor(uv.y * kCells))) % 2 != 0; }
 
 SceneOptions CheckerOnFences() {
-  return {.cutout_of = [](const pb::Material& m, int) -> CutoutTest {
+  SceneOptions options;
+  options.cutout_of = [](const pb::Material& m, int) -> CutoutTest {
     if (m.name() != "fence") return {};
     return [](const SurfaceHit& hit) { return Hole(hit.uv); };
-  }};
+  };
+  return options;
 }
 
 // A 2 x 2 fence at y = 1 over a wide floor at y = 0, a point light above: the fence a quad

@@ -7,6 +7,9 @@
 #include <numbers>
 
 #include "render/tile_renderer.h"
+#include "math/math.h"
+#include "scene/ggx.h"
+#include "scene/principled.h"
 #include "scene/test_scenes.h"
 
 namespace farm {
@@ -102,6 +105,54 @@ TEST(DirectLighting, MissIsBlackWithZeroAlpha) {
   AddPointLight(s, {0, 5, 0}, Rgb(1));
   const Image image = RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 2, 2});
   for (float v : image.data()) EXPECT_EQ(v, 0.0f);
+}
+
+// A principled floor: a point light's radiance is the BRDF (principled.h) times I / d^2.
+TEST(DirectLighting, PrincipledUnderAPointLightIsItsBrdfTimesTheIrradiance) {
+  pb::Scene s = FloorScene(4);
+  pb::Principled* p = s.mutable_materials(0)->mutable_principled();  // replaces the Lambert
+  Set(p->mutable_base_color(), Rgb(0.5f, 0.25f, 1));
+  p->set_metallic(0.3);
+  p->set_roughness(0.5);
+  AddPointLight(s, {0, 0, 4}, Rgb(16));
+  const PrincipledLobes lobes{Rgb(0.5f, 0.25f, 1), 0.3f, 0.25f, false};
+  const Rgb expected = PrincipledValue(lobes, Normalize(Vec3(10, 0, 1)), Vec3(0, 0, 1));  // times 16 / 4^2
+  const Rgb L = RenderOnePixel(s);
+  EXPECT_NEAR(L.r, expected.r, 1e-3f * expected.r) << L;
+  EXPECT_NEAR(L.b, expected.b, 1e-3f * expected.b) << L;
+}
+
+// A smooth full metal is a mirror tinted by Schlick's Fresnel of its base colour: it shows
+// the emitter in the mirror direction with radiance L F(cos theta).
+TEST(DirectLighting, ASmoothMetalReflectsTheEmitterWithSchlicksFresnel) {
+  pb::Scene s = FloorScene(16);
+  pb::Principled* p = s.mutable_materials(0)->mutable_principled();
+  Set(p->mutable_base_color(), Rgb(0.8f, 0.5f, 0.2f));
+  p->set_metallic(1);
+  AddSphere(s, "lamp", {-10, 0, 1}, 0.5);  // radiance 2, where the camera's mirror image looks
+  const float cos = 1 / std::sqrt(101.0f), schlick = std::pow(1 - cos, 5.0f);
+  const Rgb L = RenderOnePixel(s);
+  EXPECT_NEAR(L.r, 2 * (0.8f + 0.2f * schlick), 2e-3f) << L;
+  EXPECT_NEAR(L.b, 2 * (0.2f + 0.8f * schlick), 2e-3f) << L;
+}
+
+// A smooth dielectric is both: its diffuse base is shaded (the point light) and its lobe
+// followed (the emitter in the mirror direction, with Schlick's Fresnel of 0.04); the two
+// add up.
+TEST(DirectLighting, ASmoothDielectricAddsItsBaseAndItsReflection) {
+  pb::Scene s = FloorScene(256);
+  pb::Principled* p = s.mutable_materials(0)->mutable_principled();
+  Set(p->mutable_base_color(), Rgb(0.5f));
+  AddPointLight(s, {0, 0, 4}, Rgb(16));
+  AddSphere(s, "lamp", {-10, 0, 1}, 0.5);
+  const Vec3 wo = Normalize(Vec3(10, 0, 1)), mirror(-wo.x, -wo.y, wo.z);
+  const PrincipledLobes lobes{Rgb(0.5f), 0, kMinGgxAlpha, true};
+  const float base = PrincipledValue(lobes, wo, Vec3(0, 0, 1)).g;  // times 16 / 4^2
+  const float reflection = 2 * (0.04f + 0.96f * std::pow(1 - wo.z, 5.0f));
+  // The sphere lights the base too: E = pi L sin^2 (its half angle) cos theta, small.
+  const float sphere = PrincipledDiffuseWeight(lobes, wo, mirror).g / kPi * (kPi * 2 * (0.25f / 101) * wo.z);
+  const Rgb L = RenderOnePixel(s);
+  EXPECT_NEAR(L.g, base + reflection + sphere, 2e-3f * (base + reflection)) << L << " base " << base;
 }
 
 }  // namespace

@@ -10,23 +10,30 @@
 #include "sampling/hash.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
-#include "scene/blinn_phong.h"
+#include "scene/surface_shading.h"
+#include "texture/footprint.h"
 
 namespace farm {
 
 // A non-specular surface point being shaded: n, the geometric normal, faces the side wo
-// comes from, and ns, the shading normal, is on n's side. The BSDF and its cosines are
-// taken about ns; offsets, and which side of the surface a direction is on, about n (a
-// direction ns sees above the surface but n below it is not lit: it would leak).
+// comes from, and ns, the shading normal, is on n's side: the material's own where it has
+// one (a principled material's, normal-mapped: MaterialAt), else the hit's. The BSDF and
+// its cosines are taken about ns; offsets, and which side of the surface a direction is
+// on, about n (a direction ns sees above the surface but n below it is not lit: it would
+// leak). material is as it is at the hit (MaterialAt); cone_width is the width the ray's
+// cone has reached there, where the rays leaving it start their own.
 struct PhotonMappingIntegrator::Shading {
   const SurfaceHit& hit;
   Vec3 wo;
   const Material& material;
   Vec3 n;
   Vec3 ns;
+  float cone_width = 0;
 
-  Shading(const SurfaceHit& h, const Vec3& w, const Material& m)
-      : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(Dot(h.n, n) < 0 ? -h.ns : h.ns) {}
+  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone)
+      : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(ShadingNormalOf(m, h.ns)), cone_width(cone) {
+    if (Dot(h.n, n) < 0) ns = -ns;
+  }
 
   // The BSDF for light arriving along wi, and nothing from below the geometric surface.
   Rgb Reflected(const Vec3& wi) const { return Dot(wi, n) > 0 ? EvaluateBsdf(material, ns, wo, wi) : Rgb(); }
@@ -70,19 +77,27 @@ Vec2 Point2(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
   return {SobolSample(index, 0, uint32_t(s)), SobolSample(index, 1, uint32_t(s >> 32))};
 }
 
+// The spread of a gather ray's cone: the side of the solid angle each of `count` rays
+// stands for (2 pi / count of the hemisphere).
+float GatherSpread(uint32_t count) { return std::sqrt(2 * kPi / float(std::max(count, 1u))); }
+
 // A uniform float from 24 bits of a hash (for the rare choices of specular bounces).
 float HashFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
 
 // Follows at most kGatherSpecularDepth specular bounces to the first non-specular surface
 // that reflects; nothing if the ray escapes, ends on an emitter or is absorbed. key seeds
-// the Fresnel choices. escaped tells whether the ray left the scene before any bounce (it
-// then sees the environment; after a specular bounce that light is a caustic's).
+// the Fresnel choices; the ray's cone (footprint.h) reads the textures on the way. escaped
+// tells whether the ray left the scene before any bounce (it then sees the environment;
+// after a specular bounce that light is a caustic's).
 struct DiffuseHit {
   SurfaceHit hit;
   Rgb throughput;
   Vec3 wo;
+  Material material;  // at the hit
+  float cone_width = 0;
 };
-std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64_t key, bool& escaped) {
+std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, RayCone cone, uint64_t key,
+                                         bool& escaped) {
   Rgb throughput(1);
   escaped = false;
   for (int depth = 0; depth <= kGatherSpecularDepth; ++depth) {
@@ -91,13 +106,14 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, uint64
       escaped = depth == 0;
       return std::nullopt;
     }
-    const Material& material = scene.material_of(*hit);
+    cone.width = cone.WidthAt(hit->t);
+    const Material material = MaterialAt(scene, *hit, ray.direction, cone.width);
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
-    if (!can.specular) {
-      if (!can.reflects) return std::nullopt;
-      return DiffuseHit{*hit, throughput, wo};
-    }
+    // A smooth principled surface (specular and diffuse) ends the chain too: where a gather
+    // ray lands, its albedo, specular lobe included, reflects the irradiance as if diffuse.
+    if (can.reflects) return DiffuseHit{*hit, throughput, wo, material, cone.width};
+    if (!can.specular) return std::nullopt;
     const uint64_t h = Hash(key, uint64_t(depth));
     const uint64_t h2 = MixBits(h);
     const std::optional<BsdfSample> s = SampleBsdf(material, hit->ns, wo, HashFloat(h),
@@ -156,6 +172,8 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   SampleResult result;
   Ray ray = camera_ray;
   Rgb throughput(1);
+  // The pixel's cone, passed on unchanged by specular bounces (footprint.h).
+  RayCone cone{0, scene_.camera.PixelSpreadAngle()};
   for (int depth = 0; depth < kMaxSpecularDepth; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit.
@@ -176,8 +194,9 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
       break;
     }
     const Vec3 wo = -ray.direction;
-    const Material& material = scene_.material_of(*hit);
-    const Shading at(*hit, wo, material);
+    cone.width = cone.WidthAt(hit->t);
+    const Material material = MaterialAt(scene_, *hit, ray.direction, cone.width);
+    const Shading at(*hit, wo, material, cone.width);
     if (depth == 0) {
       result.alpha = 1;
       result.hit = true;
@@ -188,28 +207,28 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     result.emitted += throughput * Emitted(material, hit->n, wo);
 
     const MaterialCapabilities& can = scene_.capabilities_of(*hit);
-    if (!can.specular) {
-      if (can.reflects) {
-        // 2^32 levels from the sample's dimension, hashed so that nearby values give
-        // unrelated scrambles.
-        const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
-        Rgb direct, caustic, indirect;
-        const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
-        Shade(at, strategies, seed, scratch, direct, caustic, indirect);
-        if (final_gather_) {
-          const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
-          direct += glossy.direct;
-          indirect += glossy.indirect;
-        }
-        result.direct = throughput * direct;
-        result.caustic = throughput * caustic;
-        result.indirect = throughput * indirect;
+    if (can.reflects) {
+      // 2^32 levels from the sample's dimension, hashed so that nearby values give
+      // unrelated scrambles.
+      const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
+      Rgb direct, caustic, indirect;
+      const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
+      Shade(at, strategies, seed, scratch, direct, caustic, indirect);
+      if (final_gather_) {
+        const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+        direct += glossy.direct;
+        indirect += glossy.indirect;
       }
-      break;
+      // Added, not set: a smooth principled surface is shaded for its diffuse base here and
+      // followed through its specular lobe below, and what lies beyond adds its own.
+      result.direct += throughput * direct;
+      result.caustic += throughput * caustic;
+      result.indirect += throughput * indirect;
     }
+    if (!can.specular) break;
 
     const std::optional<BsdfSample> s =
-        SampleBsdf(material, hit->ns, wo, u_lobe, u_direction, TransportMode::kRadiance);
+        SampleSpecular(material, hit->ns, wo, u_lobe, u_direction, TransportMode::kRadiance);
     if (!s) break;
     throughput = throughput * s->weight;
     if (depth >= kRouletteDepth) {
@@ -260,10 +279,8 @@ float PhotonMappingIntegrator::EnvironmentLightPdf(const Vec3& w) const {
 }
 
 float PhotonMappingIntegrator::GlossyBouncePdf(const Shading& at, const Vec3& wi) const {
-  const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
-  if (!glossy || glossy->specular.IsBlack() || !(Dot(wi, at.n) > 0)) return 0;
-  const Frame frame = Frame::FromZ(at.ns);  // GlossyBounce's frame
-  return BlinnPhongPdf(frame.ToLocal(at.wo), frame.ToLocal(wi), glossy->exponent);
+  if (!(Dot(wi, at.n) > 0)) return 0;  // GlossyBounce drops what is below the surface
+  return GlossyLobePdf(at.material, at.ns, at.wo, wi);
 }
 
 Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed) const {
@@ -285,7 +302,7 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
       // Gather rays (the diffuse lobe) and the glossy bounce (the rest) that escape see the
       // environment too: each part of f takes its balance-heuristic share.
       const float light = float(count) * pdf;
-      const Rgb f_diffuse = DiffuseReflectance(at.material) * kInvPi;
+      const Rgb f_diffuse = DiffuseReflectance(at.material, at.ns, at.wo, ls->wi) * kInvPi;
       const float cos = Dot(at.ns, ls->wi);
       const float gather = float(strategies.gather_rays) * (cos > 0 ? CosineHemispherePdf(cos) : 0.0f);
       const float glossy = strategies.glossy_bounce ? GlossyBouncePdf(at, ls->wi) : 0.0f;
@@ -298,8 +315,7 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
 
 PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t seed,
                                                                     std::vector<PhotonNeighbour>& scratch) const {
-  const Rgb kd = DiffuseReflectance(at.material);
-  if (kd.IsBlack() || count == 0) return {};
+  if (count == 0) return {};
   const Frame frame = Frame::FromZ(at.ns);
   const float light_samples = float(LightSampleCount());
   Rgb indirect, escaped;
@@ -307,25 +323,28 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
     const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
     const Vec3 w = frame.FromLocal(local);
     if (Dot(w, at.n) < 0) continue;  // below the surface (only a shading normal tilts the frame so)
+    // Cosine-weighted directions: f cos / pdf is the diffuse lobe's f times pi (kd, for
+    // Lambert and glossy, whatever the direction).
+    const Rgb kd = DiffuseReflectance(at.material, at.ns, at.wo, w);
+    if (kd.IsBlack()) continue;
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
     bool escaped_directly = false;
-    indirect += GatherRay(ray, i, seed, scratch, escaped_directly);
+    indirect += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count)}, i, seed, scratch, escaped_directly);
     if (escaped_directly && scene_.environment_light >= 0) {
       // The environment seen by a gather ray is direct light, shared with light sampling.
       const float gather = float(count) * CosineHemispherePdf(local.z);
-      escaped += scene_.environment->Radiance(w) * BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
+      escaped += kd * scene_.environment->Radiance(w) * BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
     }
   }
-  // Cosine-weighted directions: f cos / pdf = kd for every ray.
-  return {kd * escaped / float(count), kd * indirect / float(count)};
+  return {escaped / float(count), indirect / float(count)};
 }
 
-Rgb PhotonMappingIntegrator::GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch,
-                                       bool& escaped) const {
+Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
+                                       std::vector<PhotonNeighbour>& scratch, bool& escaped) const {
   const std::optional<DiffuseHit> d =
-      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
+      TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
   if (!d) return {};
-  const Shading at(d->hit, d->wo, scene_.material_of(d->hit));
+  const Shading at(d->hit, d->wo, d->material, d->cone_width);
   const uint32_t count = scene_.indirect.gather_rays;
   Rgb e = DirectIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint));
   const auto visible = [&](const DecodedPhoton& photon) {
@@ -352,31 +371,26 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, 
 
 PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
                                                                           std::vector<PhotonNeighbour>& scratch) const {
-  const std::optional<GlossyLobe> glossy = GlossyLobeOf(at.material);
-  if (!glossy || glossy->specular.IsBlack()) return {};
-  const Frame frame = Frame::FromZ(at.ns);
-  const Vec3 wo_local = frame.ToLocal(at.wo);
-  if (!(wo_local.z > 0)) return {};
-  const std::optional<Vec3> w = SampleBlinnPhong(wo_local, u, glossy->exponent);
-  if (!w || !(w->z > 0)) return {};
-  // blinn_phong.h: a sampled direction carries f cos / pdf = wi.z / max(wo.z, wi.z).
-  const Rgb weight = glossy->specular * (w->z / std::max(wo_local.z, w->z));
-  const Vec3 wi = frame.FromLocal(*w);
+  const std::optional<BsdfSample> lobe = SampleGlossyLobe(at.material, at.ns, at.wo, u);
+  if (!lobe || lobe->weight.IsBlack()) return {};
+  const Rgb weight = lobe->weight;
+  const Vec3 wi = lobe->wi;
   if (!(Dot(wi, at.n) > 0)) return {};  // below the surface
   const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, wi, scene_.ray_epsilon), wi};
+  // A glossy lobe is taken as sharp for the footprint: the pixel's cone goes on.
   bool escaped = false;
   const std::optional<DiffuseHit> d =
-      TraceToDiffuse(scene_, ray, Hash(seed, uint32_t(kGatherSpecular)), escaped);
+      TraceToDiffuse(scene_, ray, RayCone{at.cone_width, scene_.camera.PixelSpreadAngle()},
+                     Hash(seed, uint32_t(kGatherSpecular)), escaped);
   if (escaped && scene_.environment_light >= 0) {
     // Direct light from the environment, shared with light sampling (DirectLight).
-    const float pdf = BlinnPhongPdf(wo_local, *w, glossy->exponent);
-    const float share = BalanceWeight(pdf, float(LightSampleCount()) * EnvironmentLightPdf(wi));
+    const float share = BalanceWeight(lobe->pdf, float(LightSampleCount()) * EnvironmentLightPdf(wi));
     return {weight * scene_.environment->Radiance(wi) * share, Rgb()};
   }
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
-  const Shading next(d->hit, d->wo, scene_.material_of(d->hit));
+  const Shading next(d->hit, d->wo, d->material, d->cone_width);
   Rgb direct, caustic, indirect;
   Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect);
   return {Rgb(), weight * d->throughput * (direct + caustic + indirect)};

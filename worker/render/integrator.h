@@ -28,6 +28,15 @@
 //             estimate seen directly.
 //
 // each weighted by the throughput of the specular path, so the four add up to the beauty.
+// A smooth principled surface with a diffuse base (specular and reflecting at once) is
+// shaded for its base like any diffuse surface, and the path goes on through its lobe;
+// where a gather ray lands on one, its albedo reflects the irradiance as if diffuse.
+//
+// Every hit reads its material's textures (scene/surface_shading.h) over the footprint of
+// the ray's cone (texture/footprint.h): camera rays start with the pixel's spread angle,
+// which specular bounces and the glossy bounce pass on; gather rays start where the cone
+// is at their origin and spread by sqrt(2 pi / gather_rays), the side of each one's share
+// of the hemisphere.
 // The terms cover disjoint sets of paths: shadow rays are blocked by glass, whose light
 // arrives through the caustic map; the global map (and so the precomputed irradiance)
 // holds no direct light; gather rays ignore the emitters they hit (direct light covers
@@ -50,6 +59,7 @@
 #include "photonmap/radiance_estimate.h"
 #include "sampling/pixel_sampler.h"
 #include "scene/scene_data.h"
+#include "texture/footprint.h"
 
 namespace farm {
 
@@ -134,8 +144,10 @@ class PhotonMappingIntegrator {
   LightSplit Gather(const Shading& at, uint32_t count, uint32_t seed,
                     std::vector<PhotonNeighbour>& scratch) const;
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
-  // points. escaped: the ray left the scene before any bounce.
-  Rgb GatherRay(Ray ray, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
+  // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
+  // bounce.
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch,
+                bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in

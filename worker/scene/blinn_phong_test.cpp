@@ -7,16 +7,10 @@
 #include "math/math.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
+#include "scene/test_directions.h"
 
 namespace farm {
 namespace {
-
-Vec2 Sobol2(int i, uint32_t seed) { return {SobolSample(i, 0, seed), SobolSample(i, 1, seed * 7 + 1)}; }
-
-Vec3 Dir(float theta_degrees) {
-  const float t = static_cast<float>(Radians(theta_degrees));
-  return {std::sin(t), 0, std::cos(t)};
-}
 
 TEST(BlinnPhong, PdfIntegratesToTheShareOfSamplesAboveTheHorizon) {
   // The density over the sphere of reflected half-vector samples integrates to 1; the part

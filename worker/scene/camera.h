@@ -49,6 +49,10 @@ class Camera {
   // Whether GenerateRay reads `lens`.
   bool has_lens() const { return aperture_radius_ > 0; }
 
+  // The angle one pixel subtends at the image's centre, radians: the spread of a camera
+  // ray's cone (texture/footprint.h).
+  float PixelSpreadAngle() const { return 2 * tan_half_fov_ / height_; }
+
   const Vec3& position() const { return position_; }
   const Vec3& forward() const { return forward_; }
   const Vec3& right() const { return right_; }

@@ -6,10 +6,12 @@
 
 #include "math/frame.h"
 #include "math/math.h"
+#include "contract/rules.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "sampling/warps.h"
 #include "scene/blinn_phong.h"
 #include "scene/fresnel.h"
+#include "scene/ggx.h"
 #include "scene/proto_values.h"
 #include "util/overloaded.h"
 
@@ -22,6 +24,49 @@ namespace pb = renderfarm::v1;
 float DiffuseLobeProbability(const GlossyMaterial& m) {
   const float d = m.diffuse.Luminance(), s = m.specular.Luminance();
   return d + s > 0 ? d / (d + s) : 0.0f;
+}
+
+// The local frame of a principled material's lobes: about its shading normal, turned to
+// the side of the geometric normal n that wo is on (a normal map's normal can lean away).
+Frame PrincipledFrame(const PrincipledMaterial& m, const Vec3& n, const Vec3& wo) {
+  const Vec3 front = FaceForward(n, wo);
+  if (!(LengthSquared(m.shading_normal) > 0)) return Frame::FromZ(front);
+  return Frame::FromZ(Dot(m.shading_normal, front) < 0 ? -m.shading_normal : m.shading_normal);
+}
+
+// A principled sample in world space, as a BsdfSample.
+std::optional<BsdfSample> ToWorld(const Frame& frame, const std::optional<PrincipledSample>& s) {
+  if (!s) return std::nullopt;
+  return BsdfSample{frame.FromLocal(s->wi), s->weight, s->pdf, s->specular};
+}
+
+PrincipledMaterial PrincipledFromProto(const pb::Principled& p) {
+  PrincipledMaterial m;
+  if (p.has_base_color()) m.lobes.base_color = RgbOf(p.base_color());
+  m.lobes.metallic = static_cast<float>(p.metallic());
+  m.roughness = static_cast<float>(p.roughness());
+  m.lobes.alpha = std::max(kMinGgxAlpha, m.roughness * m.roughness);
+  m.lobes.specular = p.roughness() < contract::SceneLimits().principled_specular_roughness();
+  if (p.has_emission()) m.emission = RgbOf(p.emission());
+  m.normal_scale = static_cast<float>(contract::OrDefault<pb::Principled>(p.normal_scale(), "normal_scale"));
+  m.alpha_mask = p.alpha_mode() == pb::ALPHA_MODE_MASK;
+  m.opacity = static_cast<float>(1 - p.transparency());
+  m.alpha_cutoff = static_cast<float>(contract::OrDefault<pb::Principled>(p.alpha_cutoff(), "alpha_cutoff"));
+  return m;
+}
+
+// Whether a principled material's diffuse base can reflect anything: not for a smooth full
+// metal whose metallic no texture can lower (its lobe, a delta, is all there is).
+bool PrincipledReflects(const PrincipledMaterial& m) {
+  return !(m.lobes.specular && m.lobes.metallic == 1 && m.metallic_roughness_texture == kNoTexture);
+}
+
+// The share of a principled material's non-specular reflection that is diffuse, from its
+// factors at normal incidence: 1 when its lobe counts as a delta.
+float PrincipledDiffuseFraction(const PrincipledMaterial& m) {
+  if (m.lobes.specular) return 1;
+  const float p_specular = SpecularLobeProbability(m.lobes, Vec3(0, 0, 1));
+  return 1 - p_specular;
 }
 
 }  // namespace
@@ -49,13 +94,8 @@ Material MaterialFromProto(const pb::Material& material) {
     case pb::Material::kConductor:
       return ConductorMaterial{RgbOf(material.conductor().eta()),
                                RgbOf(material.conductor().k())};
-    case pb::Material::kPrincipled: {
-      // A stand-in until the principled BSDF is rendered: its emission when it emits (so
-      // that it stays an area light), else a Lambertian surface of its base colour.
-      const pb::Principled& p = material.principled();
-      if (p.has_emission() && !RgbOf(p.emission()).IsBlack()) return EmissiveMaterial{RgbOf(p.emission())};
-      return LambertMaterial{p.has_base_color() ? RgbOf(p.base_color()) : Rgb(1)};
-    }
+    case pb::Material::kPrincipled:
+      return PrincipledFromProto(material.principled());
     case pb::Material::KIND_NOT_SET:
       break;
   }
@@ -75,6 +115,10 @@ MaterialCapabilities CapabilitiesOf(const Material& material) {
           [](const EmissiveMaterial& m) {
             return MaterialCapabilities{false, false, !m.radiance.IsBlack(), 0};
           },
+          [](const PrincipledMaterial& m) {
+            return MaterialCapabilities{m.lobes.specular, PrincipledReflects(m), !m.emission.IsBlack(),
+                                        PrincipledDiffuseFraction(m)};
+          },
       },
       material);
 }
@@ -90,6 +134,10 @@ Rgb EvaluateBsdf(const Material& material, const Vec3& n, const Vec3& wo, const 
             const Frame frame = Frame::FromZ(FaceForward(n, wo));
             const float lobe = BlinnPhongValue(frame.ToLocal(wo), frame.ToLocal(wi), m.exponent);
             return m.diffuse * kInvPi + m.specular * lobe;
+          },
+          [&](const PrincipledMaterial& m) {
+            const Frame frame = PrincipledFrame(m, n, wo);
+            return PrincipledValue(m.lobes, frame.ToLocal(wo), frame.ToLocal(wi));
           },
           [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
             return Rgb();
@@ -110,6 +158,10 @@ float BsdfPdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec
             const float p_diffuse = DiffuseLobeProbability(m);
             return p_diffuse * CosineHemispherePdf(cos_i) +
                    (1 - p_diffuse) * BlinnPhongPdf(frame.ToLocal(wo), frame.ToLocal(wi), m.exponent);
+          },
+          [&](const PrincipledMaterial& m) {
+            const Frame frame = PrincipledFrame(m, n, wo);
+            return PrincipledPdf(m.lobes, frame.ToLocal(wo), frame.ToLocal(wi));
           },
           [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
             return 0.0f;
@@ -191,14 +243,39 @@ std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, co
     }
 
     std::optional<BsdfSample> operator()(const EmissiveMaterial&) const { return std::nullopt; }
+
+    std::optional<BsdfSample> operator()(const PrincipledMaterial& m) const {
+      const Frame frame = PrincipledFrame(m, n, wo);
+      return ToWorld(frame, SamplePrincipled(m.lobes, frame.ToLocal(wo), u_lobe, u));
+    }
   };
   return std::visit(Visitor{n, wo, u_lobe, u, mode}, material);
+}
+
+std::optional<BsdfSample> SampleSpecular(const Material& material, const Vec3& n, const Vec3& wo,
+                                         float u_lobe, Vec2 u, TransportMode mode) {
+  return std::visit(
+      Overloaded{
+          [&](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial> auto&) {
+            return SampleBsdf(material, n, wo, u_lobe, u, mode);
+          },
+          [&](const PrincipledMaterial& m) -> std::optional<BsdfSample> {
+            if (!m.lobes.specular) return std::nullopt;
+            const Frame frame = PrincipledFrame(m, n, wo);
+            return ToWorld(frame, SamplePrincipledSpecular(m.lobes, frame.ToLocal(wo), u));
+          },
+          [](const OneOf<LambertMaterial, GlossyMaterial, EmissiveMaterial> auto&) {
+            return std::optional<BsdfSample>();
+          },
+      },
+      material);
 }
 
 Rgb Emission(const Material& material) {
   return std::visit(
       Overloaded{
           [](const EmissiveMaterial& e) { return e.radiance; },
+          [](const PrincipledMaterial& m) { return m.emission; },
           [](const OneOf<LambertMaterial, GlossyMaterial, MirrorMaterial, DielectricMaterial,
                          ConductorMaterial> auto&) { return Rgb(); },
       },
@@ -209,11 +286,15 @@ Rgb Emitted(const Material& material, const Vec3& n, const Vec3& w) {
   return Dot(n, w) > 0 ? Emission(material) : Rgb();
 }
 
-Rgb DiffuseReflectance(const Material& material) {
+Rgb DiffuseReflectance(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi) {
   return std::visit(
       Overloaded{
           [](const LambertMaterial& m) { return m.reflectance; },
           [](const GlossyMaterial& m) { return m.diffuse; },
+          [&](const PrincipledMaterial& m) {
+            const Frame frame = PrincipledFrame(m, n, wo);
+            return PrincipledDiffuseWeight(m.lobes, frame.ToLocal(wo), frame.ToLocal(wi));
+          },
           [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
             return Rgb();
           },
@@ -221,14 +302,55 @@ Rgb DiffuseReflectance(const Material& material) {
       material);
 }
 
-std::optional<GlossyLobe> GlossyLobeOf(const Material& material) {
+std::optional<BsdfSample> SampleGlossyLobe(const Material& material, const Vec3& n, const Vec3& wo, Vec2 u) {
   return std::visit(
       Overloaded{
-          [](const GlossyMaterial& m) { return std::optional(GlossyLobe{m.specular, m.exponent}); },
+          [&](const GlossyMaterial& m) -> std::optional<BsdfSample> {
+            if (m.specular.IsBlack()) return std::nullopt;
+            const Frame frame = Frame::FromZ(FaceForward(n, wo));
+            const Vec3 wo_local = frame.ToLocal(wo);
+            if (!(wo_local.z > 0)) return std::nullopt;
+            const std::optional<Vec3> w = SampleBlinnPhong(wo_local, u, m.exponent);
+            if (!w || !(w->z > 0)) return std::nullopt;
+            // blinn_phong.h: a sampled direction carries f cos / pdf = wi.z / max(wo.z, wi.z).
+            return BsdfSample{frame.FromLocal(*w), m.specular * (w->z / std::max(wo_local.z, w->z)),
+                              BlinnPhongPdf(wo_local, *w, m.exponent), false};
+          },
+          [&](const PrincipledMaterial& m) -> std::optional<BsdfSample> {
+            if (m.lobes.specular) return std::nullopt;
+            const Frame frame = PrincipledFrame(m, n, wo);
+            return ToWorld(frame, SamplePrincipledSpecular(m.lobes, frame.ToLocal(wo), u));
+          },
           [](const OneOf<LambertMaterial, MirrorMaterial, DielectricMaterial, ConductorMaterial,
-                         EmissiveMaterial> auto&) { return std::optional<GlossyLobe>(); },
+                         EmissiveMaterial> auto&) { return std::optional<BsdfSample>(); },
       },
       material);
+}
+
+float GlossyLobePdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+  return std::visit(
+      Overloaded{
+          [&](const GlossyMaterial& m) {
+            if (m.specular.IsBlack()) return 0.0f;
+            const Frame frame = Frame::FromZ(FaceForward(n, wo));
+            return BlinnPhongPdf(frame.ToLocal(wo), frame.ToLocal(wi), m.exponent);
+          },
+          [&](const PrincipledMaterial& m) {
+            if (m.lobes.specular) return 0.0f;
+            const Frame frame = PrincipledFrame(m, n, wo);
+            const Vec3 wi_local = frame.ToLocal(wi);
+            // SamplePrincipledSpecular draws nothing below the horizon.
+            return wi_local.z > 0 ? GgxReflectionPdf(frame.ToLocal(wo), wi_local, m.lobes.alpha) : 0.0f;
+          },
+          [](const OneOf<LambertMaterial, MirrorMaterial, DielectricMaterial, ConductorMaterial,
+                         EmissiveMaterial> auto&) { return 0.0f; },
+      },
+      material);
+}
+
+Vec3 ShadingNormalOf(const Material& material, const Vec3& ns) {
+  const auto* m = std::get_if<PrincipledMaterial>(&material);
+  return m && LengthSquared(m->shading_normal) > 0 ? m->shading_normal : ns;
 }
 
 Rgb Albedo(const Material& material) {
@@ -242,6 +364,7 @@ Rgb Albedo(const Material& material) {
               FresnelConductor(1, m.eta.b, m.k.b)};
     }
     Rgb operator()(const EmissiveMaterial&) const { return {}; }
+    Rgb operator()(const PrincipledMaterial& m) const { return PrincipledAlbedo(m.lobes); }
   };
   return std::visit(Visitor{}, material);
 }
@@ -267,6 +390,11 @@ std::string ToString(const Material& material) {
     }
     std::string operator()(const EmissiveMaterial& m) const {
       return "Emissive{radiance=" + ToString(m.radiance) + "}";
+    }
+    std::string operator()(const PrincipledMaterial& m) const {
+      return "Principled{base_color=" + ToString(m.lobes.base_color) + ", metallic=" + std::to_string(m.lobes.metallic) +
+             ", roughness=" + std::to_string(m.roughness) + (m.lobes.specular ? " (specular)" : "") +
+             ", emission=" + ToString(m.emission) + "}";
     }
   };
   return std::visit(Visitor{}, material);

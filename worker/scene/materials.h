@@ -17,10 +17,20 @@
 //                                              transmitted light is tinted by transmittance
 //   conductor   eta, k per channel             smooth metal, exact complex Fresnel
 //   emissive    radiance L >= 0                emits L from the front only, reflects nothing
+//   principled  base colour, metallic,         glTF's metallic-roughness BRDF (principled.h):
+//               roughness, emission,           GGX sampled by visible normals over a
+//               textures (read at a hit:       diffuse base, blended towards a metal of the
+//               surface_shading.h), a          base colour by metallic; two-sided; emits
+//               shading normal                 its emission from the front
 //
 // Mirror, dielectric and conductor are specular: their BSDF is a delta function, so
 // EvaluateBsdf gives 0 for them and only SampleBsdf moves light across them; photon maps
 // never store photons on them. Lambert and glossy are the non-specular ("diffuse") kinds.
+// A principled material is specular when its roughness factor is below
+// SceneLimits.principled_specular_roughness (its GGX lobe then counts as a delta, which
+// only SampleBsdf and SampleSpecular draw), non-specular otherwise, and also non-specular
+// through its diffuse base unless it is a smooth full metal with no metallic texture: a
+// smooth painted surface is both, shaded for its base and followed through its lobe.
 // What each kind can do is its MaterialCapabilities, computed by one exhaustive visit.
 //
 // Every function here dispatches with std::visit and one overload per kind, with no
@@ -34,6 +44,7 @@
 
 #include "math/rgb.h"
 #include "math/vec3.h"
+#include "scene/principled.h"
 
 namespace renderfarm::v1 {
 class Material;
@@ -69,6 +80,32 @@ struct EmissiveMaterial {
   Rgb radiance;
 };
 
+// A texture of SceneData::textures a principled material reads (-1: none).
+using TextureIndex = int;
+inline constexpr TextureIndex kNoTexture = -1;
+
+struct PrincipledMaterial {
+  PrincipledLobes lobes;  // the factors; at a hit, with the textures applied
+  float roughness = 0;    // perceptual (lobes.alpha is its square)
+  Rgb emission;
+  // Unit, or zero for the geometric normal: the normal the lobes are evaluated about at a
+  // hit (smooth shading, the normal map).
+  Vec3 shading_normal;
+  // Textures, which multiply the factors: base colour (RGB) and opacity (alpha);
+  // metallic (blue) and roughness (green); a tangent-space normal map; emission.
+  TextureIndex base_color_texture = kNoTexture;
+  TextureIndex metallic_roughness_texture = kNoTexture;
+  TextureIndex normal_texture = kNoTexture;
+  TextureIndex emission_texture = kNoTexture;
+  float normal_scale = 1;
+  // alpha_mode MASK: where opacity (1 - transparency, times the base colour texture's
+  // alpha) is below alpha_cutoff, the surface is not there. (MaterialFromProto sets
+  // normal_scale and alpha_cutoff with the contract's defaults.)
+  bool alpha_mask = false;
+  float opacity = 1;
+  float alpha_cutoff = 0;
+};
+
 #ifdef FARM_TEST_UNHANDLED_MATERIAL  // test hook only: see the comment at the top
 struct UnhandledMaterial {};
 #define FARM_MATERIAL_TEST_KIND , UnhandledMaterial
@@ -77,19 +114,20 @@ struct UnhandledMaterial {};
 #endif
 
 using Material = std::variant<LambertMaterial, GlossyMaterial, MirrorMaterial, DielectricMaterial,
-                              ConductorMaterial, EmissiveMaterial FARM_MATERIAL_TEST_KIND>;
+                              ConductorMaterial, EmissiveMaterial, PrincipledMaterial FARM_MATERIAL_TEST_KIND>;
 
 // A material as the contract describes it; `material` has passed contract::CheckRules
 // (scene/scene_rules.h), so its kind is set and its values are in range.
 Material MaterialFromProto(const renderfarm::v1::Material& material);
 
 // What a material can do (Mitsuba's BSDF flags), for the integrators and the photon tracer.
+// A principled material can both be specular and reflect (see the top of the file).
 struct MaterialCapabilities {
-  // A delta BSDF (mirror, dielectric, conductor): only SampleBsdf moves light across it;
-  // caustic photons are aimed at it.
+  // A delta BSDF (mirror, dielectric, conductor, smooth principled): only SampleBsdf and
+  // SampleSpecular move light across it; caustic photons are aimed at it.
   bool specular = false;
-  // A non-specular reflection (Lambert, glossy): direct light and photon estimates apply
-  // where it is hit, and the scene needs a global photon map.
+  // A non-specular reflection (Lambert, glossy, principled): direct light and photon
+  // estimates apply where it is hit, and the scene needs a global photon map.
   bool reflects = false;
   // Emits a positive radiance: a shape with it is an area light.
   bool emits = false;
@@ -125,24 +163,39 @@ struct BsdfSample {
 std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, const Vec3& wo,
                                      float u_lobe, Vec2 u, TransportMode mode);
 
-// Radiance emitted from the front side (black for everything but emissive materials).
+// Only the specular (delta) part of the BSDF, for a camera path that goes on past a surface
+// whose non-specular part is shaded on its own: what SampleBsdf draws for mirror,
+// dielectric and conductor; a smooth principled material's lobe alone, weighted without
+// the lobe choice; nothing for the other kinds.
+std::optional<BsdfSample> SampleSpecular(const Material& material, const Vec3& n, const Vec3& wo,
+                                         float u_lobe, Vec2 u, TransportMode mode);
+
+// Radiance emitted from the front side (black for everything but emissive materials and
+// principled ones with an emission).
 Rgb Emission(const Material& material);
 
 // Radiance emitted along w (unit, away from the surface) from a surface whose front normal
 // is n: Emission on the front side, nothing behind.
 Rgb Emitted(const Material& material, const Vec3& n, const Vec3& w);
 
-// The reflectance of the diffuse lobe (f = kd / pi): what a diffuse gather ray sampled
-// with density cos / pi is weighted by. Black for kinds without one.
-Rgb DiffuseReflectance(const Material& material);
+// The diffuse lobe's f times pi for this pair of directions (kd for Lambert and glossy):
+// what a diffuse gather ray sampled with density cos / pi is weighted by. Black for kinds
+// without one.
+Rgb DiffuseReflectance(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi);
 
-// Glossy's Blinn-Phong lobe, for the glossy bounce of final gathering; nothing for every
-// other kind.
-struct GlossyLobe {
-  Rgb specular;
-  float exponent = 1;
-};
-std::optional<GlossyLobe> GlossyLobeOf(const Material& material);
+// A direction from the glossy lobe alone (glossy's Blinn-Phong lobe, a rough principled
+// material's GGX lobe), weighted by that lobe's f cos / pdf, for the glossy bounce of
+// final gathering; nothing for every other kind, or when the direction falls below the
+// horizon.
+std::optional<BsdfSample> SampleGlossyLobe(const Material& material, const Vec3& n, const Vec3& wo, Vec2 u);
+
+// The density with which SampleGlossyLobe draws wi; 0 for kinds without a glossy lobe (a
+// smooth principled material's counts as a delta), and below the horizon.
+float GlossyLobePdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi);
+
+// The normal a material is shaded about at a hit whose shading normal is ns: a principled
+// material's own once MaterialAt has set it (the normal map's), else ns.
+Vec3 ShadingNormalOf(const Material& material, const Vec3& ns);
 
 // Hemispherical reflectance at normal incidence, for the albedo AOV (transmittance for
 // glass, emitters black).

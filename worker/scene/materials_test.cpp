@@ -100,10 +100,13 @@ TEST(Materials, CapabilitiesClassifyEveryKind) {
   EXPECT_FALSE(glossy.specular);
   EXPECT_TRUE(glossy.reflects);
   EXPECT_NEAR(glossy.diffuse_fraction, 0.25f, 1e-6);  // by luminance: 0.2 / (0.2 + 0.6)
-  EXPECT_EQ(DiffuseReflectance(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20}), Rgb(0.2f));
-  EXPECT_EQ(DiffuseReflectance(MirrorMaterial{Rgb(1)}), Rgb());
-  EXPECT_EQ(GlossyLobeOf(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20})->exponent, 20);
-  EXPECT_FALSE(GlossyLobeOf(LambertMaterial{Rgb(0.5f)}));
+  EXPECT_EQ(DiffuseReflectance(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20}, kUp, At(30), At(-10)), Rgb(0.2f));
+  EXPECT_EQ(DiffuseReflectance(MirrorMaterial{Rgb(1)}, kUp, At(30), At(-10)), Rgb());
+  // The glossy lobe alone: Blinn-Phong's weight wi.z / max(wo.z, wi.z) times the specular.
+  const std::optional<BsdfSample> lobe = SampleGlossyLobe(GlossyMaterial{Rgb(0.2f), Rgb(0.6f), 20}, kUp, At(30), {0.4f, 0.7f});
+  ASSERT_TRUE(lobe);
+  EXPECT_NEAR(lobe->weight.g, 0.6f * lobe->wi.z / std::max(At(30).z, lobe->wi.z), 1e-6f);
+  EXPECT_FALSE(SampleGlossyLobe(LambertMaterial{Rgb(0.5f)}, kUp, At(30), {0.4f, 0.7f}));
   EXPECT_TRUE(EvaluateBsdf(MirrorMaterial{Rgb(1)}, kUp, At(30), At(-30)).IsBlack());
 }
 

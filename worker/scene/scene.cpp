@@ -16,6 +16,8 @@
 #include "scene/proto_values.h"
 #include "scene/scene_data.h"
 #include "scene/scene_rules.h"
+#include "scene/scene_textures.h"
+#include "scene/surface_shading.h"
 
 namespace farm {
 namespace {
@@ -146,12 +148,12 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
 }
 
 // The area lights of a shape: itself if its material emits; for an instance, each part of
-// its mesh whose material emits, over the part's triangles placed.
-void AddLights(const ShapeGeometry& geometry, int material, const std::vector<Material>& materials,
-               std::vector<Light>& lights) {
+// its mesh whose material emits, over the part's triangles placed. Each is sampled with its
+// material's AreaLightRadiance (a textured emission by the texture's mean).
+void AddLights(const ShapeGeometry& geometry, int material, SceneData& d) {
   struct Visitor {
     const Rgb radiance;  // of the shape's material (unused for instances)
-    const std::vector<Material>& materials;
+    const SceneData& d;
     std::vector<Light>& lights;
     void operator()(const SphereShape& s) const {
       if (!radiance.IsBlack()) lights.push_back(SphereLight{s, radiance});
@@ -164,11 +166,11 @@ void AddLights(const ShapeGeometry& geometry, int material, const std::vector<Ma
     }
     void operator()(const InstanceShape& instance) const {
       for (const SceneMesh::Part& part : instance.mesh->parts)
-        if (const Rgb r = Emission(materials[part.material]); !r.IsBlack())
+        if (const Rgb r = AreaLightRadiance(d, d.materials[part.material]); !r.IsBlack())
           lights.push_back(TriangleMeshLight::Make(part.triangles, r, instance.placement));
     }
   };
-  std::visit(Visitor{Emission(materials[material]), materials, lights}, geometry);
+  std::visit(Visitor{AreaLightRadiance(d, d.materials[material]), d, d.lights}, geometry);
 }
 
 // Spheres around a shape's specular surfaces (caustic photons are aimed at them): the
@@ -279,13 +281,17 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   d.camera = Camera::FromProto(description.camera(), d.width, d.height);
 
   std::unordered_map<std::string, int> material_index;
+  TextureBinder textures(description, options, d);
   for (int i = 0; i < description.materials_size(); ++i) {
     const pb::Material& m = description.materials(i);
     material_index.emplace(m.name(), i);
     d.materials.push_back(MaterialFromProto(m));
+    if (m.has_principled())
+      textures.Bind(m.principled(), "materials[" + std::to_string(i) + "].principled",
+                    std::get<PrincipledMaterial>(d.materials.back()));
     d.capabilities.push_back(CapabilitiesOf(d.materials.back()));
     d.material_names.push_back(m.name());
-    d.cutouts.push_back(options.cutout_of ? options.cutout_of(m, i) : CutoutTest());
+    d.cutouts.push_back(options.cutout_of ? options.cutout_of(m, i) : CutoutOf(d, i));
   }
 
   MeshFiles files(load_blob);
@@ -310,7 +316,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
       if (shape.name().empty()) throw;
       throw SceneError(std::string(e.what()) + " (shape \"" + shape.name() + "\")");
     }
-    AddLights(record.geometry, record.material, d.materials, d.lights);
+    AddLights(record.geometry, record.material, d);
     geometries.push_back(record.geometry);
     d.shapes.push_back(std::move(record));
   }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -28,13 +29,23 @@ class SceneError : public BadInputError {
 // caches them from the blob store. Throws if the blob cannot be had.
 using BlobLoader = std::function<std::string(const std::string& digest)>;
 
+// Returns the path of a blob's file (a texture) by its content digest, fetched into the
+// daemon's blob cache if need be.
+using BlobFileLoader = std::function<std::filesystem::path(const std::string& digest)>;
+
+class TextureSystem;
 struct SceneData;
 
 // What building a scene takes beside its description and its blobs.
 struct SceneOptions {
   // The cut-out test of a material (Scene.materials[index]), or an empty one for a material
-  // that cuts nothing. Unset: no material cuts anything.
+  // that cuts nothing. Unset: each material's own (CutoutOf, surface_shading.h: an
+  // alpha-masked principled material's).
   std::function<CutoutTest(const renderfarm::v1::Material& material, int index)> cutout_of;
+  // The worker's texture system (it outlives the scene) and where it gets a texture blob's
+  // file; without them a scene whose materials name textures cannot be built.
+  TextureSystem* textures = nullptr;
+  BlobFileLoader load_file;
 };
 
 // A renderable scene: camera, film, materials, emitters and an Embree BVH over the

@@ -25,6 +25,7 @@
 #include "scene/materials.h"
 #include "scene/photon_settings.h"
 #include "scene/shapes.h"
+#include "texture/texture_system.h"
 
 namespace farm {
 
@@ -68,6 +69,11 @@ struct SurfaceHit {
   uint32_t part = 0;
 };
 
+// A texture as materials read it: prepared by the worker's texture system, with its wrap.
+struct SceneTexture {
+  PreparedTexture prepared;
+  TextureWrap wrap = TextureWrap::kRepeat;
+};
 
 std::string ToString(const SurfaceHit& hit);
 
@@ -88,6 +94,10 @@ struct SceneData {
   // Cut-out tests by material index; an empty one (the default) cuts nothing and costs
   // nothing (the accelerator filters only the geometry of materials that have one).
   std::vector<CutoutTest> cutouts;
+  // What principled materials' TextureIndex values index, and the system that reads them
+  // (null when no material has a texture).
+  std::vector<SceneTexture> textures;
+  const TextureSystem* texture_system = nullptr;
   std::vector<ShapeRecord> shapes;
   // Scene.meshes, in order, each built once and placed by the instances among shapes.
   std::vector<std::shared_ptr<const SceneMesh>> meshes;
@@ -127,6 +137,8 @@ struct SceneData {
   // Whether nothing lies on the segment between two ray origins already off their surfaces.
   bool SegmentClear(const Vec3& o0, const Vec3& o1) const;
 
+  // The material of a hit as the scene declares it (MaterialAt, surface_shading.h, applies
+  // its textures at the hit).
   const Material& material_of(const SurfaceHit& hit) const { return materials[hit.material]; }
   const MaterialCapabilities& capabilities_of(const SurfaceHit& hit) const { return capabilities[hit.material]; }
 

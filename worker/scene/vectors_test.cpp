@@ -5,8 +5,9 @@
 //       scene, grown as `grow` says, with `assets` served by digest (each file's SHA-256
 //       checked), must build when refused_field is empty and otherwise be refused with a
 //       SceneError whose field (the text before the first ": ") is refused_field. Building
-//       loads the mesh files and parts; textures are not read then (a task fetches those
-//       it shades with), so a texture's digest is looked up among the assets here, after
+//       loads the mesh files and parts, the environment map and the textures materials
+//       name (prepared by one texture system for all the vectors); a texture nothing
+//       names is not read, so its digest is looked up among the assets here, after
 //       building, as the README's step 4 says. Set FARM_SCENE_VECTORS to a folder to run
 //       other vectors (while writing new ones).
 //   tests/vectors/meshes/*.obj   OBJ files whose first line is "# vector: accept" or
@@ -30,11 +31,14 @@
 #include <stdexcept>
 #include <vector>
 
+#include <unistd.h>
+
 #include "daemon/sha256.h"
 #include "renderfarm/v1/vectors.pb.h"
 #include "scene/farm_mesh.h"
 #include "scene/obj_mesh.h"
 #include "scene/scene.h"
+#include "texture/texture_system.h"
 #include "util/read_file.h"
 
 namespace farm {
@@ -122,15 +126,30 @@ BlobLoader AssetLoader(const pb::SceneVector& v, const fs::path& dir) {
   };
 }
 
-// "" if the worker treats the vector as it says, else what it did instead.
-std::string Disagreement(const fs::path& file) {
+// The vector's assets as files, for the texture system (AssetLoader checks their digests).
+BlobFileLoader AssetFileLoader(const pb::SceneVector& v, const fs::path& dir) {
+  std::map<std::string, fs::path> files;
+  for (const auto& [digest, file] : v.assets()) files.emplace(digest, dir / file);
+  return [files = std::move(files)](const std::string& digest) {
+    const auto it = files.find(digest);
+    if (it == files.end()) throw std::runtime_error("the vector has no asset " + digest);
+    return it->second;
+  };
+}
+
+// "" if the worker treats the vector as it says, else what it did instead. `textures`
+// prepares the textures materials name.
+std::string Disagreement(const fs::path& file, TextureSystem& textures) {
   pb::SceneVector v;
   const auto status = gp::util::JsonStringToMessage(ReadFile(file), &v);
   if (!status.ok()) return "does not parse as a SceneVector: " + status.ToString();
   for (const pb::GrowField& g : v.grow()) Grow(*v.mutable_scene(), g);
   const BlobLoader load = AssetLoader(v, file.parent_path());
+  SceneOptions options;
+  options.textures = &textures;
+  options.load_file = AssetFileLoader(v, file.parent_path());
   try {
-    Scene::Build(v.scene(), load);
+    Scene::Build(v.scene(), load, options);
   } catch (const TaskError& e) {
     // A refusal of the scene (SceneError) or of one of its assets (a blob the store does
     // not have): either names the field.
@@ -157,7 +176,10 @@ TEST(SceneVectors, TheWorkerAcceptsAndRefusesWhatTheContractSays) {
   const fs::path dir = override_dir && *override_dir ? fs::path(override_dir) : fs::path(SCENE_VECTORS);
   const std::vector<fs::path> vectors = Vectors(dir, ".json");
   ASSERT_FALSE(vectors.empty()) << "no scene vectors (*.json) in " << dir;
-  for (const fs::path& file : vectors) EXPECT_EQ(Disagreement(file), "") << file;
+  const fs::path prepared = fs::temp_directory_path() / ("farm_scene_vectors_" + std::to_string(::getpid()));
+  TextureSystem textures(TextureSystemOptions{64, prepared});
+  for (const fs::path& file : vectors) EXPECT_EQ(Disagreement(file, textures), "") << file;
+  fs::remove_all(prepared);
 }
 
 // What the first line of a mesh vector says: accept, or refuse at a line.

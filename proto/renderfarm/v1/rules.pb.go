@@ -370,8 +370,13 @@ type SceneLimits struct {
 	MaxMeshLineBytes uint64 `protobuf:"varint,7,opt,name=max_mesh_line_bytes,json=maxMeshLineBytes,proto3" json:"max_mesh_line_bytes,omitempty"`
 	// Most pixels of one texture (width times height).
 	MaxTexturePixels uint64 `protobuf:"varint,8,opt,name=max_texture_pixels,json=maxTexturePixels,proto3" json:"max_texture_pixels,omitempty"`
-	unknownFields    protoimpl.UnknownFields
-	sizeCache        protoimpl.SizeCache
+	// A principled material whose roughness (its factor, before any texture) is below this
+	// counts as specular: its microfacet lobe is only ever sampled (no light samples, no
+	// photons stored on it), caustic photons are aimed at it and the scene gets a caustic
+	// map. The coordinator's planner and the workers read this one value.
+	PrincipledSpecularRoughness float64 `protobuf:"fixed64,9,opt,name=principled_specular_roughness,json=principledSpecularRoughness,proto3" json:"principled_specular_roughness,omitempty"`
+	unknownFields               protoimpl.UnknownFields
+	sizeCache                   protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -456,6 +461,13 @@ func (x *SceneLimits) GetMaxMeshLineBytes() uint64 {
 func (x *SceneLimits) GetMaxTexturePixels() uint64 {
 	if x != nil {
 		return x.MaxTexturePixels
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetPrincipledSpecularRoughness() float64 {
+	if x != nil {
+		return x.PrincipledSpecularRoughness
 	}
 	return 0
 }
@@ -853,7 +865,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xed\x02\n" +
+	"_max_bytes\"\xb1\x03\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -862,7 +874,8 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x11max_mesh_vertices\x18\x05 \x01(\x04R\x0fmaxMeshVertices\x12,\n" +
 	"\x12max_mesh_triangles\x18\x06 \x01(\x04R\x10maxMeshTriangles\x12-\n" +
 	"\x13max_mesh_line_bytes\x18\a \x01(\x04R\x10maxMeshLineBytes\x12,\n" +
-	"\x12max_texture_pixels\x18\b \x01(\x04R\x10maxTexturePixels\"\xc2\x01\n" +
+	"\x12max_texture_pixels\x18\b \x01(\x04R\x10maxTexturePixels\x12B\n" +
+	"\x1dprincipled_specular_roughness\x18\t \x01(\x01R\x1bprincipledSpecularRoughness\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +
