@@ -1,8 +1,10 @@
 #!/bin/sh
 # Runs every benchmark and prints the figures (`make bench`).
 #   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
-# Needs farm_bench_photons, farm_bench_knn and farm_bench_edge_aa built in BUILD_DIR.
-# Snapshots go to a temporary folder, removed at exit.
+# Needs farm_bench_photons, farm_bench_knn and farm_bench_edge_aa built in BUILD_DIR, and
+# $BENCH_PYTHON (default python3) a Python with mitsuba and numpy (make bench makes one:
+# scripts/install-deps.sh --bench). Snapshots and renders go to a temporary folder, removed
+# at exit.
 set -eu
 build=${1:-build}
 sizes=${2:-"1000000 10000000"}
@@ -29,3 +31,7 @@ echo "== final gathering vs the photon map seen directly at equal wall-clock bud
 "$root/bench/fg_vs_photonmap.sh" "$build"
 echo "== edge anti-aliasing vs full 12x supersampling (C++, in-process; exits 1 on FAIL)"
 "$build/bin/farm_bench_edge_aa"
+echo "== the atrium demonstration scene at 1280x720 on a two-worker farm, the Cornell box as the baseline"
+"$root/bench/atrium.sh" "$build"
+echo "== the farm against Mitsuba 3 (scalar_rgb) on a textured glTF and on metallic and rough materials"
+"${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/run.py" "$build" "$tmp/crosscheck"

@@ -3,6 +3,14 @@
 # already there. Safe to run again; the Makefile runs it before building.
 set -euo pipefail
 
+# `--bench VENV` also makes VENV a Python virtual environment holding what `make bench`
+# alone needs (bench/crosscheck/requirements.txt: the Mitsuba 3 reference renderer); the
+# build and make test never ask for it.
+bench_venv=""
+if [ "${1:-}" = "--bench" ]; then
+  bench_venv=${2:?"install-deps: --bench needs the virtual environment's folder"}
+fi
+
 debian_packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   libembree-dev libopenexr-dev libopenimageio-dev openimageio-tools
@@ -11,6 +19,7 @@ debian_packages=(
   redis-server
   chromium
 )
+[ -z "$bench_venv" ] || debian_packages+=(python3-venv)
 
 missing=()
 for pkg in "${debian_packages[@]}"; do
@@ -58,4 +67,11 @@ if ! (cd "$e2e" && node -e '
   }' 2>/dev/null); then
   echo "install-deps: npm ci in tests/dashboard/e2e"
   (cd "$e2e" && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+fi
+
+requirements="$(dirname "$0")/../bench/crosscheck/requirements.txt"
+if [ -n "$bench_venv" ] && ! "$bench_venv/bin/python" -c 'import mitsuba, numpy' 2>/dev/null; then
+  echo "install-deps: Python virtual environment $bench_venv for make bench"
+  python3 -m venv "$bench_venv"
+  "$bench_venv/bin/pip" install -q -r "$requirements"
 fi

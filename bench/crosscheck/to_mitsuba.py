@@ -1,0 +1,189 @@
+"""A farm scene file (proto/renderfarm/v1/scene.proto, canonical JSON, as `farm import`
+writes it) as a Mitsuba 3 scene dictionary, for the cross-check of issue 13's
+acceptance 4. It translates what the cross-check's scenes use and refuses the rest by name
+rather than rendering something else:
+
+  camera        perspective, vertical field of view (a thin lens is refused)
+  film          hdrfilm of the same size, box pixel filter (the farm's pixel is a box)
+  meshes        each part of a farm mesh file (docs/mesh-format.md) written as a binary PLY
+                (positions, normals, texture coordinates: glTF's v, which grows downwards,
+                is what Mitsuba's bitmap lookups use), placed per instance by its matrix
+  principled    Mitsuba's `principled` (metallic, roughness, specular 0.5: F0 = 0.04),
+                base colour from a `bitmap` (sRGB for 8-bit images unless the texture says
+                linear) or a constant; two-sided, as the farm shades either face
+  lambert       `diffuse`
+  environment   `envmap` rotated so that its pixels face the same directions as the farm's
+                (docs/lights.md: the middle column looks along -Z, u = 0.75 along +X, while
+                Mitsuba's u = 0 looks along -Z and 0.25 along +X: 180 degrees about +Y,
+                plus the scene's rotation_degrees), or `constant` for a plain radiance
+  sun           `directional` of the same irradiance (a delta sun; a disc is refused)
+  point         `point` of the same intensity
+"""
+
+import copy
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+
+FLAG_NORMALS, FLAG_UVS, FLAG_TANGENTS = 1, 2, 4
+
+
+class Unsupported(Exception):
+    """Something in the scene this translation does not carry over."""
+
+
+def read_farm_mesh(path):
+    """Positions, normals (or None), texture coordinates (or None) and triangles of a farm
+    mesh file."""
+    data = Path(path).read_bytes()
+    magic, version, flags, nv, nt = struct.unpack_from("<8sIIQQ", data, 0)
+    if magic != b"FARMMESH" or version != 1:
+        raise Unsupported(f"{path}: not a farm mesh file of version 1")
+    off = 32
+
+    def take(count, width, dtype):
+        nonlocal off
+        arr = np.frombuffer(data, dtype, count * width, off).reshape(count, width)
+        off += arr.nbytes
+        return arr
+
+    pos = take(nv, 3, "<f4")
+    nrm = take(nv, 3, "<f4") if flags & FLAG_NORMALS else None
+    uv = take(nv, 2, "<f4") if flags & FLAG_UVS else None
+    if flags & FLAG_TANGENTS:
+        take(nv, 4, "<f4")  # Mitsuba has no normal maps here; the cross-check's scenes have none
+    tri = take(nt, 3, "<u4")
+    return pos, nrm, uv, tri
+
+
+def write_ply(path, pos, nrm, uv, tri):
+    props = [("x", pos[:, 0]), ("y", pos[:, 1]), ("z", pos[:, 2])]
+    if nrm is not None:
+        props += [("nx", nrm[:, 0]), ("ny", nrm[:, 1]), ("nz", nrm[:, 2])]
+    if uv is not None:
+        props += [("u", uv[:, 0]), ("v", uv[:, 1])]
+    header = ["ply", "format binary_little_endian 1.0", f"element vertex {len(pos)}"]
+    header += [f"property float {name}" for name, _ in props]
+    header += [f"element face {len(tri)}", "property list uchar uint vertex_indices", "end_header", ""]
+    verts = np.column_stack([col for _, col in props]).astype("<f4")
+    faces = np.zeros(len(tri), dtype=[("n", "u1"), ("i", "<u4", 3)])
+    faces["n"], faces["i"] = 3, tri
+    Path(path).write_bytes("\n".join(header).encode() + verts.tobytes() + faces.tobytes())
+
+
+def vec(v, *keys):
+    return [float(v.get(k, 0.0)) for k in keys]
+
+
+def rgb(c):
+    return {"type": "rgb", "value": vec(c, "r", "g", "b")}
+
+
+def texture_of(scene, root, ref):
+    tex = next(t for t in scene.get("textures", []) if t["name"] == ref["texture"])
+    wrap = {"TEXTURE_WRAP_CLAMP": "clamp", "TEXTURE_WRAP_MIRROR": "mirror"}.get(tex.get("wrap"), "repeat")
+    raw = {"COLOR_ENCODING_LINEAR": True, "COLOR_ENCODING_SRGB": False}.get(tex.get("encoding"), False)
+    return {"type": "bitmap", "filename": str(root / tex["path"]), "raw": raw, "wrap_mode": wrap, "filter_type": "bilinear"}
+
+
+def bsdf_of(scene, root, material):
+    if "lambert" in material:
+        return {"type": "diffuse", "reflectance": rgb(material["lambert"]["reflectance"])}
+    if "principled" not in material:
+        raise Unsupported(f"material {material['name']!r}: only principled and lambert are translated")
+    p = material["principled"]
+    for field in ("metallicRoughnessTexture", "normalTexture", "emission", "emissionTexture", "transparency"):
+        if field in p:
+            raise Unsupported(f"material {material['name']!r}: principled.{field} is not translated")
+    if p.get("alphaMode") == "ALPHA_MODE_MASK":
+        raise Unsupported(f"material {material['name']!r}: alpha cut-outs are not translated")
+    base = rgb(p.get("baseColor", {}))
+    if "baseColorTexture" in p:
+        if base["value"] != [1.0, 1.0, 1.0]:
+            raise Unsupported(f"material {material['name']!r}: a base colour factor times a texture is not translated")
+        base = texture_of(scene, root, p["baseColorTexture"])
+    return {"type": "twosided", "bsdf": {"type": "principled", "base_color": base, "metallic": float(p.get("metallic", 0.0)),
+                                         "roughness": float(p.get("roughness", 0.0)), "specular": 0.5}}
+
+
+def matrix_of(mi, transform):
+    if not transform:
+        return mi.ScalarTransform4f()
+    if set(transform) != {"matrix"}:
+        raise Unsupported("only Transform.matrix is translated")
+    m = [float(x) for x in transform["matrix"]]
+    return mi.ScalarTransform4f([m[0:4], m[4:8], m[8:12], [0, 0, 0, 1]])
+
+
+def mitsuba_scene(mi, scene_path, work_dir, spp, seed=0):
+    """The Mitsuba scene dictionary of the farm scene at scene_path, and the farm material
+    of each of its shapes (by key); PLY files go in work_dir."""
+    scene_path = Path(scene_path)
+    root = scene_path.parent
+    scene = json.loads(scene_path.read_text())
+    work_dir = Path(work_dir)
+    work_dir.mkdir(parents=True, exist_ok=True)
+    cam, film = scene["camera"], scene["film"]
+    if cam.get("apertureRadius", 0):
+        raise Unsupported("camera.aperture_radius: a thin lens is not translated")
+    out = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 64, "rr_depth": 8},
+        "sensor": {
+            "type": "perspective", "fov_axis": "y", "fov": float(cam.get("verticalFovDegrees", 40)),
+            "to_world": mi.ScalarTransform4f().look_at(origin=vec(cam["position"], "x", "y", "z"),
+                                                        target=vec(cam["lookAt"], "x", "y", "z"),
+                                                        up=vec(cam["up"], "x", "y", "z")),
+            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+            "film": {"type": "hdrfilm", "width": int(film["width"]), "height": int(film["height"]),
+                     "pixel_format": "rgb", "rfilter": {"type": "box"}},
+        },
+    }
+    bsdfs = {m["name"]: bsdf_of(scene, root, m) for m in scene.get("materials", [])}
+    plys, material_of = {}, {}
+    for mesh in scene.get("meshes", []):
+        for i, part in enumerate(mesh["parts"]):
+            ply = work_dir / f"{len(plys)}.ply"
+            write_ply(ply, *read_farm_mesh(root / part["path"]))
+            plys[(mesh["name"], i)] = (ply, part["material"])
+    for n, shape in enumerate(scene.get("shapes", [])):
+        if "instance" not in shape:
+            raise Unsupported(f"shapes[{n}]: only instances of Scene.meshes are translated")
+        inst = shape["instance"]
+        to_world = matrix_of(mi, inst.get("transform"))
+        for (mesh_name, i), (ply, material) in plys.items():
+            if mesh_name == inst["mesh"]:
+                out[f"shape{n}_{i}"] = {"type": "ply", "filename": str(ply), "to_world": to_world,
+                                            # a BSDF of its own: Mitsuba merges the meshes that share one
+                                            "bsdf": copy.deepcopy(bsdfs[material])}
+                material_of[f"shape{n}_{i}"] = material
+    env = scene.get("environment")
+    if env:
+        if env.get("hiddenFromCamera"):
+            raise Unsupported("environment.hidden_from_camera is not translated")
+        if "map" in env:
+            tex = next(t for t in scene.get("textures", []) if t["name"] == env["map"]["texture"])
+            emitter = {"type": "envmap", "filename": str(root / tex["path"]),
+                       "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], 180 + float(env.get("rotationDegrees", 0)))}
+            if "radiance" in env:
+                c = vec(env["radiance"], "r", "g", "b")
+                if len(set(c)) != 1:
+                    raise Unsupported("environment.radiance tinting a map is not translated")
+                emitter["scale"] = c[0]
+        else:
+            emitter = {"type": "constant", "radiance": rgb(env["radiance"])}
+        out["environment"] = emitter
+    for n, light in enumerate(scene.get("lights", [])):
+        if "sun" in light:
+            sun = light["sun"]
+            if sun.get("angularDiameterDegrees", 0):
+                raise Unsupported(f"lights[{n}].sun.angular_diameter_degrees: a sun disc is not translated")
+            out[f"light{n}"] = {"type": "directional", "direction": vec(sun["direction"], "x", "y", "z"), "irradiance": rgb(sun["irradiance"])}
+        elif "point" in light:
+            pt = light["point"]
+            out[f"light{n}"] = {"type": "point", "position": vec(pt["position"], "x", "y", "z"), "intensity": rgb(pt["intensity"])}
+        else:
+            raise Unsupported(f"lights[{n}]: only sun and point lights are translated")
+    return out, material_of

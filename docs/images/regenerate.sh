@@ -1,0 +1,18 @@
+#!/bin/sh
+# Regenerates the README's pictures from the project's own scenes, so none is a hand-made
+# file: docs/images/atrium.png, the atrium demonstration scene (scenes/atrium) at 480x270
+# as `farm render` renders the .glb on a local two-worker farm, with the sampling `farm
+# import` gives it (the PNG preview: exposure 0, the filmic tone map, docs/output.md).
+#   docs/images/regenerate.sh BUILD_DIR
+set -eu
+build=${1:-build}
+root=$(cd "$(dirname "$0")/../.." && pwd)
+case $build in /*) ;; *) build="$root/$build" ;; esac
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT INT TERM
+cd "$root"
+go run ./scenes/atrium/gen -o "$tmp/atrium"
+"$build/bin/farm" render "$tmp/atrium/atrium.glb" --environment "$tmp/atrium/sky.hdr" --width 480 --height 270 \
+  --workers 2 --no-dashboard -o "$tmp/out"
+cp "$tmp/out/atrium.png" docs/images/atrium.png
+echo "wrote docs/images/atrium.png"
