@@ -24,7 +24,8 @@ type Capabilities struct {
 	// counts as one (a smooth principled material); it carries caustics and stores no
 	// photons.
 	Specular bool
-	// Emissive: an area light (whether an emissive material emits depends on its radiance).
+	// Emissive: an area light (whether an emissive material emits depends on its radiance;
+	// one with a reflectance is Diffuse too).
 	Emissive bool
 }
 
@@ -41,7 +42,8 @@ func CapabilitiesOf(m *pb.Material) Capabilities {
 	case *pb.Material_Mirror, *pb.Material_Dielectric, *pb.Material_Conductor:
 		return Capabilities{Specular: true}
 	case *pb.Material_Emissive:
-		return Capabilities{Emissive: true}
+		// It reflects as a Lambertian surface where it has a reflectance.
+		return Capabilities{Emissive: true, Diffuse: positive(k.Emissive.GetReflectance())}
 	default:
 		panic(fmt.Sprintf("scene: CapabilitiesOf does not know material kind %T", k))
 	}

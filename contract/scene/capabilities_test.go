@@ -77,3 +77,25 @@ func TestPrincipledCapabilities(t *testing.T) {
 		})
 	}
 }
+
+// TestEmissiveCapabilities: an emissive material is an area light, and diffuse too where it
+// has a reflectance (a light fixture the room lights).
+func TestEmissiveCapabilities(t *testing.T) {
+	tests := []struct {
+		name string
+		e    *pb.Emissive
+		want scene.Capabilities
+	}{
+		{"no reflectance", &pb.Emissive{Radiance: &pb.Color{R: 1}}, scene.Capabilities{Emissive: true}},
+		{"black reflectance", &pb.Emissive{Radiance: &pb.Color{R: 1}, Reflectance: &pb.Color{}}, scene.Capabilities{Emissive: true}},
+		{"reflects", &pb.Emissive{Radiance: &pb.Color{R: 1}, Reflectance: &pb.Color{B: 0.5}}, scene.Capabilities{Diffuse: true, Emissive: true}},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			m := &pb.Material{Name: "m", Kind: &pb.Material_Emissive{Emissive: tt.e}}
+			if got := scene.CapabilitiesOf(m); got != tt.want {
+				t.Errorf("CapabilitiesOf(%v) = %+v, want %+v", tt.e, got, tt.want)
+			}
+		})
+	}
+}

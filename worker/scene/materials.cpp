@@ -76,7 +76,7 @@ Material MaterialFromProto(const pb::Material& material) {
     case pb::Material::kLambert:
       return LambertMaterial{RgbOf(material.lambert().reflectance())};
     case pb::Material::kEmissive:
-      return EmissiveMaterial{RgbOf(material.emissive().radiance())};
+      return EmissiveMaterial{RgbOf(material.emissive().radiance()), RgbOf(material.emissive().reflectance())};
     case pb::Material::kGlossy: {
       const pb::Glossy& g = material.glossy();
       return GlossyMaterial{RgbOf(g.diffuse()), RgbOf(g.specular()),
@@ -113,7 +113,8 @@ MaterialCapabilities CapabilitiesOf(const Material& material) {
             return MaterialCapabilities{true, false, false, 0};
           },
           [](const EmissiveMaterial& m) {
-            return MaterialCapabilities{false, false, !m.radiance.IsBlack(), 0};
+            const bool reflects = !m.reflectance.IsBlack();
+            return MaterialCapabilities{false, reflects, !m.radiance.IsBlack(), reflects ? 1.0f : 0.0f};
           },
           [](const PrincipledMaterial& m) {
             return MaterialCapabilities{m.lobes.specular, PrincipledReflects(m), !m.emission.IsBlack(),
@@ -130,6 +131,7 @@ Rgb EvaluateBsdf(const Material& material, const Vec3& n, const Vec3& wo, const 
   return std::visit(
       Overloaded{
           [](const LambertMaterial& m) { return m.reflectance * kInvPi; },
+          [](const EmissiveMaterial& m) { return m.reflectance * kInvPi; },
           [&](const GlossyMaterial& m) {
             const Frame frame = Frame::FromZ(FaceForward(n, wo));
             const float lobe = BlinnPhongValue(frame.ToLocal(wo), frame.ToLocal(wi), m.exponent);
@@ -139,9 +141,7 @@ Rgb EvaluateBsdf(const Material& material, const Vec3& n, const Vec3& wo, const 
             const Frame frame = PrincipledFrame(m, n, wo);
             return PrincipledValue(m.lobes, frame.ToLocal(wo), frame.ToLocal(wi));
           },
-          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
-            return Rgb();
-          },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial> auto&) { return Rgb(); },
       },
       material);
 }
@@ -152,7 +152,7 @@ float BsdfPdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec
   if (!(cos_i > 0)) return 0;
   return std::visit(
       Overloaded{
-          [&](const LambertMaterial&) { return CosineHemispherePdf(cos_i); },
+          [&](const OneOf<LambertMaterial, EmissiveMaterial> auto&) { return CosineHemispherePdf(cos_i); },
           [&](const GlossyMaterial& m) {
             const Frame frame = Frame::FromZ(ns);
             const float p_diffuse = DiffuseLobeProbability(m);
@@ -163,9 +163,7 @@ float BsdfPdf(const Material& material, const Vec3& n, const Vec3& wo, const Vec
             const Frame frame = PrincipledFrame(m, n, wo);
             return PrincipledPdf(m.lobes, frame.ToLocal(wo), frame.ToLocal(wi));
           },
-          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
-            return 0.0f;
-          },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial> auto&) { return 0.0f; },
       },
       material);
 }
@@ -242,7 +240,10 @@ std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, co
       return BsdfSample{*wt, weight, 0, true};
     }
 
-    std::optional<BsdfSample> operator()(const EmissiveMaterial&) const { return std::nullopt; }
+    std::optional<BsdfSample> operator()(const EmissiveMaterial& m) const {
+      if (m.reflectance.IsBlack()) return std::nullopt;
+      return (*this)(LambertMaterial{m.reflectance});
+    }
 
     std::optional<BsdfSample> operator()(const PrincipledMaterial& m) const {
       const Frame frame = PrincipledFrame(m, n, wo);
@@ -289,15 +290,13 @@ Rgb Emitted(const Material& material, const Vec3& n, const Vec3& w) {
 Rgb DiffuseReflectance(const Material& material, const Vec3& n, const Vec3& wo, const Vec3& wi) {
   return std::visit(
       Overloaded{
-          [](const LambertMaterial& m) { return m.reflectance; },
+          [](const OneOf<LambertMaterial, EmissiveMaterial> auto& m) { return m.reflectance; },
           [](const GlossyMaterial& m) { return m.diffuse; },
           [&](const PrincipledMaterial& m) {
             const Frame frame = PrincipledFrame(m, n, wo);
             return PrincipledDiffuseWeight(m.lobes, frame.ToLocal(wo), frame.ToLocal(wi));
           },
-          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial, EmissiveMaterial> auto&) {
-            return Rgb();
-          },
+          [](const OneOf<MirrorMaterial, DielectricMaterial, ConductorMaterial> auto&) { return Rgb(); },
       },
       material);
 }
@@ -363,7 +362,7 @@ Rgb Albedo(const Material& material) {
       return {FresnelConductor(1, m.eta.r, m.k.r), FresnelConductor(1, m.eta.g, m.k.g),
               FresnelConductor(1, m.eta.b, m.k.b)};
     }
-    Rgb operator()(const EmissiveMaterial&) const { return {}; }
+    Rgb operator()(const EmissiveMaterial& m) const { return m.reflectance; }
     Rgb operator()(const PrincipledMaterial& m) const { return PrincipledAlbedo(m.lobes); }
   };
   return std::visit(Visitor{}, material);
@@ -389,7 +388,7 @@ std::string ToString(const Material& material) {
       return "Conductor{eta=" + ToString(m.eta) + ", k=" + ToString(m.k) + "}";
     }
     std::string operator()(const EmissiveMaterial& m) const {
-      return "Emissive{radiance=" + ToString(m.radiance) + "}";
+      return "Emissive{radiance=" + ToString(m.radiance) + ", reflectance=" + ToString(m.reflectance) + "}";
     }
     std::string operator()(const PrincipledMaterial& m) const {
       return "Principled{base_color=" + ToString(m.lobes.base_color) + ", metallic=" + std::to_string(m.lobes.metallic) +

@@ -16,7 +16,8 @@
 //                                              reflection; the front side is the outside;
 //                                              transmitted light is tinted by transmittance
 //   conductor   eta, k per channel             smooth metal, exact complex Fresnel
-//   emissive    radiance L >= 0                emits L from the front only, reflects nothing
+//   emissive    radiance L >= 0, reflectance   emits L from the front only; reflects as a
+//               rho (default 0)                lambert of rho (a light fixture lit by the room)
 //   principled  base colour, metallic,         glTF's metallic-roughness BRDF (principled.h):
 //               roughness, emission,           GGX sampled by visible normals over a
 //               textures (read at a hit:       diffuse base, blended towards a metal of the
@@ -25,7 +26,8 @@
 //
 // Mirror, dielectric and conductor are specular: their BSDF is a delta function, so
 // EvaluateBsdf gives 0 for them and only SampleBsdf moves light across them; photon maps
-// never store photons on them. Lambert and glossy are the non-specular ("diffuse") kinds.
+// never store photons on them. Lambert and glossy are the non-specular ("diffuse") kinds,
+// and so is an emissive material with a reflectance.
 // A principled material is specular when its roughness factor is below
 // SceneLimits.principled_specular_roughness (its GGX lobe then counts as a delta, which
 // only SampleBsdf and SampleSpecular draw), non-specular otherwise, and also non-specular
@@ -78,6 +80,7 @@ struct ConductorMaterial {
 
 struct EmissiveMaterial {
   Rgb radiance;
+  Rgb reflectance;  // as a Lambert's; black: reflects nothing
 };
 
 // A texture of SceneData::textures a principled material reads (-1: none).

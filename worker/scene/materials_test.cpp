@@ -41,15 +41,40 @@ TEST(Materials, LambertAlbedoIsRho) {
 }
 
 TEST(Materials, EmissiveEmitsFromTheFrontOnlyAndReflectsNothing) {
-  const Material m = EmissiveMaterial{Rgb(4, 5, 6)};
+  const Material m = EmissiveMaterial{Rgb(4, 5, 6), Rgb()};
   const Vec3 n(0, 1, 0);
   EXPECT_EQ(Emitted(m, n, Vec3(0, 1, 0)), Rgb(4, 5, 6));
   EXPECT_TRUE(Emitted(m, n, Vec3(0, -1, 0)).IsBlack());
   EXPECT_TRUE(EvaluateBsdf(m, n, n, n).IsBlack());
   EXPECT_FALSE(CapabilitiesOf(m).reflects);
   EXPECT_TRUE(CapabilitiesOf(m).emits);
-  EXPECT_FALSE(CapabilitiesOf(EmissiveMaterial{Rgb(0)}).emits);  // black: not a light
-  EXPECT_EQ(ToString(m), "Emissive{radiance=rgb(4, 5, 6)}");
+  EXPECT_FALSE(CapabilitiesOf(EmissiveMaterial{Rgb(0), Rgb()}).emits);  // black: not a light
+  EXPECT_EQ(ToString(m), "Emissive{radiance=rgb(4, 5, 6), reflectance=rgb(0, 0, 0)}");
+  EXPECT_FALSE(SampleBsdf(m, n, n, 0.5f, {0.5f, 0.5f}, TransportMode::kRadiance).has_value());
+}
+
+TEST(Materials, EmissiveWithAReflectanceReflectsAsALambertOfIt) {
+  const Rgb rho(0.78f, 0.5f, 0.25f);
+  const Material m = EmissiveMaterial{Rgb(4, 5, 6), rho};
+  const Vec3 n(0, 1, 0);
+  const Vec3 up = Normalize(Vec3(0.3f, 1, 0.1f)), up2 = Normalize(Vec3(-0.5f, 0.4f, 0.2f));
+  EXPECT_NEAR(EvaluateBsdf(m, n, up, up2).r, 0.78f / kPi, 1e-7);
+  EXPECT_NEAR(EvaluateBsdf(m, n, -up, -up2).b, 0.25f / kPi, 1e-7);  // two-sided, as a Lambert
+  EXPECT_TRUE(EvaluateBsdf(m, n, up, -up2).IsBlack());
+  EXPECT_EQ(Emitted(m, n, up), Rgb(4, 5, 6));  // still from the front only
+  EXPECT_TRUE(Emitted(m, n, -up).IsBlack());
+  EXPECT_EQ(Albedo(m), rho);
+  EXPECT_EQ(DiffuseReflectance(m, n, up, up2), rho);
+  const std::optional<BsdfSample> s = SampleBsdf(m, n, up, 0.5f, {0.3f, 0.7f}, TransportMode::kImportance);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_GT(Dot(s->wi, n), 0);
+  EXPECT_EQ(s->weight, rho);  // cosine-sampled: f cos / pdf = rho
+  EXPECT_NEAR(BsdfPdf(m, n, up, s->wi), Dot(s->wi, n) / kPi, 1e-6);
+  const MaterialCapabilities c = CapabilitiesOf(m);
+  EXPECT_TRUE(c.reflects);
+  EXPECT_TRUE(c.emits);
+  EXPECT_FALSE(c.specular);
+  EXPECT_EQ(c.diffuse_fraction, 1);
 }
 
 TEST(Materials, FromProtoReadsEveryKind) {

@@ -53,10 +53,13 @@ inline void AddLambert(pb::Scene& s, const std::string& name, const Rgb& reflect
   Set(m->mutable_lambert()->mutable_reflectance(), reflectance);
 }
 
-inline void AddEmissive(pb::Scene& s, const std::string& name, const Rgb& radiance) {
+// An emissive material; a non-black reflectance makes it reflect as a Lambert of it too.
+inline void AddEmissive(pb::Scene& s, const std::string& name, const Rgb& radiance,
+                        const Rgb& reflectance = Rgb()) {
   pb::Material* m = s.add_materials();
   m->set_name(name);
   Set(m->mutable_emissive()->mutable_radiance(), radiance);
+  if (!reflectance.IsBlack()) Set(m->mutable_emissive()->mutable_reflectance(), reflectance);
 }
 
 inline pb::Shape* AddSphere(pb::Scene& s, const std::string& material, const Vec3d& center,
@@ -76,6 +79,17 @@ inline pb::Shape* AddQuad(pb::Scene& s, const std::string& material, const Vec3d
   Set(shape->mutable_quad()->mutable_edge_u(), edge_u);
   Set(shape->mutable_quad()->mutable_edge_v(), edge_v);
   return shape;
+}
+
+// The unit cube [0, 1]^3 as six quads facing inwards, all of `material`.
+inline void AddInwardCube(pb::Scene& s, const std::string& material) {
+  const Vec3d x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  AddQuad(s, material, {0, 0, 0}, z, x);  // y = 0, facing +y
+  AddQuad(s, material, {0, 1, 0}, x, z);  // y = 1, facing -y
+  AddQuad(s, material, {0, 0, 0}, y, z);  // x = 0, facing +x
+  AddQuad(s, material, {1, 0, 0}, z, y);  // x = 1, facing -x
+  AddQuad(s, material, {0, 0, 0}, x, y);  // z = 0, facing +z
+  AddQuad(s, material, {0, 0, 1}, y, x);  // z = 1, facing -z
 }
 
 inline pb::Light* AddPointLight(pb::Scene& s, const Vec3d& position, const Rgb& intensity) {

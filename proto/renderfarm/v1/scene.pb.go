@@ -1158,11 +1158,14 @@ func (x *Lambert) GetReflectance() *Color {
 	return nil
 }
 
-// A surface that emits radiance from its front side and reflects nothing. A shape with an
-// emissive material is an area light: it is sampled for direct lighting.
+// A surface that emits radiance from its front side. A shape with an emissive material is
+// an area light: it is sampled for direct lighting. It may also reflect, as an ideal diffuse
+// surface on both sides (the light fixture lit by the room, as Mitsuba's and pbrt's area
+// lights sit on a BSDF); unset reflects nothing.
 type Emissive struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
 	Radiance      *Color                 `protobuf:"bytes,1,opt,name=radiance,proto3" json:"radiance,omitempty"`
+	Reflectance   *Color                 `protobuf:"bytes,2,opt,name=reflectance,proto3" json:"reflectance,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1200,6 +1203,13 @@ func (*Emissive) Descriptor() ([]byte, []int) {
 func (x *Emissive) GetRadiance() *Color {
 	if x != nil {
 		return x.Radiance
+	}
+	return nil
+}
+
+func (x *Emissive) GetReflectance() *Color {
+	if x != nil {
+		return x.Reflectance
 	}
 	return nil
 }
@@ -2624,9 +2634,10 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"principledB\f\n" +
 	"\x04kind\x12\x04\xb8\xb5\x18\x01\"[\n" +
 	"\aLambert\x12P\n" +
-	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"M\n" +
+	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"\x9d\x01\n" +
 	"\bEmissive\x12A\n" +
-	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\bradiance\"\xfc\x01\n" +
+	"\bradiance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\bradiance\x12N\n" +
+	"\vreflectance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\vreflectance\"\xfc\x01\n" +
 	"\x06Glossy\x12H\n" +
 	"\adiffuse\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\adiffuse\x12t\n" +
 	"\bspecular\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorBB\x8a\xb5\x18>\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01Z(diffuse + specular <= 1 in every channelR\bspecular\x122\n" +
@@ -2836,51 +2847,52 @@ var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	20, // 26: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
 	37, // 27: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
 	37, // 28: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	37, // 29: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	37, // 30: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	37, // 31: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	37, // 32: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	37, // 33: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	37, // 34: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	37, // 35: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	38, // 36: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	38, // 37: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	38, // 38: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	37, // 39: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	38, // 40: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	2,  // 41: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	22, // 42: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	23, // 43: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	24, // 44: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	36, // 45: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	37, // 46: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	36, // 47: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	37, // 48: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	36, // 49: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	36, // 50: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	37, // 51: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	37, // 52: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	38, // 53: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	3,  // 54: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	28, // 55: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	28, // 56: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	4,  // 57: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	30, // 58: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	31, // 59: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	32, // 60: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	33, // 61: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	39, // 62: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	36, // 63: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	36, // 64: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	36, // 65: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	36, // 66: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	36, // 67: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	40, // 68: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	69, // [69:69] is the sub-list for method output_type
-	69, // [69:69] is the sub-list for method input_type
-	69, // [69:69] is the sub-list for extension type_name
-	69, // [69:69] is the sub-list for extension extendee
-	0,  // [0:69] is the sub-list for field type_name
+	37, // 29: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	37, // 30: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	37, // 31: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	37, // 32: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	37, // 33: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	37, // 34: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	37, // 35: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	37, // 36: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	38, // 37: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	38, // 38: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	38, // 39: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	37, // 40: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	38, // 41: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	2,  // 42: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	22, // 43: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	23, // 44: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	24, // 45: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	36, // 46: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	37, // 47: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	36, // 48: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	37, // 49: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	36, // 50: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	36, // 51: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	37, // 52: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	37, // 53: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	38, // 54: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	3,  // 55: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	28, // 56: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	28, // 57: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	4,  // 58: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	30, // 59: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	31, // 60: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	32, // 61: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	33, // 62: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	39, // 63: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	36, // 64: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	36, // 65: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	36, // 66: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	36, // 67: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	36, // 68: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	40, // 69: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	70, // [70:70] is the sub-list for method output_type
+	70, // [70:70] is the sub-list for method input_type
+	70, // [70:70] is the sub-list for extension type_name
+	70, // [70:70] is the sub-list for extension extendee
+	0,  // [0:70] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }

@@ -52,6 +52,7 @@ var accepted = []vectorCase{
 	// Materials at their bounds.
 	accept("accept-lambert-reflectance-0-and-1", "Lambert.reflectance:gte= Lambert.reflectance:lte=", func(s *pb.Scene) { lambert(s).Reflectance = rgb(0, 1, 0) }),
 	accept("accept-emissive-radiance-0-in-one-channel", "Emissive.radiance:gte=", func(s *pb.Scene) { emissive(s).Radiance.B = 0 }),
+	accept("accept-emissive-reflectance-0-and-1", "Emissive.reflectance:gte= Emissive.reflectance:lte=", func(s *pb.Scene) { emissive(s).Reflectance = rgb(0, 1, 0.78) }),
 	accept("accept-glossy-diffuse-0-and-1", "Glossy.diffuse:gte= Glossy.diffuse:lte=", func(s *pb.Scene) {
 		glossy(s).Diffuse, glossy(s).Specular = rgb(1, 0, 0.5), rgb(0, 0.5, 0.5)
 	}),
