@@ -27,9 +27,10 @@ std::string ComputeIrradianceShard(const Scene& scene, const PhotonSnapshot& pho
 
 // What ComputeIrradianceShard encodes, for any PhotonMap (tests use in-memory maps): for
 // each photon i of the range, the irradiance on the side of its normal from the global
-// map's k nearest photons (box filter, the scene's global estimate with its radius times
-// radius_scale) plus, if there is a caustic map, its estimate (the scene's caustic
-// estimate): all the light the global map's photon holds but direct light, which final
+// map's k nearest photons, i itself among them (box filter, the scene's global estimate as
+// ForRound(radius_scale) makes it: radius and k shrink with the rounds) plus, if there is
+// a caustic map, its estimate (the scene's caustic estimate, likewise), each over the
+// surface its disc covers (surface_estimate.h: no light lost at edges): all the light the global map's photon holds but direct light, which final
 // gathering samples with shadow rays at the gather hit instead. Parallel (TBB) and
 // deterministic: each value depends only on the maps and i. Throws std::invalid_argument
 // for a range outside the map or a radius_scale that is not finite and > 0. progress

@@ -6,6 +6,7 @@
 
 #include "math/frame.h"
 #include "math/math.h"
+#include "photon/surface_estimate.h"
 #include "photonmap/irradiance_lookup.h"
 #include "sampling/hash.h"
 #include "sampling/sobol.h"
@@ -58,6 +59,7 @@ enum Stream : uint32_t {
   kDirectSeed,
   kGatherSeed,
   kSecondarySeed,
+  kCoverageSeed,
 };
 
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
@@ -156,8 +158,8 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
                                                  double radius_scale)
     : scene_(scene), maps_(maps) {
   const float scale = std::isfinite(radius_scale) && radius_scale > 0 ? float(radius_scale) : 1.0f;
-  maps_.global_estimate.max_radius *= scale;
-  maps_.caustic_estimate.max_radius *= scale;
+  maps_.global_estimate = ForRound(maps_.global_estimate, scale);
+  maps_.caustic_estimate = ForRound(maps_.caustic_estimate, scale);
   lookup_radius_ = maps_.global_estimate.max_radius;
   // Without precomputed irradiance (a job planned before the precompute phase existed, or
   // a map too small to need one) the global map is seen directly rather than not at all.
@@ -255,15 +257,18 @@ void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strateg
                                     Rgb& caustic, Rgb& indirect) const {
   direct = DirectLight(at, strategies, SubSeed(seed, kDirectSeed));
   const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
-  caustic = maps_.caustic ? EstimateRadiance(*maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
-                                             bsdf, scratch)
+  // Both photon estimates are over the surface their disc covers (surface_estimate.h).
+  const uint32_t coverage_seed = SubSeed(seed, kCoverageSeed);
+  caustic = maps_.caustic ? EstimateOnSurface(scene_, *maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
+                                              bsdf, scratch, coverage_seed)
                           : Rgb();
   if (strategies.gather_rays > 0) {
     const LightSplit gathered = Gather(at, strategies.gather_rays, SubSeed(seed, kGatherSeed), scratch);
     direct += gathered.direct;
     indirect = gathered.indirect;
   } else if (maps_.global) {
-    indirect = EstimateRadiance(*maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf, scratch);
+    indirect = EstimateOnSurface(scene_, *maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf, scratch,
+                                 coverage_seed);
   } else {
     indirect = {};
   }

@@ -15,7 +15,8 @@
 //             rest) that leave the scene at once: each part of the BSDF weighs the two
 //             strategies that sample it by the balance heuristic with their sample counts
 //             (multiple importance sampling), and that light counts as direct.
-//   caustic   radiance estimate on the caustic map (light -> specular+ -> here)
+//   caustic   radiance estimate on the caustic map (light -> specular+ -> here), over the
+//             surface its disc covers (photon/surface_estimate.h: no light lost at edges)
 //   indirect  FINAL_GATHER: gather_rays cosine-weighted rays (Malley over the concentric
 //             disk, stratified); where a gather ray lands on a diffuse surface (after at
 //             most kGatherSpecularDepth specular bounces) its radiance is albedo / pi times
@@ -25,7 +26,7 @@
 //             the diffuse surface that ray reaches is shaded in full with
 //             secondary_gather_rays gather rays.
 //             PHOTON_MAP (or a snapshot without irradiance): the global map's radiance
-//             estimate seen directly.
+//             estimate seen directly (over the surface its disc covers, as the caustic's).
 //
 // each weighted by the throughput of the specular path, so the four add up to the beauty.
 // A smooth principled surface with a diffuse base (specular and reflecting at once) is
@@ -93,8 +94,8 @@ RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
 
 class PhotonMappingIntegrator {
  public:
-  // radius_scale multiplies every photon search radius (progressive rounds shrink it:
-  // RoundSettings::radius_scale).
+  // radius_scale shrinks every photon estimate's radius and k (progressive rounds:
+  // RoundSettings::radius_scale, ForRound in radiance_estimate.h).
   PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
                           double radius_scale = 1.0);
 
