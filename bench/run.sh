@@ -3,8 +3,9 @@
 #   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
 # Needs farm_bench_photons, farm_bench_knn and farm_bench_edge_aa built in BUILD_DIR, and
 # $BENCH_PYTHON (default python3) a Python with mitsuba and numpy (make bench makes one:
-# scripts/install-deps.sh --bench). Snapshots and renders go to a temporary folder, removed
-# at exit.
+# scripts/install-deps.sh --bench; without them the Mitsuba comparisons are skipped with a
+# message). Snapshots and renders go to a temporary folder, removed at exit; Mitsuba
+# references are cached in BUILD_DIR/bench-cache.
 set -eu
 build=${1:-build}
 sizes=${2:-"1000000 10000000"}
@@ -33,5 +34,12 @@ echo "== edge anti-aliasing vs full 12x supersampling (C++, in-process; exits 1 
 "$build/bin/farm_bench_edge_aa"
 echo "== the atrium demonstration scene at 1280x720 on a two-worker farm, the Cornell box as the baseline"
 "$root/bench/atrium.sh" "$build"
+python=${BENCH_PYTHON:-python3}
+if ! "$python" -c 'import mitsuba, numpy' 2>/dev/null; then
+  echo "== the Mitsuba 3 comparisons: skipped, $python has no mitsuba or numpy (make bench installs them: scripts/install-deps.sh --bench DIR)"
+  exit 0
+fi
 echo "== the farm against Mitsuba 3 (scalar_rgb) on a textured glTF and on metallic and rough materials"
-"${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/run.py" "$build" "$tmp/crosscheck"
+"$python" "$root/bench/crosscheck/run.py" "$build" "$tmp/crosscheck"
+echo "== the farm against a long Mitsuba reference on the Cornell scenes: regions, rounds, equal time (issue 14)"
+"$python" "$root/bench/crosscheck/converge.py" "$build" "$tmp/converge"

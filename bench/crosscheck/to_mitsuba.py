@@ -8,10 +8,17 @@ rather than rendering something else:
   meshes        each part of a farm mesh file (docs/mesh-format.md) written as a binary PLY
                 (positions, normals, texture coordinates: glTF's v, which grows downwards,
                 is what Mitsuba's bitmap lookups use), placed per instance by its matrix
+  triangles     inline triangles as a PLY of their own (flat: no normals)
+  quad          `rectangle` mapped onto the parallelogram, its normal cross(edge_u, edge_v)
+  sphere        `sphere`
   principled    Mitsuba's `principled` (metallic, roughness, specular 0.5: F0 = 0.04),
                 base colour from a `bitmap` (sRGB for 8-bit images unless the texture says
                 linear) or a constant; two-sided, as the farm shades either face
-  lambert       `diffuse`
+  lambert       `diffuse`, two-sided as the farm's
+  mirror        `conductor` with no Fresnel (material "none") of the same reflectance
+  dielectric    `dielectric` of the same index (outside 1) and transmittance
+  emissive      an `area` emitter of the same radiance (front side only) on a two-sided
+                `diffuse` BSDF of its reflectance (black if it has none)
   environment   `envmap` rotated so that its pixels face the same directions as the farm's
                 (docs/lights.md: the middle column looks along -Z, u = 0.75 along +X, while
                 Mitsuba's u = 0 looks along -Z and 0.25 along +X: 180 degrees about +Y,
@@ -88,11 +95,25 @@ def texture_of(scene, root, ref):
     return {"type": "bitmap", "filename": str(root / tex["path"]), "raw": raw, "wrap_mode": wrap, "filter_type": "bilinear"}
 
 
+def twosided_diffuse(reflectance):
+    return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": rgb(reflectance)}}
+
+
 def bsdf_of(scene, root, material):
     if "lambert" in material:
-        return {"type": "diffuse", "reflectance": rgb(material["lambert"]["reflectance"])}
+        return twosided_diffuse(material["lambert"]["reflectance"])
+    if "emissive" in material:
+        return twosided_diffuse(material["emissive"].get("reflectance", {}))
+    if "mirror" in material:
+        return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
+                                             "specular_reflectance": rgb(material["mirror"]["reflectance"])}}
+    if "dielectric" in material:
+        d = material["dielectric"]
+        return {"type": "dielectric", "int_ior": float(d.get("ior", 1.5)), "ext_ior": 1.0,
+                "specular_transmittance": rgb(d.get("transmittance", {"r": 1, "g": 1, "b": 1}))}
     if "principled" not in material:
-        raise Unsupported(f"material {material['name']!r}: only principled and lambert are translated")
+        raise Unsupported(f"material {material['name']!r}: only principled, lambert, emissive, mirror and "
+                          "dielectric are translated")
     p = material["principled"]
     for field in ("metallicRoughnessTexture", "normalTexture", "emission", "emissionTexture", "transparency"):
         if field in p:
@@ -115,6 +136,38 @@ def matrix_of(mi, transform):
         raise Unsupported("only Transform.matrix is translated")
     m = [float(x) for x in transform["matrix"]]
     return mi.ScalarTransform4f([m[0:4], m[4:8], m[8:12], [0, 0, 0, 1]])
+
+
+def emitter_of(material):
+    """The area emitter of an emissive material, else None."""
+    if "emissive" not in material:
+        return None
+    return {"type": "area", "radiance": rgb(material["emissive"]["radiance"])}
+
+
+def geometry_of(mi, shape, ply_path):
+    """The Mitsuba shape of a farm shape's sphere, quad or inline triangles (PLY at ply_path),
+    without its BSDF; None for the other kinds."""
+    if "sphere" in shape:
+        s = shape["sphere"]
+        return {"type": "sphere", "center": vec(s["center"], "x", "y", "z"), "radius": float(s["radius"])}
+    if "quad" in shape:
+        q = shape["quad"]
+        o, u, v = (np.array(vec(q[k], "x", "y", "z")) for k in ("origin", "edgeU", "edgeV"))
+        n = np.cross(u, v)
+        n /= np.linalg.norm(n)
+        c = o + (u + v) / 2
+        # The rectangle is [-1, 1]^2 at z = 0 facing +z: its corners map onto the quad's and
+        # its normal onto cross(edge_u, edge_v).
+        m = np.column_stack([u / 2, v / 2, n, c])
+        return {"type": "rectangle", "to_world": mi.ScalarTransform4f(np.vstack([m, [0, 0, 0, 1]]).tolist())}
+    if "triangles" in shape:
+        t = shape["triangles"]
+        pos = np.array([vec(p, "x", "y", "z") for p in t["positions"]], dtype="<f4")
+        tri = np.array(t["indices"], dtype="<u4").reshape(-1, 3)
+        write_ply(ply_path, pos, None, None, tri)
+        return {"type": "ply", "filename": str(ply_path), "face_normals": True}
+    return None
 
 
 def mitsuba_scene(mi, scene_path, work_dir, spp, seed=0):
@@ -148,9 +201,20 @@ def mitsuba_scene(mi, scene_path, work_dir, spp, seed=0):
             ply = work_dir / f"{len(plys)}.ply"
             write_ply(ply, *read_farm_mesh(root / part["path"]))
             plys[(mesh["name"], i)] = (ply, part["material"])
+    materials = {m["name"]: m for m in scene.get("materials", [])}
     for n, shape in enumerate(scene.get("shapes", [])):
+        geometry = geometry_of(mi, shape, work_dir / f"shape{n}.ply")
+        if geometry is not None:
+            material = materials[shape["material"]]
+            geometry["bsdf"] = copy.deepcopy(bsdfs[material["name"]])
+            emitter = emitter_of(material)
+            if emitter:
+                geometry["emitter"] = emitter
+            out[f"shape{n}"] = geometry
+            material_of[f"shape{n}"] = material["name"]
+            continue
         if "instance" not in shape:
-            raise Unsupported(f"shapes[{n}]: only instances of Scene.meshes are translated")
+            raise Unsupported(f"shapes[{n}]: only spheres, quads, triangles and instances of Scene.meshes are translated")
         inst = shape["instance"]
         to_world = matrix_of(mi, inst.get("transform"))
         for (mesh_name, i), (ply, material) in plys.items():
