@@ -11,6 +11,7 @@ FilterSplats::FilterSplats(const PixelFilter& filter, const PixelRect& tile, Ima
   source_ = {x0, y0, x1 - x0, y1 - y0};
   for (int x = tile.x; x < tile.x_end(); ++x) expected_x_.push_back(filter.Integral(-(x + 0.5), image.width - (x + 0.5)));
   for (int y = tile.y; y < tile.y_end(); ++y) expected_y_.push_back(filter.Integral(-(y + 0.5), image.height - (y + 0.5)));
+  for (int d = -margin_; d <= margin_; ++d) over_pixel_.push_back(filter.Integral(d - 0.5, d + 0.5));
   slots_.resize(static_cast<std::size_t>(tile.width) * tile.height * side_ * side_, Slot{});
 }
 
@@ -30,18 +31,21 @@ void FilterSplats::Add(int qx, int qy, double sx, double sy, const double* chann
   }
 }
 
-void FilterSplats::Resolve(int x, int y, std::span<const std::uint32_t> samples, float* out) const {
-  std::array<double, kChannels + 1> sum{};
-  const std::size_t at = Index(x, y);
-  for (int qy = y - margin_; qy <= y + margin_; ++qy)
-    for (int qx = x - margin_; qx <= x + margin_; ++qx) {
-      if (qx < source_.x || qy < source_.y || qx >= source_.x_end() || qy >= source_.y_end()) continue;
-      const std::uint32_t n = samples[static_cast<std::size_t>(qy - source_.y) * source_.width + (qx - source_.x)];
-      if (n == 0) continue;
-      const Slot& slot = slots_[at + static_cast<std::size_t>(qy - y + margin_) * side_ + (qx - x + margin_)];
-      const double share = 1.0 / n;
-      for (int c = 0; c <= kChannels; ++c) sum[c] += slot[c] * share;
-    }
+void FilterSplats::AddSource(int x, int y, int qx, int qy, const Source& q,
+                             std::array<double, kChannels + 1>& sum) const {
+  if (q.samples == 0) return;
+  const double share = 1.0 / q.samples;
+  if (q.by_position) {
+    const Slot& slot = slots_[Index(x, y) + static_cast<std::size_t>(qy - y + margin_) * side_ + (qx - x + margin_)];
+    for (int c = 0; c <= kChannels; ++c) sum[c] += slot[c] * share;
+    return;
+  }
+  const double weight = over_pixel_[qx - x + margin_] * over_pixel_[qy - y + margin_];
+  for (int c = 0; c < kChannels; ++c) sum[c] += weight * (q.light_sums[c] * share);
+  sum[kChannels] += weight;
+}
+
+void FilterSplats::Finish(int x, int y, const std::array<double, kChannels + 1>& sum, float* out) const {
   const double expected = expected_x_[x - tile_.x] * expected_y_[y - tile_.y];
   const double weight = std::max(sum[kChannels], kMinWeightShare * expected);
   for (int c = 0; c < kChannels; ++c) out[c] = static_cast<float>(sum[c] / weight);

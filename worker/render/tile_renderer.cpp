@@ -279,7 +279,12 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     for (int x = rect.x; x < rect.x_end(); ++x) {
       const std::uint32_t n = samples_at(x, y);
       WritePixel(sum_at(x, y), n, n > plan.base, image.pixel(x, y));
-      if (splats) splats->Resolve(x, y, samples, image.pixel(x, y));
+      if (!splats) continue;
+      // Under edge anti-aliasing the pixels it left with the base samples are smooth.
+      splats->Resolve(x, y, [&](int qx, int qy) {
+        const std::uint32_t m = samples_at(qx, qy);
+        return FilterSplats::Source{m, !plan.detect_edges || m == plan.supersampled, sum_at(qx, qy).data()};
+      }, image.pixel(x, y));
     }
   return image;
 }
