@@ -36,3 +36,5 @@ echo "== the atrium demonstration scene at 1280x720 on a two-worker farm, the Co
 "$root/bench/atrium.sh" "$build"
 echo "== the farm against Mitsuba 3 (scalar_rgb) on a textured glTF and on metallic and rough materials"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/run.py" "$build" "$tmp/crosscheck"
+echo "== the Cornell box light's edge, box against Gaussian pixel filter, each against Mitsuba 3 with the matching filter"
+"${BENCH_PYTHON:-python3}" "$root/bench/filters/light_edge.py" "$build" "$tmp/filters"

@@ -37,7 +37,9 @@ struct RoundSettings {
 // requested the render ends early and the returned image must be discarded. progress
 // advances by the camera samples each pixel took as it is finished (with edge
 // anti-aliasing: every base-pass pixel of the tile and its apron, then an edge pixel's extra
-// samples), so a tile rendered in one pass adds width x height x samples in all.
+// samples), so a tile rendered in one pass adds width x height x samples in all. With a
+// pixel filter wider than a pixel (scene.data().filter), the pixels of its margin about
+// the tile are rendered too and count alike (docs/pixel-filters.md).
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
                  const RoundSettings& round = {}, std::stop_token stop = {},
                  Progress progress = {});

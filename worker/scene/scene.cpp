@@ -277,6 +277,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   d.samples_per_pixel = OrDefault<pb::Sampling>(description.sampling().samples_per_pixel(), "samples_per_pixel");
   d.seed = description.sampling().seed();
   d.antialiasing = AntialiasingSettings::FromProto(description.antialiasing());
+  d.filter = PixelFilter::FromProto(film.filter());
   d.indirect = IndirectSettings::FromProto(description);
   d.camera = Camera::FromProto(description.camera(), d.width, d.height);
 

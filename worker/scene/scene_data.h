@@ -24,6 +24,7 @@
 #include "scene/lights.h"
 #include "scene/materials.h"
 #include "scene/photon_settings.h"
+#include "scene/pixel_filter.h"
 #include "scene/shapes.h"
 #include "texture/texture_system.h"
 
@@ -85,6 +86,7 @@ struct SceneData {
   uint32_t samples_per_pixel = 0;
   uint64_t seed = 0;
   AntialiasingSettings antialiasing;
+  PixelFilter filter;  // film.filter
   IndirectSettings indirect;  // also holds sampling.light_samples
 
   Camera camera;

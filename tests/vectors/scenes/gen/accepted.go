@@ -1,11 +1,15 @@
 package main
 
-import pb "photonfarm/proto/renderfarm/v1"
+import (
+	"slices"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
 
 // accepted lists the scenes every side must accept: each inclusive bound hit exactly, and
 // 0 wherever a default applies (0 is not written in JSON: such a case is base without the
 // field). The scene files of scenes/ are accepted too (sceneFiles).
-var accepted = []vectorCase{
+var accepted = slices.Concat(acceptedFilters, []vectorCase{
 	accept("accept-base", "TriangleMesh.positions:min_items=", unchanged),
 	accept("accept-mesh-named-by-path-and-digest", "", func(s *pb.Scene) { withMesh(s) }),
 	accept("accept-coordinates-at-max-magnitude", "Scene:max_magnitude=", func(s *pb.Scene) {
@@ -201,4 +205,4 @@ var accepted = []vectorCase{
 	accept("accept-time-budget-of-a-week", "Progressive.time_budget_seconds:lte=", func(s *pb.Scene) { s.Progressive.TimeBudgetSeconds = 604800 }),
 	accept("accept-alpha-1", "Progressive.alpha:lte=", func(s *pb.Scene) { s.Progressive.Alpha = 1 }),
 	accept("accept-alpha-0", "Progressive.alpha:default", func(s *pb.Scene) { s.Progressive.Alpha = 0 }),
-}
+})
