@@ -64,8 +64,9 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
 
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return;
-    // A photon is one sample among very many: a point lookup of the textures.
-    const Material material = MaterialAt(scene, *hit, ray.direction, 0);
+    // A photon is one sample among very many: a point lookup of the textures (emission
+    // aside: it scatters light, whatever the surface emits).
+    const Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{.emission = false});
     const Vec3 wi = -ray.direction;  // towards where the photon came from
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);

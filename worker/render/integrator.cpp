@@ -107,7 +107,8 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, RayCon
       return std::nullopt;
     }
     cone.width = cone.WidthAt(hit->t);
-    const Material material = MaterialAt(scene, *hit, ray.direction, cone.width);
+    // Nothing on this chain counts emission: gather rays ignore the emitters they hit.
+    const Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{cone.width, cone.filter, false});
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
     // A smooth principled surface (specular and diffuse) ends the chain too: where a gather
@@ -195,7 +196,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     }
     const Vec3 wo = -ray.direction;
     cone.width = cone.WidthAt(hit->t);
-    const Material material = MaterialAt(scene_, *hit, ray.direction, cone.width);
+    const Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
     const Shading at(*hit, wo, material, cone.width);
     if (depth == 0) {
       result.alpha = 1;
@@ -329,7 +330,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
     if (kd.IsBlack()) continue;
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
     bool escaped_directly = false;
-    indirect += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count)}, i, seed, scratch, escaped_directly);
+    indirect += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed, scratch, escaped_directly);
     if (escaped_directly && scene_.environment_light >= 0) {
       // The environment seen by a gather ray is direct light, shared with light sampling.
       const float gather = float(count) * CosineHemispherePdf(local.z);

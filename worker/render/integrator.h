@@ -35,8 +35,9 @@
 // Every hit reads its material's textures (scene/surface_shading.h) over the footprint of
 // the ray's cone (texture/footprint.h): camera rays start with the pixel's spread angle,
 // which specular bounces and the glossy bounce pass on; gather rays start where the cone
-// is at their origin and spread by sqrt(2 pi / gather_rays), the side of each one's share
-// of the hemisphere.
+// is at their origin, spread by sqrt(2 pi / gather_rays), the side of each one's share of
+// the hemisphere, and read with the isotropic filter (TextureFilter). Only camera paths
+// read emission textures: nothing else counts emission.
 // The terms cover disjoint sets of paths: shadow rays are blocked by glass, whose light
 // arrives through the caustic map; the global map (and so the precomputed irradiance)
 // holds no direct light; gather rays ignore the emitters they hit (direct light covers

@@ -223,7 +223,7 @@ void AddCutoutFilter(const SceneData& d, AcceleratorInput& input) {
     for (const SceneMesh::Part& part : mesh->parts) parts.push_back(cuts(part.material));
   }
   input.filter = [&d](const RawHit& raw, const Vec3& point) {
-    const SurfaceHit hit = d.Refine(raw, point);
+    const CutoutHit hit = d.CutoutHitOf(raw, point);
     return d.cutouts[hit.material](hit);
   };
 }

@@ -48,6 +48,26 @@ SurfaceHit SceneData::Refine(const RawHit& raw, const Vec3& point) const {
   return hit;
 }
 
+CutoutHit SceneData::CutoutHitOf(const RawHit& raw, const Vec3& point) const {
+  const ShapeRecord& shape = shapes[raw.shape];
+  CutoutHit cut;
+  cut.material = shape.material;
+  const TriangleMesh* mesh = nullptr;
+  if (const auto* m = std::get_if<std::shared_ptr<const TriangleMesh>>(&shape.geometry)) {
+    mesh = m->get();
+  } else if (const auto* instance = std::get_if<InstanceShape>(&shape.geometry)) {
+    const SceneMesh::Part& part = instance->mesh->parts[raw.part];
+    mesh = part.triangles.get();
+    cut.material = part.material;
+  }
+  if (mesh) {
+    cut.has_uv = TriangleTexcoords(*mesh, raw.primitive, raw.barycentric, cut.uv);
+    return cut;
+  }
+  const SurfaceHit hit = Refine(raw, point);  // a sphere's or quad's: closed forms, cheap
+  return {hit.material, hit.uv, hit.has_uv};
+}
+
 std::size_t SceneData::GeometryBytes() const {
   std::unordered_set<const TriangleMesh*> counted;
   std::size_t bytes = accelerator.memory_bytes();

@@ -127,6 +127,9 @@ struct SceneData {
   // A hit Embree reported, refined; `point` is where it lies in the world (spheres and
   // quads take it; triangles project it onto their plane).
   SurfaceHit Refine(const RawHit& raw, const Vec3& point) const;
+  // What the cut-out test reads of a candidate hit (cutout.h): its material and texture
+  // coordinates, for a triangle without the rest of Refine's work.
+  CutoutHit CutoutHitOf(const RawHit& raw, const Vec3& point) const;
 
   // Whether nothing blocks the segment between two surface points, each with its
   // geometric normal; the ends are offset off their surfaces toward each other.
