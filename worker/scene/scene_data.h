@@ -86,6 +86,9 @@ struct SceneData {
   uint64_t seed = 0;
   AntialiasingSettings antialiasing;
   IndirectSettings indirect;  // also holds sampling.light_samples
+  // Sampling.specular: SPLIT (glass followed both ways at a camera path's first bounces)
+  // rather than CHOOSE.
+  bool split_specular = true;
 
   Camera camera;
   std::vector<Material> materials;

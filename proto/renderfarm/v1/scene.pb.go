@@ -21,6 +21,60 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type SpecularSampling int32
+
+const (
+	// Selects SPLIT.
+	SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED SpecularSampling = 0
+	// Follow both the reflected and the refracted ray, each weighted by its Fresnel share:
+	// smooth glass at one sample per pixel, for the cost of shading every branch.
+	SpecularSampling_SPECULAR_SAMPLING_SPLIT SpecularSampling = 1
+	// Follow one of the two, chosen at random with the Fresnel probabilities: cheaper, and
+	// speckled at low sample counts.
+	SpecularSampling_SPECULAR_SAMPLING_CHOOSE SpecularSampling = 2
+)
+
+// Enum value maps for SpecularSampling.
+var (
+	SpecularSampling_name = map[int32]string{
+		0: "SPECULAR_SAMPLING_UNSPECIFIED",
+		1: "SPECULAR_SAMPLING_SPLIT",
+		2: "SPECULAR_SAMPLING_CHOOSE",
+	}
+	SpecularSampling_value = map[string]int32{
+		"SPECULAR_SAMPLING_UNSPECIFIED": 0,
+		"SPECULAR_SAMPLING_SPLIT":       1,
+		"SPECULAR_SAMPLING_CHOOSE":      2,
+	}
+)
+
+func (x SpecularSampling) Enum() *SpecularSampling {
+	p := new(SpecularSampling)
+	*p = x
+	return p
+}
+
+func (x SpecularSampling) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (SpecularSampling) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (SpecularSampling) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x SpecularSampling) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use SpecularSampling.Descriptor instead.
+func (SpecularSampling) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
 type AntialiasingMode int32
 
 const (
@@ -59,11 +113,11 @@ func (x AntialiasingMode) String() string {
 }
 
 func (AntialiasingMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
 }
 
 func (AntialiasingMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+	return &file_renderfarm_v1_scene_proto_enumTypes[1]
 }
 
 func (x AntialiasingMode) Number() protoreflect.EnumNumber {
@@ -72,7 +126,7 @@ func (x AntialiasingMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AntialiasingMode.Descriptor instead.
 func (AntialiasingMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
 type IndirectMode int32
@@ -111,11 +165,11 @@ func (x IndirectMode) String() string {
 }
 
 func (IndirectMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
 }
 
 func (IndirectMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[1]
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
 }
 
 func (x IndirectMode) Number() protoreflect.EnumNumber {
@@ -124,7 +178,7 @@ func (x IndirectMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use IndirectMode.Descriptor instead.
 func (IndirectMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 type AlphaMode int32
@@ -162,11 +216,11 @@ func (x AlphaMode) String() string {
 }
 
 func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
 }
 
 func (AlphaMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+	return &file_renderfarm_v1_scene_proto_enumTypes[3]
 }
 
 func (x AlphaMode) Number() protoreflect.EnumNumber {
@@ -175,7 +229,7 @@ func (x AlphaMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AlphaMode.Descriptor instead.
 func (AlphaMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
 type ToneMap int32
@@ -215,11 +269,11 @@ func (x ToneMap) String() string {
 }
 
 func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
 }
 
 func (ToneMap) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[3]
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
 }
 
 func (x ToneMap) Number() protoreflect.EnumNumber {
@@ -228,7 +282,7 @@ func (x ToneMap) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use ToneMap.Descriptor instead.
 func (ToneMap) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 type Filter int32
@@ -270,11 +324,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+	return &file_renderfarm_v1_scene_proto_enumTypes[5]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -283,7 +337,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -618,7 +672,10 @@ type Sampling struct {
 	SamplesPerPixel uint32 `protobuf:"varint,1,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
 	Seed            uint64 `protobuf:"varint,2,opt,name=seed,proto3" json:"seed,omitempty"`
 	// Shadow rays towards area lights per shading point.
-	LightSamples  uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	LightSamples uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	// How a camera path goes on where it meets glass at one of its first three specular
+	// bounces (at most 8 branches a sample; later bounces choose).
+	Specular      SpecularSampling `protobuf:"varint,4,opt,name=specular,proto3,enum=renderfarm.v1.SpecularSampling" json:"specular,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -672,6 +729,13 @@ func (x *Sampling) GetLightSamples() uint32 {
 		return x.LightSamples
 	}
 	return 0
+}
+
+func (x *Sampling) GetSpecular() SpecularSampling {
+	if x != nil {
+		return x.Specular
+	}
+	return SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED
 }
 
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, a Sobel gradient of its
@@ -2585,11 +2649,12 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x04Film\x12,\n" +
 	"\x05width\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@R\x05width\x12^\n" +
 	"\x06height\x18\x02 \x01(\rBF\x8a\xb5\x18B\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@Z.width * height at most Scene's max_film_pixelsR\x06height\x12\xb3\x01\n" +
-	"\ttile_size\x18\x03 \x01(\rB\x95\x01\x8a\xb5\x18\x90\x01\t\x00\x00\x00\x00\x00\x00 @\x19\x00\x00\x00\x00\x00\x00p@)\x00\x00\x00\x00\x00\x00@@Zsceil(width / t) * ceil(height / t) tiles per round (t the effective tile size), at most Scene's max_tiles_per_roundR\btileSize\"\x9f\x01\n" +
+	"\ttile_size\x18\x03 \x01(\rB\x95\x01\x8a\xb5\x18\x90\x01\t\x00\x00\x00\x00\x00\x00 @\x19\x00\x00\x00\x00\x00\x00p@)\x00\x00\x00\x00\x00\x00@@Zsceil(width / t) * ceil(height / t) tiles per round (t the effective tile size), at most Scene's max_tiles_per_roundR\btileSize\"\xeb\x01\n" +
 	"\bSampling\x12B\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xf0@)\x00\x00\x00\x00\x00\x00\xf0?R\x0fsamplesPerPixel\x12\x12\n" +
 	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12;\n" +
-	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\"\xcc\x01\n" +
+	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\x12J\n" +
+	"\bspecular\x18\x04 \x01(\x0e2\x1f.renderfarm.v1.SpecularSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspecular\"\xcc\x01\n" +
 	"\fAntialiasing\x12B\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
 	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
@@ -2724,7 +2789,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bMeshFile\x12\x1b\n" +
 	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12c\n" +
 	"\x06digest\x18\x02 \x01(\tBK\x8a\xb5\x18G0\x01P\x01ZAthe blob is uploaded first and parses as an OBJ or farm mesh fileR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*\x8a\x01\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*p\n" +
+	"\x10SpecularSampling\x12!\n" +
+	"\x1dSPECULAR_SAMPLING_UNSPECIFIED\x10\x00\x12\x1b\n" +
+	"\x17SPECULAR_SAMPLING_SPLIT\x10\x01\x12\x1c\n" +
+	"\x18SPECULAR_SAMPLING_CHOOSE\x10\x02*\x8a\x01\n" +
 	"\x10AntialiasingMode\x12!\n" +
 	"\x1dANTIALIASING_MODE_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17ANTIALIASING_MODE_EDGES\x10\x01\x12\x1a\n" +
@@ -2761,126 +2830,128 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
 var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 29)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(AntialiasingMode)(0),    // 0: renderfarm.v1.AntialiasingMode
-	(IndirectMode)(0),        // 1: renderfarm.v1.IndirectMode
-	(AlphaMode)(0),           // 2: renderfarm.v1.AlphaMode
-	(ToneMap)(0),             // 3: renderfarm.v1.ToneMap
-	(Filter)(0),              // 4: renderfarm.v1.Filter
-	(*Scene)(nil),            // 5: renderfarm.v1.Scene
-	(*Camera)(nil),           // 6: renderfarm.v1.Camera
-	(*Film)(nil),             // 7: renderfarm.v1.Film
-	(*Sampling)(nil),         // 8: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),     // 9: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),         // 10: renderfarm.v1.Indirect
-	(*Progressive)(nil),      // 11: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),   // 12: renderfarm.v1.ReferenceImage
-	(*Material)(nil),         // 13: renderfarm.v1.Material
-	(*Lambert)(nil),          // 14: renderfarm.v1.Lambert
-	(*Emissive)(nil),         // 15: renderfarm.v1.Emissive
-	(*Glossy)(nil),           // 16: renderfarm.v1.Glossy
-	(*Mirror)(nil),           // 17: renderfarm.v1.Mirror
-	(*Dielectric)(nil),       // 18: renderfarm.v1.Dielectric
-	(*Conductor)(nil),        // 19: renderfarm.v1.Conductor
-	(*Principled)(nil),       // 20: renderfarm.v1.Principled
-	(*Light)(nil),            // 21: renderfarm.v1.Light
-	(*PointLight)(nil),       // 22: renderfarm.v1.PointLight
-	(*SunLight)(nil),         // 23: renderfarm.v1.SunLight
-	(*SpotLight)(nil),        // 24: renderfarm.v1.SpotLight
-	(*Environment)(nil),      // 25: renderfarm.v1.Environment
-	(*Output)(nil),           // 26: renderfarm.v1.Output
-	(*PhotonMapping)(nil),    // 27: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil), // 28: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),            // 29: renderfarm.v1.Shape
-	(*Sphere)(nil),           // 30: renderfarm.v1.Sphere
-	(*Quad)(nil),             // 31: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),     // 32: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),         // 33: renderfarm.v1.MeshFile
-	(*Mesh)(nil),             // 34: renderfarm.v1.Mesh
-	(*Texture)(nil),          // 35: renderfarm.v1.Texture
-	(*Vec3)(nil),             // 36: renderfarm.v1.Vec3
-	(*Color)(nil),            // 37: renderfarm.v1.Color
-	(*TextureRef)(nil),       // 38: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),     // 39: renderfarm.v1.MeshInstance
-	(*Transform)(nil),        // 40: renderfarm.v1.Transform
+	(SpecularSampling)(0),    // 0: renderfarm.v1.SpecularSampling
+	(AntialiasingMode)(0),    // 1: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),        // 2: renderfarm.v1.IndirectMode
+	(AlphaMode)(0),           // 3: renderfarm.v1.AlphaMode
+	(ToneMap)(0),             // 4: renderfarm.v1.ToneMap
+	(Filter)(0),              // 5: renderfarm.v1.Filter
+	(*Scene)(nil),            // 6: renderfarm.v1.Scene
+	(*Camera)(nil),           // 7: renderfarm.v1.Camera
+	(*Film)(nil),             // 8: renderfarm.v1.Film
+	(*Sampling)(nil),         // 9: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),     // 10: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),         // 11: renderfarm.v1.Indirect
+	(*Progressive)(nil),      // 12: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),   // 13: renderfarm.v1.ReferenceImage
+	(*Material)(nil),         // 14: renderfarm.v1.Material
+	(*Lambert)(nil),          // 15: renderfarm.v1.Lambert
+	(*Emissive)(nil),         // 16: renderfarm.v1.Emissive
+	(*Glossy)(nil),           // 17: renderfarm.v1.Glossy
+	(*Mirror)(nil),           // 18: renderfarm.v1.Mirror
+	(*Dielectric)(nil),       // 19: renderfarm.v1.Dielectric
+	(*Conductor)(nil),        // 20: renderfarm.v1.Conductor
+	(*Principled)(nil),       // 21: renderfarm.v1.Principled
+	(*Light)(nil),            // 22: renderfarm.v1.Light
+	(*PointLight)(nil),       // 23: renderfarm.v1.PointLight
+	(*SunLight)(nil),         // 24: renderfarm.v1.SunLight
+	(*SpotLight)(nil),        // 25: renderfarm.v1.SpotLight
+	(*Environment)(nil),      // 26: renderfarm.v1.Environment
+	(*Output)(nil),           // 27: renderfarm.v1.Output
+	(*PhotonMapping)(nil),    // 28: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil), // 29: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),            // 30: renderfarm.v1.Shape
+	(*Sphere)(nil),           // 31: renderfarm.v1.Sphere
+	(*Quad)(nil),             // 32: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),     // 33: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),         // 34: renderfarm.v1.MeshFile
+	(*Mesh)(nil),             // 35: renderfarm.v1.Mesh
+	(*Texture)(nil),          // 36: renderfarm.v1.Texture
+	(*Vec3)(nil),             // 37: renderfarm.v1.Vec3
+	(*Color)(nil),            // 38: renderfarm.v1.Color
+	(*TextureRef)(nil),       // 39: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),     // 40: renderfarm.v1.MeshInstance
+	(*Transform)(nil),        // 41: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	6,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	7,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	8,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	13, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	29, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	21, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	27, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	9,  // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
-	10, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
-	11, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	34, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	35, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
-	25, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
-	26, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	36, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	36, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	36, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	0,  // 17: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	1,  // 18: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	12, // 19: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	14, // 20: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	15, // 21: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	16, // 22: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	17, // 23: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	18, // 24: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	19, // 25: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	20, // 26: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	37, // 27: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	37, // 28: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	37, // 29: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	37, // 30: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	37, // 31: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	37, // 32: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	37, // 33: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	37, // 34: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	37, // 35: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	38, // 36: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	38, // 37: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	38, // 38: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	37, // 39: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	38, // 40: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	2,  // 41: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	22, // 42: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	23, // 43: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	24, // 44: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	36, // 45: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	37, // 46: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	36, // 47: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	37, // 48: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	36, // 49: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	36, // 50: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	37, // 51: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	37, // 52: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	38, // 53: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	3,  // 54: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	28, // 55: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	28, // 56: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	4,  // 57: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	30, // 58: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	31, // 59: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	32, // 60: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	33, // 61: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	39, // 62: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	36, // 63: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	36, // 64: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	36, // 65: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	36, // 66: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	36, // 67: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	40, // 68: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	69, // [69:69] is the sub-list for method output_type
-	69, // [69:69] is the sub-list for method input_type
-	69, // [69:69] is the sub-list for extension type_name
-	69, // [69:69] is the sub-list for extension extendee
-	0,  // [0:69] is the sub-list for field type_name
+	7,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	8,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	9,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	14, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	30, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	22, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	28, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	10, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	11, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	12, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	35, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	36, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	26, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	27, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	37, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	37, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	37, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	0,  // 17: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
+	1,  // 18: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	2,  // 19: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	13, // 20: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	15, // 21: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	16, // 22: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	17, // 23: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	18, // 24: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	19, // 25: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	20, // 26: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	21, // 27: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	38, // 28: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	38, // 29: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	38, // 30: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	38, // 31: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	38, // 32: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	38, // 33: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	38, // 34: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	38, // 35: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	38, // 36: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	39, // 37: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	39, // 38: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	39, // 39: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	38, // 40: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	39, // 41: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	3,  // 42: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	23, // 43: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	24, // 44: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	25, // 45: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	37, // 46: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	38, // 47: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	37, // 48: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	38, // 49: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	37, // 50: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	37, // 51: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	38, // 52: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	38, // 53: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	39, // 54: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	4,  // 55: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	29, // 56: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	29, // 57: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	5,  // 58: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	31, // 59: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	32, // 60: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	33, // 61: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	34, // 62: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	40, // 63: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	37, // 64: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	37, // 65: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	37, // 66: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	37, // 67: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	37, // 68: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	41, // 69: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	70, // [70:70] is the sub-list for method output_type
+	70, // [70:70] is the sub-list for method input_type
+	70, // [70:70] is the sub-list for extension type_name
+	70, // [70:70] is the sub-list for extension extendee
+	0,  // [0:70] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -2917,7 +2988,7 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      5,
+			NumEnums:      6,
 			NumMessages:   29,
 			NumExtensions: 0,
 			NumServices:   0,
