@@ -231,7 +231,10 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     for (int b = 0; b < branches.count; ++b) Bounce(branches.at[b], depth, u, scratch, result, next);
     branches = next;
   }
-  // Never let NaN or infinity through: a bad term is dropped, not the whole sample.
+  // Never let NaN or infinity through: a bad term is dropped, not the whole sample, and
+  // the sample counted (the tile renderer's non-finite count: a bug to find, not hide).
+  result.nonfinite = !(result.emitted.IsFinite() && result.direct.IsFinite() && result.caustic.IsFinite() &&
+                       result.indirect.IsFinite());
   result.emitted = Finite(result.emitted);
   result.direct = Finite(result.direct);
   result.caustic = Finite(result.caustic);
@@ -272,6 +275,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
   const MaterialCapabilities& can = scene_.capabilities_of(*hit);
   if (can.reflects) {
+    result.shaded = true;
     // 2^32 levels from the sample's dimension, hashed so that nearby values give
     // unrelated scrambles.
     const float u_seed = ForBranch(u.seed, branch.key, 0);

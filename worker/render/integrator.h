@@ -86,6 +86,11 @@ struct SampleResult {
   Rgb albedo;
   Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
+  // Whether the path (a branch of it) reached a non-specular surface and shaded it: such a
+  // sample is black only where no light reaches.
+  bool shaded = false;
+  // Whether a light term came out NaN or infinite (and was dropped, so radiance is finite).
+  bool nonfinite = false;
 };
 
 // The job's photon maps (either may be null) with their estimate settings.

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -95,12 +96,27 @@ struct SamplePlan {
   }
 };
 
-// Draws camera samples of single pixels; one per thread.
+// The tile's SampleCounts, added to by every thread.
+struct SampleTally {
+  std::atomic<uint64_t> samples{0}, nonfinite{0}, zero{0};
+
+  SampleCounts Counts() const { return {samples.load(), nonfinite.load(), zero.load()}; }
+};
+
+// Draws camera samples of single pixels; one per thread. Counts its samples' outcomes,
+// adding them to the tile's tally when it ends.
 class PixelRenderer {
  public:
   PixelRenderer(const SceneData& data, const PhotonMappingIntegrator& integrator,
-                const SamplePlan& plan)
-      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed) {}
+                const SamplePlan& plan, SampleTally& tally)
+      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed), tally_(tally) {}
+  ~PixelRenderer() {
+    tally_.samples += counts_.samples;
+    tally_.nonfinite += counts_.nonfinite;
+    tally_.zero += counts_.zero;
+  }
+  PixelRenderer(const PixelRenderer&) = delete;
+  PixelRenderer& operator=(const PixelRenderer&) = delete;
 
   // Adds samples [from, to) of pixel (x, y) to sum, in sample order.
   void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum) {
@@ -112,6 +128,7 @@ class PixelRenderer {
       const Vec2 lens = data_.camera.has_lens() ? sampler_.Get2D() : Vec2{};
       const Ray ray = data_.camera.GenerateRay({x + u.x, y + u.y}, lens);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
+      Count(r);
       Add(sum, kBeauty, r.radiance);
       sum[kAlpha] += r.alpha;
       Add(sum, kDirect, r.direct);
@@ -129,10 +146,18 @@ class PixelRenderer {
   }
 
  private:
+  void Count(const SampleResult& r) {
+    ++counts_.samples;
+    if (r.nonfinite) ++counts_.nonfinite;
+    if (r.shaded && r.radiance.IsBlack()) ++counts_.zero;
+  }
+
   const SceneData& data_;
   const PhotonMappingIntegrator& integrator_;
   PixelSampler sampler_;
   std::vector<PhotonNeighbour> scratch_;
+  SampleTally& tally_;
+  SampleCounts counts_;
 };
 
 // Runs pixel(renderer, x, y) on every pixel of area. Rows are the unit of parallel work
@@ -140,9 +165,9 @@ class PixelRenderer {
 // are summed in sample order by one thread, so the result is independent of the partition.
 template <typename Pixel>
 void ForEachPixel(const PixelRect& area, const SceneData& data, const PhotonMappingIntegrator& integrator,
-                  const SamplePlan& plan, const std::stop_token& stop, Pixel pixel) {
+                  const SamplePlan& plan, SampleTally& tally, const std::stop_token& stop, Pixel pixel) {
   tbb::parallel_for(tbb::blocked_range<int>(area.y, area.y_end()), [&](const tbb::blocked_range<int>& rows) {
-    PixelRenderer renderer(data, integrator, plan);
+    PixelRenderer renderer(data, integrator, plan, tally);
     for (int y = rows.begin(); y < rows.end(); ++y) {
       if (stop.stop_requested()) return;
       for (int x = area.x; x < area.x_end(); ++x) pixel(renderer, x, y);
@@ -184,19 +209,24 @@ std::vector<std::string> RenderChannels() {
 }
 
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 const RoundSettings& round, std::stop_token stop, Progress progress) {
+                 const RoundSettings& round, std::stop_token stop, Progress progress, SampleCounts* counts) {
   const SceneData& data = scene.data();
   CheckArguments(data, rect, round);
   Image image(rect, RenderChannels());
   if (rect.width == 0 || rect.height == 0) return image;
   const PhotonMappingIntegrator integrator(data, MapsOf(data, photons), round.radius_scale);
   const SamplePlan plan = SamplePlan::Of(data, round);
+  SampleTally tally;
+  // Whichever way the render ends, the counts are of the samples it drew.
+  const auto report = [&] {
+    if (counts) *counts = tally.Counts();
+  };
 
   // Without edge detection each pixel is independent: one pass.
   if (!plan.detect_edges) {
     const uint32_t n = plan.supersample_all ? plan.supersampled : plan.base;
     const bool supersampled = n > plan.base;
-    ForEachPixel(rect, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
+    ForEachPixel(rect, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
       Sums sum{};
       renderer.AddSamples(x, y, 0, n, sum);
       WritePixel(sum, n, supersampled, image.pixel(x, y));
@@ -204,6 +234,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
       // per pixel costs nothing beside it.
       progress.Advance(n);
     });
+    report();
     return image;
   }
 
@@ -214,7 +245,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     return base[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
   };
   LogLuminanceGrid luminance(area);
-  ForEachPixel(area, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
+  ForEachPixel(area, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
     Sums& sum = base_at(x, y);
     renderer.AddSamples(x, y, 0, plan.base, sum);
     const double n = plan.base;
@@ -222,7 +253,10 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                   EdgeLogLuminance(float(sum[kBeauty] / n), float(sum[kBeauty + 1] / n), float(sum[kBeauty + 2] / n)));
     progress.Advance(plan.base);
   });
-  if (stop.stop_requested()) return image;
+  if (stop.stop_requested()) {
+    report();
+    return image;
+  }
 
   const std::vector<std::uint8_t> edges =
       DetectEdges(luminance, rect, data.antialiasing.edge_threshold);
@@ -239,7 +273,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_pixels.size()),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      PixelRenderer renderer(data, integrator, plan);
+                      PixelRenderer renderer(data, integrator, plan, tally);
                       for (std::size_t i = range.begin(); i < range.end(); ++i) {
                         if (stop.stop_requested()) return;
                         const auto [x, y] = edge_pixels[i];
@@ -249,6 +283,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                         progress.Advance(plan.supersampled - plan.base);
                       }
                     });
+  report();
   return image;
 }
 
