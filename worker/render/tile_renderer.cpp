@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -116,12 +117,27 @@ struct SamplePlan {
   }
 };
 
-// Draws camera samples of single pixels; one per thread.
+// The tile's SampleCounts, added to by every thread.
+struct SampleTally {
+  std::atomic<uint64_t> samples{0}, nonfinite{0}, zero{0};
+
+  SampleCounts Counts() const { return {samples.load(), nonfinite.load(), zero.load()}; }
+};
+
+// Draws camera samples of single pixels; one per thread. Counts its samples' outcomes,
+// adding them to the tile's tally when it ends.
 class PixelRenderer {
  public:
   PixelRenderer(const SceneData& data, const PhotonMappingIntegrator& integrator,
-                const SamplePlan& plan)
-      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed) {}
+                const SamplePlan& plan, SampleTally& tally)
+      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed), tally_(tally) {}
+  ~PixelRenderer() {
+    tally_.samples += counts_.samples;
+    tally_.nonfinite += counts_.nonfinite;
+    tally_.zero += counts_.zero;
+  }
+  PixelRenderer(const PixelRenderer&) = delete;
+  PixelRenderer& operator=(const PixelRenderer&) = delete;
 
   // Adds samples [from, to) of pixel (x, y) to sum, in sample order, and splats them if
   // splats is not null.
@@ -135,6 +151,7 @@ class PixelRenderer {
       const Vec2 film{x + u.x, y + u.y};
       const Ray ray = data_.camera.GenerateRay(film, lens);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
+      Count(r);
       AddLight(r, sum.data());
       if (splats) {
         std::array<double, FilterSplats::kChannels> light{};
@@ -152,10 +169,18 @@ class PixelRenderer {
   }
 
  private:
+  void Count(const SampleResult& r) {
+    ++counts_.samples;
+    if (r.nonfinite) ++counts_.nonfinite;
+    if (r.shaded && r.radiance.IsBlack()) ++counts_.zero;
+  }
+
   const SceneData& data_;
   const PhotonMappingIntegrator& integrator_;
   PixelSampler sampler_;
   std::vector<PhotonNeighbour> scratch_;
+  SampleTally& tally_;
+  SampleCounts counts_;
 };
 
 // Runs pixel(renderer, x, y) on every pixel of area. Rows are the unit of parallel work
@@ -163,9 +188,9 @@ class PixelRenderer {
 // are summed in sample order by one thread, so the result is independent of the partition.
 template <typename Pixel>
 void ForEachPixel(const PixelRect& area, const SceneData& data, const PhotonMappingIntegrator& integrator,
-                  const SamplePlan& plan, const std::stop_token& stop, Pixel pixel) {
+                  const SamplePlan& plan, SampleTally& tally, const std::stop_token& stop, Pixel pixel) {
   tbb::parallel_for(tbb::blocked_range<int>(area.y, area.y_end()), [&](const tbb::blocked_range<int>& rows) {
-    PixelRenderer renderer(data, integrator, plan);
+    PixelRenderer renderer(data, integrator, plan, tally);
     for (int y = rows.begin(); y < rows.end(); ++y) {
       if (stop.stop_requested()) return;
       for (int x = area.x; x < area.x_end(); ++x) pixel(renderer, x, y);
@@ -207,7 +232,7 @@ std::vector<std::string> RenderChannels() {
 }
 
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 const RoundSettings& round, std::stop_token stop, Progress progress) {
+                 const RoundSettings& round, std::stop_token stop, Progress progress, SampleCounts* counts) {
   const SceneData& data = scene.data();
   CheckArguments(data, rect, round);
   Image image(rect, RenderChannels());
@@ -215,6 +240,11 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   const PhotonMappingIntegrator integrator(data, MapsOf(data, photons), round.radius_scale);
   const SamplePlan plan = SamplePlan::Of(data, round);
   const ImageSize size{data.width, data.height};
+  SampleTally tally;
+  // Whichever way the render ends, the counts are of the samples it drew.
+  const auto report = [&] {
+    if (counts) *counts = tally.Counts();
+  };
 
   // The pixels whose samples count: the tile, and with a filter wider than a pixel its
   // margin.
@@ -232,7 +262,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   };
   std::optional<LogLuminanceGrid> luminance;
   if (plan.detect_edges) luminance.emplace(area);
-  ForEachPixel(area, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
+  ForEachPixel(area, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
     Sums& sum = sum_at(x, y);
     renderer.AddSamples(x, y, 0, first, sum, splat);
     if (luminance) {
@@ -244,7 +274,10 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     // per pixel costs nothing beside it.
     progress.Advance(first);
   });
-  if (stop.stop_requested()) return image;
+  if (stop.stop_requested()) {
+    report();
+    return image;
+  }
 
   // Samples each pixel of source took.
   std::vector<std::uint32_t> samples(static_cast<std::size_t>(source.width) * source.height, first);
@@ -264,7 +297,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
         }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_pixels.size()),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-                        PixelRenderer renderer(data, integrator, plan);
+                        PixelRenderer renderer(data, integrator, plan, tally);
                         for (std::size_t i = range.begin(); i < range.end(); ++i) {
                           if (stop.stop_requested()) return;
                           const auto [x, y] = edge_pixels[i];
@@ -272,7 +305,10 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                           progress.Advance(plan.supersampled - plan.base);
                         }
                       });
-    if (stop.stop_requested()) return image;
+    if (stop.stop_requested()) {
+      report();
+      return image;
+    }
   }
 
   for (int y = rect.y; y < rect.y_end(); ++y)
@@ -286,6 +322,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
         return FilterSplats::Source{m, !plan.detect_edges || m == plan.supersampled, sum_at(qx, qy).data()};
       }, image.pixel(x, y));
     }
+  report();
   return image;
 }
 

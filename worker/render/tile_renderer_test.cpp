@@ -261,6 +261,30 @@ TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSa
   EXPECT_EQ(counter.load(), 10u * 10u * 4u + edges * (12u - 4u));
 }
 
+// The counts agree with the image they describe: at one sample per pixel, every sample is
+// counted, and the zero ones are exactly the covered pixels of non-black albedo (in this
+// scene, of a diffuse surface: the lamp's albedo is black) that came out black (here,
+// with direct light only, surfaces facing away from the lamp).
+TEST(RenderTile, CountsEverySampleAndTheZeroOnes) {
+  pb::Scene s = BoxScene(5, 48, 32);
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
+  s.mutable_sampling()->set_samples_per_pixel(1);
+  const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
+  SampleCounts counts;
+  const Image image = RenderTile(scene, nullptr, {0, 0, 48, 32}, {}, {}, {}, &counts);
+  std::uint64_t black = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const float* p = image.pixel(x, y);
+      const bool albedo = p[13] > 0 || p[14] > 0 || p[15] > 0;
+      black += p[3] == 1 && albedo && p[0] == 0 && p[1] == 0 && p[2] == 0;
+    }
+  EXPECT_EQ(counts.samples, 48u * 32u);
+  EXPECT_EQ(counts.nonfinite, 0u);
+  EXPECT_GT(black, 0u) << "the scene has no unlit surface to count";
+  EXPECT_EQ(counts.zero, black);
+}
+
 // What the heartbeat sees: read from another thread while the TBB threads render, the
 // counter never goes back and ends at the tile's total.
 TEST(RenderTile, ProgressReadFromAnotherThreadOnlyGrows) {

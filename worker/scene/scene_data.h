@@ -88,6 +88,9 @@ struct SceneData {
   AntialiasingSettings antialiasing;
   PixelFilter filter;  // film.filter
   IndirectSettings indirect;  // also holds sampling.light_samples
+  // Sampling.specular: SPLIT (glass followed both ways at a camera path's first bounces)
+  // rather than CHOOSE.
+  bool split_specular = true;
 
   Camera camera;
   std::vector<Material> materials;

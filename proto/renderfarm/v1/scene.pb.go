@@ -21,6 +21,60 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type SpecularSampling int32
+
+const (
+	// Selects SPLIT.
+	SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED SpecularSampling = 0
+	// Follow both the reflected and the refracted ray, each weighted by its Fresnel share:
+	// smooth glass at one sample per pixel, for the cost of shading every branch.
+	SpecularSampling_SPECULAR_SAMPLING_SPLIT SpecularSampling = 1
+	// Follow one of the two, chosen at random with the Fresnel probabilities: cheaper, and
+	// speckled at low sample counts.
+	SpecularSampling_SPECULAR_SAMPLING_CHOOSE SpecularSampling = 2
+)
+
+// Enum value maps for SpecularSampling.
+var (
+	SpecularSampling_name = map[int32]string{
+		0: "SPECULAR_SAMPLING_UNSPECIFIED",
+		1: "SPECULAR_SAMPLING_SPLIT",
+		2: "SPECULAR_SAMPLING_CHOOSE",
+	}
+	SpecularSampling_value = map[string]int32{
+		"SPECULAR_SAMPLING_UNSPECIFIED": 0,
+		"SPECULAR_SAMPLING_SPLIT":       1,
+		"SPECULAR_SAMPLING_CHOOSE":      2,
+	}
+)
+
+func (x SpecularSampling) Enum() *SpecularSampling {
+	p := new(SpecularSampling)
+	*p = x
+	return p
+}
+
+func (x SpecularSampling) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (SpecularSampling) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (SpecularSampling) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x SpecularSampling) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use SpecularSampling.Descriptor instead.
+func (SpecularSampling) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
 type AntialiasingMode int32
 
 const (
@@ -59,11 +113,11 @@ func (x AntialiasingMode) String() string {
 }
 
 func (AntialiasingMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
 }
 
 func (AntialiasingMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+	return &file_renderfarm_v1_scene_proto_enumTypes[1]
 }
 
 func (x AntialiasingMode) Number() protoreflect.EnumNumber {
@@ -72,7 +126,7 @@ func (x AntialiasingMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AntialiasingMode.Descriptor instead.
 func (AntialiasingMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
 type IndirectMode int32
@@ -111,11 +165,11 @@ func (x IndirectMode) String() string {
 }
 
 func (IndirectMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
 }
 
 func (IndirectMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[1]
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
 }
 
 func (x IndirectMode) Number() protoreflect.EnumNumber {
@@ -124,7 +178,7 @@ func (x IndirectMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use IndirectMode.Descriptor instead.
 func (IndirectMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 type AlphaMode int32
@@ -162,11 +216,11 @@ func (x AlphaMode) String() string {
 }
 
 func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
 }
 
 func (AlphaMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+	return &file_renderfarm_v1_scene_proto_enumTypes[3]
 }
 
 func (x AlphaMode) Number() protoreflect.EnumNumber {
@@ -175,7 +229,7 @@ func (x AlphaMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AlphaMode.Descriptor instead.
 func (AlphaMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
 type ToneMap int32
@@ -215,11 +269,11 @@ func (x ToneMap) String() string {
 }
 
 func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
 }
 
 func (ToneMap) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[3]
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
 }
 
 func (x ToneMap) Number() protoreflect.EnumNumber {
@@ -228,7 +282,7 @@ func (x ToneMap) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use ToneMap.Descriptor instead.
 func (ToneMap) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 type Filter int32
@@ -270,11 +324,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+	return &file_renderfarm_v1_scene_proto_enumTypes[5]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -283,7 +337,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -941,7 +995,10 @@ type Sampling struct {
 	SamplesPerPixel uint32 `protobuf:"varint,1,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
 	Seed            uint64 `protobuf:"varint,2,opt,name=seed,proto3" json:"seed,omitempty"`
 	// Shadow rays towards area lights per shading point.
-	LightSamples  uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	LightSamples uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	// How a camera path goes on where it meets glass at one of its first three specular
+	// bounces (at most 8 branches a sample; later bounces choose).
+	Specular      SpecularSampling `protobuf:"varint,4,opt,name=specular,proto3,enum=renderfarm.v1.SpecularSampling" json:"specular,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -995,6 +1052,13 @@ func (x *Sampling) GetLightSamples() uint32 {
 		return x.LightSamples
 	}
 	return 0
+}
+
+func (x *Sampling) GetSpecular() SpecularSampling {
+	if x != nil {
+		return x.Specular
+	}
+	return SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED
 }
 
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, a Sobel gradient of its
@@ -2925,11 +2989,12 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xf8?R\x06radius\x125\n" +
 	"\x05sigma\x18\x02 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xc0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xe0?R\x05sigma\"I\n" +
 	"\x0eMitchellFilter\x127\n" +
-	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\x9f\x01\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\xeb\x01\n" +
 	"\bSampling\x12B\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xf0@)\x00\x00\x00\x00\x00\x00\xf0?R\x0fsamplesPerPixel\x12\x12\n" +
 	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12;\n" +
-	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\"\xcc\x01\n" +
+	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\x12J\n" +
+	"\bspecular\x18\x04 \x01(\x0e2\x1f.renderfarm.v1.SpecularSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspecular\"\xcc\x01\n" +
 	"\fAntialiasing\x12B\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
 	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
@@ -3064,7 +3129,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bMeshFile\x12\x1b\n" +
 	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12c\n" +
 	"\x06digest\x18\x02 \x01(\tBK\x8a\xb5\x18G0\x01P\x01ZAthe blob is uploaded first and parses as an OBJ or farm mesh fileR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*\x8a\x01\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*p\n" +
+	"\x10SpecularSampling\x12!\n" +
+	"\x1dSPECULAR_SAMPLING_UNSPECIFIED\x10\x00\x12\x1b\n" +
+	"\x17SPECULAR_SAMPLING_SPLIT\x10\x01\x12\x1c\n" +
+	"\x18SPECULAR_SAMPLING_CHOOSE\x10\x02*\x8a\x01\n" +
 	"\x10AntialiasingMode\x12!\n" +
 	"\x1dANTIALIASING_MODE_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17ANTIALIASING_MODE_EDGES\x10\x01\x12\x1a\n" +
@@ -3101,136 +3170,138 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
 var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 34)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(AntialiasingMode)(0),    // 0: renderfarm.v1.AntialiasingMode
-	(IndirectMode)(0),        // 1: renderfarm.v1.IndirectMode
-	(AlphaMode)(0),           // 2: renderfarm.v1.AlphaMode
-	(ToneMap)(0),             // 3: renderfarm.v1.ToneMap
-	(Filter)(0),              // 4: renderfarm.v1.Filter
-	(*Scene)(nil),            // 5: renderfarm.v1.Scene
-	(*Camera)(nil),           // 6: renderfarm.v1.Camera
-	(*Film)(nil),             // 7: renderfarm.v1.Film
-	(*PixelFilter)(nil),      // 8: renderfarm.v1.PixelFilter
-	(*BoxFilter)(nil),        // 9: renderfarm.v1.BoxFilter
-	(*TentFilter)(nil),       // 10: renderfarm.v1.TentFilter
-	(*GaussianFilter)(nil),   // 11: renderfarm.v1.GaussianFilter
-	(*MitchellFilter)(nil),   // 12: renderfarm.v1.MitchellFilter
-	(*Sampling)(nil),         // 13: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),     // 14: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),         // 15: renderfarm.v1.Indirect
-	(*Progressive)(nil),      // 16: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),   // 17: renderfarm.v1.ReferenceImage
-	(*Material)(nil),         // 18: renderfarm.v1.Material
-	(*Lambert)(nil),          // 19: renderfarm.v1.Lambert
-	(*Emissive)(nil),         // 20: renderfarm.v1.Emissive
-	(*Glossy)(nil),           // 21: renderfarm.v1.Glossy
-	(*Mirror)(nil),           // 22: renderfarm.v1.Mirror
-	(*Dielectric)(nil),       // 23: renderfarm.v1.Dielectric
-	(*Conductor)(nil),        // 24: renderfarm.v1.Conductor
-	(*Principled)(nil),       // 25: renderfarm.v1.Principled
-	(*Light)(nil),            // 26: renderfarm.v1.Light
-	(*PointLight)(nil),       // 27: renderfarm.v1.PointLight
-	(*SunLight)(nil),         // 28: renderfarm.v1.SunLight
-	(*SpotLight)(nil),        // 29: renderfarm.v1.SpotLight
-	(*Environment)(nil),      // 30: renderfarm.v1.Environment
-	(*Output)(nil),           // 31: renderfarm.v1.Output
-	(*PhotonMapping)(nil),    // 32: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil), // 33: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),            // 34: renderfarm.v1.Shape
-	(*Sphere)(nil),           // 35: renderfarm.v1.Sphere
-	(*Quad)(nil),             // 36: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),     // 37: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),         // 38: renderfarm.v1.MeshFile
-	(*Mesh)(nil),             // 39: renderfarm.v1.Mesh
-	(*Texture)(nil),          // 40: renderfarm.v1.Texture
-	(*Vec3)(nil),             // 41: renderfarm.v1.Vec3
-	(*Color)(nil),            // 42: renderfarm.v1.Color
-	(*TextureRef)(nil),       // 43: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),     // 44: renderfarm.v1.MeshInstance
-	(*Transform)(nil),        // 45: renderfarm.v1.Transform
+	(SpecularSampling)(0),    // 0: renderfarm.v1.SpecularSampling
+	(AntialiasingMode)(0),    // 1: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),        // 2: renderfarm.v1.IndirectMode
+	(AlphaMode)(0),           // 3: renderfarm.v1.AlphaMode
+	(ToneMap)(0),             // 4: renderfarm.v1.ToneMap
+	(Filter)(0),              // 5: renderfarm.v1.Filter
+	(*Scene)(nil),            // 6: renderfarm.v1.Scene
+	(*Camera)(nil),           // 7: renderfarm.v1.Camera
+	(*Film)(nil),             // 8: renderfarm.v1.Film
+	(*PixelFilter)(nil),      // 9: renderfarm.v1.PixelFilter
+	(*BoxFilter)(nil),        // 10: renderfarm.v1.BoxFilter
+	(*TentFilter)(nil),       // 11: renderfarm.v1.TentFilter
+	(*GaussianFilter)(nil),   // 12: renderfarm.v1.GaussianFilter
+	(*MitchellFilter)(nil),   // 13: renderfarm.v1.MitchellFilter
+	(*Sampling)(nil),         // 14: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),     // 15: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),         // 16: renderfarm.v1.Indirect
+	(*Progressive)(nil),      // 17: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),   // 18: renderfarm.v1.ReferenceImage
+	(*Material)(nil),         // 19: renderfarm.v1.Material
+	(*Lambert)(nil),          // 20: renderfarm.v1.Lambert
+	(*Emissive)(nil),         // 21: renderfarm.v1.Emissive
+	(*Glossy)(nil),           // 22: renderfarm.v1.Glossy
+	(*Mirror)(nil),           // 23: renderfarm.v1.Mirror
+	(*Dielectric)(nil),       // 24: renderfarm.v1.Dielectric
+	(*Conductor)(nil),        // 25: renderfarm.v1.Conductor
+	(*Principled)(nil),       // 26: renderfarm.v1.Principled
+	(*Light)(nil),            // 27: renderfarm.v1.Light
+	(*PointLight)(nil),       // 28: renderfarm.v1.PointLight
+	(*SunLight)(nil),         // 29: renderfarm.v1.SunLight
+	(*SpotLight)(nil),        // 30: renderfarm.v1.SpotLight
+	(*Environment)(nil),      // 31: renderfarm.v1.Environment
+	(*Output)(nil),           // 32: renderfarm.v1.Output
+	(*PhotonMapping)(nil),    // 33: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil), // 34: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),            // 35: renderfarm.v1.Shape
+	(*Sphere)(nil),           // 36: renderfarm.v1.Sphere
+	(*Quad)(nil),             // 37: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),     // 38: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),         // 39: renderfarm.v1.MeshFile
+	(*Mesh)(nil),             // 40: renderfarm.v1.Mesh
+	(*Texture)(nil),          // 41: renderfarm.v1.Texture
+	(*Vec3)(nil),             // 42: renderfarm.v1.Vec3
+	(*Color)(nil),            // 43: renderfarm.v1.Color
+	(*TextureRef)(nil),       // 44: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),     // 45: renderfarm.v1.MeshInstance
+	(*Transform)(nil),        // 46: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	6,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	7,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	13, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	18, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	34, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	26, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	32, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	14, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
-	15, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
-	16, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	39, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	40, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
-	30, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
-	31, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	41, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	41, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	41, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	8,  // 17: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
-	9,  // 18: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
-	10, // 19: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
-	11, // 20: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
-	12, // 21: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
-	0,  // 22: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	1,  // 23: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	17, // 24: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	19, // 25: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	20, // 26: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	21, // 27: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	22, // 28: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	23, // 29: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	24, // 30: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	25, // 31: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	42, // 32: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	42, // 33: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	42, // 34: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	42, // 35: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	42, // 36: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	42, // 37: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	42, // 38: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	42, // 39: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	42, // 40: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	43, // 41: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	43, // 42: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	43, // 43: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	42, // 44: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	43, // 45: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	2,  // 46: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	27, // 47: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	28, // 48: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	29, // 49: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	41, // 50: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	42, // 51: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	41, // 52: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	42, // 53: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	41, // 54: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	41, // 55: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	42, // 56: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	42, // 57: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	43, // 58: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	3,  // 59: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	33, // 60: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	33, // 61: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	4,  // 62: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	35, // 63: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	36, // 64: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	37, // 65: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	38, // 66: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	44, // 67: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	41, // 68: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	41, // 69: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	41, // 70: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	41, // 71: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	41, // 72: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	45, // 73: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	74, // [74:74] is the sub-list for method output_type
-	74, // [74:74] is the sub-list for method input_type
-	74, // [74:74] is the sub-list for extension type_name
-	74, // [74:74] is the sub-list for extension extendee
-	0,  // [0:74] is the sub-list for field type_name
+	7,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	8,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	14, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	19, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	35, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	27, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	33, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	15, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	16, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	17, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	40, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	41, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	31, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	32, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	42, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	42, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	42, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	9,  // 17: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
+	10, // 18: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
+	11, // 19: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
+	12, // 20: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
+	13, // 21: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
+	0,  // 22: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
+	1,  // 23: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	2,  // 24: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	18, // 25: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	20, // 26: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	21, // 27: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	22, // 28: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	23, // 29: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	24, // 30: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	25, // 31: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	26, // 32: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	43, // 33: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	43, // 34: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	43, // 35: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	43, // 36: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	43, // 37: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	43, // 38: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	43, // 39: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	43, // 40: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	43, // 41: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	44, // 42: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	44, // 43: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	44, // 44: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	43, // 45: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	44, // 46: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	3,  // 47: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	28, // 48: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	29, // 49: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	30, // 50: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	42, // 51: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	43, // 52: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	42, // 53: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	43, // 54: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	42, // 55: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	42, // 56: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	43, // 57: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	43, // 58: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	44, // 59: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	4,  // 60: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	34, // 61: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	34, // 62: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	5,  // 63: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	36, // 64: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	37, // 65: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	38, // 66: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	39, // 67: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	45, // 68: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	42, // 69: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	42, // 70: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	42, // 71: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	42, // 72: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	42, // 73: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	46, // 74: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	75, // [75:75] is the sub-list for method output_type
+	75, // [75:75] is the sub-list for method input_type
+	75, // [75:75] is the sub-list for extension type_name
+	75, // [75:75] is the sub-list for extension extendee
+	0,  // [0:75] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -3273,7 +3344,7 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      5,
+			NumEnums:      6,
 			NumMessages:   34,
 			NumExtensions: 0,
 			NumServices:   0,
