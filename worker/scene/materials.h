@@ -132,7 +132,8 @@ struct MaterialCapabilities {
   // Emits a positive radiance: a shape with it is an area light.
   bool emits = false;
   // The share of the non-specular reflection that is diffuse, in [0, 1] (1 for Lambert):
-  // photons are stored on glossy surfaces with this probability.
+  // photons are stored on glossy surfaces with this probability, or with 1/2 if that is
+  // more (photon_tracer.cpp's kMinPhotonKeep).
   float diffuse_fraction = 0;
 };
 MaterialCapabilities CapabilitiesOf(const Material& material);

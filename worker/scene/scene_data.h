@@ -140,7 +140,9 @@ struct SceneData {
   // Whether the front sides of two nearby surface points see each other: each end moves
   // off its own surface along its normal (n0, n1 point to the sides that matter), never
   // through it, which the choice by direction in Visible can do for close points on a
-  // curved wall whose normals are quantised.
+  // curved wall whose normals are quantised; and by as much as a convex surface turning
+  // from n0 to n1 can bow out above the two (nothing for coplanar points), so that two
+  // points of one ball see each other while a wall between two points of a floor blocks.
   bool FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const;
   // Whether nothing lies on the segment between two ray origins already off their surfaces.
   bool SegmentClear(const Vec3& o0, const Vec3& o1) const;
