@@ -1,12 +1,14 @@
 #!/bin/sh
 # Issue 13's acceptance 2, the bench half: the atrium demonstration scene (scenes/atrium) at
 # 1280x720 on a two-worker farm (a coordinator and 2 farm-worker processes of one thread,
-# as `farm render` runs them but with the workers' logs kept), after the Cornell box at the
-# same size on the same farm as the baseline of the same run. Prints, for each, the
-# wall-clock time from submission to success (import and upload included for the atrium:
-# `farm submit` of the .glb) and each worker's peak resident memory over the job's tasks
-# (the largest `peak_memory_bytes` of its task lines, worker/README.md), and the atrium's
-# ratios to the baseline. The scene is rendered with the sampling `farm import` gives it.
+# as `farm render` runs them but with the workers' logs kept). First, on the same farm, the
+# baseline of the run: a 192x96 probe of the atrium as `farm import` samples it (1 sample
+# per pixel, edge anti-aliasing, final gathering with 64 gather rays, 200,000 global
+# photons, one round), with its textures and with every texture reference removed (what
+# textures cost). Then the atrium at 1280x720 with the bench's sampling (below). Prints, for
+# each render, the wall-clock seconds from submission to success and each worker's peak
+# resident memory over the job's tasks (the largest `peak_memory_bytes` of its task lines,
+# worker/README.md), and the ratios.
 #   bench/atrium.sh BUILD_DIR [OUT_DIR]     OUT_DIR keeps atrium.exr and atrium.png
 set -eu
 build=${1:-build}
@@ -24,10 +26,30 @@ trap cleanup EXIT INT TERM
 cd "$root"
 farm=$build/bin/farm
 go run ./scenes/atrium/gen -o "$tmp/atrium"
-# The baseline: the Cornell box's scene file with the atrium's film.
-python3 -c 'import json, sys
-s = json.load(open(sys.argv[1])); s["film"]["width"], s["film"]["height"] = 1280, 720
-json.dump(s, open(sys.argv[2], "w"))' scenes/cornell-box.json "$tmp/cornell-box.json"
+for size in 192x96 1280x720; do
+  "$farm" import "$tmp/atrium/atrium.glb" --environment "$tmp/atrium/sky.hdr" \
+    --width "${size%x*}" --height "${size#*x}" -o "$tmp/scene-$size/atrium.json" >/dev/null
+done
+# edit SCENE OUT PYTHON: OUT (beside SCENE, sharing its meshes and images) is SCENE with
+# PYTHON applied to its JSON object `s`.
+edit() {
+  python3 -c 'import json, sys
+s = json.load(open(sys.argv[1]))
+exec(sys.argv[3])
+json.dump(s, open(sys.argv[2], "w"))' "$1" "$2" "$3"
+}
+edit "$tmp/scene-192x96/atrium.json" "$tmp/scene-192x96/untextured.json" '
+for m in s["materials"]:
+    for k in [k for k in m.get("principled", {}) if k.endswith("Texture")]:
+        del m["principled"][k]'
+# The bench's sampling at 1280x720, chosen for a few minutes on two cores: 1 sample per
+# pixel and 4 on edges, 4 light samples, final gathering with 16 gather rays (4 after a
+# glossy bounce), 200,000 global and 200,000 caustic photons (the defaults), one round.
+edit "$tmp/scene-1280x720/atrium.json" "$tmp/scene-1280x720/bench.json" '
+s["sampling"] = {"samplesPerPixel": 1, "lightSamples": 4}
+s["antialiasing"] = {"edgeSamples": 4}
+s["indirect"] = {"gatherRays": 16, "secondaryGatherRays": 4}
+s["photons"] = {"globalPhotons": 200000, "causticPhotons": 200000}'
 
 "$farm" coordinator --listen 127.0.0.1:0 --data-dir "$tmp/data" 2>"$tmp/coordinator.log" &
 pids="$!"
@@ -45,12 +67,11 @@ for i in 1 2; do
   pids="$! $pids"
 done
 
-# render NAME FILE [SUBMIT FLAGS]: submits, waits, prints and keeps the seconds in $tmp/NAME.s
+# render NAME FILE: submits, waits, prints and keeps the seconds in $tmp/NAME.s
 render() {
   name=$1 file=$2
-  shift 2
   start=$(date +%s.%N)
-  job=$("$farm" submit "$file" "$@")
+  job=$("$farm" submit "$file")
   "$farm" watch "$job" >"$tmp/$name.watch" 2>&1 || { cat "$tmp/$name.watch" >&2; exit 1; }
   end=$(date +%s.%N)
   "$farm" fetch "$job" -o "$out" --name "$name" >/dev/null
@@ -59,16 +80,14 @@ render() {
   for i in 1 2; do
     peak=$(grep "job=$job " "$tmp/worker-$i.log" | sed -n 's/.*peak_memory_bytes=\([0-9]*\).*/\1/p' | sort -n | tail -1)
     tasks=$(grep -c "job=$job .*peak_memory_bytes" "$tmp/worker-$i.log" || true)
-    echo "${peak:-0}" >"$tmp/$name.peak-$i"
     printf ', worker %d peak %.0f MiB over %d tasks' "$i" "$(awk "BEGIN { print ${peak:-0} / 1048576 }")" "$tasks"
   done
   echo
 }
-render cornell-box "$tmp/cornell-box.json"
-render atrium "$tmp/atrium/atrium.glb" --environment "$tmp/atrium/sky.hdr" --width 1280 --height 720
-ratio() { awk "BEGIN { print $(cat "$tmp/$1") / $(cat "$tmp/$2") }"; }
-printf 'atrium / cornell-box: time %.2fx' "$(ratio atrium.s cornell-box.s)"
-for i in 1 2; do
-  printf ', worker %d peak memory %.2fx' "$i" "$(ratio "atrium.peak-$i" "cornell-box.peak-$i")"
-done
-echo
+ratio() { awk "BEGIN { print $(cat "$tmp/$1.s") / $(cat "$tmp/$2.s") }"; }
+render probe-192x96-untextured "$tmp/scene-192x96/untextured.json"
+render probe-192x96 "$tmp/scene-192x96/atrium.json"
+printf 'probe textured / untextured: time %.2fx\n' "$(ratio probe-192x96 probe-192x96-untextured)"
+render atrium "$tmp/scene-1280x720/bench.json"
+printf 'atrium 1280x720 / probe 192x96 (textured): time %.2fx for %.0fx the pixels\n' \
+  "$(ratio atrium probe-192x96)" "$(awk 'BEGIN { print 1280 * 720 / (192 * 96) }')"

@@ -40,6 +40,7 @@ type Metrics struct {
 	retries       prometheus.Counter
 	completions   *prometheus.CounterVec
 	jobsSubmitted prometheus.Counter
+	samples       *prometheus.CounterVec
 }
 
 // New registers every collector; count feeds the jobs and tasks gauges (nil: none).
@@ -75,8 +76,12 @@ func New(count CountFunc) *Metrics {
 			Name: "farm_jobs_submitted_total",
 			Help: "Jobs accepted by SubmitJob.",
 		}),
+		samples: prometheus.NewCounterVec(prometheus.CounterOpts{
+			Name: "farm_render_samples_total",
+			Help: "Camera samples of completed render tiles as their workers counted them (TileSamples), by outcome: \"all\"; \"nonfinite\", a light term NaN or infinite; \"zero\", exactly black although the path reached a non-specular surface. Either of the last two is a renderer bug where light reaches.",
+		}, []string{"outcome"}),
 	}
-	m.reg.MustRegister(m.rpcSeconds, m.rpcRefused, m.leases, m.leaseExpiries, m.retries, m.completions, m.jobsSubmitted,
+	m.reg.MustRegister(m.rpcSeconds, m.rpcRefused, m.leases, m.leaseExpiries, m.retries, m.completions, m.jobsSubmitted, m.samples,
 		collectors.NewGoCollector(), collectors.NewProcessCollector(collectors.ProcessCollectorOpts{}))
 	if count != nil {
 		m.reg.MustRegister(&stateCollector{count: count})
@@ -117,6 +122,15 @@ func (m *Metrics) TaskFailed() {
 func (m *Metrics) TaskCompleted(phase pb.Phase) {
 	if m != nil {
 		m.completions.WithLabelValues(tasks.Name(phase)).Inc()
+	}
+}
+
+// TileSamplesRendered counts a completed render tile's camera samples (nil: none).
+func (m *Metrics) TileSamplesRendered(s *pb.TileSamples) {
+	if m != nil && s != nil {
+		m.samples.WithLabelValues("all").Add(float64(s.GetSamples()))
+		m.samples.WithLabelValues("nonfinite").Add(float64(s.GetNonfinite()))
+		m.samples.WithLabelValues("zero").Add(float64(s.GetZero()))
 	}
 }
 

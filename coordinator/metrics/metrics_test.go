@@ -99,10 +99,15 @@ func TestCountersCountWhatTheyAreTold(t *testing.T) {
 	m.TaskFailed()
 	m.TaskCompleted(pb.Phase_PHASE_COMPOSITE)
 	m.JobSubmitted()
+	m.TileSamplesRendered(&pb.TileSamples{Samples: 1024, Nonfinite: 2, Zero: 5})
+	m.TileSamplesRendered(&pb.TileSamples{Samples: 1024, Zero: 1})
+	m.TileSamplesRendered(nil) // a task that is not a render tile
 	wantLines(t, scrape(t, m),
 		`farm_leases_granted_total{phase="render"} 2`, `farm_leases_granted_total{phase="emit"} 1`,
 		"farm_lease_expiries_total 1", "farm_task_failures_total 1",
-		`farm_tasks_completed_total{phase="composite"} 1`, "farm_jobs_submitted_total 1")
+		`farm_tasks_completed_total{phase="composite"} 1`, "farm_jobs_submitted_total 1",
+		`farm_render_samples_total{outcome="all"} 2048`, `farm_render_samples_total{outcome="nonfinite"} 2`,
+		`farm_render_samples_total{outcome="zero"} 6`)
 }
 
 func TestInterceptorTimesRealRPCsByMethodAndCode(t *testing.T) {
@@ -143,4 +148,5 @@ func TestNilMetricsCountNothingAndDoNotPanic(t *testing.T) {
 	m.TaskFailed()
 	m.TaskCompleted(pb.Phase_PHASE_RENDER)
 	m.JobSubmitted()
+	m.TileSamplesRendered(&pb.TileSamples{Samples: 1})
 }

@@ -161,7 +161,11 @@ func onLease[Resp any](ctx context.Context, req leaseReport, apply func(store.Le
 
 func (ws *workerServer) CompleteTask(ctx context.Context, req *pb.CompleteTaskRequest) (*pb.CompleteTaskResponse, error) {
 	return onLease[pb.CompleteTaskResponse](ctx, req, func(ref store.LeaseRef) error {
-		return ws.s.CompleteWithMetrics(ctx, ref, req.GetOutputs(), req.GetMetrics())
+		if err := ws.s.CompleteWithMetrics(ctx, ref, req.GetOutputs(), req.GetMetrics()); err != nil {
+			return err
+		}
+		ws.s.cfg.Metrics.TileSamplesRendered(req.GetSamples())
+		return nil
 	})
 }
 

@@ -45,6 +45,8 @@ func startRedisFarm(t *testing.T, extra ...string) *farmtest.Farm {
 func phasedScene(t *testing.T, f *farmtest.Farm) *pb.Scene {
 	sc := f.TestScene(t, 64, 48, 16, 4)
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: 80000, PhotonsPerShard: 20000}
+	// Gaussian-filtered: a tile a killed worker held is redone with the samples of its margin.
+	sc.Film.Filter = &pb.PixelFilter{Kind: &pb.PixelFilter_Gaussian{Gaussian: &pb.GaussianFilter{}}}
 	return sc
 }
 

@@ -28,6 +28,19 @@ func sizedScene(t *testing.T, f *farmtest.Farm, s sceneSize) *pb.Scene {
 	return f.TestScene(t, s.width, s.height, s.tile, s.spp)
 }
 
+// filtered gives s a pixel filter wider than a pixel, so that every tile also renders the
+// samples of a margin about it (docs/pixel-filters.md): Mitchell's (radius 2, a margin of
+// 2 pixels, negative lobes) or the Gaussian (radius 1.5, a margin of 1).
+func filtered(s *pb.Scene, filter *pb.PixelFilter) *pb.Scene {
+	s.Film.Filter = filter
+	return s
+}
+
+var (
+	mitchell = &pb.PixelFilter{Kind: &pb.PixelFilter_Mitchell{Mitchell: &pb.MitchellFilter{}}}
+	gaussian = &pb.PixelFilter{Kind: &pb.PixelFilter_Gaussian{Gaussian: &pb.GaussianFilter{}}}
+)
+
 // outdoors lights s as the issue 13 lights do besides its lamp: the atrium's
 // equirectangular sky (a Radiance HDR map, which the camera sees) and a sun with a disc,
 // each emitting photons through the scene's disc; and textures its floor: a principled
@@ -89,13 +102,15 @@ func checkBothWorkers(t *testing.T, list []*pb.Task, phase pb.Phase) {
 	}
 }
 
+// The textured, sky-lit scene with Mitchell's filter: tiles that share the samples of their
+// margins on different workers stitch into the bytes one worker makes.
 func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	// Two workers.
 	two := farmtest.StartFarm(t, nil)
 	w1, w2 := two.StartWorker(t), two.StartWorker(t)
 	w1.WorkerID(t, 15*time.Second)
 	w2.WorkerID(t, 15*time.Second)
-	job := two.Render(t, outdoors(t, two, sizedScene(t, two, stitchScene)), 90*time.Second)
+	job := two.Render(t, filtered(outdoors(t, two, sizedScene(t, two, stitchScene)), mitchell), 90*time.Second)
 	exrTwo := checkOutputs(t, two, job, stitchScene)
 
 	list := two.Tasks(t, job.GetId())
@@ -109,17 +124,18 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	// One worker, a fresh farm.
 	one := farmtest.StartFarm(t, nil)
 	one.StartWorker(t)
-	jobOne := one.Render(t, outdoors(t, one, sizedScene(t, one, stitchScene)), 90*time.Second)
+	jobOne := one.Render(t, filtered(outdoors(t, one, sizedScene(t, one, stitchScene)), mitchell), 90*time.Second)
 	exrOne := checkOutputs(t, one, jobOne, stitchScene)
 	if !bytes.Equal(farmtest.WithoutRenderTime(exrTwo), farmtest.WithoutRenderTime(exrOne)) {
 		t.Errorf("EXR from two workers (%d bytes) differs from the one from one worker (%d bytes)", len(exrTwo), len(exrOne))
 	}
 }
 
+// With the Gaussian filter, whose margins the redone tile renders again.
 func TestKilledWorkerLeaseExpiresAndJobCompletes(t *testing.T) {
 	f := farmtest.StartFarm(t, nil)
 	first := f.StartWorker(t)
-	sc := outdoors(t, f, sizedScene(t, f, leaseScene))
+	sc := filtered(outdoors(t, f, sizedScene(t, f, leaseScene)), gaussian)
 	job := f.Submit(t, sc)
 
 	victim := killWhileLeasing(t, f, first, job.GetId(), pb.Phase_PHASE_RENDER)

@@ -117,7 +117,11 @@ double RadiusScaleOf(double v) {
   return v;
 }
 
-TaskResult Outputs(std::vector<pb::Artifact> artifacts) { return TaskResult{std::move(artifacts), std::nullopt}; }
+TaskResult Outputs(std::vector<pb::Artifact> artifacts) {
+  TaskResult result;
+  result.outputs = std::move(artifacts);
+  return result;
+}
 
 // The previews' exposure and tone map (Scene.output; unset, the contract's FILMIC).
 PreviewSettings PreviewOf(const pb::Scene& scene) {
@@ -324,7 +328,8 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   }
   ThrowIfStopped(stop);
   const RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
-  const Image tile = farm::RenderTile(scene, photons, rect, round, stop, progress);
+  SampleCounts counts;
+  const Image tile = farm::RenderTile(scene, photons, rect, round, stop, progress, &counts);
   ThrowIfStopped(stop);  // A stopped render returns an unfinished image.
   if (tile.rect() != rect) throw std::runtime_error("renderer returned a tile of the wrong size");
   const std::string exr = EncodeTileExr(tile, film.size);
@@ -333,8 +338,13 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   // the composite reads only the tile EXR.
   const std::string png = EncodeTilePreviewPng(tile, preview);
   const std::string png_digest = blobs_.Upload(png, stop, progress);
-  return Outputs({MakeArtifact(pb::ARTIFACT_KIND_TILE_EXR, digest, exr.size()),
-                  MakeArtifact(pb::ARTIFACT_KIND_TILE_PNG, png_digest, png.size())});
+  TaskResult result = Outputs({MakeArtifact(pb::ARTIFACT_KIND_TILE_EXR, digest, exr.size()),
+                               MakeArtifact(pb::ARTIFACT_KIND_TILE_PNG, png_digest, png.size())});
+  result.samples.emplace();
+  result.samples->set_samples(counts.samples);
+  result.samples->set_nonfinite(counts.nonfinite);
+  result.samples->set_zero(counts.zero);
+  return result;
 }
 
 TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::stop_token stop,

@@ -33,11 +33,12 @@ class TaskCancelled : public std::runtime_error {
 // "render_tile (x 0, y 32, 32x32)", "composite (12 tiles)".
 std::string DescribeTask(const renderfarm::v1::Task& task);
 
-// What a finished task reports: its artifacts (already uploaded) and, for a composite, the
-// error metrics of the image so far.
+// What a finished task reports: its artifacts (already uploaded); for a composite, the
+// error metrics of the image so far; for a render tile, how its samples came out.
 struct TaskResult {
   std::vector<renderfarm::v1::Artifact> outputs;
   std::optional<renderfarm::v1::RoundMetrics> metrics;
+  std::optional<renderfarm::v1::TileSamples> samples;
 };
 
 class TaskExecutor {

@@ -367,7 +367,7 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   // One line per task, with the coordinator's names for what identifies it, and the peak
   // resident memory of the worker while it ran.
   const pb::Task& task = leased.task();
-  const auto log = [&](LogLevel level, std::string_view msg, std::initializer_list<LogAttr> more) {
+  const auto log = [&](LogLevel level, std::string_view msg, const std::vector<LogAttr>& more) {
     std::vector<LogAttr> attrs{{"job", task.job_id()},     {"task", lease.task_id()},
                                {"attempt", task.attempts()}, {"epoch", lease.epoch()},
                                {"worker", WorkerId()},     {"spec", DescribeTask(task)},
@@ -376,7 +376,7 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
       attrs.emplace_back("peak_memory_bytes", *peak);
       if (memory.since_start()) attrs.emplace_back("peak_memory_since", "process start");
     }
-    attrs.insert(attrs.end(), more);
+    attrs.insert(attrs.end(), more.begin(), more.end());
     // Only once textures are in use, so that other tasks' lines stay as they were.
     if (const std::uint64_t bytes = executor_.TextureCacheBytes(); bytes > 0) attrs.emplace_back("texture_cache_bytes", bytes);
     Log(level, msg, attrs);
@@ -395,7 +395,14 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   } else {
     spare_pause_.Reset();
     const std::string problem = ReportComplete(lease, result);
-    log(problem.empty() ? LogLevel::kInfo : LogLevel::kWarn, "task done", {{"report", problem.empty() ? "sent" : problem}});
+    std::vector<LogAttr> more{{"report", problem.empty() ? "sent" : problem}};
+    // A render tile's sample counts, so that a tile with bad samples shows in the log too.
+    if (result.samples) {
+      more.emplace_back("samples", result.samples->samples());
+      more.emplace_back("nonfinite_samples", result.samples->nonfinite());
+      more.emplace_back("zero_samples", result.samples->zero());
+    }
+    log(problem.empty() ? LogLevel::kInfo : LogLevel::kWarn, "task done", more);
   }
   {
     std::lock_guard lock(mu_);
@@ -428,6 +435,7 @@ std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResul
   NameLease(request, lease);
   for (const auto& a : result.outputs) *request.add_outputs() = a;
   if (result.metrics) *request.mutable_metrics() = *result.metrics;
+  if (result.samples) *request.mutable_samples() = *result.samples;
   return Report(lease, "CompleteTask", "result dropped", [&](grpc::ClientContext& ctx) {
     pb::CompleteTaskResponse response;
     return stub_->CompleteTask(&ctx, request, &response);

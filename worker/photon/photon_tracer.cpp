@@ -28,6 +28,12 @@ constexpr int kMaxBounces = 32;
 // two cores and to notice a stop request quickly.
 constexpr uint64_t kChunkPaths = 2048;
 
+// The least share of the photons a reflecting surface keeps. Glossy surfaces keep their
+// diffuse share, but a rough metal, which has none, must keep some too: a gather ray that
+// lands on it reads the irradiance there (integrator.h), and without photons its light
+// from the rest of the scene would be missing (the floor under a metal ball darkened).
+constexpr float kMinPhotonKeep = 0.5f;
+
 void CheckRequest(const PhotonShardRequest& r) {
   if (r.map != PhotonMapKind::kGlobal && r.map != PhotonMapKind::kCaustic)
     throw std::invalid_argument("TracePhotonShard: map kind " +
@@ -64,8 +70,9 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
 
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return;
-    // A photon is one sample among very many: a point lookup of the textures.
-    const Material material = MaterialAt(scene, *hit, ray.direction, 0);
+    // A photon is one sample among very many: a point lookup of the textures (emission
+    // aside: it scatters light, whatever the surface emits).
+    const Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{.emission = false});
     const Vec3 wi = -ray.direction;  // towards where the photon came from
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
@@ -77,10 +84,11 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
                               ? specular_bounces > 0
                               : diffuse_bounces > 0 || options.store_direct;
       if (wanted) {
-        // Glossy surfaces keep a photon only with the probability of their diffuse share;
-        // the kept ones carry proportionally more power, so the estimate stays unbiased.
-        const float keep = can.diffuse_fraction;
-        if (keep > 0 && u_store < keep)
+        // Glossy surfaces keep a photon only with the probability of their diffuse share,
+        // at least kMinPhotonKeep; the kept ones carry proportionally more power, so the
+        // estimate stays unbiased.
+        const float keep = std::max(can.diffuse_fraction, kMinPhotonKeep);
+        if (u_store < keep)
           out.push_back({hit->p, power / keep, wi, FaceForward(hit->n, wi)});
       }
       if (kind == PhotonMapKind::kCaustic && !can.specular) return;

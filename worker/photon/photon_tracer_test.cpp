@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <initializer_list>
 #include <numbers>
+#include <string>
 
 #include "contract/failure.h"
 #include "math/math.h"
@@ -66,10 +68,11 @@ double DiscAverage(const std::function<double(double, double)>& E, double cx, do
   return sum / weight;
 }
 
-TEST(PhotonTracer, PointLightPhotonsGiveIntensityCosOverDistanceSquared) {
-  // E(x) = I cos(theta) / d^2 = I h / (h^2 + x^2)^(3/2) on the floor under a point light at
-  // height h. 1M photons; discs of radius 0.15 hold ~5000 photons: 1.4% noise (1 sigma).
-  pb::Scene s = FloorScene();
+// E(x) = I cos(theta) / d^2 = I h / (h^2 + x^2)^(3/2) on the floor of s under a point light
+// at height h: the photons stored at the first hit (store_direct) within discs of radius
+// 0.15 at x on the floor, from 1M photons (~5000 a disc: 1.4% noise, 1 sigma). Returns s
+// with the light.
+pb::Scene ExpectPointLightIrradiance(pb::Scene s, std::initializer_list<double> xs) {
   const double I = 3, h = 1;
   auto* light = s.add_lights()->mutable_point();
   Set(light->mutable_position(), {0, 0, h});
@@ -78,13 +81,37 @@ TEST(PhotonTracer, PointLightPhotonsGiveIntensityCosOverDistanceSquared) {
   direct.store_direct = true;
   const auto photons = Trace(s, PhotonMapKind::kGlobal, 1'000'000, direct);
   const auto E = [&](double x, double y) { return I * h / std::pow(h * h + x * x + y * y, 1.5); };
-  for (double x : {0.0, 0.5, 1.0, 2.0}) {
+  for (double x : xs) {
     const double expected = DiscAverage(E, x, 0, 0.15);
     EXPECT_NEAR(DiscIrradiance(photons, Vec3(float(x), 0, 0), 0.15f), expected, 0.06 * expected)
         << "x = " << x;
   }
+  return s;
+}
+
+// A principled metal of base colour `base` (roughness 0: smooth, its lobe a delta).
+void AddMetal(pb::Scene& s, const std::string& name, float base, float roughness) {
+  pb::Material* m = s.add_materials();
+  m->set_name(name);
+  Set(m->mutable_principled()->mutable_base_color(), Rgb(base));
+  m->mutable_principled()->set_metallic(1);
+  m->mutable_principled()->set_roughness(roughness);
+}
+
+TEST(PhotonTracer, PointLightPhotonsGiveIntensityCosOverDistanceSquared) {
+  const pb::Scene s = ExpectPointLightIrradiance(FloorScene(), {0.0, 0.5, 1.0, 2.0});
   // Without store_direct the global map holds indirect light only: none on a black floor.
   EXPECT_TRUE(Trace(s, PhotonMapKind::kGlobal, 10'000).empty());
+}
+
+TEST(PhotonTracer, ARoughMetalKeepsPhotonsOfTheIrradianceArrivingOnIt) {
+  // The floor above made a rough principled metal, which has no diffuse share: it still
+  // keeps photons (final gathering reads the irradiance where a gather ray lands, a metal
+  // included), fewer of them carrying more power, so that they give the same E(x).
+  pb::Scene s = FloorScene();
+  AddMetal(s, "metal", 0.8f, 0.5f);
+  s.mutable_shapes(0)->set_material("metal");
+  ExpectPointLightIrradiance(s, {0.0, 1.0});
 }
 
 TEST(PhotonTracer, SpotLightPhotonsCarryTheConesClosedFormPowerWithItsFalloff) {
@@ -175,10 +202,7 @@ TEST(PhotonTracer, ASmoothPrincipledMetalCausticIsTheImageLightTimesSchlicksFres
   // a delta, so light -> ceiling -> floor is a caustic, weighted by Schlick's Fresnel at
   // the angle the image light's ray meets the floor at (the angle of reflection).
   pb::Scene s = FloorScene();
-  pb::Material* m = s.add_materials();
-  m->set_name("metal");
-  Set(m->mutable_principled()->mutable_base_color(), Rgb(0.8f));
-  m->mutable_principled()->set_metallic(1);
+  AddMetal(s, "metal", 0.8f, 0);
   AddQuad(s, "metal", {-6, -6, 2}, {12, 0, 0}, {0, 12, 0});
   auto* light = s.add_lights()->mutable_point();
   Set(light->mutable_position(), {0, 0, 1});

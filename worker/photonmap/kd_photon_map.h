@@ -34,6 +34,9 @@ class KdPhotonMap final : public PhotonMap {
   bool has_irradiance() const override { return irradiance_ != nullptr; }
   Rgb irradiance(std::size_t index) const override;
   DecodedPhoton photon(std::size_t index) const override;
+  // The k photons with the smallest (distance_squared, index) among those strictly within
+  // max_radius: a tie in distance goes to the lower index, so the set found depends on the
+  // map and the query alone, never on the order the search happens to visit the tree.
   void NearestK(const Vec3& p, int k, float max_radius,
                 std::vector<PhotonNeighbour>& out) const override;
 

@@ -9,6 +9,7 @@
 #include <random>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "photonmap/byte_io.h"
 #include "photonmap/kd_photon_map.h"
@@ -67,19 +68,23 @@ void CheckTree(const KdPhotonMap& map, std::size_t i, Vec3 lo, Vec3 hi) {
   CheckTree(map, 2 * i + 2, right_lo, hi);
 }
 
-std::vector<float> BruteForce(const PhotonMap& map, const Vec3& q, int k, float radius) {
-  std::vector<float> d2s;
+using Neighbour = std::pair<float, std::uint32_t>;  // (distance_squared, index)
+
+// The k photons strictly within radius with the smallest (distance_squared, index): ties
+// in distance go to the lower index, as KdPhotonMap::NearestK promises.
+std::vector<Neighbour> BruteForce(const PhotonMap& map, const Vec3& q, int k, float radius) {
+  std::vector<Neighbour> all;
   const float r2 = radius * radius;
   for (std::size_t i = 0; i < map.size(); ++i) {
     Vec3 p = map.photon(i).position;
     // Same float expression as the search, so boundary cases agree bit for bit.
     float dx = q.x - p.x, dy = q.y - p.y, dz = q.z - p.z;
     float d2 = dx * dx + dy * dy + dz * dz;
-    if (d2 < r2) d2s.push_back(d2);
+    if (d2 < r2) all.emplace_back(d2, std::uint32_t(i));
   }
-  std::sort(d2s.begin(), d2s.end());
-  if (d2s.size() > std::size_t(std::max(k, 0))) d2s.resize(std::max(k, 0));
-  return d2s;
+  std::sort(all.begin(), all.end());
+  if (all.size() > std::size_t(std::max(k, 0))) all.resize(std::max(k, 0));
+  return all;
 }
 
 TEST(PhotonSnapshotVectors, DecodedPhotonsEqualTheShardPhotons) {
@@ -144,12 +149,12 @@ TEST(PhotonSnapshotVectors, NearestKEqualsBruteForce) {
         for (int k : {1, 7, 50, int(map->size()) + 5}) {
           for (float radius : {0.05f, 0.3f, 10.0f}) {
             map->NearestK(q, k, radius, found);
-            std::vector<float> got;
+            std::vector<Neighbour> got;
             for (const PhotonNeighbour& n : found) {
               ASSERT_LT(n.index, map->size());
               Vec3 d = q - map->photon(n.index).position;
               ASSERT_EQ(n.distance_squared, d.x * d.x + d.y * d.y + d.z * d.z);
-              got.push_back(n.distance_squared);
+              got.emplace_back(n.distance_squared, n.index);
             }
             std::sort(got.begin(), got.end());
             ASSERT_EQ(got, BruteForce(*map, q, k, radius))

@@ -33,7 +33,7 @@ SceneOptions CheckerOnFences() {
   SceneOptions options;
   options.cutout_of = [](const pb::Material& m, int) -> CutoutTest {
     if (m.name() != "fence") return {};
-    return [](const SurfaceHit& hit) { return Hole(hit.uv); };
+    return [](const CutoutHit& hit) { return Hole(hit.uv); };
   };
   return options;
 }

@@ -1,6 +1,7 @@
 #include "render/integrator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -86,6 +87,22 @@ float GatherSpread(uint32_t count) { return std::sqrt(2 * kPi / float(std::max(c
 // A uniform float from 24 bits of a hash (for the rare choices of specular bounces).
 float HashFloat(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
 
+// Specular bounces at which a camera path that meets glass follows both the reflected and
+// the refracted ray (Sampling.specular SPLIT): at most 2^kSplitDepth branches a sample.
+constexpr int kSplitDepth = 3;
+constexpr int kMaxBranches = 1 << kSplitDepth;
+
+// u turned by a rotation (Cranley-Patterson) hashed from a branch's key and the
+// dimension: uniform again, and unchanged for key 0, so that a path that never splits
+// draws exactly what it drew before splitting existed.
+float ForBranch(float u, uint64_t key, uint32_t dimension) {
+  if (key == 0) return u;
+  const float v = u + HashFloat(Hash(key, dimension));
+  return v < 1 ? v : v - 1;
+}
+
+float MaxComponent(const Rgb& c) { return std::max({c.r, c.g, c.b}); }
+
 // Follows at most kGatherSpecularDepth specular bounces to the first non-specular surface
 // that reflects; nothing if the ray escapes, ends on an emitter or is absorbed. key seeds
 // the Fresnel choices; the ray's cone (footprint.h) reads the textures on the way. escaped
@@ -109,7 +126,8 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, RayCon
       return std::nullopt;
     }
     cone.width = cone.WidthAt(hit->t);
-    const Material material = MaterialAt(scene, *hit, ray.direction, cone.width);
+    // Nothing on this chain counts emission: gather rays ignore the emitters they hit.
+    const Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{cone.width, cone.filter, false});
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     const Vec3 wo = -ray.direction;
     // A smooth principled surface (specular and diffuse) ends the chain too: where a gather
@@ -140,6 +158,34 @@ Rgb Excess(const Rgb& a, const Rgb& b) {
 float BalanceWeight(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
 
 }  // namespace
+
+// One branch of a camera path: its ray and cone, the throughput it carries, the product of
+// the split shares it took (1 on a path that never split), and the key that turns the
+// sample's dimensions into its own (0 for the path's first branch).
+struct PhotonMappingIntegrator::PathBranch {
+  Ray ray;
+  RayCone cone;
+  Rgb throughput;
+  float share = 1;
+  uint64_t key = 0;
+};
+
+// The sampler's dimensions of one bounce.
+struct PhotonMappingIntegrator::BounceDimensions {
+  float seed = 0, lobe = 0;
+  Vec2 direction;
+  float survive = 0;
+  Vec2 glossy;
+};
+
+// The branches of one bounce (kMaxBranches bounds them: only the first kSplitDepth
+// bounces split).
+struct PhotonMappingIntegrator::Branches {
+  std::array<PathBranch, kMaxBranches> at;
+  int count = 0;
+
+  void Push(const PathBranch& branch) { at[count++] = branch; }
+};
 
 RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& s) {
   RadianceEstimateSettings r;
@@ -172,76 +218,26 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
 SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sampler,
                                          std::vector<PhotonNeighbour>& scratch) const {
   SampleResult result;
-  Ray ray = camera_ray;
-  Rgb throughput(1);
-  // The pixel's cone, passed on unchanged by specular bounces (footprint.h).
-  RayCone cone{0, scene_.camera.PixelSpreadAngle()};
-  for (int depth = 0; depth < kMaxSpecularDepth; ++depth) {
+  // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
+  Branches branches;
+  branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, Rgb(1), 1, 0});
+  for (int depth = 0; depth < kMaxSpecularDepth && branches.count > 0; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
-    // bounce uses do not depend on what earlier bounces hit.
-    const float u_seed = sampler.Get1D();
-    const float u_lobe = sampler.Get1D();
-    const Vec2 u_direction = sampler.Get2D();
-    const float u_survive = sampler.Get1D();
-    const Vec2 u_glossy = sampler.Get2D();
-
-    const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
-    if (!hit) {
-      // The environment, seen directly (unless hidden) or through specular bounces, which
-      // only this path can reach (a delta BSDF): no other strategy shares it.
-      if (scene_.environment && (depth > 0 || scene_.environment_visible)) {
-        result.emitted += throughput * scene_.environment->Radiance(ray.direction);
-        if (depth == 0) result.alpha = 1;  // the background is part of the picture
-      }
-      break;
-    }
-    const Vec3 wo = -ray.direction;
-    cone.width = cone.WidthAt(hit->t);
-    const Material material = MaterialAt(scene_, *hit, ray.direction, cone.width);
-    const Shading at(*hit, wo, material, cone.width);
-    if (depth == 0) {
-      result.alpha = 1;
-      result.hit = true;
-      result.albedo = Albedo(material);
-      result.normal = at.ns;
-      result.depth = hit->t;
-    }
-    result.emitted += throughput * Emitted(material, hit->n, wo);
-
-    const MaterialCapabilities& can = scene_.capabilities_of(*hit);
-    if (can.reflects) {
-      // 2^32 levels from the sample's dimension, hashed so that nearby values give
-      // unrelated scrambles.
-      const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
-      Rgb direct, caustic, indirect;
-      const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
-      Shade(at, strategies, seed, scratch, direct, caustic, indirect);
-      if (final_gather_) {
-        const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
-        direct += glossy.direct;
-        indirect += glossy.indirect;
-      }
-      // Added, not set: a smooth principled surface is shaded for its diffuse base here and
-      // followed through its specular lobe below, and what lies beyond adds its own.
-      result.direct += throughput * direct;
-      result.caustic += throughput * caustic;
-      result.indirect += throughput * indirect;
-    }
-    if (!can.specular) break;
-
-    const std::optional<BsdfSample> s =
-        SampleSpecular(material, hit->ns, wo, u_lobe, u_direction, TransportMode::kRadiance);
-    if (!s) break;
-    throughput = throughput * s->weight;
-    if (depth >= kRouletteDepth) {
-      const float survive = std::min(1.0f, std::max({throughput.r, throughput.g, throughput.b}));
-      if (!(survive > 0) || u_survive >= survive) break;
-      throughput = throughput / survive;
-    }
-    if (!throughput.IsFinite() || throughput.IsBlack()) break;
-    ray = Ray{OffsetRayOrigin(hit->p, hit->n, s->wi, scene_.ray_epsilon), s->wi};
+    // bounce uses do not depend on what earlier bounces hit; the branches share them.
+    BounceDimensions u;
+    u.seed = sampler.Get1D();
+    u.lobe = sampler.Get1D();
+    u.direction = sampler.Get2D();
+    u.survive = sampler.Get1D();
+    u.glossy = sampler.Get2D();
+    Branches next;
+    for (int b = 0; b < branches.count; ++b) Bounce(branches.at[b], depth, u, scratch, result, next);
+    branches = next;
   }
-  // Never let NaN or infinity through: a bad term is dropped, not the whole sample.
+  // Never let NaN or infinity through: a bad term is dropped, not the whole sample, and
+  // the sample counted (the tile renderer's non-finite count: a bug to find, not hide).
+  result.nonfinite = !(result.emitted.IsFinite() && result.direct.IsFinite() && result.caustic.IsFinite() &&
+                       result.indirect.IsFinite());
   result.emitted = Finite(result.emitted);
   result.direct = Finite(result.direct);
   result.caustic = Finite(result.caustic);
@@ -250,6 +246,90 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   if (!std::isfinite(result.depth)) result.depth = 0;
   result.radiance = result.emitted + result.direct + result.indirect + result.caustic;
   return result;
+}
+
+void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const BounceDimensions& u,
+                                     std::vector<PhotonNeighbour>& scratch, SampleResult& result,
+                                     Branches& next) const {
+  const Ray& ray = branch.ray;
+  const Rgb& throughput = branch.throughput;
+  const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
+  if (!hit) {
+    // The environment, seen directly (unless hidden) or through specular bounces, which
+    // only this path can reach (a delta BSDF): no other strategy shares it.
+    if (scene_.environment && (depth > 0 || scene_.environment_visible)) {
+      result.emitted += throughput * scene_.environment->Radiance(ray.direction);
+      if (depth == 0) result.alpha = 1;  // the background is part of the picture
+    }
+    return;
+  }
+  const Vec3 wo = -ray.direction;
+  const RayCone cone{branch.cone.WidthAt(hit->t), branch.cone.spread};
+  const Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
+  const Shading at(*hit, wo, material, cone.width);
+  if (depth == 0) {
+    result.alpha = 1;
+    result.hit = true;
+    result.albedo = Albedo(material);
+    result.normal = at.ns;
+    result.depth = hit->t;
+  }
+  result.emitted += throughput * Emitted(material, hit->n, wo);
+
+  const MaterialCapabilities& can = scene_.capabilities_of(*hit);
+  if (can.reflects) {
+    result.shaded = true;
+    // 2^32 levels from the sample's dimension, hashed so that nearby values give
+    // unrelated scrambles.
+    const float u_seed = ForBranch(u.seed, branch.key, 0);
+    const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
+    Rgb direct, caustic, indirect;
+    const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
+    Shade(at, strategies, seed, scratch, direct, caustic, indirect);
+    if (final_gather_) {
+      const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
+      const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+      direct += glossy.direct;
+      indirect += glossy.indirect;
+    }
+    // Added, not set: a smooth principled surface is shaded for its diffuse base here and
+    // followed through its specular lobe below, and what lies beyond adds its own.
+    result.direct += throughput * direct;
+    result.caustic += throughput * caustic;
+    result.indirect += throughput * indirect;
+  }
+  if (!can.specular) return;
+
+  const auto go_on = [&](const Vec3& wi, const Rgb& t, float share, uint64_t key) {
+    if (!t.IsFinite() || t.IsBlack()) return;
+    next.Push({Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi}, cone, t, share, key});
+  };
+  if (scene_.split_specular && depth < kSplitDepth) {
+    if (const std::optional<SpecularSplit> split = SplitSpecular(material, hit->ns, wo, TransportMode::kRadiance)) {
+      // The refracted branch keeps the path's key, the reflected one takes a new one, so
+      // that the branches' shading points draw unrelated numbers.
+      const auto share = [&](const BsdfSample& s) { return branch.share * MaxComponent(s.weight); };
+      if (split->transmitted)
+        go_on(split->transmitted->wi, throughput * split->transmitted->weight, share(*split->transmitted),
+              branch.key);
+      go_on(split->reflected.wi, throughput * split->reflected.weight, share(split->reflected),
+            Hash(branch.key, uint64_t(depth) + 1));
+      return;
+    }
+  }
+  const Vec2 u_direction{ForBranch(u.direction.x, branch.key, 3), ForBranch(u.direction.y, branch.key, 4)};
+  const std::optional<BsdfSample> s = SampleSpecular(material, hit->ns, wo, ForBranch(u.lobe, branch.key, 5),
+                                                     u_direction, TransportMode::kRadiance);
+  if (!s) return;
+  Rgb t = throughput * s->weight;
+  if (depth >= kRouletteDepth) {
+    // On what the path has lost besides its split shares: a branch is not cut for being
+    // one of several.
+    const float survive = std::min(1.0f, MaxComponent(t) / branch.share);
+    if (!(survive > 0) || ForBranch(u.survive, branch.key, 6) >= survive) return;
+    t = t / survive;
+  }
+  go_on(s->wi, t, branch.share, branch.key);
 }
 
 void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
@@ -334,7 +414,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
     if (kd.IsBlack()) continue;
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
     bool escaped_directly = false;
-    indirect += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count)}, i, seed, scratch, escaped_directly);
+    indirect += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed, scratch, escaped_directly);
     if (escaped_directly && scene_.environment_light >= 0) {
       // The environment seen by a gather ray is direct light, shared with light sampling.
       const float gather = float(count) * CosineHemispherePdf(local.z);

@@ -1,9 +1,9 @@
 #pragma once
 
 // The photon-mapping integrator (Jensen's two-pass method with Christensen's precomputed
-// irradiance): a camera ray follows specular bounces (mirror, glass by a Fresnel choice,
-// metal; bounded depth and Russian roulette) to the first non-specular surface, where the
-// light leaving it is split into
+// irradiance): a camera ray follows specular bounces (mirror, metal, glass; bounded depth
+// and Russian roulette) to the first non-specular surface, where the light leaving it is
+// split into
 //
 //   emitted   its own emission, and that of emitters seen through specular bounces; the
 //             environment where the camera ray leaves the scene (unless it is hidden from
@@ -29,6 +29,13 @@
 //             estimate seen directly (over the surface its disc covers, as the caustic's).
 //
 // each weighted by the throughput of the specular path, so the four add up to the beauty.
+// Glass reflects and refracts: at a camera path's first three specular bounces (SPLIT, the
+// default of Sampling.specular) the path splits and follows both, each branch weighted by
+// its Fresnel share (the seed renderer's Whitted-style glass, so one sample per pixel shows
+// a glass sphere without speckle); later bounces, and every bounce in CHOOSE mode, follow
+// one of the two at random with the Fresnel probabilities. Branches share the sample's
+// dimensions, each turned by a rotation hashed from its own key, so a sample's value still
+// depends only on (seed, pixel, sample index).
 // A smooth principled surface with a diffuse base (specular and reflecting at once) is
 // shaded for its base like any diffuse surface, and the path goes on through its lobe;
 // where a gather ray lands on one, its albedo reflects the irradiance as if diffuse.
@@ -36,8 +43,9 @@
 // Every hit reads its material's textures (scene/surface_shading.h) over the footprint of
 // the ray's cone (texture/footprint.h): camera rays start with the pixel's spread angle,
 // which specular bounces and the glossy bounce pass on; gather rays start where the cone
-// is at their origin and spread by sqrt(2 pi / gather_rays), the side of each one's share
-// of the hemisphere.
+// is at their origin, spread by sqrt(2 pi / gather_rays), the side of each one's share of
+// the hemisphere, and read with the isotropic filter (TextureFilter). Only camera paths
+// read emission textures: nothing else counts emission.
 // The terms cover disjoint sets of paths: shadow rays are blocked by glass, whose light
 // arrives through the caustic map; the global map (and so the precomputed irradiance)
 // holds no direct light; gather rays ignore the emitters they hit (direct light covers
@@ -80,6 +88,11 @@ struct SampleResult {
   Rgb albedo;
   Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
+  // Whether the path (a branch of it) reached a non-specular surface and shaded it: such a
+  // sample is black only where no light reaches.
+  bool shaded = false;
+  // Whether a light term came out NaN or infinite (and was dropped, so radiance is finite).
+  bool nonfinite = false;
 };
 
 // The job's photon maps (either may be null) with their estimate settings.
@@ -99,8 +112,9 @@ class PhotonMappingIntegrator {
   PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
                           double radius_scale = 1.0);
 
-  // Consumes sampler dimensions after the camera's: six per specular bounce, drawn before
-  // any early exit, so a bounce's dimensions do not depend on what earlier bounces hit.
+  // Consumes sampler dimensions after the camera's: seven per specular bounce, drawn
+  // before any early exit, so a bounce's dimensions do not depend on what earlier bounces
+  // hit (the branches of a split path share them).
   // Gather rays and shadow rays take stratified (Owen-scrambled Sobol) points whose
   // scrambles come from those dimensions, so the result depends only on (seed, pixel,
   // sample index). scratch is reused between calls (one per thread). Never returns NaN or
@@ -116,6 +130,9 @@ class PhotonMappingIntegrator {
 
  private:
   struct Shading;
+  struct PathBranch;
+  struct BounceDimensions;
+  struct Branches;
   // The BSDF-sampled rays a shading point takes besides its light samples: gather rays of
   // the diffuse lobe (0 for none) and whether a glossy bounce follows.
   struct Strategies {
@@ -127,6 +144,10 @@ class PhotonMappingIntegrator {
     Rgb direct, indirect;
   };
 
+  // One bounce of one branch of a camera path: adds what its hit emits and reflects to
+  // result, and the branches that go on from it to next (two where glass splits it).
+  void Bounce(const PathBranch& branch, int depth, const BounceDimensions& u, std::vector<PhotonNeighbour>& scratch,
+              SampleResult& result, Branches& next) const;
   // Direct + caustic + indirect leaving a non-specular hit along wo; no gather rays means
   // the global map's estimate instead of gathering. seed scrambles the stratified points.
   void Shade(const Shading& at, const Strategies& strategies, uint32_t seed,

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "render/tile_renderer.h"
 #include "scene/fresnel.h"
+#include "scene/scene_data.h"
 #include "scene/test_scenes.h"
 
 namespace farm {
@@ -60,6 +62,78 @@ TEST(SpecularPaths, GlassSlabTransmitsEmitterRadianceUnscaledOnTheWayOut) {
   const double expected = (1 - R) / (1 + R);
   const Rgb L = CentrePixel(s);
   EXPECT_NEAR(L.g, expected, 0.01) << "R = " << R;
+}
+
+// The slab of GlassSlabTransmitsEmitterRadianceUnscaledOnTheWayOut in a 4x4 image at one
+// sample per pixel, glass sampled as `specular` says.
+Image GlassSlabAtOneSample(pb::SpecularSampling specular) {
+  pb::Scene s = MakeScene(4, 4, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 0.5, 1, 3);
+  s.mutable_sampling()->set_specular(specular);
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);  // one sample, also at edges
+  AddEmissive(s, "lamp", Rgb(1));
+  AddMaterial(s, "glass", [](pb::Material* m) { m->mutable_dielectric()->set_ior(1.5); });
+  AddQuad(s, "glass", {-5, -5, 5}, {0, 10, 0}, {10, 0, 0});
+  AddQuad(s, "glass", {-5, -5, 5.5}, {10, 0, 0}, {0, 10, 0});
+  AddQuad(s, "lamp", {-50, -50, 10}, {0, 100, 0}, {100, 0, 0});
+  return RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 4, 4});
+}
+
+TEST(SpecularPaths, SplitGlassSlabIsItsClosedFormAtOneSample) {
+  // SPLIT follows both ways at the first three faces: the light through both faces,
+  // (1 - R)^2, and the first inter-reflection are exact, and what is left to chance after
+  // the third face carries at most (1 - R) R^2 (0.0015). A path that chooses at every face
+  // brings the lamp whole (1) or nothing: never the mean, at least R^2 + R (1 - R) / (1 + R)
+  // (0.075) away from it.
+  const double R = FresnelDielectric(1, 1.5f);
+  const double expected = (1 - R) / (1 + R);
+  const Image split = GlassSlabAtOneSample(pb::SPECULAR_SAMPLING_SPLIT);
+  const Image choose = GlassSlabAtOneSample(pb::SPECULAR_SAMPLING_CHOOSE);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      EXPECT_NEAR(split.pixel(x, y)[1], expected, 2 * (1 - R) * R * R) << "pixel " << x << ", " << y;
+      EXPECT_GT(std::abs(choose.pixel(x, y)[1] - expected), 0.07) << "pixel " << x << ", " << y;
+    }
+}
+
+TEST(SpecularPaths, GlassSphereInAWhiteFurnaceStaysWhiteEitherWay) {
+  // Lossless glass in a constant white environment, nothing else: every path that leaves
+  // the sphere sees radiance 1 and every bounce conserves it (R + (1 - R) = 1, and the
+  // 1 / eta^2 going in is eta^2 coming out), so each pixel's expected value is exactly 1
+  // with either strategy; Russian roulette inside the sphere is all that varies.
+  for (const pb::SpecularSampling specular : {pb::SPECULAR_SAMPLING_SPLIT, pb::SPECULAR_SAMPLING_CHOOSE}) {
+    pb::Scene s = MakeScene(16, 16, {0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 30, 64, 7);
+    s.mutable_sampling()->set_specular(specular);
+    Set(s.mutable_environment()->mutable_radiance(), Rgb(1));
+    AddMaterial(s, "glass", [](pb::Material* m) { m->mutable_dielectric()->set_ior(1.5); });
+    AddSphere(s, "glass", {0, 0, 0}, 1);
+    const Image image = RenderTile(Scene::Build(s, NoBlobs()), nullptr, {0, 0, 16, 16});
+    double sum = 0;
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) sum += image.pixel(x, y)[1];
+    EXPECT_NEAR(sum / 256, 1.0, 2e-3) << pb::SpecularSampling_Name(specular);
+  }
+}
+
+TEST(SpecularPaths, SplitGlassGivesTheSameBytesWhateverTheTiles) {
+  // A split path's branches draw from its sample's dimensions: tiles still stitch into the
+  // whole image's bytes.
+  pb::Scene s = MakeScene(16, 12, {0, 1, 5}, {0, 0.5, 0}, {0, 1, 0}, 40, 2, 9);
+  AddLambert(s, "floor", Rgb(0.6f));
+  AddEmissive(s, "lamp", Rgb(4));
+  AddMaterial(s, "glass", [](pb::Material* m) { m->mutable_dielectric()->set_ior(1.5); });
+  AddQuad(s, "floor", {-5, 0, -5}, {0, 0, 10}, {10, 0, 0});  // front +y
+  AddQuad(s, "lamp", {-1, 3, -1}, {2, 0, 0}, {0, 0, 2});     // faces down
+  AddSphere(s, "glass", {0, 0.6, 0}, 0.6);
+  const Scene scene = Scene::Build(s, NoBlobs());
+  ASSERT_TRUE(scene.data().split_specular);
+  const Image whole = RenderTile(scene, nullptr, {0, 0, 16, 12});
+  for (const PixelRect& tile : {PixelRect{0, 0, 9, 5}, PixelRect{9, 0, 7, 5}, PixelRect{0, 5, 16, 7}}) {
+    const Image part = RenderTile(scene, nullptr, tile);
+    for (int y = tile.y; y < tile.y_end(); ++y)
+      for (int x = tile.x; x < tile.x_end(); ++x)
+        ASSERT_EQ(std::memcmp(whole.pixel(x, y), part.pixel(x, y), whole.channel_count() * sizeof(float)), 0)
+            << "pixel " << x << ", " << y;
+  }
 }
 
 TEST(SpecularPaths, GoldReflectsItsFresnelColour) {

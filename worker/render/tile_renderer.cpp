@@ -4,12 +4,15 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "render/edge_detect.h"
+#include "render/filter_splats.h"
 #include "render/integrator.h"
 #include "sampling/hash.h"
 #include "sampling/pixel_sampler.h"
@@ -35,6 +38,14 @@
 // Apron pixels are computed exactly as in their own tile and the edge decision reads only
 // the 3x3 base-pass neighbourhood clamped at the image border, so tiles stitch into the
 // same bytes as one whole-image render.
+//
+// With a pixel filter wider than the box of radius 1/2 (scene/pixel_filter.h), the pixels
+// within the filter's margin of the tile are sampled too, each as in its own tile (edge
+// pixels among them supersampled, their edge decision on an apron about the margin), and
+// every sample is splatted onto the tile pixels it reaches (render/filter_splats.h); the
+// light channels are the filtered ones. Normal and depth stay the mean over the pixel's own
+// samples that hit: a weighted mean of depths across a silhouette is no depth, and a
+// negative lobe could turn a normal around.
 
 namespace farm {
 namespace {
@@ -68,11 +79,22 @@ PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
   return maps;
 }
 
-void Add(Sums& sum, int at, const Rgb& c) {
+void Add(double* sum, int at, const Rgb& c) {
   sum[at] += c.r;
   sum[at + 1] += c.g;
   sum[at + 2] += c.b;
 }
+
+// Adds a sample's light channels, [kBeauty, kNormal), the ones a pixel filter weighs.
+void AddLight(const SampleResult& r, double* sum) {
+  Add(sum, kBeauty, r.radiance);
+  sum[kAlpha] += r.alpha;
+  Add(sum, kDirect, r.direct);
+  Add(sum, kIndirect, r.indirect);
+  Add(sum, kCaustic, r.caustic);
+  Add(sum, kAlbedo, r.albedo);
+}
+static_assert(kNormal == FilterSplats::kChannels, "the filtered channels are the light channels");
 
 // The per-round sampling plan, the same for every pixel of the scene.
 struct SamplePlan {
@@ -95,29 +117,47 @@ struct SamplePlan {
   }
 };
 
-// Draws camera samples of single pixels; one per thread.
+// The tile's SampleCounts, added to by every thread.
+struct SampleTally {
+  std::atomic<uint64_t> samples{0}, nonfinite{0}, zero{0};
+
+  SampleCounts Counts() const { return {samples.load(), nonfinite.load(), zero.load()}; }
+};
+
+// Draws camera samples of single pixels; one per thread. Counts its samples' outcomes,
+// adding them to the tile's tally when it ends.
 class PixelRenderer {
  public:
   PixelRenderer(const SceneData& data, const PhotonMappingIntegrator& integrator,
-                const SamplePlan& plan)
-      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed) {}
+                const SamplePlan& plan, SampleTally& tally)
+      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed), tally_(tally) {}
+  ~PixelRenderer() {
+    tally_.samples += counts_.samples;
+    tally_.nonfinite += counts_.nonfinite;
+    tally_.zero += counts_.zero;
+  }
+  PixelRenderer(const PixelRenderer&) = delete;
+  PixelRenderer& operator=(const PixelRenderer&) = delete;
 
-  // Adds samples [from, to) of pixel (x, y) to sum, in sample order.
-  void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum) {
+  // Adds samples [from, to) of pixel (x, y) to sum, in sample order, and splats them if
+  // splats is not null.
+  void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum, FilterSplats* splats) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
-      const Vec2 u = sampler_.Get2D();  // box filter over the pixel
+      const Vec2 u = sampler_.Get2D();  // uniform over the pixel; a filter weighs it
       // A pinhole draws no lens sample, so that its images keep their dimensions.
       const Vec2 lens = data_.camera.has_lens() ? sampler_.Get2D() : Vec2{};
-      const Ray ray = data_.camera.GenerateRay({x + u.x, y + u.y}, lens);
+      const Vec2 film{x + u.x, y + u.y};
+      const Ray ray = data_.camera.GenerateRay(film, lens);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
-      Add(sum, kBeauty, r.radiance);
-      sum[kAlpha] += r.alpha;
-      Add(sum, kDirect, r.direct);
-      Add(sum, kIndirect, r.indirect);
-      Add(sum, kCaustic, r.caustic);
-      Add(sum, kAlbedo, r.albedo);
+      Count(r);
+      AddLight(r, sum.data());
+      if (splats) {
+        std::array<double, FilterSplats::kChannels> light{};
+        AddLight(r, light.data());
+        splats->Add(x, y, film.x, film.y, light.data());
+      }
       if (r.hit) {
         sum[kHits] += 1;
         sum[kNormal] += r.normal.x;
@@ -129,10 +169,18 @@ class PixelRenderer {
   }
 
  private:
+  void Count(const SampleResult& r) {
+    ++counts_.samples;
+    if (r.nonfinite) ++counts_.nonfinite;
+    if (r.shaded && r.radiance.IsBlack()) ++counts_.zero;
+  }
+
   const SceneData& data_;
   const PhotonMappingIntegrator& integrator_;
   PixelSampler sampler_;
   std::vector<PhotonNeighbour> scratch_;
+  SampleTally& tally_;
+  SampleCounts counts_;
 };
 
 // Runs pixel(renderer, x, y) on every pixel of area. Rows are the unit of parallel work
@@ -140,9 +188,9 @@ class PixelRenderer {
 // are summed in sample order by one thread, so the result is independent of the partition.
 template <typename Pixel>
 void ForEachPixel(const PixelRect& area, const SceneData& data, const PhotonMappingIntegrator& integrator,
-                  const SamplePlan& plan, const std::stop_token& stop, Pixel pixel) {
+                  const SamplePlan& plan, SampleTally& tally, const std::stop_token& stop, Pixel pixel) {
   tbb::parallel_for(tbb::blocked_range<int>(area.y, area.y_end()), [&](const tbb::blocked_range<int>& rows) {
-    PixelRenderer renderer(data, integrator, plan);
+    PixelRenderer renderer(data, integrator, plan, tally);
     for (int y = rows.begin(); y < rows.end(); ++y) {
       if (stop.stop_requested()) return;
       for (int x = area.x; x < area.x_end(); ++x) pixel(renderer, x, y);
@@ -184,71 +232,97 @@ std::vector<std::string> RenderChannels() {
 }
 
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
-                 const RoundSettings& round, std::stop_token stop, Progress progress) {
+                 const RoundSettings& round, std::stop_token stop, Progress progress, SampleCounts* counts) {
   const SceneData& data = scene.data();
   CheckArguments(data, rect, round);
   Image image(rect, RenderChannels());
   if (rect.width == 0 || rect.height == 0) return image;
   const PhotonMappingIntegrator integrator(data, MapsOf(data, photons), round.radius_scale);
   const SamplePlan plan = SamplePlan::Of(data, round);
+  const ImageSize size{data.width, data.height};
+  SampleTally tally;
+  // Whichever way the render ends, the counts are of the samples it drew.
+  const auto report = [&] {
+    if (counts) *counts = tally.Counts();
+  };
 
-  // Without edge detection each pixel is independent: one pass.
-  if (!plan.detect_edges) {
-    const uint32_t n = plan.supersample_all ? plan.supersampled : plan.base;
-    const bool supersampled = n > plan.base;
-    ForEachPixel(rect, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
-      Sums sum{};
-      renderer.AddSamples(x, y, 0, n, sum);
-      WritePixel(sum, n, supersampled, image.pixel(x, y));
-      // Per pixel, not per row: a row of a heavy scene can take long, and one relaxed add
-      // per pixel costs nothing beside it.
-      progress.Advance(n);
-    });
+  // The pixels whose samples count: the tile, and with a filter wider than a pixel its
+  // margin.
+  std::optional<FilterSplats> splats;
+  if (!data.filter.is_pixel_box()) splats.emplace(data.filter, rect, size);
+  FilterSplats* const splat = splats ? &*splats : nullptr;
+  const PixelRect source = splats ? splats->source() : rect;
+
+  // Base pass: every pixel of source, and with edge detection the apron it is judged on.
+  const PixelRect area = plan.detect_edges ? ApronArea(source, size) : source;
+  const uint32_t first = plan.supersample_all ? plan.supersampled : plan.base;
+  std::vector<Sums> sums(static_cast<std::size_t>(area.width) * area.height);
+  const auto sum_at = [&](int x, int y) -> Sums& {
+    return sums[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
+  };
+  std::optional<LogLuminanceGrid> luminance;
+  if (plan.detect_edges) luminance.emplace(area);
+  ForEachPixel(area, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
+    Sums& sum = sum_at(x, y);
+    renderer.AddSamples(x, y, 0, first, sum, splat);
+    if (luminance) {
+      const double n = first;
+      luminance->set(x, y, EdgeLogLuminance(float(sum[kBeauty] / n), float(sum[kBeauty + 1] / n),
+                                            float(sum[kBeauty + 2] / n)));
+    }
+    // Per pixel, not per row: a row of a heavy scene can take long, and one relaxed add
+    // per pixel costs nothing beside it.
+    progress.Advance(first);
+  });
+  if (stop.stop_requested()) {
+    report();
     return image;
   }
 
-  // Base pass over the tile and its apron.
-  const PixelRect area = ApronArea(rect, {data.width, data.height});
-  std::vector<Sums> base(static_cast<std::size_t>(area.width) * area.height);
-  const auto base_at = [&](int x, int y) -> Sums& {
-    return base[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
+  // Samples each pixel of source took.
+  std::vector<std::uint32_t> samples(static_cast<std::size_t>(source.width) * source.height, first);
+  const auto samples_at = [&](int x, int y) -> std::uint32_t& {
+    return samples[static_cast<std::size_t>(y - source.y) * source.width + (x - source.x)];
   };
-  LogLuminanceGrid luminance(area);
-  ForEachPixel(area, data, integrator, plan, stop, [&](PixelRenderer& renderer, int x, int y) {
-    Sums& sum = base_at(x, y);
-    renderer.AddSamples(x, y, 0, plan.base, sum);
-    const double n = plan.base;
-    luminance.set(x, y,
-                  EdgeLogLuminance(float(sum[kBeauty] / n), float(sum[kBeauty + 1] / n), float(sum[kBeauty + 2] / n)));
-    progress.Advance(plan.base);
-  });
-  if (stop.stop_requested()) return image;
+  if (plan.detect_edges) {
+    const std::vector<std::uint8_t> edges = DetectEdges(*luminance, source, data.antialiasing.edge_threshold);
+    // Edge pixels continue where their base samples ended. They cluster along a few rows,
+    // so the work is split by edge pixel, not by row, to keep both threads busy.
+    std::vector<std::pair<int, int>> edge_pixels;
+    for (int y = source.y; y < source.y_end(); ++y)
+      for (int x = source.x; x < source.x_end(); ++x)
+        if (edges[static_cast<std::size_t>(y - source.y) * source.width + (x - source.x)] != 0) {
+          edge_pixels.emplace_back(x, y);
+          samples_at(x, y) = plan.supersampled;
+        }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_pixels.size()),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        PixelRenderer renderer(data, integrator, plan, tally);
+                        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                          if (stop.stop_requested()) return;
+                          const auto [x, y] = edge_pixels[i];
+                          renderer.AddSamples(x, y, plan.base, plan.supersampled, sum_at(x, y), splat);
+                          progress.Advance(plan.supersampled - plan.base);
+                        }
+                      });
+    if (stop.stop_requested()) {
+      report();
+      return image;
+    }
+  }
 
-  const std::vector<std::uint8_t> edges =
-      DetectEdges(luminance, rect, data.antialiasing.edge_threshold);
-  // Edge pixels continue where their base samples ended. They cluster along a few rows, so
-  // the work is split by edge pixel, not by row, to keep both threads busy.
-  std::vector<std::pair<int, int>> edge_pixels;
   for (int y = rect.y; y < rect.y_end(); ++y)
     for (int x = rect.x; x < rect.x_end(); ++x) {
-      if (edges[static_cast<std::size_t>(y - rect.y) * rect.width + (x - rect.x)] != 0) {
-        edge_pixels.emplace_back(x, y);
-      } else {
-        WritePixel(base_at(x, y), plan.base, false, image.pixel(x, y));
-      }
+      const std::uint32_t n = samples_at(x, y);
+      WritePixel(sum_at(x, y), n, n > plan.base, image.pixel(x, y));
+      if (!splats) continue;
+      // Under edge anti-aliasing the pixels it left with the base samples are smooth.
+      splats->Resolve(x, y, [&](int qx, int qy) {
+        const std::uint32_t m = samples_at(qx, qy);
+        return FilterSplats::Source{m, !plan.detect_edges || m == plan.supersampled, sum_at(qx, qy).data()};
+      }, image.pixel(x, y));
     }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_pixels.size()),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      PixelRenderer renderer(data, integrator, plan);
-                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                        if (stop.stop_requested()) return;
-                        const auto [x, y] = edge_pixels[i];
-                        Sums& sum = base_at(x, y);
-                        renderer.AddSamples(x, y, plan.base, plan.supersampled, sum);
-                        WritePixel(sum, plan.supersampled, true, image.pixel(x, y));
-                        progress.Advance(plan.supersampled - plan.base);
-                      }
-                    });
+  report();
   return image;
 }
 

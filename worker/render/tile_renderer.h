@@ -28,6 +28,18 @@ struct RoundSettings {
   std::uint32_t first_sample = 0;
 };
 
+// How a tile's camera samples came out, which the worker reports (TileSamples in
+// worker.proto) and the coordinator counts: a healthy render has no non-finite sample and
+// no zero one where light reaches.
+struct SampleCounts {
+  std::uint64_t samples = 0;
+  // With a light term that came out NaN or infinite (dropped: SampleResult::nonfinite).
+  std::uint64_t nonfinite = 0;
+  // Exactly black although the path reached a non-specular surface and shaded it
+  // (SampleResult::shaded).
+  std::uint64_t zero = 0;
+};
+
 // Renders one rectangle of the scene's image into RenderChannels(): linear radiance, alpha
 // the fraction of camera rays that hit geometry (or see an environment visible to the
 // camera). photons holds the job's photon maps, or is
@@ -37,9 +49,12 @@ struct RoundSettings {
 // requested the render ends early and the returned image must be discarded. progress
 // advances by the camera samples each pixel took as it is finished (with edge
 // anti-aliasing: every base-pass pixel of the tile and its apron, then an edge pixel's extra
-// samples), so a tile rendered in one pass adds width x height x samples in all.
+// samples), so a tile rendered in one pass adds width x height x samples in all. With a
+// pixel filter wider than a pixel (scene.data().filter), the pixels of its margin about
+// the tile are rendered too and count alike (docs/pixel-filters.md). counts, if not null,
+// receives how every sample drawn came out (the apron's and the margin's included).
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
                  const RoundSettings& round = {}, std::stop_token stop = {},
-                 Progress progress = {});
+                 Progress progress = {}, SampleCounts* counts = nullptr);
 
 }  // namespace farm

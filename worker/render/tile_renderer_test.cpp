@@ -67,6 +67,67 @@ TEST(RenderTile, FourTilesEqualTheWholeImageBitForBit) {
   }
 }
 
+void SetFilter(pb::Scene& s, PixelFilterKind kind) {
+  pb::PixelFilter* f = s.mutable_film()->mutable_filter();
+  switch (kind) {
+    case PixelFilterKind::kBox: f->mutable_box()->set_radius(1); break;
+    case PixelFilterKind::kTent: f->mutable_tent(); break;
+    case PixelFilterKind::kGaussian: f->mutable_gaussian(); break;
+    case PixelFilterKind::kMitchell: f->mutable_mitchell(); break;
+  }
+}
+
+// Wider filters read the samples of a margin about the tile, and with edge anti-aliasing
+// supersample the margin's edge pixels: the tiles still stitch into the whole image's
+// bytes, in every sampling mode, in later rounds too.
+TEST(RenderTile, FilteredTilesEqualTheWholeImageBitForBit) {
+  for (const auto kind : {PixelFilterKind::kBox, PixelFilterKind::kTent, PixelFilterKind::kGaussian,
+                          PixelFilterKind::kMitchell})
+    for (const auto mode : {pb::ANTIALIASING_MODE_EDGES, pb::ANTIALIASING_MODE_NONE, pb::ANTIALIASING_MODE_FULL}) {
+      pb::Scene s = BoxScene(42);
+      SetFilter(s, kind);
+      s.mutable_antialiasing()->set_mode(mode);
+      s.mutable_antialiasing()->set_edge_samples(6);
+      const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
+      SCOPED_TRACE(scene.data().filter.ToString() + " mode " + std::to_string(mode));
+      for (const RoundSettings& round : {RoundSettings{}, RoundSettings{.first_sample = 4}}) {
+        const Image whole = RenderTile(scene, nullptr, {0, 0, 24, 16}, round);
+        for (const PixelRect& tile : {PixelRect{0, 0, 13, 7}, PixelRect{13, 0, 11, 7}, PixelRect{0, 7, 13, 9},
+                                      PixelRect{13, 7, 11, 9}, PixelRect{5, 3, 1, 1}})
+          ExpectSamePixels(whole, RenderTile(scene, nullptr, tile, round));
+      }
+    }
+}
+
+// The filter weighs the light layers only: each differs from the box-filtered image's, and
+// normal, depth and the edge mask stay those of the pixel's own samples.
+TEST(RenderTile, FiltersWeighTheLightLayersAndKeepTheGeometryLayers) {
+  pb::Scene s = BoxScene(7);
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
+  const Image box = RenderTile(Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}})), nullptr, {0, 0, 24, 16});
+  SetFilter(s, PixelFilterKind::kGaussian);
+  const Image gaussian =
+      RenderTile(Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}})), nullptr, {0, 0, 24, 16});
+  int differing_beauty = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 24; ++x) {
+      differing_beauty += box.pixel(x, y)[0] != gaussian.pixel(x, y)[0];
+      for (int c = 16; c < 21; ++c) ASSERT_EQ(box.pixel(x, y)[c], gaussian.pixel(x, y)[c]) << x << ", " << y << " c " << c;
+    }
+  EXPECT_GT(differing_beauty, 24 * 16 / 2);
+}
+
+// A filter's margin is rendered too: a one-pass tile adds its samples and the margin's.
+TEST(RenderTile, ProgressCountsTheFilterMarginsSamples) {
+  pb::Scene s = BoxScene(2);
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
+  SetFilter(s, PixelFilterKind::kMitchell);  // radius 2: a margin of 2
+  const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
+  ProgressCounter counter{0};
+  RenderTile(scene, nullptr, {4, 1, 12, 8}, {}, {}, Progress(counter));
+  EXPECT_EQ(counter.load(), 16u * 11u * 4u);  // x 2..17, y 0..10: clipped at the top
+}
+
 TEST(RenderTile, OrdinaryPixelsTakeOneSampleByDefault) {
   pb::Scene s = BoxScene(5);
   s.mutable_sampling()->clear_samples_per_pixel();
@@ -198,6 +259,30 @@ TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSa
     for (int x = tile.x; x < tile.x_end(); ++x) edges += image.pixel(x, y)[20] == 1.0f;
   EXPECT_GT(edges, 0u);
   EXPECT_EQ(counter.load(), 10u * 10u * 4u + edges * (12u - 4u));
+}
+
+// The counts agree with the image they describe: at one sample per pixel, every sample is
+// counted, and the zero ones are exactly the covered pixels of non-black albedo (in this
+// scene, of a diffuse surface: the lamp's albedo is black) that came out black (here,
+// with direct light only, surfaces facing away from the lamp).
+TEST(RenderTile, CountsEverySampleAndTheZeroOnes) {
+  pb::Scene s = BoxScene(5, 48, 32);
+  s.mutable_antialiasing()->set_mode(pb::ANTIALIASING_MODE_NONE);
+  s.mutable_sampling()->set_samples_per_pixel(1);
+  const Scene scene = Scene::Build(s, MapLoader({{FakeDigest("block"), kBlockObj}}));
+  SampleCounts counts;
+  const Image image = RenderTile(scene, nullptr, {0, 0, 48, 32}, {}, {}, {}, &counts);
+  std::uint64_t black = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const float* p = image.pixel(x, y);
+      const bool albedo = p[13] > 0 || p[14] > 0 || p[15] > 0;
+      black += p[3] == 1 && albedo && p[0] == 0 && p[1] == 0 && p[2] == 0;
+    }
+  EXPECT_EQ(counts.samples, 48u * 32u);
+  EXPECT_EQ(counts.nonfinite, 0u);
+  EXPECT_GT(black, 0u) << "the scene has no unlit surface to count";
+  EXPECT_EQ(counts.zero, black);
 }
 
 // What the heartbeat sees: read from another thread while the TBB threads render, the

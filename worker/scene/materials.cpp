@@ -40,6 +40,35 @@ std::optional<BsdfSample> ToWorld(const Frame& frame, const std::optional<Princi
   return BsdfSample{frame.FromLocal(s->wi), s->weight, s->pdf, s->specular};
 }
 
+// A smooth dielectric's two ways on from wo: the mirror direction, reflected with Fresnel's
+// R, and the refracted one (none under total internal reflection) with its weight per unit
+// of transmitted light.
+struct DielectricLobes {
+  Vec3 reflected;
+  float reflectance = 1;
+  std::optional<Vec3> transmitted;
+  Rgb transmitted_weight;
+};
+
+DielectricLobes DielectricLobesOf(const DielectricMaterial& m, const Vec3& n, const Vec3& wo, TransportMode mode) {
+  const float cos_o = Dot(n, wo);
+  const bool outside = cos_o > 0;  // the front side is the outside
+  // eta: index on the far side of the interface relative to wo's side.
+  const float eta = outside ? m.ior : 1 / m.ior;
+  const Vec3 ns = outside ? n : -n;
+  DielectricLobes lobes{Reflect(wo, ns), FresnelDielectric(std::abs(cos_o), eta), Refract(wo, ns, eta), Rgb()};
+  if (!lobes.transmitted) {
+    lobes.reflectance = 1;  // TIR (R = 1 anyway)
+    return lobes;
+  }
+  lobes.transmitted_weight = m.transmittance;
+  // Radiance arriving from the far side is divided by eta^2 (the beam's solid angle widens
+  // on the way out of the denser medium, narrows on the way in); photon flux is conserved,
+  // so importance transport leaves it alone.
+  if (mode == TransportMode::kRadiance) lobes.transmitted_weight = lobes.transmitted_weight / (eta * eta);
+  return lobes;
+}
+
 PrincipledMaterial PrincipledFromProto(const pb::Principled& p) {
   PrincipledMaterial m;
   if (p.has_base_color()) m.lobes.base_color = RgbOf(p.base_color());
@@ -221,23 +250,11 @@ std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, co
     }
 
     std::optional<BsdfSample> operator()(const DielectricMaterial& m) const {
-      const float cos_o = Dot(n, wo);
-      const bool outside = cos_o > 0;  // the front side is the outside
-      // eta: index on the far side of the interface relative to wo's side.
-      const float eta = outside ? m.ior : 1 / m.ior;
-      const Vec3 ns = outside ? n : -n;
-      const float reflectance = FresnelDielectric(std::abs(cos_o), eta);
       // Reflect or transmit with probabilities R and 1 - R: the Fresnel factor cancels in
       // the weight, so a path's throughput never exceeds the tint.
-      if (u_lobe < reflectance) return BsdfSample{Reflect(wo, ns), Rgb(1), 0, true};
-      const std::optional<Vec3> wt = Refract(wo, ns, eta);
-      if (!wt) return BsdfSample{Reflect(wo, ns), Rgb(1), 0, true};  // TIR (R = 1 anyway)
-      Rgb weight = m.transmittance;
-      // Radiance arriving from the far side is divided by eta^2 (the beam's solid angle
-      // widens on the way out of the denser medium, narrows on the way in); photon flux
-      // is conserved, so importance transport leaves it alone.
-      if (mode == TransportMode::kRadiance) weight = weight / (eta * eta);
-      return BsdfSample{*wt, weight, 0, true};
+      const DielectricLobes lobes = DielectricLobesOf(m, n, wo, mode);
+      if (u_lobe < lobes.reflectance || !lobes.transmitted) return BsdfSample{lobes.reflected, Rgb(1), 0, true};
+      return BsdfSample{*lobes.transmitted, lobes.transmitted_weight, 0, true};
     }
 
     std::optional<BsdfSample> operator()(const EmissiveMaterial& m) const {
@@ -268,6 +285,24 @@ std::optional<BsdfSample> SampleSpecular(const Material& material, const Vec3& n
           [](const OneOf<LambertMaterial, GlossyMaterial, EmissiveMaterial> auto&) {
             return std::optional<BsdfSample>();
           },
+      },
+      material);
+}
+
+std::optional<SpecularSplit> SplitSpecular(const Material& material, const Vec3& n, const Vec3& wo,
+                                           TransportMode mode) {
+  return std::visit(
+      Overloaded{
+          [&](const DielectricMaterial& m) -> std::optional<SpecularSplit> {
+            const DielectricLobes lobes = DielectricLobesOf(m, n, wo, mode);
+            SpecularSplit split{BsdfSample{lobes.reflected, Rgb(lobes.reflectance), 0, true}, std::nullopt};
+            if (lobes.transmitted)
+              split.transmitted =
+                  BsdfSample{*lobes.transmitted, lobes.transmitted_weight * (1 - lobes.reflectance), 0, true};
+            return split;
+          },
+          [](const OneOf<LambertMaterial, GlossyMaterial, MirrorMaterial, ConductorMaterial, EmissiveMaterial,
+                         PrincipledMaterial> auto&) { return std::optional<SpecularSplit>(); },
       },
       material);
 }

@@ -135,7 +135,8 @@ struct MaterialCapabilities {
   // Emits a positive radiance: a shape with it is an area light.
   bool emits = false;
   // The share of the non-specular reflection that is diffuse, in [0, 1] (1 for Lambert):
-  // photons are stored on glossy surfaces with this probability.
+  // photons are stored on glossy surfaces with this probability, or with 1/2 if that is
+  // more (photon_tracer.cpp's kMinPhotonKeep).
   float diffuse_fraction = 0;
 };
 MaterialCapabilities CapabilitiesOf(const Material& material);
@@ -172,6 +173,18 @@ std::optional<BsdfSample> SampleBsdf(const Material& material, const Vec3& n, co
 // the lobe choice; nothing for the other kinds.
 std::optional<BsdfSample> SampleSpecular(const Material& material, const Vec3& n, const Vec3& wo,
                                          float u_lobe, Vec2 u, TransportMode mode);
+
+// Both ways a smooth dielectric sends a path on, each weighted by its share: the reflection
+// by Fresnel's R, the refraction by 1 - R times what SampleBsdf weighs it by (the tint, and
+// 1 / eta^2 for radiance), so that the two add up to SampleBsdf's expected weight; under
+// total internal reflection only the reflection, of weight 1. Nothing for every other kind
+// (one specular lobe or none): such a path goes on as SampleSpecular draws it.
+struct SpecularSplit {
+  BsdfSample reflected;
+  std::optional<BsdfSample> transmitted;
+};
+std::optional<SpecularSplit> SplitSpecular(const Material& material, const Vec3& n, const Vec3& wo,
+                                           TransportMode mode);
 
 // Radiance emitted from the front side (black for everything but emissive materials and
 // principled ones with an emission).

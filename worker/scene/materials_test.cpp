@@ -187,6 +187,34 @@ TEST(Materials, DielectricChoosesReflectionWithFresnelProbability) {
   EXPECT_EQ(FresnelDielectric(-std::cos(float(Radians(75))), 1.5f), 1.0f);
 }
 
+TEST(Materials, SplitDielectricWeighsBothWaysByTheirFresnelShares) {
+  // SplitSpecular's two branches weigh what SampleBsdf's choice gives on average: R for
+  // the reflection (the mirror direction), 1 - R times the chosen refraction's weight.
+  const Material glass = DielectricMaterial{1.5f, Rgb(1, 0.9f, 0.8f)};
+  for (float theta : {0.0f, 40.0f, 75.0f}) {
+    for (bool from_inside : {false, true}) {
+      const Vec3 wo = from_inside ? -At(theta) : At(theta);
+      const float R = FresnelDielectric(Dot(kUp, wo), 1.5f);
+      const auto split = SplitSpecular(glass, kUp, wo, TransportMode::kRadiance);
+      ASSERT_TRUE(split);
+      const auto reflected = SampleBsdf(glass, kUp, wo, 0, {0.5f, 0.5f}, TransportMode::kRadiance);
+      EXPECT_EQ(split->reflected.wi, reflected->wi);
+      EXPECT_NEAR(split->reflected.weight.g, R, 1e-6) << theta << " inside " << from_inside;
+      if (R == 1) {  // total internal reflection
+        EXPECT_FALSE(split->transmitted);
+        continue;
+      }
+      ASSERT_TRUE(split->transmitted);
+      const auto refracted = SampleBsdf(glass, kUp, wo, 1, {0.5f, 0.5f}, TransportMode::kRadiance);
+      EXPECT_EQ(split->transmitted->wi, refracted->wi);
+      EXPECT_NEAR(split->transmitted->weight.b, (1 - R) * refracted->weight.b, 1e-6);
+    }
+  }
+  // One lobe or none: nothing to split.
+  EXPECT_FALSE(SplitSpecular(MirrorMaterial{Rgb(1)}, kUp, At(30), TransportMode::kRadiance));
+  EXPECT_FALSE(SplitSpecular(LambertMaterial{Rgb(0.5f)}, kUp, At(30), TransportMode::kRadiance));
+}
+
 TEST(Materials, GlossyWhiteFurnaceAndPdfConsistency) {
   // kd + ks = 1: the albedo (mean sample weight) is at most 1, the sample weights agree with
   // EvaluateBsdf * cos / BsdfPdf, and the pdf integrates to the share of accepted samples.

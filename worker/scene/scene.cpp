@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "contract/failure.h"
 #include "contract/go_text.h"
 #include "contract/rules.h"
 #include "math/transform.h"
@@ -223,7 +224,7 @@ void AddCutoutFilter(const SceneData& d, AcceleratorInput& input) {
     for (const SceneMesh::Part& part : mesh->parts) parts.push_back(cuts(part.material));
   }
   input.filter = [&d](const RawHit& raw, const Vec3& point) {
-    const SurfaceHit hit = d.Refine(raw, point);
+    const CutoutHit hit = d.CutoutHitOf(raw, point);
     return d.cutouts[hit.material](hit);
   };
 }
@@ -262,6 +263,18 @@ std::shared_ptr<const Environment> EnvironmentFromProto(const pb::Scene& scene, 
   return std::make_shared<const Environment>(Environment::Map(std::move(image), scale, e.rotation_degrees()));
 }
 
+// Sampling.specular with its default: whether camera paths split at glass.
+bool SplitsSpecular(const pb::Sampling& sampling) {
+  const pb::SpecularSampling mode = contract::OrDefault<pb::Sampling>(sampling.specular(), "specular");
+  switch (mode) {
+    case pb::SPECULAR_SAMPLING_SPLIT: return true;
+    case pb::SPECULAR_SAMPLING_CHOOSE: return false;
+    default:  // a mode the contract declares and this worker does not know
+      throw UnsupportedError("sampling.specular: " + pb::SpecularSampling_Name(mode) +
+                             " is not supported by this worker");
+  }
+}
+
 }  // namespace
 
 Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, const SceneOptions& options) {
@@ -277,7 +290,9 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   d.samples_per_pixel = OrDefault<pb::Sampling>(description.sampling().samples_per_pixel(), "samples_per_pixel");
   d.seed = description.sampling().seed();
   d.antialiasing = AntialiasingSettings::FromProto(description.antialiasing());
+  d.filter = PixelFilter::FromProto(film.filter());
   d.indirect = IndirectSettings::FromProto(description);
+  d.split_specular = SplitsSpecular(description.sampling());
   d.camera = Camera::FromProto(description.camera(), d.width, d.height);
 
   std::unordered_map<std::string, int> material_index;

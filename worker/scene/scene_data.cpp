@@ -1,5 +1,6 @@
 #include "scene/scene_data.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_set>
 
@@ -48,6 +49,26 @@ SurfaceHit SceneData::Refine(const RawHit& raw, const Vec3& point) const {
   return hit;
 }
 
+CutoutHit SceneData::CutoutHitOf(const RawHit& raw, const Vec3& point) const {
+  const ShapeRecord& shape = shapes[raw.shape];
+  CutoutHit cut;
+  cut.material = shape.material;
+  const TriangleMesh* mesh = nullptr;
+  if (const auto* m = std::get_if<std::shared_ptr<const TriangleMesh>>(&shape.geometry)) {
+    mesh = m->get();
+  } else if (const auto* instance = std::get_if<InstanceShape>(&shape.geometry)) {
+    const SceneMesh::Part& part = instance->mesh->parts[raw.part];
+    mesh = part.triangles.get();
+    cut.material = part.material;
+  }
+  if (mesh) {
+    cut.has_uv = TriangleTexcoords(*mesh, raw.primitive, raw.barycentric, cut.uv);
+    return cut;
+  }
+  const SurfaceHit hit = Refine(raw, point);  // a sphere's or quad's: closed forms, cheap
+  return {hit.material, hit.uv, hit.has_uv};
+}
+
 std::size_t SceneData::GeometryBytes() const {
   std::unordered_set<const TriangleMesh*> counted;
   std::size_t bytes = accelerator.memory_bytes();
@@ -68,7 +89,15 @@ bool SceneData::Visible(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Ve
 
 bool SceneData::FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p1,
                                    const Vec3& n1) const {
-  return SegmentClear(OffsetRayOrigin(p0, n0, n0, ray_epsilon), OffsetRayOrigin(p1, n1, n1, ray_epsilon));
+  // Between two points of one convex surface (a ball) the segment runs beneath it. A surface
+  // that turns by theta from n0 to n1 rises at most |p1 - p0| tan(theta / 2) / 2 above
+  // their chord (a crease halfway); each end is lifted twice that along its normal, which
+  // covers normals leaning up to 60 degrees from the chord's. Coplanar points get no lift,
+  // so a wall standing between two points of a floor still blocks.
+  const float c = std::clamp(Dot(n0, n1), -1.0f, 1.0f);
+  const float lift = Length(p1 - p0) * std::sqrt((1 - c) / std::max(1 + c, 1.0f));
+  return SegmentClear(OffsetRayOrigin(p0, n0, n0, ray_epsilon) + n0 * lift,
+                      OffsetRayOrigin(p1, n1, n1, ray_epsilon) + n1 * lift);
 }
 
 bool SceneData::SegmentClear(const Vec3& o0, const Vec3& o1) const {

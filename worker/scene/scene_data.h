@@ -24,6 +24,7 @@
 #include "scene/lights.h"
 #include "scene/materials.h"
 #include "scene/photon_settings.h"
+#include "scene/pixel_filter.h"
 #include "scene/shapes.h"
 #include "texture/texture_system.h"
 
@@ -85,7 +86,11 @@ struct SceneData {
   uint32_t samples_per_pixel = 0;
   uint64_t seed = 0;
   AntialiasingSettings antialiasing;
+  PixelFilter filter;  // film.filter
   IndirectSettings indirect;  // also holds sampling.light_samples
+  // Sampling.specular: SPLIT (glass followed both ways at a camera path's first bounces)
+  // rather than CHOOSE.
+  bool split_specular = true;
 
   Camera camera;
   std::vector<Material> materials;
@@ -125,6 +130,9 @@ struct SceneData {
   // A hit Embree reported, refined; `point` is where it lies in the world (spheres and
   // quads take it; triangles project it onto their plane).
   SurfaceHit Refine(const RawHit& raw, const Vec3& point) const;
+  // What the cut-out test reads of a candidate hit (cutout.h): its material and texture
+  // coordinates, for a triangle without the rest of Refine's work.
+  CutoutHit CutoutHitOf(const RawHit& raw, const Vec3& point) const;
 
   // Whether nothing blocks the segment between two surface points, each with its
   // geometric normal; the ends are offset off their surfaces toward each other.
@@ -132,7 +140,9 @@ struct SceneData {
   // Whether the front sides of two nearby surface points see each other: each end moves
   // off its own surface along its normal (n0, n1 point to the sides that matter), never
   // through it, which the choice by direction in Visible can do for close points on a
-  // curved wall whose normals are quantised.
+  // curved wall whose normals are quantised; and by as much as a convex surface turning
+  // from n0 to n1 can bow out above the two (nothing for coplanar points), so that two
+  // points of one ball see each other while a wall between two points of a floor blocks.
   bool FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const;
   // Whether nothing lies on the segment between two ray origins already off their surfaces.
   bool SegmentClear(const Vec3& o0, const Vec3& o1) const;

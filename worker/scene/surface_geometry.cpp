@@ -74,6 +74,14 @@ void DescribeQuadHit(const QuadShape& q, const Vec3& point, SurfaceHit& hit) {
   hit.dpdv = q.edge_v;
 }
 
+bool TriangleTexcoords(const TriangleMesh& m, uint32_t triangle, Vec2 b, Vec2& uv) {
+  if (m.texcoords.empty()) return false;
+  const std::size_t first = std::size_t(triangle) * 3;
+  uv = Mix(m.texcoords[m.indices[first]], m.texcoords[m.indices[first + 1]], m.texcoords[m.indices[first + 2]],
+           1 - b.x - b.y, b);
+  return true;
+}
+
 void DescribeTriangleHit(const TriangleMesh& m, const Placement* placement, uint32_t triangle, Vec2 b,
                          const Vec3& point, SurfaceHit& hit) {
   const std::size_t first = std::size_t(triangle) * 3;
@@ -105,11 +113,10 @@ void DescribeTriangleHit(const TriangleMesh& m, const Placement* placement, uint
     if (ns_len > 0 && std::isfinite(ns_len)) hit.ns = FaceForward(ns / ns_len, hit.n);
   }
 
-  hit.has_uv = !m.texcoords.empty();
+  hit.has_uv = TriangleTexcoords(m, triangle, b, hit.uv);
   bool derivatives = false;
   if (hit.has_uv) {
     const Vec2 uv[3] = {m.texcoords[v[0]], m.texcoords[v[1]], m.texcoords[v[2]]};
-    hit.uv = Mix(uv[0], uv[1], uv[2], b0, b);
     derivatives = TriangleDerivatives(p, uv, hit.dpdu, hit.dpdv);
   }
   if (!m.tangents.empty()) {

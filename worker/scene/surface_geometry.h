@@ -21,5 +21,8 @@ void DescribeQuadHit(const QuadShape& quad, const Vec3& point, SurfaceHit& hit);
 // `placement` (an instance's) or already there (nullptr).
 void DescribeTriangleHit(const TriangleMesh& mesh, const Placement* placement, uint32_t triangle, Vec2 barycentric,
                          const Vec3& point, SurfaceHit& hit);
+// The texture coordinates of `mesh` at the barycentric point of triangle `triangle`, as
+// DescribeTriangleHit gives them; false (uv untouched) if the mesh has none.
+bool TriangleTexcoords(const TriangleMesh& mesh, uint32_t triangle, Vec2 barycentric, Vec2& uv);
 
 }  // namespace farm

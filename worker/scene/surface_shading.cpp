@@ -32,34 +32,34 @@ float GlossyRoughnessFloor() {
 
 }  // namespace
 
-Material MaterialAt(const SceneData& scene, const SurfaceHit& hit, const Vec3& direction, float footprint_width) {
+Material MaterialAt(const SceneData& scene, const SurfaceHit& hit, const Vec3& direction, const TextureRead& read) {
   const Material& declared = scene.material_of(hit);
   const auto* principled = std::get_if<PrincipledMaterial>(&declared);
   if (!principled) return declared;
   PrincipledMaterial m = *principled;
   m.shading_normal = LengthSquared(hit.ns) > 0 ? hit.ns : hit.n;
   if (!hit.has_uv || !scene.texture_system) return m;
-  const FootprintAxes footprint = FootprintOf(direction, hit.n, hit.dpdu, hit.dpdv, footprint_width);
-  const TextureLookup at{hit.uv, footprint.axis1, footprint.axis2};
-  const auto read = [&](TextureIndex index) {
+  const FootprintAxes footprint = FootprintOf(direction, hit.n, hit.dpdu, hit.dpdv, read.footprint_width);
+  const TextureLookup at{hit.uv, footprint.axis1, footprint.axis2, read.filter};
+  const auto texel = [&](TextureIndex index) {
     const SceneTexture& texture = scene.textures[index];
     return scene.texture_system->Lookup(texture.prepared, at, texture.wrap);
   };
-  if (m.base_color_texture != kNoTexture) m.lobes.base_color = m.lobes.base_color * read(m.base_color_texture).rgb;
+  if (m.base_color_texture != kNoTexture) m.lobes.base_color = m.lobes.base_color * texel(m.base_color_texture).rgb;
   if (m.metallic_roughness_texture != kNoTexture) {
-    const Rgb texel = read(m.metallic_roughness_texture).rgb;
-    m.lobes.metallic = std::clamp(m.lobes.metallic * texel.b, 0.0f, 1.0f);
-    m.roughness = std::clamp(m.roughness * texel.g, m.lobes.specular ? 0.0f : GlossyRoughnessFloor(), 1.0f);
+    const Rgb mr = texel(m.metallic_roughness_texture).rgb;
+    m.lobes.metallic = std::clamp(m.lobes.metallic * mr.b, 0.0f, 1.0f);
+    m.roughness = std::clamp(m.roughness * mr.g, m.lobes.specular ? 0.0f : GlossyRoughnessFloor(), 1.0f);
     m.lobes.alpha = std::max(kMinGgxAlpha, m.roughness * m.roughness);
   }
   if (m.normal_texture != kNoTexture)
-    m.shading_normal = MappedNormal(m.shading_normal, hit.dpdu, hit.dpdv, read(m.normal_texture).rgb, m.normal_scale);
-  if (m.emission_texture != kNoTexture) m.emission = m.emission * read(m.emission_texture).rgb;
+    m.shading_normal = MappedNormal(m.shading_normal, hit.dpdu, hit.dpdv, texel(m.normal_texture).rgb, m.normal_scale);
+  if (read.emission && m.emission_texture != kNoTexture) m.emission = m.emission * texel(m.emission_texture).rgb;
   return m;
 }
 
-bool IsCutOut(const SceneData& scene, const SurfaceHit& hit) {
-  const auto* m = std::get_if<PrincipledMaterial>(&scene.material_of(hit));
+bool IsCutOut(const SceneData& scene, const CutoutHit& hit) {
+  const auto* m = std::get_if<PrincipledMaterial>(&scene.materials[hit.material]);
   if (!m || !m->alpha_mask) return false;
   float opacity = m->opacity;
   if (m->base_color_texture != kNoTexture && hit.has_uv && scene.texture_system) {
@@ -69,10 +69,10 @@ bool IsCutOut(const SceneData& scene, const SurfaceHit& hit) {
   return opacity < m->alpha_cutoff;
 }
 
-std::function<bool(const SurfaceHit&)> CutoutOf(const SceneData& scene, int material) {
+CutoutTest CutoutOf(const SceneData& scene, int material) {
   const auto* m = std::get_if<PrincipledMaterial>(&scene.materials[material]);
   if (!m || !m->alpha_mask) return {};
-  return [&scene](const SurfaceHit& hit) { return IsCutOut(scene, hit); };
+  return [&scene](const CutoutHit& hit) { return IsCutOut(scene, hit); };
 }
 
 Rgb AreaLightRadiance(const SceneData& scene, const Material& material) {

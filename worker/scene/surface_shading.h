@@ -17,8 +17,9 @@
 //   emission        RGB times the emission texture's (sRGB decoded)
 //
 // A lookup reads the texture over the footprint of the ray (texture/footprint.h): the
-// width the ray's cone has reached where it meets the surface, 0 for a point lookup at the
-// finest level (photons, and the cut-out test, each one sample among very many).
+// width the ray's cone has reached where it meets the surface, with the cone's filter; 0
+// for a point lookup at the finest level (photons, and the cut-out test, each one sample
+// among very many). The emission texture is read only where the caller counts emission.
 //
 // Emitters: an area light is sampled (for direct light and photon emission) with its
 // material's emission times the emission texture's mean, while rays that see it read the
@@ -34,20 +35,29 @@
 
 namespace farm {
 
-// The material of `hit` there, for a ray arriving along `direction` (unit) whose cone is
-// `footprint_width` wide at the hit.
-Material MaterialAt(const SceneData& scene, const SurfaceHit& hit, const Vec3& direction, float footprint_width);
+// How MaterialAt reads a hit's textures.
+struct TextureRead {
+  float footprint_width = 0;  // of the ray's cone at the hit
+  TextureFilter filter = TextureFilter::kAnisotropic;
+  // Whether the emission texture is read: only camera paths count what they see emitted;
+  // gather rays, glossy bounces and photons leave emission to direct light.
+  bool emission = true;
+};
+
+// The material of `hit` there, for a ray arriving along `direction` (unit), its textures
+// read as `read` says (emission as declared where it is not read).
+Material MaterialAt(const SceneData& scene, const SurfaceHit& hit, const Vec3& direction, const TextureRead& read);
 
 // Whether the surface is not there at the hit: an alpha-masked principled material whose
 // opacity (1 - transparency, times the base colour texture's alpha read at the finest
 // level) is below its cutoff.
-bool IsCutOut(const SceneData& scene, const SurfaceHit& hit);
+bool IsCutOut(const SceneData& scene, const CutoutHit& hit);
 
 // The cut-out test of material `material` for the accelerator's per-material hook (true
 // ignores the hit, for camera, shadow and photon rays alike): IsCutOut for an alpha-masked
 // principled material, empty (cuts nothing) for every other. It reads `scene`, which must
 // outlive it.
-std::function<bool(const SurfaceHit&)> CutoutOf(const SceneData& scene, int material);
+CutoutTest CutoutOf(const SceneData& scene, int material);
 
 // The radiance an area light of this material is sampled with: Emission(material), times
 // the emission texture's mean for a principled one.

@@ -92,6 +92,9 @@ class SurfaceShadingTest : public ::testing::Test {
     return *hit;
   }
 
+  // What the cut-out test gets of a hit.
+  static CutoutHit Candidate(const SurfaceHit& hit) { return {hit.material, hit.uv, hit.has_uv}; }
+
   std::filesystem::path dir_;
   std::unique_ptr<TextureSystem> textures_;
   pb::Scene description_;
@@ -102,7 +105,7 @@ class SurfaceShadingTest : public ::testing::Test {
 TEST_F(SurfaceShadingTest, TexturesMultiplyTheFactors) {
   const Scene scene = Build();
   const SurfaceHit hit = FloorHit(scene.data(), {0.75f, 0.5f});
-  const Material at = MaterialAt(scene.data(), hit, Vec3(0, -1, 0), 0.01f);
+  const Material at = MaterialAt(scene.data(), hit, Vec3(0, -1, 0), TextureRead{0.01f});
   const auto& m = std::get<PrincipledMaterial>(at);
   EXPECT_NEAR(m.lobes.base_color.r, 0.25f, 1e-6f);
   EXPECT_NEAR(m.lobes.base_color.g, 0.25f, 1e-6f);
@@ -134,7 +137,7 @@ TEST_F(SurfaceShadingTest, AGlossyMaterialStaysGlossyWhateverItsTexturedRoughnes
   const double threshold = contract::SceneLimits().principled_specular_roughness();
   description_.mutable_materials(0)->mutable_principled()->set_roughness(1.5 * threshold);  // 0.75 of it textured
   const Scene scene = Build();
-  const auto m = std::get<PrincipledMaterial>(MaterialAt(scene.data(), FloorHit(scene.data(), {0.5f, 0.5f}), Vec3(0, -1, 0), 0));
+  const auto m = std::get<PrincipledMaterial>(MaterialAt(scene.data(), FloorHit(scene.data(), {0.5f, 0.5f}), Vec3(0, -1, 0), TextureRead{}));
   EXPECT_FALSE(m.lobes.specular);
   EXPECT_NEAR(m.roughness, threshold, 1e-6f) << "raised to principled_specular_roughness";
 }
@@ -142,17 +145,17 @@ TEST_F(SurfaceShadingTest, AGlossyMaterialStaysGlossyWhateverItsTexturedRoughnes
 TEST_F(SurfaceShadingTest, AlphaMaskCutsWhereOpacityIsBelowTheCutoff) {
   const Scene scene = Build();
   // Opacity 0.8 times the texture's 0 (left) or 1 (right), against a cutoff of 0.5.
-  EXPECT_TRUE(IsCutOut(scene.data(), FloorHit(scene.data(), {0.25f, 0.5f})));
-  EXPECT_FALSE(IsCutOut(scene.data(), FloorHit(scene.data(), {0.75f, 0.5f})));
+  EXPECT_TRUE(IsCutOut(scene.data(), Candidate(FloorHit(scene.data(), {0.25f, 0.5f}))));
+  EXPECT_FALSE(IsCutOut(scene.data(), Candidate(FloorHit(scene.data(), {0.75f, 0.5f}))));
   description_.mutable_materials(0)->mutable_principled()->set_transparency(0.6);  // 0.4 < 0.5
   const Scene thin = Build();
-  EXPECT_TRUE(IsCutOut(thin.data(), FloorHit(thin.data(), {0.75f, 0.5f})));
+  EXPECT_TRUE(IsCutOut(thin.data(), Candidate(FloorHit(thin.data(), {0.75f, 0.5f}))));
   const auto cutout = CutoutOf(thin.data(), 0);
   ASSERT_TRUE(cutout);
-  EXPECT_TRUE(cutout(FloorHit(thin.data(), {0.75f, 0.5f})));
+  EXPECT_TRUE(cutout(Candidate(FloorHit(thin.data(), {0.75f, 0.5f}))));
   description_.mutable_materials(0)->mutable_principled()->set_alpha_mode(pb::ALPHA_MODE_OPAQUE);
   const Scene opaque = Build();
-  EXPECT_FALSE(IsCutOut(opaque.data(), FloorHit(opaque.data(), {0.25f, 0.5f})));
+  EXPECT_FALSE(IsCutOut(opaque.data(), Candidate(FloorHit(opaque.data(), {0.25f, 0.5f}))));
   EXPECT_FALSE(CutoutOf(opaque.data(), 0)) << "an opaque material installs no test";
 }
 
@@ -177,7 +180,7 @@ TEST_F(SurfaceShadingTest, WithoutTextureCoordinatesTheFactorsApply) {
   const Scene scene = Build();
   SurfaceHit hit = FloorHit(scene.data(), {0.75f, 0.5f});
   hit.has_uv = false;
-  const auto m = std::get<PrincipledMaterial>(MaterialAt(scene.data(), hit, Vec3(0, -1, 0), 0));
+  const auto m = std::get<PrincipledMaterial>(MaterialAt(scene.data(), hit, Vec3(0, -1, 0), TextureRead{}));
   EXPECT_EQ(m.lobes.base_color, Rgb(0.5f, 1, 1));
   EXPECT_EQ(m.shading_normal, hit.ns);
 }

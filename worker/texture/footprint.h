@@ -10,7 +10,10 @@
 // a specular bounce passes the cone on with the width it has reached and the same spread
 // (surfaces are taken as flat: curvature's widening or narrowing is ignored); rays leaving
 // a diffuse or glossy bounce get the spread of the lobe's share of directions (the
-// integrator says which). Every camera sample filters over its whole pixel's footprint,
+// integrator says which), and a cone that has left a diffuse bounce reads with the
+// isotropic filter (TextureFilter::kIsotropic): it is then so wide that the footprint's
+// shape no longer shows, only its size does (as in ray-differential practice, which reads
+// coarse levels after the first diffuse bounce). Every camera sample filters over its whole pixel's footprint,
 // whatever the number of samples: a pixel is never aliased, at the price of a slightly
 // softer texture when many samples would have resolved it anyway.
 //
@@ -27,6 +30,7 @@ namespace farm {
 struct RayCone {
   float width = 0;
   float spread = 0;  // radians
+  TextureFilter filter = TextureFilter::kAnisotropic;
 
   float WidthAt(float t) const { return width + spread * t; }
 };

@@ -110,10 +110,25 @@ void WritePrepared(const std::filesystem::path& source, const std::string& diges
 
 struct TextureSystem::Impl {
   oiio::TextureSystem* ts = nullptr;
+  // Unique in the process (an address could be reused by a later system).
+  std::uint64_t id = next_id++;
 
   ~Impl() {
     if (ts) oiio::TextureSystem::destroy(ts);
   }
+
+  // OIIO's state of the calling thread (its micro-cache of tiles), found once per thread
+  // and system: get_perthread_info looks it up in thread-specific storage at every call.
+  oiio::TextureSystem::Perthread* PerThread() const {
+    thread_local struct {
+      std::uint64_t id = 0;
+      oiio::TextureSystem::Perthread* info = nullptr;
+    } cached;
+    if (cached.id != id) cached = {id, ts->get_perthread_info()};
+    return cached.info;
+  }
+
+  static inline std::atomic<std::uint64_t> next_id{1};
 };
 
 TextureSystem::TextureSystem(TextureSystemOptions options)
@@ -158,9 +173,18 @@ Rgba TextureSystem::Lookup(const PreparedTexture& texture, const TextureLookup& 
   // Bilinear within a level (OIIO's default, bicubic when magnifying, overshoots at edges:
   // a cut-out's alpha or a metallic value would leave [0, 1]).
   opt.interpmode = oiio::TextureOpt::InterpBilinear;
+  const bool point = at.axis1.x == 0 && at.axis1.y == 0 && at.axis2.x == 0 && at.axis2.y == 0;
+  if (point) {
+    opt.mipmode = oiio::TextureOpt::MipModeNoMIP;  // the finest level, without choosing one
+  } else if (at.filter == TextureFilter::kIsotropic) {
+    opt.mipmode = oiio::TextureOpt::MipModeTrilinear;
+  } else {
+    opt.mipmode = oiio::TextureOpt::MipModeAniso;
+    opt.anisotropic = kMaxAnisotropy;
+  }
   float rgba[4] = {1, 0, 1, 1};
   auto* handle = static_cast<oiio::TextureSystem::TextureHandle*>(texture.handle);
-  impl_->ts->texture(handle, impl_->ts->get_perthread_info(), opt, at.uv.x, at.uv.y, at.axis1.x, at.axis1.y,
+  impl_->ts->texture(handle, impl_->PerThread(), opt, at.uv.x, at.uv.y, at.axis1.x, at.axis1.y,
                      at.axis2.x, at.axis2.y, 4, rgba);
   return Rgba{Rgb(rgba[0], rgba[1], rgba[2]), rgba[3]};
 }
@@ -169,7 +193,7 @@ Rgba TextureSystem::Average(const PreparedTexture& texture) const {
   float rgba[4] = {0, 0, 0, 1};
   auto* handle = static_cast<oiio::TextureSystem::TextureHandle*>(texture.handle);
   // All four channels: the fourth is opacity, an ordinary channel (ToRgba).
-  impl_->ts->get_texture_info(handle, impl_->ts->get_perthread_info(), 0, oiio::ustring("averagecolor"),
+  impl_->ts->get_texture_info(handle, impl_->PerThread(), 0, oiio::ustring("averagecolor"),
                               oiio::TypeDesc(oiio::TypeDesc::FLOAT, 4), rgba);
   return Rgba{Rgb(rgba[0], rgba[1], rgba[2]), rgba[3]};
 }

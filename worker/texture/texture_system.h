@@ -9,9 +9,9 @@
 // MIP-mapped TIFF (.tx, 64x64 tiles, zip; levels by box-filtered halving) into the
 // prepared folder, named by the blob's digest, the use and the decoding, through a temporary file
 // renamed into place (workers sharing the folder are safe). Lookups then read tiles of
-// the prepared file through the cache, filtered with OIIO's anisotropic MIP-map filter
-// over the footprint a lookup gives; a footprint of zero reads the finest level
-// (bilinear), which the alpha cut-out test uses.
+// the prepared file through the cache, filtered over the footprint a lookup gives
+// (TextureFilter); a footprint of zero reads the finest level (bilinear), which photons
+// and the alpha cut-out test use.
 //
 // Decoding, as assets.proto says: a colour (base colour, emission) is sRGB in 8- and
 // 16-bit files, data (metallic-roughness, normals) is linear, float files are linear;
@@ -48,13 +48,30 @@ struct Rgba {
   float alpha = 1;
 };
 
+// How a lookup filters over its footprint.
+enum class TextureFilter {
+  // OIIO's anisotropic MIP-map filter: bilinear probes along the footprint's major axis at
+  // the level of its minor one, at most kMaxAnisotropy of them (a longer footprint is read
+  // at a coarser level, a little blurred across). For what the camera sees sharply.
+  kAnisotropic,
+  // Trilinear over a square as wide as the footprint's major axis: two bilinear reads, at
+  // the two levels about that width. For a ray whose cone is already wide (after a
+  // diffuse bounce, footprint.h), whose footprint's shape is of no visible consequence.
+  kIsotropic,
+};
+
+// The probes an anisotropic lookup takes at most (OIIO's own default is 32, which lets a
+// grazing footprint cost 64 bilinear reads).
+inline constexpr int kMaxAnisotropy = 8;
+
 // Where on the texture a lookup reads: texture coordinates (glTF's: (0, 0) is the image's
-// top-left corner, v grows downwards) and the footprint's two axes in texture
-// coordinates, the change of (u, v) across the pixel's footprint in two directions. Zero
-// axes read the finest level.
+// top-left corner, v grows downwards), the footprint's two axes in texture coordinates
+// (the change of (u, v) across the pixel's footprint in two directions) and its filter.
+// Zero axes read the finest level, bilinearly, whatever the filter.
 struct TextureLookup {
   Vec2 uv;
   Vec2 axis1, axis2;
+  TextureFilter filter = TextureFilter::kAnisotropic;
 };
 
 struct TextureSystemOptions {

@@ -21,6 +21,60 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type SpecularSampling int32
+
+const (
+	// Selects SPLIT.
+	SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED SpecularSampling = 0
+	// Follow both the reflected and the refracted ray, each weighted by its Fresnel share:
+	// smooth glass at one sample per pixel, for the cost of shading every branch.
+	SpecularSampling_SPECULAR_SAMPLING_SPLIT SpecularSampling = 1
+	// Follow one of the two, chosen at random with the Fresnel probabilities: cheaper, and
+	// speckled at low sample counts.
+	SpecularSampling_SPECULAR_SAMPLING_CHOOSE SpecularSampling = 2
+)
+
+// Enum value maps for SpecularSampling.
+var (
+	SpecularSampling_name = map[int32]string{
+		0: "SPECULAR_SAMPLING_UNSPECIFIED",
+		1: "SPECULAR_SAMPLING_SPLIT",
+		2: "SPECULAR_SAMPLING_CHOOSE",
+	}
+	SpecularSampling_value = map[string]int32{
+		"SPECULAR_SAMPLING_UNSPECIFIED": 0,
+		"SPECULAR_SAMPLING_SPLIT":       1,
+		"SPECULAR_SAMPLING_CHOOSE":      2,
+	}
+)
+
+func (x SpecularSampling) Enum() *SpecularSampling {
+	p := new(SpecularSampling)
+	*p = x
+	return p
+}
+
+func (x SpecularSampling) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (SpecularSampling) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (SpecularSampling) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x SpecularSampling) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use SpecularSampling.Descriptor instead.
+func (SpecularSampling) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
 type AntialiasingMode int32
 
 const (
@@ -59,11 +113,11 @@ func (x AntialiasingMode) String() string {
 }
 
 func (AntialiasingMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
 }
 
 func (AntialiasingMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+	return &file_renderfarm_v1_scene_proto_enumTypes[1]
 }
 
 func (x AntialiasingMode) Number() protoreflect.EnumNumber {
@@ -72,7 +126,7 @@ func (x AntialiasingMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AntialiasingMode.Descriptor instead.
 func (AntialiasingMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
 type IndirectMode int32
@@ -111,11 +165,11 @@ func (x IndirectMode) String() string {
 }
 
 func (IndirectMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
 }
 
 func (IndirectMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[1]
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
 }
 
 func (x IndirectMode) Number() protoreflect.EnumNumber {
@@ -124,7 +178,7 @@ func (x IndirectMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use IndirectMode.Descriptor instead.
 func (IndirectMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 type AlphaMode int32
@@ -162,11 +216,11 @@ func (x AlphaMode) String() string {
 }
 
 func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
 }
 
 func (AlphaMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+	return &file_renderfarm_v1_scene_proto_enumTypes[3]
 }
 
 func (x AlphaMode) Number() protoreflect.EnumNumber {
@@ -175,7 +229,7 @@ func (x AlphaMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AlphaMode.Descriptor instead.
 func (AlphaMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
 type ToneMap int32
@@ -215,11 +269,11 @@ func (x ToneMap) String() string {
 }
 
 func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
 }
 
 func (ToneMap) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[3]
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
 }
 
 func (x ToneMap) Number() protoreflect.EnumNumber {
@@ -228,7 +282,7 @@ func (x ToneMap) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use ToneMap.Descriptor instead.
 func (ToneMap) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 type Filter int32
@@ -270,11 +324,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+	return &file_renderfarm_v1_scene_proto_enumTypes[5]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -283,7 +337,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -553,7 +607,11 @@ type Film struct {
 	Width  uint32                 `protobuf:"varint,1,opt,name=width,proto3" json:"width,omitempty"`
 	Height uint32                 `protobuf:"varint,2,opt,name=height,proto3" json:"height,omitempty"`
 	// Side of the square render tiles in pixels; also the tile size of the final tiled EXR.
-	TileSize      uint32 `protobuf:"varint,3,opt,name=tile_size,json=tileSize,proto3" json:"tile_size,omitempty"`
+	TileSize uint32 `protobuf:"varint,3,opt,name=tile_size,json=tileSize,proto3" json:"tile_size,omitempty"`
+	// How a pixel's value is reconstructed from the camera samples around it; unset is the
+	// box of radius 1/2 (each pixel the plain mean of its own samples, the farm's filter
+	// before filters could be chosen, so scenes without one keep their images byte for byte).
+	Filter        *PixelFilter `protobuf:"bytes,4,opt,name=filter,proto3" json:"filter,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -609,6 +667,325 @@ func (x *Film) GetTileSize() uint32 {
 	return 0
 }
 
+func (x *Film) GetFilter() *PixelFilter {
+	if x != nil {
+		return x.Filter
+	}
+	return nil
+}
+
+// A pixel reconstruction filter (docs/pixel-filters.md): pixel (x, y) is the weighted mean
+// of the camera samples at image positions p within the filter's radius of its centre
+// (x + 1/2, y + 1/2), weighted by f(p.x - x - 1/2) f(p.y - y - 1/2), each sample's weight
+// divided by its own pixel's sample count. Wider than 1/2, samples near a tile's border
+// count in the neighbouring tiles too: a tile renders the samples of a margin of
+// ceil(radius - 1/2) pixels about it, the same samples wherever they are drawn, so the
+// image stays bit-identical however its tiles are spread.
+type PixelFilter struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Types that are valid to be assigned to Kind:
+	//
+	//	*PixelFilter_Box
+	//	*PixelFilter_Tent
+	//	*PixelFilter_Gaussian
+	//	*PixelFilter_Mitchell
+	Kind          isPixelFilter_Kind `protobuf_oneof:"kind"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *PixelFilter) Reset() {
+	*x = PixelFilter{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *PixelFilter) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*PixelFilter) ProtoMessage() {}
+
+func (x *PixelFilter) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use PixelFilter.ProtoReflect.Descriptor instead.
+func (*PixelFilter) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+}
+
+func (x *PixelFilter) GetKind() isPixelFilter_Kind {
+	if x != nil {
+		return x.Kind
+	}
+	return nil
+}
+
+func (x *PixelFilter) GetBox() *BoxFilter {
+	if x != nil {
+		if x, ok := x.Kind.(*PixelFilter_Box); ok {
+			return x.Box
+		}
+	}
+	return nil
+}
+
+func (x *PixelFilter) GetTent() *TentFilter {
+	if x != nil {
+		if x, ok := x.Kind.(*PixelFilter_Tent); ok {
+			return x.Tent
+		}
+	}
+	return nil
+}
+
+func (x *PixelFilter) GetGaussian() *GaussianFilter {
+	if x != nil {
+		if x, ok := x.Kind.(*PixelFilter_Gaussian); ok {
+			return x.Gaussian
+		}
+	}
+	return nil
+}
+
+func (x *PixelFilter) GetMitchell() *MitchellFilter {
+	if x != nil {
+		if x, ok := x.Kind.(*PixelFilter_Mitchell); ok {
+			return x.Mitchell
+		}
+	}
+	return nil
+}
+
+type isPixelFilter_Kind interface {
+	isPixelFilter_Kind()
+}
+
+type PixelFilter_Box struct {
+	Box *BoxFilter `protobuf:"bytes,1,opt,name=box,proto3,oneof"`
+}
+
+type PixelFilter_Tent struct {
+	Tent *TentFilter `protobuf:"bytes,2,opt,name=tent,proto3,oneof"`
+}
+
+type PixelFilter_Gaussian struct {
+	Gaussian *GaussianFilter `protobuf:"bytes,3,opt,name=gaussian,proto3,oneof"`
+}
+
+type PixelFilter_Mitchell struct {
+	Mitchell *MitchellFilter `protobuf:"bytes,4,opt,name=mitchell,proto3,oneof"`
+}
+
+func (*PixelFilter_Box) isPixelFilter_Kind() {}
+
+func (*PixelFilter_Tent) isPixelFilter_Kind() {}
+
+func (*PixelFilter_Gaussian) isPixelFilter_Kind() {}
+
+func (*PixelFilter_Mitchell) isPixelFilter_Kind() {}
+
+// Every sample within the radius (along both axes) weighs the same.
+type BoxFilter struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Radius        float64                `protobuf:"fixed64,1,opt,name=radius,proto3" json:"radius,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *BoxFilter) Reset() {
+	*x = BoxFilter{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *BoxFilter) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*BoxFilter) ProtoMessage() {}
+
+func (x *BoxFilter) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use BoxFilter.ProtoReflect.Descriptor instead.
+func (*BoxFilter) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+}
+
+func (x *BoxFilter) GetRadius() float64 {
+	if x != nil {
+		return x.Radius
+	}
+	return 0
+}
+
+// Weight falls linearly to 0 at the radius along each axis.
+type TentFilter struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Radius        float64                `protobuf:"fixed64,1,opt,name=radius,proto3" json:"radius,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *TentFilter) Reset() {
+	*x = TentFilter{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *TentFilter) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*TentFilter) ProtoMessage() {}
+
+func (x *TentFilter) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use TentFilter.ProtoReflect.Descriptor instead.
+func (*TentFilter) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
+}
+
+func (x *TentFilter) GetRadius() float64 {
+	if x != nil {
+		return x.Radius
+	}
+	return 0
+}
+
+// exp(-d^2 / (2 sigma^2)) less its value at the radius, along each axis (pbrt's and
+// Mitsuba's Gaussian; Mitsuba's radius is 4 sigma).
+type GaussianFilter struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Radius        float64                `protobuf:"fixed64,1,opt,name=radius,proto3" json:"radius,omitempty"`
+	Sigma         float64                `protobuf:"fixed64,2,opt,name=sigma,proto3" json:"sigma,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *GaussianFilter) Reset() {
+	*x = GaussianFilter{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *GaussianFilter) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*GaussianFilter) ProtoMessage() {}
+
+func (x *GaussianFilter) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use GaussianFilter.ProtoReflect.Descriptor instead.
+func (*GaussianFilter) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+}
+
+func (x *GaussianFilter) GetRadius() float64 {
+	if x != nil {
+		return x.Radius
+	}
+	return 0
+}
+
+func (x *GaussianFilter) GetSigma() float64 {
+	if x != nil {
+		return x.Sigma
+	}
+	return 0
+}
+
+// Mitchell and Netravali's cubic with their recommended B = C = 1/3, stretched over the
+// radius along each axis. Its negative lobes sharpen edges and can make a pixel next to a
+// bright edge slightly negative (kept so: docs/pixel-filters.md).
+type MitchellFilter struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Radius        float64                `protobuf:"fixed64,1,opt,name=radius,proto3" json:"radius,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *MitchellFilter) Reset() {
+	*x = MitchellFilter{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *MitchellFilter) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*MitchellFilter) ProtoMessage() {}
+
+func (x *MitchellFilter) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use MitchellFilter.ProtoReflect.Descriptor instead.
+func (*MitchellFilter) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
+}
+
+func (x *MitchellFilter) GetRadius() float64 {
+	if x != nil {
+		return x.Radius
+	}
+	return 0
+}
+
 // How pixels are sampled. A pixel sample's random numbers depend only on (seed, pixel,
 // sample index), so an image is bit-identical however its tiles are spread over workers.
 type Sampling struct {
@@ -618,14 +995,17 @@ type Sampling struct {
 	SamplesPerPixel uint32 `protobuf:"varint,1,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
 	Seed            uint64 `protobuf:"varint,2,opt,name=seed,proto3" json:"seed,omitempty"`
 	// Shadow rays towards area lights per shading point.
-	LightSamples  uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	LightSamples uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
+	// How a camera path goes on where it meets glass at one of its first three specular
+	// bounces (at most 8 branches a sample; later bounces choose).
+	Specular      SpecularSampling `protobuf:"varint,4,opt,name=specular,proto3,enum=renderfarm.v1.SpecularSampling" json:"specular,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
 
 func (x *Sampling) Reset() {
 	*x = Sampling{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -637,7 +1017,7 @@ func (x *Sampling) String() string {
 func (*Sampling) ProtoMessage() {}
 
 func (x *Sampling) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[3]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -650,7 +1030,7 @@ func (x *Sampling) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sampling.ProtoReflect.Descriptor instead.
 func (*Sampling) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
 }
 
 func (x *Sampling) GetSamplesPerPixel() uint32 {
@@ -674,6 +1054,13 @@ func (x *Sampling) GetLightSamples() uint32 {
 	return 0
 }
 
+func (x *Sampling) GetSpecular() SpecularSampling {
+	if x != nil {
+		return x.Specular
+	}
+	return SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED
+}
+
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, a Sobel gradient of its
 // luminance is thresholded, and only edge pixels get supersampled.
 type Antialiasing struct {
@@ -689,7 +1076,7 @@ type Antialiasing struct {
 
 func (x *Antialiasing) Reset() {
 	*x = Antialiasing{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -701,7 +1088,7 @@ func (x *Antialiasing) String() string {
 func (*Antialiasing) ProtoMessage() {}
 
 func (x *Antialiasing) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[4]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -714,7 +1101,7 @@ func (x *Antialiasing) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Antialiasing.ProtoReflect.Descriptor instead.
 func (*Antialiasing) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
 }
 
 func (x *Antialiasing) GetMode() AntialiasingMode {
@@ -752,7 +1139,7 @@ type Indirect struct {
 
 func (x *Indirect) Reset() {
 	*x = Indirect{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -764,7 +1151,7 @@ func (x *Indirect) String() string {
 func (*Indirect) ProtoMessage() {}
 
 func (x *Indirect) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -777,7 +1164,7 @@ func (x *Indirect) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Indirect.ProtoReflect.Descriptor instead.
 func (*Indirect) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *Indirect) GetMode() IndirectMode {
@@ -825,7 +1212,7 @@ type Progressive struct {
 
 func (x *Progressive) Reset() {
 	*x = Progressive{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -837,7 +1224,7 @@ func (x *Progressive) String() string {
 func (*Progressive) ProtoMessage() {}
 
 func (x *Progressive) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -850,7 +1237,7 @@ func (x *Progressive) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Progressive.ProtoReflect.Descriptor instead.
 func (*Progressive) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *Progressive) GetMaxRounds() uint32 {
@@ -900,7 +1287,7 @@ type ReferenceImage struct {
 
 func (x *ReferenceImage) Reset() {
 	*x = ReferenceImage{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -912,7 +1299,7 @@ func (x *ReferenceImage) String() string {
 func (*ReferenceImage) ProtoMessage() {}
 
 func (x *ReferenceImage) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -925,7 +1312,7 @@ func (x *ReferenceImage) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ReferenceImage.ProtoReflect.Descriptor instead.
 func (*ReferenceImage) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *ReferenceImage) GetPath() string {
@@ -962,7 +1349,7 @@ type Material struct {
 
 func (x *Material) Reset() {
 	*x = Material{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -974,7 +1361,7 @@ func (x *Material) String() string {
 func (*Material) ProtoMessage() {}
 
 func (x *Material) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -987,7 +1374,7 @@ func (x *Material) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Material.ProtoReflect.Descriptor instead.
 func (*Material) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *Material) GetName() string {
@@ -1123,7 +1510,7 @@ type Lambert struct {
 
 func (x *Lambert) Reset() {
 	*x = Lambert{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1135,7 +1522,7 @@ func (x *Lambert) String() string {
 func (*Lambert) ProtoMessage() {}
 
 func (x *Lambert) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1148,7 +1535,7 @@ func (x *Lambert) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Lambert.ProtoReflect.Descriptor instead.
 func (*Lambert) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *Lambert) GetReflectance() *Color {
@@ -1172,7 +1559,7 @@ type Emissive struct {
 
 func (x *Emissive) Reset() {
 	*x = Emissive{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1184,7 +1571,7 @@ func (x *Emissive) String() string {
 func (*Emissive) ProtoMessage() {}
 
 func (x *Emissive) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1197,7 +1584,7 @@ func (x *Emissive) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Emissive.ProtoReflect.Descriptor instead.
 func (*Emissive) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *Emissive) GetRadiance() *Color {
@@ -1228,7 +1615,7 @@ type Glossy struct {
 
 func (x *Glossy) Reset() {
 	*x = Glossy{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1240,7 +1627,7 @@ func (x *Glossy) String() string {
 func (*Glossy) ProtoMessage() {}
 
 func (x *Glossy) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1253,7 +1640,7 @@ func (x *Glossy) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Glossy.ProtoReflect.Descriptor instead.
 func (*Glossy) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *Glossy) GetDiffuse() *Color {
@@ -1287,7 +1674,7 @@ type Mirror struct {
 
 func (x *Mirror) Reset() {
 	*x = Mirror{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1299,7 +1686,7 @@ func (x *Mirror) String() string {
 func (*Mirror) ProtoMessage() {}
 
 func (x *Mirror) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1312,7 +1699,7 @@ func (x *Mirror) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Mirror.ProtoReflect.Descriptor instead.
 func (*Mirror) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *Mirror) GetReflectance() *Color {
@@ -1336,7 +1723,7 @@ type Dielectric struct {
 
 func (x *Dielectric) Reset() {
 	*x = Dielectric{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1348,7 +1735,7 @@ func (x *Dielectric) String() string {
 func (*Dielectric) ProtoMessage() {}
 
 func (x *Dielectric) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1361,7 +1748,7 @@ func (x *Dielectric) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Dielectric.ProtoReflect.Descriptor instead.
 func (*Dielectric) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *Dielectric) GetIor() float64 {
@@ -1390,7 +1777,7 @@ type Conductor struct {
 
 func (x *Conductor) Reset() {
 	*x = Conductor{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1402,7 +1789,7 @@ func (x *Conductor) String() string {
 func (*Conductor) ProtoMessage() {}
 
 func (x *Conductor) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1415,7 +1802,7 @@ func (x *Conductor) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Conductor.ProtoReflect.Descriptor instead.
 func (*Conductor) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
 }
 
 func (x *Conductor) GetEta() *Color {
@@ -1470,7 +1857,7 @@ type Principled struct {
 
 func (x *Principled) Reset() {
 	*x = Principled{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1482,7 +1869,7 @@ func (x *Principled) String() string {
 func (*Principled) ProtoMessage() {}
 
 func (x *Principled) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1495,7 +1882,7 @@ func (x *Principled) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Principled.ProtoReflect.Descriptor instead.
 func (*Principled) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *Principled) GetBaseColor() *Color {
@@ -1598,7 +1985,7 @@ type Light struct {
 
 func (x *Light) Reset() {
 	*x = Light{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1610,7 +1997,7 @@ func (x *Light) String() string {
 func (*Light) ProtoMessage() {}
 
 func (x *Light) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1623,7 +2010,7 @@ func (x *Light) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Light.ProtoReflect.Descriptor instead.
 func (*Light) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *Light) GetName() string {
@@ -1701,7 +2088,7 @@ type PointLight struct {
 
 func (x *PointLight) Reset() {
 	*x = PointLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1713,7 +2100,7 @@ func (x *PointLight) String() string {
 func (*PointLight) ProtoMessage() {}
 
 func (x *PointLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1726,7 +2113,7 @@ func (x *PointLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PointLight.ProtoReflect.Descriptor instead.
 func (*PointLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *PointLight) GetPosition() *Vec3 {
@@ -1759,7 +2146,7 @@ type SunLight struct {
 
 func (x *SunLight) Reset() {
 	*x = SunLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1771,7 +2158,7 @@ func (x *SunLight) String() string {
 func (*SunLight) ProtoMessage() {}
 
 func (x *SunLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1784,7 +2171,7 @@ func (x *SunLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SunLight.ProtoReflect.Descriptor instead.
 func (*SunLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *SunLight) GetDirection() *Vec3 {
@@ -1826,7 +2213,7 @@ type SpotLight struct {
 
 func (x *SpotLight) Reset() {
 	*x = SpotLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1838,7 +2225,7 @@ func (x *SpotLight) String() string {
 func (*SpotLight) ProtoMessage() {}
 
 func (x *SpotLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1851,7 +2238,7 @@ func (x *SpotLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SpotLight.ProtoReflect.Descriptor instead.
 func (*SpotLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *SpotLight) GetPosition() *Vec3 {
@@ -1910,7 +2297,7 @@ type Environment struct {
 
 func (x *Environment) Reset() {
 	*x = Environment{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1922,7 +2309,7 @@ func (x *Environment) String() string {
 func (*Environment) ProtoMessage() {}
 
 func (x *Environment) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1935,7 +2322,7 @@ func (x *Environment) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Environment.ProtoReflect.Descriptor instead.
 func (*Environment) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *Environment) GetRadiance() *Color {
@@ -1978,7 +2365,7 @@ type Output struct {
 
 func (x *Output) Reset() {
 	*x = Output{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1990,7 +2377,7 @@ func (x *Output) String() string {
 func (*Output) ProtoMessage() {}
 
 func (x *Output) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2003,7 +2390,7 @@ func (x *Output) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Output.ProtoReflect.Descriptor instead.
 func (*Output) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *Output) GetExposureStops() float64 {
@@ -2040,7 +2427,7 @@ type PhotonMapping struct {
 
 func (x *PhotonMapping) Reset() {
 	*x = PhotonMapping{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2052,7 +2439,7 @@ func (x *PhotonMapping) String() string {
 func (*PhotonMapping) ProtoMessage() {}
 
 func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2065,7 +2452,7 @@ func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhotonMapping.ProtoReflect.Descriptor instead.
 func (*PhotonMapping) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *PhotonMapping) GetGlobalPhotons() uint64 {
@@ -2121,7 +2508,7 @@ type RadianceEstimate struct {
 
 func (x *RadianceEstimate) Reset() {
 	*x = RadianceEstimate{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2133,7 +2520,7 @@ func (x *RadianceEstimate) String() string {
 func (*RadianceEstimate) ProtoMessage() {}
 
 func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2146,7 +2533,7 @@ func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RadianceEstimate.ProtoReflect.Descriptor instead.
 func (*RadianceEstimate) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *RadianceEstimate) GetNeighbours() uint32 {
@@ -2199,7 +2586,7 @@ type Shape struct {
 
 func (x *Shape) Reset() {
 	*x = Shape{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[29]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2211,7 +2598,7 @@ func (x *Shape) String() string {
 func (*Shape) ProtoMessage() {}
 
 func (x *Shape) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[29]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2224,7 +2611,7 @@ func (x *Shape) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Shape.ProtoReflect.Descriptor instead.
 func (*Shape) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{29}
 }
 
 func (x *Shape) GetName() string {
@@ -2338,7 +2725,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2350,7 +2737,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2363,7 +2750,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{30}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -2393,7 +2780,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2405,7 +2792,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2418,7 +2805,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{31}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -2454,7 +2841,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2466,7 +2853,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2479,7 +2866,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -2514,7 +2901,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2526,7 +2913,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2539,7 +2926,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{28}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -2591,15 +2978,33 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x02up\x18\x03 \x01(\v2\x13.renderfarm.v1.Vec3B4\x8a\xb5\x1800\x01Z,non-zero, not parallel to look_at - positionR\x02up\x12H\n" +
 	"\x14vertical_fov_degrees\x18\x04 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\x00\x00!\x00\x00\x00\x00\x00\x80f@R\x12verticalFovDegrees\x126\n" +
 	"\x0faperture_radius\x18\x05 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\x0eapertureRadius\x124\n" +
-	"\x0efocus_distance\x18\x06 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\rfocusDistance\"\xca\x02\n" +
+	"\x0efocus_distance\x18\x06 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\rfocusDistance\"\xfe\x02\n" +
 	"\x04Film\x12,\n" +
 	"\x05width\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@R\x05width\x12^\n" +
 	"\x06height\x18\x02 \x01(\rBF\x8a\xb5\x18B\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00\xd0@Z.width * height at most Scene's max_film_pixelsR\x06height\x12\xb3\x01\n" +
-	"\ttile_size\x18\x03 \x01(\rB\x95\x01\x8a\xb5\x18\x90\x01\t\x00\x00\x00\x00\x00\x00 @\x19\x00\x00\x00\x00\x00\x00p@)\x00\x00\x00\x00\x00\x00@@Zsceil(width / t) * ceil(height / t) tiles per round (t the effective tile size), at most Scene's max_tiles_per_roundR\btileSize\"\x9f\x01\n" +
+	"\ttile_size\x18\x03 \x01(\rB\x95\x01\x8a\xb5\x18\x90\x01\t\x00\x00\x00\x00\x00\x00 @\x19\x00\x00\x00\x00\x00\x00p@)\x00\x00\x00\x00\x00\x00@@Zsceil(width / t) * ceil(height / t) tiles per round (t the effective tile size), at most Scene's max_tiles_per_roundR\btileSize\x122\n" +
+	"\x06filter\x18\x04 \x01(\v2\x1a.renderfarm.v1.PixelFilterR\x06filter\"\xee\x01\n" +
+	"\vPixelFilter\x12,\n" +
+	"\x03box\x18\x01 \x01(\v2\x18.renderfarm.v1.BoxFilterH\x00R\x03box\x12/\n" +
+	"\x04tent\x18\x02 \x01(\v2\x19.renderfarm.v1.TentFilterH\x00R\x04tent\x12;\n" +
+	"\bgaussian\x18\x03 \x01(\v2\x1d.renderfarm.v1.GaussianFilterH\x00R\bgaussian\x12;\n" +
+	"\bmitchell\x18\x04 \x01(\v2\x1d.renderfarm.v1.MitchellFilterH\x00R\bmitchellB\x06\n" +
+	"\x04kind\"D\n" +
+	"\tBoxFilter\x127\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xe0?R\x06radius\"E\n" +
+	"\n" +
+	"TentFilter\x127\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xf0?R\x06radius\"\x80\x01\n" +
+	"\x0eGaussianFilter\x127\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xf8?R\x06radius\x125\n" +
+	"\x05sigma\x18\x02 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xc0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xe0?R\x05sigma\"I\n" +
+	"\x0eMitchellFilter\x127\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\xeb\x01\n" +
 	"\bSampling\x12B\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xf0@)\x00\x00\x00\x00\x00\x00\xf0?R\x0fsamplesPerPixel\x12\x12\n" +
 	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12;\n" +
-	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\"\xcc\x01\n" +
+	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\x12J\n" +
+	"\bspecular\x18\x04 \x01(\x0e2\x1f.renderfarm.v1.SpecularSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspecular\"\xcc\x01\n" +
 	"\fAntialiasing\x12B\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
 	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
@@ -2735,7 +3140,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bMeshFile\x12\x1b\n" +
 	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12c\n" +
 	"\x06digest\x18\x02 \x01(\tBK\x8a\xb5\x18G0\x01P\x01ZAthe blob is uploaded first and parses as an OBJ or farm mesh fileR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*\x8a\x01\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*p\n" +
+	"\x10SpecularSampling\x12!\n" +
+	"\x1dSPECULAR_SAMPLING_UNSPECIFIED\x10\x00\x12\x1b\n" +
+	"\x17SPECULAR_SAMPLING_SPLIT\x10\x01\x12\x1c\n" +
+	"\x18SPECULAR_SAMPLING_CHOOSE\x10\x02*\x8a\x01\n" +
 	"\x10AntialiasingMode\x12!\n" +
 	"\x1dANTIALIASING_MODE_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17ANTIALIASING_MODE_EDGES\x10\x01\x12\x1a\n" +
@@ -2772,127 +3181,139 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 5)
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 29)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 34)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(AntialiasingMode)(0),    // 0: renderfarm.v1.AntialiasingMode
-	(IndirectMode)(0),        // 1: renderfarm.v1.IndirectMode
-	(AlphaMode)(0),           // 2: renderfarm.v1.AlphaMode
-	(ToneMap)(0),             // 3: renderfarm.v1.ToneMap
-	(Filter)(0),              // 4: renderfarm.v1.Filter
-	(*Scene)(nil),            // 5: renderfarm.v1.Scene
-	(*Camera)(nil),           // 6: renderfarm.v1.Camera
-	(*Film)(nil),             // 7: renderfarm.v1.Film
-	(*Sampling)(nil),         // 8: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),     // 9: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),         // 10: renderfarm.v1.Indirect
-	(*Progressive)(nil),      // 11: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),   // 12: renderfarm.v1.ReferenceImage
-	(*Material)(nil),         // 13: renderfarm.v1.Material
-	(*Lambert)(nil),          // 14: renderfarm.v1.Lambert
-	(*Emissive)(nil),         // 15: renderfarm.v1.Emissive
-	(*Glossy)(nil),           // 16: renderfarm.v1.Glossy
-	(*Mirror)(nil),           // 17: renderfarm.v1.Mirror
-	(*Dielectric)(nil),       // 18: renderfarm.v1.Dielectric
-	(*Conductor)(nil),        // 19: renderfarm.v1.Conductor
-	(*Principled)(nil),       // 20: renderfarm.v1.Principled
-	(*Light)(nil),            // 21: renderfarm.v1.Light
-	(*PointLight)(nil),       // 22: renderfarm.v1.PointLight
-	(*SunLight)(nil),         // 23: renderfarm.v1.SunLight
-	(*SpotLight)(nil),        // 24: renderfarm.v1.SpotLight
-	(*Environment)(nil),      // 25: renderfarm.v1.Environment
-	(*Output)(nil),           // 26: renderfarm.v1.Output
-	(*PhotonMapping)(nil),    // 27: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil), // 28: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),            // 29: renderfarm.v1.Shape
-	(*Sphere)(nil),           // 30: renderfarm.v1.Sphere
-	(*Quad)(nil),             // 31: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),     // 32: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),         // 33: renderfarm.v1.MeshFile
-	(*Mesh)(nil),             // 34: renderfarm.v1.Mesh
-	(*Texture)(nil),          // 35: renderfarm.v1.Texture
-	(*Vec3)(nil),             // 36: renderfarm.v1.Vec3
-	(*Color)(nil),            // 37: renderfarm.v1.Color
-	(*TextureRef)(nil),       // 38: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),     // 39: renderfarm.v1.MeshInstance
-	(*Transform)(nil),        // 40: renderfarm.v1.Transform
+	(SpecularSampling)(0),    // 0: renderfarm.v1.SpecularSampling
+	(AntialiasingMode)(0),    // 1: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),        // 2: renderfarm.v1.IndirectMode
+	(AlphaMode)(0),           // 3: renderfarm.v1.AlphaMode
+	(ToneMap)(0),             // 4: renderfarm.v1.ToneMap
+	(Filter)(0),              // 5: renderfarm.v1.Filter
+	(*Scene)(nil),            // 6: renderfarm.v1.Scene
+	(*Camera)(nil),           // 7: renderfarm.v1.Camera
+	(*Film)(nil),             // 8: renderfarm.v1.Film
+	(*PixelFilter)(nil),      // 9: renderfarm.v1.PixelFilter
+	(*BoxFilter)(nil),        // 10: renderfarm.v1.BoxFilter
+	(*TentFilter)(nil),       // 11: renderfarm.v1.TentFilter
+	(*GaussianFilter)(nil),   // 12: renderfarm.v1.GaussianFilter
+	(*MitchellFilter)(nil),   // 13: renderfarm.v1.MitchellFilter
+	(*Sampling)(nil),         // 14: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),     // 15: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),         // 16: renderfarm.v1.Indirect
+	(*Progressive)(nil),      // 17: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),   // 18: renderfarm.v1.ReferenceImage
+	(*Material)(nil),         // 19: renderfarm.v1.Material
+	(*Lambert)(nil),          // 20: renderfarm.v1.Lambert
+	(*Emissive)(nil),         // 21: renderfarm.v1.Emissive
+	(*Glossy)(nil),           // 22: renderfarm.v1.Glossy
+	(*Mirror)(nil),           // 23: renderfarm.v1.Mirror
+	(*Dielectric)(nil),       // 24: renderfarm.v1.Dielectric
+	(*Conductor)(nil),        // 25: renderfarm.v1.Conductor
+	(*Principled)(nil),       // 26: renderfarm.v1.Principled
+	(*Light)(nil),            // 27: renderfarm.v1.Light
+	(*PointLight)(nil),       // 28: renderfarm.v1.PointLight
+	(*SunLight)(nil),         // 29: renderfarm.v1.SunLight
+	(*SpotLight)(nil),        // 30: renderfarm.v1.SpotLight
+	(*Environment)(nil),      // 31: renderfarm.v1.Environment
+	(*Output)(nil),           // 32: renderfarm.v1.Output
+	(*PhotonMapping)(nil),    // 33: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil), // 34: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),            // 35: renderfarm.v1.Shape
+	(*Sphere)(nil),           // 36: renderfarm.v1.Sphere
+	(*Quad)(nil),             // 37: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),     // 38: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),         // 39: renderfarm.v1.MeshFile
+	(*Mesh)(nil),             // 40: renderfarm.v1.Mesh
+	(*Texture)(nil),          // 41: renderfarm.v1.Texture
+	(*Vec3)(nil),             // 42: renderfarm.v1.Vec3
+	(*Color)(nil),            // 43: renderfarm.v1.Color
+	(*TextureRef)(nil),       // 44: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),     // 45: renderfarm.v1.MeshInstance
+	(*Transform)(nil),        // 46: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	6,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	7,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	8,  // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	13, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	29, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	21, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	27, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	9,  // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
-	10, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
-	11, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	34, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	35, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
-	25, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
-	26, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	36, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	36, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	36, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	0,  // 17: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	1,  // 18: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	12, // 19: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	14, // 20: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	15, // 21: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	16, // 22: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	17, // 23: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	18, // 24: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	19, // 25: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	20, // 26: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	37, // 27: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	37, // 28: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	37, // 29: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
-	37, // 30: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	37, // 31: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	37, // 32: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	37, // 33: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	37, // 34: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	37, // 35: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	37, // 36: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	38, // 37: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	38, // 38: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	38, // 39: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	37, // 40: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	38, // 41: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	2,  // 42: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	22, // 43: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	23, // 44: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	24, // 45: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	36, // 46: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	37, // 47: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	36, // 48: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	37, // 49: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	36, // 50: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	36, // 51: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	37, // 52: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	37, // 53: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	38, // 54: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	3,  // 55: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	28, // 56: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	28, // 57: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	4,  // 58: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	30, // 59: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	31, // 60: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	32, // 61: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	33, // 62: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	39, // 63: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	36, // 64: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	36, // 65: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	36, // 66: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	36, // 67: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	36, // 68: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	40, // 69: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	70, // [70:70] is the sub-list for method output_type
-	70, // [70:70] is the sub-list for method input_type
-	70, // [70:70] is the sub-list for extension type_name
-	70, // [70:70] is the sub-list for extension extendee
-	0,  // [0:70] is the sub-list for field type_name
+	7,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	8,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	14, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	19, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	35, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	27, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	33, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	15, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	16, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	17, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	40, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	41, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	31, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	32, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	42, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	42, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	42, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	9,  // 17: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
+	10, // 18: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
+	11, // 19: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
+	12, // 20: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
+	13, // 21: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
+	0,  // 22: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
+	1,  // 23: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	2,  // 24: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	18, // 25: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	20, // 26: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	21, // 27: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	22, // 28: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	23, // 29: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	24, // 30: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	25, // 31: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	26, // 32: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	43, // 33: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	43, // 34: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	43, // 35: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	43, // 36: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	43, // 37: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	43, // 38: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	43, // 39: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	43, // 40: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	43, // 41: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	43, // 42: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	44, // 43: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	44, // 44: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	44, // 45: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	43, // 46: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	44, // 47: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	3,  // 48: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	28, // 49: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	29, // 50: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	30, // 51: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	42, // 52: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	43, // 53: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	42, // 54: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	43, // 55: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	42, // 56: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	42, // 57: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	43, // 58: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	43, // 59: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	44, // 60: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	4,  // 61: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	34, // 62: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	34, // 63: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	5,  // 64: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	36, // 65: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	37, // 66: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	38, // 67: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	39, // 68: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	45, // 69: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	42, // 70: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	42, // 71: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	42, // 72: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	42, // 73: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	42, // 74: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	46, // 75: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	76, // [76:76] is the sub-list for method output_type
+	76, // [76:76] is the sub-list for method input_type
+	76, // [76:76] is the sub-list for extension type_name
+	76, // [76:76] is the sub-list for extension extendee
+	0,  // [0:76] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -2903,7 +3324,13 @@ func file_renderfarm_v1_scene_proto_init() {
 	file_renderfarm_v1_assets_proto_init()
 	file_renderfarm_v1_rules_proto_init()
 	file_renderfarm_v1_types_proto_init()
-	file_renderfarm_v1_scene_proto_msgTypes[8].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[3].OneofWrappers = []any{
+		(*PixelFilter_Box)(nil),
+		(*PixelFilter_Tent)(nil),
+		(*PixelFilter_Gaussian)(nil),
+		(*PixelFilter_Mitchell)(nil),
+	}
+	file_renderfarm_v1_scene_proto_msgTypes[13].OneofWrappers = []any{
 		(*Material_Lambert)(nil),
 		(*Material_Emissive)(nil),
 		(*Material_Glossy)(nil),
@@ -2912,12 +3339,12 @@ func file_renderfarm_v1_scene_proto_init() {
 		(*Material_Conductor)(nil),
 		(*Material_Principled)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[16].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[21].OneofWrappers = []any{
 		(*Light_Point)(nil),
 		(*Light_Sun)(nil),
 		(*Light_Spot)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[24].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[29].OneofWrappers = []any{
 		(*Shape_Sphere)(nil),
 		(*Shape_Quad)(nil),
 		(*Shape_Triangles)(nil),
@@ -2929,8 +3356,8 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      5,
-			NumMessages:   29,
+			NumEnums:      6,
+			NumMessages:   34,
 			NumExtensions: 0,
 			NumServices:   0,
 		},

@@ -513,7 +513,9 @@ type CompleteTaskRequest struct {
 	Epoch    uint64                 `protobuf:"varint,3,opt,name=epoch,proto3" json:"epoch,omitempty"`
 	Outputs  []*Artifact            `protobuf:"bytes,4,rep,name=outputs,proto3" json:"outputs,omitempty"`
 	// Set by composite tasks: the error estimates of the image so far.
-	Metrics       *RoundMetrics `protobuf:"bytes,5,opt,name=metrics,proto3" json:"metrics,omitempty"`
+	Metrics *RoundMetrics `protobuf:"bytes,5,opt,name=metrics,proto3" json:"metrics,omitempty"`
+	// Set by render tiles: how the tile's camera samples came out.
+	Samples       *TileSamples `protobuf:"bytes,6,opt,name=samples,proto3" json:"samples,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -583,6 +585,79 @@ func (x *CompleteTaskRequest) GetMetrics() *RoundMetrics {
 	return nil
 }
 
+func (x *CompleteTaskRequest) GetSamples() *TileSamples {
+	if x != nil {
+		return x.Samples
+	}
+	return nil
+}
+
+// A render tile's camera samples (the coordinator counts them in its metrics,
+// farm_render_samples_total by outcome). A healthy render has no non-finite samples and
+// no zero samples on lit surfaces; either is a renderer bug to find.
+type TileSamples struct {
+	state   protoimpl.MessageState `protogen:"open.v1"`
+	Samples uint64                 `protobuf:"varint,1,opt,name=samples,proto3" json:"samples,omitempty"`
+	// Samples with a light term that came out NaN or infinite (dropped from the pixel).
+	Nonfinite uint64 `protobuf:"varint,2,opt,name=nonfinite,proto3" json:"nonfinite,omitempty"`
+	// Samples whose camera path reached a non-specular surface (directly or through
+	// specular bounces) and came out exactly black: legitimate only where no light reaches.
+	Zero          uint64 `protobuf:"varint,3,opt,name=zero,proto3" json:"zero,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *TileSamples) Reset() {
+	*x = TileSamples{}
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *TileSamples) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*TileSamples) ProtoMessage() {}
+
+func (x *TileSamples) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use TileSamples.ProtoReflect.Descriptor instead.
+func (*TileSamples) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{9}
+}
+
+func (x *TileSamples) GetSamples() uint64 {
+	if x != nil {
+		return x.Samples
+	}
+	return 0
+}
+
+func (x *TileSamples) GetNonfinite() uint64 {
+	if x != nil {
+		return x.Nonfinite
+	}
+	return 0
+}
+
+func (x *TileSamples) GetZero() uint64 {
+	if x != nil {
+		return x.Zero
+	}
+	return 0
+}
+
 type RoundMetrics struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// RMSE of the mean image estimated from the spread between rounds (needs two rounds).
@@ -598,7 +673,7 @@ type RoundMetrics struct {
 
 func (x *RoundMetrics) Reset() {
 	*x = RoundMetrics{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -610,7 +685,7 @@ func (x *RoundMetrics) String() string {
 func (*RoundMetrics) ProtoMessage() {}
 
 func (x *RoundMetrics) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -623,7 +698,7 @@ func (x *RoundMetrics) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RoundMetrics.ProtoReflect.Descriptor instead.
 func (*RoundMetrics) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *RoundMetrics) GetErrorEstimate() float64 {
@@ -655,7 +730,7 @@ type CompleteTaskResponse struct {
 
 func (x *CompleteTaskResponse) Reset() {
 	*x = CompleteTaskResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -667,7 +742,7 @@ func (x *CompleteTaskResponse) String() string {
 func (*CompleteTaskResponse) ProtoMessage() {}
 
 func (x *CompleteTaskResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -680,7 +755,7 @@ func (x *CompleteTaskResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CompleteTaskResponse.ProtoReflect.Descriptor instead.
 func (*CompleteTaskResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{11}
 }
 
 type FailTaskRequest struct {
@@ -697,7 +772,7 @@ type FailTaskRequest struct {
 
 func (x *FailTaskRequest) Reset() {
 	*x = FailTaskRequest{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -709,7 +784,7 @@ func (x *FailTaskRequest) String() string {
 func (*FailTaskRequest) ProtoMessage() {}
 
 func (x *FailTaskRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -722,7 +797,7 @@ func (x *FailTaskRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use FailTaskRequest.ProtoReflect.Descriptor instead.
 func (*FailTaskRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *FailTaskRequest) GetWorkerId() string {
@@ -768,7 +843,7 @@ type FailTaskResponse struct {
 
 func (x *FailTaskResponse) Reset() {
 	*x = FailTaskResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -780,7 +855,7 @@ func (x *FailTaskResponse) String() string {
 func (*FailTaskResponse) ProtoMessage() {}
 
 func (x *FailTaskResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -793,7 +868,7 @@ func (x *FailTaskResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use FailTaskResponse.ProtoReflect.Descriptor instead.
 func (*FailTaskResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{13}
 }
 
 type ReleaseTaskRequest struct {
@@ -807,7 +882,7 @@ type ReleaseTaskRequest struct {
 
 func (x *ReleaseTaskRequest) Reset() {
 	*x = ReleaseTaskRequest{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -819,7 +894,7 @@ func (x *ReleaseTaskRequest) String() string {
 func (*ReleaseTaskRequest) ProtoMessage() {}
 
 func (x *ReleaseTaskRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -832,7 +907,7 @@ func (x *ReleaseTaskRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ReleaseTaskRequest.ProtoReflect.Descriptor instead.
 func (*ReleaseTaskRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *ReleaseTaskRequest) GetWorkerId() string {
@@ -864,7 +939,7 @@ type ReleaseTaskResponse struct {
 
 func (x *ReleaseTaskResponse) Reset() {
 	*x = ReleaseTaskResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -876,7 +951,7 @@ func (x *ReleaseTaskResponse) String() string {
 func (*ReleaseTaskResponse) ProtoMessage() {}
 
 func (x *ReleaseTaskResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -889,7 +964,7 @@ func (x *ReleaseTaskResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ReleaseTaskResponse.ProtoReflect.Descriptor instead.
 func (*ReleaseTaskResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{15}
 }
 
 type UnregisterWorkerRequest struct {
@@ -901,7 +976,7 @@ type UnregisterWorkerRequest struct {
 
 func (x *UnregisterWorkerRequest) Reset() {
 	*x = UnregisterWorkerRequest{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -913,7 +988,7 @@ func (x *UnregisterWorkerRequest) String() string {
 func (*UnregisterWorkerRequest) ProtoMessage() {}
 
 func (x *UnregisterWorkerRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -926,7 +1001,7 @@ func (x *UnregisterWorkerRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnregisterWorkerRequest.ProtoReflect.Descriptor instead.
 func (*UnregisterWorkerRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *UnregisterWorkerRequest) GetWorkerId() string {
@@ -944,7 +1019,7 @@ type UnregisterWorkerResponse struct {
 
 func (x *UnregisterWorkerResponse) Reset() {
 	*x = UnregisterWorkerResponse{}
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -956,7 +1031,7 @@ func (x *UnregisterWorkerResponse) String() string {
 func (*UnregisterWorkerResponse) ProtoMessage() {}
 
 func (x *UnregisterWorkerResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_worker_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_worker_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -969,7 +1044,7 @@ func (x *UnregisterWorkerResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnregisterWorkerResponse.ProtoReflect.Descriptor instead.
 func (*UnregisterWorkerResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_worker_proto_rawDescGZIP(), []int{17}
 }
 
 var File_renderfarm_v1_worker_proto protoreflect.FileDescriptor
@@ -1007,13 +1082,18 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\x11LeaseTaskResponse\x12*\n" +
 	"\x05lease\x18\x01 \x01(\v2\x14.renderfarm.v1.LeaseR\x05lease\x12'\n" +
 	"\x04task\x18\x02 \x01(\v2\x13.renderfarm.v1.TaskR\x04task\x12!\n" +
-	"\fscene_digest\x18\x03 \x01(\tR\vsceneDigest\"\xcb\x01\n" +
+	"\fscene_digest\x18\x03 \x01(\tR\vsceneDigest\"\x81\x02\n" +
 	"\x13CompleteTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
 	"\atask_id\x18\x02 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x03 \x01(\x04R\x05epoch\x121\n" +
 	"\aoutputs\x18\x04 \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x125\n" +
-	"\ametrics\x18\x05 \x01(\v2\x1b.renderfarm.v1.RoundMetricsR\ametrics\"\xba\x02\n" +
+	"\ametrics\x18\x05 \x01(\v2\x1b.renderfarm.v1.RoundMetricsR\ametrics\x124\n" +
+	"\asamples\x18\x06 \x01(\v2\x1a.renderfarm.v1.TileSamplesR\asamples\"Y\n" +
+	"\vTileSamples\x12\x18\n" +
+	"\asamples\x18\x01 \x01(\x04R\asamples\x12\x1c\n" +
+	"\tnonfinite\x18\x02 \x01(\x04R\tnonfinite\x12\x12\n" +
+	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xba\x02\n" +
 	"\fRoundMetrics\x12*\n" +
 	"\x0eerror_estimate\x18\x01 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
 	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12e\n" +
@@ -1060,7 +1140,7 @@ func file_renderfarm_v1_worker_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_worker_proto_rawDescData
 }
 
-var file_renderfarm_v1_worker_proto_msgTypes = make([]protoimpl.MessageInfo, 18)
+var file_renderfarm_v1_worker_proto_msgTypes = make([]protoimpl.MessageInfo, 19)
 var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*RegisterWorkerRequest)(nil),    // 0: renderfarm.v1.RegisterWorkerRequest
 	(*RegisterWorkerResponse)(nil),   // 1: renderfarm.v1.RegisterWorkerResponse
@@ -1071,54 +1151,56 @@ var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*LeaseTaskRequest)(nil),         // 6: renderfarm.v1.LeaseTaskRequest
 	(*LeaseTaskResponse)(nil),        // 7: renderfarm.v1.LeaseTaskResponse
 	(*CompleteTaskRequest)(nil),      // 8: renderfarm.v1.CompleteTaskRequest
-	(*RoundMetrics)(nil),             // 9: renderfarm.v1.RoundMetrics
-	(*CompleteTaskResponse)(nil),     // 10: renderfarm.v1.CompleteTaskResponse
-	(*FailTaskRequest)(nil),          // 11: renderfarm.v1.FailTaskRequest
-	(*FailTaskResponse)(nil),         // 12: renderfarm.v1.FailTaskResponse
-	(*ReleaseTaskRequest)(nil),       // 13: renderfarm.v1.ReleaseTaskRequest
-	(*ReleaseTaskResponse)(nil),      // 14: renderfarm.v1.ReleaseTaskResponse
-	(*UnregisterWorkerRequest)(nil),  // 15: renderfarm.v1.UnregisterWorkerRequest
-	(*UnregisterWorkerResponse)(nil), // 16: renderfarm.v1.UnregisterWorkerResponse
-	nil,                              // 17: renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
-	(*durationpb.Duration)(nil),      // 18: google.protobuf.Duration
-	(*timestamppb.Timestamp)(nil),    // 19: google.protobuf.Timestamp
-	(*Task)(nil),                     // 20: renderfarm.v1.Task
-	(*Artifact)(nil),                 // 21: renderfarm.v1.Artifact
-	(FailureKind)(0),                 // 22: renderfarm.v1.FailureKind
+	(*TileSamples)(nil),              // 9: renderfarm.v1.TileSamples
+	(*RoundMetrics)(nil),             // 10: renderfarm.v1.RoundMetrics
+	(*CompleteTaskResponse)(nil),     // 11: renderfarm.v1.CompleteTaskResponse
+	(*FailTaskRequest)(nil),          // 12: renderfarm.v1.FailTaskRequest
+	(*FailTaskResponse)(nil),         // 13: renderfarm.v1.FailTaskResponse
+	(*ReleaseTaskRequest)(nil),       // 14: renderfarm.v1.ReleaseTaskRequest
+	(*ReleaseTaskResponse)(nil),      // 15: renderfarm.v1.ReleaseTaskResponse
+	(*UnregisterWorkerRequest)(nil),  // 16: renderfarm.v1.UnregisterWorkerRequest
+	(*UnregisterWorkerResponse)(nil), // 17: renderfarm.v1.UnregisterWorkerResponse
+	nil,                              // 18: renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
+	(*durationpb.Duration)(nil),      // 19: google.protobuf.Duration
+	(*timestamppb.Timestamp)(nil),    // 20: google.protobuf.Timestamp
+	(*Task)(nil),                     // 21: renderfarm.v1.Task
+	(*Artifact)(nil),                 // 22: renderfarm.v1.Artifact
+	(FailureKind)(0),                 // 23: renderfarm.v1.FailureKind
 }
 var file_renderfarm_v1_worker_proto_depIdxs = []int32{
-	18, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
-	18, // 1: renderfarm.v1.RegisterWorkerResponse.lease_duration:type_name -> google.protobuf.Duration
-	19, // 2: renderfarm.v1.Lease.expire_time:type_name -> google.protobuf.Timestamp
+	19, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
+	19, // 1: renderfarm.v1.RegisterWorkerResponse.lease_duration:type_name -> google.protobuf.Duration
+	20, // 2: renderfarm.v1.Lease.expire_time:type_name -> google.protobuf.Timestamp
 	3,  // 3: renderfarm.v1.HeartbeatRequest.leases:type_name -> renderfarm.v1.HeldLease
 	2,  // 4: renderfarm.v1.HeartbeatResponse.leases:type_name -> renderfarm.v1.Lease
 	3,  // 5: renderfarm.v1.HeartbeatResponse.revoked:type_name -> renderfarm.v1.HeldLease
-	18, // 6: renderfarm.v1.LeaseTaskRequest.wait_timeout:type_name -> google.protobuf.Duration
+	19, // 6: renderfarm.v1.LeaseTaskRequest.wait_timeout:type_name -> google.protobuf.Duration
 	2,  // 7: renderfarm.v1.LeaseTaskResponse.lease:type_name -> renderfarm.v1.Lease
-	20, // 8: renderfarm.v1.LeaseTaskResponse.task:type_name -> renderfarm.v1.Task
-	21, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
-	9,  // 10: renderfarm.v1.CompleteTaskRequest.metrics:type_name -> renderfarm.v1.RoundMetrics
-	17, // 11: renderfarm.v1.RoundMetrics.layer_reference_rmse:type_name -> renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
-	22, // 12: renderfarm.v1.FailTaskRequest.kind:type_name -> renderfarm.v1.FailureKind
-	0,  // 13: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
-	4,  // 14: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
-	6,  // 15: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
-	8,  // 16: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
-	11, // 17: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
-	13, // 18: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
-	15, // 19: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
-	1,  // 20: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
-	5,  // 21: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
-	7,  // 22: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
-	10, // 23: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
-	12, // 24: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
-	14, // 25: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
-	16, // 26: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
-	20, // [20:27] is the sub-list for method output_type
-	13, // [13:20] is the sub-list for method input_type
-	13, // [13:13] is the sub-list for extension type_name
-	13, // [13:13] is the sub-list for extension extendee
-	0,  // [0:13] is the sub-list for field type_name
+	21, // 8: renderfarm.v1.LeaseTaskResponse.task:type_name -> renderfarm.v1.Task
+	22, // 9: renderfarm.v1.CompleteTaskRequest.outputs:type_name -> renderfarm.v1.Artifact
+	10, // 10: renderfarm.v1.CompleteTaskRequest.metrics:type_name -> renderfarm.v1.RoundMetrics
+	9,  // 11: renderfarm.v1.CompleteTaskRequest.samples:type_name -> renderfarm.v1.TileSamples
+	18, // 12: renderfarm.v1.RoundMetrics.layer_reference_rmse:type_name -> renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
+	23, // 13: renderfarm.v1.FailTaskRequest.kind:type_name -> renderfarm.v1.FailureKind
+	0,  // 14: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
+	4,  // 15: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
+	6,  // 16: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
+	8,  // 17: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
+	12, // 18: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
+	14, // 19: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
+	16, // 20: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
+	1,  // 21: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
+	5,  // 22: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
+	7,  // 23: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
+	11, // 24: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
+	13, // 25: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
+	15, // 26: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
+	17, // 27: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
+	21, // [21:28] is the sub-list for method output_type
+	14, // [14:21] is the sub-list for method input_type
+	14, // [14:14] is the sub-list for extension type_name
+	14, // [14:14] is the sub-list for extension extendee
+	0,  // [0:14] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_worker_proto_init() }
@@ -1128,14 +1210,14 @@ func file_renderfarm_v1_worker_proto_init() {
 	}
 	file_renderfarm_v1_job_proto_init()
 	file_renderfarm_v1_rules_proto_init()
-	file_renderfarm_v1_worker_proto_msgTypes[9].OneofWrappers = []any{}
+	file_renderfarm_v1_worker_proto_msgTypes[10].OneofWrappers = []any{}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_worker_proto_rawDesc), len(file_renderfarm_v1_worker_proto_rawDesc)),
 			NumEnums:      0,
-			NumMessages:   18,
+			NumMessages:   19,
 			NumExtensions: 0,
 			NumServices:   1,
 		},

@@ -1,11 +1,15 @@
 package main
 
-import pb "photonfarm/proto/renderfarm/v1"
+import (
+	"slices"
+
+	pb "photonfarm/proto/renderfarm/v1"
+)
 
 // accepted lists the scenes every side must accept: each inclusive bound hit exactly, and
 // 0 wherever a default applies (0 is not written in JSON: such a case is base without the
 // field). The scene files of scenes/ are accepted too (sceneFiles).
-var accepted = []vectorCase{
+var accepted = slices.Concat(acceptedFilters, []vectorCase{
 	accept("accept-base", "TriangleMesh.positions:min_items=", unchanged),
 	accept("accept-mesh-named-by-path-and-digest", "", func(s *pb.Scene) { withMesh(s) }),
 	accept("accept-coordinates-at-max-magnitude", "Scene:max_magnitude=", func(s *pb.Scene) {
@@ -189,6 +193,7 @@ var accepted = []vectorCase{
 	accept("accept-edge-samples-0", "Antialiasing.edge_samples:default", func(s *pb.Scene) { s.Antialiasing.EdgeSamples = 0 }),
 	accept("accept-edge-threshold-0", "Antialiasing.edge_threshold:gte= Antialiasing.edge_threshold:default", func(s *pb.Scene) { s.Antialiasing.EdgeThreshold = 0 }),
 	accept("accept-indirect-mode-unset", "Indirect.mode:default", func(s *pb.Scene) { s.Indirect.Mode = 0 }),
+	accept("accept-specular-sampling-unset", "Sampling.specular:default", func(s *pb.Scene) { s.Sampling.Specular = 0 }),
 	accept("accept-gather-rays-4096", "Indirect.gather_rays:lte=", func(s *pb.Scene) { s.Indirect.GatherRays = 4096 }),
 	accept("accept-gather-rays-0", "Indirect.gather_rays:default", func(s *pb.Scene) { s.Indirect.GatherRays = 0 }),
 	accept("accept-secondary-gather-rays-4096", "Indirect.secondary_gather_rays:lte=", func(s *pb.Scene) { s.Indirect.SecondaryGatherRays = 4096 }),
@@ -202,4 +207,4 @@ var accepted = []vectorCase{
 	accept("accept-time-budget-of-a-week", "Progressive.time_budget_seconds:lte=", func(s *pb.Scene) { s.Progressive.TimeBudgetSeconds = 604800 }),
 	accept("accept-alpha-1", "Progressive.alpha:lte=", func(s *pb.Scene) { s.Progressive.Alpha = 1 }),
 	accept("accept-alpha-0", "Progressive.alpha:default", func(s *pb.Scene) { s.Progressive.Alpha = 0 }),
-}
+})

@@ -16,7 +16,7 @@ const (
 )
 
 // refused lists the scenes every side must refuse, each with the field its refusal names.
-var refused = slices.Concat(refusedAssets, refusedLooks, []vectorCase{
+var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, []vectorCase{
 	// Scene.
 	refuse("refuse-scene-name-of-257-bytes", "name", "Scene.name:max_bytes", func(s *pb.Scene) { s.Name = long(257) }),
 	refuse("refuse-no-camera", "camera", "Scene.camera:required", func(s *pb.Scene) { s.Camera = nil }),
@@ -222,6 +222,7 @@ var refused = slices.Concat(refusedAssets, refusedLooks, []vectorCase{
 	refuse("refuse-edge-samples-1025", "antialiasing.edge_samples", "Antialiasing.edge_samples:lte", func(s *pb.Scene) { s.Antialiasing.EdgeSamples = 1025 }),
 	refuse("refuse-edge-threshold-negative", "antialiasing.edge_threshold", "Antialiasing.edge_threshold:gte", func(s *pb.Scene) { s.Antialiasing.EdgeThreshold = -0.1 }),
 	refuse("refuse-unknown-indirect-mode", "indirect.mode", "Indirect.mode:enum", func(s *pb.Scene) { s.Indirect.Mode = 5 }),
+	refuse("refuse-unknown-specular-sampling", "sampling.specular", "Sampling.specular:enum", func(s *pb.Scene) { s.Sampling.Specular = 6 }),
 	refuse("refuse-gather-rays-4097", "indirect.gather_rays", "Indirect.gather_rays:lte", func(s *pb.Scene) { s.Indirect.GatherRays = 4097 }),
 	refuse("refuse-secondary-gather-rays-4097", "indirect.secondary_gather_rays", "Indirect.secondary_gather_rays:lte", func(s *pb.Scene) { s.Indirect.SecondaryGatherRays = 4097 }),
 
