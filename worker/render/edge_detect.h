@@ -2,55 +2,111 @@
 
 // Edge detection for edge anti-aliasing: which pixels of a tile get supersampled.
 //
-// A pixel is an edge when the Sobel gradient of log-luminance around it exceeds a threshold.
-// Log-luminance makes the test relative (a step from 0.1 to 0.2 counts as much as one from
-// 10 to 20, which is what the eye sees after tone mapping); a floor of 1/256 keeps noise in
-// the darkest displayable values from counting as edges. The Sobel kernels are divided by 8,
-// their weight on each side, so the gradient is in log units per pixel: a linear ramp of
-// slope k reads k, and a sharp step of height h reads h/2 on the pixels either side of it.
+// Supersampling fixes what varies inside a pixel faster than the base samples resolve:
+// silhouettes, creases, boundaries between materials, shadow edges. It does nothing for
+// texture detail (texture lookups already filter over the pixel's footprint) or for the
+// noise of the light estimates (more samples of a pixel are not what removes it), so the
+// test reads cues that neither moves (SurfaceCues, from the base pass):
+//
+//   surface   an id of the surfaces the camera path met up to the first one it shaded
+//             (shape, mesh part and material; SampleResult::surface). A pixel is an edge
+//             where its base samples disagree on it or any of its 3x3 neighbours has
+//             another: silhouettes, and albedo edges between untextured shapes.
+//   normal    the mean shading normal: an edge where a neighbour's turns by more than
+//             acos(kEdgeNormalCos) (creases, facets).
+//   depth     1/depth, which is linear in screen space across a plane: an edge where its
+//             second difference along a row, column or diagonal through the pixel exceeds
+//             kEdgeDepthStep of the pixel's own (one surface occluding another part of
+//             itself).
+//   light     the log-luminance of the direct irradiance on the surfaces the path shaded
+//             (SampleResult::direct_irradiance: shadowed, over the geometric normal, no
+//             BSDF), so that texture patterns and normal maps leave it and shadow edges
+//             stay: an edge where its Sobel gradient exceeds the scene's edge_threshold.
+//             Indirect light, whose final-gathering noise is no edge, is not read.
+//
+// Log-luminance makes the light test relative (a step from 0.1 to 0.2 counts as much as one
+// from 10 to 20, which is what the eye sees after tone mapping); a floor of 1/256 keeps
+// noise in the darkest displayable values from counting as edges. The Sobel kernels are
+// divided by 8, their weight on each side, so the gradient is in log units per pixel: a
+// linear ramp of slope k reads k, and a sharp step of height h reads h/2 on the pixels
+// either side of it.
 //
 // The decision for a pixel depends only on the 3x3 neighbourhood of base-pass values around
 // it, clamped at the image border (never at a tile border), so it is the same whichever
 // tile the pixel is rendered in.
 
+#include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "image/image.h"
+#include "math/vec3.h"
 
 namespace farm {
 
 inline constexpr float kEdgeLuminanceFloor = 1.0f / 256.0f;
+// Neighbouring normals closer than about 25 degrees are one smooth surface.
+inline constexpr double kEdgeNormalCos = 0.9;
+// A tenth of the pixel's inverse depth.
+inline constexpr double kEdgeDepthStep = 0.1;
 
 // log(luminance + floor) of a linear RGB value (Rec. 709 luminance).
 double EdgeLogLuminance(float r, float g, float b);
 
-// Log-luminance over `area`: a tile with its one-pixel apron, clipped to the image.
-class LogLuminanceGrid {
+// Values over `area`: a tile with its one-pixel apron, clipped to the image.
+template <typename T>
+class ApronGrid {
  public:
-  explicit LogLuminanceGrid(const PixelRect& area);
+  explicit ApronGrid(const PixelRect& area)
+      : area_(area), values_(static_cast<std::size_t>(std::max(0, area.width)) * std::max(0, area.height)) {
+    if (area.width <= 0 || area.height <= 0) throw std::invalid_argument("ApronGrid: empty area");
+  }
 
   const PixelRect& area() const { return area_; }
-  void set(int x, int y, double value) { values_[Index(x, y)] = value; }
+  void set(int x, int y, const T& value) { values_[Index(x, y)] = value; }
   // Coordinates outside the area are clamped into it. For a pixel of the tile the area holds
   // every neighbour inside the image, so this is clamping at the image border.
-  double at(int x, int y) const;
+  const T& at(int x, int y) const {
+    x = std::clamp(x, area_.x, area_.x_end() - 1);
+    y = std::clamp(y, area_.y, area_.y_end() - 1);
+    return values_[Index(x, y)];
+  }
 
  private:
   std::size_t Index(int x, int y) const {
     return static_cast<std::size_t>(y - area_.y) * area_.width + (x - area_.x);
   }
   PixelRect area_;
-  std::vector<double> values_;
+  std::vector<T> values_;
 };
+
+using LogLuminanceGrid = ApronGrid<double>;
+
+// A pixel's geometric cues from its base samples (see above).
+struct SurfaceCues {
+  std::uint32_t surface = 0;  // of its first base sample; 0 where it hit nothing
+  bool mixed = false;         // its base samples met different surfaces
+  Vec3 normal;                // mean shading normal of the samples that hit (not unit)
+  double inverse_depth = 0;   // 1 / mean depth of the samples that hit; 0 for none
+};
+
+using SurfaceCueGrid = ApronGrid<SurfaceCues>;
 
 // The Sobel gradient magnitude at (x, y), in log units per pixel (see above).
 double SobelGradient(const LogLuminanceGrid& grid, int x, int y);
+
+// Whether the surface, normal or depth cues make (x, y) an edge (see above).
+bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y);
 
 // One byte per pixel of `tile` (row-major): 1 where SobelGradient exceeds threshold. The grid
 // must cover the tile with its apron clipped to the image (ApronArea).
 std::vector<std::uint8_t> DetectEdges(const LogLuminanceGrid& grid, const PixelRect& tile,
                                       double threshold);
+
+// As above, and also 1 where SurfaceEdge holds; both grids cover the same area.
+std::vector<std::uint8_t> DetectEdges(const SurfaceCueGrid& surfaces, const LogLuminanceGrid& light,
+                                      const PixelRect& tile, double threshold);
 
 // `tile` grown by one pixel on each side and clipped to the image.
 PixelRect ApronArea(const PixelRect& tile, ImageSize image);

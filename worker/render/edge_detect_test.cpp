@@ -61,6 +61,75 @@ TEST(EdgeDetect, EdgesAreThePixelsStrictlyOverTheThreshold) {
   EXPECT_EQ(DetectEdges(grid, {1, 1, 4, 1}, 0.25), (std::vector<std::uint8_t>{0, 0, 0, 0}));
 }
 
+// A plane seen by the camera: one surface, one normal, 1/depth linear across the image.
+SurfaceCues Plane(int x, int y) { return {7, false, {0, 1, 0}, 0.5 + 0.01 * x - 0.02 * y}; }
+
+SurfaceCueGrid FillCues(const PixelRect& area, SurfaceCues (*f)(int x, int y)) {
+  SurfaceCueGrid grid(area);
+  for (int y = area.y; y < area.y_end(); ++y)
+    for (int x = area.x; x < area.x_end(); ++x) grid.set(x, y, f(x, y));
+  return grid;
+}
+
+std::vector<std::uint8_t> SurfaceEdges(const SurfaceCueGrid& grid) {
+  // A light grid that marks nothing, so only the surface cues count.
+  const LogLuminanceGrid dark(grid.area());
+  return DetectEdges(grid, dark, grid.area(), 0.1);
+}
+
+TEST(EdgeDetect, APlaneHasNoSurfaceEdgesUpToTheImageBorder) {
+  const SurfaceCueGrid grid = FillCues({0, 0, 5, 4}, Plane);
+  EXPECT_EQ(SurfaceEdges(grid), std::vector<std::uint8_t>(20, 0));
+}
+
+TEST(EdgeDetect, AnotherSurfaceInTheNeighbourhoodIsAnEdge) {
+  const SurfaceCueGrid grid = FillCues({0, 0, 6, 1}, [](int x, int y) {
+    SurfaceCues c = Plane(x, y);
+    if (x >= 3) c.surface = 8;
+    return c;
+  });
+  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
+}
+
+TEST(EdgeDetect, BaseSamplesOnDifferentSurfacesMakeAnEdge) {
+  const SurfaceCueGrid grid = FillCues({0, 0, 5, 1}, [](int x, int y) {
+    SurfaceCues c = Plane(x, y);
+    c.mixed = x == 2;
+    return c;
+  });
+  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 1, 0, 0}));
+}
+
+TEST(EdgeDetect, ACreaseOverTheAngleIsAnEdgeAndAGentleBendIsNot) {
+  // Normals turning by 30 degrees at x = 3 (cos 0.866 < 0.9), by 20 at x = 3 (0.940).
+  for (const auto& [degrees, expected] :
+       {std::pair{30.0, std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}}, std::pair{20.0, std::vector<std::uint8_t>(6, 0)}}) {
+    SurfaceCueGrid grid({0, 0, 6, 1});
+    const double a = degrees * std::acos(-1.0) / 180;
+    for (int x = 0; x < 6; ++x) {
+      SurfaceCues c = Plane(x, 0);
+      // Not unit, as a pixel's mean normal need not be: only the angle counts.
+      if (x >= 3) c.normal = {2 * float(std::sin(a)), 2 * float(std::cos(a)), 0};
+      grid.set(x, 0, c);
+    }
+    EXPECT_EQ(SurfaceEdges(grid), expected) << degrees << " degrees";
+  }
+}
+
+TEST(EdgeDetect, AStepInDepthOnOneSurfaceIsAnEdge) {
+  // 1/depth 0.5 then 0.6: second differences of 0.1 > 0.1 x 0.5 beside the step.
+  const SurfaceCueGrid grid = FillCues({0, 0, 6, 1}, [](int x, int) {
+    return SurfaceCues{7, false, {0, 1, 0}, x < 3 ? 0.5 : 0.6};
+  });
+  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
+}
+
+TEST(EdgeDetect, TheLightCueAddsItsEdges) {
+  const SurfaceCueGrid surfaces = FillCues({0, 0, 6, 1}, Plane);
+  const LogLuminanceGrid light = Fill({0, 0, 6, 1}, [](int x, int) { return x < 3 ? 0.0 : 0.5; });
+  EXPECT_EQ(DetectEdges(surfaces, light, {0, 0, 6, 1}, 0.2), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
+}
+
 TEST(EdgeDetect, TheApronGrowsTheTileByOnePixelInsideTheImage) {
   EXPECT_EQ(ApronArea({32, 32, 32, 32}, {100, 80}), (PixelRect{31, 31, 34, 34}));
   EXPECT_EQ(ApronArea({0, 0, 32, 32}, {100, 80}), (PixelRect{0, 0, 33, 33}));

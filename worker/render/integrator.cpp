@@ -243,6 +243,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   result.caustic = Finite(result.caustic);
   result.indirect = Finite(result.indirect);
   result.albedo = Finite(result.albedo);
+  result.direct_irradiance = Finite(result.direct_irradiance);
   if (!std::isfinite(result.depth)) result.depth = 0;
   result.radiance = result.emitted + result.direct + result.indirect + result.caustic;
   return result;
@@ -267,6 +268,11 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const RayCone cone{branch.cone.WidthAt(hit->t), branch.cone.spread};
   const Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
   const Shading at(*hit, wo, material, cone.width);
+  if (branch.key == 0) {
+    // Never 0, which stands for no hit.
+    const uint64_t id = Hash(uint64_t(hit->shape), uint64_t(hit->part), uint64_t(hit->material));
+    result.surface = uint32_t(Hash(uint64_t(result.surface), id)) | 1u;
+  }
   if (depth == 0) {
     result.alpha = 1;
     result.hit = true;
@@ -285,7 +291,9 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
     Rgb direct, caustic, indirect;
     const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
-    Shade(at, strategies, seed, scratch, direct, caustic, indirect);
+    Rgb irradiance;
+    Shade(at, strategies, seed, scratch, direct, caustic, indirect, branch.key == 0 ? &irradiance : nullptr);
+    result.direct_irradiance += throughput * irradiance;
     if (final_gather_) {
       const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
       const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
@@ -334,8 +342,8 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
 void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
                                     std::vector<PhotonNeighbour>& scratch, Rgb& direct,
-                                    Rgb& caustic, Rgb& indirect) const {
-  direct = DirectLight(at, strategies, SubSeed(seed, kDirectSeed));
+                                    Rgb& caustic, Rgb& indirect, Rgb* irradiance) const {
+  direct = DirectLight(at, strategies, SubSeed(seed, kDirectSeed), irradiance);
   const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
   // Both photon estimates are over the surface their disc covers (surface_estimate.h).
   const uint32_t coverage_seed = SubSeed(seed, kCoverageSeed);
@@ -368,10 +376,11 @@ float PhotonMappingIntegrator::GlossyBouncePdf(const Shading& at, const Vec3& wi
   return GlossyLobePdf(at.material, at.ns, at.wo, wi);
 }
 
-Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed) const {
+Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed,
+                                         Rgb* irradiance) const {
   const uint32_t count = LightSampleCount();
   if (scene_.light_power.empty() || count == 0) return {};
-  Rgb sum;
+  Rgb sum, incident;
   for (uint32_t j = 0; j < count; ++j) {
     const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kLightPick));
     if (!(pick.pmf > 0)) continue;
@@ -379,10 +388,14 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
         SampleLi(scene_.lights[pick.index], at.hit.p, Point2(j, count, seed, kLightPoint));
     if (!ls) continue;
     Rgb f = at.Reflected(ls->wi);
-    if (f.IsBlack()) continue;
     const float pdf = pick.pmf * ls->pdf;
     if (!(pdf > 0) || !std::isfinite(pdf)) continue;
+    // Over the geometric normal, so that neither a black texel nor a normal map hides it.
+    const float cos_geometric = irradiance ? Dot(at.n, ls->wi) : 0.0f;
+    if (f.IsBlack() && !(cos_geometric > 0)) continue;
     if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) continue;
+    if (cos_geometric > 0) incident += ls->radiance * (cos_geometric / pdf);
+    if (f.IsBlack()) continue;
     if (pick.index == scene_.environment_light) {
       // Gather rays (the diffuse lobe) and the glossy bounce (the rest) that escape see the
       // environment too: each part of f takes its balance-heuristic share.
@@ -395,6 +408,7 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
     }
     sum += f * ls->radiance * (AbsDot(at.ns, ls->wi) / pdf);
   }
+  if (irradiance) *irradiance = incident / float(count);
   return sum / float(count);
 }
 

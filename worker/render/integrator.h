@@ -88,6 +88,15 @@ struct SampleResult {
   Rgb albedo;
   Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
+  // The direct irradiance on the surfaces the path's first branch shaded (shadowed, over
+  // their geometric normals, from the same light samples as direct), times its throughput:
+  // shadows change it, textures and normal maps do not. Edge anti-aliasing reads it.
+  Rgb direct_irradiance;
+  // An id of the surfaces (shape, mesh part, material) the path's first branch hit, the
+  // first one and those it saw through specular bounces (the refracted branch where glass
+  // splits); 0 if the camera ray hit nothing. Edge anti-aliasing compares it between
+  // samples and pixels (render/edge_detect.h).
+  uint32_t surface = 0;
   // Whether the path (a branch of it) reached a non-specular surface and shaded it: such a
   // sample is black only where no light reaches.
   bool shaded = false;
@@ -150,13 +159,17 @@ class PhotonMappingIntegrator {
               SampleResult& result, Branches& next) const;
   // Direct + caustic + indirect leaving a non-specular hit along wo; no gather rays means
   // the global map's estimate instead of gathering. seed scrambles the stratified points.
+  // irradiance, if not null, receives the direct irradiance (DirectLight's).
   void Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
-             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect) const;
+             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect,
+             Rgb* irradiance = nullptr) const;
   // Light samples a shading point takes.
   uint32_t LightSampleCount() const;
   // The average of LightSampleCount() light samples of the reflected direct radiance along
-  // wo, the environment's weighted against `strategies`.
-  Rgb DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed) const;
+  // wo, the environment's weighted against `strategies`. irradiance, if not null, receives
+  // the same samples' estimate of the irradiance over the geometric normal (no BSDF, no
+  // weighting), shadows included.
+  Rgb DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed, Rgb* irradiance = nullptr) const;
   // The density with which light sampling (DirectLight) picks the environment along w.
   float EnvironmentLightPdf(const Vec3& w) const;
   // The density with which GlossyBounce samples wi; 0 where it has no glossy lobe.

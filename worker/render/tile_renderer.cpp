@@ -21,9 +21,9 @@
 // How a tile's pixels are sampled.
 //
 // Every pixel first gets samples_per_pixel camera samples (the base pass). With edge
-// anti-aliasing, the base pass also covers a one-pixel apron around the tile; the Sobel
-// gradient of the base pass's log-luminance (render/edge_detect.h) marks edge pixels, and
-// those continue to max(samples_per_pixel, edge_samples) samples in all. FULL mode gives
+// anti-aliasing, the base pass also covers a one-pixel apron around the tile; the base
+// pass's surface ids, normals, depths and direct irradiance (render/edge_detect.h)
+// mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in all. FULL mode gives
 // every pixel that many; NONE gives none more.
 //
 // Sample j of a pixel in a round is a pure function of (seed, round key, pixel, j): the
@@ -140,8 +140,10 @@ class PixelRenderer {
   PixelRenderer& operator=(const PixelRenderer&) = delete;
 
   // Adds samples [from, to) of pixel (x, y) to sum, in sample order, and splats them if
-  // splats is not null.
-  void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum, FilterSplats* splats) {
+  // splats is not null. If cues is not null, sets its surface and mixed from the samples
+  // and adds their direct irradiance to irradiance.
+  void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum, FilterSplats* splats,
+                  SurfaceCues* cues = nullptr, Rgb* irradiance = nullptr) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
@@ -152,6 +154,11 @@ class PixelRenderer {
       const Ray ray = data_.camera.GenerateRay(film, lens);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
       Count(r);
+      if (cues) {
+        if (s == from) cues->surface = r.surface;
+        else if (r.surface != cues->surface) cues->mixed = true;
+        *irradiance += r.direct_irradiance;
+      }
       AddLight(r, sum.data());
       if (splats) {
         std::array<double, FilterSplats::kChannels> light{};
@@ -260,15 +267,25 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   const auto sum_at = [&](int x, int y) -> Sums& {
     return sums[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
   };
-  std::optional<LogLuminanceGrid> luminance;
-  if (plan.detect_edges) luminance.emplace(area);
+  std::optional<LogLuminanceGrid> light;
+  std::optional<SurfaceCueGrid> surfaces;
+  if (plan.detect_edges) {
+    light.emplace(area);
+    surfaces.emplace(area);
+  }
   ForEachPixel(area, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
     Sums& sum = sum_at(x, y);
-    renderer.AddSamples(x, y, 0, first, sum, splat);
-    if (luminance) {
-      const double n = first;
-      luminance->set(x, y, EdgeLogLuminance(float(sum[kBeauty] / n), float(sum[kBeauty + 1] / n),
-                                            float(sum[kBeauty + 2] / n)));
+    SurfaceCues cues;
+    Rgb irradiance;
+    renderer.AddSamples(x, y, 0, first, sum, splat, surfaces ? &cues : nullptr, &irradiance);
+    if (surfaces) {
+      const Rgb e = irradiance / float(first);
+      light->set(x, y, EdgeLogLuminance(e.r, e.g, e.b));
+      float mean[kChannelCount];
+      WritePixel(sum, first, false, mean);
+      cues.normal = {mean[kNormal], mean[kNormal + 1], mean[kNormal + 2]};
+      cues.inverse_depth = sum[kHits] > 0 && mean[kDepth] > 0 ? 1.0 / mean[kDepth] : 0.0;
+      surfaces->set(x, y, cues);
     }
     // Per pixel, not per row: a row of a heavy scene can take long, and one relaxed add
     // per pixel costs nothing beside it.
@@ -285,7 +302,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     return samples[static_cast<std::size_t>(y - source.y) * source.width + (x - source.x)];
   };
   if (plan.detect_edges) {
-    const std::vector<std::uint8_t> edges = DetectEdges(*luminance, source, data.antialiasing.edge_threshold);
+    const std::vector<std::uint8_t> edges = DetectEdges(*surfaces, *light, source, data.antialiasing.edge_threshold);
     // Edge pixels continue where their base samples ended. They cluster along a few rows,
     // so the work is split by edge pixel, not by row, to keep both threads busy.
     std::vector<std::pair<int, int>> edge_pixels;
