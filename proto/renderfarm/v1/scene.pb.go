@@ -1061,14 +1061,17 @@ func (x *Sampling) GetSpecular() SpecularSampling {
 	return SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED
 }
 
-// Edge anti-aliasing: each tile is rendered with a one-pixel apron, a Sobel gradient of its
-// luminance is thresholded, and only edge pixels get supersampled.
+// Edge anti-aliasing: each tile is rendered with a one-pixel apron, and only edge pixels get
+// supersampled: where the base samples of a pixel or its 3x3 neighbours differ in the
+// surface they hit, the normal or the depth, or the direct irradiance changes sharply (a
+// shadow's edge). Texture detail is no edge: texture lookups filter over the pixel.
 type Antialiasing struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
 	// Camera rays for an edge pixel (or every pixel in FULL mode).
 	EdgeSamples uint32 `protobuf:"varint,2,opt,name=edge_samples,json=edgeSamples,proto3" json:"edge_samples,omitempty"`
-	// A pixel is an edge when the Sobel gradient of log-luminance exceeds this.
+	// A pixel is a shadow's edge when the Sobel gradient of its direct irradiance's
+	// log-luminance exceeds this.
 	EdgeThreshold float64 `protobuf:"fixed64,3,opt,name=edge_threshold,json=edgeThreshold,proto3" json:"edge_threshold,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
