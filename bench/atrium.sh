@@ -8,7 +8,8 @@
 # textures cost). Then the atrium at 1280x720 with the bench's sampling (below). Prints, for
 # each render, the wall-clock seconds from submission to success and each worker's peak
 # resident memory over the job's tasks (the largest `peak_memory_bytes` of its task lines,
-# worker/README.md), and the ratios.
+# worker/README.md), the share of its pixels edge anti-aliasing supersampled (the mean of
+# its edge layer), and the ratios. With PROBE_ONLY=1 in the environment, only the probes.
 #   bench/atrium.sh BUILD_DIR [OUT_DIR]     OUT_DIR keeps atrium.exr and atrium.png
 set -eu
 build=${1:-build}
@@ -82,12 +83,14 @@ render() {
     tasks=$(grep -c "job=$job .*peak_memory_bytes" "$tmp/worker-$i.log" || true)
     printf ', worker %d peak %.0f MiB over %d tasks' "$i" "$(awk "BEGIN { print ${peak:-0} / 1048576 }")" "$tasks"
   done
-  echo
+  edges=$(oiiotool "$out/$name.exr" --ch edge.Y --printstats 2>/dev/null | sed -n 's/.*Stats Avg: *\([0-9.e+-]*\).*/\1/p')
+  printf ', edge pixels %.1f%%\n' "$(awk "BEGIN { print ${edges:-0} * 100 }")"
 }
 ratio() { awk "BEGIN { print $(cat "$tmp/$1.s") / $(cat "$tmp/$2.s") }"; }
 render probe-192x96-untextured "$tmp/scene-192x96/untextured.json"
 render probe-192x96 "$tmp/scene-192x96/atrium.json"
 printf 'probe textured / untextured: time %.2fx\n' "$(ratio probe-192x96 probe-192x96-untextured)"
+[ "${PROBE_ONLY:-0}" = 1 ] && exit 0
 render atrium "$tmp/scene-1280x720/bench.json"
 printf 'atrium 1280x720 / probe 192x96 (textured): time %.2fx for %.0fx the pixels\n' \
   "$(ratio atrium probe-192x96)" "$(awk 'BEGIN { print 1280 * 720 / (192 * 96) }')"
