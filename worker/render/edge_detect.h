@@ -20,7 +20,7 @@
 //             itself).
 //   light     the log-luminance of the direct irradiance on the surfaces the path shaded
 //             (SampleResult::direct_irradiance: shadowed, over the geometric normal, no
-//             BSDF), so that texture patterns and normal maps leave it and shadow edges
+//             BSDF, not the environment's soft and noisy share), so that texture patterns and normal maps leave it and shadow edges
 //             stay: an edge where its Sobel gradient exceeds the scene's edge_threshold.
 //             Indirect light, whose final-gathering noise is no edge, is not read.
 //

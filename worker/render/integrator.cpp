@@ -390,8 +390,10 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
     Rgb f = at.Reflected(ls->wi);
     const float pdf = pick.pmf * ls->pdf;
     if (!(pdf > 0) || !std::isfinite(pdf)) continue;
-    // Over the geometric normal, so that neither a black texel nor a normal map hides it.
-    const float cos_geometric = irradiance ? Dot(at.n, ls->wi) : 0.0f;
+    // Over the geometric normal, so that neither a black texel nor a normal map hides it;
+    // not the environment's, whose shadows are soft and whose samples are noisy.
+    const float cos_geometric =
+        irradiance && pick.index != scene_.environment_light ? Dot(at.n, ls->wi) : 0.0f;
     if (f.IsBlack() && !(cos_geometric > 0)) continue;
     if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) continue;
     if (cos_geometric > 0) incident += ls->radiance * (cos_geometric / pdf);

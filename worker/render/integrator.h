@@ -88,9 +88,10 @@ struct SampleResult {
   Rgb albedo;
   Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
-  // The direct irradiance on the surfaces the path's first branch shaded (shadowed, over
-  // their geometric normals, from the same light samples as direct), times its throughput:
-  // shadows change it, textures and normal maps do not. Edge anti-aliasing reads it.
+  // The direct irradiance on the surfaces the path's first branch shaded from the lights
+  // but the environment (shadowed, over their geometric normals, from the same light
+  // samples as direct), times its throughput: shadows change it, textures and normal maps
+  // do not, nor the noise of sampling the sky. Edge anti-aliasing reads it.
   Rgb direct_irradiance;
   // An id of the surfaces (shape, mesh part, material) the path's first branch hit, the
   // first one and those it saw through specular bounces (the refracted branch where glass
@@ -168,7 +169,7 @@ class PhotonMappingIntegrator {
   // The average of LightSampleCount() light samples of the reflected direct radiance along
   // wo, the environment's weighted against `strategies`. irradiance, if not null, receives
   // the same samples' estimate of the irradiance over the geometric normal (no BSDF, no
-  // weighting), shadows included.
+  // weighting), shadows included, from every light but the environment.
   Rgb DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed, Rgb* irradiance = nullptr) const;
   // The density with which light sampling (DirectLight) picks the environment along w.
   float EnvironmentLightPdf(const Vec3& w) const;
