@@ -28,17 +28,14 @@ func TestWorkerKilledInAnyPhaseJobCompletesUnchanged(t *testing.T) {
 		w.WorkerID(t, 15*time.Second)
 	}
 	tr := newTrials(t, f, phasedScene(t, f))
-	for i := range *workerKillTrials {
-		tr.run(t, i, func(rng *rand.Rand) {
-			k := rng.IntN(len(workers))
-			victim := workers[k]
-			victim.Kill(syscall.SIGKILL)
-			<-victim.Done()
-			workers[k] = f.StartWorker(t)
-			t.Logf("trial %d: SIGKILLed %s, started %s", i, victim.Name, workers[k].Name)
-		})
-	}
-	tr.checkSpread(t, *workerKillTrials)
+	tr.runSpread(t, *workerKillTrials, func(i int, rng *rand.Rand) {
+		k := rng.IntN(len(workers))
+		victim := workers[k]
+		victim.Kill(syscall.SIGKILL)
+		<-victim.Done()
+		workers[k] = f.StartWorker(t)
+		t.Logf("trial %d: SIGKILLed %s, started %s", i, victim.Name, workers[k].Name)
+	})
 }
 
 // TestCoordinatorKilledInAnyPhaseResumesFromRedis runs a farm on Redis with two workers;
@@ -51,11 +48,8 @@ func TestCoordinatorKilledInAnyPhaseResumesFromRedis(t *testing.T) {
 	f.StartWorker(t)
 	f.StartWorker(t)
 	tr := newTrials(t, f, phasedScene(t, f))
-	for i := range *coordinatorKillTrials {
-		tr.run(t, i, func(*rand.Rand) {
-			f.RestartCoordinator(t)
-			t.Logf("trial %d: SIGKILLed the coordinator and started %s", i, f.Coordinator().Name)
-		})
-	}
-	tr.checkSpread(t, *coordinatorKillTrials)
+	tr.runSpread(t, *coordinatorKillTrials, func(i int, _ *rand.Rand) {
+		f.RestartCoordinator(t)
+		t.Logf("trial %d: SIGKILLed the coordinator and started %s", i, f.Coordinator().Name)
+	})
 }

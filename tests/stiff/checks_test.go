@@ -39,8 +39,12 @@ func checkFinite(t *testing.T, name string, im *image) {
 	}
 }
 
-// brightestEmitter is, per channel, the largest radiance of an emissive material that a
-// shape uses (0 if none: scenes lit by point or sun lights state their own bound).
+// brightestEmitter is, per channel, the largest radiance a surface of the scene can have
+// by energy: over the emissive materials that a shape uses, Le / (1 - rho), rho being the
+// emitter's own reflectance (Emissive.reflectance). Other surfaces reflect at most what
+// reaches them, so no radiance exceeds sup(Le + rho sup L); with rho = 0, as for most
+// emitters, the bound is Le itself. 0 if no shape emits: scenes lit by point or sun lights
+// state their own bound.
 func brightestEmitter(sc *pb.Scene) [3]float64 {
 	used := map[string]bool{}
 	for _, sh := range sc.GetShapes() {
@@ -49,8 +53,10 @@ func brightestEmitter(sc *pb.Scene) [3]float64 {
 	var m [3]float64
 	for _, mat := range sc.GetMaterials() {
 		if e := mat.GetEmissive(); e != nil && used[mat.GetName()] {
-			le := e.GetRadiance()
-			m[0], m[1], m[2] = math.Max(m[0], le.GetR()), math.Max(m[1], le.GetG()), math.Max(m[2], le.GetB())
+			le, rho := e.GetRadiance(), e.GetReflectance()
+			for c, v := range [3]float64{le.GetR() / (1 - rho.GetR()), le.GetG() / (1 - rho.GetG()), le.GetB() / (1 - rho.GetB())} {
+				m[c] = math.Max(m[c], v)
+			}
 		}
 	}
 	return m

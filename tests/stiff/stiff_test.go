@@ -15,8 +15,9 @@ import (
 // stiffCase is one stiff or extreme scene. Every case's image must be free of NaN and
 // infinity in every channel, and no pixel of the beauty or of a light-carrying layer
 // (direct, indirect, caustic) may exceed bound, per colour: by default the radiance of the
-// brightest emitter the scene uses (a surface cannot reflect more radiance than the
-// brightest source sends it); cases lit by point or sun lights, or seen from inside glass,
+// brightest emitter the scene uses, over one minus its reflectance (a surface cannot
+// reflect more radiance than the brightest source sends it; an emitter that reflects adds
+// what it reflects to what it emits: brightestEmitter); cases lit by point or sun lights, or seen from inside glass,
 // state their own. check then asserts what the case pins down.
 type stiffCase struct {
 	name    string
@@ -320,7 +321,7 @@ func TestStiffAndExtremeCases(t *testing.T) {
 			}
 			r := f.render(t, c.name, sc, timeout)
 			checkFinite(t, c.name, r.img)
-			bound, why := brightestEmitter(sc), "the brightest emitter's radiance"
+			bound, why := brightestEmitter(sc), "the brightest emitter's radiance, over 1 - its reflectance"
 			if c.bound != nil {
 				bound, why = c.bound(sc)
 			}
