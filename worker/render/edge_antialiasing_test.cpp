@@ -1,10 +1,13 @@
 // Edge anti-aliasing in RenderTile, checked against independent ground truth: the base pass
-// and the fully supersampled render of the same scene, and the edge cues written out here.
+// and the fully supersampled render of the same scene, and the scene's surfaces and light
+// worked out here from its geometry.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <map>
 #include <vector>
 
 #include "image/reference_exr.h"
@@ -53,50 +56,157 @@ TEST(EdgeAntialiasing, TilesStitchBitForBitIntoTheWholeImage) {
   ExpectTilesStitch(scene, {.radius_scale = 0.5, .first_sample = 3}, 13);
 }
 
+// A base sample: its camera ray and what the integrator made of it.
+struct BaseSample {
+  Ray ray;
+  SampleResult result;
+};
+
 // The base pass alone, drawn here as the tile renderer draws it: the bars take 1 sample a
 // pixel, sample 0 of the sampler whose permutation domain is the 12 samples of an edge
 // pixel, keyed by the scene seed in round 1.
-std::vector<SampleResult> BasePass() {
+std::vector<BaseSample> BasePass() {
   const Scene scene = Bars(pb::ANTIALIASING_MODE_EDGES);
   const SceneData& data = scene.data();
   const PhotonMappingIntegrator integrator(data, PhotonMaps{});
   PixelSampler sampler(12, data.seed);
   std::vector<PhotonNeighbour> scratch;
-  std::vector<SampleResult> base;
+  std::vector<BaseSample> base;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       sampler.StartPixelSample(uint64_t(y) * kW + x, 0);
       const Vec2 u = sampler.Get2D();
-      base.push_back(integrator.Li(data.camera.GenerateRay({x + u.x, y + u.y}), sampler, scratch));
+      const Ray ray = data.camera.GenerateRay({x + u.x, y + u.y});
+      base.push_back({ray, integrator.Li(ray, sampler, scratch)});
     }
   return base;
 }
 
+// The bars scene's parallelograms, the floor first, read back from its description.
+struct Quad {
+  Vec3d o, u, v;
+};
+
+std::vector<Quad> BarsQuads() {
+  std::vector<Quad> quads;
+  const auto v = [](const pb::Vec3& p) { return Vec3d(p.x(), p.y(), p.z()); };
+  const pb::Scene scene = ThinBarsScene(kW, kH, pb::ANTIALIASING_MODE_EDGES, 12);
+  for (const pb::Shape& s : scene.shapes())
+    quads.push_back({v(s.quad().origin()), v(s.quad().edge_u()), v(s.quad().edge_v())});
+  return quads;
+}
+
+// What a ray from o along d meets first before t_max, worked out in double precision:
+// the quad's index (-1 for none), the distance, and how near (in scene units) the ray
+// passes to the outline of any quad whose plane it crosses in range, below which float
+// arithmetic may decide otherwise.
+struct AnalyticHit {
+  int quad = -1;
+  double t = 0;
+  double margin = std::numeric_limits<double>::infinity();
+};
+
+AnalyticHit FirstHit(const std::vector<Quad>& quads, const Vec3d& o, const Vec3d& d, double t_max) {
+  AnalyticHit hit;
+  hit.t = t_max;
+  for (int i = 0; i < int(quads.size()); ++i) {
+    const Quad& q = quads[i];
+    const Vec3d n = Cross(q.u, q.v);
+    const double t = Dot(q.o - o, n) / Dot(d, n);
+    if (!(t > 1e-6 && t < t_max - 1e-6)) continue;
+    const Vec3d w = o + d * t - q.o;
+    const double a = Dot(Cross(w, q.v), n) / Dot(n, n), b = Dot(Cross(q.u, w), n) / Dot(n, n);
+    // Signed distances to the quad along u and along v, positive outside (the quads are
+    // rectangles): the larger is the distance to its outline.
+    const auto outside = [](double c, double length) { return std::max(-c, c - 1) * length; };
+    const double d_outline = std::max(outside(a, Length(q.u)), outside(b, Length(q.v)));
+    hit.margin = std::min(hit.margin, std::abs(d_outline));
+    if (d_outline > 0) continue;
+    // Bars at one height overlap: which of two coplanar quads a renderer reports is not
+    // the geometry's to say.
+    if (hit.quad >= 0 && std::abs(t - hit.t) < 1e-4) hit.margin = 0;
+    if (t < hit.t) hit = {i, t, hit.margin};
+  }
+  return hit;
+}
+
+// The analytic cues of a base sample: the quad its ray hits, and the point light's
+// irradiance there (intensity 40 at (1.5, 6, 2), shadowed by the quads; every quad faces
+// +y, the camera's side); close is set where float arithmetic may decide otherwise.
+struct AnalyticCues {
+  int quad = -1;
+  double irradiance = 0;
+  bool close = false;
+};
+
+AnalyticCues Analytic(const std::vector<Quad>& quads, const Ray& ray) {
+  const Vec3d o(ray.origin), d(ray.direction);
+  const AnalyticHit hit = FirstHit(quads, o, d, 1e9);
+  AnalyticCues c{hit.quad, 0, hit.margin < 1e-3};
+  if (hit.quad < 0) return c;
+  const Vec3d p = o + d * hit.t, to_light = Vec3d(1.5, 6, 2) - p;
+  const double r = Length(to_light);
+  const AnalyticHit shadow = FirstHit(quads, p, to_light / r, r);
+  c.close = c.close || shadow.margin < 1e-3;
+  if (shadow.quad < 0) c.irradiance = 40 * std::max(0.0, to_light.y / r) / (r * r);
+  return c;
+}
+
+// The integrator's cues on the base pass are the analytic ones: one surface id per quad,
+// the same id exactly where the quad is the same, and the light's irradiance.
+TEST(EdgeAntialiasing, TheBasePassCuesAreTheAnalyticSurfacesAndIrradiance) {
+  const std::vector<BaseSample> base = BasePass();
+  const std::vector<Quad> quads = BarsQuads();
+  std::vector<AnalyticCues> truth;
+  for (const BaseSample& b : base) truth.push_back(Analytic(quads, b.ray));
+  int close = 0, shadowed = 0;
+  std::map<int, std::uint32_t> id_of;  // quad -> the surface id its samples carry
+  std::map<std::uint32_t, int> quad_of;
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    const SampleResult& r = base[i].result;
+    const AnalyticCues& t = truth[i];
+    if (t.close) {
+      ++close;
+      continue;
+    }
+    EXPECT_EQ(r.surface == 0, t.quad < 0) << "sample " << i;
+    if (t.quad >= 0) {
+      EXPECT_EQ(id_of.emplace(t.quad, r.surface).first->second, r.surface) << "sample " << i;
+      EXPECT_EQ(quad_of.emplace(r.surface, t.quad).first->second, t.quad) << "sample " << i;
+    }
+    shadowed += t.quad >= 0 && t.irradiance == 0;
+    const double e = 0.2126 * r.direct_irradiance.r + 0.7152 * r.direct_irradiance.g + 0.0722 * r.direct_irradiance.b;
+    ASSERT_NEAR(e, t.irradiance, 1e-4 * t.irradiance + 1e-6) << "sample " << i;
+  }
+  EXPECT_EQ(id_of.size(), quads.size());  // the floor and every bar were seen
+  EXPECT_GT(shadowed, kW * kH / 50);      // the bars' shadows are in view
+  EXPECT_LT(close, kW * kH / 100);
+}
+
 // In the bars scene (a flat floor, flat bars above it, one sample per pixel) the surface
-// cues reduce to a change of surface id in the 3x3 neighbourhood (the bars are flat and
-// face up, and each is a surface of its own, so no crease or depth step adds to them), and
-// the light cue is a Sobel of the direct irradiance.
-TEST(EdgeAntialiasing, EdgePixelsAreThoseWhereTheBasePassChangesSurfaceOrDirectIrradiance) {
-  const std::vector<SampleResult> base = BasePass();
+// cues reduce to a change of quad in the 3x3 neighbourhood (the bars are flat and face up,
+// so no crease or depth step adds to them), and the light cue is a Sobel of the point
+// light's irradiance: both worked out here from the geometry.
+TEST(EdgeAntialiasing, EdgePixelsAreWhereTheQuadOrTheLightsIrradianceChanges) {
+  const std::vector<BaseSample> base = BasePass();
+  const std::vector<Quad> quads = BarsQuads();
+  std::vector<AnalyticCues> truth;
+  for (const BaseSample& b : base) truth.push_back(Analytic(quads, b.ray));
   const Image aa = RenderTile(Bars(pb::ANTIALIASING_MODE_EDGES), nullptr, {0, 0, kW, kH});
-  const auto at = [&](int x, int y) -> const SampleResult& {
-    return base[std::size_t(std::clamp(y, 0, kH - 1)) * kW + std::clamp(x, 0, kW - 1)];
+  const auto at = [&](int x, int y) -> const AnalyticCues& {
+    return truth[std::size_t(std::clamp(y, 0, kH - 1)) * kW + std::clamp(x, 0, kW - 1)];
   };
-  // An independent Sobel of log(Rec. 709 luminance of the direct irradiance + 1/256),
-  // clamped at the image border.
-  const auto f = [&](int x, int y) {
-    const Rgb& e = at(x, y).direct_irradiance;
-    return std::log(0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b + 1.0 / 256);
-  };
-  const auto surface_changes = [&](int x, int y) {
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (at(x + dx, y + dy).surface != at(x, y).surface) return true;
-    return false;
-  };
+  // log(luminance + 1/256), clamped at the image border; the light is white.
+  const auto f = [&](int x, int y) { return std::log(at(x, y).irradiance + 1.0 / 256); };
   int edges = 0, mismatches = 0;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
+      bool close = false, quad_changes = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          close = close || at(x + dx, y + dy).close;
+          quad_changes = quad_changes || at(x + dx, y + dy).quad != at(x, y).quad;
+        }
       double gx = 0, gy = 0;
       for (int d = -1; d <= 1; ++d) {
         const double w = d == 0 ? 2 : 1;
@@ -104,11 +214,12 @@ TEST(EdgeAntialiasing, EdgePixelsAreThoseWhereTheBasePassChangesSurfaceOrDirectI
         gy += w * (f(x + d, y + 1) - f(x + d, y - 1));
       }
       const double gradient = std::hypot(gx, gy) / 8;
-      if (std::abs(gradient - 0.1) < 1e-9 && !surface_changes(x, y)) continue;  // too close to call
-      const bool edge = gradient > 0.1 || surface_changes(x, y);
+      if (close || (std::abs(gradient - 0.1) < 1e-3 && !quad_changes)) continue;  // too close to call
+      const bool edge = gradient > 0.1 || quad_changes;
       edges += edge;
       if ((aa.pixel(x, y)[kEdgeChannel] == 1.0f) != edge && mismatches++ < 5)
-        ADD_FAILURE() << "pixel " << x << ", " << y << ": gradient " << gradient;
+        ADD_FAILURE() << "pixel " << x << ", " << y << ": gradient " << gradient << ", quad "
+                      << at(x, y).quad << (quad_changes ? " (changes)" : "");
     }
   EXPECT_EQ(mismatches, 0);
   // The bars cover a good part of the view, but edges are a minority of pixels.
@@ -117,7 +228,7 @@ TEST(EdgeAntialiasing, EdgePixelsAreThoseWhereTheBasePassChangesSurfaceOrDirectI
 }
 
 TEST(EdgeAntialiasing, EdgePixelsEqualFullSupersamplingAndOthersTheBasePass) {
-  const std::vector<SampleResult> base = BasePass();
+  const std::vector<BaseSample> base = BasePass();
   const Image full = RenderTile(Bars(pb::ANTIALIASING_MODE_FULL), nullptr, {0, 0, kW, kH});
   const Image aa = RenderTile(Bars(pb::ANTIALIASING_MODE_EDGES), nullptr, {0, 0, kW, kH});
   for (int y = 0; y < kH; ++y)
@@ -129,7 +240,7 @@ TEST(EdgeAntialiasing, EdgePixelsEqualFullSupersamplingAndOthersTheBasePass) {
         continue;
       }
       // One sample: the pixel is that sample's beauty (and its alpha).
-      const Rgb& r = base[std::size_t(y) * kW + x].radiance;
+      const Rgb& r = base[std::size_t(y) * kW + x].result.radiance;
       const float* p = aa.pixel(x, y);
       ASSERT_TRUE(p[0] == r.r && p[1] == r.g && p[2] == r.b) << "pixel " << x << ", " << y;
     }
