@@ -7,7 +7,7 @@ namespace farm {
 namespace {
 
 // Normals of two pixels that both hit something turn by more than the crease angle. The
-// means are not unit: a pixel's samples may straddle a crease, which only shortens them.
+// sums are not unit: only the angle counts, and a pixel's samples may straddle a crease.
 bool Crease(const SurfaceCues& a, const SurfaceCues& b) {
   if (a.inverse_depth == 0 || b.inverse_depth == 0) return false;
   const double la = Length(a.normal), lb = Length(b.normal);

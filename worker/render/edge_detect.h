@@ -12,8 +12,9 @@
 //             (shape, mesh part and material; SampleResult::surface). A pixel is an edge
 //             where its base samples disagree on it or any of its 3x3 neighbours has
 //             another: silhouettes, and albedo edges between untextured shapes.
-//   normal    the mean shading normal: an edge where a neighbour's turns by more than
-//             acos(kEdgeNormalCos) (creases, facets).
+//   normal    the mean of the surfaces' own normals (SampleResult::surface_normal:
+//             interpolated, not normal-mapped): an edge where a neighbour's turns by more
+//             than acos(kEdgeNormalCos) (creases, facets).
 //   depth     1/depth, which is linear in screen space across a plane: an edge where its
 //             second difference along a row, column or diagonal through the pixel exceeds
 //             kEdgeDepthStep of the pixel's own (one surface occluding another part of
@@ -87,7 +88,7 @@ using LogLuminanceGrid = ApronGrid<double>;
 struct SurfaceCues {
   std::uint32_t surface = 0;  // of its first base sample; 0 where it hit nothing
   bool mixed = false;         // its base samples met different surfaces
-  Vec3 normal;                // mean shading normal of the samples that hit (not unit)
+  Vec3 normal;                // sum of the surface normals of the samples that hit (not unit)
   double inverse_depth = 0;   // 1 / mean depth of the samples that hit; 0 for none
 };
 

@@ -278,6 +278,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     result.hit = true;
     result.albedo = Albedo(material);
     result.normal = at.ns;
+    result.surface_normal = Dot(hit->n, at.n) < 0 ? -hit->ns : hit->ns;
     result.depth = hit->t;
   }
   result.emitted += throughput * Emitted(material, hit->n, wo);

@@ -98,6 +98,9 @@ struct SampleResult {
   // splits); 0 if the camera ray hit nothing. Edge anti-aliasing compares it between
   // samples and pixels (render/edge_detect.h).
   uint32_t surface = 0;
+  // The camera ray's hit's own normal (interpolated, not normal-mapped), on the side the
+  // camera sees: edge anti-aliasing's crease cue, which a normal map's detail must not move.
+  Vec3 surface_normal;
   // Whether the path (a branch of it) reached a non-specular surface and shaded it: such a
   // sample is black only where no light reaches.
   bool shaded = false;

@@ -140,8 +140,9 @@ class PixelRenderer {
   PixelRenderer& operator=(const PixelRenderer&) = delete;
 
   // Adds samples [from, to) of pixel (x, y) to sum, in sample order, and splats them if
-  // splats is not null. If cues is not null, sets its surface and mixed from the samples
-  // and adds their direct irradiance to irradiance.
+  // splats is not null. If cues is not null, sets its surface and mixed from the samples,
+  // adds the surface normals of those that hit to its normal, and adds their direct
+  // irradiance to irradiance.
   void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum, FilterSplats* splats,
                   SurfaceCues* cues = nullptr, Rgb* irradiance = nullptr) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
@@ -157,6 +158,7 @@ class PixelRenderer {
       if (cues) {
         if (s == from) cues->surface = r.surface;
         else if (r.surface != cues->surface) cues->mixed = true;
+        if (r.hit) cues->normal += r.surface_normal;
         *irradiance += r.direct_irradiance;
       }
       AddLight(r, sum.data());
@@ -281,10 +283,8 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     if (surfaces) {
       const Rgb e = irradiance / float(first);
       light->set(x, y, EdgeLogLuminance(e.r, e.g, e.b));
-      float mean[kChannelCount];
-      WritePixel(sum, first, false, mean);
-      cues.normal = {mean[kNormal], mean[kNormal + 1], mean[kNormal + 2]};
-      cues.inverse_depth = sum[kHits] > 0 && mean[kDepth] > 0 ? 1.0 / mean[kDepth] : 0.0;
+      // 1 / the mean depth of the samples that hit.
+      cues.inverse_depth = sum[kHits] > 0 && sum[kDepth] > 0 ? sum[kHits] / sum[kDepth] : 0.0;
       surfaces->set(x, y, cues);
     }
     // Per pixel, not per row: a row of a heavy scene can take long, and one relaxed add
