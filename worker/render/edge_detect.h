@@ -8,8 +8,9 @@
 // noise of the light estimates (more samples of a pixel are not what removes it), so the
 // test reads cues that neither moves (SurfaceCues, from the base pass):
 //
-//   surface   an id of the surfaces the camera path met up to the first one it shaded
-//             (shape, mesh part and material; SampleResult::surface). A pixel is an edge
+//   surface   an id of the surfaces the camera path's first branch met: the first hit
+//             and those seen from it through specular bounces (shape, mesh part and
+//             material; SampleResult::surface). A pixel is an edge
 //             where its base samples disagree on it or any of its 3x3 neighbours has
 //             another: silhouettes, and albedo edges between untextured shapes.
 //   normal    the mean of the surfaces' own normals (SampleResult::surface_normal:
