@@ -44,7 +44,7 @@ if ! "$python" -c 'import mitsuba, numpy' 2>/dev/null; then
 fi
 echo "== the farm against Mitsuba 3 (scalar_rgb) on a textured glTF and on metallic and rough materials"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/run.py" "$build" "$tmp/crosscheck"
-echo "== the Cornell box light's edge, box against Gaussian pixel filter, each against Mitsuba 3 with the matching filter"
+echo "== the Cornell box light's edge, box against Gaussian and Mitchell pixel filters, each against Mitsuba 3 with the matching filter"
 "${BENCH_PYTHON:-python3}" "$root/bench/filters/light_edge.py" "$build" "$tmp/filters"
 echo "== the farm against a long Mitsuba reference on the Cornell scenes: regions, rounds, equal time (issue 14)"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/converge.py" "$build" "$tmp/converge"
