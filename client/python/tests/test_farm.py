@@ -132,3 +132,12 @@ def test_plaintext_to_a_tls_coordinator_fails_as_unavailable(farm):
         with pytest.raises(photonfarm.FarmError) as e:
             c.get_job("j-none")
     assert e.value.code == grpc.StatusCode.UNAVAILABLE
+
+
+def test_the_cli_variables_are_the_defaults(farm, monkeypatch):
+    monkeypatch.setenv("FARM_COORDINATOR", farm.address)
+    monkeypatch.setenv("FARM_TOKEN", CLIENT_TOKEN)
+    monkeypatch.setenv("FARM_TLS_CA", str(farm.ca_file))
+    with photonfarm.Client() as c:
+        assert c.address == farm.address
+        c.jobs.ListJobs(job_pb2.ListJobsRequest(page_size=1), timeout=10)  # the raw stub carries the token
