@@ -7,12 +7,12 @@ SCENE ?= scenes/cornell-box.json
 # Go's usual install folder, for shells whose PATH lacks it.
 export PATH := $(PATH):/usr/local/go/bin
 
-.PHONY: demo test build deps cpp go check-proto test-cpp check-dashboard test-go fuzz fault-full limits bench compose-test clean
+.PHONY: demo test build deps cpp go check-proto test-cpp check-dashboard test-go test-python fuzz fault-full limits bench compose-test clean
 
 demo: build
 	$(BIN)/farm render $(SCENE) -o out/ --workers 2
 
-test: build check-proto check-dashboard test-cpp test-go fuzz compose-test
+test: build check-proto check-dashboard test-cpp test-go test-python fuzz compose-test
 
 deps:
 	@scripts/install-deps.sh
@@ -44,6 +44,12 @@ test-go: go
 	  if [ -n "$$unformatted" ]; then echo "gofmt needed: $$unformatted"; exit 1; fi
 	go vet ./...
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -p 1 -count=1 -timeout 30m ./...
+
+# The Python SDK (client/python), pip-installed into $(BUILD_DIR)/py-venv as a user would
+# install it, tested with pytest against a real coordinator and worker (about 10 s).
+test-python: cpp go
+	@scripts/install-deps.sh --python $(BUILD_DIR)/py-venv
+	cd client/python && FARM_BIN_DIR=$(abspath $(BIN)) $(abspath $(BUILD_DIR))/py-venv/bin/python -m pytest -q
 
 # Runs every fuzz target (scene parsing, validation and planning; request payloads) for a
 # bounded time (FUZZTIME each, or 20 s split between them), prints each one's executions
