@@ -1,0 +1,193 @@
+"""End to end: a scene built with bpy (Blender as a Python module), exported by the
+add-on installed the way users install it (a zip through Blender's add-on installer),
+rendered on a real coordinator with two workers through the farm CLI, and the image
+checked against what the scene must look like.
+
+A red Lambertian cube stands on a textured plane under a 2 x 2 area light. The cube's top
+sees nothing but the light and the black sky, so its radiance is analytic: rho / pi times
+the irradiance of a uniform rectangle (the form factor of a parallel rectangle, Howell's
+catalogue C-11), the light's radiance being its power over pi A. The plane's image has
+four coloured quadrants; each must show where its texture coordinates put it. Where a
+world point lands in the image is asked of Blender (world_to_camera_view), not of the
+exporter."""
+
+import math
+import os
+import subprocess
+import sys
+import zipfile
+
+import bpy
+import pytest
+from bpy_extras.object_utils import world_to_camera_view
+
+ADDON = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "photonfarm")
+WIDTH, HEIGHT = 160, 120
+LIGHT_POWER, LIGHT_SIZE, LIGHT_HEIGHT = 400.0, 2.0, 5.0
+CUBE_TOP = 2.0
+RED = (0.8, 0.05, 0.05)
+# The image's quadrants, by (u < 1/2, v < 1/2) in Blender's UVs (v up): the colour each
+# shows, and a point of the 10 x 10 plane inside it, clear of the cube's shadow.
+QUADRANTS = {
+    "green": ((0.0, 1.0, 0.0), (-3.5, -3.5)),
+    "blue": ((0.0, 0.0, 1.0), (3.5, -3.5)),
+    "red": ((1.0, 0.0, 0.0), (-3.5, 3.5)),
+    "white": ((1.0, 1.0, 1.0), (3.5, 3.5)),
+}
+
+
+def _zip_addon(tmp_path):
+    path = tmp_path / "photonfarm.zip"
+    with zipfile.ZipFile(path, "w") as z:
+        for name in sorted(os.listdir(ADDON)):
+            if name.endswith((".py", ".toml")):
+                z.write(os.path.join(ADDON, name), f"photonfarm/{name}")
+    return path
+
+
+def _install_addon(tmp_path):
+    """Blender's own add-on installer (Preferences > Add-ons > Install from Disk)."""
+    result = bpy.ops.preferences.addon_install(filepath=str(_zip_addon(tmp_path)), overwrite=True)
+    assert result == {"FINISHED"}
+    bpy.ops.preferences.addon_enable(module="photonfarm")
+    import photonfarm
+    assert os.path.dirname(photonfarm.__file__) != ADDON, "the add-on was imported from the source tree"
+    return photonfarm
+
+
+def _quadrant_image(path):
+    n = 64
+    image = bpy.data.images.new("quadrants", n, n)
+    pixels = []
+    for y in range(n):  # Blender's rows go up the image, as v does
+        for x in range(n):
+            for name, (rgb, (px, py)) in QUADRANTS.items():
+                if (x < n // 2) == (px < 0) and (y < n // 2) == (py < 0):
+                    pixels.extend(rgb + (1.0,))
+    image.pixels = pixels
+    image.filepath_raw = str(path)
+    image.file_format = "PNG"
+    image.save()
+    return bpy.data.images.load(str(path))
+
+
+def _build_scene(tmp_path):
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
+    scene.render.resolution_percentage = 100
+
+    bpy.ops.mesh.primitive_plane_add(size=10)
+    plane = bpy.context.object
+    textured = bpy.data.materials.new("textured")
+    nodes = textured.node_tree.nodes
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = _quadrant_image(tmp_path / "quadrants.png")
+    principled = nodes["Principled BSDF"]
+    principled.inputs["Roughness"].default_value = 1.0
+    textured.node_tree.links.new(tex.outputs["Color"], principled.inputs["Base Color"])
+    plane.data.materials.append(textured)
+
+    bpy.ops.mesh.primitive_cube_add(size=2, location=(0, 0, CUBE_TOP / 2))
+    cube = bpy.context.object
+    cube.modifiers.new("bevel", "BEVEL").width = 0.05  # exported evaluated: more than 12 triangles
+    red = bpy.data.materials.new("red")
+    nodes = red.node_tree.nodes
+    nodes.remove(nodes["Principled BSDF"])
+    diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = RED + (1.0,)
+    red.node_tree.links.new(diffuse.outputs["BSDF"], nodes["Material Output"].inputs["Surface"])
+    cube.data.materials.append(red)
+
+    light = bpy.data.lights.new("lamp", "AREA")
+    light.energy, light.size, light.color = LIGHT_POWER, LIGHT_SIZE, (1, 1, 1)
+    lamp = bpy.data.objects.new("lamp", light)
+    lamp.location = (0, 0, LIGHT_HEIGHT)  # an area light shines down its -Z
+    scene.collection.objects.link(lamp)
+
+    cam = bpy.data.cameras.new("camera")
+    cam.lens = 30
+    camera = bpy.data.objects.new("camera", cam)
+    camera.location = (0, -9, 7)
+    camera.rotation_euler = (math.atan2(9, 7), 0, 0)  # looking at the origin
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.world = None
+
+    settings = scene.photonfarm
+    settings.samples_per_pixel, settings.rounds = 4, 1
+    settings.global_photons, settings.caustic_photons, settings.photons_per_shard = 50000, 0, 25000
+    settings.tile_size = 32
+    return scene, cube
+
+
+def _rectangle_form_factor(a, b):
+    """From a point to a parallel a x b rectangle (in units of the height) above one of its
+    corners."""
+    p, q = math.sqrt(1 + a * a), math.sqrt(1 + b * b)
+    return (a / p * math.atan(b / p) + b / q * math.atan(a / q)) / (2 * math.pi)
+
+
+def _pixels(path):
+    """The EXR's linear RGB, read through OpenImageIO's oiiotool (the farm writes a
+    multi-layer file, which Blender opens only as render layers)."""
+    rgb = os.path.splitext(path)[0] + "-rgb.exr"
+    subprocess.run(["oiiotool", path, "--ch", "R,G,B", "-o", rgb], check=True)
+    image = bpy.data.images.load(rgb)
+    px = list(image.pixels)
+    w, h = image.size
+    assert (w, h) == (WIDTH, HEIGHT)
+
+    def at(x, y):  # y from the image's top
+        i = 4 * ((h - 1 - y) * w + x)
+        return px[i:i + 3]
+    return at
+
+
+def _window_mean(at, scene, world_point, radius=1):
+    camera_view = world_to_camera_view(scene, scene.camera, world_point)
+    assert 0.05 < camera_view.x < 0.95 and 0.05 < camera_view.y < 0.95, camera_view
+    cx, cy = int(camera_view.x * WIDTH), int((1 - camera_view.y) * HEIGHT)
+    samples = [at(x, y) for x in range(cx - radius, cx + radius + 1) for y in range(cy - radius, cy + radius + 1)]
+    return [sum(s[c] for s in samples) / len(samples) for c in range(3)]
+
+
+def test_a_bpy_scene_renders_on_a_two_worker_farm(tmp_path, farm):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    photonfarm = _install_addon(tmp_path)
+    scene, cube = _build_scene(tmp_path)
+    from mathutils import Vector
+
+    lines = []
+    exr, png = photonfarm.render(str(tmp_path / "out"), farm=farm.farm, coordinator=farm.address,
+                                 token=farm.token, on_line=lines.append)
+    assert os.path.getsize(png) > 0
+    tasks = subprocess.run([farm.farm, "tasks", lines[0], "--coordinator", farm.address],
+                           env=dict(os.environ, FARM_TOKEN=farm.token), capture_output=True, text=True, check=True)
+    workers = {word for word in tasks.stdout.split() if word.startswith("w-")}  # worker ids
+    assert len(workers) == 2, f"the job's tasks ran on {len(workers)} workers, not 2:\n{tasks.stdout}"
+
+    exported = (tmp_path / "out" / "scene" / "meshes").iterdir()
+    cube_file = next(p for p in exported if p.name.startswith("Cube"))
+    triangles = int.from_bytes(cube_file.read_bytes()[24:32], "little")
+    assert triangles > 12, "the cube was exported without its bevel modifier"
+
+    at = _pixels(exr)
+    top = _window_mean(at, scene, Vector((0, 0, CUBE_TOP)))
+    h = LIGHT_HEIGHT - CUBE_TOP
+    half = LIGHT_SIZE / 2 / h
+    irradiance = LIGHT_POWER / (math.pi * LIGHT_SIZE ** 2) * math.pi * 4 * _rectangle_form_factor(half, half)
+    expected = [rho / math.pi * irradiance for rho in RED]
+    print("cube top", top, "expected", expected)
+    assert top[0] > 2 * top[1], f"the cube's lit top is not red: {top}"
+    assert abs(top[0] - expected[0]) < 0.03 * expected[0], f"the cube's top R {top[0]:.4f}, analytic {expected[0]:.4f}"
+
+    for name, (rgb, (x, y)) in QUADRANTS.items():
+        seen = _window_mean(at, scene, Vector((x, y, 0)))
+        print(name, seen)
+        for c in range(3):
+            if rgb[c] == 1.0:
+                assert seen[c] > 0.01, f"{name} quadrant: {seen}"
+            else:
+                assert seen[c] < 0.5 * max(seen), f"{name} quadrant shows {seen}"
+        if name == "white":
+            assert min(seen) > 0.5 * max(seen), f"white quadrant shows {seen}"
