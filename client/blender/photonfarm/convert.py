@@ -1,7 +1,8 @@
 """Pure conversions from Blender's conventions to the farm's scene format.
 
-Nothing here imports bpy, so that every mapping is unit-tested with plain Python
-(client/blender/tests/test_convert.py). export.py reads the Blender scene and calls these.
+Nothing here imports bpy (only NumPy, which Blender bundles), so that every mapping is
+unit-tested without Blender (client/blender/tests/test_convert.py). export.py reads the
+Blender scene and calls these.
 
 Axes: Blender is right-handed with +Z up; the farm is right-handed with +Y up (its
 environment map's top row is +Y, and scenes put the floor at y = 0). A Blender point
@@ -21,6 +22,8 @@ its front.
 
 import math
 import struct
+
+import numpy as np
 
 # Blender (x, y, z) -> farm (x, z, -y), as a 3x3 matrix applied to column vectors.
 AXES = ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0))
@@ -235,41 +238,45 @@ def texture_encoding(colorspace):
     return "COLOR_ENCODING_LINEAR"
 
 
-def uv(u, v):
-    """Blender's UV v grows up the image; the farm mesh file's grows down it."""
-    return (float(u), 1.0 - float(v))
+def uvs(blender_uvs):
+    """Blender's UV v grows up the image; the farm mesh file's grows down it. An (n, 2)
+    array in, an (n, 2) float32 array out."""
+    out = np.array(blender_uvs, dtype=np.float32).reshape(-1, 2)
+    out[:, 1] = 1.0 - out[:, 1]
+    return out
 
 
 def split_parts(triangle_corners, triangle_materials):
     """Groups triangles by material slot and renumbers their corners densely per group.
 
-    triangle_corners: flat corner ids, three per triangle (Blender loop indices);
-    triangle_materials: a material slot per triangle. Returns {slot: (corners, indices)}
-    where corners lists the ids a part keeps, in first-use order, and indices are the
-    part's triangles in positions of corners."""
+    triangle_corners: corner ids, three per triangle (Blender loop indices);
+    triangle_materials: a material slot per triangle. Returns {slot: (corners, indices)}:
+    the corner ids a part keeps (ascending) and its triangles as uint32 positions in
+    corners."""
+    triangles = np.asarray(triangle_corners).reshape(-1, 3)
+    slots = np.asarray(triangle_materials)
     parts = {}
-    for t, slot in enumerate(triangle_materials):
-        corners, indices, seen = parts.setdefault(slot, ([], [], {}))
-        for c in triangle_corners[3 * t:3 * t + 3]:
-            at = seen.get(c)
-            if at is None:
-                at = seen[c] = len(corners)
-                corners.append(c)
-            indices.append(at)
-    return {slot: (corners, indices) for slot, (corners, indices, _) in parts.items()}
+    for slot in np.unique(slots):
+        kept, indices = np.unique(triangles[slots == slot], return_inverse=True)
+        parts[int(slot)] = (kept, indices.astype(np.uint32).reshape(-1))
+    return parts
 
 
 def farm_mesh(positions, normals, uvs, indices):
-    """The farm mesh file (docs/mesh-format.md): flat float positions (3 per vertex),
-    normals (3 per vertex, or None), texture coordinates (2 per vertex in the farm's
-    convention, or None) and uint32 indices (3 per triangle)."""
-    vertices = len(positions) // 3
-    if vertices == 0 or len(indices) == 0 or len(indices) % 3:
+    """The farm mesh file (docs/mesh-format.md) of (V, 3) positions, (V, 3) normals or None,
+    (V, 2) farm texture coordinates or None, and (T, 3) indices."""
+    positions = np.asarray(positions, dtype="<f4").reshape(-1, 3)
+    indices = np.asarray(indices, dtype="<u4").reshape(-1)
+    if len(positions) == 0 or len(indices) == 0 or len(indices) % 3:
         raise ValueError("a mesh needs vertices and whole triangles")
     flags = (1 if normals is not None else 0) | (2 if uvs is not None else 0)
-    out = [b"FARMMESH", struct.pack("<IIQQ", 1, flags, vertices, len(indices) // 3)]
-    for values, code in ((positions, "f"), (normals, "f"), (uvs, "f"), (indices, "I")):
+    out = [b"FARMMESH", struct.pack("<IIQQ", 1, flags, len(positions), len(indices) // 3),
+           positions.tobytes()]
+    for values, width in ((normals, 3), (uvs, 2)):
         if values is not None:
-            out.append(struct.pack(f"<{len(values)}{code}", *values))
+            values = np.asarray(values, dtype="<f4").reshape(-1, width)
+            if len(values) != len(positions):
+                raise ValueError("a section's vertex count differs from the positions'")
+            out.append(values.tobytes())
+    out.append(indices.tobytes())
     return b"".join(out)
-

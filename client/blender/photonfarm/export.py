@@ -6,9 +6,8 @@ import json
 import os
 import re
 import shutil
-from array import array
-
 import bpy
+import numpy as np
 
 from . import convert
 
@@ -39,6 +38,13 @@ class Settings:
             return cls()
         return cls(p.samples_per_pixel, p.rounds, p.global_photons, p.caustic_photons,
                    p.photons_per_shard, p.tile_size, p.seed)
+
+
+def _read(collection, attribute, dtype, count):
+    """A bpy collection's attribute for every item, flat, through foreach_get."""
+    out = np.empty(count, dtype=dtype)
+    collection.foreach_get(attribute, out)
+    return out
 
 
 def _uses_nodes(datablock):
@@ -184,35 +190,23 @@ class _Exporter:
         triangles = len(me.loop_triangles)
         if triangles == 0:
             return None
-        corners = array("i", [0]) * (3 * triangles)
-        me.loop_triangles.foreach_get("loops", corners)
-        slots = array("i", [0]) * triangles
-        me.loop_triangles.foreach_get("material_index", slots)
-        vertex_of = array("i", [0]) * len(me.loops)
-        me.loops.foreach_get("vertex_index", vertex_of)
-        co = array("f", [0]) * (3 * len(me.vertices))
-        me.vertices.foreach_get("co", co)
-        normals = array("f", [0]) * (3 * len(me.loops))
-        me.corner_normals.foreach_get("vector", normals)
+        corners = _read(me.loop_triangles, "loops", np.int32, 3 * triangles)
+        slots = _read(me.loop_triangles, "material_index", np.int32, triangles)
+        vertex_of = _read(me.loops, "vertex_index", np.int32, len(me.loops))
+        co = _read(me.vertices, "co", np.float32, 3 * len(me.vertices)).reshape(-1, 3)
+        normals = _read(me.corner_normals, "vector", np.float32, 3 * len(me.loops)).reshape(-1, 3)
         uvs = None
         if me.uv_layers.active:
-            uvs = array("f", [0]) * (2 * len(me.loops))
-            me.uv_layers.active.data.foreach_get("uv", uvs)
+            uvs = convert.uvs(_read(me.uv_layers.active.data, "uv", np.float32, 2 * len(me.loops)))
         name = safe_name(ob.name)
         os.makedirs(os.path.join(self.directory, "meshes"), exist_ok=True)
         parts = []
         for slot, (kept, indices) in sorted(convert.split_parts(corners, slots).items()):
-            positions, part_normals, part_uvs = [], [], [] if uvs is not None else None
-            for c in kept:
-                v = vertex_of[c]
-                positions.extend(co[3 * v:3 * v + 3])
-                part_normals.extend(normals[3 * c:3 * c + 3])
-                if uvs is not None:
-                    part_uvs.extend(convert.uv(uvs[2 * c], uvs[2 * c + 1]))
             mat = ob.material_slots[slot].material if slot < len(ob.material_slots) else None
             relative = f"meshes/{name}.{slot}.farmmesh"
             with open(os.path.join(self.directory, relative), "wb") as f:
-                f.write(convert.farm_mesh(positions, part_normals, part_uvs, indices))
+                f.write(convert.farm_mesh(co[vertex_of[kept]], normals[kept],
+                                          None if uvs is None else uvs[kept], indices))
             parts.append({"path": relative, "material": self.material(mat)})
         return {"name": name, "parts": parts}
 
