@@ -11,13 +11,16 @@ four coloured quadrants; each must show where its texture coordinates put it. Wh
 world point lands in the image is asked of Blender (world_to_camera_view), not of the
 exporter."""
 
+import json
 import math
 import os
 import subprocess
 import sys
 
 import bpy
+import pytest
 from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
 from sources import load
 
 package = load("package.py")
@@ -35,15 +38,25 @@ QUADRANTS = {
 }
 
 
-def _install_addon(tmp_path):
-    """Blender's own add-on installer (Preferences > Add-ons > Install from Disk)."""
-    zipped = package.build(str(tmp_path / "photonfarm.zip"))  # as make blender-addon does
+@pytest.fixture(scope="module")
+def addon(tmp_path_factory):
+    """The add-on installed by Blender's own add-on installer (Preferences > Add-ons >
+    Install from Disk) from the zip make blender-addon writes."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    zipped = package.build(str(tmp_path_factory.mktemp("addon") / "photonfarm.zip"))
     result = bpy.ops.preferences.addon_install(filepath=zipped, overwrite=True)
     assert result == {"FINISHED"}
     bpy.ops.preferences.addon_enable(module="photonfarm")
     import photonfarm
     assert os.path.dirname(photonfarm.__file__) != package.ADDON, "the add-on was imported from the source tree"
     return photonfarm
+
+
+def _empty_scene():
+    """Blender's factory settings, which leave add-ons off, with the add-on on again."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    assert bpy.ops.preferences.addon_enable(module="photonfarm") == {"FINISHED"}
+    return bpy.context.scene
 
 
 def _quadrant_image(path):
@@ -63,7 +76,7 @@ def _quadrant_image(path):
 
 
 def _build_scene(tmp_path):
-    scene = bpy.context.scene
+    scene = _empty_scene()
     scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
     scene.render.resolution_percentage = 100
 
@@ -108,7 +121,7 @@ def _build_scene(tmp_path):
     settings.samples_per_pixel, settings.rounds = 4, 1
     settings.global_photons, settings.caustic_photons, settings.photons_per_shard = 50000, 0, 25000
     settings.tile_size = 32
-    return scene, cube
+    return scene
 
 
 def _rectangle_form_factor(a, b):
@@ -142,14 +155,11 @@ def _window_mean(at, scene, world_point, radius=1):
     return [sum(s[c] for s in samples) / len(samples) for c in range(3)]
 
 
-def test_a_bpy_scene_renders_on_a_two_worker_farm(tmp_path, farm):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    photonfarm = _install_addon(tmp_path)
-    scene, cube = _build_scene(tmp_path)
-    from mathutils import Vector
+def test_a_bpy_scene_renders_on_a_two_worker_farm(tmp_path, farm, addon):
+    scene = _build_scene(tmp_path)
 
     lines = []
-    exr, png = photonfarm.render(str(tmp_path / "out"), farm=farm.farm, coordinator=farm.address,
+    exr, png = addon.render(str(tmp_path / "out"), farm=farm.farm, coordinator=farm.address,
                                  token=farm.token, on_line=lines.append)
     assert os.path.getsize(png) > 0
     tasks = subprocess.run([farm.farm, "tasks", lines[0], "--coordinator", farm.address],
@@ -201,3 +211,88 @@ def test_the_zip_installs_as_an_extension(tmp_path):
     done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stdout + done.stderr
     assert done.stdout.strip().splitlines()[-1].startswith(str(user / "extensions"))
+
+
+def _node_material(name, **inputs):
+    mat = bpy.data.materials.new(name)
+    principled = mat.node_tree.nodes["Principled BSDF"]
+    for key, value in inputs.items():
+        principled.inputs[key].default_value = value
+    return mat, principled
+
+
+def _add_light(scene, kind, location, rotation=(0, 0, 0), **settings):
+    light = bpy.data.lights.new(kind.lower(), kind)
+    for key, value in settings.items():
+        setattr(light, key, value)
+    ob = bpy.data.objects.new(kind.lower(), light)
+    ob.location, ob.rotation_euler = location, rotation
+    scene.collection.objects.link(ob)
+
+
+def test_every_kind_of_light_material_and_world_renders(tmp_path, farm, addon):
+    """What the exporter writes for each light, material and world kind, the camera's depth
+    of field and an HDR environment, is accepted by the coordinator and rendered by the
+    workers."""
+    scene = _empty_scene()
+    scene.render.resolution_x, scene.render.resolution_y = 48, 32
+    settings = scene.photonfarm
+    settings.global_photons = settings.caustic_photons = settings.photons_per_shard = 5000
+    settings.samples_per_pixel, settings.tile_size = 1, 16
+
+    normal_image = bpy.data.images.new("bumps", 8, 8)
+    normal_image.colorspace_settings.name = "Non-Color"
+    normal_image.pixels = [0.5, 0.5, 1.0, 1.0] * 64
+    glass, _ = _node_material("glass", **{"Transmission Weight": 1.0, "IOR": 1.45, "Roughness": 0.0})
+    metal, bumpy = _node_material("metal", Metallic=1.0, Roughness=0.3)
+    normal_map = metal.node_tree.nodes.new("ShaderNodeNormalMap")
+    tex = metal.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.image = normal_image
+    metal.node_tree.links.new(tex.outputs["Color"], normal_map.inputs["Color"])
+    metal.node_tree.links.new(normal_map.outputs["Normal"], bumpy.inputs["Normal"])
+    glowing, _ = _node_material("glowing", **{"Emission Color": (1, 0.5, 0.2, 1), "Emission Strength": 2.0})
+    for i, mat in enumerate((glass, metal, glowing)):
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(2 * i - 2, 0, 0.5))
+        bpy.context.object.data.materials.append(mat)
+    bpy.ops.mesh.primitive_plane_add(size=10)  # no material: the default grey
+
+    _add_light(scene, "POINT", (2, -2, 3), energy=200)
+    _add_light(scene, "SPOT", (-2, -2, 3), (0.5, 0, 0), energy=300, spot_size=0.8, spot_blend=0.3)
+    _add_light(scene, "SUN", (0, 0, 10), (0.3, 0.2, 0), energy=2, angle=0.01)
+    _add_light(scene, "AREA", (0, 2, 3), shape="DISK", size=1.0, energy=100)
+
+    sky = bpy.data.images.new("sky", 16, 8, float_buffer=True)
+    sky.pixels = [0.2, 0.3, 0.5, 1.0] * 128
+    scene.world = bpy.data.worlds.new("world")
+    nodes = scene.world.node_tree.nodes
+    env = nodes.new("ShaderNodeTexEnvironment")
+    env.image = sky
+    scene.world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
+
+    cam = bpy.data.cameras.new("camera")
+    cam.dof.use_dof, cam.dof.aperture_fstop, cam.dof.focus_distance = True, 2.8, 8.0
+    camera = bpy.data.objects.new("camera", cam)
+    camera.location, camera.rotation_euler = (0, -8, 2), (math.radians(85), 0, 0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+
+    lines = []
+    exr, _ = addon.render(str(tmp_path / "out"), farm=farm.farm, coordinator=farm.address,
+                               token=farm.token, on_line=lines.append)
+    assert os.path.getsize(exr) > 0
+    assert any("disk renders as a rectangle" in line for line in lines), lines
+
+    with open(tmp_path / "out" / "scene" / "Scene.json") as f:
+        exported = json.load(f)
+    kinds = {kind for light in exported["lights"] for kind in light if kind != "name"}
+    assert kinds == {"point", "spot", "sun"}
+    materials = {m["name"]: m for m in exported["materials"]}
+    assert materials["glass"]["dielectric"]["ior"] == pytest.approx(1.45)
+    assert materials["metal"]["principled"]["normalTexture"] == {"texture": "bumps"}
+    assert materials["glowing"]["principled"]["emission"]["g"] == pytest.approx(1.0)
+    assert "emissive" in materials["area-emission"]
+    textures = {t["name"]: t for t in exported["textures"]}
+    assert textures["bumps"]["encoding"] == "COLOR_ENCODING_LINEAR"
+    assert textures["sky"]["path"].endswith(".exr")
+    assert exported["environment"]["map"] == {"texture": "sky"}
+    assert exported["camera"]["apertureRadius"] == pytest.approx(0.05 / (2 * 2.8))
