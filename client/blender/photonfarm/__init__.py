@@ -48,12 +48,12 @@ def _connection(coordinator=None, token=None):
     return coordinator, token
 
 
-def render(out_dir, scene=None, farm=None, coordinator=None, token=None, settings=None, on_line=print):
-    """Exports scene (default: the context's) into out_dir/scene, renders it on the farm
-    and downloads the image. Returns the paths of the EXR and the PNG preview; raises
-    farmcli.FarmError if the job fails. For scripts and `blender -b`."""
+def render(out_dir, farm=None, coordinator=None, token=None, settings=None, on_line=print):
+    """Exports the context's scene into out_dir/scene, renders it on the farm and downloads
+    the image. Returns the paths of the EXR and the PNG preview; raises farmcli.FarmError
+    if the job fails. For scripts and `blender -b`."""
     out_dir = bpy.path.abspath(out_dir)
-    path, warnings = export.export_scene(os.path.join(out_dir, "scene"), scene=scene, settings=settings)
+    path, warnings = export.export_scene(os.path.join(out_dir, "scene"), settings=settings)
     for w in warnings:
         on_line(f"photonfarm: {w}")
     coordinator, token = _connection(coordinator, token)
@@ -82,8 +82,10 @@ class PhotonfarmSettings(bpy.types.PropertyGroup):
     output_dir: bpy.props.StringProperty(name="Output", subtype="DIR_PATH", default="//farm/")
     samples_per_pixel: bpy.props.IntProperty(name="Samples per pixel", default=4, min=1, max=65536)
     rounds: bpy.props.IntProperty(name="Progressive rounds", default=1, min=1, max=1000)
-    global_photons: bpy.props.IntProperty(name="Global photons", default=200000, min=0, max=50000000)
-    caustic_photons: bpy.props.IntProperty(name="Caustic photons", default=200000, min=0, max=50000000)
+    # At least 1000: the farm reads 0 as its default (200,000); a scene without diffuse or
+    # specular surfaces gets no such map anyway (farm plan says why).
+    global_photons: bpy.props.IntProperty(name="Global photons", default=200000, min=1000, max=50000000)
+    caustic_photons: bpy.props.IntProperty(name="Caustic photons", default=200000, min=1000, max=50000000)
     photons_per_shard: bpy.props.IntProperty(name="Photons per task", default=100000, min=1000, max=10000000)
     tile_size: bpy.props.IntProperty(name="Tile size", default=32, min=8, max=256)
     seed: bpy.props.IntProperty(name="Seed", default=1, min=0)

@@ -63,8 +63,20 @@ class _Exporter:
         self.warnings = []
         self.materials = {}  # Blender material name (or DEFAULT_MATERIAL) -> farm material
         self.textures = {}  # Blender image name -> farm texture
-        self.meshes = {}  # evaluated object name -> farm mesh
+        self.meshes = {}  # (evaluated object name, its data's name) -> farm mesh
         self.shapes, self.lights = [], []
+        self.taken = {"material": set(), "mesh": set(), "texture": set()}
+
+    def unique(self, kind, raw):
+        """A file-safe name for a material, mesh or texture that no other of its kind has
+        (Blender names that differ may make the same safe name)."""
+        base = name = safe_name(raw)
+        n = 1
+        while name in self.taken[kind]:
+            n += 1
+            name = f"{base}.{n}"
+        self.taken[kind].add(name)
+        return name
 
     def warn(self, text):
         self.warnings.append(text)
@@ -75,7 +87,7 @@ class _Exporter:
         """The farm texture name of a Blender image, writing the image beside the scene."""
         if image.name in self.textures:
             return self.textures[image.name]["name"]
-        name = safe_name(image.name)
+        name = self.unique("texture", image.name)
         os.makedirs(os.path.join(self.directory, "textures"), exist_ok=True)
         source = bpy.path.abspath(image.filepath, library=image.library) if image.filepath else ""
         ext = os.path.splitext(source)[1].lower()
@@ -120,7 +132,7 @@ class _Exporter:
         key = mat.name if mat else DEFAULT_MATERIAL
         if key in self.materials:
             return self.materials[key]["name"]
-        name = safe_name(key)
+        name = self.unique("material", key)
         farm, warnings = self.convert_material(name, mat)
         self.warnings.extend(warnings)
         self.materials[key] = farm
@@ -176,11 +188,12 @@ class _Exporter:
     def mesh(self, ob):
         """The farm mesh of an evaluated object (modifiers applied), written once however
         many instances place it; None if it has no triangles."""
-        if ob.name in self.meshes:
-            return self.meshes[ob.name]
+        key = (ob.name, ob.data.name if ob.data else "")
+        if key in self.meshes:
+            return self.meshes[key]
         me = ob.to_mesh()
         try:
-            self.meshes[ob.name] = farm = self.write_mesh(ob, me)
+            self.meshes[key] = farm = self.write_mesh(ob, me)
         finally:
             ob.to_mesh_clear()
         return farm
@@ -198,7 +211,7 @@ class _Exporter:
         uvs = None
         if me.uv_layers.active:
             uvs = convert.uvs(_read(me.uv_layers.active.data, "uv", np.float32, 2 * len(me.loops)))
-        name = safe_name(ob.name)
+        name = self.unique("mesh", ob.name)
         os.makedirs(os.path.join(self.directory, "meshes"), exist_ok=True)
         parts = []
         for slot, (kept, indices) in sorted(convert.split_parts(corners, slots).items()):
@@ -224,7 +237,8 @@ class _Exporter:
             sy = data.size_y if data.shape in ("RECTANGLE", "ELLIPSE") else data.size
             if data.shape in ("DISK", "ELLIPSE"):
                 self.warn(f"area light {ob.name!r}: a {data.shape.lower()} renders as a rectangle of its size")
-            shape, material = convert.area_light(name, world, rgb, power, sx, sy, f"{name}-emission")
+            material_name = self.unique("material", f"{ob.name}-emission")
+            shape, material = convert.area_light(name, world, rgb, power, sx, sy, material_name)
             self.shapes.append(shape)
             self.materials[material["name"]] = material
         if data.type in ("POINT", "SPOT") and data.shadow_soft_size > 0:
@@ -321,11 +335,12 @@ class _Exporter:
         return scene
 
 
-def export_scene(directory, scene=None, depsgraph=None, settings=None, name=None):
-    """Writes scene (default: the context's) to directory/NAME.json with its meshes and
-    textures beside it. Returns (path of the scene file, warnings)."""
-    scene = scene or bpy.context.scene
-    depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
+def export_scene(directory, settings=None, name=None):
+    """Writes the context's scene, as its view layer evaluates it, to directory/NAME.json
+    (NAME: the scene's name, made file-safe) with its meshes and textures beside it.
+    Returns (path of the scene file, warnings)."""
+    scene = bpy.context.scene
+    depsgraph = bpy.context.evaluated_depsgraph_get()
     settings = settings or Settings.of(scene)
     name = name or safe_name(scene.name)
     os.makedirs(directory, exist_ok=True)

@@ -119,7 +119,7 @@ def _build_scene(tmp_path):
 
     settings = scene.photonfarm
     settings.samples_per_pixel, settings.rounds = 4, 1
-    settings.global_photons, settings.caustic_photons, settings.photons_per_shard = 50000, 0, 25000
+    settings.global_photons, settings.caustic_photons, settings.photons_per_shard = 50000, 1000, 25000
     settings.tile_size = 32
     return scene
 
@@ -255,6 +255,14 @@ def test_every_kind_of_light_material_and_world_renders(tmp_path, farm, addon):
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(2 * i - 2, 0, 0.5))
         bpy.context.object.data.materials.append(mat)
     bpy.ops.mesh.primitive_plane_add(size=10)  # no material: the default grey
+    # The glass sphere placed once more by a collection instance: one mesh, two shapes.
+    glass_sphere = next(ob for ob in scene.objects if ob.data.materials and ob.data.materials[0] == glass)
+    group = bpy.data.collections.new("group")
+    group.objects.link(glass_sphere)
+    instancer = bpy.data.objects.new("instancer", None)
+    instancer.instance_type, instancer.instance_collection = "COLLECTION", group
+    instancer.location = (0, 3, 0)
+    scene.collection.objects.link(instancer)
 
     _add_light(scene, "POINT", (2, -2, 3), energy=200)
     _add_light(scene, "SPOT", (-2, -2, 3), (0.5, 0, 0), energy=300, spot_size=0.8, spot_blend=0.3)
@@ -284,6 +292,8 @@ def test_every_kind_of_light_material_and_world_renders(tmp_path, farm, addon):
 
     with open(tmp_path / "out" / "scene" / "Scene.json") as f:
         exported = json.load(f)
+    placed = [shape["instance"]["mesh"] for shape in exported["shapes"] if "instance" in shape]
+    assert placed.count(glass_sphere.name) == 2, placed
     kinds = {kind for light in exported["lights"] for kind in light if kind != "name"}
     assert kinds == {"point", "spot", "sun"}
     materials = {m["name"]: m for m in exported["materials"]}
