@@ -102,9 +102,9 @@ class PHOTONFARM_OT_render(bpy.types.Operator):
 
     def execute(self, context):
         settings = context.scene.photonfarm
-        self.out_dir = bpy.path.abspath(settings.output_dir)
+        self._out_dir = bpy.path.abspath(settings.output_dir)
         try:
-            path, warnings = export.export_scene(os.path.join(self.out_dir, "scene"))
+            path, warnings = export.export_scene(os.path.join(self._out_dir, "scene"))
             for w in warnings:
                 self.report({"WARNING"}, w)
             coordinator, token = _connection()
@@ -112,7 +112,9 @@ class PHOTONFARM_OT_render(bpy.types.Operator):
         except (ValueError, OSError, farmcli.FarmError) as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        self.name = os.path.splitext(os.path.basename(path))[0]
+        self._job_name = os.path.splitext(os.path.basename(path))[0]
+        if bpy.app.background:  # blender -b, bpy as a module: no event loop to poll from
+            return self._end(context, self._run.wait(on_line=print))
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.25, window=context.window)
         wm.progress_begin(0, 1)
@@ -123,7 +125,8 @@ class PHOTONFARM_OT_render(bpy.types.Operator):
     def modal(self, context, event):
         if event.type == "ESC":
             self._run.cancel()
-            self._finish(context, "cancelled")
+            self._stop_timer(context)
+            context.scene.photonfarm.status = "cancelled"
             return {"CANCELLED"}
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
@@ -134,15 +137,24 @@ class PHOTONFARM_OT_render(bpy.types.Operator):
             area.tag_redraw()
         if status is None:
             return {"RUNNING_MODAL"}
-        if status != 0:
-            self.report({"ERROR"}, str(self._run.failure(status)))
-            self._finish(context, f"failed (exit status {status})")
-            return {"CANCELLED"}
+        self._stop_timer(context)
+        return self._end(context, status)
+
+    def _stop_timer(self, context):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+
+    def _end(self, context, status):
+        """Once the CLI has ended with status: fetches the image and opens it."""
+        settings = context.scene.photonfarm
         try:
-            exr, _ = self._run.fetch(self.out_dir, self.name)
+            if status != 0:
+                raise self._run.failure(status)
+            exr, _ = self._run.fetch(self._out_dir, self._job_name)
         except farmcli.FarmError as e:
             self.report({"ERROR"}, str(e))
-            self._finish(context, "fetch failed")
+            settings.status = str(e).splitlines()[0]
             return {"CANCELLED"}
         image = bpy.data.images.load(exr, check_existing=True)
         image.reload()
@@ -150,14 +162,8 @@ class PHOTONFARM_OT_render(bpy.types.Operator):
             if area.type == "IMAGE_EDITOR":
                 area.spaces.active.image = image
         self.report({"INFO"}, f"farm image: {exr}")
-        self._finish(context, f"done: {exr}")
+        settings.status = f"done: {exr}"
         return {"FINISHED"}
-
-    def _finish(self, context, status):
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        context.scene.photonfarm.status = status
 
 
 class PHOTONFARM_OT_export(bpy.types.Operator):

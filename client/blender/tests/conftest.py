@@ -1,13 +1,14 @@
 """A real farm for the add-on's end-to-end test: `farm coordinator` and two `farm-worker`
 processes from $FARM_BIN_DIR, authenticated with random tokens, in a temporary folder."""
 
+import atexit
 import os
 import secrets
+import shutil
 import subprocess
+import tempfile
 import threading
 import time
-
-import tempfile
 
 import pytest
 
@@ -15,6 +16,7 @@ import pytest
 # kept apart from the user's own: bpy reads these when it is first imported, which is
 # after conftest.
 _USER = tempfile.mkdtemp(prefix="photonfarm-blender-user-")
+atexit.register(shutil.rmtree, _USER, ignore_errors=True)
 os.environ["BLENDER_USER_RESOURCES"] = _USER
 os.environ["BLENDER_USER_SCRIPTS"] = os.path.join(_USER, "scripts")
 

@@ -284,11 +284,18 @@ def test_every_kind_of_light_material_and_world_renders(tmp_path, farm, addon):
     scene.collection.objects.link(camera)
     scene.camera = camera
 
-    lines = []
-    exr, _ = addon.render(str(tmp_path / "out"), farm=farm.farm, coordinator=farm.address,
-                               token=farm.token, on_line=lines.append)
-    assert os.path.getsize(exr) > 0
-    assert any("disk renders as a rectangle" in line for line in lines), lines
+    _, warnings = addon.export.export_scene(str(tmp_path / "exported"))
+    assert any("disk renders as a rectangle" in w for w in warnings), warnings
+
+    # The panel's button, with the connection in the add-on's preferences; headless, it
+    # waits for the job instead of polling from a timer.
+    prefs = bpy.context.preferences.addons["photonfarm"].preferences
+    prefs.farm_binary, prefs.coordinator, prefs.token = farm.farm, farm.address, farm.token
+    settings.output_dir = str(tmp_path / "out")
+    assert bpy.ops.photonfarm.render() == {"FINISHED"}
+    exr = str(tmp_path / "out" / "Scene.exr")
+    assert settings.status == f"done: {exr}"
+    assert any(bpy.path.abspath(image.filepath) == exr for image in bpy.data.images)
 
     with open(tmp_path / "out" / "scene" / "Scene.json") as f:
         exported = json.load(f)
