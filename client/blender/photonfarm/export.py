@@ -6,6 +6,7 @@ import json
 import os
 import re
 import shutil
+
 import bpy
 import numpy as np
 
@@ -61,7 +62,9 @@ class _Exporter:
         self.scene, self.depsgraph, self.directory = scene, depsgraph, directory
         self.settings = settings
         self.warnings = []
-        self.materials = {}  # Blender material name (or DEFAULT_MATERIAL) -> farm material
+        # Blender material name (None: objects without one; ("light", name): an area
+        # light's) -> farm material
+        self.materials = {}
         self.textures = {}  # Blender image name -> farm texture
         self.meshes = {}  # (evaluated object name, its data's name) -> farm mesh
         self.shapes, self.lights = [], []
@@ -129,10 +132,10 @@ class _Exporter:
 
     def material(self, mat):
         """The farm material name of a Blender material (None: the default grey)."""
-        key = mat.name if mat else DEFAULT_MATERIAL
+        key = mat.name if mat else None
         if key in self.materials:
             return self.materials[key]["name"]
-        name = self.unique("material", key)
+        name = self.unique("material", mat.name if mat else DEFAULT_MATERIAL)
         farm, warnings = self.convert_material(name, mat)
         self.warnings.extend(warnings)
         self.materials[key] = farm
@@ -240,7 +243,7 @@ class _Exporter:
             material_name = self.unique("material", f"{ob.name}-emission")
             shape, material = convert.area_light(name, world, rgb, power, sx, sy, material_name)
             self.shapes.append(shape)
-            self.materials[material["name"]] = material
+            self.materials[("light", material_name)] = material
         if data.type in ("POINT", "SPOT") and data.shadow_soft_size > 0:
             self.warn(f"light {ob.name!r}: its radius is not exported (the farm's point lights are points)")
 
