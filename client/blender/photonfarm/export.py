@@ -3,6 +3,7 @@ and images beside it. Reads Blender through bpy; every mapping is a function of
 convert.py."""
 
 import json
+import math
 import os
 import re
 import shutil
@@ -244,6 +245,8 @@ class _Exporter:
             shape, material = convert.area_light(name, world, rgb, power, sx, sy, material_name)
             self.shapes.append(shape)
             self.materials[("light", material_name)] = material
+            if data.spread < math.pi - 1e-6:
+                self.warn(f"area light {ob.name!r}: its spread is not exported (the farm's area lights emit over the hemisphere)")
         if data.type in ("POINT", "SPOT") and data.shadow_soft_size > 0:
             self.warn(f"light {ob.name!r}: its radius is not exported (the farm's point lights are points)")
 
