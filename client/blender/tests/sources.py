@@ -1,4 +1,4 @@
-"""Loads one of the add-on's files by path, without its package: photonfarm/__init__.py
+"""Loads one of the add-on's files by path, without its package: photonfarm_blender/__init__.py
 imports bpy, and the pure modules are tested without Blender."""
 
 import importlib.util

@@ -9,7 +9,7 @@ import struct
 import pytest
 from sources import load
 
-convert = load("photonfarm/convert.py")
+convert = load("photonfarm_blender/convert.py")
 
 IDENTITY = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
 

@@ -7,7 +7,7 @@ import time
 import pytest
 from sources import load
 
-farmcli = load("photonfarm/farmcli.py")
+farmcli = load("photonfarm_blender/farmcli.py")
 
 
 @pytest.mark.parametrize("line, fraction", [

@@ -46,16 +46,16 @@ def addon(tmp_path_factory):
     zipped = package.build(str(tmp_path_factory.mktemp("addon") / "photonfarm.zip"))
     result = bpy.ops.preferences.addon_install(filepath=zipped, overwrite=True)
     assert result == {"FINISHED"}
-    bpy.ops.preferences.addon_enable(module="photonfarm")
-    import photonfarm
-    assert os.path.dirname(photonfarm.__file__) != package.ADDON, "the add-on was imported from the source tree"
-    return photonfarm
+    bpy.ops.preferences.addon_enable(module="photonfarm_blender")
+    import photonfarm_blender
+    assert os.path.dirname(photonfarm_blender.__file__) != package.ADDON, "the add-on was imported from the source tree"
+    return photonfarm_blender
 
 
 def _empty_scene():
     """Blender's factory settings, which leave add-ons off, with the add-on on again."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    assert bpy.ops.preferences.addon_enable(module="photonfarm") == {"FINISHED"}
+    assert bpy.ops.preferences.addon_enable(module="photonfarm_blender") == {"FINISHED"}
     return bpy.context.scene
 
 
@@ -202,7 +202,7 @@ def test_the_zip_installs_as_an_extension(tmp_path):
         "import bpy\n"
         f"assert bpy.ops.extensions.package_install_files(filepath={zipped!r}, repo='user_default',"
         " enable_on_install=True) == {'FINISHED'}\n"
-        "import bl_ext.user_default.photonfarm as p\n"
+        "import bl_ext.user_default.photonfarm_blender as p\n"
         "assert bpy.context.scene.photonfarm.samples_per_pixel == 4\n"
         "assert hasattr(bpy.ops.photonfarm, 'render')\n"
         "print(p.__file__)\n")
@@ -289,7 +289,7 @@ def test_every_kind_of_light_material_and_world_renders(tmp_path, farm, addon):
 
     # The panel's button, with the connection in the add-on's preferences; headless, it
     # waits for the job instead of polling from a timer.
-    prefs = bpy.context.preferences.addons["photonfarm"].preferences
+    prefs = bpy.context.preferences.addons["photonfarm_blender"].preferences
     prefs.farm_binary, prefs.coordinator, prefs.token = farm.farm, farm.address, farm.token
     settings.output_dir = str(tmp_path / "out")
     assert bpy.ops.photonfarm.render() == {"FINISHED"}

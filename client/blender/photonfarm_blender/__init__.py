@@ -4,9 +4,9 @@ Render Properties > photonfarm: "Render on farm" exports the scene (export.py), 
 it with the farm CLI (farmcli.py) and shows the job's progress in the status bar and the
 panel until the image comes back into an Image datablock. Headless:
 
-    blender -b file.blend --python-expr "import photonfarm; photonfarm.render('/tmp/out')"
+    blender -b file.blend --python-expr "import photonfarm_blender; photonfarm_blender.render('/tmp/out')"
 
-(with the add-on installed as an extension the module is bl_ext.user_default.photonfarm).
+(with the add-on installed as an extension the module is bl_ext.user_default.photonfarm_blender).
 """
 
 import os
