@@ -95,7 +95,10 @@ bench: build
 # installed, from 35 s to nearly 3 minutes to fetch and install here (the network decides),
 # so it is not part of make test; .ci/run runs this target after make test (the tests
 # themselves take some 20 s), well within CI's 90 minutes.
-test-blender: build
+# pytest runs as the venv's script, not `python -m pytest`, which would put client/blender
+# on sys.path and import the add-on from the source tree instead of where Blender's
+# installer put it.
+test-blender: cpp go
 	@scripts/install-deps.sh --blender $(BUILD_DIR)/blender-venv
 	cd client/blender && FARM_BIN_DIR=$(abspath $(BIN)) $(abspath $(BUILD_DIR))/blender-venv/bin/pytest -q tests
 
