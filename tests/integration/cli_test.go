@@ -63,12 +63,12 @@ func TestMalformedScenesRefused(t *testing.T) {
 		// (else scenesRoot is).
 		relative bool
 	}{
-		{name: "bad JSON", raw: `{"name": "broken",, "film": {}}`, want: "scene: line 1:19: unexpected token"},
+		{name: "bad JSON", raw: `{"name": "broken",, "film": {}}`, want: "bad-JSON.json: line 1:19: unexpected token"},
 		{name: "unknown field", change: func(m map[string]any) {
 			sphere := shape(m, 1)["sphere"].(map[string]any)
 			sphere["radus"] = sphere["radius"]
 			delete(sphere, "radius")
-		}, want: `unknown field "radus"`},
+		}, want: `unknown-field.json: line 21:9: shapes[1].sphere.radus: unknown field "radus" (did you mean "radius"?)`},
 		{name: "negative radius", change: func(m map[string]any) {
 			shape(m, 2)["sphere"].(map[string]any)["radius"] = -1
 		}, want: "shapes[2].sphere.radius: ", rpc: true},
