@@ -352,8 +352,10 @@ func isTerminal(w io.Writer) bool {
 var verbDocs = map[string]string{
 	"render": `Runs a whole farm on this machine: an in-process coordinator on a free loopback port
 with a temporary data folder, N farm-worker processes, then submits SCENE, shows
-progress, and writes OUTDIR/NAME.exr and OUTDIR/NAME.png, NAME being the scene file's
-name without .json (scenes/cornell-box.json gives OUTDIR/cornell-box.exr). Workers are
+progress, and writes OUTDIR/NAME.exr and OUTDIR/NAME.png, NAME being --name, else the
+scene's name field made file-safe, else the scene file's name without .json: the name
+farm fetch gives the same job's files (farm submit names a nameless scene after its file
+too). Workers are
 stopped (SIGTERM) and the temporary folder removed at the end, on failure and on Ctrl-C.
 farm-worker is found through --worker-bin, else next to the farm executable, else $PATH.
 The local farm is authenticated: farm makes random client and worker tokens and gives
@@ -385,7 +387,8 @@ may do anything (a loud warning if the address is not loopback). --tls-cert and
 `,
 	"fetch": `Downloads the outputs of a succeeded job as DIR/NAME.exr (the final image) and
 DIR/NAME.png (the preview), NAME being --name, else the job's display name (the scene's
-name field, made file-safe), else the job id. Each download is checked against its
+name field, made file-safe; farm submit and farm render give a nameless scene its file's
+name), else the job id: the names farm render gives the same job's files. Each download is checked against its
 sha256 digest before it replaces a file.
 `,
 	"plan": `Reads SCENE (JSON), validates it and plans it here, with the coordinator's planner and

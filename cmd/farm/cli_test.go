@@ -2,6 +2,7 @@ package main
 
 import (
 	"context"
+	"io"
 	"os"
 	"path/filepath"
 	"runtime"
@@ -10,6 +11,7 @@ import (
 	"testing"
 	"time"
 
+	"photonfarm/client/importer"
 	"photonfarm/tests/farmtest"
 )
 
@@ -238,5 +240,30 @@ func TestVersion(t *testing.T) {
 	}
 	if got, want := versionLine(nil), "farm "+farmVersion+" ("+runtime.Version()+")"; got != want {
 		t.Errorf("versionLine(nil) = %q, want %q", got, want)
+	}
+}
+
+// TestOutputsAreNamedAfterTheScene: farm render and farm fetch both name a job's files
+// after its display name; a scene file without a name field gets its file's name, so
+// that the job's display name (and so farm fetch) agrees with farm render.
+func TestOutputsAreNamedAfterTheScene(t *testing.T) {
+	dir := t.TempDir()
+	for _, tc := range []struct {
+		file, body, want string
+	}{
+		{"named.json", `{"name": "cornell"}`, "cornell"},
+		{"nameless.json", `{}`, "nameless"},
+		{"dotted.scene.json", `{"name": ""}`, "dotted.scene"},
+	} {
+		path := filepath.Join(dir, tc.file)
+		os.WriteFile(path, []byte(tc.body), 0o644)
+		sf, cleanup, err := readScene(t.Context(), io.Discard, path, "", importer.Options{})
+		if err != nil {
+			t.Fatal(err)
+		}
+		cleanup()
+		if got := sf.Scene.GetName(); got != tc.want {
+			t.Errorf("%s: the job's display name would be %q, want %q", tc.file, got, tc.want)
+		}
 	}
 }
