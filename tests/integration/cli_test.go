@@ -68,7 +68,7 @@ func TestMalformedScenesRefused(t *testing.T) {
 			sphere := shape(m, 1)["sphere"].(map[string]any)
 			sphere["radus"] = sphere["radius"]
 			delete(sphere, "radius")
-		}, want: `unknown-field.json: line 21:9: shapes[1].sphere.radus: unknown field "radus" (did you mean "radius"?)`},
+		}, want: `unknown-field.json: line 103:9: shapes[1].sphere.radus: unknown field "radus" (did you mean "radius"?)`},
 		{name: "negative radius", change: func(m map[string]any) {
 			shape(m, 2)["sphere"].(map[string]any)["radius"] = -1
 		}, want: "shapes[2].sphere.radius: ", rpc: true},
