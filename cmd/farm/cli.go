@@ -325,15 +325,16 @@ func withClient(fs *flagSet, e *env, args []string, minArgs, maxArgs int, call f
 	return call(c, pos)
 }
 
-// hint says what to run about an unreachable coordinator or a missing or unknown token,
-// for the error line (a token of the wrong role is explained by the coordinator's
-// message).
+// hint says what to do about an unreachable coordinator or a missing, unknown or
+// wrong-role token, for the error line.
 func hint(err error) string {
 	switch status.Code(err) {
 	case codes.Unavailable:
 		return " (is a coordinator running there? start one with 'farm coordinator', or name it with --coordinator HOST:PORT or $FARM_COORDINATOR; 'farm render' runs a local farm)"
 	case codes.Unauthenticated:
 		return " (give a client token with --token or $FARM_TOKEN)"
+	case codes.PermissionDenied:
+		return " (farm's verbs need one of the coordinator's client tokens, from its --client-token-file or $FARM_CLIENT_TOKENS, in --token or $FARM_TOKEN)"
 	}
 	return ""
 }

@@ -81,9 +81,11 @@ func TestClientVerbsSendTheToken(t *testing.T) {
 		want string
 	}{
 		{"no token", nil, nil, exitFailure, "--token or $FARM_TOKEN"},
+		{"unknown token", map[string]string{"FARM_TOKEN": "not-a-token"}, nil, exitFailure, "(give a client token with --token or $FARM_TOKEN)"},
 		{"token flag", nil, []string{"--token", "the-client-token"}, exitOK, ""},
 		{"token variable", map[string]string{"FARM_TOKEN": "the-client-token"}, nil, exitOK, ""},
-		{"worker token", nil, []string{"--token", "the-worker-token"}, exitFailure, "PermissionDenied"},
+		{"worker token", nil, []string{"--token", "the-worker-token"}, exitFailure,
+			"it needs a client token) (farm's verbs need one of the coordinator's client tokens, from its --client-token-file or $FARM_CLIENT_TOKENS, in --token or $FARM_TOKEN)"},
 	} {
 		t.Run(tc.name, func(t *testing.T) {
 			args := append([]string{"list", "--coordinator", ec.addr}, tc.args...)
