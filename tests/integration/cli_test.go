@@ -301,3 +301,16 @@ func TestFarmRenderInterruptedStopsTheFarm(t *testing.T) {
 		t.Errorf("an interrupted render wrote an image")
 	}
 }
+
+// TestSubmitWithoutCoordinatorFailsInOneLineWithinFiveSeconds: the built farm, pointed
+// by $FARM_COORDINATOR at a port where nothing listens, prints one line naming the
+// address with what to run, and exits 1 within 5 s (RunFarm fails the test after that).
+func TestSubmitWithoutCoordinatorFailsInOneLineWithinFiveSeconds(t *testing.T) {
+	addr := farmtest.ClosedAddress(t)
+	scene := filepath.Join(farmtest.RepoRoot(), "scenes", "test-small.json")
+	code, stdout, stderr := farmtest.RunFarm(t, 5*time.Second, []string{"FARM_COORDINATOR=" + addr}, "submit", scene)
+	if code != 1 || stdout != "" || strings.Count(stderr, "\n") != 1 || !strings.Contains(stderr, addr) ||
+		!strings.Contains(stderr, "start one with 'farm coordinator'") {
+		t.Errorf("exit %d, stdout %q, stderr %q; want exit 1 and one line naming %s with a hint", code, stdout, stderr, addr)
+	}
+}
