@@ -423,7 +423,8 @@ the job's tasks again, with its failure count reset.
 	"submit": `Reads SCENE (JSON), checks the mesh files it names (paths relative to the scene file)
 and uploads them, submits it and prints the job id on stdout. --priority N (in [-1000,
 1000], default 0) puts it ahead of (or behind) jobs of lower (higher) priority. A malformed
-scene is refused with the field at fault and exit status 2, and so is a mesh that does not
+scene is refused before the network (validated as farm validate does: the file, then the
+field at fault) with exit status 2, and so is a mesh that does not
 parse (naming the file, the line and the reason), a path that is not a regular file, and
 a file outside the asset root (--asset-root, by default the scene file's folder: no "..",
 absolute path or symbolic link leading out). The submission carries a request id, so the

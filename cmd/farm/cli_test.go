@@ -93,6 +93,15 @@ func TestCoordinatorAddress(t *testing.T) {
 	}
 }
 
+// validScene is the smallest scene that passes validation: an emitting sphere in view.
+const validScene = `{
+  "name": "s",
+  "camera": {"position": {"x": 0, "y": 1, "z": 5}, "lookAt": {"y": 1}, "up": {"y": 1}, "verticalFovDegrees": 40},
+  "film": {"width": 8, "height": 8},
+  "materials": [{"name": "l", "emissive": {"radiance": {"r": 1, "g": 1, "b": 1}}}],
+  "shapes": [{"material": "l", "sphere": {"center": {}, "radius": 1}}]
+}`
+
 // closedAddress is a loopback address where nothing listens.
 func closedAddress(t *testing.T) string { return farmtest.ClosedAddress(t) }
 
@@ -119,7 +128,7 @@ func TestUnreachableCoordinatorExitsOne(t *testing.T) {
 func TestRenderChecksTheOutputFolderFirst(t *testing.T) {
 	dir := t.TempDir()
 	path := filepath.Join(dir, "s.json")
-	os.WriteFile(path, []byte(`{"name": "s"}`), 0o644)
+	os.WriteFile(path, []byte(validScene), 0o644)
 	file := filepath.Join(dir, "out.png")
 	os.WriteFile(file, []byte("not a folder"), 0o644)
 	for _, out := range []string{file, filepath.Join(file, "sub")} {
@@ -140,7 +149,7 @@ func TestRenderChecksTheOutputFolderFirst(t *testing.T) {
 func TestRenderWithoutWorkerBinaryFails(t *testing.T) {
 	dir := t.TempDir()
 	path := filepath.Join(dir, "s.json")
-	os.WriteFile(path, []byte(`{"name": "s"}`), 0o644)
+	os.WriteFile(path, []byte(validScene), 0o644)
 	code, _, stderr := runForTest(t, nil, "render", path, "--worker-bin", filepath.Join(dir, "absent"))
 	if code != exitUsage || !strings.Contains(stderr, "--worker-bin") {
 		t.Errorf("exit %d, stderr %q", code, stderr)

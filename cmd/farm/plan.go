@@ -7,6 +7,7 @@ import (
 	"strings"
 	"text/tabwriter"
 
+	"photonfarm/contract/scene"
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/planner"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -27,11 +28,12 @@ func runPlan(ctx context.Context, e *env, args []string) error {
 	if err != nil {
 		return err
 	}
-	sc, cleanup, err := checkScene(ctx, e, pos[0], *assetRoot, imports())
+	sf, cleanup, err := checkScene(ctx, e.stdout, pos[0], *assetRoot, imports())
 	if err != nil {
 		return err
 	}
 	defer cleanup()
+	sc := scene.Defaults(sf.Scene)
 	// The coordinator's own planner, so the plan is the one SubmitJob would make (with
 	// this build's planner: a coordinator of another version may plan otherwise).
 	fmt.Fprintf(e.stdout, "plan of %s\n", pos[0])

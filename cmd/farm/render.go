@@ -63,7 +63,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	scenePath := pos[0]
 
 	// Everything that can be checked without a farm is checked first.
-	sf, cleanup, err := readScene(ctx, e.stdout, scenePath, *assetRoot, imports())
+	sf, cleanup, err := checkScene(ctx, e.stdout, scenePath, *assetRoot, imports())
 	if err != nil {
 		return err
 	}

@@ -3,10 +3,11 @@ package main
 import (
 	"context"
 	"fmt"
+	"io"
 
+	"photonfarm/client"
 	"photonfarm/client/importer"
 	"photonfarm/contract/scene"
-	pb "photonfarm/proto/renderfarm/v1"
 )
 
 var validateVerb = &verb{
@@ -25,7 +26,7 @@ func runValidate(ctx context.Context, e *env, args []string) error {
 		return err
 	}
 	for _, path := range pos {
-		_, cleanup, err := checkScene(ctx, e, path, *assetRoot, imports())
+		_, cleanup, err := checkScene(ctx, e.stderr, path, *assetRoot, imports())
 		if err != nil {
 			return err
 		}
@@ -37,10 +38,9 @@ func runValidate(ctx context.Context, e *env, args []string) error {
 
 // checkScene reads the scene (or model) at path, checks the files it names, and
 // validates it by the contract, here and now: the checks SubmitJob makes, but for the
-// blob store's. It returns the scene with its defaults filled in, as the coordinator
-// plans it. Errors name the file first.
-func checkScene(ctx context.Context, e *env, path, assetRoot string, opt importer.Options) (*pb.Scene, func(), error) {
-	sf, cleanup, err := readScene(ctx, e.stderr, path, assetRoot, opt)
+// blob store's. Errors name the file first. report gets what an import did.
+func checkScene(ctx context.Context, report io.Writer, path, assetRoot string, opt importer.Options) (*client.SceneFile, func(), error) {
+	sf, cleanup, err := readScene(ctx, report, path, assetRoot, opt)
 	if err != nil {
 		return nil, nil, err
 	}
@@ -48,5 +48,5 @@ func checkScene(ctx context.Context, e *env, path, assetRoot string, opt importe
 		cleanup()
 		return nil, nil, usageErrorf("%s: %v", path, err)
 	}
-	return scene.Defaults(sf.Scene), cleanup, nil
+	return sf, cleanup, nil
 }
