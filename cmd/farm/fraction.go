@@ -92,7 +92,7 @@ func (f *jobFraction) finishRound(job *pb.Job, start, at time.Time) {
 	// phase times of the round are differences of completion times.
 	if len(rounds) == f.finished+1 && len(f.phases) > 0 {
 		prev := f.roundStart
-		for _, p := range phaseOrder(f.completed) {
+		for _, p := range f.phases { // phases run in this order
 			f.spent[p] += f.completed[p].Sub(prev)
 			prev = f.completed[p]
 		}
@@ -112,20 +112,6 @@ func allComplete(phases []*pb.PhaseProgress) bool {
 		}
 	}
 	return true
-}
-
-// phaseOrder lists the completed phases by completion time.
-func phaseOrder(done map[pb.Phase]time.Time) []pb.Phase {
-	var ps []pb.Phase
-	for p := range done {
-		ps = append(ps, p)
-	}
-	for i := 1; i < len(ps); i++ {
-		for j := i; j > 0 && done[ps[j]].Before(done[ps[j-1]]); j-- {
-			ps[j], ps[j-1] = ps[j-1], ps[j]
-		}
-	}
-	return ps
 }
 
 // estimate is the fraction done by the current weights, not yet held monotonic.
