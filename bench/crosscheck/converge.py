@@ -59,7 +59,8 @@ REGIONS = ("walls", "floor", "ceiling", "objects", "corners")
 
 def sized_scene(src, out_dir, size, rounds):
     """The scene file at src with a SIZE x SIZE film and `rounds` progressive rounds, written
-    into out_dir under the same file name (farm render names its output after it)."""
+    into out_dir under the same file name (farm render names its output after the scene's name
+    field, which for the project's scenes is the file's name)."""
     scene = json.loads(Path(src).read_text())
     scene["film"] = dict(scene.get("film", {}), width=size, height=size)
     scene["progressive"] = dict(scene.get("progressive", {}), maxRounds=rounds)
