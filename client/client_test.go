@@ -276,8 +276,10 @@ func TestReadSceneFileErrorsNameTheField(t *testing.T) {
 	}{
 		{"missing mesh", `{"shapes": [{"sphere": {"radius": 1}}, {}, {}, {"mesh": {"path": "meshes/x.obj"}}]}`,
 			"shapes[3].mesh.path: open meshes/x.obj: no such file or directory"},
-		{"unknown field", `{"shapes": [{"sphere": {"radus": 1}}]}`, `unknown field "radus"`},
-		{"bad json", `{"shapes": [`, "scene: "},
+		// A scene file's parse errors name the file first.
+		{"unknown field", `{"shapes": [{"sphere": {"radus": 1}}]}`,
+			`scene.json: line 1:25: shapes[0].sphere.radus: unknown field "radus" (did you mean "radius"?)`},
+		{"bad json", `{"shapes": [`, "scene.json: unexpected EOF"},
 	} {
 		t.Run(tc.name, func(t *testing.T) {
 			_, err := ReadSceneFile(context.Background(), writeScene(t, dir, tc.body))

@@ -76,7 +76,8 @@ func ReadSceneFile(ctx context.Context, path string, opts ...SceneOption) (*Scen
 	}
 	sc, err := scene.ParseJSON(data)
 	if err != nil {
-		return nil, invalid("", err.Error(), err)
+		// Named by its file instead of "scene": the user may have many.
+		return nil, invalid("", path+": "+strings.TrimPrefix(err.Error(), "scene: "), err)
 	}
 	sf := &SceneFile{Path: path, Scene: sc}
 	dir := filepath.Dir(path)

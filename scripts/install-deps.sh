@@ -5,11 +5,23 @@ set -euo pipefail
 
 # `--bench VENV` also makes VENV a Python virtual environment holding what `make bench`
 # alone needs (bench/crosscheck/requirements.txt: the Mitsuba 3 reference renderer); the
-# build and make test never ask for it.
+# build and make test never ask for it. `--python VENV` makes VENV the virtual environment
+# of make test-python: the Python SDK installed as a user installs it, and pytest.
+# `--blender VENV` makes one for `make test-blender` (client/blender/requirements.txt: bpy,
+# Blender as a Python module, a 374 MB wheel that installs to about 1 GB, so it is kept
+# out of make test).
 bench_venv=""
-if [ "${1:-}" = "--bench" ]; then
-  bench_venv=${2:?"install-deps: --bench needs the virtual environment's folder"}
-fi
+python_venv=""
+blender_venv=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --bench) bench_venv=${2:?"install-deps: --bench needs the virtual environment's folder"} ;;
+    --python) python_venv=${2:?"install-deps: --python needs the virtual environment's folder"} ;;
+    --blender) blender_venv=${2:?"install-deps: --blender needs the virtual environment's folder"} ;;
+    *) echo "install-deps: unknown option $1 (--bench VENV, --python VENV, --blender VENV)" >&2; exit 2 ;;
+  esac
+  shift 2
+done
 
 debian_packages=(
   build-essential cmake ninja-build pkg-config git ca-certificates
@@ -19,7 +31,7 @@ debian_packages=(
   redis-server
   chromium
 )
-[ -z "$bench_venv" ] || debian_packages+=(python3-venv)
+[ -z "$bench_venv$python_venv$blender_venv" ] || debian_packages+=(python3-venv)
 
 missing=()
 for pkg in "${debian_packages[@]}"; do
@@ -74,4 +86,28 @@ if [ -n "$bench_venv" ] && ! "$bench_venv/bin/python" -c 'import mitsuba, numpy'
   echo "install-deps: Python virtual environment $bench_venv for make bench"
   python3 -m venv "$bench_venv"
   "$bench_venv/bin/pip" install -q -r "$requirements"
+fi
+
+# The SDK goes in by `pip install ./client/python[test]`, which generates its protobuf and
+# gRPC modules from proto/ (client/python/setup.py), again whenever a tracked file of
+# client/python or proto/ has changed since: the digest of their contents is kept in VENV.
+if [ -n "$python_venv" ]; then
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  sources=$(cd "$root" && git ls-files -z client/python proto | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)
+  if [ "$(cat "$python_venv/.photonfarm-sources" 2>/dev/null)" != "$sources" ] ||
+     ! "$python_venv/bin/python" -c 'import photonfarm, pytest' 2>/dev/null; then
+    echo "install-deps: the Python SDK into $python_venv for make test-python"
+    [ -x "$python_venv/bin/python" ] || python3 -m venv "$python_venv"
+    "$python_venv/bin/pip" install -q --disable-pip-version-check "$root/client/python[test]"
+    echo "$sources" >"$python_venv/.photonfarm-sources"
+  fi
+fi
+
+# bpy 5.0.1 is built for Python 3.11 only: Debian bookworm's /usr/bin/python3, named so that
+# another python3 earlier on PATH (pyenv, conda) does not make the venv.
+blender_requirements="$(dirname "$0")/../client/blender/requirements.txt"
+if [ -n "$blender_venv" ] && ! "$blender_venv/bin/python" -c 'import bpy, pytest' 2>/dev/null; then
+  echo "install-deps: Python virtual environment $blender_venv for make test-blender (bpy: a 374 MB download)"
+  /usr/bin/python3 -m venv "$blender_venv"
+  "$blender_venv/bin/pip" install -q -r "$blender_requirements"
 fi

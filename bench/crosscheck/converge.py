@@ -23,7 +23,8 @@ For scenes/cornell-box.json and scenes/cornell-caustics.json, each at SIZE x SIZ
   equal time  the farm and Mitsuba at about 3, 10 and 60 s of wall time (the farm's whole
               `farm render` command; Mitsuba's render call): the farm runs the number of
               rounds its A- and B-round runs say fits (wall = start-up + rounds x round
-              time), Mitsuba the samples its reference run's rate says fits; both print the
+              time), Mitsuba the samples that fit in the wall time the farm actually took (its
+              cost per sample calibrated on this machine just before); both print the
               time they took
 
 The reference's own noise (the RMSE of its two halves' difference, halved: that of their
@@ -58,7 +59,8 @@ REGIONS = ("walls", "floor", "ceiling", "objects", "corners")
 
 def sized_scene(src, out_dir, size, rounds):
     """The scene file at src with a SIZE x SIZE film and `rounds` progressive rounds, written
-    into out_dir under the same file name (farm render names its output after it)."""
+    into out_dir under the same file name (farm render names its output after the scene's name
+    field, which for the project's scenes is the file's name)."""
     scene = json.loads(Path(src).read_text())
     scene["film"] = dict(scene.get("film", {}), width=size, height=size)
     scene["progressive"] = dict(scene.get("progressive", {}), maxRounds=rounds)
@@ -87,15 +89,15 @@ def render_mitsuba(scene_path, work_dir, spp, seed):
 
 
 def reference(cache, scene_path, work_dir, spp):
-    """The two halves of the reference and Mitsuba's samples per second, from the cache when
-    the scene, the translation and spp are those it was made with."""
+    """The two halves of the reference, from the cache when the scene, the translation and
+    spp are those it was made with."""
     key = hashlib.sha256(scene_path.read_bytes() + (HERE / "to_mitsuba.py").read_bytes() +
                          f"{spp} {mi.__version__}".encode()).hexdigest()[:16]
     paths = [cache / f"{scene_path.stem}-{key}-{half}.exr" for half in (1, 2)]
     meta = cache / f"{scene_path.stem}-{key}.json"
     if all(p.exists() for p in paths) and meta.exists():
         halves = [np.array(mi.Bitmap(str(p)), dtype=np.float64)[..., :3] for p in paths]
-        return halves, json.loads(meta.read_text())["samples_per_second"], True
+        return halves, True
     cache.mkdir(parents=True, exist_ok=True)
     halves, seconds = [], 0.0
     for half, path in zip((1, 2), paths):
@@ -103,10 +105,8 @@ def reference(cache, scene_path, work_dir, spp):
         halves.append(img)
         seconds += s
         mi.Bitmap(img.astype(np.float32)).write(str(path))
-    h, w, _ = halves[0].shape
-    rate = spp * h * w / seconds
-    meta.write_text(json.dumps({"samples_per_second": rate, "seconds": seconds}))
-    return halves, rate, False
+    meta.write_text(json.dumps({"spp": spp, "seconds": seconds}))
+    return halves, False
 
 
 def point_triangle_distance(p, a, b, c):
@@ -251,7 +251,7 @@ def main():
         src = root / "scenes" / f"{name}.json"
         base = sized_scene(src, out / name, args.size, 1)
         t0 = time.monotonic()
-        (h1, h2), rate, cached = reference(cache, base, out / name / "mitsuba", args.reference_spp)
+        (h1, h2), cached = reference(cache, base, out / name / "mitsuba", args.reference_spp)
         ref = (h1 + h2) / 2
         masks, measured = region_masks(base, out / name / "mitsuba")
         noise = rmse(h1, h2, measured) / 2
@@ -275,17 +275,38 @@ def main():
                          np.concatenate([preview(runs[many][0]), preview(ref), preview(diff)], axis=1))
         per_round = (runs[many][1] - runs[few][1]) / (many - few)
         startup = max(0.0, runs[few][1] - few * per_round)
+        mitsuba_cost = calibrate_mitsuba(base, out / name / "mitsuba")
         for budget in [float(s) for s in args.seconds.split(",") if s]:
             rounds = max(1, int((budget - startup) / per_round)) if per_round > 0 else 1
             path = sized_scene(src, out / name / f"time-{budget:g}", args.size, rounds)
             img, seconds = render_farm(build, path, out / name / f"time-{budget:g}")
-            spp = max(1, int(budget * rate / (args.size * args.size)))
-            mimg, mseconds = render_mitsuba(path, out / name / "mitsuba", spp, seed=7)
+            # Mitsuba gets the wall time the farm took, whatever the budget said.
+            mimg, mseconds, spp = render_mitsuba_for(path, out / name / "mitsuba", seconds, mitsuba_cost)
             e_farm, e_mitsuba = error(img, ref, measured, noise), error(mimg, ref, measured, noise)
             print(f"  ~{budget:g} s: farm {rounds} rounds in {seconds:.1f} s RMSE {e_farm:.5f} "
                   f"({rmse(img, ref, measured):.5f}); Mitsuba {spp} spp in {mseconds:.1f} s RMSE {e_mitsuba:.5f} "
                   f"({rmse(mimg, ref, measured):.5f}); farm / Mitsuba {e_farm / max(e_mitsuba, 1e-12):.2f}")
 
+
+def calibrate_mitsuba(scene_path, work_dir):
+    """Mitsuba's render call on this machine now, as (fixed seconds, seconds per sample per
+    pixel), from two short renders; the reference's rate was measured when it was made, on a
+    machine that may have been busier or quieter."""
+    (t1, t2), (n1, n2) = [render_mitsuba(scene_path, work_dir, n, seed=3)[1] for n in (16, 128)], (16, 128)
+    per_spp = max((t2 - t1) / (n2 - n1), 1e-9)
+    return max(0.0, t1 - n1 * per_spp), per_spp
+
+
+def render_mitsuba_for(scene_path, work_dir, seconds, cost):
+    """Mitsuba's image after about `seconds` of its render call: the samples the calibration
+    says fit, corrected once by the time the first try took when it is more than 10% off."""
+    fixed, per_spp = cost
+    spp = max(1, int((seconds - fixed) / per_spp))
+    img, took = render_mitsuba(scene_path, work_dir, spp, seed=7)
+    if abs(took - seconds) > 0.1 * seconds:
+        spp = max(1, int(spp * (seconds - fixed) / max(took - fixed, 1e-3)))
+        img, took = render_mitsuba(scene_path, work_dir, spp, seed=7)
+    return img, took, spp
 
 if __name__ == "__main__":
     main()

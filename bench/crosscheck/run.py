@@ -131,8 +131,9 @@ def main():
             continue
         scene_path = farm_scene(build, models_dir, name, model, lambert, out, args.farm_spp, args.farm_rounds)
         t0 = time.monotonic()
-        subprocess.run([str(build / "bin" / "farm"), "render", str(scene_path), "-o", str(out / name), "--workers", "2",
-                        "--no-dashboard"], check=True, stdout=subprocess.DEVNULL)
+        # --name: farm render names its files after the scene's name field (the model's).
+        subprocess.run([str(build / "bin" / "farm"), "render", str(scene_path), "-o", str(out / name), "--name", "scene",
+                        "--workers", "2", "--no-dashboard"], check=True, stdout=subprocess.DEVNULL)
         farm_s = time.monotonic() - t0
         farm = read_rgb(out / name / "scene.exr")
         t0 = time.monotonic()

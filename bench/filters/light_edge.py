@@ -131,8 +131,10 @@ def main():
         path = out / f"cornell-{name}.json"
         path.write_text(json.dumps(variant, indent=1))
         start = time.time()
-        subprocess.run([str(build / "bin" / "farm"), "render", str(path), "-o", str(out), "--workers", "2",
-                        "--no-dashboard"], check=True, stdout=subprocess.DEVNULL)
+        # --name: farm render names its files after the scene's name field, the same for
+        # every variant.
+        subprocess.run([str(build / "bin" / "farm"), "render", str(path), "-o", str(out), "--name", f"cornell-{name}",
+                        "--workers", "2", "--no-dashboard"], check=True, stdout=subprocess.DEVNULL)
         farm_seconds = time.time() - start
         farm = read_rgb(out / f"cornell-{name}.exr")[y0:y0 + window[3], x0:x0 + window[2]]
         start = time.time()

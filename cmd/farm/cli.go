@@ -13,6 +13,7 @@ import (
 	"google.golang.org/grpc/status"
 
 	"photonfarm/client"
+	"photonfarm/contract/suggest"
 )
 
 // Exit codes.
@@ -43,7 +44,8 @@ var verbs []*verb
 func init() {
 	verbs = []*verb{
 		renderVerb, importVerb, coordinatorVerb, dashboardVerb, submitVerb, watchVerb, fetchVerb,
-		statusVerb, listVerb, tasksVerb, cancelVerb, priorityVerb, unblockVerb, planVerb, reportVerb,
+		statusVerb, listVerb, tasksVerb, cancelVerb, priorityVerb, unblockVerb, validateVerb, planVerb, reportVerb,
+		versionVerb,
 	}
 }
 
@@ -73,6 +75,16 @@ func printUsage(w io.Writer) {
 	fmt.Fprint(w, usageFooter)
 }
 
+// verbHint is ` (did you mean "render"?)` for a misspelled verb, "" for one too far
+// from any.
+func verbHint(name string) string {
+	names := []string{"help"}
+	for _, v := range verbs {
+		names = append(names, v.name)
+	}
+	return suggest.Hint(name, names)
+}
+
 func findVerb(name string) *verb {
 	for _, v := range verbs {
 		if v.name == name {
@@ -95,15 +107,17 @@ func run(ctx context.Context, args []string, e *env) int {
 			if v := findVerb(rest[0]); v != nil {
 				return run(ctx, []string{v.name, "-h"}, e)
 			}
-			fmt.Fprintf(e.stderr, "farm: unknown verb %q (see 'farm help')\n", rest[0])
+			fmt.Fprintf(e.stderr, "farm: unknown verb %q%s (see 'farm help')\n", rest[0], verbHint(rest[0]))
 			return exitUsage
 		}
 		printUsage(e.stdout)
 		return exitOK
+	case "-version", "--version":
+		name = versionVerb.name
 	}
 	v := findVerb(name)
 	if v == nil {
-		fmt.Fprintf(e.stderr, "farm: unknown verb %q (see 'farm help')\n", name)
+		fmt.Fprintf(e.stderr, "farm: unknown verb %q%s (see 'farm help')\n", name, verbHint(name))
 		return exitUsage
 	}
 	err := v.run(ctx, e, rest)
@@ -118,7 +132,7 @@ func run(ctx context.Context, args []string, e *env) int {
 		return ex.code
 	}
 	code := exitCode(ctx, err)
-	msg := oneLine(err.Error()) + authHint(err)
+	msg := oneLine(err.Error()) + hint(err)
 	if code == exitInterrupted && errors.Is(err, context.Canceled) {
 		msg = "interrupted"
 	}
@@ -194,7 +208,7 @@ func parse(fs *flagSet, args []string, minArgs, maxArgs int) ([]string, error) {
 				fs.usage()
 				return nil, err
 			}
-			return nil, usageErrorf("%s: %v (see '%s -h')", strings.TrimPrefix(fs.Name(), "farm "), err, fs.Name())
+			return nil, usageErrorf("%s: %v%s (see '%s -h')", strings.TrimPrefix(fs.Name(), "farm "), err, flagHint(fs, err), fs.Name())
 		}
 		args = fs.Args()
 		if len(args) == 0 {
@@ -207,6 +221,24 @@ func parse(fs *flagSet, args []string, minArgs, maxArgs int) ([]string, error) {
 		return nil, usageErrorf("%s: wrong number of arguments (see '%s -h')", strings.TrimPrefix(fs.Name(), "farm "), fs.Name())
 	}
 	return pos, nil
+}
+
+// undefinedFlag is how the flag package begins the error for a flag fs does not define.
+const undefinedFlag = "flag provided but not defined: -"
+
+// flagHint is ` (did you mean --workers?)` when err is about an undefined flag near one
+// that fs defines.
+func flagHint(fs *flagSet, err error) string {
+	name, ok := strings.CutPrefix(err.Error(), undefinedFlag)
+	if !ok {
+		return ""
+	}
+	var names []string
+	fs.VisitAll(func(f *flag.Flag) { names = append(names, f.Name) })
+	if c, ok := suggest.Closest(strings.TrimLeft(name, "-"), names); ok {
+		return " (did you mean --" + c + "?)"
+	}
+	return ""
 }
 
 // coordinatorFlag adds --coordinator to fs; the returned func gives the address to use.
@@ -293,11 +325,16 @@ func withClient(fs *flagSet, e *env, args []string, minArgs, maxArgs int, call f
 	return call(c, pos)
 }
 
-// authHint says what to do about a missing or unknown token, for the error line (a
-// token of the wrong role is explained by the coordinator's message).
-func authHint(err error) string {
-	if status.Code(err) == codes.Unauthenticated {
+// hint says what to do about an unreachable coordinator or a missing, unknown or
+// wrong-role token, for the error line.
+func hint(err error) string {
+	switch status.Code(err) {
+	case codes.Unavailable:
+		return " (is a coordinator running there? start one with 'farm coordinator', or name it with --coordinator HOST:PORT or $FARM_COORDINATOR; 'farm render' runs a local farm)"
+	case codes.Unauthenticated:
 		return " (give a client token with --token or $FARM_TOKEN)"
+	case codes.PermissionDenied:
+		return " (farm's verbs need one of the coordinator's client tokens, from its --client-token-file or $FARM_CLIENT_TOKENS, in --token or $FARM_TOKEN)"
 	}
 	return ""
 }
@@ -316,8 +353,10 @@ func isTerminal(w io.Writer) bool {
 var verbDocs = map[string]string{
 	"render": `Runs a whole farm on this machine: an in-process coordinator on a free loopback port
 with a temporary data folder, N farm-worker processes, then submits SCENE, shows
-progress, and writes OUTDIR/NAME.exr and OUTDIR/NAME.png, NAME being the scene file's
-name without .json (scenes/cornell-box.json gives OUTDIR/cornell-box.exr). Workers are
+progress, and writes OUTDIR/NAME.exr and OUTDIR/NAME.png, NAME being --name, else the
+scene's name field made file-safe, else the scene file's name without .json: the name
+farm fetch gives the same job's files (farm submit names a nameless scene after its file
+too). Workers are
 stopped (SIGTERM) and the temporary folder removed at the end, on failure and on Ctrl-C.
 farm-worker is found through --worker-bin, else next to the farm executable, else $PATH.
 The local farm is authenticated: farm makes random client and worker tokens and gives
@@ -349,14 +388,22 @@ may do anything (a loud warning if the address is not loopback). --tls-cert and
 `,
 	"fetch": `Downloads the outputs of a succeeded job as DIR/NAME.exr (the final image) and
 DIR/NAME.png (the preview), NAME being --name, else the job's display name (the scene's
-name field, made file-safe), else the job id. Each download is checked against its
+name field, made file-safe; farm submit and farm render give a nameless scene its file's
+name), else the job id: the names farm render gives the same job's files. Each download is checked against its
 sha256 digest before it replaces a file.
 `,
-	"plan": `Reads SCENE (JSON), has the coordinator validate and plan it without creating a job,
-and prints one line per pass the renderer knows (run or skip, and why: e.g. "skip caustic
-photon map: no specular surface"), then the tasks per phase of the first round. Mesh and
-reference files are hashed and meshes checked (a broken OBJ is refused with its file, line
-and reason), not uploaded.
+	"plan": `Reads SCENE (JSON), validates it and plans it here, with the coordinator's planner and
+no coordinator, and prints one line per pass the renderer knows (run or skip, and why:
+e.g. "skip caustic photon map: no specular surface"), then the tasks per phase of the
+first round. Mesh and reference files are hashed and meshes checked (a broken OBJ is
+refused with its file, line and reason), not uploaded.
+`,
+	"validate": `Reads each SCENE (JSON) and checks it as farm submit and the coordinator would: the
+JSON against the contract (an unknown field or enum value is named with the file, the
+line, the field path and the nearest declared name: "s.json: line 3:5: film.widht:
+unknown field "widht" (did you mean "width"?)"), every rule on its fields, and the mesh
+and reference files it names. Prints "SCENE: ok" per file; the first invalid one stops
+it with exit status 2. No coordinator is needed.
 `,
 	"report": `Prints a job's progressive rounds as a table: seconds since the job was submitted,
 photon paths and samples per pixel so far, the error estimated from the spread between
@@ -376,7 +423,8 @@ the job's tasks again, with its failure count reset.
 	"submit": `Reads SCENE (JSON), checks the mesh files it names (paths relative to the scene file)
 and uploads them, submits it and prints the job id on stdout. --priority N (in [-1000,
 1000], default 0) puts it ahead of (or behind) jobs of lower (higher) priority. A malformed
-scene is refused with the field at fault and exit status 2, and so is a mesh that does not
+scene is refused before the network (validated as farm validate does: the file, then the
+field at fault) with exit status 2, and so is a mesh that does not
 parse (naming the file, the line and the reason), a path that is not a regular file, and
 a file outside the asset root (--asset-root, by default the scene file's folder: no "..",
 absolute path or symbolic link leading out). The submission carries a request id, so the

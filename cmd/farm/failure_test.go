@@ -19,7 +19,8 @@ func TestSubmitAndRenderRefuseABrokenMeshInOneLineBeforeTheNetwork(t *testing.T)
 	want := "farm: shapes[1].mesh: meshes/broken.obj: line 5: face refers to vertex 7 but the file has 3 vertices\n"
 	for _, verb := range [][]string{
 		{"submit", path, "--coordinator", closedAddress(t)},
-		{"plan", path, "--coordinator", closedAddress(t)},
+		{"plan", path},
+		{"validate", path},
 		{"render", path, "--worker-bin", "/bin/true"},
 	} {
 		code, stdout, stderr := runForTest(t, nil, verb...)

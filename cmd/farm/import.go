@@ -79,6 +79,11 @@ func isModel(path string) bool {
 func readScene(ctx context.Context, report io.Writer, path, assetRoot string, opt importer.Options) (sf *client.SceneFile, cleanup func(), err error) {
 	if !isModel(path) {
 		sf, err := client.ReadSceneFile(ctx, path, client.WithAssetRoot(assetRoot))
+		if err == nil && sf.Scene.GetName() == "" {
+			// The job's display name names its outputs, for farm render and farm fetch
+			// alike: a nameless scene is named after its file.
+			sf.Scene.Name = client.SceneStem(path)
+		}
 		return sf, func() {}, err
 	}
 	dir, err := os.MkdirTemp("", "farm-import-")

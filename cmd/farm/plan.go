@@ -7,15 +7,16 @@ import (
 	"strings"
 	"text/tabwriter"
 
-	"photonfarm/client"
+	"photonfarm/contract/scene"
 	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/planner"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
 var planVerb = &verb{
 	name:    "plan",
-	args:    "SCENE|MODEL [--coordinator ADDR] [--asset-root DIR] [--width N] [--height N]",
-	summary: "print the passes a scene would run and skip, and why, without rendering",
+	args:    "SCENE|MODEL [--asset-root DIR] [--width N] [--height N]",
+	summary: "print the passes a scene would run and skip, and why, without rendering (no coordinator needed)",
 	run:     runPlan,
 }
 
@@ -23,21 +24,21 @@ func runPlan(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("plan", e)
 	assetRoot := assetRootFlag(fs)
 	imports := importFlags(fs)
-	return withClient(fs, e, args, 1, 1, func(c *client.Client, pos []string) error {
-		// The files a scene names are hashed, not uploaded: planning does not need them.
-		sf, cleanup, err := readScene(ctx, e.stdout, pos[0], *assetRoot, imports())
-		if err != nil {
-			return err
-		}
-		defer cleanup()
-		resp, err := c.PlanScene(ctx, sf.Scene)
-		if err != nil {
-			return err
-		}
-		fmt.Fprintf(e.stdout, "plan of %s\n", pos[0])
-		printPlan(e.stdout, resp.GetPlan(), resp.GetPhases())
-		return nil
-	})
+	pos, err := parse(fs, args, 1, 1)
+	if err != nil {
+		return err
+	}
+	sf, cleanup, err := checkScene(ctx, e.stdout, pos[0], *assetRoot, imports())
+	if err != nil {
+		return err
+	}
+	defer cleanup()
+	sc := scene.Defaults(sf.Scene)
+	// The coordinator's own planner, so the plan is the one SubmitJob would make (with
+	// this build's planner: a coordinator of another version may plan otherwise).
+	fmt.Fprintf(e.stdout, "plan of %s\n", pos[0])
+	printPlan(e.stdout, planner.Passes(sc), planner.PhaseCounts(planner.Plan(sc)))
+	return nil
 }
 
 // printPlan writes one line per pass (run or skip, and why), then the tasks per phase of

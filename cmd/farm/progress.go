@@ -9,21 +9,21 @@ import (
 
 	"photonfarm/client"
 	"photonfarm/contract/tasks"
+	"photonfarm/coordinator/planner"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// progress shows a job's progress through its phases (emit, build, render, composite;
-// a job without photon maps has only the last two): on a terminal, one line redrawn in
-// place, the current phase's tasks done/total and the phase's place among the job's
+// progress shows a job's progress as one fraction for the whole job, its rounds and the
+// phases of each folded together (jobFraction), with the round and the phase running
+// named beside it: on a terminal, one line redrawn in place,
 //
-//	render 3/4 [#########-----------]  21/48 tiles   43%  elapsed 0:04  ETA 0:05
+//	round 3/6 Render tiles 2/4 [#########---------------]  21/64 tiles   38%  elapsed 0:04  ETA 0:07
 //
 // and elsewhere (a log, a pipe) a plain line at once when a phase begins and otherwise at
 // most every plainEvery, when something changed:
 //
-//	job 7: emit 2/4 shards (50%), elapsed 1s, ETA 1s
-//	job 7: render 21/48 tiles (43%), elapsed 4s, ETA 5s
-//	job 7: succeeded (emit 4/4, build 1/1, render 48/48, composite 1/1), took 9.2s
+//	job 7: 38%, round 3/6 Render tiles 21/64 tiles, elapsed 4s, ETA 7s
+//	job 7: round 6/6 succeeded (emit 4/4, build 1/1, render 64/64, composite 1/1), took 11.2s
 type progress struct {
 	w   io.Writer
 	tty bool
@@ -31,12 +31,11 @@ type progress struct {
 
 	mu         sync.Mutex
 	job        *pb.Job
+	frac       *jobFraction
 	began      time.Time // when we started watching
-	phase      string    // the phase shown, to measure its rate
-	phaseSince time.Time
-	phaseFrom  uint32 // tasks done when the phase was first seen
 	lastPlain  time.Time
 	plainText  string // last plain line printed, elapsed and ETA left out
+	plainPhase string // the round and phase it named
 	width      int    // of the last terminal line drawn
 }
 
@@ -46,8 +45,9 @@ const (
 	plainEvery = 2 * time.Second
 )
 
-func newProgress(w io.Writer, tty bool, now func() time.Time) *progress {
-	return &progress{w: w, tty: tty, now: now, began: now()}
+// newProgress shows the progress of a job of rounds planned rounds (0: not known) on w.
+func newProgress(w io.Writer, tty bool, now func() time.Time, rounds int) *progress {
+	return &progress{w: w, tty: tty, now: now, began: now(), frac: newJobFraction(rounds)}
 }
 
 // start begins periodic redrawing; the returned func stops it and prints the job's final
@@ -77,7 +77,7 @@ func (p *progress) start() (stop func(job *pb.Job)) {
 		p.mu.Lock()
 		defer p.mu.Unlock()
 		if job != nil {
-			p.observe(job)
+			p.observe(job, p.now())
 		}
 		p.draw(true)
 		if p.tty && p.width > 0 {
@@ -86,23 +86,23 @@ func (p *progress) start() (stop func(job *pb.Job)) {
 	}
 }
 
-// update records the job as it now stands.
-func (p *progress) update(job *pb.Job) {
+// update records the job as it stood at time at (the event's; zero: now).
+func (p *progress) update(job *pb.Job, at time.Time) {
 	if job == nil {
 		return
 	}
 	p.mu.Lock()
 	defer p.mu.Unlock()
-	p.observe(job)
+	if at.IsZero() {
+		at = p.now()
+	}
+	p.observe(job, at)
 	p.draw(false)
 }
 
-func (p *progress) observe(job *pb.Job) {
+func (p *progress) observe(job *pb.Job, at time.Time) {
 	p.job = job
-	name, done, _ := current(job)
-	if name != p.phase {
-		p.phase, p.phaseSince, p.phaseFrom = name, p.now(), done
-	}
+	p.frac.observe(job, at)
 }
 
 // current returns the phase to show and its tasks done and total: the first phase not
@@ -139,31 +139,39 @@ func phaseOf(job *pb.Job, p pb.Phase) (*pb.PhaseProgress, bool) {
 	return nil, false
 }
 
-// roundLabel is "round 3 (error 0.012) " for a job that runs progressive rounds, "" for
-// one that does not: the round running (or the last one, once the job has ended) and the
-// error of the image so far.
-func roundLabel(job *pb.Job) string {
-	progressive := false
-	for _, ps := range job.GetPlan().GetPasses() {
-		if ps.GetName() == "progressive rounds" && ps.GetEnabled() {
-			progressive = true
-		}
-	}
-	rounds := job.GetRounds()
-	if !progressive {
+// roundLabel is "round 3/6 (error 0.012) " for a job that runs progressive rounds
+// (without "/6" if the rounds planned are not known), "" for one that does not: the round
+// running (or the last one, once the job has ended) and the error of the image so far.
+func (p *progress) roundLabel() string {
+	job := p.job
+	if p.frac.rounds == 1 || !progressive(job) {
 		return ""
 	}
+	rounds := job.GetRounds()
 	n := len(rounds)
 	if !client.JobEnded(job.GetState()) {
 		n++
 	}
 	label := fmt.Sprintf("round %d", n)
+	if p.frac.rounds > 1 {
+		label += fmt.Sprintf("/%d", p.frac.rounds)
+	}
 	if len(rounds) > 0 {
 		if e, ok := client.RoundError(rounds[len(rounds)-1]); ok {
 			label += fmt.Sprintf(" (error %.3g)", e)
 		}
 	}
 	return label + " "
+}
+
+// progressive reports whether the job's plan runs progressive rounds.
+func progressive(job *pb.Job) bool {
+	for _, ps := range job.GetPlan().GetPasses() {
+		if ps.GetName() == planner.PassRounds && ps.GetEnabled() {
+			return true
+		}
+	}
+	return false
 }
 
 // unit names what the tasks of the phase labelled label are.
@@ -191,17 +199,8 @@ func (p *progress) elapsed() time.Duration {
 	return now.Sub(start)
 }
 
-// eta estimates the time left in the current phase from its rate so far; ok is false
-// while there is nothing to go on.
-func (p *progress) eta(done, total uint32) (time.Duration, bool) {
-	gained := done - p.phaseFrom
-	spent := p.now().Sub(p.phaseSince)
-	if done < p.phaseFrom || gained == 0 || spent <= 0 {
-		return 0, false
-	}
-	perTask := spent / time.Duration(gained)
-	return perTask * time.Duration(total-done), true
-}
+// eta is the job's time left; ok is false while there is nothing to go on.
+func (p *progress) eta() (time.Duration, bool) { return p.frac.eta(p.elapsed()) }
 
 func clock(d time.Duration) string {
 	s := int(d.Round(time.Second) / time.Second)
@@ -211,12 +210,7 @@ func clock(d time.Duration) string {
 	return fmt.Sprintf("%d:%02d", s/60, s%60)
 }
 
-func percent(done, total uint32) int {
-	if total == 0 {
-		return 0
-	}
-	return int(100 * uint64(done) / uint64(total))
-}
+func percent(frac float64) int { return int(100 * frac) }
 
 // draw prints the progress; final forces the plain line out.
 func (p *progress) draw(final bool) {
@@ -247,17 +241,14 @@ func (p *progress) drawTTY(final bool) {
 	case client.JobEnded(state):
 		name = tasks.JobStateName(state)
 	}
-	name = roundLabel(p.job) + name
+	name = p.roundLabel() + name
 	var b strings.Builder
-	filled := 0
-	if total > 0 {
-		filled = int(uint64(barWidth) * uint64(done) / uint64(total))
-	}
+	filled := int(barWidth * p.frac.shown)
 	fmt.Fprintf(&b, "%-14s [%s%s] %4d/%-4d %-6s %3d%%  elapsed %s", name,
 		strings.Repeat("#", filled), strings.Repeat("-", barWidth-filled),
-		done, total, unit(phase), percent(done, total), clock(p.elapsed()))
+		done, total, unit(phase), percent(p.frac.shown), clock(p.elapsed()))
 	if !client.JobEnded(state) {
-		if eta, ok := p.eta(done, total); ok {
+		if eta, ok := p.eta(); ok {
 			fmt.Fprintf(&b, "  ETA %s", clock(eta))
 		} else {
 			b.WriteString("  ETA --:--")
@@ -277,32 +268,31 @@ func (p *progress) drawPlain(final bool) {
 	job := p.job
 	id := printable(job.GetId())
 	phase, done, total := current(job)
-	name := roundLabel(job) + phase
+	name := p.roundLabel() + phase
 	var text string
 	switch state := job.GetState(); {
 	case client.JobEnded(state):
-		text = fmt.Sprintf("job %s: %s%s", id, roundLabel(job), tasks.JobStateName(state))
+		text = fmt.Sprintf("job %s: %s%s", id, p.roundLabel(), tasks.JobStateName(state))
 		if s := phaseSummary(job); s != "" {
 			text += " (" + s + ")"
 		}
 	case state == pb.JobState_JOB_STATE_QUEUED:
 		text = fmt.Sprintf("job %s: queued", id)
 	default:
-		text = fmt.Sprintf("job %s: %s %d/%d %s (%d%%)", id, name, done, total, unit(phase), percent(done, total))
+		text = fmt.Sprintf("job %s: %d%%, %s %d/%d %s", id, percent(p.frac.shown), name, done, total, unit(phase))
 	}
 	now := p.now()
 	changed := text != p.plainText
-	phaseChanged := !strings.HasPrefix(p.plainText, fmt.Sprintf("job %s: %s ", id, name))
-	if !changed || (!final && !phaseChanged && now.Sub(p.lastPlain) < plainEvery) {
+	if !changed || (!final && name == p.plainPhase && now.Sub(p.lastPlain) < plainEvery) {
 		return
 	}
-	p.plainText, p.lastPlain = text, now
+	p.plainText, p.plainPhase, p.lastPlain = text, name, now
 	if client.JobEnded(job.GetState()) {
 		fmt.Fprintf(p.w, "%s, took %s\n", text, p.elapsed().Round(time.Millisecond))
 		return
 	}
 	line := fmt.Sprintf("%s, elapsed %s", text, p.elapsed().Round(time.Second))
-	if eta, ok := p.eta(done, total); ok {
+	if eta, ok := p.eta(); ok {
 		line += fmt.Sprintf(", ETA %s", eta.Round(time.Second))
 	}
 	fmt.Fprintln(p.w, line)

@@ -22,7 +22,7 @@ func (c *fakeClock) now() time.Time { return c.t }
 // the time clk says: t0 until the test sets it.
 func testProgress(terminal bool) (p *progress, clk *fakeClock, out *strings.Builder) {
 	clk, out = &fakeClock{t0}, &strings.Builder{}
-	return newProgress(out, terminal, clk.now), clk, out
+	return newProgress(out, terminal, clk.now, 1), clk, out
 }
 
 // testJob is job j1, created at t0, in state, with phases' progress.
@@ -49,23 +49,24 @@ func photonJob(state pb.JobState, emit, build, render, composite uint32) *pb.Job
 func TestProgressPlainLines(t *testing.T) {
 	p, clk, out := testProgress(false)
 	running := pb.JobState_JOB_STATE_RUNNING
-	p.update(tileJob(running, 0, 0))
+	p.update(tileJob(running, 0, 0), time.Time{})
 	clk.t = t0.Add(1 * time.Second)
-	p.update(tileJob(running, 6, 0)) // within plainEvery of the last line: not printed
+	p.update(tileJob(running, 6, 0), time.Time{}) // within plainEvery of the last line: not printed
 	clk.t = t0.Add(4 * time.Second)
-	p.update(tileJob(running, 24, 0))
+	p.update(tileJob(running, 24, 0), time.Time{})
 	clk.t = t0.Add(8 * time.Second)
-	p.update(tileJob(running, 48, 0)) // a new phase is printed at once
+	p.update(tileJob(running, 48, 0), time.Time{}) // a new phase is printed at once
 	end := tileJob(pb.JobState_JOB_STATE_SUCCEEDED, 48, 1)
 	end.EndTime = timestamppb.New(t0.Add(8500 * time.Millisecond))
 	p.draw(true)
-	p.observe(end)
+	p.observe(end, clk.t)
 	p.draw(true)
 
 	want := []string{
-		"job j1: Render tiles 0/48 tiles (0%), elapsed 0s",
-		"job j1: Render tiles 24/48 tiles (50%), elapsed 4s, ETA 4s",
-		"job j1: Composite 0/1 tasks (0%), elapsed 8s",
+		// Weighted by task counts: 24 of 49 tasks is 48%, and 4 s for 48% leaves 4 s.
+		"job j1: 0%, Render tiles 0/48 tiles, elapsed 0s",
+		"job j1: 48%, Render tiles 24/48 tiles, elapsed 4s, ETA 4s",
+		"job j1: 97%, Composite 0/1 tasks, elapsed 8s, ETA 0s",
 		"job j1: succeeded (render 48/48, composite 1/1), took 8.5s",
 	}
 	got := strings.Split(strings.TrimRight(out.String(), "\n"), "\n")
@@ -76,16 +77,16 @@ func TestProgressPlainLines(t *testing.T) {
 
 func TestProgressBarRedrawsInPlace(t *testing.T) {
 	p, clk, out := testProgress(true)
-	p.update(tileJob(pb.JobState_JOB_STATE_RUNNING, 0, 0))
+	p.update(tileJob(pb.JobState_JOB_STATE_RUNNING, 0, 0), time.Time{})
 	clk.t = t0.Add(3 * time.Second)
-	p.update(tileJob(pb.JobState_JOB_STATE_RUNNING, 12, 0))
+	p.update(tileJob(pb.JobState_JOB_STATE_RUNNING, 12, 0), time.Time{})
 	s := out.String()
 	frames := strings.Split(s, "\r")[1:]
 	if len(frames) != 2 || strings.Contains(s, "\n") {
 		t.Fatalf("output %q: want two frames, each starting with \\r, no newline", s)
 	}
 	last := frames[1]
-	for _, want := range []string{"Render tiles", "[######------------------]", "12/48", "tiles", "25%", "elapsed 0:03", "ETA 0:09"} {
+	for _, want := range []string{"Render tiles", "[#####-------------------]", "12/48", "tiles", "24%", "elapsed 0:03", "ETA 0:09"} {
 		if !strings.Contains(last, want) {
 			t.Errorf("frame %q lacks %q", last, want)
 		}
@@ -94,7 +95,7 @@ func TestProgressBarRedrawsInPlace(t *testing.T) {
 	end := tileJob(pb.JobState_JOB_STATE_SUCCEEDED, 48, 1)
 	end.EndTime = timestamppb.New(t0.Add(5 * time.Second))
 	clk.t = t0.Add(6 * time.Second)
-	p.update(end)
+	p.update(end, time.Time{})
 	frames = strings.Split(out.String(), "\r")
 	last = frames[len(frames)-1]
 	for _, want := range []string{"succeeded", "48/48", "tiles", "100%", "elapsed 0:05"} {
@@ -118,18 +119,19 @@ func TestProgressPlainLinesShowEveryPhase(t *testing.T) {
 		{3 * time.Second, 4, 1, 0, 0}, {5 * time.Second, 4, 1, 48, 0},
 	} {
 		clk.t = t0.Add(st.at)
-		p.update(photonJob(running, st.emit, st.build, st.render, st.composite))
+		p.update(photonJob(running, st.emit, st.build, st.render, st.composite), time.Time{})
 	}
 	end := photonJob(pb.JobState_JOB_STATE_SUCCEEDED, 4, 1, 48, 1)
 	end.EndTime = timestamppb.New(t0.Add(6 * time.Second))
-	p.observe(end)
+	p.observe(end, clk.t)
 	p.draw(true)
 
 	want := []string{
-		"job j1: Emit photons 0/4 shards (0%), elapsed 0s",
-		"job j1: Build photon map 0/1 tasks (0%), elapsed 2s",
-		"job j1: Render tiles 0/48 tiles (0%), elapsed 3s",
-		"job j1: Composite 0/1 tasks (0%), elapsed 5s",
+		// 54 tasks: 4 are 7%, 5 are 9%, 53 are 98%; the ETA smoothed over etaSmoothing.
+		"job j1: 0%, Emit photons 0/4 shards, elapsed 0s",
+		"job j1: 7%, Build photon map 0/1 tasks, elapsed 2s, ETA 25s",
+		"job j1: 9%, Render tiles 0/48 tiles, elapsed 3s, ETA 25s",
+		"job j1: 98%, Composite 0/1 tasks, elapsed 5s, ETA 14s",
 		"job j1: succeeded (emit 4/4, build 1/1, render 48/48, composite 1/1), took 6s",
 	}
 	if got := strings.TrimRight(out.String(), "\n"); got != strings.Join(want, "\n") {
@@ -142,14 +144,14 @@ func TestProgressBarNamesThePhaseAndItsPlace(t *testing.T) {
 		job  *pb.Job
 		want []string
 	}{
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, 1, 0, 0, 0), []string{"Emit photons 1/4", "1/4", "shards", "25%"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, 1, 0, 0, 0), []string{"Emit photons 1/4", "1/4", "shards", " 1%"}},
 		{photonJob(pb.JobState_JOB_STATE_RUNNING, 4, 0, 0, 0), []string{"Build photon map 2/4", "0/1", "tasks"}},
-		{photonJob(pb.JobState_JOB_STATE_RUNNING, 4, 1, 12, 0), []string{"Render tiles 3/4", "12/48", "tiles", "25%"}},
+		{photonJob(pb.JobState_JOB_STATE_RUNNING, 4, 1, 12, 0), []string{"Render tiles 3/4", "12/48", "tiles", "31%"}},
 		{photonJob(pb.JobState_JOB_STATE_SUCCEEDED, 4, 1, 48, 1), []string{"succeeded", "48/48", "tiles", "100%"}},
 	}
 	for _, tt := range tests {
 		p, _, out := testProgress(true)
-		p.update(tt.job)
+		p.update(tt.job, time.Time{})
 		for _, w := range tt.want {
 			if !strings.Contains(out.String(), w) {
 				t.Errorf("frame %q lacks %q", out.String(), w)

@@ -21,7 +21,7 @@ import (
 
 var renderVerb = &verb{
 	name:    "render",
-	args:    "SCENE|MODEL -o OUTDIR [--exposure STOPS] [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
+	args:    "SCENE|MODEL -o OUTDIR [--name NAME] [--exposure STOPS] [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
 	summary: "render a scene on a local all-in-one farm",
 	run:     runRender,
 }
@@ -37,6 +37,7 @@ const (
 func runRender(ctx context.Context, e *env, args []string) (err error) {
 	fs := newFlags("render", e)
 	out := fs.String("o", "out", "output `folder` (created if missing)")
+	name := outputNameFlag(fs)
 	workers := fs.Int("workers", runtime.NumCPU(), "number of farm-worker processes")
 	threads := fs.Int("threads", 0, "render threads per worker (0: the CPUs divided among the workers)")
 	workerBin := fs.String("worker-bin", "", "`path` of farm-worker (default: next to farm, else $PATH)")
@@ -62,7 +63,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	scenePath := pos[0]
 
 	// Everything that can be checked without a farm is checked first.
-	sf, cleanup, err := readScene(ctx, e.stdout, scenePath, *assetRoot, imports())
+	sf, cleanup, err := checkScene(ctx, e.stdout, scenePath, *assetRoot, imports())
 	if err != nil {
 		return err
 	}
@@ -140,7 +141,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	if err := watchJob(jobCtx, e, c, job.GetId()); err != nil {
 		return cause(err)
 	}
-	paths, err := c.FetchAs(jobCtx, job.GetId(), *out, client.SceneStem(scenePath))
+	paths, err := c.FetchAs(jobCtx, job.GetId(), *out, *name)
 	if err != nil {
 		return cause(err)
 	}

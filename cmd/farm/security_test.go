@@ -81,9 +81,11 @@ func TestClientVerbsSendTheToken(t *testing.T) {
 		want string
 	}{
 		{"no token", nil, nil, exitFailure, "--token or $FARM_TOKEN"},
+		{"unknown token", map[string]string{"FARM_TOKEN": "not-a-token"}, nil, exitFailure, "(give a client token with --token or $FARM_TOKEN)"},
 		{"token flag", nil, []string{"--token", "the-client-token"}, exitOK, ""},
 		{"token variable", map[string]string{"FARM_TOKEN": "the-client-token"}, nil, exitOK, ""},
-		{"worker token", nil, []string{"--token", "the-worker-token"}, exitFailure, "PermissionDenied"},
+		{"worker token", nil, []string{"--token", "the-worker-token"}, exitFailure,
+			"it needs a client token) (farm's verbs need one of the coordinator's client tokens, from its --client-token-file or $FARM_CLIENT_TOKENS, in --token or $FARM_TOKEN)"},
 	} {
 		t.Run(tc.name, func(t *testing.T) {
 			args := append([]string{"list", "--coordinator", ec.addr}, tc.args...)
@@ -109,14 +111,14 @@ func TestSubmitRefusesAMeshOutsideTheAssetRoot(t *testing.T) {
 	os.WriteFile(filepath.Join(root, "x.obj"), []byte("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), 0o644)
 	path := filepath.Join(scenes, "s.json")
 	os.WriteFile(path, []byte(`{"shapes": [{"mesh": {"path": "../x.obj"}}]}`), 0o644)
-	code, _, stderr := runForTest(t, nil, "plan", path, "--coordinator", closedAddress(t))
+	code, _, stderr := runForTest(t, nil, "plan", path)
 	if code != exitUsage || !strings.Contains(stderr, `shapes[0].mesh.path: "../x.obj" is outside the asset root `+scenes) {
 		t.Errorf("exit %d, stderr %q", code, stderr)
 	}
-	// With the parent as the root the file is fine, and the unreachable coordinator is
-	// what fails.
-	code, _, stderr = runForTest(t, nil, "plan", path, "--asset-root", root, "--coordinator", closedAddress(t))
-	if code != exitFailure || strings.Contains(stderr, "asset root") {
+	// With the parent as the root the file is fine, and the scene's own rules are what
+	// fail (it has no camera).
+	code, _, stderr = runForTest(t, nil, "plan", path, "--asset-root", root)
+	if code != exitUsage || strings.Contains(stderr, "asset root") || !strings.HasPrefix(stderr, "farm: "+path+": ") {
 		t.Errorf("with --asset-root: exit %d, stderr %q", code, stderr)
 	}
 }

@@ -26,7 +26,7 @@ func runSubmit(ctx context.Context, e *env, args []string) error {
 			return err
 		}
 		// The job id goes alone on stdout, for scripts: what an import did goes to stderr.
-		sf, cleanup, err := readScene(ctx, e.stderr, pos[0], *assetRoot, imports())
+		sf, cleanup, err := checkScene(ctx, e.stderr, pos[0], *assetRoot, imports())
 		if err != nil {
 			return err
 		}

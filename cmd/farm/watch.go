@@ -1,11 +1,15 @@
 package main
 
 import (
+	"bytes"
 	"context"
 	"fmt"
 	"time"
 
+	"google.golang.org/protobuf/proto"
+
 	"photonfarm/client"
+	"photonfarm/contract/scene"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -26,14 +30,33 @@ func runWatch(ctx context.Context, e *env, args []string) error {
 // watchJob shows the job's progress on stdout until it ends and returns nil only if it
 // succeeded.
 func watchJob(ctx context.Context, e *env, c *client.Client, jobID string) error {
-	p := newProgress(e.stdout, isTerminal(e.stdout), time.Now)
+	p := newProgress(e.stdout, isTerminal(e.stdout), time.Now, plannedRounds(ctx, c, jobID))
 	stop := p.start()
-	job, err := c.Watch(ctx, jobID, func(ev *pb.WatchJobResponse) { p.update(ev.GetJob()) })
+	job, err := c.Watch(ctx, jobID, func(ev *pb.WatchJobResponse) { p.update(ev.GetJob(), ev.GetTime().AsTime()) })
 	stop(job)
 	if err != nil {
 		return err
 	}
 	return jobOutcome(job)
+}
+
+// plannedRounds is the number of progressive rounds the job's scene asks for (the job
+// may stop earlier), read from the scene as stored (defaults filled in); 0 if it cannot
+// be read, and the progress then counts the rounds it sees.
+func plannedRounds(ctx context.Context, c *client.Client, jobID string) int {
+	job, err := c.GetJob(ctx, jobID)
+	if err != nil {
+		return 0
+	}
+	var buf bytes.Buffer
+	if _, err := c.Download(ctx, job.GetSceneDigest(), &buf); err != nil {
+		return 0
+	}
+	sc := &pb.Scene{}
+	if err := proto.Unmarshal(buf.Bytes(), sc); err != nil {
+		return 0
+	}
+	return int(scene.Rounds(sc))
 }
 
 // jobFailure is a failed job's reason for people, its failure kind's label first when the

@@ -21,7 +21,20 @@ func TestParseJSON(t *testing.T) {
 		wantErr []string // substrings; none means success
 	}{
 		{"valid, both field spellings", valid, nil},
-		{"unknown field", `{"shapes": [{"sphere": {"radus": 1}}]}`, []string{"scene: ", `unknown field "radus"`}},
+		{"unknown field", `{"shapes": [{"sphere": {"radus": 1}}]}`,
+			[]string{`scene: line 1:25: shapes[0].sphere.radus: unknown field "radus" (did you mean "radius"?)`}},
+		{"misspelled field with its line", "{\n  \"film\": {\"width\": 8,\n    \"widht\": 8}}",
+			[]string{`scene: line 3:5: film.widht: unknown field "widht" (did you mean "width"?)`}},
+		{"misspelled field in a later element", `{"shapes": [{"sphere": {}}, {}, {"sphere": {"centre": {}}}]}`,
+			[]string{`shapes[2].sphere.centre: unknown field "centre" (did you mean "center"?)`}},
+		{"misspelled proto name", `{"film": {"tile_sise": 8}}`,
+			[]string{`film.tile_sise: unknown field "tile_sise" (did you mean "tileSize"?)`}},
+		{"unknown field far from any", `{"film": {"depth": 8}}`,
+			[]string{`film.depth: unknown field "depth"`}},
+		{"misspelled enum value", `{"output": {"toneMap": "TONE_MAP_FILMC"}}`,
+			[]string{`output.tone_map: unknown value "TONE_MAP_FILMC" (did you mean "TONE_MAP_FILMIC"?)`}},
+		{"type error before a misspelling is protojson's", `{"film": {"width": "wide", "widht": 8}}`,
+			[]string{"scene: ", `"wide"`}},
 		{"bad JSON", "{\n  \"name\": \"x\",\n  \"film\": {\"width\": 8,,}\n}", []string{"scene: ", "line 3:"}},
 		{"wrong type", `{"film": {"width": "wide"}}`, []string{"scene: ", "width"}},
 	}
@@ -44,6 +57,9 @@ func TestParseJSON(t *testing.T) {
 				if !strings.Contains(err.Error(), w) {
 					t.Errorf("error %q does not contain %q", err, w)
 				}
+			}
+			if tt.name == "unknown field far from any" && strings.Contains(err.Error(), "did you mean") {
+				t.Errorf("error %q suggests a name too far from the one written", err)
 			}
 			if strings.Contains(err.Error(), "proto:") {
 				t.Errorf("error %q leaks protojson's prefix", err)

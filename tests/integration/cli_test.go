@@ -63,12 +63,12 @@ func TestMalformedScenesRefused(t *testing.T) {
 		// (else scenesRoot is).
 		relative bool
 	}{
-		{name: "bad JSON", raw: `{"name": "broken",, "film": {}}`, want: "scene: line 1:19: unexpected token"},
+		{name: "bad JSON", raw: `{"name": "broken",, "film": {}}`, want: "bad-JSON.json: line 1:19: unexpected token"},
 		{name: "unknown field", change: func(m map[string]any) {
 			sphere := shape(m, 1)["sphere"].(map[string]any)
 			sphere["radus"] = sphere["radius"]
 			delete(sphere, "radius")
-		}, want: `unknown field "radus"`},
+		}, want: `unknown-field.json: line 103:9: shapes[1].sphere.radus: unknown field "radus" (did you mean "radius"?)`},
 		{name: "negative radius", change: func(m map[string]any) {
 			shape(m, 2)["sphere"].(map[string]any)["radius"] = -1
 		}, want: "shapes[2].sphere.radius: ", rpc: true},
@@ -299,5 +299,18 @@ func TestFarmRenderInterruptedStopsTheFarm(t *testing.T) {
 	}
 	if _, err := os.Stat(filepath.Join(out, "slow.exr")); err == nil {
 		t.Errorf("an interrupted render wrote an image")
+	}
+}
+
+// TestSubmitWithoutCoordinatorFailsInOneLineWithinFiveSeconds: the built farm, pointed
+// by $FARM_COORDINATOR at a port where nothing listens, prints one line naming the
+// address with what to run, and exits 1 within 5 s (RunFarm fails the test after that).
+func TestSubmitWithoutCoordinatorFailsInOneLineWithinFiveSeconds(t *testing.T) {
+	addr := farmtest.ClosedAddress(t)
+	scene := filepath.Join(farmtest.RepoRoot(), "scenes", "test-small.json")
+	code, stdout, stderr := farmtest.RunFarm(t, 5*time.Second, []string{"FARM_COORDINATOR=" + addr}, "submit", scene)
+	if code != 1 || stdout != "" || strings.Count(stderr, "\n") != 1 || !strings.Contains(stderr, addr) ||
+		!strings.Contains(stderr, "start one with 'farm coordinator'") {
+		t.Errorf("exit %d, stdout %q, stderr %q; want exit 1 and one line naming %s with a hint", code, stdout, stderr, addr)
 	}
 }

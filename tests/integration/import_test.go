@@ -169,7 +169,9 @@ func TestFarmImportWritesASceneThatNamesItsMeshesAndImagesByPath(t *testing.T) {
 			if code := waitTimeout(t, cmd, 120*time.Second); code != 0 {
 				t.Fatalf("farm render of the imported scene: exit status %d\nstdout: %s\nstderr: %s", code, rstdout, rstderr)
 			}
-			if _, err := os.Stat(filepath.Join(out, "scene.exr")); err != nil {
+			// Named after the scene's name, which the import took from the model's file
+			// (as farm fetch would name the job's files), not after scene.json.
+			if _, err := os.Stat(filepath.Join(out, strings.TrimSuffix(m.name, filepath.Ext(m.name))+".exr")); err != nil {
 				t.Error(err)
 			}
 		})

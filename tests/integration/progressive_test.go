@@ -143,8 +143,9 @@ func countPoints(t *testing.T, svg []byte) int {
 	}
 }
 
+// farm plan needs no coordinator: $FARM_COORDINATOR names one that is not there.
 func TestPlanOfCornellScenesSaysWhichCausticMapRuns(t *testing.T) {
-	f := farmtest.StartFarm(t, nil)
+	noCoordinator := []string{"FARM_COORDINATOR=" + farmtest.ClosedAddress(t)}
 	tests := []struct {
 		scene, want string
 	}{
@@ -152,7 +153,7 @@ func TestPlanOfCornellScenesSaysWhichCausticMapRuns(t *testing.T) {
 		{"cornell-caustics.json", `(?m)^\s*run\s+caustic photon map\s+\S`},
 	}
 	for _, tt := range tests {
-		code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, nil, "plan", filepath.Join(farmtest.RepoRoot(), "scenes", tt.scene), "--coordinator", f.Addr)
+		code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, noCoordinator, "plan", filepath.Join(farmtest.RepoRoot(), "scenes", tt.scene))
 		if code != 0 {
 			t.Fatalf("farm plan %s: exit %d, stderr %s", tt.scene, code, stderr)
 		}
@@ -164,8 +165,5 @@ func TestPlanOfCornellScenesSaysWhichCausticMapRuns(t *testing.T) {
 				t.Errorf("farm plan %s does not mention %q:\n%s", tt.scene, pass, stdout)
 			}
 		}
-	}
-	if jobs, err := f.Client.ListJobs(t.Context()); err != nil || len(jobs) != 0 {
-		t.Errorf("planning created jobs: %v, %v", jobs, err)
 	}
 }

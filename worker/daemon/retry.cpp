@@ -33,7 +33,8 @@ Millis Backoff::Next() {
 
 grpc::Status RetryTransient(std::string_view what, std::stop_token stop,
                             std::chrono::seconds give_up_after,
-                            const std::function<grpc::Status()>& attempt) {
+                            const std::function<grpc::Status()>& attempt,
+                            const RetryLogger& log_retry) {
   const auto start = std::chrono::steady_clock::now();
   Backoff backoff;
   while (true) {
@@ -46,9 +47,13 @@ grpc::Status RetryTransient(std::string_view what, std::stop_token stop,
         std::chrono::steady_clock::now() + delay - start > give_up_after) {
       return status;
     }
-    Log(LogLevel::kWarn, "retrying",
-        {{"call", what}, {"err", status.error_message()}, {"code", static_cast<int>(status.error_code())},
-         {"retry_ms", delay.count()}});
+    if (log_retry) {
+      log_retry(status, delay);
+    } else {
+      Log(LogLevel::kWarn, "retrying",
+          {{"call", what}, {"err", status.error_message()}, {"code", static_cast<int>(status.error_code())},
+           {"retry_ms", delay.count()}});
+    }
     if (!SleepUnlessStopped(delay, stop)) {
       return grpc::Status(grpc::StatusCode::CANCELLED, "stopped");
     }

@@ -40,9 +40,12 @@ class Backoff {
 // Calls `attempt` until it returns a non-transient status (success included), `stop` is
 // requested (returns CANCELLED), or `give_up_after` has passed since the first attempt
 // (zero: never give up; returns the last transient status). Each attempt must create its
-// own grpc::ClientContext. Retries are logged with `what` naming the call.
+// own grpc::ClientContext. Retries are logged with `what` naming the call, or by
+// `log_retry` (given the failed status and the delay before the next attempt) if set.
+using RetryLogger = std::function<void(const grpc::Status&, Millis)>;
 grpc::Status RetryTransient(std::string_view what, std::stop_token stop,
                             std::chrono::seconds give_up_after,
-                            const std::function<grpc::Status()>& attempt);
+                            const std::function<grpc::Status()>& attempt,
+                            const RetryLogger& log_retry = nullptr);
 
 }  // namespace farm

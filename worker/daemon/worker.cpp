@@ -180,14 +180,20 @@ bool Worker::Impl::Register() {
   request.set_version(kWorkerVersion);
   pb::RegisterWorkerResponse response;
   Log(LogLevel::kInfo, "registering", {{"coordinator", coordinator_}, {"hostname", hostname_}});
-  // A worker may start before its coordinator: wait for it as long as it takes.
-  const grpc::Status status =
-      RetryTransient("RegisterWorker with " + coordinator_, drain_.get_token(), seconds(0), [&] {
+  // A worker may start before its coordinator: wait for it as long as it takes. Each
+  // attempt fails fast (no wait_for_ready) so that a wrong or dead address is said at
+  // once and then every few seconds, instead of after a call deadline of silence.
+  const grpc::Status status = RetryTransient(
+      "RegisterWorker with " + coordinator_, drain_.get_token(), seconds(0),
+      [&] {
         grpc::ClientContext ctx;
         SetDeadline(ctx, kCallDeadline);
-        ctx.set_wait_for_ready(true);  // Connect as soon as the coordinator is up.
         std::stop_callback cancel(drain_.get_token(), [&ctx] { ctx.TryCancel(); });
         return stub_->RegisterWorker(&ctx, request, &response);
+      },
+      [&](const grpc::Status& failed, Millis delay) {
+        Log(LogLevel::kWarn, "cannot reach coordinator at " + coordinator_ + ": " + failed.error_message() + "; retrying",
+            {{"code", static_cast<int>(failed.error_code())}, {"retry_ms", delay.count()}});
       });
   if (!status.ok()) {
     if (!drain_.stop_requested()) {
