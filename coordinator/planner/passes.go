@@ -16,6 +16,8 @@ const (
 	PassPrecompute  = "irradiance precompute"
 	PassFinalGather = "final gathering"
 	PassDirect      = "direct lighting"
+	PassMedia       = "participating media"
+	PassVolumeMap   = "volume photon map"
 	PassEdgeAA      = "edge antialiasing"
 	PassRounds      = "progressive rounds"
 )
@@ -70,6 +72,14 @@ func Passes(s *pb.Scene) *pb.Plan {
 	}
 
 	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightTargets(s), scene.LightSamples(s))
+	if media := mediaOf(s); media == "" {
+		add(PassMedia, false, "no medium in the scene (medium and every shape's interior_medium unset): rays travel through vacuum, nothing is marched")
+		add(PassVolumeMap, false, "no medium in the scene: no volume photons")
+	} else {
+		add(PassMedia, true, "%s: camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated",
+			media, scene.LightSamples(s))
+		add(PassVolumeMap, false, "multiple scattering in media is not implemented yet (issue 15): media get single scattering only")
+	}
 
 	switch scene.AntialiasingMode(s) {
 	case pb.AntialiasingMode_ANTIALIASING_MODE_NONE:
@@ -103,6 +113,29 @@ func roundsReason(s *pb.Scene) string {
 	}
 	parts = append(parts, fmt.Sprintf("alpha %s", strconv.FormatFloat(scene.Alpha(s), 'g', -1, 64)))
 	return strings.Join(parts, ", ")
+}
+
+// mediaOf names the media a scene holds ("fog filling the scene", "2 shapes' interior
+// media", or both), "" for none.
+func mediaOf(s *pb.Scene) string {
+	var parts []string
+	if s.GetMedium() != nil {
+		parts = append(parts, "fog filling the scene")
+	}
+	interiors := 0
+	for _, sh := range s.GetShapes() {
+		if sh.GetInteriorMedium() != nil {
+			interiors++
+		}
+	}
+	switch interiors {
+	case 0:
+	case 1:
+		parts = append(parts, "1 shape's interior medium")
+	default:
+		parts = append(parts, strconv.Itoa(interiors)+" shapes' interior media")
+	}
+	return strings.Join(parts, " and ")
 }
 
 func count(n uint64) string {

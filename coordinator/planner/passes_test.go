@@ -64,6 +64,16 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Meshes = []*pb.Mesh{{Name: "box", Parts: []*pb.MeshPart{{Digest: "sha256:" + strings.Repeat("0", 64), Material: "white"}}}}
 			s.Shapes = append(s.Shapes, &pb.Shape{Geometry: &pb.Shape_Instance{Instance: &pb.MeshInstance{Mesh: "box"}}})
 		}, planner.PassGlobalMap, true, "can light each other"},
+		{"no medium: no marching", func(*pb.Scene) {}, planner.PassMedia, false, "no medium in the scene"},
+		{"no medium: no volume map", func(*pb.Scene) {}, planner.PassVolumeMap, false, "no medium in the scene: no volume photons"},
+		{"fog and a murky ball", func(s *pb.Scene) {
+			fog := &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 0.1}}}
+			s.Medium = fog
+			s.Shapes[0].InteriorMedium = fog
+		}, planner.PassMedia, true, "fog filling the scene and 1 shape's interior medium: camera paths attenuated"},
+		{"media without a volume map yet", func(s *pb.Scene) {
+			s.Medium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: &pb.Color{R: 0.1}, SigmaS: &pb.Color{}}}}
+		}, planner.PassVolumeMap, false, "not implemented yet"},
 		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
 		{"an environment is one more light", func(s *pb.Scene) {
 			s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.2, G: 0.3, B: 0.5}}

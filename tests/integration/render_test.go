@@ -105,12 +105,44 @@ func checkBothWorkers(t *testing.T, list []*pb.Task, phase pb.Phase) {
 // The textured, sky-lit scene with Mitchell's filter: tiles that share the samples of their
 // margins on different workers stitch into the bytes one worker makes.
 func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
+	checkTwoWorkersStitchAsOne(t, func(f *farmtest.Farm) *pb.Scene {
+		return filtered(outdoors(t, f, sizedScene(t, f, stitchScene)), mitchell)
+	})
+}
+
+// The scene in fog with a murky sphere (docs/media.md): single scattering's random numbers
+// come from each sample's own dimensions too.
+func TestFoggySceneTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
+	checkTwoWorkersStitchAsOne(t, func(f *farmtest.Farm) *pb.Scene { return foggy(sizedScene(t, f, stitchScene)) })
+}
+
+// foggy fills s with a thin forward-scattering fog and turns its first sphere into murky
+// glass: a dielectric with a denser, coloured medium inside.
+func foggy(s *pb.Scene) *pb.Scene {
+	s.Materials = append(s.Materials, &pb.Material{Name: "murky-glass", Kind: &pb.Material_Dielectric{Dielectric: &pb.Dielectric{Ior: 1.5}}})
+	s.Medium = &pb.Medium{G: 0.4, Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{
+		Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 0.3}}}
+	for _, sh := range s.Shapes {
+		if sh.GetSphere() != nil {
+			sh.Material = "murky-glass"
+			sh.InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{
+				SigmaA: &pb.Color{R: 0.2, G: 0.6, B: 1.2}, SigmaS: &pb.Color{R: 0.5, G: 0.5, B: 0.5}}}}
+			break
+		}
+	}
+	return s
+}
+
+// checkTwoWorkersStitchAsOne renders the scene makeScene makes on a farm of two workers,
+// which must share the tiles, and on a fresh farm of one: the EXRs must be the same bytes.
+func checkTwoWorkersStitchAsOne(t *testing.T, makeScene func(*farmtest.Farm) *pb.Scene) {
+	t.Helper()
 	// Two workers.
 	two := farmtest.StartFarm(t, nil)
 	w1, w2 := two.StartWorker(t), two.StartWorker(t)
 	w1.WorkerID(t, 15*time.Second)
 	w2.WorkerID(t, 15*time.Second)
-	job := two.Render(t, filtered(outdoors(t, two, sizedScene(t, two, stitchScene)), mitchell), 90*time.Second)
+	job := two.Render(t, makeScene(two), 90*time.Second)
 	exrTwo := checkOutputs(t, two, job, stitchScene)
 
 	list := two.Tasks(t, job.GetId())
@@ -124,7 +156,7 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	// One worker, a fresh farm.
 	one := farmtest.StartFarm(t, nil)
 	one.StartWorker(t)
-	jobOne := one.Render(t, filtered(outdoors(t, one, sizedScene(t, one, stitchScene)), mitchell), 90*time.Second)
+	jobOne := one.Render(t, makeScene(one), 90*time.Second)
 	exrOne := checkOutputs(t, one, jobOne, stitchScene)
 	if !bytes.Equal(farmtest.WithoutRenderTime(exrTwo), farmtest.WithoutRenderTime(exrOne)) {
 		t.Errorf("EXR from two workers (%d bytes) differs from the one from one worker (%d bytes)", len(exrTwo), len(exrOne))

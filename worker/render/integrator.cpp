@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "math/frame.h"
 #include "math/math.h"
 #include "photon/surface_estimate.h"
 #include "photonmap/irradiance_lookup.h"
+#include "render/media_transport.h"
 #include "sampling/hash.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
@@ -31,9 +33,12 @@ struct PhotonMappingIntegrator::Shading {
   Vec3 n;
   Vec3 ns;
   float cone_width = 0;
+  // The medium around the point (null: vacuum), which attenuates its shadow rays.
+  const HomogeneousMedium* medium = nullptr;
 
-  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone)
-      : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(ShadingNormalOf(m, h.ns)), cone_width(cone) {
+  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone, const HomogeneousMedium* around = nullptr)
+      : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(ShadingNormalOf(m, h.ns)), cone_width(cone),
+        medium(around) {
     if (Dot(h.n, n) < 0) ns = -ns;
   }
 
@@ -61,6 +66,11 @@ enum Stream : uint32_t {
   kGatherSeed,
   kSecondarySeed,
   kCoverageSeed,
+  kMediumSeed,
+  kMediumLightPick,
+  kMediumLightPoint,
+  kMediumChannel,
+  kMediumDistance,
 };
 
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
@@ -168,6 +178,7 @@ struct PhotonMappingIntegrator::PathBranch {
   Rgb throughput;
   float share = 1;
   uint64_t key = 0;
+  const HomogeneousMedium* medium = nullptr;  // the one the ray travels in; null: vacuum
 };
 
 // The sampler's dimensions of one bounce.
@@ -220,7 +231,9 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   SampleResult result;
   // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
   Branches branches;
-  branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, Rgb(1), 1, 0});
+  // The camera is in the scene's medium (docs/media.md: not inside a shape's).
+  branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, Rgb(1), 1, 0,
+                 scene_.medium ? &*scene_.medium : nullptr});
   for (int depth = 0; depth < kMaxSpecularDepth && branches.count > 0; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit; the branches share them.
@@ -253,8 +266,20 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
                                      std::vector<PhotonNeighbour>& scratch, SampleResult& result,
                                      Branches& next) const {
   const Ray& ray = branch.ray;
-  const Rgb& throughput = branch.throughput;
+  Rgb throughput = branch.throughput;
   const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
+  // 2^32 levels from the sample's dimension, hashed so that nearby values give unrelated
+  // scrambles.
+  const float u_seed = ForBranch(u.seed, branch.key, 0);
+  const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
+  if (branch.medium) {
+    // Light scattered towards the ray on its way, then what it reaches seen through the
+    // medium (media_transport.h). Single scattering is direct light.
+    const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
+    const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
+    result.direct += throughput * InScattered(segment, ray, SubSeed(seed, kMediumSeed));
+    throughput = throughput * segment.TransmittanceTo(t_end);
+  }
   if (!hit) {
     // The environment, seen directly (unless hidden) or through specular bounces, which
     // only this path can reach (a delta BSDF): no other strategy shares it.
@@ -267,7 +292,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const Vec3 wo = -ray.direction;
   const RayCone cone{branch.cone.WidthAt(hit->t), branch.cone.spread};
   const Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
-  const Shading at(*hit, wo, material, cone.width);
+  const Shading at(*hit, wo, material, cone.width, branch.medium);
   if (branch.key == 0) {
     // Never 0, which stands for no hit.
     const uint64_t id = Hash(uint64_t(hit->shape), uint64_t(hit->part), uint64_t(hit->material));
@@ -286,10 +311,6 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const MaterialCapabilities& can = scene_.capabilities_of(*hit);
   if (can.reflects) {
     result.shaded = true;
-    // 2^32 levels from the sample's dimension, hashed so that nearby values give
-    // unrelated scrambles.
-    const float u_seed = ForBranch(u.seed, branch.key, 0);
-    const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
     Rgb direct, caustic, indirect;
     const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
     Rgb irradiance;
@@ -311,7 +332,8 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
   const auto go_on = [&](const Vec3& wi, const Rgb& t, float share, uint64_t key) {
     if (!t.IsFinite() || t.IsBlack()) return;
-    next.Push({Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi}, cone, t, share, key});
+    next.Push({Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi}, cone, t, share, key,
+               MediumBeyond(*hit, wo, wi, branch.medium)});
   };
   if (scene_.split_specular && depth < kSplitDepth) {
     if (const std::optional<SpecularSplit> split = SplitSpecular(material, hit->ns, wo, TransportMode::kRadiance)) {
@@ -409,7 +431,7 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
       const float glossy = strategies.glossy_bounce ? GlossyBouncePdf(at, ls->wi) : 0.0f;
       f = f_diffuse * BalanceWeight(light, gather) + Excess(f, f_diffuse) * BalanceWeight(light, glossy);
     }
-    sum += f * ls->radiance * (AbsDot(at.ns, ls->wi) / pdf);
+    sum += f * Arriving(at, *ls) * (AbsDot(at.ns, ls->wi) / pdf);
   }
   if (irradiance) *irradiance = incident / float(count);
   return sum / float(count);
@@ -468,7 +490,7 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, 
   const float pdf = pick.pmf * ls->pdf;
   if (!(cos_theta > 0) || !(Dot(at.n, ls->wi) > 0) || !(pdf > 0) || !std::isfinite(pdf)) return {};
   if (!scene_.Visible(at.hit.p, at.hit.n, ls->p, ls->n)) return {};
-  return ls->radiance * (cos_theta / pdf);
+  return Arriving(at, *ls) * (cos_theta / pdf);
 }
 
 PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
@@ -492,10 +514,42 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
-  const Shading next(d->hit, d->wo, d->material, d->cone_width);
+  const Shading next(d->hit, d->wo, d->material, d->cone_width, at.medium);
   Rgb direct, caustic, indirect;
   Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect);
   return {Rgb(), weight * d->throughput * (direct + caustic + indirect)};
+}
+
+const HomogeneousMedium* PhotonMappingIntegrator::MediumBeyond(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi,
+                                                              const HomogeneousMedium* current) const {
+  const std::optional<HomogeneousMedium>& interior = scene_.shapes[hit.shape].interior_medium;
+  if (!interior) return current;
+  const bool from_front = Dot(wo, hit.n) > 0, to_front = Dot(wi, hit.n) > 0;
+  if (from_front == to_front) return current;  // reflected: still on the same side
+  if (from_front) return &*interior;
+  return scene_.medium ? &*scene_.medium : nullptr;
+}
+
+Rgb PhotonMappingIntegrator::Arriving(const Shading& at, const LightSample& ls) const {
+  if (!at.medium) return ls.radiance;
+  return ls.radiance * TransmittanceBetween(scene_, at.medium, at.hit.p, ls.p);
+}
+
+Rgb PhotonMappingIntegrator::InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed) const {
+  const uint32_t count = LightSampleCount();
+  if (segment.empty() || scene_.light_power.empty() || count == 0) return {};
+  const ShadowTransmittance shadow = [&](const Vec3& x, const LightSample& ls) {
+    if (!scene_.Visible(x, Vec3(), ls.p, ls.n)) return Rgb();
+    return ls.radiance * TransmittanceBetween(scene_, segment.medium, x, ls.p);
+  };
+  Rgb sum;
+  for (uint32_t j = 0; j < count; ++j) {
+    const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kMediumLightPick));
+    const InScatterDimensions u{Point2(j, count, seed, kMediumLightPoint), Point1(j, count, seed, kMediumChannel),
+                                Point1(j, count, seed, kMediumDistance)};
+    sum += InScatter(segment, ray, scene_.lights[pick.index], pick.pmf, u, shadow);
+  }
+  return sum / float(count);
 }
 
 std::string PhotonMappingIntegrator::ToString() const {

@@ -51,6 +51,13 @@
 // holds no direct light; gather rays ignore the emitters they hit (direct light covers
 // them) and read no caustic at the shading point (the caustic map does).
 //
+// Participating media (docs/media.md, media_transport.h): each branch of a camera path
+// travels in a medium (the scene's, a shape's interior one it refracted into, or none); a
+// segment in one attenuates what it reaches and adds the light single-scattered along it
+// (to direct), and the shadow rays of the points it shades are attenuated. Indirect light
+// (photons, gather rays) ignores media for now. A scene without media draws exactly the
+// numbers it drew before media existed.
+//
 // Light leaking at walls and corners: the remedy is that no direct light is ever read from
 // photons (it is sampled by a shadow ray at every gather hit, exact to the corner and
 // blocked by any wall), and the precomputed irradiance is read only from a photon whose
@@ -66,6 +73,7 @@
 #include "math/rgb.h"
 #include "photonmap/photon_map.h"
 #include "photonmap/radiance_estimate.h"
+#include "render/media_transport.h"
 #include "sampling/pixel_sampler.h"
 #include "scene/scene_data.h"
 #include "texture/footprint.h"
@@ -193,6 +201,18 @@ class PhotonMappingIntegrator {
   // full with secondary gathering (indirect), or the environment it escapes to (direct).
   LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
                           std::vector<PhotonNeighbour>& scratch) const;
+
+  // The medium a ray leaving hit along wi (arriving along wo) travels in: crossing a shape
+  // that has an interior medium from its front to its back enters it, the other way
+  // leaves it for the scene's; otherwise `current`.
+  const HomogeneousMedium* MediumBeyond(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi,
+                                        const HomogeneousMedium* current) const;
+  // A light sample's light where it reaches a shading point: attenuated by the medium
+  // around the point on the way.
+  Rgb Arriving(const Shading& at, const LightSample& ls) const;
+  // The average of LightSampleCount() samples of the light single-scattered towards the
+  // ray's origin along the segment (media_transport.h).
+  Rgb InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "render/test_images.h"
 #include "scene/scene_data.h"
 #include "scene/test_scenes.h"
 #include "util/test_progress.h"
@@ -40,15 +41,6 @@ const std::string kBlockObj =
 
 Scene BuildBox(uint64_t seed, int width = 24, int height = 16) {
   return Scene::Build(BoxScene(seed, width, height), MapLoader({{FakeDigest("block"), kBlockObj}}));
-}
-
-// Pixel values of `part` equal, bit for bit, those of `whole` at the same image pixels.
-void ExpectSamePixels(const Image& whole, const Image& part) {
-  const PixelRect r = part.rect();
-  for (int y = r.y; y < r.y_end(); ++y)
-    for (int x = r.x; x < r.x_end(); ++x)
-      ASSERT_EQ(std::memcmp(whole.pixel(x, y), part.pixel(x, y), whole.channel_count() * sizeof(float)), 0)
-          << "pixel " << x << ", " << y;
 }
 
 TEST(RenderTile, FourTilesEqualTheWholeImageBitForBit) {

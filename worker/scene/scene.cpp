@@ -27,6 +27,12 @@ namespace pb = renderfarm::v1;
 
 Vec3 PointOf(const pb::Vec3& v) { return Vec3(Vec3dOf(v)); }
 
+HomogeneousMedium MediumFromProto(const pb::Medium& m) {
+  const float g = float(m.g());
+  if (m.has_albedo()) return HomogeneousMedium::FromAlbedo(RgbOf(m.albedo().albedo()), float(m.albedo().density()), g);
+  return HomogeneousMedium::FromCoefficients(RgbOf(m.sigma().sigma_a()), RgbOf(m.sigma().sigma_s()), g);
+}
+
 std::string ShapeLabel(int index, const pb::Shape& shape) {
   std::string label = "shapes[" + std::to_string(index) + "]";
   if (!shape.name().empty()) label += " (\"" + shape.name() + "\")";
@@ -324,6 +330,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     ShapeRecord record;
     record.label = ShapeLabel(i, shape);
     if (!shape.has_instance()) record.material = material_index.at(shape.material());
+    if (shape.has_interior_medium()) record.interior_medium = MediumFromProto(shape.interior_medium());
     try {
       record.geometry = GeometryFromProto(shape, field, sources);
     } catch (const SceneError& e) {
@@ -343,6 +350,11 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   const BoundingSphere scene_sphere = BoundingSphere::Of(d.bounds);
   for (int i = 0; i < description.lights_size(); ++i)
     d.lights.push_back(LightFromProto(description.lights(i), scene_sphere));
+  if (description.has_medium()) {
+    d.medium = MediumFromProto(description.medium());
+    const DistantDisc disc = DistantDisc::Around(scene_sphere);
+    d.medium_ball = {disc.center, disc.radius};
+  }
   d.environment = EnvironmentFromProto(description, load_blob);
   d.environment_visible = d.environment && !description.environment().hidden_from_camera();
   if (d.environment && !d.environment->IsBlack()) {

@@ -120,7 +120,9 @@ std::string SceneData::ToString() const {
   s += "], lights=[";
   for (std::size_t i = 0; i < lights.size(); ++i) s += (i ? ", " : "") + farm::ToString(lights[i]);
   s += "], " + bounds.ToString() + ", specular_targets=" + std::to_string(specular_targets.size()) +
-       ", " + photons.ToString() + "}";
+       ", " + photons.ToString();
+  if (medium) s += ", medium=" + medium->ToString();
+  s += "}";
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include "math/bounds.h"
 #include "math/ray.h"
 #include "math/vec3.h"
+#include "media/homogeneous_medium.h"
 #include "sampling/distribution.h"
 #include "scene/accelerator.h"
 #include "scene/antialiasing_settings.h"
@@ -34,6 +35,8 @@ struct ShapeRecord {
   std::string label;  // "shapes[3]", or "shapes[3] (\"floor\")" when named: for messages
   ShapeGeometry geometry;
   int material = 0;  // index into SceneData::materials; an instance's parts name their own
+  // Shape.interior_medium: entered by crossing the surface from its front to its back.
+  std::optional<HomogeneousMedium> interior_medium;
 };
 
 // A ray's closest hit, refined: p lies on the surface (projected back onto it, which is
@@ -117,6 +120,10 @@ struct SceneData {
   int environment_light = -1;  // its index in lights, -1 if it is not a light
 
   Bounds3 bounds;  // of all geometry
+  // Scene.medium, filling medium_ball (where light from infinitely far away enters: the
+  // distant lights' disc's sphere) outside the shapes' interior media; none: vacuum.
+  std::optional<HomogeneousMedium> medium;
+  BoundingSphere medium_ball;
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
   // at them. Empty: the scene needs no caustic map.
   std::vector<BoundingSphere> specular_targets;

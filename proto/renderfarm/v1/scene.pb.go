@@ -371,7 +371,11 @@ type Scene struct {
 	// What rays that leave the scene see; unset: black.
 	Environment *Environment `protobuf:"bytes,14,opt,name=environment,proto3" json:"environment,omitempty"`
 	// How the PNG preview is made from the linear image (the EXR stays linear).
-	Output        *Output `protobuf:"bytes,15,opt,name=output,proto3" json:"output,omitempty"`
+	Output *Output `protobuf:"bytes,15,opt,name=output,proto3" json:"output,omitempty"`
+	// A medium filling the space outside every shape's interior medium (fog, haze); unset:
+	// vacuum. It fills the ball bounding the scene's geometry, where light from infinitely
+	// far away enters (docs/media.md).
+	Medium        *Medium `protobuf:"bytes,16,opt,name=medium,proto3" json:"medium,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -507,6 +511,13 @@ func (x *Scene) GetEnvironment() *Environment {
 func (x *Scene) GetOutput() *Output {
 	if x != nil {
 		return x.Output
+	}
+	return nil
+}
+
+func (x *Scene) GetMedium() *Medium {
+	if x != nil {
+		return x.Medium
 	}
 	return nil
 }
@@ -2582,9 +2593,14 @@ type Shape struct {
 	//	*Shape_Triangles
 	//	*Shape_Mesh
 	//	*Shape_Instance
-	Geometry      isShape_Geometry `protobuf_oneof:"geometry"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	Geometry isShape_Geometry `protobuf_oneof:"geometry"`
+	// A medium inside the shape (murky glass, a block of smoke): a ray that crosses the
+	// surface from its front to its back enters it, one that crosses from the back to the
+	// front leaves it for the scene's medium. Meant for closed shapes; unset, the shape's
+	// inside is whatever surrounds it.
+	InteriorMedium *Medium `protobuf:"bytes,8,opt,name=interior_medium,json=interiorMedium,proto3" json:"interior_medium,omitempty"`
+	unknownFields  protoimpl.UnknownFields
+	sizeCache      protoimpl.SizeCache
 }
 
 func (x *Shape) Reset() {
@@ -2683,6 +2699,13 @@ func (x *Shape) GetInstance() *MeshInstance {
 	return nil
 }
 
+func (x *Shape) GetInteriorMedium() *Medium {
+	if x != nil {
+		return x.InteriorMedium
+	}
+	return nil
+}
+
 type isShape_Geometry interface {
 	isShape_Geometry()
 }
@@ -2717,6 +2740,209 @@ func (*Shape_Mesh) isShape_Geometry() {}
 
 func (*Shape_Instance) isShape_Geometry() {}
 
+// A homogeneous participating medium (docs/media.md): light that travels a distance d
+// through it keeps exp(-sigma_t d) of itself in each channel, sigma_t = sigma_a + sigma_s,
+// and what it scatters leaves by the Henyey-Greenstein phase function of asymmetry g.
+type Medium struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Types that are valid to be assigned to Coefficients:
+	//
+	//	*Medium_Sigma
+	//	*Medium_Albedo
+	Coefficients isMedium_Coefficients `protobuf_oneof:"coefficients"`
+	// Henyey-Greenstein asymmetry, the mean cosine of the scattering angle: 0 scatters
+	// alike in all directions, towards 1 forwards, towards -1 backwards.
+	G             float64 `protobuf:"fixed64,3,opt,name=g,proto3" json:"g,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Medium) Reset() {
+	*x = Medium{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Medium) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Medium) ProtoMessage() {}
+
+func (x *Medium) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Medium.ProtoReflect.Descriptor instead.
+func (*Medium) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{30}
+}
+
+func (x *Medium) GetCoefficients() isMedium_Coefficients {
+	if x != nil {
+		return x.Coefficients
+	}
+	return nil
+}
+
+func (x *Medium) GetSigma() *MediumCoefficients {
+	if x != nil {
+		if x, ok := x.Coefficients.(*Medium_Sigma); ok {
+			return x.Sigma
+		}
+	}
+	return nil
+}
+
+func (x *Medium) GetAlbedo() *MediumAlbedo {
+	if x != nil {
+		if x, ok := x.Coefficients.(*Medium_Albedo); ok {
+			return x.Albedo
+		}
+	}
+	return nil
+}
+
+func (x *Medium) GetG() float64 {
+	if x != nil {
+		return x.G
+	}
+	return 0
+}
+
+type isMedium_Coefficients interface {
+	isMedium_Coefficients()
+}
+
+type Medium_Sigma struct {
+	Sigma *MediumCoefficients `protobuf:"bytes,1,opt,name=sigma,proto3,oneof"`
+}
+
+type Medium_Albedo struct {
+	Albedo *MediumAlbedo `protobuf:"bytes,2,opt,name=albedo,proto3,oneof"`
+}
+
+func (*Medium_Sigma) isMedium_Coefficients() {}
+
+func (*Medium_Albedo) isMedium_Coefficients() {}
+
+// Absorption and scattering coefficients per channel, per scene unit.
+type MediumCoefficients struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	SigmaA        *Color                 `protobuf:"bytes,1,opt,name=sigma_a,json=sigmaA,proto3" json:"sigma_a,omitempty"`
+	SigmaS        *Color                 `protobuf:"bytes,2,opt,name=sigma_s,json=sigmaS,proto3" json:"sigma_s,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *MediumCoefficients) Reset() {
+	*x = MediumCoefficients{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *MediumCoefficients) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*MediumCoefficients) ProtoMessage() {}
+
+func (x *MediumCoefficients) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use MediumCoefficients.ProtoReflect.Descriptor instead.
+func (*MediumCoefficients) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{31}
+}
+
+func (x *MediumCoefficients) GetSigmaA() *Color {
+	if x != nil {
+		return x.SigmaA
+	}
+	return nil
+}
+
+func (x *MediumCoefficients) GetSigmaS() *Color {
+	if x != nil {
+		return x.SigmaS
+	}
+	return nil
+}
+
+// The single-scattering albedo sigma_s / sigma_t per channel and the density sigma_t (the
+// same in every channel, per scene unit): sigma_s = albedo * density, sigma_a = (1 -
+// albedo) * density (Mitsuba's homogeneous medium).
+type MediumAlbedo struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Albedo        *Color                 `protobuf:"bytes,1,opt,name=albedo,proto3" json:"albedo,omitempty"`
+	Density       float64                `protobuf:"fixed64,2,opt,name=density,proto3" json:"density,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *MediumAlbedo) Reset() {
+	*x = MediumAlbedo{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *MediumAlbedo) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*MediumAlbedo) ProtoMessage() {}
+
+func (x *MediumAlbedo) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use MediumAlbedo.ProtoReflect.Descriptor instead.
+func (*MediumAlbedo) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
+}
+
+func (x *MediumAlbedo) GetAlbedo() *Color {
+	if x != nil {
+		return x.Albedo
+	}
+	return nil
+}
+
+func (x *MediumAlbedo) GetDensity() float64 {
+	if x != nil {
+		return x.Density
+	}
+	return 0
+}
+
 // An analytic sphere (not tessellated).
 type Sphere struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
@@ -2728,7 +2954,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2740,7 +2966,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2753,7 +2979,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{30}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -2783,7 +3009,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2795,7 +3021,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2808,7 +3034,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{31}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{34}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -2844,7 +3070,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2856,7 +3082,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2869,7 +3095,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{35}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -2904,7 +3130,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2916,7 +3142,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2929,7 +3155,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{36}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -2957,7 +3183,7 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\xea\b\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\x99\t\n" +
 	"\x05Scene\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x125\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraB\x06\x8a\xb5\x18\x020\x01R\x06camera\x12/\n" +
@@ -2974,7 +3200,8 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x06meshes\x18\f \x03(\v2\x13.renderfarm.v1.MeshB\b\x8a\xb5\x18\x04@\xa0\x8d\x06R\x06meshes\x12;\n" +
 	"\btextures\x18\r \x03(\v2\x16.renderfarm.v1.TextureB\a\x8a\xb5\x18\x03@\x80 R\btextures\x12<\n" +
 	"\venvironment\x18\x0e \x01(\v2\x1a.renderfarm.v1.EnvironmentR\venvironment\x12-\n" +
-	"\x06output\x18\x0f \x01(\v2\x15.renderfarm.v1.OutputR\x06output:A\x92\xb5\x18=\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x02(\x80\xad\xe2\x040\x80\xad\xe2\x048\x80\x80\x04@\x80\x90\xa1\x0fH\x80\x80\x80\x04P\x80\x80\x80\x80\x01Y\x9a\x99\x99\x99\x99\x99\xb9?\"\xa1\x03\n" +
+	"\x06output\x18\x0f \x01(\v2\x15.renderfarm.v1.OutputR\x06output\x12-\n" +
+	"\x06medium\x18\x10 \x01(\v2\x15.renderfarm.v1.MediumR\x06medium:A\x92\xb5\x18=\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x02(\x80\xad\xe2\x040\x80\xad\xe2\x048\x80\x80\x04@\x80\x90\xa1\x0fH\x80\x80\x80\x04P\x80\x80\x80\x80\x01Y\x9a\x99\x99\x99\x99\x99\xb9?\"\xa1\x03\n" +
 	"\x06Camera\x127\n" +
 	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12K\n" +
 	"\alook_at\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1d\x8a\xb5\x18\x190\x01Z\x15differs from positionR\x06lookAt\x12Y\n" +
@@ -3119,7 +3346,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
 	"max_radius\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\tmaxRadius\x12-\n" +
 	"\x06filter\x18\x03 \x01(\x0e2\x15.renderfarm.v1.FilterR\x06filter\x126\n" +
-	"\x06cone_k\x18\x04 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x80\x84.A)\x9a\x99\x99\x99\x99\x99\xf1?R\x05coneK\"\xa8\x03\n" +
+	"\x06cone_k\x18\x04 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x80\x84.A)\x9a\x99\x99\x99\x99\x99\xf1?R\x05coneK\"\xe8\x03\n" +
 	"\x05Shape\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x12m\n" +
 	"\bmaterial\x18\x02 \x01(\tBQ\x8a\xb5\x18MZKnames a material, unless the geometry is an instance; empty for an instanceR\bmaterial\x12/\n" +
@@ -3127,8 +3354,20 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x04quad\x18\x04 \x01(\v2\x13.renderfarm.v1.QuadH\x00R\x04quad\x12;\n" +
 	"\ttriangles\x18\x05 \x01(\v2\x1b.renderfarm.v1.TriangleMeshH\x00R\ttriangles\x12-\n" +
 	"\x04mesh\x18\x06 \x01(\v2\x17.renderfarm.v1.MeshFileH\x00R\x04mesh\x129\n" +
-	"\binstance\x18\a \x01(\v2\x1b.renderfarm.v1.MeshInstanceH\x00R\binstanceB\x10\n" +
-	"\bgeometry\x12\x04\xb8\xb5\x18\x01\"d\n" +
+	"\binstance\x18\a \x01(\v2\x1b.renderfarm.v1.MeshInstanceH\x00R\binstance\x12>\n" +
+	"\x0finterior_medium\x18\b \x01(\v2\x15.renderfarm.v1.MediumR\x0einteriorMediumB\x10\n" +
+	"\bgeometry\x12\x04\xb8\xb5\x18\x01\"\xb6\x01\n" +
+	"\x06Medium\x129\n" +
+	"\x05sigma\x18\x01 \x01(\v2!.renderfarm.v1.MediumCoefficientsH\x00R\x05sigma\x125\n" +
+	"\x06albedo\x18\x02 \x01(\v2\x1b.renderfarm.v1.MediumAlbedoH\x00R\x06albedo\x12$\n" +
+	"\x01g\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\xf0\xbf!\x00\x00\x00\x00\x00\x00\xf0?R\x01gB\x14\n" +
+	"\fcoefficients\x12\x04\xb8\xb5\x18\x01\"\x94\x01\n" +
+	"\x12MediumCoefficients\x12>\n" +
+	"\asigma_a\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\x06sigmaA\x12>\n" +
+	"\asigma_s\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\x06sigmaS\"\x7f\n" +
+	"\fMediumAlbedo\x12F\n" +
+	"\x06albedo\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\x06albedo\x12'\n" +
+	"\adensity\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\adensity\"d\n" +
 	"\x06Sphere\x123\n" +
 	"\x06center\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\x06center\x12%\n" +
 	"\x06radius\x18\x02 \x01(\x01B\r\x8a\xb5\x18\t\x11\x00\x00\x00\x00\x00\x00\x00\x00R\x06radius\"\xcf\x01\n" +
@@ -3185,55 +3424,58 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 34)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 37)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(SpecularSampling)(0),    // 0: renderfarm.v1.SpecularSampling
-	(AntialiasingMode)(0),    // 1: renderfarm.v1.AntialiasingMode
-	(IndirectMode)(0),        // 2: renderfarm.v1.IndirectMode
-	(AlphaMode)(0),           // 3: renderfarm.v1.AlphaMode
-	(ToneMap)(0),             // 4: renderfarm.v1.ToneMap
-	(Filter)(0),              // 5: renderfarm.v1.Filter
-	(*Scene)(nil),            // 6: renderfarm.v1.Scene
-	(*Camera)(nil),           // 7: renderfarm.v1.Camera
-	(*Film)(nil),             // 8: renderfarm.v1.Film
-	(*PixelFilter)(nil),      // 9: renderfarm.v1.PixelFilter
-	(*BoxFilter)(nil),        // 10: renderfarm.v1.BoxFilter
-	(*TentFilter)(nil),       // 11: renderfarm.v1.TentFilter
-	(*GaussianFilter)(nil),   // 12: renderfarm.v1.GaussianFilter
-	(*MitchellFilter)(nil),   // 13: renderfarm.v1.MitchellFilter
-	(*Sampling)(nil),         // 14: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),     // 15: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),         // 16: renderfarm.v1.Indirect
-	(*Progressive)(nil),      // 17: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),   // 18: renderfarm.v1.ReferenceImage
-	(*Material)(nil),         // 19: renderfarm.v1.Material
-	(*Lambert)(nil),          // 20: renderfarm.v1.Lambert
-	(*Emissive)(nil),         // 21: renderfarm.v1.Emissive
-	(*Glossy)(nil),           // 22: renderfarm.v1.Glossy
-	(*Mirror)(nil),           // 23: renderfarm.v1.Mirror
-	(*Dielectric)(nil),       // 24: renderfarm.v1.Dielectric
-	(*Conductor)(nil),        // 25: renderfarm.v1.Conductor
-	(*Principled)(nil),       // 26: renderfarm.v1.Principled
-	(*Light)(nil),            // 27: renderfarm.v1.Light
-	(*PointLight)(nil),       // 28: renderfarm.v1.PointLight
-	(*SunLight)(nil),         // 29: renderfarm.v1.SunLight
-	(*SpotLight)(nil),        // 30: renderfarm.v1.SpotLight
-	(*Environment)(nil),      // 31: renderfarm.v1.Environment
-	(*Output)(nil),           // 32: renderfarm.v1.Output
-	(*PhotonMapping)(nil),    // 33: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil), // 34: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),            // 35: renderfarm.v1.Shape
-	(*Sphere)(nil),           // 36: renderfarm.v1.Sphere
-	(*Quad)(nil),             // 37: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),     // 38: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),         // 39: renderfarm.v1.MeshFile
-	(*Mesh)(nil),             // 40: renderfarm.v1.Mesh
-	(*Texture)(nil),          // 41: renderfarm.v1.Texture
-	(*Vec3)(nil),             // 42: renderfarm.v1.Vec3
-	(*Color)(nil),            // 43: renderfarm.v1.Color
-	(*TextureRef)(nil),       // 44: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),     // 45: renderfarm.v1.MeshInstance
-	(*Transform)(nil),        // 46: renderfarm.v1.Transform
+	(SpecularSampling)(0),      // 0: renderfarm.v1.SpecularSampling
+	(AntialiasingMode)(0),      // 1: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),          // 2: renderfarm.v1.IndirectMode
+	(AlphaMode)(0),             // 3: renderfarm.v1.AlphaMode
+	(ToneMap)(0),               // 4: renderfarm.v1.ToneMap
+	(Filter)(0),                // 5: renderfarm.v1.Filter
+	(*Scene)(nil),              // 6: renderfarm.v1.Scene
+	(*Camera)(nil),             // 7: renderfarm.v1.Camera
+	(*Film)(nil),               // 8: renderfarm.v1.Film
+	(*PixelFilter)(nil),        // 9: renderfarm.v1.PixelFilter
+	(*BoxFilter)(nil),          // 10: renderfarm.v1.BoxFilter
+	(*TentFilter)(nil),         // 11: renderfarm.v1.TentFilter
+	(*GaussianFilter)(nil),     // 12: renderfarm.v1.GaussianFilter
+	(*MitchellFilter)(nil),     // 13: renderfarm.v1.MitchellFilter
+	(*Sampling)(nil),           // 14: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),       // 15: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),           // 16: renderfarm.v1.Indirect
+	(*Progressive)(nil),        // 17: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),     // 18: renderfarm.v1.ReferenceImage
+	(*Material)(nil),           // 19: renderfarm.v1.Material
+	(*Lambert)(nil),            // 20: renderfarm.v1.Lambert
+	(*Emissive)(nil),           // 21: renderfarm.v1.Emissive
+	(*Glossy)(nil),             // 22: renderfarm.v1.Glossy
+	(*Mirror)(nil),             // 23: renderfarm.v1.Mirror
+	(*Dielectric)(nil),         // 24: renderfarm.v1.Dielectric
+	(*Conductor)(nil),          // 25: renderfarm.v1.Conductor
+	(*Principled)(nil),         // 26: renderfarm.v1.Principled
+	(*Light)(nil),              // 27: renderfarm.v1.Light
+	(*PointLight)(nil),         // 28: renderfarm.v1.PointLight
+	(*SunLight)(nil),           // 29: renderfarm.v1.SunLight
+	(*SpotLight)(nil),          // 30: renderfarm.v1.SpotLight
+	(*Environment)(nil),        // 31: renderfarm.v1.Environment
+	(*Output)(nil),             // 32: renderfarm.v1.Output
+	(*PhotonMapping)(nil),      // 33: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil),   // 34: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),              // 35: renderfarm.v1.Shape
+	(*Medium)(nil),             // 36: renderfarm.v1.Medium
+	(*MediumCoefficients)(nil), // 37: renderfarm.v1.MediumCoefficients
+	(*MediumAlbedo)(nil),       // 38: renderfarm.v1.MediumAlbedo
+	(*Sphere)(nil),             // 39: renderfarm.v1.Sphere
+	(*Quad)(nil),               // 40: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),       // 41: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),           // 42: renderfarm.v1.MeshFile
+	(*Mesh)(nil),               // 43: renderfarm.v1.Mesh
+	(*Texture)(nil),            // 44: renderfarm.v1.Texture
+	(*Vec3)(nil),               // 45: renderfarm.v1.Vec3
+	(*Color)(nil),              // 46: renderfarm.v1.Color
+	(*TextureRef)(nil),         // 47: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),       // 48: renderfarm.v1.MeshInstance
+	(*Transform)(nil),          // 49: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	7,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
@@ -3246,77 +3488,84 @@ var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	15, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
 	16, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
 	17, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	40, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	41, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	43, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	44, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
 	31, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
 	32, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	42, // 14: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	42, // 15: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	42, // 16: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	9,  // 17: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
-	10, // 18: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
-	11, // 19: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
-	12, // 20: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
-	13, // 21: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
-	0,  // 22: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
-	1,  // 23: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	2,  // 24: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	18, // 25: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	20, // 26: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	21, // 27: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	22, // 28: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	23, // 29: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	24, // 30: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	25, // 31: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	26, // 32: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	43, // 33: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	43, // 34: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	43, // 35: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
-	43, // 36: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	43, // 37: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	43, // 38: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	43, // 39: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	43, // 40: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	43, // 41: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	43, // 42: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	44, // 43: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	44, // 44: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	44, // 45: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	43, // 46: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	44, // 47: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	3,  // 48: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	28, // 49: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	29, // 50: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	30, // 51: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	42, // 52: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	43, // 53: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	42, // 54: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	43, // 55: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	42, // 56: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	42, // 57: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	43, // 58: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	43, // 59: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	44, // 60: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	4,  // 61: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	34, // 62: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	34, // 63: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	5,  // 64: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	36, // 65: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	37, // 66: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	38, // 67: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	39, // 68: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	45, // 69: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	42, // 70: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	42, // 71: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	42, // 72: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	42, // 73: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	42, // 74: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	46, // 75: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	76, // [76:76] is the sub-list for method output_type
-	76, // [76:76] is the sub-list for method input_type
-	76, // [76:76] is the sub-list for extension type_name
-	76, // [76:76] is the sub-list for extension extendee
-	0,  // [0:76] is the sub-list for field type_name
+	36, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
+	45, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	45, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	45, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	9,  // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
+	10, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
+	11, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
+	12, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
+	13, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
+	0,  // 23: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
+	1,  // 24: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	2,  // 25: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	18, // 26: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	20, // 27: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	21, // 28: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	22, // 29: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	23, // 30: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	24, // 31: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	25, // 32: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	26, // 33: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	46, // 34: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	46, // 35: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	46, // 36: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	46, // 37: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	46, // 38: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	46, // 39: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	46, // 40: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	46, // 41: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	46, // 42: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	46, // 43: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	47, // 44: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	47, // 45: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	47, // 46: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	46, // 47: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	47, // 48: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	3,  // 49: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	28, // 50: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	29, // 51: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	30, // 52: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	45, // 53: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	46, // 54: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	45, // 55: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	46, // 56: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	45, // 57: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	45, // 58: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	46, // 59: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	46, // 60: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	47, // 61: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	4,  // 62: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	34, // 63: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	34, // 64: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	5,  // 65: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	39, // 66: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	40, // 67: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	41, // 68: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	42, // 69: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	48, // 70: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	36, // 71: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
+	37, // 72: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
+	38, // 73: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
+	46, // 74: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
+	46, // 75: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
+	46, // 76: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
+	45, // 77: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	45, // 78: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	45, // 79: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	45, // 80: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	45, // 81: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	49, // 82: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	83, // [83:83] is the sub-list for method output_type
+	83, // [83:83] is the sub-list for method input_type
+	83, // [83:83] is the sub-list for extension type_name
+	83, // [83:83] is the sub-list for extension extendee
+	0,  // [0:83] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -3354,13 +3603,17 @@ func file_renderfarm_v1_scene_proto_init() {
 		(*Shape_Mesh)(nil),
 		(*Shape_Instance)(nil),
 	}
+	file_renderfarm_v1_scene_proto_msgTypes[30].OneofWrappers = []any{
+		(*Medium_Sigma)(nil),
+		(*Medium_Albedo)(nil),
+	}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
 			NumEnums:      6,
-			NumMessages:   34,
+			NumMessages:   37,
 			NumExtensions: 0,
 			NumServices:   0,
 		},
