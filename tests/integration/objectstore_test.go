@@ -1,0 +1,158 @@
+package integration
+
+import (
+	"bytes"
+	"context"
+	"net/url"
+	"strings"
+	"testing"
+	"time"
+
+	"gocloud.dev/blob"
+	_ "gocloud.dev/blob/s3blob"
+	"google.golang.org/grpc/codes"
+	"google.golang.org/grpc/status"
+
+	"photonfarm/coordinator/blobstore"
+	"photonfarm/coordinator/blobstore/s3test"
+	pb "photonfarm/proto/renderfarm/v1"
+	"photonfarm/tests/farmtest"
+)
+
+// Blobs in an S3-compatible object store (issue 17): real coordinator and worker
+// processes, the coordinator started with --blobs s3://... on a real SeaweedFS server
+// (s3test), against the same scene rendered with the blobs in the coordinator's folder.
+
+func TestMain(m *testing.M) { s3test.Main(m) }
+
+// objectStoreFarm is a farm whose coordinator keeps its blobs at url, and the bucket
+// under it for looking behind the coordinator's back.
+func objectStoreFarm(t *testing.T, storeURL string) (*farmtest.Farm, *blob.Bucket) {
+	t.Helper()
+	u, err := url.Parse(storeURL)
+	if err != nil {
+		t.Fatal(err)
+	}
+	q := u.Query()
+	q.Del("stall_timeout") // the blob store's own parameter, not gocloud's
+	u.RawQuery = q.Encode()
+	b, err := blob.OpenBucket(context.Background(), u.String())
+	if err != nil {
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { b.Close() })
+	return farmtest.StartFarm(t, []string{"--blobs", storeURL}), b
+}
+
+// objectStoreScene is the scene these tests render: the small test scene with its mesh
+// (uploaded to f), in 12 tiles of spp samples.
+func objectStoreScene(t *testing.T, f *farmtest.Farm, spp uint32) *pb.Scene {
+	return f.TestScene(t, 64, 48, 16, spp)
+}
+
+func TestObjectStoreRenderIsByteIdenticalToTheFolderRender(t *testing.T) {
+	folder := farmtest.StartFarm(t, nil)
+	folder.StartWorker(t)
+	want := folder.Output(t, folder.Render(t, objectStoreScene(t, folder, 2), 2*time.Minute), "image.exr")
+
+	f, bucket := objectStoreFarm(t, s3test.Shared(t).TestURL(t))
+	f.StartWorker(t)
+	job := f.Render(t, objectStoreScene(t, f, 2), 2*time.Minute)
+	got := f.Output(t, job, "image.exr")
+	if !bytes.Equal(farmtest.WithoutRenderTime(got), farmtest.WithoutRenderTime(want)) {
+		t.Errorf("the EXR rendered with its blobs in the object store (%d bytes) differs from the folder render (%d bytes)", len(got), len(want))
+	}
+	// Every blob the job made or read is in the bucket: the scene, every task's outputs.
+	digests := []string{job.GetSceneDigest()}
+	for _, task := range f.Tasks(t, job.GetId()) {
+		for _, a := range task.GetOutputs() {
+			digests = append(digests, a.GetDigest())
+		}
+	}
+	for _, d := range digests {
+		if ok, err := bucket.Exists(context.Background(), blobstore.ObjectKey(d)); err != nil || !ok {
+			t.Errorf("blob %s is not in the bucket: %v", d, err)
+		}
+	}
+}
+
+func TestDamagedObjectFailsItsJobAsLostInputNamingIt(t *testing.T) {
+	f, bucket := objectStoreFarm(t, s3test.Shared(t).TestURL(t))
+	damaged := f.Submit(t, objectStoreScene(t, f, 2))
+	digest := damaged.GetSceneDigest()
+	key := blobstore.ObjectKey(digest)
+	scene, err := bucket.ReadAll(context.Background(), key)
+	if err != nil {
+		t.Fatal(err)
+	}
+	if err := bucket.WriteAll(context.Background(), key, scene[:len(scene)/2], nil); err != nil {
+		t.Fatal(err)
+	}
+	_, err = f.Client.Blobs().GetBlobInfo(context.Background(), &pb.GetBlobInfoRequest{Digest: digest})
+	if status.Code(err) != codes.DataLoss || !strings.Contains(err.Error(), digest) {
+		t.Errorf("GetBlobInfo of the damaged object = %v, want DATA_LOSS naming %s", err, digest)
+	}
+	start := time.Now()
+	f.StartWorker(t)
+	waitLostInput(t, f, damaged.GetId(), "the scene: blob "+digest+" is damaged", start, 10*time.Second)
+}
+
+// TestObjectStoreStoppedMidJob: the object store SIGKILLed once a task is done: a
+// client's call about a blob ends within seconds as UNAVAILABLE naming the object store,
+// the job neither fails nor hangs on it (workers retry), and once the store is back on
+// the same data the job completes with the folder render's image.
+func TestObjectStoreStoppedMidJob(t *testing.T) {
+	folder := farmtest.StartFarm(t, nil)
+	folder.StartWorker(t)
+	const spp = 8 // tiles long enough that the stop lands mid-job
+	want := folder.Output(t, folder.Render(t, objectStoreScene(t, folder, spp), 3*time.Minute), "image.exr")
+
+	srv, err := s3test.Start(t.TempDir())
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer srv.Stop()
+	f, _ := objectStoreFarm(t, srv.URL("stopped/")+"&stall_timeout=5s")
+	job := f.Submit(t, objectStoreScene(t, f, spp))
+	f.StartWorker(t)
+	deadline := time.Now().Add(2 * time.Minute)
+	for !anyTaskSucceeded(f.Tasks(t, job.GetId())) {
+		if time.Now().After(deadline) {
+			t.Fatal("no task succeeded within 2 minutes")
+		}
+		time.Sleep(50 * time.Millisecond)
+	}
+	srv.Stop()
+
+	ctx, cancel := context.WithTimeout(context.Background(), 60*time.Second)
+	defer cancel()
+	start := time.Now()
+	_, err = f.Client.Blobs().GetBlobInfo(ctx, &pb.GetBlobInfoRequest{Digest: job.GetSceneDigest()})
+	t.Logf("GetBlobInfo with the store stopped: %v after %v", err, time.Since(start).Round(time.Millisecond))
+	if status.Code(err) != codes.Unavailable || !strings.Contains(err.Error(), "object store s3://"+s3test.Bucket) {
+		t.Errorf("GetBlobInfo = %v, want UNAVAILABLE naming the object store", err)
+	}
+	if took := time.Since(start); took > 30*time.Second {
+		t.Errorf("GetBlobInfo took %v with the store stopped", took)
+	}
+	if j, err := f.Client.GetJob(context.Background(), job.GetId()); err != nil || j.GetState() == pb.JobState_JOB_STATE_FAILED {
+		t.Fatalf("the job with its store stopped: %v %v %q, %v", j.GetState(), j.GetFailureKind(), j.GetError(), err)
+	}
+
+	if err := srv.Restart(); err != nil {
+		t.Fatal(err)
+	}
+	got := f.Output(t, f.Wait(t, job.GetId(), 3*time.Minute), "image.exr")
+	if !bytes.Equal(farmtest.WithoutRenderTime(got), farmtest.WithoutRenderTime(want)) {
+		t.Error("the EXR of the job whose store stopped differs from the folder render")
+	}
+}
+
+func anyTaskSucceeded(tasks []*pb.Task) bool {
+	for _, task := range tasks {
+		if task.GetState() == pb.TaskState_TASK_STATE_SUCCEEDED {
+			return true
+		}
+	}
+	return false
+}
