@@ -44,8 +44,9 @@ type Info struct {
 type backend interface {
 	// size is the stored size of a valid digest's blob, or errs.NotFound.
 	size(ctx context.Context, digest string) (int64, error)
-	// open reads a blob that size found; the reader's errors are *errs.Error.
-	open(ctx context.Context, digest string) (io.ReadCloser, error)
+	// open reads a blob that size found of size bytes; the reader's errors are
+	// *errs.Error (a file that shrank is damage; a body cut short, a failed connection).
+	open(ctx context.Context, digest string, size int64) (io.ReadCloser, error)
 	// create starts a blob whose digest is known (declared, checked before commit) or
 	// not ("").
 	create(ctx context.Context, declared string) (sink, error)
@@ -130,7 +131,7 @@ func (s *Store) Open(ctx context.Context, digest string) (io.ReadCloser, Info, e
 	if err != nil {
 		return nil, Info{}, err
 	}
-	r, err := s.b.open(ctx, digest)
+	r, err := s.b.open(ctx, digest, info.Size)
 	if err != nil {
 		return nil, Info{}, err
 	}

@@ -95,9 +95,11 @@ func (b *bucketBackend) fail(caller, guarded context.Context, op, key string, er
 	case caller.Err() != nil:
 		return caller.Err()
 	case errors.Is(context.Cause(guarded), errStalled):
-		return errs.Wrap(errs.Unavailable, err, fmt.Sprintf("object store %s: %s %s got no answer for %s", b.name, op, key, b.stall))
+		return errs.E(errs.Unavailable, "object store %s: %s %s got no answer for %s: %v", b.name, op, key, b.stall, err)
 	}
-	return errs.Wrap(errs.Unavailable, err, fmt.Sprintf("object store %s: %s %s", b.name, op, key))
+	// The cause is kept as text only: an io.ErrUnexpectedEOF in the chain would make a
+	// reader of the blob take a cut connection for a truncated file.
+	return errs.E(errs.Unavailable, "object store %s: %s %s: %v", b.name, op, key, err)
 }
 
 func digestOfKey(key string) (string, bool) {
@@ -139,9 +141,10 @@ type bucketReader struct {
 	r       *blob.Reader
 	key     string
 	n       int64 // bytes read so far
+	size    int64 // the object's, from the stat before
 }
 
-func (b *bucketBackend) open(ctx context.Context, digest string) (io.ReadCloser, error) {
+func (b *bucketBackend) open(ctx context.Context, digest string, size int64) (io.ReadCloser, error) {
 	key := blobKey(digest)
 	gctx, g := newStallGuard(ctx, b.stall)
 	g.begin()
@@ -152,7 +155,7 @@ func (b *bucketBackend) open(ctx context.Context, digest string) (io.ReadCloser,
 		g.release()
 		return nil, err
 	}
-	return &bucketReader{b: b, caller: ctx, guarded: gctx, g: g, r: r, key: key}, nil
+	return &bucketReader{b: b, caller: ctx, guarded: gctx, g: g, r: r, key: key, size: size}, nil
 }
 
 // Read reads on; a body that ends before the object's size is a connection that
@@ -164,8 +167,8 @@ func (r *bucketReader) Read(p []byte) (int, error) {
 	r.g.end()
 	r.n += int64(n)
 	switch {
-	case errors.Is(err, io.EOF) && r.n < r.r.Size():
-		err = errs.E(errs.Unavailable, "object store %s: read %s: the connection ended after %d of its %d bytes", r.b.name, r.key, r.n, r.r.Size())
+	case errors.Is(err, io.EOF) && r.n < r.size:
+		err = errs.E(errs.Unavailable, "object store %s: read %s: the connection ended after %d of its %d bytes", r.b.name, r.key, r.n, r.size)
 	case err != nil && !errors.Is(err, io.EOF):
 		err = r.b.fail(r.caller, r.guarded, "read", r.key, err)
 	}

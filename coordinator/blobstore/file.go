@@ -53,7 +53,7 @@ func (b *fileBackend) size(ctx context.Context, digest string) (int64, error) {
 	return fi.Size(), nil
 }
 
-func (b *fileBackend) open(ctx context.Context, digest string) (io.ReadCloser, error) {
+func (b *fileBackend) open(ctx context.Context, digest string, _ int64) (io.ReadCloser, error) {
 	f, err := os.Open(b.path(digest))
 	if errors.Is(err, fs.ErrNotExist) {
 		return nil, notFound(digest)

@@ -3,6 +3,8 @@ package blobstore_test
 import (
 	"bytes"
 	"context"
+	"errors"
+	"io"
 	"net"
 	"strings"
 	"testing"
@@ -129,5 +131,38 @@ func TestAStoreThatStopsAnsweringFailsWithinTheStallTimeout(t *testing.T) {
 	}
 	if _, err := s.Stat(ctx, rules.DigestOf(data[:1000])); errs.KindOf(err) != errs.NotFound {
 		t.Errorf("the upload cut off by the stall was stored: %v", err)
+	}
+}
+
+// TestAConnectionCutMidReadIsUnavailableNotTheEndOfTheBlob: the store's connection
+// closed mid-body (the server died) is an unavailable store, and nothing in the error
+// says end of file: a reader of a shard would take that for a truncated file, bad input.
+func TestAConnectionCutMidReadIsUnavailableNotTheEndOfTheBlob(t *testing.T) {
+	srv := s3test.Shared(t)
+	proxy := s3test.NewProxy(t, srv.Host())
+	s, err := blobstore.Open(context.Background(), s3test.URL("http://"+proxy.Addr, "cut/"), 0)
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer s.Close()
+	ctx := context.Background()
+	data := bytes.Repeat([]byte("cut"), 4<<20) // 12 MiB: far more than one read
+	info, err := s.Put(ctx, bytes.NewReader(data), int64(len(data)), "")
+	if err != nil {
+		t.Fatal(err)
+	}
+	r, _, err := s.Open(ctx, info.Digest)
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer r.Close()
+	if _, err := io.ReadFull(r, make([]byte, 1<<20)); err != nil {
+		t.Fatal(err)
+	}
+	proxy.Cut()
+	_, err = io.ReadAll(r)
+	t.Log(err)
+	if errs.KindOf(err) != errs.Unavailable || errors.Is(err, io.EOF) || errors.Is(err, io.ErrUnexpectedEOF) {
+		t.Errorf("reading on after the cut = %v, want unavailable and no end of file in it", err)
 	}
 }

@@ -91,12 +91,19 @@ func (p *Proxy) Thaw() {
 	}
 }
 
-func (p *Proxy) close() {
-	p.lis.Close()
-	p.Thaw()
+// Cut closes every connection open now, as a server that dies does; new ones go
+// through.
+func (p *Proxy) Cut() {
 	p.mu.Lock()
 	defer p.mu.Unlock()
 	for _, c := range p.conns {
 		c.Close()
 	}
+	p.conns = nil
+}
+
+func (p *Proxy) close() {
+	p.lis.Close()
+	p.Thaw()
+	p.Cut()
 }
