@@ -56,7 +56,8 @@ fi
 # (coordinator/blobstore/s3test; MinIO is AGPL). Built from its Go module at the version
 # scripts/seaweedfs.version pins, into a cache folder the tests look in. Its go.mod has
 # replace directives, which `go install MODULE@VERSION` refuses, so it is built inside the
-# downloaded module instead. About 10 minutes on 2 cores the first time; nothing after.
+# downloaded module instead. The first build took 7 min of CPU here (30 min of wall time on
+# a 2-core machine shared with other builds); nothing after.
 seaweed_version=$(cat "$(dirname "$0")/seaweedfs.version")
 tools_dir=${FARM_TOOLS_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/photonfarm/tools}
 weed="$tools_dir/seaweedfs-$seaweed_version/weed"
