@@ -4,6 +4,7 @@ import (
 	"bytes"
 	"context"
 	"net/url"
+	"os"
 	"strings"
 	"sync"
 	"testing"
@@ -79,6 +80,14 @@ func TestObjectStoreRenderIsByteIdenticalToTheFolderRender(t *testing.T) {
 	got := f.Output(t, job, "image.exr")
 	if !bytes.Equal(farmtest.WithoutRenderTime(got), farmtest.WithoutRenderTime(want)) {
 		t.Errorf("the EXR rendered with its blobs in the object store (%d bytes) differs from the folder render (%d bytes)", len(got), len(want))
+	}
+	// The coordinator says where its blobs are, and never logs the store's secret.
+	log := f.Coordinator().LogTail(1000)
+	if !strings.Contains(log, "blobs=\"s3://"+s3test.Bucket+"/") {
+		t.Errorf("the coordinator's log does not say its blobs are in the bucket:\n%s", log)
+	}
+	if secret := os.Getenv("AWS_SECRET_ACCESS_KEY"); secret == "" || strings.Contains(log, secret) {
+		t.Errorf("the coordinator's log shows the store's secret key (or there is none to check: %q)", secret)
 	}
 	// Every blob the job made or read is in the bucket: the scene, every task's outputs.
 	digests := []string{job.GetSceneDigest()}
