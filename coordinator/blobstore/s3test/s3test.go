@@ -45,6 +45,7 @@ type Server struct {
 	dir      string
 	bin      string
 	args     []string
+	sockets  []string // the ones weed leaves in /tmp
 	cmd      *exec.Cmd
 	exited   chan struct{}
 	logPath  string
@@ -127,7 +128,7 @@ func Start(dir string) (*Server, error) {
 	if err := os.WriteFile(filepath.Join(dir, "s3.json"), []byte(config), 0o600); err != nil {
 		return nil, err
 	}
-	p, err := freePorts(9)
+	p, err := freePorts(11)
 	if err != nil {
 		return nil, err
 	}
@@ -140,12 +141,22 @@ func Start(dir string) (*Server, error) {
 		"-filer.port=" + strconv.Itoa(p[4]), "-filer.port.grpc=" + strconv.Itoa(p[5]),
 		"-s3.port=" + strconv.Itoa(p[6]), "-s3.port.grpc=" + strconv.Itoa(p[7]),
 		"-metricsPort=0", "-debug.port=" + strconv.Itoa(p[8]),
+		"-admin.port=" + strconv.Itoa(p[9]), "-admin.port.grpc=" + strconv.Itoa(p[10]), "-admin.port.legacy=0",
+		"-filer.localSocket=" + filepath.Join(dir, "filer.sock"), "-s3.localSocket=" + filepath.Join(dir, "s3.sock"),
+	}
+	// weed puts its services' gRPC sockets in /tmp whatever it is told; Stop removes them.
+	var sockets []string
+	for _, g := range []struct {
+		service string
+		port    int
+	}{{"master", p[1]}, {"volume", p[3]}, {"filer", p[5]}, {"s3", p[7]}, {"admin", p[10]}} {
+		sockets = append(sockets, fmt.Sprintf("/tmp/seaweedfs-%s-grpc-%d.sock", g.service, g.port))
 	}
 	if err := os.MkdirAll(filepath.Join(dir, "data"), 0o755); err != nil {
 		return nil, err
 	}
 	s := &Server{Endpoint: "http://127.0.0.1:" + strconv.Itoa(p[6]), dir: dir, bin: bin, args: args,
-		logPath: filepath.Join(dir, "weed.log")}
+		logPath: filepath.Join(dir, "weed.log"), sockets: sockets}
 	if err := s.start(); err != nil {
 		return nil, err
 	}
@@ -226,6 +237,9 @@ func (s *Server) LogTail() string {
 func (s *Server) Stop() {
 	_ = syscall.Kill(-s.cmd.Process.Pid, syscall.SIGKILL)
 	<-s.exited
+	for _, p := range s.sockets {
+		os.Remove(p)
+	}
 }
 
 // Pause freezes the server (SIGSTOP): it keeps its connections and answers nothing,
