@@ -164,10 +164,19 @@ func TestObjectStoreStoppedMidJob(t *testing.T) {
 		t.Fatalf("the job with its store stopped: %v %v %q, %v", j.GetState(), j.GetFailureKind(), j.GetError(), err)
 	}
 
+	restart := time.Now()
 	if err := srv.Restart(); err != nil {
 		t.Fatal(err)
 	}
-	got := f.Output(t, f.Wait(t, job.GetId(), 3*time.Minute), "image.exr")
+	t.Logf("the store answered again %v after its restart", time.Since(restart).Round(time.Millisecond))
+	done := f.Wait(t, job.GetId(), 3*time.Minute)
+	t.Logf("the job completed %v after the restart", time.Since(restart).Round(time.Millisecond))
+	for _, task := range f.Tasks(t, job.GetId()) {
+		if task.GetAttempts() > 1 {
+			t.Logf("task %s (%v) took %d attempts, last error %q", task.GetId(), task.GetPhase(), task.GetAttempts(), task.GetError())
+		}
+	}
+	got := f.Output(t, done, "image.exr")
 	if !bytes.Equal(farmtest.WithoutRenderTime(got), farmtest.WithoutRenderTime(want)) {
 		t.Error("the EXR of the job whose store stopped differs from the folder render")
 	}
