@@ -41,8 +41,6 @@ type bucketBackend struct {
 // touchedKey is the metadata key of a touch marker's time.
 const touchedKey = "touched"
 
-func blobKey(digest string) string { return ObjectKey(digest) }
-
 // ObjectKey is the key of a valid digest's blob in an object store (under the URL's
 // prefix): for operators looking for a blob, and tests that damage one.
 func ObjectKey(digest string) string {
@@ -125,7 +123,7 @@ func (b *bucketBackend) attributes(ctx context.Context, key string) (*blob.Attri
 }
 
 func (b *bucketBackend) size(ctx context.Context, digest string) (int64, error) {
-	a, err := b.attributes(ctx, blobKey(digest))
+	a, err := b.attributes(ctx, ObjectKey(digest))
 	if err != nil {
 		return 0, err
 	}
@@ -145,7 +143,7 @@ type bucketReader struct {
 }
 
 func (b *bucketBackend) open(ctx context.Context, digest string, size int64) (io.ReadCloser, error) {
-	key := blobKey(digest)
+	key := ObjectKey(digest)
 	gctx, g := newStallGuard(ctx, b.stall)
 	g.begin()
 	r, err := b.b.NewReader(gctx, key, nil)
@@ -196,7 +194,7 @@ type bucketSink struct {
 func (b *bucketBackend) create(ctx context.Context, declared string) (sink, error) {
 	k := &bucketSink{b: b, caller: ctx, direct: declared != ""}
 	if k.direct {
-		k.key = blobKey(declared)
+		k.key = ObjectKey(declared)
 	} else {
 		var id [16]byte
 		rand.Read(id[:])
@@ -231,7 +229,7 @@ func (k *bucketSink) commit(digest string) error {
 	if k.direct {
 		return nil
 	}
-	dst := blobKey(digest)
+	dst := ObjectKey(digest)
 	if err := k.b.do(k.caller, "copy to "+dst, k.key, func(ctx context.Context) error {
 		return k.b.b.Copy(ctx, dst, k.key, nil)
 	}); err != nil {
@@ -303,7 +301,7 @@ func (b *bucketBackend) touchedAt(ctx context.Context, hexd string) (time.Time, 
 // a blob touched meanwhile is copied back.
 func (b *bucketBackend) deleteUnused(ctx context.Context, digest string, before time.Time) (bool, error) {
 	hexd := digest[len("sha256:"):]
-	key, doomed, marker := blobKey(digest), "gc/"+hexd, "touched/"+hexd
+	key, doomed, marker := ObjectKey(digest), "gc/"+hexd, "touched/"+hexd
 	a, err := b.attributes(ctx, key)
 	if errs.Is(err, errs.NotFound) {
 		return false, nil
