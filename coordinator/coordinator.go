@@ -47,8 +47,13 @@ const (
 
 // Config configures a Coordinator.
 type Config struct {
-	// DataDir holds the blob store (DataDir/blobs). Required.
+	// DataDir holds the blob store (DataDir/blobs) unless BlobURL names another. Required.
 	DataDir string
+	// BlobURL, if set, names the blob store instead (blobstore.Open): file:///folder, or
+	// s3://bucket?endpoint=...&region=... for an S3-compatible object store that several
+	// coordinators can share (credentials from the AWS SDK's environment variables or
+	// credentials file, never the URL).
+	BlobURL string
 	// LeaseDuration is how long a task lease lasts without a heartbeat (default 15s).
 	LeaseDuration time.Duration
 	// HeartbeatInterval is how often workers are told to heartbeat (default
@@ -89,6 +94,14 @@ type Config struct {
 // rather than importing it.
 var _ builder.Tasks = (*service.Service)(nil)
 
+// openBlobs opens the blob store cfg.BlobURL names, else the folder DataDir/blobs.
+func openBlobs(cfg Config) (*blobstore.Store, error) {
+	if cfg.BlobURL == "" {
+		return blobstore.New(filepath.Join(cfg.DataDir, "blobs"), 0)
+	}
+	return blobstore.Open(context.Background(), cfg.BlobURL, 0)
+}
+
 // DefaultRedisPrefix is Config.RedisPrefix's default.
 const DefaultRedisPrefix = "farm:"
 
@@ -98,11 +111,12 @@ type Coordinator struct {
 	auth    *auth.Authenticator
 	log     *slog.Logger
 	store   store.Store
-	closers []io.Closer // of the store's connections; closed when Serve returns
+	closers []io.Closer // of the store's and the blob store's connections; closed when Serve returns
 	metrics *metrics.Metrics
 	svc     *service.Service
 	builder *builder.Builder
 	sweeper *retention.Sweeper
+	blobs   *blobstore.Store
 }
 
 // New checks cfg, opens the blob store under DataDir and the store (Redis if
@@ -143,14 +157,16 @@ func New(cfg Config) (*Coordinator, error) {
 			cfg.TLS.MinVersion = tls.VersionTLS12
 		}
 	}
-	blobs, err := blobstore.New(filepath.Join(cfg.DataDir, "blobs"), 0)
+	blobs, err := openBlobs(cfg)
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
 	}
 	st, closers, err := openStore(cfg)
 	if err != nil {
+		blobs.Close()
 		return nil, err
 	}
+	closers = append(closers, blobs)
 	m := metrics.New(metrics.StoreCounts(st))
 	svc := service.New(service.Config{
 		Store:             st,
@@ -170,7 +186,7 @@ func New(cfg Config) (*Coordinator, error) {
 	})
 	sw := retention.New(retention.Config{Store: st, Blobs: blobs, Clock: cfg.Clock, Logger: cfg.Logger,
 		Retention: cfg.Retention, BlobGrace: cfg.BlobGrace})
-	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, closers: closers, metrics: m, svc: svc, builder: b, sweeper: sw}, nil
+	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, closers: closers, metrics: m, svc: svc, builder: b, sweeper: sw, blobs: blobs}, nil
 }
 
 // openStore opens the store cfg names, and what must be closed after it.
@@ -243,7 +259,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	go func() { served <- srv.Serve(lis) }()
 	c.log.Info("coordinator serving", "addr", lis.Addr().String(), "data_dir", c.cfg.DataDir,
 		"lease_duration", c.cfg.LeaseDuration, "heartbeat_interval", c.cfg.HeartbeatInterval,
-		"auth", c.AuthEnabled(), "tls", c.cfg.TLS != nil, "store", c.storeName())
+		"auth", c.AuthEnabled(), "tls", c.cfg.TLS != nil, "store", c.storeName(), "blobs", c.blobs.String())
 
 	var err error
 	select {

@@ -36,6 +36,8 @@ func TestNewRejectsBadConfig(t *testing.T) {
 		{},
 		{DataDir: t.TempDir(), LeaseDuration: time.Second, HeartbeatInterval: 2 * time.Second},
 		{DataDir: t.TempDir(), LeaseDuration: -time.Second},
+		{DataDir: t.TempDir(), BlobURL: "ftp://farm"},
+		{DataDir: t.TempDir(), BlobURL: "s3://AKIA:hunter2@farm?endpoint=http://127.0.0.1:1"},
 	} {
 		if _, err := coordinator.New(cfg); err == nil {
 			t.Errorf("New(%+v) succeeded", cfg)

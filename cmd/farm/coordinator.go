@@ -19,7 +19,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--blobs URL] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }
@@ -35,6 +35,7 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	fs := newFlags("coordinator", e)
 	listen := fs.String("listen", ":7070", "`address` to listen on, HOST:PORT (port 0 picks a free one)")
 	dataDir := fs.String("data-dir", defaultDataDir(), "`folder` for the blob store and state")
+	blobURL := fs.String("blobs", "", "keep blobs in the store at this `URL` (also $FARM_BLOB_URL): file:///folder, or s3://bucket?endpoint=URL&region=R for an S3-compatible object store, with credentials in $AWS_ACCESS_KEY_ID and $AWS_SECRET_ACCESS_KEY or $AWS_SHARED_CREDENTIALS_FILE; default: --data-dir/blobs")
 	lease := fs.Duration("lease-duration", coordinator.DefaultLeaseDuration, "how long a task lease lasts without a heartbeat")
 	heartbeat := fs.Duration("heartbeat-interval", 0, "how often workers heartbeat (0: a quarter of the lease duration)")
 	stuck := fs.Duration("stuck-timeout", coordinator.DefaultStuckTimeout, "revoke a lease whose progress has not grown for this long, counting a failed attempt")
@@ -83,6 +84,9 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	if *redisURL == "" {
 		*redisURL = e.getenv("FARM_REDIS_URL")
 	}
+	if *blobURL == "" {
+		*blobURL = e.getenv("FARM_BLOB_URL")
+	}
 	logger := slog.New(slog.NewTextHandler(e.stderr, &slog.HandlerOptions{Level: level}))
 	var metricsLis net.Listener
 	if *metricsListen != "" {
@@ -97,6 +101,7 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	}
 	err = serveCoordinator(ctx, lis, coordinator.Config{
 		DataDir:           *dataDir,
+		BlobURL:           *blobURL,
 		LeaseDuration:     *lease,
 		HeartbeatInterval: *heartbeat,
 		StuckTimeout:      *stuck,

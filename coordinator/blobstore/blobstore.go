@@ -1,17 +1,19 @@
-// Package blobstore is a content-addressed store of immutable blobs on the filesystem.
+// Package blobstore is a content-addressed store of immutable blobs, kept in a folder
+// (file://, the embedded default) or in an S3-compatible object store (s3://; s3.go).
 //
-// A blob is named by its digest, "sha256:" and 64 lowercase hex digits, and lives at
-// root/sha256/<first two hex digits>/<hex>. Writes go to a temporary file under root/tmp,
-// are hashed on the way in, checked against the declared size and digest, synced, and
-// renamed into place, so a blob is either absent or complete.
+// A blob is named by its digest, "sha256:" and 64 lowercase hex digits. Its bytes are
+// hashed on the way in and checked against the declared size and digest before it
+// becomes visible under its digest, so a blob is either absent or complete. In a folder
+// it lives at root/sha256/<first two hex digits>/<hex> (file.go), written to root/tmp
+// first and renamed into place; in an object store under the key sha256/<two>/<hex>.
 //
-// A disk can still damage a blob after it was stored (or an operator truncate one), so
-// every read is checked too: Open's reader hashes what it reads and ends in an
-// errs.DataLoss error instead of io.EOF when the content does not match the digest, and
-// Verify hashes a blob whole before anything of it is served. Checking on read rather
-// than by a periodic scrub means corrupt bytes are never used or served, however recently
-// they were damaged; the cost is one hash per read (SHA-256 runs at about 1.5 GB/s a
-// core, against a network or disk that is slower).
+// A disk or an object store can still damage a blob after it was stored (or an operator
+// replace one), so every read is checked too: Open's reader hashes what it reads and ends
+// in an errs.DataLoss error instead of io.EOF when the content does not match the
+// digest, and Verify hashes a blob whole before anything of it is served. Checking on
+// read rather than by a periodic scrub means corrupt bytes are never used or served,
+// however recently they were damaged; the cost is one hash per read (SHA-256 runs at
+// about 1.5 GB/s a core, against a network or disk that is slower).
 package blobstore
 
 import (
@@ -20,10 +22,7 @@ import (
 	"fmt"
 	"hash"
 	"io"
-	"io/fs"
-	"os"
-	"path/filepath"
-	"syscall"
+	"time"
 
 	"photonfarm/contract/rules"
 	"photonfarm/coordinator/errs"
@@ -38,37 +37,67 @@ type Info struct {
 	Size   int64
 }
 
-// Store is a filesystem blob store. Create it with New.
+// backend is where a Store keeps the bytes: a folder (file.go) or an object store
+// (s3.go). The Store checks digests, sizes and limits; a backend only stores, and reports
+// its failures as *errs.Error (NotFound for an absent blob; what the caller can do about
+// anything else).
+type backend interface {
+	// size is the stored size of a valid digest's blob, or errs.NotFound.
+	size(ctx context.Context, digest string) (int64, error)
+	// open reads a blob that size found of size bytes; the reader's errors are
+	// *errs.Error (a file that shrank is damage; a body cut short, a failed connection).
+	open(ctx context.Context, digest string, size int64) (io.ReadCloser, error)
+	// create starts a blob whose digest is known (declared, checked before commit) or
+	// not ("").
+	create(ctx context.Context, declared string) (sink, error)
+	walk(ctx context.Context, fn func(Entry) error) error
+	// touch marks a blob in use now; an absent one is not an error.
+	touch(ctx context.Context, digest string) error
+	deleteUnused(ctx context.Context, digest string, before time.Time) (bool, error)
+	Close() error
+	// String names the backend in messages, without credentials.
+	String() string
+}
+
+// sink receives a blob's bytes for a backend: commit makes them the blob of digest
+// (which the Store has checked), abort drops them; after either, abort does nothing.
+type sink interface {
+	io.Writer
+	commit(digest string) error
+	abort()
+}
+
+// Store is a blob store. Create it with New (a folder) or Open (a URL).
 type Store struct {
-	root    string
+	b       backend
 	maxSize int64
 }
 
-// New opens (creating if needed) a blob store under root. maxSize <= 0 selects
-// DefaultMaxSize.
-func New(root string, maxSize int64) (*Store, error) {
+func newStore(b backend, maxSize int64) *Store {
 	if maxSize <= 0 {
 		maxSize = DefaultMaxSize
 	}
-	for _, d := range []string{filepath.Join(root, "sha256"), filepath.Join(root, "tmp")} {
-		if err := os.MkdirAll(d, 0o755); err != nil {
-			return nil, fmt.Errorf("blobstore: %w", err)
-		}
+	return &Store{b: b, maxSize: maxSize}
+}
+
+// New opens (creating if needed) a blob store in the folder root. maxSize <= 0 selects
+// DefaultMaxSize.
+func New(root string, maxSize int64) (*Store, error) {
+	b, err := newFileBackend(root)
+	if err != nil {
+		return nil, err
 	}
-	return &Store{root: root, maxSize: maxSize}, nil
+	return newStore(b, maxSize), nil
 }
 
 // MaxSize is the largest blob the store accepts.
 func (s *Store) MaxSize() int64 { return s.maxSize }
 
-func (s *Store) path(digest string) string { return PathIn(s.root, digest) }
+// String names where the blobs are, for logs: a folder or a bucket, never credentials.
+func (s *Store) String() string { return s.b.String() }
 
-// PathIn is where the blob of a valid digest lives in a store rooted at root: for
-// operators looking for a blob, and tests that damage one.
-func PathIn(root, digest string) string {
-	hexd := digest[len("sha256:"):]
-	return filepath.Join(root, "sha256", hexd[:2], hexd)
-}
+// Close releases the backend's connections.
+func (s *Store) Close() error { return s.b.Close() }
 
 func checkDigest(field, d string) error {
 	if !rules.ValidDigest(d) {
@@ -77,19 +106,20 @@ func checkDigest(field, d string) error {
 	return nil
 }
 
+func notFound(digest string) error {
+	return &errs.Error{Kind: errs.NotFound, Field: "digest", Message: "no blob " + digest}
+}
+
 // Stat returns errs.NotFound if the blob does not exist.
 func (s *Store) Stat(ctx context.Context, digest string) (Info, error) {
 	if err := checkDigest("digest", digest); err != nil {
 		return Info{}, err
 	}
-	fi, err := os.Stat(s.path(digest))
-	if errors.Is(err, fs.ErrNotExist) {
-		return Info{}, &errs.Error{Kind: errs.NotFound, Field: "digest", Message: "no blob " + digest}
-	}
+	n, err := s.b.size(ctx, digest)
 	if err != nil {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return Info{}, err
 	}
-	return Info{Digest: digest, Size: fi.Size()}, nil
+	return Info{Digest: digest, Size: n}, nil
 }
 
 // Open opens a blob for reading; the caller closes it. The reader checks the content as
@@ -101,11 +131,11 @@ func (s *Store) Open(ctx context.Context, digest string) (io.ReadCloser, Info, e
 	if err != nil {
 		return nil, Info{}, err
 	}
-	f, err := os.Open(s.path(digest))
+	r, err := s.b.open(ctx, digest, info.Size)
 	if err != nil {
-		return nil, Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+		return nil, Info{}, err
 	}
-	return &checkedReader{f: f, h: rules.NewDigestHash(), digest: digest}, info, nil
+	return &checkedReader{r: r, h: rules.NewDigestHash(), digest: digest}, info, nil
 }
 
 // Verify reads the blob whole and checks it against its digest: errs.NotFound if it is
@@ -188,9 +218,10 @@ func Lost(what, digest string, err error) error {
 	return err
 }
 
-// checkedReader reads a blob's file and, at its end, checks what it read against the digest.
+// checkedReader reads a blob from its backend and, at its end, checks what it read
+// against the digest.
 type checkedReader struct {
-	f      *os.File
+	r      io.ReadCloser
 	h      hash.Hash
 	n      int64
 	digest string
@@ -201,7 +232,7 @@ func (r *checkedReader) Read(p []byte) (int, error) {
 	if r.err != nil {
 		return 0, r.err
 	}
-	n, err := r.f.Read(p)
+	n, err := r.r.Read(p)
 	r.h.Write(p[:n])
 	r.n += int64(n)
 	switch {
@@ -211,18 +242,20 @@ func (r *checkedReader) Read(p []byte) (int, error) {
 		}
 		r.err = err
 	case err != nil:
-		err = errs.Wrap(errs.Internal, err, "blobstore: read "+r.digest)
+		if e := (*errs.Error)(nil); !errors.As(err, &e) {
+			err = errs.Wrap(errs.Internal, err, "blobstore: read "+r.digest)
+		}
 		r.err = err
 	}
 	return n, err
 }
 
-func (r *checkedReader) Close() error { return r.f.Close() }
+func (r *checkedReader) Close() error { return r.r.Close() }
 
 // Put stores everything r yields. size and digest, when not negative and not empty, are
 // what the content must match.
 func (s *Store) Put(ctx context.Context, r io.Reader, size int64, digest string) (Info, error) {
-	w, err := s.Create(size, digest)
+	w, err := s.Create(ctx, size, digest)
 	if err != nil {
 		return Info{}, err
 	}
@@ -237,7 +270,7 @@ func (s *Store) Put(ctx context.Context, r io.Reader, size int64, digest string)
 // Commit does nothing, so `defer w.Abort()` is safe).
 type Writer struct {
 	s      *Store
-	f      *os.File
+	sink   sink
 	h      hash.Hash
 	n      int64
 	size   int64
@@ -245,8 +278,9 @@ type Writer struct {
 	done   bool
 }
 
-// Create starts a blob of the declared size (negative: unknown) and, if not empty, digest.
-func (s *Store) Create(size int64, digest string) (*Writer, error) {
+// Create starts a blob of the declared size (negative: unknown) and, if not empty,
+// digest. ctx bounds the whole upload: a Writer whose ctx ends stores nothing.
+func (s *Store) Create(ctx context.Context, size int64, digest string) (*Writer, error) {
 	if digest != "" {
 		if err := checkDigest("digest", digest); err != nil {
 			return nil, err
@@ -256,11 +290,11 @@ func (s *Store) Create(size int64, digest string) (*Writer, error) {
 		return nil, &errs.Error{Kind: errs.ResourceExhausted, Field: "size_bytes",
 			Message: fmt.Sprintf("blob of %d bytes exceeds the limit of %d bytes", size, s.maxSize)}
 	}
-	f, err := os.CreateTemp(filepath.Join(s.root, "tmp"), "upload-*")
+	k, err := s.b.create(ctx, digest)
 	if err != nil {
-		return nil, writeError(err)
+		return nil, err
 	}
-	return &Writer{s: s, f: f, h: rules.NewDigestHash(), size: size, digest: digest}, nil
+	return &Writer{s: s, sink: k, h: rules.NewDigestHash(), size: size, digest: digest}, nil
 }
 
 // Write appends p, refusing to grow past the declared size or the store's limit.
@@ -277,15 +311,15 @@ func (w *Writer) Write(p []byte) (int, error) {
 		return 0, &errs.Error{Kind: errs.ResourceExhausted, Field: "size_bytes",
 			Message: fmt.Sprintf("blob exceeds the limit of %d bytes", w.s.maxSize)}
 	}
-	if _, err := w.f.Write(p); err != nil {
-		return 0, writeError(err)
+	if _, err := w.sink.Write(p); err != nil {
+		return 0, err
 	}
 	w.h.Write(p)
 	w.n = n
 	return len(p), nil
 }
 
-// Commit verifies the size and digest and moves the blob into place.
+// Commit verifies the size and digest and makes the blob visible under its digest.
 func (w *Writer) Commit() (Info, error) {
 	if w.done {
 		return Info{}, errs.E(errs.Internal, "blobstore: commit after commit or abort")
@@ -300,37 +334,10 @@ func (w *Writer) Commit() (Info, error) {
 		return Info{}, &errs.Error{Kind: errs.InvalidArgument, Field: "digest",
 			Message: fmt.Sprintf("content has digest %s, not the declared %s", got, w.digest)}
 	}
-	if err := w.f.Sync(); err != nil {
-		return Info{}, writeError(err)
-	}
-	if err := w.f.Close(); err != nil {
-		return Info{}, writeError(err)
-	}
-	dst := w.s.path(got)
-	if err := os.MkdirAll(filepath.Dir(dst), 0o755); err != nil {
-		return Info{}, writeError(err)
-	}
-	// Identical content may already be there; renaming over it is harmless.
-	if err := os.Rename(w.f.Name(), dst); err != nil {
-		return Info{}, writeError(err)
+	if err := w.sink.commit(got); err != nil {
+		return Info{}, err
 	}
 	return Info{Digest: got, Size: w.n}, nil
-}
-
-// writeError is err from writing a blob to disk: resource exhaustion when the disk or
-// the quota is full (IsDiskFull), so that neither the uploader nor the builder is blamed
-// for it (a worker pauses and retries; the task's attempts still end a job that never
-// gets the space), else internal.
-func writeError(err error) error {
-	if IsDiskFull(err) {
-		return errs.Wrap(errs.ResourceExhausted, err, "blobstore: the coordinator's disk is full")
-	}
-	return errs.Wrap(errs.Internal, err, "blobstore")
-}
-
-// IsDiskFull reports whether err comes from a full disk or quota (ENOSPC, EDQUOT).
-func IsDiskFull(err error) bool {
-	return errors.Is(err, syscall.ENOSPC) || errors.Is(err, syscall.EDQUOT)
 }
 
 // Abort drops the partial blob.
@@ -339,6 +346,5 @@ func (w *Writer) Abort() {
 		return
 	}
 	w.done = true
-	w.f.Close()
-	os.Remove(w.f.Name()) // fails harmlessly after a successful rename
+	w.sink.abort()
 }

@@ -2,14 +2,7 @@ package blobstore
 
 import (
 	"context"
-	"errors"
-	"io/fs"
-	"os"
-	"path/filepath"
 	"time"
-
-	"photonfarm/contract/rules"
-	"photonfarm/coordinator/errs"
 )
 
 // What a garbage collector of blobs needs (coordinator/retention): every blob with the
@@ -34,28 +27,7 @@ type Entry struct {
 
 // Walk calls fn with every stored blob, in no particular order, until fn returns an error,
 // which Walk returns.
-func (s *Store) Walk(ctx context.Context, fn func(Entry) error) error {
-	return filepath.WalkDir(filepath.Join(s.root, "sha256"), func(path string, d fs.DirEntry, err error) error {
-		if err != nil {
-			return errs.Wrap(errs.Internal, err, "blobstore")
-		}
-		if err := ctx.Err(); err != nil {
-			return err
-		}
-		digest := "sha256:" + d.Name()
-		if d.IsDir() || !rules.ValidDigest(digest) {
-			return nil
-		}
-		fi, err := d.Info()
-		if errors.Is(err, fs.ErrNotExist) {
-			return nil // deleted meanwhile
-		}
-		if err != nil {
-			return errs.Wrap(errs.Internal, err, "blobstore")
-		}
-		return fn(Entry{Digest: digest, Size: fi.Size(), ModTime: fi.ModTime()})
-	})
-}
+func (s *Store) Walk(ctx context.Context, fn func(Entry) error) error { return s.b.walk(ctx, fn) }
 
 // Touch marks a blob in use now, so that a collector keeps it for its grace period, and
 // returns it as Stat does (errs.NotFound if it does not exist).
@@ -63,9 +35,8 @@ func (s *Store) Touch(ctx context.Context, digest string) (Info, error) {
 	if err := checkDigest("digest", digest); err != nil {
 		return Info{}, err
 	}
-	now := time.Now()
-	if err := os.Chtimes(s.path(digest), now, now); err != nil && !errors.Is(err, fs.ErrNotExist) {
-		return Info{}, errs.Wrap(errs.Internal, err, "blobstore")
+	if err := s.b.touch(ctx, digest); err != nil {
+		return Info{}, err
 	}
 	return s.Stat(ctx, digest)
 }
@@ -77,33 +48,5 @@ func (s *Store) DeleteUnused(ctx context.Context, digest string, before time.Tim
 	if err := checkDigest("digest", digest); err != nil {
 		return false, err
 	}
-	path := s.path(digest)
-	fi, err := os.Stat(path)
-	if errors.Is(err, fs.ErrNotExist) {
-		return false, nil
-	}
-	if err != nil {
-		return false, errs.Wrap(errs.Internal, err, "blobstore")
-	}
-	if !fi.ModTime().Before(before) {
-		return false, nil
-	}
-	doomed := filepath.Join(s.root, "tmp", "gc-"+filepath.Base(path))
-	if err := os.Rename(path, doomed); err != nil {
-		if errors.Is(err, fs.ErrNotExist) {
-			return false, nil
-		}
-		return false, errs.Wrap(errs.Internal, err, "blobstore")
-	}
-	if fi, err = os.Stat(doomed); err == nil && !fi.ModTime().Before(before) {
-		// Touched on the way: back it goes (over an identical upload, if one came).
-		if err := os.Rename(doomed, path); err != nil {
-			return false, errs.Wrap(errs.Internal, err, "blobstore")
-		}
-		return false, nil
-	}
-	if err := os.Remove(doomed); err != nil {
-		return false, errs.Wrap(errs.Internal, err, "blobstore")
-	}
-	return true, nil
+	return s.b.deleteUnused(ctx, digest, before)
 }

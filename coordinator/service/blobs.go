@@ -48,7 +48,7 @@ func (b *blobServer) UploadBlob(stream pb.BlobService_UploadBlobServer) error {
 	if d := h.GetDigest(); d != "" && !rules.ValidDigest(d) {
 		return errs.Field("header.digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", d)
 	}
-	w, err := b.s.cfg.Blobs.Create(h.GetSizeBytes(), h.GetDigest())
+	w, err := b.s.cfg.Blobs.Create(stream.Context(), h.GetSizeBytes(), h.GetDigest())
 	if err != nil {
 		return inHeader(err)
 	}

@@ -35,7 +35,7 @@ type Blobs interface {
 	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
 	Verify(ctx context.Context, digest string) (blobstore.Info, error)
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
-	Create(size int64, digest string) (*blobstore.Writer, error)
+	Create(ctx context.Context, size int64, digest string) (*blobstore.Writer, error)
 }
 
 var _ Blobs = (*blobstore.Store)(nil)
