@@ -16,6 +16,7 @@ import (
 	"google.golang.org/grpc"
 	"google.golang.org/grpc/codes"
 	"google.golang.org/grpc/credentials/insecure"
+	healthpb "google.golang.org/grpc/health/grpc_health_v1"
 	"google.golang.org/grpc/status"
 	"google.golang.org/protobuf/types/known/durationpb"
 
@@ -42,6 +43,7 @@ type farm struct {
 	jobs    pb.JobServiceClient
 	workers pb.WorkerServiceClient
 	blobs   pb.BlobServiceClient
+	health  healthpb.HealthClient
 }
 
 func newFarm(t *testing.T) *farm {
@@ -85,7 +87,8 @@ func newFarmOn(t *testing.T, newStore func(store.Options) store.Store) *farm {
 		srv.Stop()
 	})
 	return &farm{t: t, ctx: ctx, clock: clk, svc: svc, blobDir: dir,
-		jobs: pb.NewJobServiceClient(conn), workers: pb.NewWorkerServiceClient(conn), blobs: pb.NewBlobServiceClient(conn)}
+		jobs: pb.NewJobServiceClient(conn), workers: pb.NewWorkerServiceClient(conn), blobs: pb.NewBlobServiceClient(conn),
+		health: healthpb.NewHealthClient(conn)}
 }
 
 func (f *farm) submit(s *pb.Scene) *pb.Job {

@@ -15,6 +15,8 @@ import (
 	"time"
 
 	"google.golang.org/grpc"
+	"google.golang.org/grpc/health"
+	healthpb "google.golang.org/grpc/health/grpc_health_v1"
 	"google.golang.org/grpc/keepalive"
 	"google.golang.org/protobuf/types/known/timestamppb"
 
@@ -131,9 +133,10 @@ const (
 	MaxHeaderBytes = 16 << 10
 )
 
-// NewGRPCServer returns a gRPC server with the three services registered, the error
-// mapping interceptors installed and message and connection limits set; opts are
-// appended.
+// NewGRPCServer returns a gRPC server with the three services and gRPC's standard health
+// service registered (Kubernetes' grpc probes and grpc_health_probe call it; it needs no
+// token), the error mapping interceptors installed and message and connection limits set;
+// opts are appended.
 func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	base := []grpc.ServerOption{
 		grpc.MaxRecvMsgSize(int(rules.RPC.GetMaxMessageBytes())),
@@ -149,6 +152,7 @@ func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	pb.RegisterJobServiceServer(srv, &jobServer{s: s})
 	pb.RegisterWorkerServiceServer(srv, &workerServer{s: s})
 	pb.RegisterBlobServiceServer(srv, &blobServer{s: s})
+	healthpb.RegisterHealthServer(srv, health.NewServer())
 	return srv
 }
 
