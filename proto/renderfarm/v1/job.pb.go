@@ -101,7 +101,8 @@ const (
 	// Image tiles: trace, shade, upload each as a tile EXR (and its preview).
 	Phase_PHASE_RENDER Phase = 5
 	// The round's tiles stitched and combined with earlier rounds into the image so far (tiled
-	// EXR and PNG preview) and its error estimate.
+	// EXR and PNG preview) and its error estimate; with adaptive sampling, the next round's
+	// sample map.
 	Phase_PHASE_COMPOSITE Phase = 6
 )
 
@@ -1290,7 +1291,10 @@ type RenderTileSpec struct {
 	// Progressive photon mapping: this round's search radii are the scene's times this.
 	RadiusScale float64 `protobuf:"fixed64,3,opt,name=radius_scale,json=radiusScale,proto3" json:"radius_scale,omitempty"`
 	// Index of the round's first pixel sample, so rounds draw fresh samples.
-	FirstSample   uint32 `protobuf:"varint,4,opt,name=first_sample,json=firstSample,proto3" json:"first_sample,omitempty"`
+	FirstSample uint32 `protobuf:"varint,4,opt,name=first_sample,json=firstSample,proto3" json:"first_sample,omitempty"`
+	// Filled in when the task is leased, with adaptive sampling from round 3 on: the previous
+	// round's composite's "samples.map", each pixel's camera samples this round.
+	SampleMap     *Artifact `protobuf:"bytes,5,opt,name=sample_map,json=sampleMap,proto3" json:"sample_map,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1351,6 +1355,13 @@ func (x *RenderTileSpec) GetFirstSample() uint32 {
 		return x.FirstSample
 	}
 	return 0
+}
+
+func (x *RenderTileSpec) GetSampleMap() *Artifact {
+	if x != nil {
+		return x.SampleMap
+	}
+	return nil
 }
 
 // Compute irradiance at global-map photons [first_photon, first_photon + photon_count) (in
@@ -1661,8 +1672,11 @@ type CompositeSpec struct {
 	// Filled in when the task is leased: seconds from the job's creation to this lease, the
 	// render time the final EXR records (its renderTime attribute).
 	ElapsedSeconds float64 `protobuf:"fixed64,4,opt,name=elapsed_seconds,json=elapsedSeconds,proto3" json:"elapsed_seconds,omitempty"`
-	unknownFields  protoimpl.UnknownFields
-	sizeCache      protoimpl.SizeCache
+	// Filled in when the task is leased, as in RenderTileSpec: the sample map the round's
+	// tiles were rendered with, which weighs each pixel's round by its samples.
+	SampleMap     *Artifact `protobuf:"bytes,5,opt,name=sample_map,json=sampleMap,proto3" json:"sample_map,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *CompositeSpec) Reset() {
@@ -1721,6 +1735,13 @@ func (x *CompositeSpec) GetElapsedSeconds() float64 {
 		return x.ElapsedSeconds
 	}
 	return 0
+}
+
+func (x *CompositeSpec) GetSampleMap() *Artifact {
+	if x != nil {
+		return x.SampleMap
+	}
+	return nil
 }
 
 type TileInput struct {
@@ -3016,12 +3037,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x05round\x18\x0f \x01(\rR\x05round\x129\n" +
 	"\n" +
 	"retry_time\x18\x12 \x01(\v2\x1a.google.protobuf.TimestampR\tretryTimeB\x06\n" +
-	"\x04spec\"\xc6\x01\n" +
+	"\x04spec\"\xfe\x01\n" +
 	"\x0eRenderTileSpec\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12@\n" +
 	"\x0fphoton_snapshot\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12!\n" +
 	"\fradius_scale\x18\x03 \x01(\x01R\vradiusScale\x12!\n" +
-	"\ffirst_sample\x18\x04 \x01(\rR\vfirstSample\"\xc5\x01\n" +
+	"\ffirst_sample\x18\x04 \x01(\rR\vfirstSample\x126\n" +
+	"\n" +
+	"sample_map\x18\x05 \x01(\v2\x17.renderfarm.v1.ArtifactR\tsampleMap\"\xc5\x01\n" +
 	"\x18PrecomputeIrradianceSpec\x12!\n" +
 	"\ffirst_photon\x18\x01 \x01(\x04R\vfirstPhoton\x12!\n" +
 	"\fphoton_count\x18\x02 \x01(\x04R\vphotonCount\x12@\n" +
@@ -3039,12 +3062,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06shards\x18\x01 \x03(\v2\x1b.renderfarm.v1.EmittedShardR\x06shards\"q\n" +
 	"\fEmittedShard\x122\n" +
 	"\x04spec\x18\x01 \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecR\x04spec\x12-\n" +
-	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xed\x01\n" +
+	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xa5\x02\n" +
 	"\rCompositeSpec\x12.\n" +
 	"\x05tiles\x18\x01 \x03(\v2\x18.renderfarm.v1.TileInputR\x05tiles\x12L\n" +
 	"\x15previous_accumulation\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x14previousAccumulation\x125\n" +
 	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\x12'\n" +
-	"\x0felapsed_seconds\x18\x04 \x01(\x01R\x0eelapsedSeconds\"f\n" +
+	"\x0felapsed_seconds\x18\x04 \x01(\x01R\x0eelapsedSeconds\x126\n" +
+	"\n" +
+	"sample_map\x18\x05 \x01(\v2\x17.renderfarm.v1.ArtifactR\tsampleMap\"f\n" +
 	"\tTileInput\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12+\n" +
 	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\"y\n" +
@@ -3127,7 +3152,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11JOB_STATE_RUNNING\x10\x02\x12\x17\n" +
 	"\x13JOB_STATE_SUCCEEDED\x10\x03\x12\x14\n" +
 	"\x10JOB_STATE_FAILED\x10\x04\x12\x17\n" +
-	"\x13JOB_STATE_CANCELLED\x10\x05*\xc5\x02\n" +
+	"\x13JOB_STATE_CANCELLED\x10\x05*\xc8\x02\n" +
 	"\x05Phase\x12\x15\n" +
 	"\x11PHASE_UNSPECIFIED\x10\x00\x12'\n" +
 	"\n" +
@@ -3138,11 +3163,11 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x10PHASE_PRECOMPUTE\x10\x03\x1a#\x9a\xb5\x18\x1f\n" +
 	"\x15Precompute irradiance\x10\x01\x1a\x01\x02\"\x01\x03\x120\n" +
 	"\vPHASE_MERGE\x10\x04\x1a\x1f\x9a\xb5\x18\x1b\n" +
-	"\x10Merge irradiance\x10\x02\x1a\x02\x02\x03\"\x01\x02\x12-\n" +
-	"\fPHASE_RENDER\x10\x05\x1a\x1b\x9a\xb5\x18\x17\n" +
-	"\fRender tiles\x10\x01\x1a\x01\x02\"\x02\x04\x05\x12/\n" +
-	"\x0fPHASE_COMPOSITE\x10\x06\x1a\x1a\x9a\xb5\x18\x16\n" +
-	"\tComposite\x10\x01\x1a\x02\x04\b\"\x03\x06\a\b*\xb8\x01\n" +
+	"\x10Merge irradiance\x10\x02\x1a\x02\x02\x03\"\x01\x02\x12.\n" +
+	"\fPHASE_RENDER\x10\x05\x1a\x1c\x9a\xb5\x18\x18\n" +
+	"\fRender tiles\x10\x01\x1a\x02\x02\t\"\x02\x04\x05\x121\n" +
+	"\x0fPHASE_COMPOSITE\x10\x06\x1a\x1c\x9a\xb5\x18\x18\n" +
+	"\tComposite\x10\x01\x1a\x03\x04\b\t\"\x04\x06\a\b\t*\xb8\x01\n" +
 	"\tTaskState\x12\x1a\n" +
 	"\x16TASK_STATE_UNSPECIFIED\x10\x00\x12\x16\n" +
 	"\x12TASK_STATE_WAITING\x10\x01\x12\x15\n" +
@@ -3273,64 +3298,66 @@ var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	45, // 24: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
 	13, // 25: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
 	12, // 26: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 27: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 28: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 29: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
-	3,  // 30: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	20, // 31: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	18, // 32: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	12, // 33: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	22, // 34: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	12, // 35: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	12, // 36: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	13, // 37: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	12, // 38: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	47, // 39: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	6,  // 40: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 41: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
-	29, // 42: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
-	4,  // 43: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
-	45, // 44: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
-	45, // 45: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
-	6,  // 46: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
-	47, // 47: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	8,  // 48: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	11, // 49: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	6,  // 50: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 51: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	14, // 52: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	6,  // 53: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 54: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	45, // 55: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	6,  // 56: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	14, // 57: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	48, // 58: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
-	1,  // 59: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
-	23, // 60: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	34, // 61: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	36, // 62: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	38, // 63: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	40, // 64: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	32, // 65: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	42, // 66: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	25, // 67: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
-	30, // 68: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
-	27, // 69: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
-	24, // 70: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	35, // 71: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	37, // 72: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	39, // 73: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	41, // 74: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	33, // 75: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	43, // 76: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	26, // 77: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
-	31, // 78: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
-	28, // 79: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
-	70, // [70:80] is the sub-list for method output_type
-	60, // [60:70] is the sub-list for method input_type
-	59, // [59:60] is the sub-list for extension type_name
-	58, // [58:59] is the sub-list for extension extendee
-	0,  // [0:58] is the sub-list for field type_name
+	12, // 27: renderfarm.v1.RenderTileSpec.sample_map:type_name -> renderfarm.v1.Artifact
+	12, // 28: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 29: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	12, // 30: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 31: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	20, // 32: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	18, // 33: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	12, // 34: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	22, // 35: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	12, // 36: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	12, // 37: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	12, // 38: renderfarm.v1.CompositeSpec.sample_map:type_name -> renderfarm.v1.Artifact
+	13, // 39: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	12, // 40: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	47, // 41: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 42: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 43: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
+	29, // 44: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
+	4,  // 45: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
+	45, // 46: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
+	45, // 47: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
+	6,  // 48: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
+	47, // 49: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	8,  // 50: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	11, // 51: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	6,  // 52: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 53: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	14, // 54: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	6,  // 55: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 56: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	45, // 57: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	6,  // 58: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	14, // 59: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	48, // 60: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
+	1,  // 61: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
+	23, // 62: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	34, // 63: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	36, // 64: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	38, // 65: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	40, // 66: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	32, // 67: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	42, // 68: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	25, // 69: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	30, // 70: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	27, // 71: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
+	24, // 72: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	35, // 73: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	37, // 74: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	39, // 75: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	41, // 76: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	33, // 77: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	43, // 78: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	26, // 79: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	31, // 80: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	28, // 81: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
+	72, // [72:82] is the sub-list for method output_type
+	62, // [62:72] is the sub-list for method input_type
+	61, // [61:62] is the sub-list for extension type_name
+	60, // [60:61] is the sub-list for extension extendee
+	0,  // [0:60] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
