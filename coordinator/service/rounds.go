@@ -215,10 +215,29 @@ func checkMetrics(m *pb.RoundMetrics) error {
 		}
 		values = append(values, value{field, true, v})
 	}
+	if sp := m.GetSamples(); sp != nil {
+		values = append(values, value{"metrics.samples.mean", true, sp.GetMean()}, value{"metrics.samples.top_error_decile_share", sp.TopErrorDecileShare != nil, sp.GetTopErrorDecileShare()})
+	}
 	for _, v := range values {
 		if v.set && (math.IsNaN(v.v) || math.IsInf(v.v, 0) || v.v < 0) {
 			return errs.Field(v.field, "must be a finite number >= 0, got %v", v.v)
 		}
+	}
+	return checkSpread(m.GetSamples())
+}
+
+// checkSpread refuses a sample spread that cannot be: no layer name, min > mean > max, or
+// a share above 1.
+func checkSpread(sp *pb.SampleSpread) error {
+	switch {
+	case sp == nil:
+		return nil
+	case sp.GetLayer() == "" || len(sp.GetLayer()) > 255:
+		return errs.Field("metrics.samples.layer", "must be 1 to 255 bytes, got %d", len(sp.GetLayer()))
+	case float64(sp.GetMin()) > sp.GetMean() || sp.GetMean() > float64(sp.GetMax()):
+		return errs.Field("metrics.samples", "min %d, mean %v and max %d are not in order", sp.GetMin(), sp.GetMean(), sp.GetMax())
+	case sp.GetTopErrorDecileShare() > 1:
+		return errs.Field("metrics.samples.top_error_decile_share", "must be at most 1, got %v", sp.GetTopErrorDecileShare())
 	}
 	return nil
 }
@@ -243,6 +262,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		ErrorEstimate:      m.ErrorEstimate,
 		ReferenceRmse:      m.ReferenceRmse,
 		LayerReferenceRmse: m.GetLayerReferenceRmse(),
+		Samples:            m.GetSamples(),
 	}
 	end := store.RoundEnd{Outputs: outputs, Report: report}
 	why := StopReason(sc, report)
