@@ -3,6 +3,7 @@ package integration
 import (
 	"bytes"
 	"slices"
+	"strings"
 	"syscall"
 	"testing"
 	"time"
@@ -55,7 +56,13 @@ func TestAdaptiveRoundsBitIdenticalWithTwoWorkersOneAndAKill(t *testing.T) {
 	two := farmtest.StartFarm(t, nil)
 	two.StartWorker(t)
 	two.StartWorker(t)
-	exrTwo := checkAdaptiveJob(t, two, two.Render(t, adaptiveCaustics(t, two), 180*time.Second))
+	jobTwo := two.Render(t, adaptiveCaustics(t, two), 180*time.Second)
+	exrTwo := checkAdaptiveJob(t, two, jobTwo)
+	code, stdout, stderr := farmtest.RunFarm(t, 30*time.Second, nil, "report", jobTwo.GetId(), "--coordinator", two.Addr)
+	if code != 0 || !strings.Contains(stdout, "samples after round 4 (layer samples.Y of the EXR)") || !strings.Contains(stdout, "largest estimated error drew") {
+		t.Errorf("farm report: exit %d, stderr %s, stdout:\n%s\nwant where the samples went", code, stderr, stdout)
+	}
+	t.Logf("farm report:\n%s", stdout)
 
 	one := farmtest.StartFarm(t, nil)
 	first := one.StartWorker(t)
