@@ -46,7 +46,8 @@ def adaptive_scene(path):
 def samples_layer(exr):
     """The samples.Y channel of the farm's EXR (H x W)."""
     layers = dict(converge.mi.Bitmap(str(exr)).split())
-    return np.array(layers["samples"], dtype=np.float64)[..., 0]
+    a = np.array(layers["samples"], dtype=np.float64)
+    return a if a.ndim == 2 else a[..., 0]
 
 
 def main():
