@@ -14,7 +14,9 @@ over the square root of the work). The RMSE is against the cached reference of c
 reference's own noise, over the pixels converge.py measures (the light and its neighbours
 left out). Also printed: where the adaptive run's samples went, from the image's samples
 layer (samples.Y): the range a pixel, and the share the tenth of the pixels with the
-largest error against the reference drew. Target: uniform / adaptive at equal time >= 1.3;
+largest error against the reference drew; OUT_DIR/adaptive-samples.png shows the adaptive
+image beside its samples layer (log scale, black the fewest: docs/images/adaptive-samples.png
+is one). Target: uniform / adaptive at equal time >= 1.3;
 MISSED when below (not an error)."""
 
 import argparse
@@ -28,6 +30,8 @@ sys.dont_write_bytecode = True  # nothing written beside the scripts
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import converge  # noqa: E402  (sets Mitsuba's variant)
+import models  # noqa: E402
+from run import preview  # noqa: E402
 
 TARGET = 1.3
 
@@ -82,6 +86,10 @@ def main():
     print(f"  adaptive samples (layer samples.Y): {samples.min():.0f} to {samples.max():.0f} a pixel, mean "
           f"{samples.mean():.2f}; the 10% of pixels with the largest uniform-run error drew "
           f"{100 * samples.ravel()[top].sum() / samples.sum():.1f}% of them")
+
+    shade = np.log(samples / samples.min()) / max(np.log(samples.max() / samples.min()), 1e-12)
+    grey = (np.repeat(shade[..., None], 3, axis=2) * 255 + 0.5).astype(np.uint8)
+    models.write_png(out / "adaptive-samples.png", np.concatenate([preview(runs["adaptive"][0]), grey], axis=1))
 
     (u_img, u_s, u_e), (a_img, a_s, a_e) = runs["uniform"], runs["adaptive"]
     raw = u_e / max(a_e, 1e-12)
