@@ -48,3 +48,5 @@ echo "== the Cornell box light's edge, box against Gaussian and Mitchell pixel f
 "${BENCH_PYTHON:-python3}" "$root/bench/filters/light_edge.py" "$build" "$tmp/filters"
 echo "== the farm against a long Mitsuba reference on the Cornell scenes: regions, rounds, equal time (issue 14)"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/converge.py" "$build" "$tmp/converge"
+echo "== adaptive against uniform sampling on the caustics scene at equal time, against the same reference (issue 14)"
+"${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/adaptive.py" "$build" "$tmp/adaptive"

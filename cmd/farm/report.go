@@ -81,6 +81,29 @@ func printReport(w io.Writer, job *pb.Job) {
 		fmt.Fprintln(tw)
 	}
 	tw.Flush()
+	printSpread(w, job.GetRounds())
+}
+
+// printSpread says where the last round that reports it left the camera samples: the
+// EXR layer that maps them, their range over pixels and the share the tenth of the pixels
+// with the largest estimated error drew (a tenth when they are spread evenly).
+func printSpread(w io.Writer, rounds []*pb.RoundReport) {
+	var last *pb.RoundReport
+	for _, r := range rounds {
+		if r.GetSamples() != nil {
+			last = r
+		}
+	}
+	if last == nil {
+		return
+	}
+	sp := last.GetSamples()
+	fmt.Fprintf(w, "samples after round %d (layer %s of the EXR): %d to %d a pixel, mean %.2f", last.GetRound(),
+		printable(sp.GetLayer()), sp.GetMin(), sp.GetMax(), sp.GetMean())
+	if sp.TopErrorDecileShare != nil {
+		fmt.Fprintf(w, "; the 10%% of pixels with the largest estimated error drew %.1f%% of them", 100*sp.GetTopErrorDecileShare())
+	}
+	fmt.Fprintln(w)
 }
 
 // writePlotFile writes the plot through a temporary file renamed into place.

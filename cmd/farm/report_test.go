@@ -128,6 +128,19 @@ func TestReportTable(t *testing.T) {
 	}
 }
 
+func TestReportSaysWhereTheSamplesWent(t *testing.T) {
+	job := &pb.Job{Id: "j-1", State: pb.JobState_JOB_STATE_SUCCEEDED, Rounds: rounds(3, false, false)}
+	job.Rounds[0].Samples = &pb.SampleSpread{Layer: "samples.Y", Min: 1, Mean: 1.5, Max: 12}
+	job.Rounds[2].Samples = &pb.SampleSpread{Layer: "samples.Y", Min: 3, Mean: 4.5, Max: 40, TopErrorDecileShare: proto.Float64(0.254)}
+	var b strings.Builder
+	printReport(&b, job)
+	lines := strings.Split(strings.TrimSpace(b.String()), "\n")
+	want := "samples after round 3 (layer samples.Y of the EXR): 3 to 40 a pixel, mean 4.50; the 10% of pixels with the largest estimated error drew 25.4% of them"
+	if last := lines[len(lines)-1]; last != want {
+		t.Errorf("last line = %q, want %q", last, want)
+	}
+}
+
 func TestReportTableHasAColumnPerMeasuredLayer(t *testing.T) {
 	job := &pb.Job{Id: "j-1", State: pb.JobState_JOB_STATE_SUCCEEDED, Rounds: rounds(2, false, true)}
 	job.Rounds[1].LayerReferenceRmse = map[string]float64{"indirect": 0.002, "direct": 0.0005}

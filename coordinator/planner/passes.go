@@ -20,6 +20,7 @@ const (
 	PassVolumeMap   = "volume photon map"
 	PassEdgeAA      = "edge antialiasing"
 	PassRounds      = "progressive rounds"
+	PassAdaptive    = "adaptive sampling"
 )
 
 // Passes returns every pass the renderer knows for s, each run or skipped with the reason.
@@ -92,6 +93,8 @@ func Passes(s *pb.Scene) *pb.Plan {
 	}
 
 	add(PassRounds, scene.Rounds(s) > 1, "%s", roundsReason(s))
+	adaptive, why := scene.Adaptive(s)
+	add(PassAdaptive, adaptive, "%s", why)
 	return plan
 }
 

@@ -92,6 +92,20 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 		{"rounds with a target and a budget", func(s *pb.Scene) {
 			s.Progressive = &pb.Progressive{MaxRounds: 8, TargetError: 0.01, TimeBudgetSeconds: 60}
 		}, planner.PassRounds, true, "up to 8 rounds, stop at estimated error <= 0.01, no new round after 60s"},
+		{"adaptive sampling off by default", func(*pb.Scene) {}, planner.PassAdaptive, false, "OFF (the default)"},
+		{"adaptive sampling on", func(s *pb.Scene) {
+			s.Sampling.Adaptive = pb.AdaptiveSampling_ADAPTIVE_SAMPLING_ON
+			s.Progressive = &pb.Progressive{MaxRounds: 8}
+		}, planner.PassAdaptive, true, "from round 3 each pixel's camera samples follow its estimated error"},
+		{"adaptive sampling needs a third round", func(s *pb.Scene) {
+			s.Sampling.Adaptive = pb.AdaptiveSampling_ADAPTIVE_SAMPLING_ON
+			s.Progressive = &pb.Progressive{MaxRounds: 2}
+		}, planner.PassAdaptive, false, "max_rounds is 2"},
+		{"adaptive sampling needs the box filter", func(s *pb.Scene) {
+			s.Sampling.Adaptive = pb.AdaptiveSampling_ADAPTIVE_SAMPLING_ON
+			s.Progressive = &pb.Progressive{MaxRounds: 8}
+			s.Film.Filter = &pb.PixelFilter{Kind: &pb.PixelFilter_Tent{Tent: &pb.TentFilter{}}}
+		}, planner.PassAdaptive, false, "wider than the one-pixel box"},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {

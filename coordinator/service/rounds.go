@@ -21,9 +21,8 @@ import (
 // leased, and what happens when a round's composite completes.
 
 // fillComposite gives a composite its round's tiles, the previous round's accumulation,
-// the scene's reference image and the time the job has taken so far. The previous round's
-// composite is the task just before this round's first, which is as many tasks before this
-// one as the round has of the other phases.
+// the round's sample map under adaptive sampling, the scene's reference image and the time
+// the job has taken so far.
 func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.CompositeSpec) error {
 	spec.ElapsedSeconds = s.cfg.Clock.Now().Sub(l.Change.Job.GetCreateTime().AsTime()).Seconds()
 	tiles, err := s.tiles(ctx, l)
@@ -32,20 +31,17 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 	}
 	spec.Tiles = tiles
 	if max(l.Task.GetRound(), 1) > 1 {
-		var before uint32
-		for _, ph := range l.Change.Job.GetPhases() {
-			if ph.GetPhase() != pb.Phase_PHASE_COMPOSITE {
-				before += ph.GetTasksTotal()
-			}
-		}
-		if before >= l.StageStart {
-			return errs.E(errs.Internal, "task %s of round %d has no round before it", l.Task.GetId(), l.Task.GetRound())
-		}
-		prev, err := s.outputOf(ctx, l.Task.GetJobId(), l.StageStart-before-1, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
+		prev, err := previousComposite(l)
 		if err != nil {
 			return err
 		}
-		spec.PreviousAccumulation = prev
+		spec.PreviousAccumulation, err = s.outputOf(ctx, l.Task.GetJobId(), prev, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR)
+		if err != nil {
+			return err
+		}
+	}
+	if spec.SampleMap, err = s.sampleMap(ctx, l); err != nil {
+		return err
 	}
 	sc, err := s.scene(ctx, l.SceneDigest)
 	if err != nil {
@@ -59,6 +55,44 @@ func (s *Service) fillComposite(ctx context.Context, l *store.Leased, spec *pb.C
 		spec.Reference = &pb.Artifact{Name: "reference.exr", Digest: d, SizeBytes: info.Size}
 	}
 	return nil
+}
+
+// previousComposite returns the index of the previous round's composite: the task just
+// before the first of l's round, which is as many tasks before l's stage as the round has
+// of the phases that run before l's.
+func previousComposite(l *store.Leased) (uint32, error) {
+	rank := tasks.Rank(tasks.PhaseOf(l.Task))
+	var before uint32
+	for _, ph := range l.Change.Job.GetPhases() {
+		if tasks.Rank(ph.GetPhase()) < rank {
+			before += ph.GetTasksTotal()
+		}
+	}
+	if before >= l.StageStart {
+		return 0, errs.E(errs.Internal, "task %s of round %d has no round before it", l.Task.GetId(), l.Task.GetRound())
+	}
+	return l.StageStart - before - 1, nil
+}
+
+// sampleMap returns, for a render tile or composite of a round that allocates its camera
+// samples by error (scene.Adaptive, from round scene.AdaptiveFrom), the sample map the
+// previous round's composite made; nil for any other round.
+func (s *Service) sampleMap(ctx context.Context, l *store.Leased) (*pb.Artifact, error) {
+	if max(l.Task.GetRound(), 1) < scene.AdaptiveFrom {
+		return nil, nil
+	}
+	sc, err := s.scene(ctx, l.SceneDigest)
+	if err != nil {
+		return nil, blobstore.Lost("the scene", l.SceneDigest, err)
+	}
+	if on, _ := scene.Adaptive(sc); !on {
+		return nil, nil
+	}
+	prev, err := previousComposite(l)
+	if err != nil {
+		return nil, err
+	}
+	return s.outputOf(ctx, l.Task.GetJobId(), prev, pb.Phase_PHASE_COMPOSITE, pb.ArtifactKind_ARTIFACT_KIND_SAMPLE_MAP)
 }
 
 // fillPrecompute gives precompute task i of the round's K (its place in its stage) its
@@ -181,10 +215,29 @@ func checkMetrics(m *pb.RoundMetrics) error {
 		}
 		values = append(values, value{field, true, v})
 	}
+	if sp := m.GetSamples(); sp != nil {
+		values = append(values, value{"metrics.samples.mean", true, sp.GetMean()}, value{"metrics.samples.top_error_decile_share", sp.TopErrorDecileShare != nil, sp.GetTopErrorDecileShare()})
+	}
 	for _, v := range values {
 		if v.set && (math.IsNaN(v.v) || math.IsInf(v.v, 0) || v.v < 0) {
 			return errs.Field(v.field, "must be a finite number >= 0, got %v", v.v)
 		}
+	}
+	return checkSpread(m.GetSamples())
+}
+
+// checkSpread refuses a sample spread that cannot be: no layer name, min > mean > max, or
+// a share above 1.
+func checkSpread(sp *pb.SampleSpread) error {
+	switch {
+	case sp == nil:
+		return nil
+	case sp.GetLayer() == "" || len(sp.GetLayer()) > 255:
+		return errs.Field("metrics.samples.layer", "must be 1 to 255 bytes, got %d", len(sp.GetLayer()))
+	case float64(sp.GetMin()) > sp.GetMean() || sp.GetMean() > float64(sp.GetMax()):
+		return errs.Field("metrics.samples", "min %d, mean %v and max %d are not in order", sp.GetMin(), sp.GetMean(), sp.GetMax())
+	case sp.GetTopErrorDecileShare() > 1:
+		return errs.Field("metrics.samples.top_error_decile_share", "must be at most 1, got %v", sp.GetTopErrorDecileShare())
 	}
 	return nil
 }
@@ -209,6 +262,7 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		ErrorEstimate:      m.ErrorEstimate,
 		ReferenceRmse:      m.ReferenceRmse,
 		LayerReferenceRmse: m.GetLayerReferenceRmse(),
+		Samples:            m.GetSamples(),
 	}
 	end := store.RoundEnd{Outputs: outputs, Report: report}
 	why := StopReason(sc, report)
@@ -217,11 +271,18 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		return end, "", nil
 	}
 	for _, o := range outputs {
-		if o.GetName() != tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR) {
+		if !forNextRound[o.GetName()] {
 			end.Final = append(end.Final, o)
 		}
 	}
 	return end, why, nil
+}
+
+// forNextRound names the composite's outputs only the next round reads, which a job's
+// final outputs leave out.
+var forNextRound = map[string]bool{
+	tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR): true,
+	tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_SAMPLE_MAP):       true,
 }
 
 // StopReason says why a progressive job stops after the round of report, or "" if it goes

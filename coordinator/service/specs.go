@@ -37,11 +37,14 @@ func (s *Service) fillSpec(ctx context.Context, l *store.Leased) error {
 	case *pb.Task_MergeIrradiance:
 		return s.fillMerge(ctx, l, spec.MergeIrradiance)
 	case *pb.Task_RenderTile:
+		var err error
+		if spec.RenderTile.SampleMap, err = s.sampleMap(ctx, l); err != nil {
+			return err
+		}
 		if phaseTotal(l.Change.Job, pb.Phase_PHASE_BUILD) == 0 {
 			return nil
 		}
-		snap, err := s.snapshot(ctx, l)
-		spec.RenderTile.PhotonSnapshot = snap
+		spec.RenderTile.PhotonSnapshot, err = s.snapshot(ctx, l)
 		return err
 	}
 	return nil

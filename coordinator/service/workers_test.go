@@ -8,6 +8,7 @@ import (
 	"time"
 
 	"google.golang.org/grpc/codes"
+	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/coordinatortest"
@@ -173,6 +174,10 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 		return coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1,
 			Metrics: &pb.RoundMetrics{LayerReferenceRmse: layers}})
 	}
+	completeWithSamples := func(sp *pb.SampleSpread) func(context.Context) error {
+		return coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1,
+			Metrics: &pb.RoundMetrics{Samples: sp}})
+	}
 	cases := []struct {
 		name  string
 		call  func(context.Context) error
@@ -192,6 +197,14 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 			codes.InvalidArgument, `metrics.layer_reference_rmse["indirect"]`},
 		{"complete unknown layer", completeWithLayers(map[string]float64{"albedo": 0.1}),
 			codes.InvalidArgument, `metrics.layer_reference_rmse["albedo"]`},
+		{"complete samples without a layer", completeWithSamples(&pb.SampleSpread{Min: 1, Mean: 1, Max: 1}),
+			codes.InvalidArgument, "metrics.samples.layer"},
+		{"complete samples out of order", completeWithSamples(&pb.SampleSpread{Layer: "samples.Y", Min: 3, Mean: 2, Max: 4}),
+			codes.InvalidArgument, "metrics.samples"},
+		{"complete samples share above 1", completeWithSamples(&pb.SampleSpread{Layer: "samples.Y", Min: 1, Mean: 2, Max: 4, TopErrorDecileShare: proto.Float64(1.5)}),
+			codes.InvalidArgument, "metrics.samples.top_error_decile_share"},
+		{"complete samples NaN mean", completeWithSamples(&pb.SampleSpread{Layer: "samples.Y", Min: 1, Mean: math.NaN(), Max: 4}),
+			codes.InvalidArgument, "metrics.samples.mean"},
 		{"fail no worker", coordinatortest.Call(f.workers.FailTask, &pb.FailTaskRequest{TaskId: "j.0", Epoch: 1, Error: "x"}), codes.InvalidArgument, "worker_id"},
 		{"fail no message", coordinatortest.Call(f.workers.FailTask, &pb.FailTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1}), codes.InvalidArgument, "error"},
 		{"release no epoch", coordinatortest.Call(f.workers.ReleaseTask, &pb.ReleaseTaskRequest{WorkerId: w, TaskId: "j.0"}), codes.InvalidArgument, "epoch"},

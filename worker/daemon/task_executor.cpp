@@ -11,6 +11,8 @@
 #include "image/composite.h"
 #include "image/reference_exr.h"
 #include "image/round_accumulator.h"
+#include "image/image_error.h"
+#include "image/sample_map.h"
 #include "image/srgb_preview.h"
 #include "image/tile_exr.h"
 #include "photon/irradiance_precompute.h"
@@ -143,6 +145,12 @@ OutputSettings OutputOf(const pb::Scene& scene, const Film& film, std::uint32_t 
   out.metadata.rounds = static_cast<int>(round);
   out.metadata.software = std::string("photonfarm ") + kWorkerVersion;
   return out;
+}
+
+// The most samples a pixel of the scene may draw in a round under adaptive sampling.
+std::uint32_t MaxSamplesOf(const pb::Scene& scene) {
+  return AdaptiveMaxSamples(contract::OrDefault<pb::Sampling>(scene.sampling().samples_per_pixel(), "samples_per_pixel"),
+                            contract::OrDefault<pb::Antialiasing>(scene.antialiasing().edge_samples(), "edge_samples"));
 }
 
 // The task's round, from 1.
@@ -326,8 +334,23 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   if (spec.has_photon_snapshot()) {
     photons = &Photons(spec.photon_snapshot().digest(), SnapshotOfRound(leased.task()), stop, progress);
   }
+  std::optional<SampleMap> allocated;
+  if (spec.has_sample_map()) {
+    const std::string what = "the sample map of round " + std::to_string(RoundOf(leased.task()));
+    const std::string bytes =
+        Fetching(what, stop, [&] { return blobs_.Fetch(spec.sample_map().digest(), stop, progress); });
+    try {
+      allocated = DecodeSampleMap(bytes, film.size, MaxSamplesOf(description));
+    } catch (const ImageError& e) {
+      throw BadInputError(what + ": " + e.what());
+    }
+  }
   ThrowIfStopped(stop);
-  const RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
+  RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
+  if (allocated) {
+    round.samples = allocated->counts;
+    round.max_samples = MaxSamplesOf(description);
+  }
   SampleCounts counts;
   const Image tile = farm::RenderTile(scene, photons, rect, round, stop, progress, &counts);
   ThrowIfStopped(stop);  // A stopped render returns an unfinished image.
@@ -382,6 +405,9 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
         download("the accumulation of round " + std::to_string(round - 1), spec.previous_accumulation());
   }
   if (spec.has_reference()) in.reference_exr = download("the reference image", spec.reference());
+  in.samples_per_pixel = contract::OrDefault<pb::Sampling>(description.sampling().samples_per_pixel(), "samples_per_pixel");
+  if (description.sampling().adaptive() == pb::ADAPTIVE_SAMPLING_ON) in.adaptive_max_samples = MaxSamplesOf(description);
+  if (spec.has_sample_map()) in.sample_map = download("the sample map of round " + std::to_string(round), spec.sample_map());
   ThrowIfStopped(stop);
   RoundOutputs out;
   try {
@@ -396,10 +422,22 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
                                     std::pair{pb::ARTIFACT_KIND_ACCUMULATION_EXR, &out.accumulation_exr}}) {
     result.outputs.push_back(MakeArtifact(kind, blobs_.Upload(*bytes, stop, progress), bytes->size()));
   }
+  if (out.sample_map) {
+    result.outputs.push_back(MakeArtifact(pb::ARTIFACT_KIND_SAMPLE_MAP, blobs_.Upload(*out.sample_map, stop, progress),
+                                          out.sample_map->size()));
+  }
   pb::RoundMetrics metrics;
   if (out.error_estimate) metrics.set_error_estimate(*out.error_estimate);
   if (out.reference_rmse) metrics.set_reference_rmse(*out.reference_rmse);
   for (const auto& [layer, rmse] : out.layer_reference_rmse) (*metrics.mutable_layer_reference_rmse())[layer] = rmse;
+  if (out.samples) {
+    pb::SampleSpread& spread = *metrics.mutable_samples();
+    spread.set_layer(out.samples->layer);
+    spread.set_min(out.samples->min);
+    spread.set_mean(out.samples->mean);
+    spread.set_max(out.samples->max);
+    if (out.samples->top_error_decile_share) spread.set_top_error_decile_share(*out.samples->top_error_decile_share);
+  }
   result.metrics = metrics;
   return result;
 }

@@ -21,11 +21,22 @@ const std::vector<std::string>& SquaredChannels() {
   return rgb;
 }
 
-// Slices over both images under their file names.
+const std::vector<std::string>& WeightChannels() {
+  static const std::vector<std::string> w = {"W"};
+  return w;
+}
+
+// The weights' file channel is "weight", not "weight.W": one value, not a layer.
+constexpr char kWeightChannel[] = "weight";
+
+// Slices over the three images under their file names.
 Imf::FrameBuffer SlicesOver(const Accumulation& a) {
   Imf::FrameBuffer fb;
   InsertSlices(fb, a.sums, "sum.");
   InsertSlices(fb, a.squares, "sumsq.");
+  const std::size_t stride = sizeof(float) * std::size_t(a.weights.rect().width);
+  fb.insert(kWeightChannel, Imf::Slice::Make(Imf::FLOAT, a.weights.data().data(), ToBox(a.weights.rect()),
+                                             sizeof(float), stride));
   return fb;
 }
 
@@ -51,18 +62,20 @@ std::vector<std::string> AccumulationChannels(const std::vector<std::string>& im
   std::vector<std::string> names;
   for (const auto& c : image_channels) names.push_back("sum." + c);
   for (const auto& c : SquaredChannels()) names.push_back("sumsq." + c);
+  names.emplace_back(kWeightChannel);
   return names;
 }
 
 std::string EncodeAccumulationExr(const Accumulation& a) {
   const PixelRect& whole = a.sums.rect();
   if (whole.x != 0 || whole.y != 0 || whole.width <= 0 || whole.height <= 0 ||
-      a.squares.rect() != whole) {
+      a.squares.rect() != whole || a.weights.rect() != whole) {
     throw ImageError("accumulation images must both cover the same whole image");
   }
   if (a.squares.channels() != SquaredChannels()) {
     throw ImageError("accumulation squares must be channels R, G, B");
   }
+  if (a.weights.channels() != WeightChannels()) throw ImageError("accumulation weights must be channel W");
   if (a.rounds < 1) throw ImageError("accumulation must hold at least one round");
   Imf::Header header(ToBox(whole), ToBox(whole));
   header.compression() = Imf::ZIP_COMPRESSION;
@@ -76,7 +89,8 @@ std::string EncodeAccumulationExr(const Accumulation& a) {
 Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
                                    const std::vector<std::string>& image_channels, int rounds) {
   const PixelRect whole{0, 0, size.width, size.height};
-  Accumulation a{rounds, Image(whole, image_channels), Image(whole, SquaredChannels())};
+  Accumulation a{rounds, Image(whole, image_channels), Image(whole, SquaredChannels()),
+                 Image(whole, WeightChannels())};
   try {
     ExrMemoryIStream stream(bytes);
     Imf::InputFile file(stream);
@@ -103,6 +117,10 @@ Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
   }
   CheckValues(a.sums, "sum.", false);
   CheckValues(a.squares, "sumsq.", true);
+  CheckValues(a.weights, "weight.", true);
+  for (float w : a.weights.data()) {
+    if (w <= 0) throw ImageError("accumulation has a pixel of weight 0: every round weighs every pixel");
+  }
   return a;
 }
 

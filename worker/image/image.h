@@ -62,6 +62,10 @@ struct ImageSize {
   friend bool operator==(const ImageSize&, const ImageSize&) = default;
 };
 
+// The channel of a rendered image that counts each pixel's camera samples (summed, not
+// averaged, over rounds).
+inline constexpr char kSamplesChannel[] = "samples.Y";
+
 // The channels of a beauty image.
 inline std::vector<std::string> RgbaChannels() { return {"R", "G", "B", "A"}; }
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <span>
@@ -22,8 +23,26 @@ struct RoundInputs {
   std::optional<std::string> previous_accumulation;
   // A converged image of the same size to measure the error against (untrusted bytes).
   std::optional<std::string> reference_exr;
+  // The sample map (image/sample_map.h) the round's tiles were drawn with, if they were
+  // allocated by error; absent, every pixel drew samples_per_pixel (edge pixels more).
+  std::optional<std::string> sample_map = {};
+  // The scene's samples_per_pixel: a round's pixel weighs its allocated samples over this.
+  std::uint32_t samples_per_pixel = 1;
+  // With adaptive sampling: the most samples a pixel may draw in a round. From round 2 on
+  // the composite then allocates the next round's samples (RoundOutputs::sample_map).
+  std::optional<std::uint32_t> adaptive_max_samples = {};
   // The final EXR's metadata and the preview's tone mapping.
   OutputSettings output = {};
+};
+
+// How the camera samples so far spread over pixels (RoundMetrics.samples in worker.proto).
+struct SampleSpread {
+  std::string layer;  // the final EXR's channel of samples per pixel over all rounds
+  std::uint64_t min = 0, max = 0;
+  double mean = 0;
+  // The share of all samples in the tenth of pixels with the largest estimated error
+  // (from round 2).
+  std::optional<double> top_error_decile_share;
 };
 
 struct RoundOutputs {
@@ -39,6 +58,10 @@ struct RoundOutputs {
   std::optional<double> reference_rmse;
   // RMSE of each kMeasuredLayers layer (by name) that both the mean and reference_exr have.
   std::map<std::string, double> layer_reference_rmse;
+  // The next round's samples per pixel (RoundInputs::adaptive_max_samples).
+  std::optional<std::string> sample_map;
+  // Where the samples went, if the tiles have a samples layer.
+  std::optional<SampleSpread> samples;
 };
 
 // Stitches the round's tiles, folds them into the running per-pixel sums of earlier rounds,

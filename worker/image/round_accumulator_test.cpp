@@ -11,6 +11,7 @@
 
 #include "image/accumulation_exr.h"
 #include "image/image_error.h"
+#include "image/sample_map.h"
 #include "image/tile_exr.h"
 
 namespace farm {
@@ -219,7 +220,8 @@ const PixelFn kFlat = [](int, int, int c) { return 0.5f + c; };
 std::string AccumulationOf(int rounds, const std::vector<std::string>& channels = kChannels,
                            ImageSize size = kSize, float poison = 0, int poison_at = -1) {
   const PixelRect whole{0, 0, size.width, size.height};
-  Accumulation a{rounds, Image(whole, channels), Image(whole, {"R", "G", "B"})};
+  Accumulation a{rounds, Image(whole, channels), Image(whole, {"R", "G", "B"}), Image(whole, {"W"})};
+  std::fill(a.weights.data().begin(), a.weights.data().end(), float(rounds));
   std::fill(a.sums.data().begin(), a.sums.data().end(), 1.0f);
   std::fill(a.squares.data().begin(), a.squares.data().end(), 1.0f);
   if (poison_at == 0) a.sums.data()[5] = poison;
@@ -277,6 +279,130 @@ TEST(RoundAccumulator, RefusesNonFiniteOrMisplacedTiles) {
 
 // Progress counts the tiles stitched, then the steps after them (fold and mean, composite
 // EXR and preview, accumulation EXR): a composite of n tiles ends at n + 4.
+// Adaptive sampling: tiles with a samples layer, pixel (x, y) of round r drawing
+// samples(r, x, y) samples.
+const std::vector<std::string> kCounted = {"R", "G", "B", "A", "direct.R", "edge.Y", kSamplesChannel};
+constexpr int kCountChannel = 6;
+
+TEST(RoundAccumulator, RoundsOfDifferentSampleCountsAreWeighedByTheirSamples) {
+  // Two rounds of 2 samples a pixel (weight 1), then a third drawn by a hand-made map of 1
+  // to 8 samples (weight n / 2): the mean is (x1 + x2 + (n / 2) x3) / (2 + n / 2), and the
+  // samples layer the sum 2 + 2 + n. Quarter steps keep every value exact in float.
+  const auto n_of = [](int x, int y) { return std::uint32_t(1 + (x + 3 * y) % 8); };
+  SampleMap map{kSize, {}};
+  for (int y = 0; y < kSize.height; ++y)
+    for (int x = 0; x < kSize.width; ++x) map.counts.push_back(n_of(x, y));
+  const auto value = [&](int r) -> PixelFn {
+    return [r, n_of](int x, int y, int c) -> float {
+      if (c == kCountChannel) return r < 3 ? 2.0f : float(n_of(x, y));
+      return 0.25f * float((x + y + c + r * r) % 9);
+    };
+  };
+  RoundOutputs out;
+  for (int r = 1; r <= 3; ++r) {
+    const std::vector<EncodedTile> tiles = Tiles(value(r), kSize, kCounted);
+    RoundInputs in{kSize, kTile, r, tiles, std::nullopt, std::nullopt};
+    if (r > 1) in.previous_accumulation = out.accumulation_exr;
+    in.samples_per_pixel = 2;
+    in.adaptive_max_samples = 8;
+    if (r == 3) in.sample_map = EncodeSampleMap(map);
+    out = AccumulateRound(in);
+    EXPECT_EQ(out.sample_map.has_value(), r >= 2) << r;  // the next round's, from two rounds on
+  }
+  const Image mean = DecodeTileExr(out.image_exr, kSize, {0, 0, kSize.width, kSize.height}, kCounted);
+  for (int y = 0; y < kSize.height; ++y)
+    for (int x = 0; x < kSize.width; ++x) {
+      const double w3 = n_of(x, y) / 2.0;
+      for (int c = 0; c < int(kCounted.size()); ++c) {
+        const double want = c == kCountChannel ? 4.0 + n_of(x, y)
+                                               : (value(1)(x, y, c) + value(2)(x, y, c) + w3 * value(3)(x, y, c)) / (2 + w3);
+        ASSERT_EQ(mean.pixel(x, y)[c], float(want)) << x << ", " << y << " " << kCounted[c];
+      }
+    }
+  ASSERT_TRUE(out.samples.has_value());
+  EXPECT_EQ(out.samples->layer, "samples.Y");
+  EXPECT_EQ(out.samples->min, 5u);
+  EXPECT_EQ(out.samples->max, 12u);
+}
+
+// The pipeline end to end on a noisy furnace: every pixel's truth is 0.5, the left half's
+// samples four times as noisy (in variance) as the right's; each round draws the samples
+// the previous composite allocated, its value the truth plus Gaussian noise of variance
+// sigma^2 / n. The allocation moves samples to the noisy half at the same total, and the
+// image stays at 0.5 (within 4 standard errors over its pixels), exactly so without noise.
+TEST(RoundAccumulator, ANoisyFurnaceStaysAtItsValueUnderAdaptiveSampling) {
+  constexpr std::uint32_t kSpp = 4;
+  const auto sigma = [](int x) { return x < kSize.width / 2 ? 0.4 : 0.2; };
+  for (const bool noisy : {false, true}) {
+    RoundOutputs out;
+    std::optional<SampleMap> map;
+    std::mt19937 rng(7);
+    for (int r = 1; r <= 8; ++r) {
+      Image round({0, 0, kSize.width, kSize.height}, kCounted);
+      for (int y = 0; y < kSize.height; ++y)
+        for (int x = 0; x < kSize.width; ++x) {
+          const std::uint32_t n = map ? map->at(x, y) : kSpp;
+          std::normal_distribution<double> noise(0, sigma(x) / std::sqrt(double(n)));
+          for (int c = 0; c < int(kCounted.size()); ++c) round.pixel(x, y)[c] = float(0.5 + (noisy ? noise(rng) : 0.0));
+          round.pixel(x, y)[kCountChannel] = float(n);
+        }
+      std::vector<EncodedTile> tiles;
+      for (int y = 0; y < kSize.height; y += kTile)
+        for (int x = 0; x < kSize.width; x += kTile) {
+          const PixelRect t{x, y, std::min(kTile, kSize.width - x), std::min(kTile, kSize.height - y)};
+          Image tile(t, kCounted);
+          for (int py = t.y; py < t.y_end(); ++py)
+            for (int px = t.x; px < t.x_end(); ++px) std::copy_n(round.pixel(px, py), kCounted.size(), tile.pixel(px, py));
+          tiles.push_back({t, EncodeTileExr(tile, kSize)});
+        }
+      RoundInputs in{kSize, kTile, r, tiles, std::nullopt, std::nullopt};
+      if (r > 1) in.previous_accumulation = out.accumulation_exr;
+      in.samples_per_pixel = kSpp;
+      in.adaptive_max_samples = 64 * kSpp;
+      if (map) in.sample_map = EncodeSampleMap(*map);
+      out = AccumulateRound(in);
+      if (r < 2) continue;
+      ASSERT_TRUE(out.sample_map.has_value());
+      map = DecodeSampleMap(*out.sample_map, kSize, 64 * kSpp);
+      std::uint64_t left = 0, right = 0;
+      for (int y = 0; y < kSize.height; ++y)
+        for (int x = 0; x < kSize.width; ++x) (x < kSize.width / 2 ? left : right) += map->at(x, y);
+      EXPECT_EQ(left + right, std::uint64_t(kSpp) * kSize.width * kSize.height) << "round " << r;
+      if (noisy) {
+        EXPECT_GT(double(left), 1.4 * double(right)) << "round " << r;
+      } else {
+        EXPECT_EQ(left, right) << "round " << r;  // no noise: sampled evenly
+      }
+    }
+    const Image mean = DecodeTileExr(out.image_exr, kSize, {0, 0, kSize.width, kSize.height}, kCounted);
+    double total = 0;
+    for (int y = 0; y < kSize.height; ++y)
+      for (int x = 0; x < kSize.width; ++x) {
+        if (!noisy) {
+          ASSERT_EQ(mean.pixel(x, y)[0], 0.5f) << x << ", " << y;
+        }
+        total += mean.pixel(x, y)[0];
+      }
+    const double pixels = kSize.width * kSize.height;
+    // Each pixel has at least two rounds of 4 samples at sigma <= 0.4.
+    const double standard_error = 0.4 / std::sqrt(8.0 * pixels);
+    EXPECT_NEAR(total / pixels, 0.5, 4 * standard_error) << (noisy ? "noisy" : "exact");
+  }
+}
+
+TEST(RoundAccumulator, RefusesASampleMapWithoutAdaptiveSamplingOrOfTheWrongSize) {
+  const std::vector<EncodedTile> tiles = Tiles(kFlat, kSize, kCounted);
+  const RoundOutputs one = AccumulateRound({kSize, kTile, 1, tiles, std::nullopt, std::nullopt});
+  RoundInputs in{kSize, kTile, 2, tiles, one.accumulation_exr, std::nullopt};
+  in.sample_map = EncodeSampleMap({kSize, std::vector<std::uint32_t>(240, 1)});
+  ExpectRefused(in, "without adaptive sampling");
+  in.adaptive_max_samples = 4;
+  in.sample_map = EncodeSampleMap({{20, 13}, std::vector<std::uint32_t>(260, 1)});
+  ExpectRefused(in, "not the whole 20x12 image");
+  in.sample_map = EncodeSampleMap({kSize, std::vector<std::uint32_t>(240, 5)});
+  ExpectRefused(in, "5 samples, not 1 to 4");
+}
+
 TEST(RoundAccumulator, ProgressCountsTilesStitchedAndTheStepsAfter) {
   const std::vector<EncodedTile> tiles = Tiles([](int x, int y, int c) { return float(x + y + c); });
   ProgressCounter counter{0};

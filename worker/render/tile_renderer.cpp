@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -35,6 +36,10 @@
 // draws a fresh, independent set (the image's rounds then have independent errors, which
 // the round accumulator's error estimate relies on).
 //
+// Under adaptive sampling (RoundSettings::samples), each pixel draws the samples the map
+// gives it, samples 0.. of a set whose domain is the round's max_samples, and no edge
+// detection runs: the allocation by error already gives an edge's noisy pixels more.
+//
 // Apron pixels are computed exactly as in their own tile and the edge decision reads only
 // the 3x3 base-pass neighbourhood clamped at the image border, so tiles stitch into the
 // same bytes as one whole-image render.
@@ -61,8 +66,9 @@ enum Channel : int {
   kNormal = 16,
   kDepth = 19,
   kEdge = 20,
-  kSummed = 20,  // channels summed over samples: all but the edge mask
-  kChannelCount = 21,
+  kSamples = 21,
+  kSummed = 20,  // channels summed over samples: all but the edge mask and the count
+  kChannelCount = 22,
   kHits = kSummed,  // in Sums after the channels: samples that hit geometry
 };
 
@@ -103,16 +109,30 @@ struct SamplePlan {
   bool detect_edges = false;  // EDGES mode with something to add
   bool supersample_all = false;
   uint64_t seed = 0;  // of this round's sample set
+  std::span<const uint32_t> allocated;  // adaptive sampling's per-pixel samples, or empty
+  int width = 0;
+
+  // The samples pixel (x, y) draws in the base pass.
+  uint32_t first(int x, int y) const {
+    if (!allocated.empty()) return allocated[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+    return supersample_all ? supersampled : base;
+  }
 
   static SamplePlan Of(const SceneData& data, const RoundSettings& round) {
     SamplePlan p;
     p.base = data.samples_per_pixel;
+    p.seed = round.first_sample == 0 ? data.seed : Hash(data.seed, round.first_sample);
+    p.width = data.width;
+    if (!round.samples.empty()) {
+      p.allocated = round.samples;
+      p.supersampled = round.max_samples;
+      return p;
+    }
     const AntialiasingSettings& aa = data.antialiasing;
     p.supersampled = aa.mode == AntialiasingMode::kNone ? p.base
                                                         : std::max(p.base, aa.edge_samples);
     p.detect_edges = aa.mode == AntialiasingMode::kEdges && p.supersampled > p.base;
     p.supersample_all = aa.mode == AntialiasingMode::kFull;
-    p.seed = round.first_sample == 0 ? data.seed : Hash(data.seed, round.first_sample);
     return p;
   }
 };
@@ -217,6 +237,7 @@ void WritePixel(const Sums& sum, uint32_t samples, bool supersampled, float* out
     out[c] = n > 0 ? static_cast<float>(sum[c] / n) : 0.0f;
   }
   out[kEdge] = supersampled ? 1.0f : 0.0f;
+  out[kSamples] = static_cast<float>(samples);  // exact: at most 65536
 }
 
 void CheckArguments(const SceneData& data, const PixelRect& rect, const RoundSettings& round) {
@@ -229,6 +250,16 @@ void CheckArguments(const SceneData& data, const PixelRect& rect, const RoundSet
   if (!std::isfinite(round.radius_scale) || !(round.radius_scale > 0))
     throw std::invalid_argument("RenderTile: radius_scale must be finite and > 0, got " +
                                 std::to_string(round.radius_scale));
+  if (round.samples.empty()) return;
+  if (round.samples.size() != std::size_t(data.width) * std::size_t(data.height))
+    throw std::invalid_argument("RenderTile: the sample map has " + std::to_string(round.samples.size()) +
+                                " pixels, the image " + std::to_string(data.width) + "x" + std::to_string(data.height));
+  if (!data.filter.is_pixel_box())
+    throw std::invalid_argument("RenderTile: adaptive sampling needs the one-pixel box filter");
+  for (std::uint32_t n : round.samples)
+    if (n < 1 || n > round.max_samples)
+      throw std::invalid_argument("RenderTile: the sample map gives a pixel " + std::to_string(n) +
+                                  " samples, not 1 to " + std::to_string(round.max_samples));
 }
 
 }  // namespace
@@ -237,7 +268,11 @@ std::vector<std::string> RenderChannels() {
   return {"R",          "G",          "B",          "A",          "direct.R",  "direct.G",
           "direct.B",   "indirect.R", "indirect.G", "indirect.B", "caustic.R", "caustic.G",
           "caustic.B",  "albedo.R",   "albedo.G",   "albedo.B",   "normal.X",  "normal.Y",
-          "normal.Z",   "depth.Z",    "edge.Y"};
+          "normal.Z",   "depth.Z",    "edge.Y",     kSamplesChannel};
+}
+
+std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples) {
+  return std::min<std::uint32_t>(65536, std::max(64 * samples_per_pixel, edge_samples));
 }
 
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,
@@ -264,7 +299,6 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
 
   // Base pass: every pixel of source, and with edge detection the apron it is judged on.
   const PixelRect area = plan.detect_edges ? ApronArea(source, size) : source;
-  const uint32_t first = plan.supersample_all ? plan.supersampled : plan.base;
   std::vector<Sums> sums(static_cast<std::size_t>(area.width) * area.height);
   const auto sum_at = [&](int x, int y) -> Sums& {
     return sums[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
@@ -277,6 +311,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   }
   ForEachPixel(area, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
     Sums& sum = sum_at(x, y);
+    const uint32_t first = plan.first(x, y);
     SurfaceCues cues;
     Rgb irradiance;
     renderer.AddSamples(x, y, 0, first, sum, splat, surfaces ? &cues : nullptr, &irradiance);
@@ -297,10 +332,12 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   }
 
   // Samples each pixel of source took.
-  std::vector<std::uint32_t> samples(static_cast<std::size_t>(source.width) * source.height, first);
+  std::vector<std::uint32_t> samples(static_cast<std::size_t>(source.width) * source.height);
   const auto samples_at = [&](int x, int y) -> std::uint32_t& {
     return samples[static_cast<std::size_t>(y - source.y) * source.width + (x - source.x)];
   };
+  for (int y = source.y; y < source.y_end(); ++y)
+    for (int x = source.x; x < source.x_end(); ++x) samples_at(x, y) = plan.first(x, y);
   if (plan.detect_edges) {
     const std::vector<std::uint8_t> edges = DetectEdges(*surfaces, *light, source, data.antialiasing.edge_threshold);
     // Edge pixels continue where their base samples ended. They cluster along a few rows,
@@ -331,7 +368,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   for (int y = rect.y; y < rect.y_end(); ++y)
     for (int x = rect.x; x < rect.x_end(); ++x) {
       const std::uint32_t n = samples_at(x, y);
-      WritePixel(sum_at(x, y), n, n > plan.base, image.pixel(x, y));
+      WritePixel(sum_at(x, y), n, plan.allocated.empty() && n > plan.base, image.pixel(x, y));
       if (!splats) continue;
       // Under edge anti-aliasing the pixels it left with the base samples are smooth.
       splats->Resolve(x, y, [&](int qx, int qy) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <stop_token>
 #include <string>
 #include <vector>
@@ -14,8 +15,8 @@ namespace farm {
 
 // The channels RenderTile produces: the beauty (R, G, B, A), then the AOV layers
 // direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, albedo.{R,G,B}, normal.{X,Y,Z},
-// depth.Z and edge.Y (1 on pixels edge anti-aliasing supersampled), so that passes can be
-// recombined after the render.
+// depth.Z, edge.Y (1 on pixels edge anti-aliasing supersampled) and samples.Y (the camera
+// samples the pixel drew), so that passes can be recombined after the render.
 std::vector<std::string> RenderChannels();
 
 // What changes from one progressive round to the next.
@@ -26,7 +27,18 @@ struct RoundSettings {
   // the round's sample set: any value distinct per round (0 in round 1) gives independent
   // samples, however many an edge pixel takes (see tile_renderer.cpp).
   std::uint32_t first_sample = 0;
+  // Under adaptive sampling, from round 3: each pixel's samples this round, the whole image
+  // row-major (image/sample_map.h), in place of samples_per_pixel and edge anti-aliasing;
+  // empty otherwise. Needs the one-pixel box filter.
+  std::span<const std::uint32_t> samples = {};
+  // With samples: the most a pixel may draw in a round (AdaptiveMaxSamples), the domain of
+  // the round's sample set, so that a pixel's samples never depend on its neighbours'.
+  std::uint32_t max_samples = 0;
 };
+
+// The most camera samples a pixel may draw in a round under adaptive sampling: 64 times
+// samples_per_pixel, and at least an edge pixel's, at most 65536.
+std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples);
 
 // How a tile's camera samples came out, which the worker reports (TileSamples in
 // worker.proto) and the coordinator counts: a healthy render has no non-finite sample and

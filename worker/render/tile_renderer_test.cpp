@@ -59,6 +59,34 @@ TEST(RenderTile, FourTilesEqualTheWholeImageBitForBit) {
   }
 }
 
+// Under adaptive sampling each pixel draws what the map gives it (samples.Y says so, and no
+// pixel is flagged an edge), its value is the mean of samples 0.. of the round's set
+// whatever the map gives its neighbours, and tiles stitch into the whole image's bytes.
+TEST(RenderTile, AdaptiveSamplingDrawsTheMapsSamplesAndTilesStillStitch) {
+  const Scene scene = BuildBox(42);
+  std::vector<std::uint32_t> map(24 * 16), other(24 * 16);
+  for (std::size_t p = 0; p < map.size(); ++p) {
+    map[p] = std::uint32_t(1 + p * 7 % 12);
+    other[p] = p == 5 * 24 + 9 ? map[p] : std::uint32_t(1 + p % 5);  // only (9, 5) the same
+  }
+  const RoundSettings round{.first_sample = 8, .samples = map, .max_samples = 64};
+  const Image whole = RenderTile(scene, nullptr, {0, 0, 24, 16}, round);
+  const int samples = int(RenderChannels().size()) - 1, edge = samples - 1;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 24; ++x) {
+      ASSERT_EQ(whole.pixel(x, y)[samples], float(map[std::size_t(y) * 24 + std::size_t(x)])) << x << ", " << y;
+      ASSERT_EQ(whole.pixel(x, y)[edge], 0.0f);
+    }
+  for (const PixelRect& tile : {PixelRect{0, 0, 13, 7}, PixelRect{13, 7, 11, 9}}) {
+    ExpectSamePixels(whole, RenderTile(scene, nullptr, tile, round));
+  }
+  const Image moved = RenderTile(scene, nullptr, {9, 5, 1, 1}, {.first_sample = 8, .samples = other, .max_samples = 64});
+  ExpectSamePixels(whole, moved);
+  EXPECT_THROW(RenderTile(scene, nullptr, {0, 0, 4, 4}, {.samples = std::span(map).first(10), .max_samples = 64}),
+               std::invalid_argument);
+  EXPECT_THROW(RenderTile(scene, nullptr, {0, 0, 4, 4}, {.samples = map, .max_samples = 8}), std::invalid_argument);
+}
+
 void SetFilter(pb::Scene& s, PixelFilterKind kind) {
   pb::PixelFilter* f = s.mutable_film()->mutable_filter();
   switch (kind) {
@@ -180,9 +208,10 @@ TEST(RenderTile, PassesAddUpToTheBeautyAndGeometryLayersAreFilled) {
   const Image image = RenderTile(BuildBox(3), nullptr, {0, 0, 24, 16});
   const std::vector<std::string> channels = RenderChannels();
   ASSERT_EQ(image.channels(), channels);
-  ASSERT_EQ(channels.size(), 21u);
+  ASSERT_EQ(channels.size(), 22u);
   EXPECT_EQ(channels[19], "depth.Z");
   EXPECT_EQ(channels[20], "edge.Y");
+  EXPECT_EQ(channels[21], "samples.Y");
   int edges = 0;
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 24; ++x) {

@@ -101,7 +101,8 @@ const (
 	// Image tiles: trace, shade, upload each as a tile EXR (and its preview).
 	Phase_PHASE_RENDER Phase = 5
 	// The round's tiles stitched and combined with earlier rounds into the image so far (tiled
-	// EXR and PNG preview) and its error estimate.
+	// EXR and PNG preview) and its error estimate; with adaptive sampling, the next round's
+	// sample map.
 	Phase_PHASE_COMPOSITE Phase = 6
 )
 
@@ -751,8 +752,10 @@ type RoundReport struct {
 	// when both have it: the beauty's error can be dominated by one term (a bright emitter's
 	// edges) and hide how far another has converged.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,7,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
-	unknownFields      protoimpl.UnknownFields
-	sizeCache          protoimpl.SizeCache
+	// Where the camera samples went (the composite's RoundMetrics.samples).
+	Samples       *SampleSpread `protobuf:"bytes,8,opt,name=samples,proto3" json:"samples,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *RoundReport) Reset() {
@@ -834,6 +837,95 @@ func (x *RoundReport) GetLayerReferenceRmse() map[string]float64 {
 	return nil
 }
 
+func (x *RoundReport) GetSamples() *SampleSpread {
+	if x != nil {
+		return x.Samples
+	}
+	return nil
+}
+
+// How a job's camera samples so far spread over the image's pixels.
+type SampleSpread struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// The final EXR's channel that holds each pixel's samples over all rounds ("samples.Y").
+	Layer string `protobuf:"bytes,1,opt,name=layer,proto3" json:"layer,omitempty"`
+	// Samples of the pixel that took the fewest, the mean over pixels, the most.
+	Min  uint64  `protobuf:"varint,2,opt,name=min,proto3" json:"min,omitempty"`
+	Mean float64 `protobuf:"fixed64,3,opt,name=mean,proto3" json:"mean,omitempty"`
+	Max  uint64  `protobuf:"varint,4,opt,name=max,proto3" json:"max,omitempty"`
+	// The share of all samples drawn in the tenth of the pixels with the largest estimated
+	// error (about 0.1 when every pixel is sampled alike; more when adaptive sampling moves
+	// samples to them); unset after the first round.
+	TopErrorDecileShare *float64 `protobuf:"fixed64,5,opt,name=top_error_decile_share,json=topErrorDecileShare,proto3,oneof" json:"top_error_decile_share,omitempty"`
+	unknownFields       protoimpl.UnknownFields
+	sizeCache           protoimpl.SizeCache
+}
+
+func (x *SampleSpread) Reset() {
+	*x = SampleSpread{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *SampleSpread) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*SampleSpread) ProtoMessage() {}
+
+func (x *SampleSpread) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use SampleSpread.ProtoReflect.Descriptor instead.
+func (*SampleSpread) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
+}
+
+func (x *SampleSpread) GetLayer() string {
+	if x != nil {
+		return x.Layer
+	}
+	return ""
+}
+
+func (x *SampleSpread) GetMin() uint64 {
+	if x != nil {
+		return x.Min
+	}
+	return 0
+}
+
+func (x *SampleSpread) GetMean() float64 {
+	if x != nil {
+		return x.Mean
+	}
+	return 0
+}
+
+func (x *SampleSpread) GetMax() uint64 {
+	if x != nil {
+		return x.Max
+	}
+	return 0
+}
+
+func (x *SampleSpread) GetTopErrorDecileShare() float64 {
+	if x != nil && x.TopErrorDecileShare != nil {
+		return *x.TopErrorDecileShare
+	}
+	return 0
+}
+
 type PhaseProgress struct {
 	state          protoimpl.MessageState `protogen:"open.v1"`
 	Phase          Phase                  `protobuf:"varint,1,opt,name=phase,proto3,enum=renderfarm.v1.Phase" json:"phase,omitempty"`
@@ -845,7 +937,7 @@ type PhaseProgress struct {
 
 func (x *PhaseProgress) Reset() {
 	*x = PhaseProgress{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -857,7 +949,7 @@ func (x *PhaseProgress) String() string {
 func (*PhaseProgress) ProtoMessage() {}
 
 func (x *PhaseProgress) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[5]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -870,7 +962,7 @@ func (x *PhaseProgress) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhaseProgress.ProtoReflect.Descriptor instead.
 func (*PhaseProgress) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
 }
 
 func (x *PhaseProgress) GetPhase() Phase {
@@ -908,7 +1000,7 @@ type Artifact struct {
 
 func (x *Artifact) Reset() {
 	*x = Artifact{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -920,7 +1012,7 @@ func (x *Artifact) String() string {
 func (*Artifact) ProtoMessage() {}
 
 func (x *Artifact) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[6]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -933,7 +1025,7 @@ func (x *Artifact) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Artifact.ProtoReflect.Descriptor instead.
 func (*Artifact) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
 }
 
 func (x *Artifact) GetName() string {
@@ -970,7 +1062,7 @@ type PixelRect struct {
 
 func (x *PixelRect) Reset() {
 	*x = PixelRect{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -982,7 +1074,7 @@ func (x *PixelRect) String() string {
 func (*PixelRect) ProtoMessage() {}
 
 func (x *PixelRect) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[7]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -995,7 +1087,7 @@ func (x *PixelRect) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PixelRect.ProtoReflect.Descriptor instead.
 func (*PixelRect) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
 }
 
 func (x *PixelRect) GetX() uint32 {
@@ -1067,7 +1159,7 @@ type Task struct {
 
 func (x *Task) Reset() {
 	*x = Task{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1079,7 +1171,7 @@ func (x *Task) String() string {
 func (*Task) ProtoMessage() {}
 
 func (x *Task) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[8]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1092,7 +1184,7 @@ func (x *Task) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Task.ProtoReflect.Descriptor instead.
 func (*Task) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{8}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
 }
 
 func (x *Task) GetId() string {
@@ -1290,14 +1382,17 @@ type RenderTileSpec struct {
 	// Progressive photon mapping: this round's search radii are the scene's times this.
 	RadiusScale float64 `protobuf:"fixed64,3,opt,name=radius_scale,json=radiusScale,proto3" json:"radius_scale,omitempty"`
 	// Index of the round's first pixel sample, so rounds draw fresh samples.
-	FirstSample   uint32 `protobuf:"varint,4,opt,name=first_sample,json=firstSample,proto3" json:"first_sample,omitempty"`
+	FirstSample uint32 `protobuf:"varint,4,opt,name=first_sample,json=firstSample,proto3" json:"first_sample,omitempty"`
+	// Filled in when the task is leased, with adaptive sampling from round 3 on: the previous
+	// round's composite's "samples.map", each pixel's camera samples this round.
+	SampleMap     *Artifact `protobuf:"bytes,5,opt,name=sample_map,json=sampleMap,proto3" json:"sample_map,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
 
 func (x *RenderTileSpec) Reset() {
 	*x = RenderTileSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1309,7 +1404,7 @@ func (x *RenderTileSpec) String() string {
 func (*RenderTileSpec) ProtoMessage() {}
 
 func (x *RenderTileSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[9]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1322,7 +1417,7 @@ func (x *RenderTileSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RenderTileSpec.ProtoReflect.Descriptor instead.
 func (*RenderTileSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{9}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
 }
 
 func (x *RenderTileSpec) GetRect() *PixelRect {
@@ -1353,6 +1448,13 @@ func (x *RenderTileSpec) GetFirstSample() uint32 {
 	return 0
 }
 
+func (x *RenderTileSpec) GetSampleMap() *Artifact {
+	if x != nil {
+		return x.SampleMap
+	}
+	return nil
+}
+
 // Compute irradiance at global-map photons [first_photon, first_photon + photon_count) (in
 // the snapshot's tree order) and upload it as "irradiance.shard".
 type PrecomputeIrradianceSpec struct {
@@ -1369,7 +1471,7 @@ type PrecomputeIrradianceSpec struct {
 
 func (x *PrecomputeIrradianceSpec) Reset() {
 	*x = PrecomputeIrradianceSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1381,7 +1483,7 @@ func (x *PrecomputeIrradianceSpec) String() string {
 func (*PrecomputeIrradianceSpec) ProtoMessage() {}
 
 func (x *PrecomputeIrradianceSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[10]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1394,7 +1496,7 @@ func (x *PrecomputeIrradianceSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PrecomputeIrradianceSpec.ProtoReflect.Descriptor instead.
 func (*PrecomputeIrradianceSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{10}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
 }
 
 func (x *PrecomputeIrradianceSpec) GetFirstPhoton() uint64 {
@@ -1437,7 +1539,7 @@ type MergeIrradianceSpec struct {
 
 func (x *MergeIrradianceSpec) Reset() {
 	*x = MergeIrradianceSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1449,7 +1551,7 @@ func (x *MergeIrradianceSpec) String() string {
 func (*MergeIrradianceSpec) ProtoMessage() {}
 
 func (x *MergeIrradianceSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[11]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1462,7 +1564,7 @@ func (x *MergeIrradianceSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MergeIrradianceSpec.ProtoReflect.Descriptor instead.
 func (*MergeIrradianceSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
 }
 
 func (x *MergeIrradianceSpec) GetPhotonSnapshot() *Artifact {
@@ -1494,7 +1596,7 @@ type EmitPhotonsSpec struct {
 
 func (x *EmitPhotonsSpec) Reset() {
 	*x = EmitPhotonsSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1506,7 +1608,7 @@ func (x *EmitPhotonsSpec) String() string {
 func (*EmitPhotonsSpec) ProtoMessage() {}
 
 func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[12]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1519,7 +1621,7 @@ func (x *EmitPhotonsSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use EmitPhotonsSpec.ProtoReflect.Descriptor instead.
 func (*EmitPhotonsSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{12}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
 }
 
 func (x *EmitPhotonsSpec) GetMap() PhotonMapKind {
@@ -1562,7 +1664,7 @@ type BuildPhotonMapSpec struct {
 
 func (x *BuildPhotonMapSpec) Reset() {
 	*x = BuildPhotonMapSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1574,7 +1676,7 @@ func (x *BuildPhotonMapSpec) String() string {
 func (*BuildPhotonMapSpec) ProtoMessage() {}
 
 func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[13]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1587,7 +1689,7 @@ func (x *BuildPhotonMapSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use BuildPhotonMapSpec.ProtoReflect.Descriptor instead.
 func (*BuildPhotonMapSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{13}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
 }
 
 func (x *BuildPhotonMapSpec) GetShards() []*EmittedShard {
@@ -1607,7 +1709,7 @@ type EmittedShard struct {
 
 func (x *EmittedShard) Reset() {
 	*x = EmittedShard{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1619,7 +1721,7 @@ func (x *EmittedShard) String() string {
 func (*EmittedShard) ProtoMessage() {}
 
 func (x *EmittedShard) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[14]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1632,7 +1734,7 @@ func (x *EmittedShard) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use EmittedShard.ProtoReflect.Descriptor instead.
 func (*EmittedShard) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{14}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
 }
 
 func (x *EmittedShard) GetSpec() *EmitPhotonsSpec {
@@ -1661,13 +1763,16 @@ type CompositeSpec struct {
 	// Filled in when the task is leased: seconds from the job's creation to this lease, the
 	// render time the final EXR records (its renderTime attribute).
 	ElapsedSeconds float64 `protobuf:"fixed64,4,opt,name=elapsed_seconds,json=elapsedSeconds,proto3" json:"elapsed_seconds,omitempty"`
-	unknownFields  protoimpl.UnknownFields
-	sizeCache      protoimpl.SizeCache
+	// Filled in when the task is leased, as in RenderTileSpec: the sample map the round's
+	// tiles were rendered with, which weighs each pixel's round by its samples.
+	SampleMap     *Artifact `protobuf:"bytes,5,opt,name=sample_map,json=sampleMap,proto3" json:"sample_map,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *CompositeSpec) Reset() {
 	*x = CompositeSpec{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1679,7 +1784,7 @@ func (x *CompositeSpec) String() string {
 func (*CompositeSpec) ProtoMessage() {}
 
 func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[15]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1692,7 +1797,7 @@ func (x *CompositeSpec) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CompositeSpec.ProtoReflect.Descriptor instead.
 func (*CompositeSpec) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{15}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
 }
 
 func (x *CompositeSpec) GetTiles() []*TileInput {
@@ -1723,6 +1828,13 @@ func (x *CompositeSpec) GetElapsedSeconds() float64 {
 	return 0
 }
 
+func (x *CompositeSpec) GetSampleMap() *Artifact {
+	if x != nil {
+		return x.SampleMap
+	}
+	return nil
+}
+
 type TileInput struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
 	Rect          *PixelRect             `protobuf:"bytes,1,opt,name=rect,proto3" json:"rect,omitempty"`
@@ -1733,7 +1845,7 @@ type TileInput struct {
 
 func (x *TileInput) Reset() {
 	*x = TileInput{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1745,7 +1857,7 @@ func (x *TileInput) String() string {
 func (*TileInput) ProtoMessage() {}
 
 func (x *TileInput) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[16]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1758,7 +1870,7 @@ func (x *TileInput) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TileInput.ProtoReflect.Descriptor instead.
 func (*TileInput) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{16}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
 }
 
 func (x *TileInput) GetRect() *PixelRect {
@@ -1790,7 +1902,7 @@ type SubmitJobRequest struct {
 
 func (x *SubmitJobRequest) Reset() {
 	*x = SubmitJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1802,7 +1914,7 @@ func (x *SubmitJobRequest) String() string {
 func (*SubmitJobRequest) ProtoMessage() {}
 
 func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[17]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1815,7 +1927,7 @@ func (x *SubmitJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobRequest.ProtoReflect.Descriptor instead.
 func (*SubmitJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{17}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
 }
 
 func (x *SubmitJobRequest) GetScene() *Scene {
@@ -1848,7 +1960,7 @@ type SubmitJobResponse struct {
 
 func (x *SubmitJobResponse) Reset() {
 	*x = SubmitJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1860,7 +1972,7 @@ func (x *SubmitJobResponse) String() string {
 func (*SubmitJobResponse) ProtoMessage() {}
 
 func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[18]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1873,7 +1985,7 @@ func (x *SubmitJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SubmitJobResponse.ProtoReflect.Descriptor instead.
 func (*SubmitJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{18}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
 }
 
 func (x *SubmitJobResponse) GetJob() *Job {
@@ -1894,7 +2006,7 @@ type SetJobPriorityRequest struct {
 
 func (x *SetJobPriorityRequest) Reset() {
 	*x = SetJobPriorityRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1906,7 +2018,7 @@ func (x *SetJobPriorityRequest) String() string {
 func (*SetJobPriorityRequest) ProtoMessage() {}
 
 func (x *SetJobPriorityRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1919,7 +2031,7 @@ func (x *SetJobPriorityRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SetJobPriorityRequest.ProtoReflect.Descriptor instead.
 func (*SetJobPriorityRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *SetJobPriorityRequest) GetJobId() string {
@@ -1945,7 +2057,7 @@ type SetJobPriorityResponse struct {
 
 func (x *SetJobPriorityResponse) Reset() {
 	*x = SetJobPriorityResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1957,7 +2069,7 @@ func (x *SetJobPriorityResponse) String() string {
 func (*SetJobPriorityResponse) ProtoMessage() {}
 
 func (x *SetJobPriorityResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1970,7 +2082,7 @@ func (x *SetJobPriorityResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SetJobPriorityResponse.ProtoReflect.Descriptor instead.
 func (*SetJobPriorityResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *SetJobPriorityResponse) GetJob() *Job {
@@ -1992,7 +2104,7 @@ type ListWorkersRequest struct {
 
 func (x *ListWorkersRequest) Reset() {
 	*x = ListWorkersRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2004,7 +2116,7 @@ func (x *ListWorkersRequest) String() string {
 func (*ListWorkersRequest) ProtoMessage() {}
 
 func (x *ListWorkersRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2017,7 +2129,7 @@ func (x *ListWorkersRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListWorkersRequest.ProtoReflect.Descriptor instead.
 func (*ListWorkersRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *ListWorkersRequest) GetPageSize() int32 {
@@ -2046,7 +2158,7 @@ type ListWorkersResponse struct {
 
 func (x *ListWorkersResponse) Reset() {
 	*x = ListWorkersResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2058,7 +2170,7 @@ func (x *ListWorkersResponse) String() string {
 func (*ListWorkersResponse) ProtoMessage() {}
 
 func (x *ListWorkersResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2071,7 +2183,7 @@ func (x *ListWorkersResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListWorkersResponse.ProtoReflect.Descriptor instead.
 func (*ListWorkersResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *ListWorkersResponse) GetWorkers() []*WorkerInfo {
@@ -2108,7 +2220,7 @@ type WorkerInfo struct {
 
 func (x *WorkerInfo) Reset() {
 	*x = WorkerInfo{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2120,7 +2232,7 @@ func (x *WorkerInfo) String() string {
 func (*WorkerInfo) ProtoMessage() {}
 
 func (x *WorkerInfo) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2133,7 +2245,7 @@ func (x *WorkerInfo) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WorkerInfo.ProtoReflect.Descriptor instead.
 func (*WorkerInfo) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *WorkerInfo) GetId() string {
@@ -2217,7 +2329,7 @@ type UnblockWorkerRequest struct {
 
 func (x *UnblockWorkerRequest) Reset() {
 	*x = UnblockWorkerRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2229,7 +2341,7 @@ func (x *UnblockWorkerRequest) String() string {
 func (*UnblockWorkerRequest) ProtoMessage() {}
 
 func (x *UnblockWorkerRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2242,7 +2354,7 @@ func (x *UnblockWorkerRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnblockWorkerRequest.ProtoReflect.Descriptor instead.
 func (*UnblockWorkerRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{24}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *UnblockWorkerRequest) GetJobId() string {
@@ -2268,7 +2380,7 @@ type UnblockWorkerResponse struct {
 
 func (x *UnblockWorkerResponse) Reset() {
 	*x = UnblockWorkerResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2280,7 +2392,7 @@ func (x *UnblockWorkerResponse) String() string {
 func (*UnblockWorkerResponse) ProtoMessage() {}
 
 func (x *UnblockWorkerResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2293,7 +2405,7 @@ func (x *UnblockWorkerResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use UnblockWorkerResponse.ProtoReflect.Descriptor instead.
 func (*UnblockWorkerResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{25}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *UnblockWorkerResponse) GetJob() *Job {
@@ -2312,7 +2424,7 @@ type PlanSceneRequest struct {
 
 func (x *PlanSceneRequest) Reset() {
 	*x = PlanSceneRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2324,7 +2436,7 @@ func (x *PlanSceneRequest) String() string {
 func (*PlanSceneRequest) ProtoMessage() {}
 
 func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2337,7 +2449,7 @@ func (x *PlanSceneRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlanSceneRequest.ProtoReflect.Descriptor instead.
 func (*PlanSceneRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{26}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *PlanSceneRequest) GetScene() *Scene {
@@ -2358,7 +2470,7 @@ type PlanSceneResponse struct {
 
 func (x *PlanSceneResponse) Reset() {
 	*x = PlanSceneResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2370,7 +2482,7 @@ func (x *PlanSceneResponse) String() string {
 func (*PlanSceneResponse) ProtoMessage() {}
 
 func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2383,7 +2495,7 @@ func (x *PlanSceneResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PlanSceneResponse.ProtoReflect.Descriptor instead.
 func (*PlanSceneResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{27}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *PlanSceneResponse) GetPlan() *Plan {
@@ -2409,7 +2521,7 @@ type GetJobRequest struct {
 
 func (x *GetJobRequest) Reset() {
 	*x = GetJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2421,7 +2533,7 @@ func (x *GetJobRequest) String() string {
 func (*GetJobRequest) ProtoMessage() {}
 
 func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2434,7 +2546,7 @@ func (x *GetJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobRequest.ProtoReflect.Descriptor instead.
 func (*GetJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{28}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
 }
 
 func (x *GetJobRequest) GetJobId() string {
@@ -2453,7 +2565,7 @@ type GetJobResponse struct {
 
 func (x *GetJobResponse) Reset() {
 	*x = GetJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2465,7 +2577,7 @@ func (x *GetJobResponse) String() string {
 func (*GetJobResponse) ProtoMessage() {}
 
 func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2478,7 +2590,7 @@ func (x *GetJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use GetJobResponse.ProtoReflect.Descriptor instead.
 func (*GetJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{29}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{30}
 }
 
 func (x *GetJobResponse) GetJob() *Job {
@@ -2500,7 +2612,7 @@ type ListJobsRequest struct {
 
 func (x *ListJobsRequest) Reset() {
 	*x = ListJobsRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2512,7 +2624,7 @@ func (x *ListJobsRequest) String() string {
 func (*ListJobsRequest) ProtoMessage() {}
 
 func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2525,7 +2637,7 @@ func (x *ListJobsRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsRequest.ProtoReflect.Descriptor instead.
 func (*ListJobsRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{30}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{31}
 }
 
 func (x *ListJobsRequest) GetPageSize() int32 {
@@ -2553,7 +2665,7 @@ type ListJobsResponse struct {
 
 func (x *ListJobsResponse) Reset() {
 	*x = ListJobsResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2565,7 +2677,7 @@ func (x *ListJobsResponse) String() string {
 func (*ListJobsResponse) ProtoMessage() {}
 
 func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2578,7 +2690,7 @@ func (x *ListJobsResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListJobsResponse.ProtoReflect.Descriptor instead.
 func (*ListJobsResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{31}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{32}
 }
 
 func (x *ListJobsResponse) GetJobs() []*Job {
@@ -2607,7 +2719,7 @@ type ListTasksRequest struct {
 
 func (x *ListTasksRequest) Reset() {
 	*x = ListTasksRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2619,7 +2731,7 @@ func (x *ListTasksRequest) String() string {
 func (*ListTasksRequest) ProtoMessage() {}
 
 func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2632,7 +2744,7 @@ func (x *ListTasksRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksRequest.ProtoReflect.Descriptor instead.
 func (*ListTasksRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{32}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *ListTasksRequest) GetJobId() string {
@@ -2666,7 +2778,7 @@ type ListTasksResponse struct {
 
 func (x *ListTasksResponse) Reset() {
 	*x = ListTasksResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2678,7 +2790,7 @@ func (x *ListTasksResponse) String() string {
 func (*ListTasksResponse) ProtoMessage() {}
 
 func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2691,7 +2803,7 @@ func (x *ListTasksResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use ListTasksResponse.ProtoReflect.Descriptor instead.
 func (*ListTasksResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{33}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{34}
 }
 
 func (x *ListTasksResponse) GetTasks() []*Task {
@@ -2717,7 +2829,7 @@ type CancelJobRequest struct {
 
 func (x *CancelJobRequest) Reset() {
 	*x = CancelJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[35]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2729,7 +2841,7 @@ func (x *CancelJobRequest) String() string {
 func (*CancelJobRequest) ProtoMessage() {}
 
 func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[35]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2742,7 +2854,7 @@ func (x *CancelJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobRequest.ProtoReflect.Descriptor instead.
 func (*CancelJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{34}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{35}
 }
 
 func (x *CancelJobRequest) GetJobId() string {
@@ -2761,7 +2873,7 @@ type CancelJobResponse struct {
 
 func (x *CancelJobResponse) Reset() {
 	*x = CancelJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[35]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[36]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2773,7 +2885,7 @@ func (x *CancelJobResponse) String() string {
 func (*CancelJobResponse) ProtoMessage() {}
 
 func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[35]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[36]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2786,7 +2898,7 @@ func (x *CancelJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use CancelJobResponse.ProtoReflect.Descriptor instead.
 func (*CancelJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{35}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{36}
 }
 
 func (x *CancelJobResponse) GetJob() *Job {
@@ -2805,7 +2917,7 @@ type WatchJobRequest struct {
 
 func (x *WatchJobRequest) Reset() {
 	*x = WatchJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[36]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2817,7 +2929,7 @@ func (x *WatchJobRequest) String() string {
 func (*WatchJobRequest) ProtoMessage() {}
 
 func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[36]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2830,7 +2942,7 @@ func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobRequest.ProtoReflect.Descriptor instead.
 func (*WatchJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{36}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{37}
 }
 
 func (x *WatchJobRequest) GetJobId() string {
@@ -2854,7 +2966,7 @@ type WatchJobResponse struct {
 
 func (x *WatchJobResponse) Reset() {
 	*x = WatchJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[38]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2866,7 +2978,7 @@ func (x *WatchJobResponse) String() string {
 func (*WatchJobResponse) ProtoMessage() {}
 
 func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[38]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2879,7 +2991,7 @@ func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobResponse.ProtoReflect.Descriptor instead.
 func (*WatchJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{37}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{38}
 }
 
 func (x *WatchJobResponse) GetKind() JobEventKind {
@@ -2965,7 +3077,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\vPlannedPass\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12\x18\n" +
 	"\aenabled\x18\x02 \x01(\bR\aenabled\x12\x16\n" +
-	"\x06reason\x18\x03 \x01(\tR\x06reason\"\xbd\x03\n" +
+	"\x06reason\x18\x03 \x01(\tR\x06reason\"\xf4\x03\n" +
 	"\vRoundReport\x12\x14\n" +
 	"\x05round\x18\x01 \x01(\rR\x05round\x12'\n" +
 	"\x0felapsed_seconds\x18\x02 \x01(\x01R\x0eelapsedSeconds\x12\x18\n" +
@@ -2973,12 +3085,20 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11samples_per_pixel\x18\x04 \x01(\x04R\x0fsamplesPerPixel\x12*\n" +
 	"\x0eerror_estimate\x18\x05 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
 	"\x0ereference_rmse\x18\x06 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12d\n" +
-	"\x14layer_reference_rmse\x18\a \x03(\v22.renderfarm.v1.RoundReport.LayerReferenceRmseEntryR\x12layerReferenceRmse\x1aE\n" +
+	"\x14layer_reference_rmse\x18\a \x03(\v22.renderfarm.v1.RoundReport.LayerReferenceRmseEntryR\x12layerReferenceRmse\x125\n" +
+	"\asamples\x18\b \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x1aE\n" +
 	"\x17LayerReferenceRmseEntry\x12\x10\n" +
 	"\x03key\x18\x01 \x01(\tR\x03key\x12\x14\n" +
 	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
-	"\x0f_reference_rmse\"\x85\x01\n" +
+	"\x0f_reference_rmse\"\xb1\x01\n" +
+	"\fSampleSpread\x12\x14\n" +
+	"\x05layer\x18\x01 \x01(\tR\x05layer\x12\x10\n" +
+	"\x03min\x18\x02 \x01(\x04R\x03min\x12\x12\n" +
+	"\x04mean\x18\x03 \x01(\x01R\x04mean\x12\x10\n" +
+	"\x03max\x18\x04 \x01(\x04R\x03max\x128\n" +
+	"\x16top_error_decile_share\x18\x05 \x01(\x01H\x00R\x13topErrorDecileShare\x88\x01\x01B\x19\n" +
+	"\x17_top_error_decile_share\"\x85\x01\n" +
 	"\rPhaseProgress\x12*\n" +
 	"\x05phase\x18\x01 \x01(\x0e2\x14.renderfarm.v1.PhaseR\x05phase\x12\x1f\n" +
 	"\vtasks_total\x18\x02 \x01(\rR\n" +
@@ -3016,12 +3136,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x05round\x18\x0f \x01(\rR\x05round\x129\n" +
 	"\n" +
 	"retry_time\x18\x12 \x01(\v2\x1a.google.protobuf.TimestampR\tretryTimeB\x06\n" +
-	"\x04spec\"\xc6\x01\n" +
+	"\x04spec\"\xfe\x01\n" +
 	"\x0eRenderTileSpec\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12@\n" +
 	"\x0fphoton_snapshot\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12!\n" +
 	"\fradius_scale\x18\x03 \x01(\x01R\vradiusScale\x12!\n" +
-	"\ffirst_sample\x18\x04 \x01(\rR\vfirstSample\"\xc5\x01\n" +
+	"\ffirst_sample\x18\x04 \x01(\rR\vfirstSample\x126\n" +
+	"\n" +
+	"sample_map\x18\x05 \x01(\v2\x17.renderfarm.v1.ArtifactR\tsampleMap\"\xc5\x01\n" +
 	"\x18PrecomputeIrradianceSpec\x12!\n" +
 	"\ffirst_photon\x18\x01 \x01(\x04R\vfirstPhoton\x12!\n" +
 	"\fphoton_count\x18\x02 \x01(\x04R\vphotonCount\x12@\n" +
@@ -3039,12 +3161,14 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x06shards\x18\x01 \x03(\v2\x1b.renderfarm.v1.EmittedShardR\x06shards\"q\n" +
 	"\fEmittedShard\x122\n" +
 	"\x04spec\x18\x01 \x01(\v2\x1e.renderfarm.v1.EmitPhotonsSpecR\x04spec\x12-\n" +
-	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xed\x01\n" +
+	"\x05shard\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x05shard\"\xa5\x02\n" +
 	"\rCompositeSpec\x12.\n" +
 	"\x05tiles\x18\x01 \x03(\v2\x18.renderfarm.v1.TileInputR\x05tiles\x12L\n" +
 	"\x15previous_accumulation\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x14previousAccumulation\x125\n" +
 	"\treference\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\treference\x12'\n" +
-	"\x0felapsed_seconds\x18\x04 \x01(\x01R\x0eelapsedSeconds\"f\n" +
+	"\x0felapsed_seconds\x18\x04 \x01(\x01R\x0eelapsedSeconds\x126\n" +
+	"\n" +
+	"sample_map\x18\x05 \x01(\v2\x17.renderfarm.v1.ArtifactR\tsampleMap\"f\n" +
 	"\tTileInput\x12,\n" +
 	"\x04rect\x18\x01 \x01(\v2\x18.renderfarm.v1.PixelRectR\x04rect\x12+\n" +
 	"\x04tile\x18\x02 \x01(\v2\x17.renderfarm.v1.ArtifactR\x04tile\"y\n" +
@@ -3127,7 +3251,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11JOB_STATE_RUNNING\x10\x02\x12\x17\n" +
 	"\x13JOB_STATE_SUCCEEDED\x10\x03\x12\x14\n" +
 	"\x10JOB_STATE_FAILED\x10\x04\x12\x17\n" +
-	"\x13JOB_STATE_CANCELLED\x10\x05*\xc5\x02\n" +
+	"\x13JOB_STATE_CANCELLED\x10\x05*\xc8\x02\n" +
 	"\x05Phase\x12\x15\n" +
 	"\x11PHASE_UNSPECIFIED\x10\x00\x12'\n" +
 	"\n" +
@@ -3138,11 +3262,11 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x10PHASE_PRECOMPUTE\x10\x03\x1a#\x9a\xb5\x18\x1f\n" +
 	"\x15Precompute irradiance\x10\x01\x1a\x01\x02\"\x01\x03\x120\n" +
 	"\vPHASE_MERGE\x10\x04\x1a\x1f\x9a\xb5\x18\x1b\n" +
-	"\x10Merge irradiance\x10\x02\x1a\x02\x02\x03\"\x01\x02\x12-\n" +
-	"\fPHASE_RENDER\x10\x05\x1a\x1b\x9a\xb5\x18\x17\n" +
-	"\fRender tiles\x10\x01\x1a\x01\x02\"\x02\x04\x05\x12/\n" +
-	"\x0fPHASE_COMPOSITE\x10\x06\x1a\x1a\x9a\xb5\x18\x16\n" +
-	"\tComposite\x10\x01\x1a\x02\x04\b\"\x03\x06\a\b*\xb8\x01\n" +
+	"\x10Merge irradiance\x10\x02\x1a\x02\x02\x03\"\x01\x02\x12.\n" +
+	"\fPHASE_RENDER\x10\x05\x1a\x1c\x9a\xb5\x18\x18\n" +
+	"\fRender tiles\x10\x01\x1a\x02\x02\t\"\x02\x04\x05\x121\n" +
+	"\x0fPHASE_COMPOSITE\x10\x06\x1a\x1c\x9a\xb5\x18\x18\n" +
+	"\tComposite\x10\x01\x1a\x03\x04\b\t\"\x04\x06\a\b\t*\xb8\x01\n" +
 	"\tTaskState\x12\x1a\n" +
 	"\x16TASK_STATE_UNSPECIFIED\x10\x00\x12\x16\n" +
 	"\x12TASK_STATE_WAITING\x10\x01\x12\x15\n" +
@@ -3193,7 +3317,7 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 39)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 40)
 var file_renderfarm_v1_job_proto_goTypes = []any{
 	(JobState)(0),                     // 0: renderfarm.v1.JobState
 	(Phase)(0),                        // 1: renderfarm.v1.Phase
@@ -3206,131 +3330,135 @@ var file_renderfarm_v1_job_proto_goTypes = []any{
 	(*Plan)(nil),                      // 8: renderfarm.v1.Plan
 	(*PlannedPass)(nil),               // 9: renderfarm.v1.PlannedPass
 	(*RoundReport)(nil),               // 10: renderfarm.v1.RoundReport
-	(*PhaseProgress)(nil),             // 11: renderfarm.v1.PhaseProgress
-	(*Artifact)(nil),                  // 12: renderfarm.v1.Artifact
-	(*PixelRect)(nil),                 // 13: renderfarm.v1.PixelRect
-	(*Task)(nil),                      // 14: renderfarm.v1.Task
-	(*RenderTileSpec)(nil),            // 15: renderfarm.v1.RenderTileSpec
-	(*PrecomputeIrradianceSpec)(nil),  // 16: renderfarm.v1.PrecomputeIrradianceSpec
-	(*MergeIrradianceSpec)(nil),       // 17: renderfarm.v1.MergeIrradianceSpec
-	(*EmitPhotonsSpec)(nil),           // 18: renderfarm.v1.EmitPhotonsSpec
-	(*BuildPhotonMapSpec)(nil),        // 19: renderfarm.v1.BuildPhotonMapSpec
-	(*EmittedShard)(nil),              // 20: renderfarm.v1.EmittedShard
-	(*CompositeSpec)(nil),             // 21: renderfarm.v1.CompositeSpec
-	(*TileInput)(nil),                 // 22: renderfarm.v1.TileInput
-	(*SubmitJobRequest)(nil),          // 23: renderfarm.v1.SubmitJobRequest
-	(*SubmitJobResponse)(nil),         // 24: renderfarm.v1.SubmitJobResponse
-	(*SetJobPriorityRequest)(nil),     // 25: renderfarm.v1.SetJobPriorityRequest
-	(*SetJobPriorityResponse)(nil),    // 26: renderfarm.v1.SetJobPriorityResponse
-	(*ListWorkersRequest)(nil),        // 27: renderfarm.v1.ListWorkersRequest
-	(*ListWorkersResponse)(nil),       // 28: renderfarm.v1.ListWorkersResponse
-	(*WorkerInfo)(nil),                // 29: renderfarm.v1.WorkerInfo
-	(*UnblockWorkerRequest)(nil),      // 30: renderfarm.v1.UnblockWorkerRequest
-	(*UnblockWorkerResponse)(nil),     // 31: renderfarm.v1.UnblockWorkerResponse
-	(*PlanSceneRequest)(nil),          // 32: renderfarm.v1.PlanSceneRequest
-	(*PlanSceneResponse)(nil),         // 33: renderfarm.v1.PlanSceneResponse
-	(*GetJobRequest)(nil),             // 34: renderfarm.v1.GetJobRequest
-	(*GetJobResponse)(nil),            // 35: renderfarm.v1.GetJobResponse
-	(*ListJobsRequest)(nil),           // 36: renderfarm.v1.ListJobsRequest
-	(*ListJobsResponse)(nil),          // 37: renderfarm.v1.ListJobsResponse
-	(*ListTasksRequest)(nil),          // 38: renderfarm.v1.ListTasksRequest
-	(*ListTasksResponse)(nil),         // 39: renderfarm.v1.ListTasksResponse
-	(*CancelJobRequest)(nil),          // 40: renderfarm.v1.CancelJobRequest
-	(*CancelJobResponse)(nil),         // 41: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),           // 42: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),          // 43: renderfarm.v1.WatchJobResponse
-	nil,                               // 44: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	(*timestamppb.Timestamp)(nil),     // 45: google.protobuf.Timestamp
-	(FailureKind)(0),                  // 46: renderfarm.v1.FailureKind
-	(*Scene)(nil),                     // 47: renderfarm.v1.Scene
-	(*descriptorpb.FieldOptions)(nil), // 48: google.protobuf.FieldOptions
+	(*SampleSpread)(nil),              // 11: renderfarm.v1.SampleSpread
+	(*PhaseProgress)(nil),             // 12: renderfarm.v1.PhaseProgress
+	(*Artifact)(nil),                  // 13: renderfarm.v1.Artifact
+	(*PixelRect)(nil),                 // 14: renderfarm.v1.PixelRect
+	(*Task)(nil),                      // 15: renderfarm.v1.Task
+	(*RenderTileSpec)(nil),            // 16: renderfarm.v1.RenderTileSpec
+	(*PrecomputeIrradianceSpec)(nil),  // 17: renderfarm.v1.PrecomputeIrradianceSpec
+	(*MergeIrradianceSpec)(nil),       // 18: renderfarm.v1.MergeIrradianceSpec
+	(*EmitPhotonsSpec)(nil),           // 19: renderfarm.v1.EmitPhotonsSpec
+	(*BuildPhotonMapSpec)(nil),        // 20: renderfarm.v1.BuildPhotonMapSpec
+	(*EmittedShard)(nil),              // 21: renderfarm.v1.EmittedShard
+	(*CompositeSpec)(nil),             // 22: renderfarm.v1.CompositeSpec
+	(*TileInput)(nil),                 // 23: renderfarm.v1.TileInput
+	(*SubmitJobRequest)(nil),          // 24: renderfarm.v1.SubmitJobRequest
+	(*SubmitJobResponse)(nil),         // 25: renderfarm.v1.SubmitJobResponse
+	(*SetJobPriorityRequest)(nil),     // 26: renderfarm.v1.SetJobPriorityRequest
+	(*SetJobPriorityResponse)(nil),    // 27: renderfarm.v1.SetJobPriorityResponse
+	(*ListWorkersRequest)(nil),        // 28: renderfarm.v1.ListWorkersRequest
+	(*ListWorkersResponse)(nil),       // 29: renderfarm.v1.ListWorkersResponse
+	(*WorkerInfo)(nil),                // 30: renderfarm.v1.WorkerInfo
+	(*UnblockWorkerRequest)(nil),      // 31: renderfarm.v1.UnblockWorkerRequest
+	(*UnblockWorkerResponse)(nil),     // 32: renderfarm.v1.UnblockWorkerResponse
+	(*PlanSceneRequest)(nil),          // 33: renderfarm.v1.PlanSceneRequest
+	(*PlanSceneResponse)(nil),         // 34: renderfarm.v1.PlanSceneResponse
+	(*GetJobRequest)(nil),             // 35: renderfarm.v1.GetJobRequest
+	(*GetJobResponse)(nil),            // 36: renderfarm.v1.GetJobResponse
+	(*ListJobsRequest)(nil),           // 37: renderfarm.v1.ListJobsRequest
+	(*ListJobsResponse)(nil),          // 38: renderfarm.v1.ListJobsResponse
+	(*ListTasksRequest)(nil),          // 39: renderfarm.v1.ListTasksRequest
+	(*ListTasksResponse)(nil),         // 40: renderfarm.v1.ListTasksResponse
+	(*CancelJobRequest)(nil),          // 41: renderfarm.v1.CancelJobRequest
+	(*CancelJobResponse)(nil),         // 42: renderfarm.v1.CancelJobResponse
+	(*WatchJobRequest)(nil),           // 43: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),          // 44: renderfarm.v1.WatchJobResponse
+	nil,                               // 45: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	(*timestamppb.Timestamp)(nil),     // 46: google.protobuf.Timestamp
+	(FailureKind)(0),                  // 47: renderfarm.v1.FailureKind
+	(*Scene)(nil),                     // 48: renderfarm.v1.Scene
+	(*descriptorpb.FieldOptions)(nil), // 49: google.protobuf.FieldOptions
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	45, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	45, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	45, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
-	11, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	46, // 5: renderfarm.v1.Job.failure_kind:type_name -> renderfarm.v1.FailureKind
-	12, // 6: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
+	46, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	46, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	46, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	12, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
+	47, // 5: renderfarm.v1.Job.failure_kind:type_name -> renderfarm.v1.FailureKind
+	13, // 6: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
 	8,  // 7: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
 	10, // 8: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
 	7,  // 9: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
-	45, // 10: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
+	46, // 10: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
 	9,  // 11: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
-	44, // 12: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	1,  // 13: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
-	1,  // 14: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
-	2,  // 15: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	46, // 16: renderfarm.v1.Task.failure_kind:type_name -> renderfarm.v1.FailureKind
-	15, // 17: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
-	21, // 18: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
-	18, // 19: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
-	19, // 20: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
-	16, // 21: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
-	17, // 22: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
-	12, // 23: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	45, // 24: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
-	13, // 25: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	12, // 26: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 27: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 28: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	12, // 29: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
-	3,  // 30: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	20, // 31: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	18, // 32: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	12, // 33: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	22, // 34: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	12, // 35: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	12, // 36: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	13, // 37: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	12, // 38: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	47, // 39: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	6,  // 40: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 41: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
-	29, // 42: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
-	4,  // 43: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
-	45, // 44: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
-	45, // 45: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
-	6,  // 46: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
-	47, // 47: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	8,  // 48: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	11, // 49: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	6,  // 50: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 51: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	14, // 52: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	6,  // 53: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 54: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	45, // 55: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	6,  // 56: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	14, // 57: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	48, // 58: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
-	1,  // 59: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
-	23, // 60: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	34, // 61: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	36, // 62: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	38, // 63: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	40, // 64: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	32, // 65: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	42, // 66: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	25, // 67: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
-	30, // 68: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
-	27, // 69: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
-	24, // 70: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	35, // 71: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	37, // 72: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	39, // 73: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	41, // 74: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	33, // 75: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	43, // 76: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	26, // 77: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
-	31, // 78: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
-	28, // 79: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
-	70, // [70:80] is the sub-list for method output_type
-	60, // [60:70] is the sub-list for method input_type
-	59, // [59:60] is the sub-list for extension type_name
-	58, // [58:59] is the sub-list for extension extendee
-	0,  // [0:58] is the sub-list for field type_name
+	45, // 12: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	11, // 13: renderfarm.v1.RoundReport.samples:type_name -> renderfarm.v1.SampleSpread
+	1,  // 14: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
+	1,  // 15: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
+	2,  // 16: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
+	47, // 17: renderfarm.v1.Task.failure_kind:type_name -> renderfarm.v1.FailureKind
+	16, // 18: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
+	22, // 19: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
+	19, // 20: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
+	20, // 21: renderfarm.v1.Task.build_photon_map:type_name -> renderfarm.v1.BuildPhotonMapSpec
+	17, // 22: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
+	18, // 23: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
+	13, // 24: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
+	46, // 25: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
+	14, // 26: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	13, // 27: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	13, // 28: renderfarm.v1.RenderTileSpec.sample_map:type_name -> renderfarm.v1.Artifact
+	13, // 29: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	13, // 30: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	13, // 31: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 32: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	21, // 33: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	19, // 34: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	13, // 35: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	23, // 36: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	13, // 37: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	13, // 38: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	13, // 39: renderfarm.v1.CompositeSpec.sample_map:type_name -> renderfarm.v1.Artifact
+	14, // 40: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	13, // 41: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	48, // 42: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 43: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 44: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
+	30, // 45: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
+	4,  // 46: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
+	46, // 47: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
+	46, // 48: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
+	6,  // 49: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
+	48, // 50: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	8,  // 51: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	12, // 52: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	6,  // 53: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 54: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	15, // 55: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	6,  // 56: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 57: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	46, // 58: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	6,  // 59: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	15, // 60: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	49, // 61: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
+	1,  // 62: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
+	24, // 63: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	35, // 64: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	37, // 65: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	39, // 66: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	41, // 67: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	33, // 68: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	43, // 69: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	26, // 70: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	31, // 71: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	28, // 72: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
+	25, // 73: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	36, // 74: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	38, // 75: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	40, // 76: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	42, // 77: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	34, // 78: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	44, // 79: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	27, // 80: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	32, // 81: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	29, // 82: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
+	73, // [73:83] is the sub-list for method output_type
+	63, // [63:73] is the sub-list for method input_type
+	62, // [62:63] is the sub-list for extension type_name
+	61, // [61:62] is the sub-list for extension extendee
+	0,  // [0:61] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -3341,7 +3469,8 @@ func file_renderfarm_v1_job_proto_init() {
 	file_renderfarm_v1_rules_proto_init()
 	file_renderfarm_v1_scene_proto_init()
 	file_renderfarm_v1_job_proto_msgTypes[4].OneofWrappers = []any{}
-	file_renderfarm_v1_job_proto_msgTypes[8].OneofWrappers = []any{
+	file_renderfarm_v1_job_proto_msgTypes[5].OneofWrappers = []any{}
+	file_renderfarm_v1_job_proto_msgTypes[9].OneofWrappers = []any{
 		(*Task_RenderTile)(nil),
 		(*Task_Composite)(nil),
 		(*Task_EmitPhotons)(nil),
@@ -3355,7 +3484,7 @@ func file_renderfarm_v1_job_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
 			NumEnums:      6,
-			NumMessages:   39,
+			NumMessages:   40,
 			NumExtensions: 1,
 			NumServices:   1,
 		},

@@ -94,6 +94,9 @@ const (
 	ArtifactKind_ARTIFACT_KIND_PREVIEW_PNG ArtifactKind = 7
 	// The running sums of every round so far, which the next round's composite extends.
 	ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR ArtifactKind = 8
+	// With adaptive sampling, how many camera samples each pixel draws in the next round
+	// (worker/image/sample_map.h); the next round's tiles and composite read it.
+	ArtifactKind_ARTIFACT_KIND_SAMPLE_MAP ArtifactKind = 9
 )
 
 // Enum value maps for ArtifactKind.
@@ -108,6 +111,7 @@ var (
 		6: "ARTIFACT_KIND_IMAGE_EXR",
 		7: "ARTIFACT_KIND_PREVIEW_PNG",
 		8: "ARTIFACT_KIND_ACCUMULATION_EXR",
+		9: "ARTIFACT_KIND_SAMPLE_MAP",
 	}
 	ArtifactKind_value = map[string]int32{
 		"ARTIFACT_KIND_UNSPECIFIED":      0,
@@ -119,6 +123,7 @@ var (
 		"ARTIFACT_KIND_IMAGE_EXR":        6,
 		"ARTIFACT_KIND_PREVIEW_PNG":      7,
 		"ARTIFACT_KIND_ACCUMULATION_EXR": 8,
+		"ARTIFACT_KIND_SAMPLE_MAP":       9,
 	}
 )
 
@@ -949,7 +954,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\bExecutor\x12\x18\n" +
 	"\x14EXECUTOR_UNSPECIFIED\x10\x00\x12\x13\n" +
 	"\x0fEXECUTOR_WORKER\x10\x01\x12\x18\n" +
-	"\x14EXECUTOR_COORDINATOR\x10\x02*\xcf\x03\n" +
+	"\x14EXECUTOR_COORDINATOR\x10\x02*\x82\x04\n" +
 	"\fArtifactKind\x12\x1d\n" +
 	"\x19ARTIFACT_KIND_UNSPECIFIED\x10\x00\x123\n" +
 	"\x1aARTIFACT_KIND_PHOTON_SHARD\x10\x01\x1a\x13\xa2\xb5\x18\x0f\n" +
@@ -969,7 +974,9 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x19ARTIFACT_KIND_PREVIEW_PNG\x10\a\x1a\x11\xa2\xb5\x18\r\n" +
 	"\vpreview.png\x12<\n" +
 	"\x1eARTIFACT_KIND_ACCUMULATION_EXR\x10\b\x1a\x18\xa2\xb5\x18\x14\n" +
-	"\x10accumulation.exr\x10\x01*\xc5\x02\n" +
+	"\x10accumulation.exr\x10\x01\x121\n" +
+	"\x18ARTIFACT_KIND_SAMPLE_MAP\x10\t\x1a\x13\xa2\xb5\x18\x0f\n" +
+	"\vsamples.map\x10\x01*\xc5\x02\n" +
 	"\vFailureKind\x12-\n" +
 	"\x18FAILURE_KIND_UNSPECIFIED\x10\x00\x1a\x0f\xaa\xb5\x18\v\x12\afailure\x18\x01\x125\n" +
 	"\x16FAILURE_KIND_TRANSIENT\x10\x01\x1a\x19\xaa\xb5\x18\x15\x12\x11transient failure\x18\x01\x12-\n" +

@@ -21,6 +21,61 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type AdaptiveSampling int32
+
+const (
+	// Selects OFF.
+	AdaptiveSampling_ADAPTIVE_SAMPLING_UNSPECIFIED AdaptiveSampling = 0
+	// Every round samples every pixel alike (edge pixels supersampled).
+	AdaptiveSampling_ADAPTIVE_SAMPLING_OFF AdaptiveSampling = 1
+	// From round 3 on (two rounds give each pixel its first spread), each pixel gets camera
+	// samples by its estimated error under the round's budget of the samples round 2 drew.
+	// Needs progressive.max_rounds >= 3 and the box pixel filter; otherwise it does nothing
+	// (`farm plan` says why).
+	AdaptiveSampling_ADAPTIVE_SAMPLING_ON AdaptiveSampling = 2
+)
+
+// Enum value maps for AdaptiveSampling.
+var (
+	AdaptiveSampling_name = map[int32]string{
+		0: "ADAPTIVE_SAMPLING_UNSPECIFIED",
+		1: "ADAPTIVE_SAMPLING_OFF",
+		2: "ADAPTIVE_SAMPLING_ON",
+	}
+	AdaptiveSampling_value = map[string]int32{
+		"ADAPTIVE_SAMPLING_UNSPECIFIED": 0,
+		"ADAPTIVE_SAMPLING_OFF":         1,
+		"ADAPTIVE_SAMPLING_ON":          2,
+	}
+)
+
+func (x AdaptiveSampling) Enum() *AdaptiveSampling {
+	p := new(AdaptiveSampling)
+	*p = x
+	return p
+}
+
+func (x AdaptiveSampling) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (AdaptiveSampling) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (AdaptiveSampling) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x AdaptiveSampling) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use AdaptiveSampling.Descriptor instead.
+func (AdaptiveSampling) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
 type SpecularSampling int32
 
 const (
@@ -59,11 +114,11 @@ func (x SpecularSampling) String() string {
 }
 
 func (SpecularSampling) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
 }
 
 func (SpecularSampling) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+	return &file_renderfarm_v1_scene_proto_enumTypes[1]
 }
 
 func (x SpecularSampling) Number() protoreflect.EnumNumber {
@@ -72,7 +127,7 @@ func (x SpecularSampling) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use SpecularSampling.Descriptor instead.
 func (SpecularSampling) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
 type AntialiasingMode int32
@@ -113,11 +168,11 @@ func (x AntialiasingMode) String() string {
 }
 
 func (AntialiasingMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
 }
 
 func (AntialiasingMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[1]
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
 }
 
 func (x AntialiasingMode) Number() protoreflect.EnumNumber {
@@ -126,7 +181,7 @@ func (x AntialiasingMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AntialiasingMode.Descriptor instead.
 func (AntialiasingMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 type IndirectMode int32
@@ -165,11 +220,11 @@ func (x IndirectMode) String() string {
 }
 
 func (IndirectMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
 }
 
 func (IndirectMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+	return &file_renderfarm_v1_scene_proto_enumTypes[3]
 }
 
 func (x IndirectMode) Number() protoreflect.EnumNumber {
@@ -178,7 +233,7 @@ func (x IndirectMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use IndirectMode.Descriptor instead.
 func (IndirectMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
 type AlphaMode int32
@@ -216,11 +271,11 @@ func (x AlphaMode) String() string {
 }
 
 func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
 }
 
 func (AlphaMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[3]
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
 }
 
 func (x AlphaMode) Number() protoreflect.EnumNumber {
@@ -229,7 +284,7 @@ func (x AlphaMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AlphaMode.Descriptor instead.
 func (AlphaMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 type ToneMap int32
@@ -269,11 +324,11 @@ func (x ToneMap) String() string {
 }
 
 func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
 }
 
 func (ToneMap) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+	return &file_renderfarm_v1_scene_proto_enumTypes[5]
 }
 
 func (x ToneMap) Number() protoreflect.EnumNumber {
@@ -282,7 +337,7 @@ func (x ToneMap) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use ToneMap.Descriptor instead.
 func (ToneMap) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 type Filter int32
@@ -324,11 +379,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[6].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[5]
+	return &file_renderfarm_v1_scene_proto_enumTypes[6]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -337,7 +392,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -1009,7 +1064,10 @@ type Sampling struct {
 	LightSamples uint32 `protobuf:"varint,3,opt,name=light_samples,json=lightSamples,proto3" json:"light_samples,omitempty"`
 	// How a camera path goes on where it meets glass at one of its first three specular
 	// bounces (at most 8 branches a sample; later bounces choose).
-	Specular      SpecularSampling `protobuf:"varint,4,opt,name=specular,proto3,enum=renderfarm.v1.SpecularSampling" json:"specular,omitempty"`
+	Specular SpecularSampling `protobuf:"varint,4,opt,name=specular,proto3,enum=renderfarm.v1.SpecularSampling" json:"specular,omitempty"`
+	// Whether later progressive rounds move camera samples towards the pixels whose error is
+	// largest (docs/adaptive-sampling.md), at the same samples per round.
+	Adaptive      AdaptiveSampling `protobuf:"varint,5,opt,name=adaptive,proto3,enum=renderfarm.v1.AdaptiveSampling" json:"adaptive,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1070,6 +1128,13 @@ func (x *Sampling) GetSpecular() SpecularSampling {
 		return x.Specular
 	}
 	return SpecularSampling_SPECULAR_SAMPLING_UNSPECIFIED
+}
+
+func (x *Sampling) GetAdaptive() AdaptiveSampling {
+	if x != nil {
+		return x.Adaptive
+	}
+	return AdaptiveSampling_ADAPTIVE_SAMPLING_UNSPECIFIED
 }
 
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, and only edge pixels get
@@ -3229,12 +3294,13 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xf8?R\x06radius\x125\n" +
 	"\x05sigma\x18\x02 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xc0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xe0?R\x05sigma\"I\n" +
 	"\x0eMitchellFilter\x127\n" +
-	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\xeb\x01\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\xb7\x02\n" +
 	"\bSampling\x12B\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xf0@)\x00\x00\x00\x00\x00\x00\xf0?R\x0fsamplesPerPixel\x12\x12\n" +
 	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12;\n" +
 	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\x12J\n" +
-	"\bspecular\x18\x04 \x01(\x0e2\x1f.renderfarm.v1.SpecularSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspecular\"\xcc\x01\n" +
+	"\bspecular\x18\x04 \x01(\x0e2\x1f.renderfarm.v1.SpecularSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspecular\x12J\n" +
+	"\badaptive\x18\x05 \x01(\x0e2\x1f.renderfarm.v1.AdaptiveSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\badaptive\"\xcc\x01\n" +
 	"\fAntialiasing\x12B\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
 	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
@@ -3382,7 +3448,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bMeshFile\x12\x1b\n" +
 	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12c\n" +
 	"\x06digest\x18\x02 \x01(\tBK\x8a\xb5\x18G0\x01P\x01ZAthe blob is uploaded first and parses as an OBJ or farm mesh fileR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*p\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*j\n" +
+	"\x10AdaptiveSampling\x12!\n" +
+	"\x1dADAPTIVE_SAMPLING_UNSPECIFIED\x10\x00\x12\x19\n" +
+	"\x15ADAPTIVE_SAMPLING_OFF\x10\x01\x12\x18\n" +
+	"\x14ADAPTIVE_SAMPLING_ON\x10\x02*p\n" +
 	"\x10SpecularSampling\x12!\n" +
 	"\x1dSPECULAR_SAMPLING_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17SPECULAR_SAMPLING_SPLIT\x10\x01\x12\x1c\n" +
@@ -3423,149 +3493,151 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 7)
 var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 37)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(SpecularSampling)(0),      // 0: renderfarm.v1.SpecularSampling
-	(AntialiasingMode)(0),      // 1: renderfarm.v1.AntialiasingMode
-	(IndirectMode)(0),          // 2: renderfarm.v1.IndirectMode
-	(AlphaMode)(0),             // 3: renderfarm.v1.AlphaMode
-	(ToneMap)(0),               // 4: renderfarm.v1.ToneMap
-	(Filter)(0),                // 5: renderfarm.v1.Filter
-	(*Scene)(nil),              // 6: renderfarm.v1.Scene
-	(*Camera)(nil),             // 7: renderfarm.v1.Camera
-	(*Film)(nil),               // 8: renderfarm.v1.Film
-	(*PixelFilter)(nil),        // 9: renderfarm.v1.PixelFilter
-	(*BoxFilter)(nil),          // 10: renderfarm.v1.BoxFilter
-	(*TentFilter)(nil),         // 11: renderfarm.v1.TentFilter
-	(*GaussianFilter)(nil),     // 12: renderfarm.v1.GaussianFilter
-	(*MitchellFilter)(nil),     // 13: renderfarm.v1.MitchellFilter
-	(*Sampling)(nil),           // 14: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),       // 15: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),           // 16: renderfarm.v1.Indirect
-	(*Progressive)(nil),        // 17: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),     // 18: renderfarm.v1.ReferenceImage
-	(*Material)(nil),           // 19: renderfarm.v1.Material
-	(*Lambert)(nil),            // 20: renderfarm.v1.Lambert
-	(*Emissive)(nil),           // 21: renderfarm.v1.Emissive
-	(*Glossy)(nil),             // 22: renderfarm.v1.Glossy
-	(*Mirror)(nil),             // 23: renderfarm.v1.Mirror
-	(*Dielectric)(nil),         // 24: renderfarm.v1.Dielectric
-	(*Conductor)(nil),          // 25: renderfarm.v1.Conductor
-	(*Principled)(nil),         // 26: renderfarm.v1.Principled
-	(*Light)(nil),              // 27: renderfarm.v1.Light
-	(*PointLight)(nil),         // 28: renderfarm.v1.PointLight
-	(*SunLight)(nil),           // 29: renderfarm.v1.SunLight
-	(*SpotLight)(nil),          // 30: renderfarm.v1.SpotLight
-	(*Environment)(nil),        // 31: renderfarm.v1.Environment
-	(*Output)(nil),             // 32: renderfarm.v1.Output
-	(*PhotonMapping)(nil),      // 33: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil),   // 34: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),              // 35: renderfarm.v1.Shape
-	(*Medium)(nil),             // 36: renderfarm.v1.Medium
-	(*MediumCoefficients)(nil), // 37: renderfarm.v1.MediumCoefficients
-	(*MediumAlbedo)(nil),       // 38: renderfarm.v1.MediumAlbedo
-	(*Sphere)(nil),             // 39: renderfarm.v1.Sphere
-	(*Quad)(nil),               // 40: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),       // 41: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),           // 42: renderfarm.v1.MeshFile
-	(*Mesh)(nil),               // 43: renderfarm.v1.Mesh
-	(*Texture)(nil),            // 44: renderfarm.v1.Texture
-	(*Vec3)(nil),               // 45: renderfarm.v1.Vec3
-	(*Color)(nil),              // 46: renderfarm.v1.Color
-	(*TextureRef)(nil),         // 47: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),       // 48: renderfarm.v1.MeshInstance
-	(*Transform)(nil),          // 49: renderfarm.v1.Transform
+	(AdaptiveSampling)(0),      // 0: renderfarm.v1.AdaptiveSampling
+	(SpecularSampling)(0),      // 1: renderfarm.v1.SpecularSampling
+	(AntialiasingMode)(0),      // 2: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),          // 3: renderfarm.v1.IndirectMode
+	(AlphaMode)(0),             // 4: renderfarm.v1.AlphaMode
+	(ToneMap)(0),               // 5: renderfarm.v1.ToneMap
+	(Filter)(0),                // 6: renderfarm.v1.Filter
+	(*Scene)(nil),              // 7: renderfarm.v1.Scene
+	(*Camera)(nil),             // 8: renderfarm.v1.Camera
+	(*Film)(nil),               // 9: renderfarm.v1.Film
+	(*PixelFilter)(nil),        // 10: renderfarm.v1.PixelFilter
+	(*BoxFilter)(nil),          // 11: renderfarm.v1.BoxFilter
+	(*TentFilter)(nil),         // 12: renderfarm.v1.TentFilter
+	(*GaussianFilter)(nil),     // 13: renderfarm.v1.GaussianFilter
+	(*MitchellFilter)(nil),     // 14: renderfarm.v1.MitchellFilter
+	(*Sampling)(nil),           // 15: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),       // 16: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),           // 17: renderfarm.v1.Indirect
+	(*Progressive)(nil),        // 18: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),     // 19: renderfarm.v1.ReferenceImage
+	(*Material)(nil),           // 20: renderfarm.v1.Material
+	(*Lambert)(nil),            // 21: renderfarm.v1.Lambert
+	(*Emissive)(nil),           // 22: renderfarm.v1.Emissive
+	(*Glossy)(nil),             // 23: renderfarm.v1.Glossy
+	(*Mirror)(nil),             // 24: renderfarm.v1.Mirror
+	(*Dielectric)(nil),         // 25: renderfarm.v1.Dielectric
+	(*Conductor)(nil),          // 26: renderfarm.v1.Conductor
+	(*Principled)(nil),         // 27: renderfarm.v1.Principled
+	(*Light)(nil),              // 28: renderfarm.v1.Light
+	(*PointLight)(nil),         // 29: renderfarm.v1.PointLight
+	(*SunLight)(nil),           // 30: renderfarm.v1.SunLight
+	(*SpotLight)(nil),          // 31: renderfarm.v1.SpotLight
+	(*Environment)(nil),        // 32: renderfarm.v1.Environment
+	(*Output)(nil),             // 33: renderfarm.v1.Output
+	(*PhotonMapping)(nil),      // 34: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil),   // 35: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),              // 36: renderfarm.v1.Shape
+	(*Medium)(nil),             // 37: renderfarm.v1.Medium
+	(*MediumCoefficients)(nil), // 38: renderfarm.v1.MediumCoefficients
+	(*MediumAlbedo)(nil),       // 39: renderfarm.v1.MediumAlbedo
+	(*Sphere)(nil),             // 40: renderfarm.v1.Sphere
+	(*Quad)(nil),               // 41: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),       // 42: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),           // 43: renderfarm.v1.MeshFile
+	(*Mesh)(nil),               // 44: renderfarm.v1.Mesh
+	(*Texture)(nil),            // 45: renderfarm.v1.Texture
+	(*Vec3)(nil),               // 46: renderfarm.v1.Vec3
+	(*Color)(nil),              // 47: renderfarm.v1.Color
+	(*TextureRef)(nil),         // 48: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),       // 49: renderfarm.v1.MeshInstance
+	(*Transform)(nil),          // 50: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	7,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	8,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	14, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	19, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	35, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	27, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	33, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	15, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
-	16, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
-	17, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	43, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	44, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
-	31, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
-	32, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	36, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
-	45, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	45, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	45, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	9,  // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
-	10, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
-	11, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
-	12, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
-	13, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
-	0,  // 23: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
-	1,  // 24: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	2,  // 25: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	18, // 26: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	20, // 27: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	21, // 28: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	22, // 29: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	23, // 30: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	24, // 31: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	25, // 32: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	26, // 33: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	46, // 34: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	46, // 35: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	46, // 36: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
-	46, // 37: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	46, // 38: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	46, // 39: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	46, // 40: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	46, // 41: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	46, // 42: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	46, // 43: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	47, // 44: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	47, // 45: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	47, // 46: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	46, // 47: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	47, // 48: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	3,  // 49: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	28, // 50: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	29, // 51: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	30, // 52: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	45, // 53: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	46, // 54: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	45, // 55: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	46, // 56: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	45, // 57: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	45, // 58: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	46, // 59: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	46, // 60: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	47, // 61: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	4,  // 62: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	34, // 63: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	34, // 64: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	5,  // 65: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	39, // 66: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	40, // 67: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	41, // 68: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	42, // 69: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	48, // 70: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	36, // 71: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
-	37, // 72: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
-	38, // 73: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
-	46, // 74: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
-	46, // 75: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
-	46, // 76: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
-	45, // 77: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	45, // 78: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	45, // 79: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	45, // 80: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	45, // 81: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	49, // 82: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	83, // [83:83] is the sub-list for method output_type
-	83, // [83:83] is the sub-list for method input_type
-	83, // [83:83] is the sub-list for extension type_name
-	83, // [83:83] is the sub-list for extension extendee
-	0,  // [0:83] is the sub-list for field type_name
+	8,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	9,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	15, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	20, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	36, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	28, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	34, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	16, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	17, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	18, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	44, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	45, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	32, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	33, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	37, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
+	46, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	46, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	46, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	10, // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
+	11, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
+	12, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
+	13, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
+	14, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
+	1,  // 23: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
+	0,  // 24: renderfarm.v1.Sampling.adaptive:type_name -> renderfarm.v1.AdaptiveSampling
+	2,  // 25: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	3,  // 26: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	19, // 27: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	21, // 28: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	22, // 29: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	23, // 30: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	24, // 31: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	25, // 32: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	26, // 33: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	27, // 34: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	47, // 35: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	47, // 36: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	47, // 37: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	47, // 38: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	47, // 39: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	47, // 40: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	47, // 41: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	47, // 42: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	47, // 43: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	47, // 44: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	48, // 45: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	48, // 46: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	48, // 47: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	47, // 48: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	48, // 49: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	4,  // 50: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	29, // 51: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	30, // 52: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	31, // 53: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	46, // 54: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	47, // 55: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	46, // 56: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	47, // 57: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	46, // 58: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	46, // 59: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	47, // 60: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	47, // 61: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	48, // 62: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	5,  // 63: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	35, // 64: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	35, // 65: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	6,  // 66: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	40, // 67: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	41, // 68: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	42, // 69: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	43, // 70: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	49, // 71: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	37, // 72: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
+	38, // 73: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
+	39, // 74: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
+	47, // 75: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
+	47, // 76: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
+	47, // 77: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
+	46, // 78: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	46, // 79: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	46, // 80: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	46, // 81: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	46, // 82: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	50, // 83: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	84, // [84:84] is the sub-list for method output_type
+	84, // [84:84] is the sub-list for method input_type
+	84, // [84:84] is the sub-list for extension type_name
+	84, // [84:84] is the sub-list for extension extendee
+	0,  // [0:84] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -3612,7 +3684,7 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      6,
+			NumEnums:      7,
 			NumMessages:   37,
 			NumExtensions: 0,
 			NumServices:   0,

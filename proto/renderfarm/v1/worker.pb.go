@@ -667,8 +667,11 @@ type RoundMetrics struct {
 	// RMSE of each light layer ("direct", "indirect", "caustic") that both the image and the
 	// reference have, against the reference's.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,3,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
-	unknownFields      protoimpl.UnknownFields
-	sizeCache          protoimpl.SizeCache
+	// Where the camera samples went (absent from a composite whose tiles have no samples
+	// layer).
+	Samples       *SampleSpread `protobuf:"bytes,4,opt,name=samples,proto3" json:"samples,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
 }
 
 func (x *RoundMetrics) Reset() {
@@ -718,6 +721,13 @@ func (x *RoundMetrics) GetReferenceRmse() float64 {
 func (x *RoundMetrics) GetLayerReferenceRmse() map[string]float64 {
 	if x != nil {
 		return x.LayerReferenceRmse
+	}
+	return nil
+}
+
+func (x *RoundMetrics) GetSamples() *SampleSpread {
+	if x != nil {
+		return x.Samples
 	}
 	return nil
 }
@@ -1093,11 +1103,12 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\vTileSamples\x12\x18\n" +
 	"\asamples\x18\x01 \x01(\x04R\asamples\x12\x1c\n" +
 	"\tnonfinite\x18\x02 \x01(\x04R\tnonfinite\x12\x12\n" +
-	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xba\x02\n" +
+	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xf1\x02\n" +
 	"\fRoundMetrics\x12*\n" +
 	"\x0eerror_estimate\x18\x01 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
 	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12e\n" +
-	"\x14layer_reference_rmse\x18\x03 \x03(\v23.renderfarm.v1.RoundMetrics.LayerReferenceRmseEntryR\x12layerReferenceRmse\x1aE\n" +
+	"\x14layer_reference_rmse\x18\x03 \x03(\v23.renderfarm.v1.RoundMetrics.LayerReferenceRmseEntryR\x12layerReferenceRmse\x125\n" +
+	"\asamples\x18\x04 \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x1aE\n" +
 	"\x17LayerReferenceRmseEntry\x12\x10\n" +
 	"\x03key\x18\x01 \x01(\tR\x03key\x12\x14\n" +
 	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
@@ -1165,7 +1176,8 @@ var file_renderfarm_v1_worker_proto_goTypes = []any{
 	(*timestamppb.Timestamp)(nil),    // 20: google.protobuf.Timestamp
 	(*Task)(nil),                     // 21: renderfarm.v1.Task
 	(*Artifact)(nil),                 // 22: renderfarm.v1.Artifact
-	(FailureKind)(0),                 // 23: renderfarm.v1.FailureKind
+	(*SampleSpread)(nil),             // 23: renderfarm.v1.SampleSpread
+	(FailureKind)(0),                 // 24: renderfarm.v1.FailureKind
 }
 var file_renderfarm_v1_worker_proto_depIdxs = []int32{
 	19, // 0: renderfarm.v1.RegisterWorkerResponse.heartbeat_interval:type_name -> google.protobuf.Duration
@@ -1181,26 +1193,27 @@ var file_renderfarm_v1_worker_proto_depIdxs = []int32{
 	10, // 10: renderfarm.v1.CompleteTaskRequest.metrics:type_name -> renderfarm.v1.RoundMetrics
 	9,  // 11: renderfarm.v1.CompleteTaskRequest.samples:type_name -> renderfarm.v1.TileSamples
 	18, // 12: renderfarm.v1.RoundMetrics.layer_reference_rmse:type_name -> renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
-	23, // 13: renderfarm.v1.FailTaskRequest.kind:type_name -> renderfarm.v1.FailureKind
-	0,  // 14: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
-	4,  // 15: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
-	6,  // 16: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
-	8,  // 17: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
-	12, // 18: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
-	14, // 19: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
-	16, // 20: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
-	1,  // 21: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
-	5,  // 22: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
-	7,  // 23: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
-	11, // 24: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
-	13, // 25: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
-	15, // 26: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
-	17, // 27: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
-	21, // [21:28] is the sub-list for method output_type
-	14, // [14:21] is the sub-list for method input_type
-	14, // [14:14] is the sub-list for extension type_name
-	14, // [14:14] is the sub-list for extension extendee
-	0,  // [0:14] is the sub-list for field type_name
+	23, // 13: renderfarm.v1.RoundMetrics.samples:type_name -> renderfarm.v1.SampleSpread
+	24, // 14: renderfarm.v1.FailTaskRequest.kind:type_name -> renderfarm.v1.FailureKind
+	0,  // 15: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
+	4,  // 16: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
+	6,  // 17: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
+	8,  // 18: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
+	12, // 19: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
+	14, // 20: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
+	16, // 21: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
+	1,  // 22: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
+	5,  // 23: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
+	7,  // 24: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
+	11, // 25: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
+	13, // 26: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
+	15, // 27: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
+	17, // 28: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
+	22, // [22:29] is the sub-list for method output_type
+	15, // [15:22] is the sub-list for method input_type
+	15, // [15:15] is the sub-list for extension type_name
+	15, // [15:15] is the sub-list for extension extendee
+	0,  // [0:15] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_worker_proto_init() }

@@ -19,6 +19,7 @@ export const ARTIFACT = {
     IMAGE_EXR: "image.exr",
     PREVIEW_PNG: "preview.png",
     ACCUMULATION_EXR: "accumulation.exr",
+    SAMPLE_MAP: "samples.map",
 };
 /** How each failure kind is shown and treated (failure_info): a permanent kind fails the job at once; one that blames the worker counts toward its blocklist. */
 export const FAILURE_KINDS = {

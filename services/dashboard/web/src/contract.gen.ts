@@ -31,6 +31,7 @@ export const ARTIFACT = {
   IMAGE_EXR: "image.exr",
   PREVIEW_PNG: "preview.png",
   ACCUMULATION_EXR: "accumulation.exr",
+  SAMPLE_MAP: "samples.map",
 } as const;
 
 /** Why a task or job failed (rules.proto), as protojson names it. */

@@ -194,6 +194,7 @@ var accepted = slices.Concat(acceptedFilters, acceptedMedia, []vectorCase{
 	accept("accept-edge-threshold-0", "Antialiasing.edge_threshold:gte= Antialiasing.edge_threshold:default", func(s *pb.Scene) { s.Antialiasing.EdgeThreshold = 0 }),
 	accept("accept-indirect-mode-unset", "Indirect.mode:default", func(s *pb.Scene) { s.Indirect.Mode = 0 }),
 	accept("accept-specular-sampling-unset", "Sampling.specular:default", func(s *pb.Scene) { s.Sampling.Specular = 0 }),
+	accept("accept-adaptive-sampling-unset", "Sampling.adaptive:default", func(s *pb.Scene) { s.Sampling.Adaptive = 0 }),
 	accept("accept-gather-rays-4096", "Indirect.gather_rays:lte=", func(s *pb.Scene) { s.Indirect.GatherRays = 4096 }),
 	accept("accept-gather-rays-0", "Indirect.gather_rays:default", func(s *pb.Scene) { s.Indirect.GatherRays = 0 }),
 	accept("accept-secondary-gather-rays-4096", "Indirect.secondary_gather_rays:lte=", func(s *pb.Scene) { s.Indirect.SecondaryGatherRays = 4096 }),
