@@ -99,13 +99,19 @@ const browser = await chromium.launch({
 const context = await browser.newContext({ viewport: { width: 1280, height: 900 } });
 const pages = [];
 const browserLog = [];
+const dialogs = [];
+let dismissDialogs = false;
 async function newPage() {
   const p = await context.newPage();
   const n = pages.push(p);
   p.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') browserLog.push(`page ${n} console.${m.type()}: ${m.text()}`); });
   p.on('pageerror', (e) => browserLog.push(`page ${n} uncaught: ${e.message}`));
   p.on('response', (r) => { if (r.status() >= 400) browserLog.push(`page ${n} HTTP ${r.status()} ${r.request().method()} ${r.url()}`); });
-  p.on('dialog', (d) => d.accept()); // a "really cancel?" confirm
+  // A "really cancel?" confirm: recorded, and accepted unless a step said to dismiss it.
+  p.on('dialog', (d) => {
+    dialogs.push({ page: n, type: d.type(), message: d.message() });
+    return dismissDialogs ? d.dismiss() : d.accept();
+  });
   return p;
 }
 
@@ -412,8 +418,23 @@ try {
   await step('the long job keeps a worker busy', () =>
     waitFor('a busy worker', 60000, async () => (await workers(list)).some((w) => norm(w.state) === 'busy' && w.currentTaskId),
       () => workers(list)));
-  const cancelledAt = await step('cancel-button cancels it', async () => {
+  await step('cancel-button asks first: dismissed, the job runs on', async () => {
+    dismissDialogs = true;
+    const before = dialogs.length;
     await jobPage.locator(tid('cancel-button')).click({ timeout: 15000 });
+    await waitFor('a confirm dialog', 5000, () => dialogs.length > before);
+    dismissDialogs = false;
+    const d = dialogs[dialogs.length - 1];
+    check(d.type === 'confirm' && d.message.includes(longScene.name), `dialog ${JSON.stringify(d)}: want a confirm naming ${longScene.name}`);
+    await sleep(1000);
+    const r = await list.request.get(api(`/api/jobs/${longId}`));
+    const state = norm((await r.json())?.job?.state);
+    check(!ended(state), `the dismissed cancel still ended the job: ${state}`);
+  });
+  const cancelledAt = await step('cancel-button cancels it once confirmed', async () => {
+    const before = dialogs.length;
+    await jobPage.locator(tid('cancel-button')).click({ timeout: 15000 });
+    check(dialogs.length > before, 'the cancel did not ask first');
     await waitFor('job-state to say cancelled', 10000, async () =>
       /cancel/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
     () => jobPage.locator(tid('job-state')).first().innerText());

@@ -138,6 +138,8 @@ export function jobPage(id: string): Page {
     }
   });
   cancelButton.addEventListener("click", async () => {
+    const name = job?.displayName || id;
+    if (!window.confirm(`Cancel the job ${name}? Its running tasks stop, and a cancelled job cannot be resumed.`)) return;
     cancelButton.disabled = true;
     try {
       const res = await api.cancel(id);
