@@ -216,6 +216,7 @@ func (j *jobServer) SetJobPriority(ctx context.Context, req *pb.SetJobPriorityRe
 		return nil, err
 	}
 	j.s.log.Info("job priority set", "job", req.GetJobId(), "priority", req.GetPriority())
+	j.s.publish(c)
 	return &pb.SetJobPriorityResponse{Job: c.Job}, nil
 }
 

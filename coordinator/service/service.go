@@ -187,6 +187,9 @@ func (s *Service) publish(c store.Change) {
 		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_STATE_CHANGED, Time: now, Job: c.Job})
 		s.log.Info("job state changed", "job", c.Job.GetId(), "state", c.Job.GetState().String(), "error", c.Job.GetError())
 	}
+	if c.Task == nil && !c.JobStateChanged {
+		s.cfg.Events.Publish(&pb.WatchJobResponse{Kind: pb.JobEventKind_JOB_EVENT_KIND_JOB_UPDATED, Time: now, Job: c.Job})
+	}
 	if rt := c.Task.GetRetryTime(); rt != nil {
 		// Waiting workers set their timers anew (Lease) and so wake when it may be leased.
 		s.retries.add(rt.AsTime())

@@ -95,3 +95,18 @@ func (s *Server) setPriority(w http.ResponseWriter, r *http.Request) {
 		return jobAnswer(s.jobs.SetJobPriority(ctx, &pb.SetJobPriorityRequest{JobId: r.PathValue("id"), Priority: int32(p)}))
 	})
 }
+
+// unblock takes a worker off a job's blocklist from {"workerId": "w-..."}; an empty or
+// missing workerId unblocks every worker of the job, as UnblockWorker does.
+func (s *Server) unblock(w http.ResponseWriter, r *http.Request) {
+	var body struct {
+		WorkerID string `json:"workerId"`
+	}
+	if err := json.NewDecoder(r.Body).Decode(&body); err != nil {
+		s.writeError(w, r, errorf(http.StatusBadRequest, "want a JSON body {\"workerId\": \"...\"}: "+err.Error()))
+		return
+	}
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		return jobAnswer(s.jobs.UnblockWorker(ctx, &pb.UnblockWorkerRequest{JobId: r.PathValue("id"), WorkerId: body.WorkerID}))
+	})
+}

@@ -130,6 +130,7 @@ func (s *Server) routes() {
 	m.HandleFunc("POST /api/jobs", s.jsonPost(MaxSceneBody, s.signedIn(s.submit)))
 	m.HandleFunc("POST /api/jobs/{id}/cancel", s.jsonPost(MaxSmallBody, s.cancel))
 	m.HandleFunc("POST /api/jobs/{id}/priority", s.jsonPost(MaxSmallBody, s.setPriority))
+	m.HandleFunc("POST /api/jobs/{id}/unblock", s.jsonPost(MaxSmallBody, s.unblock))
 
 	// Anything else under /api/ is a JSON 404 (or 405), never the front end's page.
 	m.HandleFunc("/api/", func(w http.ResponseWriter, r *http.Request) {

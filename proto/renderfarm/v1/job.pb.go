@@ -333,6 +333,9 @@ const (
 	JobEventKind_JOB_EVENT_KIND_STATE_CHANGED JobEventKind = 2
 	// A task was leased, succeeded, failed, or went back to the queue.
 	JobEventKind_JOB_EVENT_KIND_TASK_UPDATED JobEventKind = 3
+	// The job changed and neither its state nor a task did: its blocklist (UnblockWorker)
+	// or its priority, so that watchers (every open dashboard page) see it at once.
+	JobEventKind_JOB_EVENT_KIND_JOB_UPDATED JobEventKind = 4
 )
 
 // Enum value maps for JobEventKind.
@@ -342,12 +345,14 @@ var (
 		1: "JOB_EVENT_KIND_SNAPSHOT",
 		2: "JOB_EVENT_KIND_STATE_CHANGED",
 		3: "JOB_EVENT_KIND_TASK_UPDATED",
+		4: "JOB_EVENT_KIND_JOB_UPDATED",
 	}
 	JobEventKind_value = map[string]int32{
 		"JOB_EVENT_KIND_UNSPECIFIED":   0,
 		"JOB_EVENT_KIND_SNAPSHOT":      1,
 		"JOB_EVENT_KIND_STATE_CHANGED": 2,
 		"JOB_EVENT_KIND_TASK_UPDATED":  3,
+		"JOB_EVENT_KIND_JOB_UPDATED":   4,
 	}
 )
 
@@ -3283,12 +3288,13 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x18WORKER_STATE_UNSPECIFIED\x10\x00\x12\x15\n" +
 	"\x11WORKER_STATE_IDLE\x10\x01\x12\x15\n" +
 	"\x11WORKER_STATE_BUSY\x10\x02\x12\x15\n" +
-	"\x11WORKER_STATE_LOST\x10\x03*\x8e\x01\n" +
+	"\x11WORKER_STATE_LOST\x10\x03*\xae\x01\n" +
 	"\fJobEventKind\x12\x1e\n" +
 	"\x1aJOB_EVENT_KIND_UNSPECIFIED\x10\x00\x12\x1b\n" +
 	"\x17JOB_EVENT_KIND_SNAPSHOT\x10\x01\x12 \n" +
 	"\x1cJOB_EVENT_KIND_STATE_CHANGED\x10\x02\x12\x1f\n" +
-	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x032\xc0\x06\n" +
+	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x03\x12\x1e\n" +
+	"\x1aJOB_EVENT_KIND_JOB_UPDATED\x10\x042\xc0\x06\n" +
 	"\n" +
 	"JobService\x12N\n" +
 	"\tSubmitJob\x12\x1f.renderfarm.v1.SubmitJobRequest\x1a .renderfarm.v1.SubmitJobResponse\x12E\n" +

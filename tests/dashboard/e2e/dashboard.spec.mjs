@@ -17,6 +17,9 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
 import { startCrossOriginSite } from './cross-origin.mjs';
+import {
+  WORKER_LAYERS, canvasPixels, compareExposure, hashPixels, nearestNeighbourMismatches, normalLengths, setExposure, setLayer, setZoom,
+} from './viewer.mjs';
 
 const env = (name, fallback) => {
   const v = process.env[name] ?? fallback;
@@ -96,13 +99,19 @@ const browser = await chromium.launch({
 const context = await browser.newContext({ viewport: { width: 1280, height: 900 } });
 const pages = [];
 const browserLog = [];
+const dialogs = [];
+let dismissDialogs = false;
 async function newPage() {
   const p = await context.newPage();
   const n = pages.push(p);
   p.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') browserLog.push(`page ${n} console.${m.type()}: ${m.text()}`); });
   p.on('pageerror', (e) => browserLog.push(`page ${n} uncaught: ${e.message}`));
   p.on('response', (r) => { if (r.status() >= 400) browserLog.push(`page ${n} HTTP ${r.status()} ${r.request().method()} ${r.url()}`); });
-  p.on('dialog', (d) => d.accept()); // a "really cancel?" confirm
+  // A "really cancel?" confirm: recorded, and accepted unless a step said to dismiss it.
+  p.on('dialog', (d) => {
+    dialogs.push({ page: n, type: d.type(), message: d.message() });
+    return dismissDialogs ? d.dismiss() : d.accept();
+  });
   return p;
 }
 
@@ -304,16 +313,89 @@ try {
 
   // (f) The final image.
   await step('the final image shows once the job succeeded', async () => {
-    const img = jobPage.locator(tid('final-image'));
-    await img.waitFor({ state: 'visible', timeout: 15000 });
-    const size = await waitFor('final-image to load', 15000, () =>
-      img.evaluate((el) => (el.complete && el.naturalWidth > 0 ? [el.naturalWidth, el.naturalHeight] : null)));
+    const canvas = jobPage.locator(tid('final-canvas'));
+    await canvas.waitFor({ state: 'visible', timeout: 15000 });
+    const size = await waitFor('final-canvas to draw image.exr', 15000, () =>
+      canvas.evaluate((el) => (el.dataset.layer ? [el.width, el.height] : null)),
+    () => jobPage.locator(tid('viewer-status')).innerText());
     check(size[0] === scene.film.width && size[1] === scene.film.height,
-      `final-image is ${size[0]}x${size[1]}, want ${scene.film.width}x${scene.film.height}`);
+      `final-canvas is ${size[0]}x${size[1]}, want ${scene.film.width}x${scene.film.height}`);
     await waitFor('job-state to say succeeded', 10000, async () =>
       /succeeded/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
     () => jobPage.locator(tid('job-state')).first().innerText());
     check(!(await jobPage.locator(tid('failure-banner')).isVisible()), 'a succeeded job shows a failure banner');
+  });
+
+  // (f2) The viewer's controls: exposure, layers, zoom (viewer.mjs).
+  await step('the exposure slider scales the shown pixels by 2^EV in linear light', async () => {
+    const at0 = await canvasPixels(jobPage);
+    for (const ev of [2, -1]) {
+      await setExposure(jobPage, ev);
+      const shown = await canvasPixels(jobPage);
+      check(hashPixels(shown) !== hashPixels(at0), `the canvas did not change at ${ev} EV`);
+      const { compared, wrong } = compareExposure(at0, shown, ev);
+      check(compared > 1000 && wrong === 0, `at ${ev} EV, ${wrong} of ${compared} unclipped channels are not 2^${ev} times those at 0 EV`);
+      console.log(`             ${ev} EV: ${compared} channels are 2^${ev} times their 0 EV value`);
+    }
+    await setExposure(jobPage, 0);
+    check(hashPixels(await canvasPixels(jobPage)) === hashPixels(at0), 'back at 0 EV the canvas is not what it was');
+  });
+
+  await step('the layer switcher shows each of the EXR\'s layers, each different', async () => {
+    const names = await jobPage.locator(`${tid('layer-select')} option`).evaluateAll((os) => os.map((o) => o.value));
+    check(JSON.stringify(names) === JSON.stringify(WORKER_LAYERS), `layers ${names}, want ${WORKER_LAYERS}`);
+    // The scene's materials are all Lambertian (no specular path: the caustic layer is 0),
+    // and its edge pixels' samples (edge_samples, 12 by default) are no more than every
+    // pixel's, so no pixel is supersampled (the edge mask is 0); every other layer has light.
+    const ZERO_LAYERS = ['caustic', 'edge'];
+    check(scene.materials.every((m) => m.lambert || m.emissive) &&
+      (scene.antialiasing?.edgeSamples ?? 12) <= scene.sampling.samplesPerPixel,
+    'the scene now has specular materials or edge supersampling: update ZERO_LAYERS');
+    const seen = new Map();
+    for (const name of names) {
+      await setLayer(jobPage, name);
+      check(await jobPage.locator(tid('final-canvas')).getAttribute('data-layer') === name, `the canvas does not show ${name}`);
+      const px = await canvasPixels(jobPage);
+      const black = px.every((v, i) => i % 4 === 3 || v === 0);
+      if (ZERO_LAYERS.includes(name)) {
+        check(black, `layer ${name} is not black, but the scene makes it zero`);
+        continue;
+      }
+      check(!black, `layer ${name} is all black`);
+      const h = hashPixels(px);
+      check(!seen.has(h), `layer ${name} shows the same pixels as ${seen.get(h)}`);
+      seen.set(h, name);
+      if (name === 'normal') {
+        const { surface, unit } = normalLengths(px);
+        check(surface > 1000 && unit / surface > 0.95, `normal layer: ${unit} of ${surface} surface pixels decode to unit vectors`);
+        console.log(`             normal: ${unit} of ${surface} surface pixels are unit vectors`);
+      }
+      if (name === 'depth') {
+        const grey = px.every((v, i) => i % 4 === 3 || v === px[i - (i % 4)]);
+        const max = px.reduce((m, v, i) => (i % 4 === 3 ? m : Math.max(m, v)), 0);
+        check(grey && max === 255, `depth layer: grey ${grey}, brightest ${max} (want grey, the farthest pixel 255)`);
+      }
+    }
+    await setLayer(jobPage, 'beauty');
+  });
+
+  await step('zoom 1:1 shows one image pixel per CSS pixel, 2x and 4x square pixels without smoothing', async () => {
+    const canvas = jobPage.locator(tid('final-canvas'));
+    for (const z of [1, 2, 4]) {
+      await setZoom(jobPage, String(z));
+      const box = await canvas.evaluate((el) => [el.getBoundingClientRect().width, el.getBoundingClientRect().height]);
+      check(box[0] === scene.film.width * z && box[1] === scene.film.height * z,
+        `zoom ${z}: the canvas is ${box[0]}x${box[1]} CSS pixels, want ${scene.film.width * z}x${scene.film.height * z}`);
+    }
+    await setZoom(jobPage, '2');
+    await canvas.scrollIntoViewIfNeeded();
+    const shown = await canvas.screenshot();
+    const blank = await context.newPage();
+    const { checked, bad, width, height, shift } = await nearestNeighbourMismatches(blank, shown, await canvasPixels(jobPage), scene.film.width, 2);
+    await blank.close();
+    check(checked > 10000 && bad === 0, `zoom 2: ${bad} of ${checked} screen pixels (of ${width}x${height}) are not their image pixel's colour`);
+    console.log(`             zoom 2: ${checked} screen pixels of ${width}x${height} (shifted ${shift}) match their image pixel`);
+    await setZoom(jobPage, 'fit');
   });
 
   // (h) The job page, for people to look at.
@@ -336,8 +418,23 @@ try {
   await step('the long job keeps a worker busy', () =>
     waitFor('a busy worker', 60000, async () => (await workers(list)).some((w) => norm(w.state) === 'busy' && w.currentTaskId),
       () => workers(list)));
-  const cancelledAt = await step('cancel-button cancels it', async () => {
+  await step('cancel-button asks first: dismissed, the job runs on', async () => {
+    dismissDialogs = true;
+    const before = dialogs.length;
     await jobPage.locator(tid('cancel-button')).click({ timeout: 15000 });
+    await waitFor('a confirm dialog', 5000, () => dialogs.length > before);
+    dismissDialogs = false;
+    const d = dialogs[dialogs.length - 1];
+    check(d.type === 'confirm' && d.message.includes(longScene.name), `dialog ${JSON.stringify(d)}: want a confirm naming ${longScene.name}`);
+    await sleep(1000);
+    const r = await list.request.get(api(`/api/jobs/${longId}`));
+    const state = norm((await r.json())?.job?.state);
+    check(!ended(state), `the dismissed cancel still ended the job: ${state}`);
+  });
+  const cancelledAt = await step('cancel-button cancels it once confirmed', async () => {
+    const before = dialogs.length;
+    await jobPage.locator(tid('cancel-button')).click({ timeout: 15000 });
+    check(dialogs.length > before, 'the cancel did not ask first');
     await waitFor('job-state to say cancelled', 10000, async () =>
       /cancel/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
     () => jobPage.locator(tid('job-state')).first().innerText());

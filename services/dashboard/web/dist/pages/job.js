@@ -1,5 +1,5 @@
 // One job (#/jobs/{id}): header and actions (priority, cancel), progress figures, the live
-// tile mosaic, phases, plan, error chart, final image, blocked workers and the task table,
+// tile mosaic, phases, plan, error chart, final image (components/viewer.ts), blocked workers and the task table,
 // live from /api/jobs/{id}/events. The server sends the job with the first page of its
 // tasks; the page reads the next pages itself (/api/jobs/{id}/tasks), by itself up to
 // AUTO_LOAD_TASKS and then a page per "Show more", so a job of 95,000 tasks is never
@@ -7,6 +7,7 @@
 import { ApiError, LiveStream, api, blobUrl } from "../api.js";
 import { ErrorChart } from "../components/chart.js";
 import { Mosaic } from "../components/mosaic.js";
+import { ImageViewer } from "../components/viewer.js";
 import { PhaseList } from "../components/phases.js";
 import { DataTable } from "../components/table.js";
 import { badge, badgeCell, progressBar, timeElement, updateBadge, updateProgressBar } from "../components/widgets.js";
@@ -39,13 +40,6 @@ function card(title, ...children) {
 function stat(label) {
     const value = h("dd", { class: "stat__value" }, "—");
     return { element: h("div", { class: "stat" }, h("dt", { class: "stat__label" }, label), value), value };
-}
-/** The final image; sized by CSSOM (the server's CSP forbids inline style attributes). */
-function finalImg(src, alt, job) {
-    const img = h("img", { src, alt, class: "final__image", "data-testid": "final-image" });
-    if (job.width && job.height)
-        img.style.aspectRatio = `${job.width} / ${job.height}`;
-    return img;
 }
 export function jobPage(id) {
     let job = null;
@@ -111,6 +105,9 @@ export function jobPage(id) {
         }
     });
     cancelButton.addEventListener("click", async () => {
+        const name = job?.displayName || id;
+        if (!window.confirm(`Cancel the job ${name}? Its running tasks stop, and a cancelled job cannot be resumed.`))
+            return;
         cancelButton.disabled = true;
         try {
             const res = await api.cancel(id);
@@ -134,6 +131,7 @@ export function jobPage(id) {
     const stats = h("dl", { class: "stats" }, h("div", { class: "stat stat--wide" }, h("dt", { class: "stat__label" }, "Progress"), h("dd", { class: "stat__value" }, progress)), sRound.element, sElapsed.element, sEta.element, sPhotons.element, sSpp.element, sError.element, sRef.element);
     // ---- image, phases, plan, chart, workers
     const mosaic = new Mosaic();
+    const viewer = new ImageViewer();
     const finalImage = h("div", { class: "final", hidden: true });
     const finalCard = card("Final image", finalImage);
     finalCard.hidden = true;
@@ -323,14 +321,13 @@ export function jobPage(id) {
         const fs = `${preview?.digest}|${exr?.digest}`;
         if (fs !== finalSig) {
             finalSig = fs;
-            finalCard.hidden = !preview;
-            finalImage.hidden = !preview;
-            finalImage.replaceChildren(...(preview?.digest
-                ? [
-                    finalImg(blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), `Final render of ${name}`, j),
-                    h("p", { class: "final__links" }, h("a", { href: blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), download: `${name}.png`, class: "button" }, "Download PNG"), exr?.digest ? h("a", { href: blobUrl(exr.digest, ARTIFACT.IMAGE_EXR), download: `${name}.exr`, class: "button" }, "Download EXR") : null),
-                ]
-                : []));
+            const shown = Boolean(preview?.digest && exr?.digest);
+            finalCard.hidden = !shown;
+            finalImage.hidden = !shown;
+            if (shown) {
+                void viewer.load(blobUrl(exr.digest, ARTIFACT.IMAGE_EXR));
+                finalImage.replaceChildren(viewer.element, h("p", { class: "final__links" }, h("a", { href: blobUrl(preview.digest, ARTIFACT.PREVIEW_PNG), download: `${name}.png`, class: "button" }, "Download PNG"), h("a", { href: blobUrl(exr.digest, ARTIFACT.IMAGE_EXR), download: `${name}.exr`, class: "button" }, "Download EXR")));
+            }
         }
     }
     function renderTasks() {
