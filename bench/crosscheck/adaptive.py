@@ -60,7 +60,7 @@ def main():
     ap.add_argument("out", type=Path)
     ap.add_argument("--size", type=int, default=128)
     ap.add_argument("--rounds", type=int, default=16)
-    ap.add_argument("--reference-spp", type=int, default=4096)
+    ap.add_argument("--reference-spp", type=int, default=16384)
     args = ap.parse_args()
     build, out = args.build.resolve(), args.out.resolve()
     src = HERE.parent.parent / "scenes" / "cornell-caustics.json"

@@ -236,7 +236,7 @@ def main():
     ap.add_argument("build", type=Path)
     ap.add_argument("out", type=Path)
     ap.add_argument("--size", type=int, default=128)
-    ap.add_argument("--reference-spp", type=int, default=4096)
+    ap.add_argument("--reference-spp", type=int, default=16384)
     ap.add_argument("--rounds", default="9,50", help="the two round counts compared")
     ap.add_argument("--seconds", default="3,10,60", help="the equal-time budgets; empty for none")
     ap.add_argument("--only", choices=SCENES)
