@@ -284,14 +284,15 @@ func (c *Client) downloadFile(ctx context.Context, a *pb.Artifact, path string) 
 	return os.Rename(tmp.Name(), path)
 }
 
-// RoundError is the error a round reports: its RMSE against the reference if it has one,
-// else the estimate from the spread between rounds; ok is false if it has neither.
-func RoundError(r *pb.RoundReport) (float64, bool) {
+// RoundError is the error a round reports and what it is called: its RMSE against the
+// reference if it has one ("reference RMSE"), else its "estimated error" (an estimate, and
+// named so wherever it is shown); ok is false if it has neither.
+func RoundError(r *pb.RoundReport) (label string, value float64, ok bool) {
 	switch {
 	case r.ReferenceRmse != nil:
-		return r.GetReferenceRmse(), true
+		return "reference RMSE", r.GetReferenceRmse(), true
 	case r.ErrorEstimate != nil:
-		return r.GetErrorEstimate(), true
+		return "estimated error", r.GetErrorEstimate(), true
 	}
-	return 0, false
+	return "", 0, false
 }

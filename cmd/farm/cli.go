@@ -406,8 +406,8 @@ and reference files it names. Prints "SCENE: ok" per file; the first invalid one
 it with exit status 2. No coordinator is needed.
 `,
 	"report": `Prints a job's progressive rounds as a table: seconds since the job was submitted,
-photon paths and samples per pixel so far, the error estimated from the spread between
-rounds (from round 2 on) and the RMSE against the scene's reference image (if it names
+photon paths and samples per pixel so far, the estimated error (from round 2 on; an
+estimate the renderer makes without a reference) and the RMSE against the scene's reference image (if it names
 one). With -o FILE.svg it also writes the error-against-time chart (log-log axes, one
 marker per round and error kind).
 `,

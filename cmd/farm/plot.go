@@ -13,9 +13,9 @@ import (
 
 // The error-against-time chart of `farm report -o FILE.svg`: a hand-written SVG (no
 // script) with log-log axes, decade grid lines, one marker per round for each error the
-// rounds report (the estimate from the spread between rounds, and the RMSE against the
-// reference when the job has one), a legend, and a tooltip (<title>) on each marker.
-// Rounds without a given error (round 1 has no spread estimate) have no marker in that
+// rounds report (the estimated error, and the RMSE against the reference when the job has
+// one), a legend, and a tooltip (<title>) on each marker naming which of the two it is.
+// Rounds without a given error (round 1 has no estimate) have no marker in that
 // series; the table lists every round.
 
 const (
@@ -42,7 +42,7 @@ type point struct {
 // seriesOf splits the rounds into the estimate and the reference series, keeping only
 // points a log axis can show.
 func seriesOf(rounds []*pb.RoundReport) []series {
-	est := series{name: "error estimate (spread between rounds)", color: colorEstimate, marker: "circle"}
+	est := series{name: "estimated error", color: colorEstimate, marker: "circle"}
 	ref := series{name: "RMSE against the reference", color: colorReference, marker: "square"}
 	for _, r := range rounds {
 		p := point{round: r.GetRound(), time: r.GetElapsedSeconds(), photons: r.GetPhotons(), samplesPer: r.GetSamplesPerPixel()}
@@ -172,7 +172,7 @@ func writePlot(w io.Writer, title string, rounds []*pb.RoundReport) error {
 		fmt.Fprintf(&b, `<polyline points="%s" fill="none" stroke-width="2"/>`+"\n", strings.Join(path, " "))
 		for _, p := range s.points {
 			x, y := xa.pos(p.time), ya.pos(p.err)
-			tip := fmt.Sprintf("round %d: %.3g s, RMSE %.4g, %d photon paths, %d samples per pixel", p.round, p.time, p.err, p.photons, p.samplesPer)
+			tip := fmt.Sprintf("round %d: %.3g s, %s %.4g, %d photon paths, %d samples per pixel", p.round, p.time, s.name, p.err, p.photons, p.samplesPer)
 			if s.marker == "square" {
 				fmt.Fprintf(&b, `<rect class="point" data-round="%d" x="%s" y="%s" width="8" height="8"><title>%s</title></rect>`+"\n",
 					p.round, f1(x-4), f1(y-4), html.EscapeString(tip))

@@ -157,8 +157,8 @@ func (p *progress) roundLabel() string {
 		label += fmt.Sprintf("/%d", p.frac.rounds)
 	}
 	if len(rounds) > 0 {
-		if e, ok := client.RoundError(rounds[len(rounds)-1]); ok {
-			label += fmt.Sprintf(" (error %.3g)", e)
+		if name, e, ok := client.RoundError(rounds[len(rounds)-1]); ok {
+			label += fmt.Sprintf(" (%s %.3g)", name, e)
 		}
 	}
 	return label + " "

@@ -62,7 +62,7 @@ func printReport(w io.Writer, job *pb.Job) {
 		}
 	}
 	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', tabwriter.AlignRight)
-	fmt.Fprint(tw, "round\tseconds\tphotons\tsamples/px\terror estimate\treference RMSE\t")
+	fmt.Fprint(tw, "round\tseconds\tphotons\tsamples/px\testimated error\treference RMSE\t")
 	for _, l := range layers {
 		fmt.Fprintf(tw, "%s RMSE\t", l)
 	}

@@ -74,11 +74,11 @@ func TestPlotIsWellFormedWithOnePointPerRound(t *testing.T) {
 		wantSeries map[string]int
 	}{
 		{"estimate and reference", rounds(5, true, true), map[string]int{
-			"error estimate (spread between rounds)": 5, "RMSE against the reference": 5}},
-		{"estimate only", rounds(4, true, false), map[string]int{"error estimate (spread between rounds)": 4}},
+			"estimated error": 5, "RMSE against the reference": 5}},
+		{"estimate only", rounds(4, true, false), map[string]int{"estimated error": 4}},
 		{"one round", rounds(1, false, true), map[string]int{"RMSE against the reference": 1}},
 		{"no error yet", rounds(1, false, false), map[string]int{}},
-		{"title to escape", rounds(2, true, false), map[string]int{"error estimate (spread between rounds)": 2}},
+		{"title to escape", rounds(2, true, false), map[string]int{"estimated error": 2}},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
@@ -120,7 +120,7 @@ func TestReportTable(t *testing.T) {
 	if len(lines) != 5 {
 		t.Fatalf("report = %q, want a title, a header and 3 rounds", b.String())
 	}
-	if !strings.Contains(lines[0], "succeeded, 3 rounds") || !strings.Contains(lines[1], "error estimate") {
+	if !strings.Contains(lines[0], "succeeded, 3 rounds") || !strings.Contains(lines[1], "estimated error") {
 		t.Errorf("head = %q", lines[:2])
 	}
 	if f := strings.Fields(lines[3]); len(f) != 6 || f[0] != "2" || f[1] != "5.00" || f[2] != "800,000" || f[4] != "0.0125" || f[5] != "-" {

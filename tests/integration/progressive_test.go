@@ -93,7 +93,7 @@ func TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob(t *testing.T) {
 			}
 		}
 	}
-	if rows != 4 || !strings.Contains(stdout, "error estimate") || !strings.Contains(stdout, strconv.FormatFloat(e4, 'g', 4, 64)) {
+	if rows != 4 || !strings.Contains(stdout, "estimated error") || !strings.Contains(stdout, strconv.FormatFloat(e4, 'g', 4, 64)) {
 		t.Errorf("farm report printed %d round rows, want 4 with the round-4 error %.4g:\n%s", rows, e4, stdout)
 	}
 	t.Logf("farm report:\n%s", stdout)

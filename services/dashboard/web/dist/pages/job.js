@@ -126,7 +126,7 @@ export function jobPage(id) {
     const sEta = stat("ETA (round)");
     const sPhotons = stat("Photons");
     const sSpp = stat("Samples / pixel");
-    const sError = stat("Error estimate");
+    const sError = stat("Estimated error");
     const sRef = stat("Reference RMSE");
     const stats = h("dl", { class: "stats" }, h("div", { class: "stat stat--wide" }, h("dt", { class: "stat__label" }, "Progress"), h("dd", { class: "stat__value" }, progress)), sRound.element, sElapsed.element, sEta.element, sPhotons.element, sSpp.element, sError.element, sRef.element);
     // ---- image, phases, plan, chart, workers

@@ -1,5 +1,5 @@
 // The error-against-time chart: an inline SVG with a logarithmic y axis, one line for the
-// estimated RMSE (the spread between rounds) and one for the RMSE against the scene's
+// estimated error (an estimate made without a reference) and one for the RMSE against the scene's
 // reference image, each point a finished round.
 
 import { h, svg } from "../dom.js";
@@ -94,7 +94,7 @@ export class ErrorChart {
           { class: "empty" },
           rounds.length < 2
             ? `The error curve appears once two rounds have finished (${rounds.length} so far).`
-            : "No error estimate was reported.",
+            : "No estimated error was reported.",
         ),
       );
       return;

@@ -158,7 +158,7 @@ export function jobPage(id: string): Page {
   const sEta = stat("ETA (round)");
   const sPhotons = stat("Photons");
   const sSpp = stat("Samples / pixel");
-  const sError = stat("Error estimate");
+  const sError = stat("Estimated error");
   const sRef = stat("Reference RMSE");
   const stats = h(
     "dl",
