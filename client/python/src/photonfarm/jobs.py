@@ -22,9 +22,10 @@ class JobEvent:
     """One event of a job's watch stream.
 
     kind is job_pb2.JOB_EVENT_KIND_SNAPSHOT (the first event: the job as it is),
-    JOB_EVENT_KIND_STATE_CHANGED (job is the job after the change) or
+    JOB_EVENT_KIND_STATE_CHANGED (job is the job after the change),
     JOB_EVENT_KIND_TASK_UPDATED (task is the task after the update; job, when set, the
-    job with its progress).
+    job with its progress) or JOB_EVENT_KIND_JOB_UPDATED (job is the job after a change of
+    neither its state nor a task: its blocklist or its priority).
     """
 
     kind: int
