@@ -45,8 +45,10 @@ const (
 	DefaultAbandoned = time.Hour
 	// DefaultInterval is how often the coordinator sweeps.
 	DefaultInterval = time.Hour
-	// PurgeBudget is the most task records one PurgeJobs step deletes.
-	PurgeBudget = 1000
+	// PurgeBudget is the most task records one PurgeJobs step deletes. A step of 1000 took
+	// about 1.5 ms of Redis CPU on a quiet machine but once 20.6 ms on a busy one, over the
+	// 20 ms that redisstore allows any one command; 500 halves what a step can cost.
+	PurgeBudget = 500
 	// listPage is the jobs or tasks read at a time while listing references.
 	listPage = 1000
 )

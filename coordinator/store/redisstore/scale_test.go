@@ -11,6 +11,7 @@ import (
 
 	"github.com/redis/go-redis/v9"
 
+	"photonfarm/coordinator/retention"
 	"photonfarm/coordinator/store"
 	"photonfarm/coordinator/store/redisstore"
 	"photonfarm/coordinator/store/redisstore/redistest"
@@ -214,7 +215,7 @@ func TestLargestRoundNeverBlocksRedis(t *testing.T) {
 	t0 = time.Now()
 	var deleted []string
 	for steps := 1; ; steps++ {
-		p, err := s.PurgeJobs(ctx, time.Now().Add(time.Hour), time.Now(), 1000)
+		p, err := s.PurgeJobs(ctx, time.Now().Add(time.Hour), time.Now(), retention.PurgeBudget)
 		if err != nil {
 			t.Fatal(err)
 		}

@@ -375,6 +375,12 @@ try {
         const max = px.reduce((m, v, i) => (i % 4 === 3 ? m : Math.max(m, v)), 0);
         check(grey && max === 255, `depth layer: grey ${grey}, brightest ${max} (want grey, the farthest pixel 255)`);
       }
+      if (name === 'samples') {
+        // No pixel is supersampled and sampling is not adaptive: every pixel drew the
+        // same samples, so every one is the largest, white.
+        const white = px.every((v, i) => i % 4 === 3 || v === 255);
+        check(white, 'samples layer: want every pixel white (the same samples everywhere, shown over the largest)');
+      }
     }
     await setLayer(jobPage, 'beauty');
   });

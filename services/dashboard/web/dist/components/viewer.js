@@ -40,7 +40,8 @@ function srgb8(v) {
 /**
  * The layer's display values for each of R, G, B: colour layers and single channels are
  * radiance-like and scaled by 2^exposure; a vector layer (X, Y, Z: the normal) is shown
- * as (v + 1) / 2 and a lone Z (depth) as Z over the image's largest depth, neither exposed.
+ * as (v + 1) / 2, and a lone Z (depth) and the samples layer (camera samples a pixel,
+ * samples.Y) over the image's largest value, neither exposed: they are not light.
  */
 function displayChannels(layer, exposure) {
     const c = layer.channels;
@@ -49,7 +50,7 @@ function displayChannels(layer, exposure) {
     if (c.has("X") && c.has("Y") && c.has("Z"))
         return { rgb: [c.get("X"), c.get("Y"), c.get("Z")], scale: 0.5, offset: 0.5, srgb: false };
     const only = [...c.values()][0];
-    if (c.size === 1 && c.has("Z")) {
+    if (c.size === 1 && (c.has("Z") || layer.name === "samples")) {
         let max = 0;
         for (const v of only)
             if (Number.isFinite(v) && v > max)
