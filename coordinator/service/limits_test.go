@@ -10,10 +10,10 @@ import (
 )
 
 // TestTooManyTasksAreRefusedAtSubmitAndPlan: issue 12's task explosion, a 604-byte scene of
-// a 16384² film in 8-pixel tiles (4,194,304 tiles), and a photon map of 50,000 shards are
-// refused by SubmitJob and by PlanScene before anything is planned, with a message naming
-// the limit and the fields that make the count; nothing is stored. A round at the limits
-// plans.
+// a 16384² film in 8-pixel tiles (4,194,304 tiles), issue 17's million-task job (the same
+// film in 16-pixel tiles, 1,048,576 tiles), and a photon map of 50,000 shards are refused by
+// SubmitJob and by PlanScene before anything is planned, with a message naming the limit and
+// the fields that make the count; nothing is stored. A round at the limits plans.
 func TestTooManyTasksAreRefusedAtSubmitAndPlan(t *testing.T) {
 	tests := []struct {
 		name    string
@@ -26,6 +26,11 @@ func TestTooManyTasksAreRefusedAtSubmitAndPlan(t *testing.T) {
 			s.Film.TileSize = 8
 			return s
 		}, "film.tile_size", "film.tile_size: 8-pixel tiles (film.tile_size) make 4194304 tiles of a 16384x16384 film (film.width x film.height) per round, more than max_tiles_per_round, 65536: use larger tiles or a smaller film"},
+		{"16384² film in 16-pixel tiles: a million tasks", func() *pb.Scene {
+			s := scenetest.Valid(16384, 16384)
+			s.Film.TileSize = 16
+			return s
+		}, "film.tile_size", "film.tile_size: 16-pixel tiles (film.tile_size) make 1048576 tiles of a 16384x16384 film (film.width x film.height) per round, more than max_tiles_per_round, 65536: use larger tiles or a smaller film"},
 		{"50,000 shards of the global map", func() *pb.Scene {
 			s := scenetest.Valid(32, 32)
 			s.Photons = &pb.PhotonMapping{GlobalPhotons: 50_000_000, PhotonsPerShard: 1000}

@@ -164,11 +164,15 @@ func amount(n uint64, isBytes bool) string {
 func planning() string {
 	tiles, shards := rules.Scene.GetMaxTilesPerRound(), rules.Scene.GetMaxShardsPerMap()
 	rounds := uint64(rules.Max((*pb.Progressive)(nil), "max_rounds"))
+	side := uint64(rules.Max((*pb.Film)(nil), "width"))
 	return fmt.Sprintf("Planning a round makes a task per render tile and per emission shard, so these limits bound it: "+
 		"a round has at most %d render tiles and a composite, and per photon map (global, caustic) at most %d emission shards, "+
 		"then a build, %d irradiance precompute tasks (one per global shard) and a merge: %d tasks at most "+
-		"(`TestPlanLargestRoundStaysWithinLimits` plans that round). A job has at most %d rounds; each is planned when the one before has ended.",
-		tiles, shards, shards, largestRound(), rounds)
+		"(`TestPlanLargestRoundStaysWithinLimits` plans that round). A job has at most %d rounds; each is planned when the one before has ended. "+
+		"A job of a million tiles is refused at submit (and by `farm validate` and `farm plan`) before anything is planned or stored, naming the limit: "+
+		"a %dx%d film in 16-pixel tiles makes %d tiles, more than `max_tiles_per_round` (refused as `film.tile_size`), and in any tiles it has %d pixels, more than `max_film_pixels` "+
+		"(`TestTooManyTasksAreRefusedAtSubmitAndPlan`). Planning such a round lazily, in pages of tasks, is not done.",
+		tiles, shards, shards, largestRound(), rounds, side, side, (side/16)*(side/16), side*side)
 }
 
 // largestRound is how many tasks the largest round the limits allow has: its tiles and a
