@@ -16,45 +16,27 @@ Ray RayFrom(const Vec3& p, const Vec3& n, const Vec3& w, float epsilon) {
   return Ray{on_surface ? OffsetRayOrigin(p, n, w, epsilon) : p, w};
 }
 
-// Picks index j with probability weights[j] / sum from u; -1 if all weights are zero.
-int PickWeighted(const std::vector<float>& weights, float sum, float u) {
-  if (!(sum > 0)) return -1;
-  float target = u * sum, running = 0;
-  int last = -1;
-  for (std::size_t j = 0; j < weights.size(); ++j) {
-    if (!(weights[j] > 0)) continue;
-    last = static_cast<int>(j);
-    running += weights[j];
-    if (target < running) return last;
-  }
-  return last;  // rounding left u * sum at the very top
-}
-
 // Light from infinitely far away, travelling along d.w: the point on the disc for d.w is
 // sampled within the shadows the targets cast on it.
 std::optional<PhotonRay> AimAtTargetsAlong(const SceneData& scene, const std::optional<DistantDirection>& d,
                                            const DistantDisc& disc, float u_target, Vec2 u_disc) {
   if (!d) return std::nullopt;
-  const std::vector<BoundingSphere>& targets = scene.specular_targets;
+  const TargetSpheres& targets = scene.specular_targets;
   const Frame frame = Frame::FromZ(d->w);
   const Vec3 disc_center = disc.CenterFor(d->w);
   // Each target's shadow on the disc's plane: a disc of its radius around the projection of
   // its centre. Chosen in proportion to area.
-  std::vector<float> weights;
-  weights.reserve(targets.size());
-  float sum = 0;
-  for (const BoundingSphere& t : targets) sum += weights.emplace_back(t.radius * t.radius);
-  const int j = PickWeighted(weights, sum, u_target);
-  if (j < 0) return std::nullopt;
+  const TargetSpheres::Pick pick = targets.PickByCrossSection(u_target);
+  if (!(pick.probability > 0)) return std::nullopt;
   auto project = [&](const Vec3& c) { return c - d->w * Dot(c - disc_center, d->w); };
   const Vec2 o = SampleUniformDiskConcentric(u_disc);
-  const Vec3 p = project(targets[j].center) + (frame.x * o.x + frame.y * o.y) * targets[j].radius;
+  const BoundingSphere& picked = targets[pick.index];
+  const Vec3 p = project(picked.center) + (frame.x * o.x + frame.y * o.y) * picked.radius;
   float pdf_area = 0;
-  for (std::size_t k = 0; k < targets.size(); ++k) {
+  targets.ForEachNearLine(p, d->w, [&](int k) {
     const float r = targets[k].radius;
-    if (LengthSquared(p - project(targets[k].center)) <= r * r)
-      pdf_area += (weights[k] / sum) / (kPi * r * r);
-  }
+    if (LengthSquared(p - project(targets[k].center)) <= r * r) pdf_area += targets.CrossSectionPmf(k) / (kPi * r * r);
+  });
   if (!(pdf_area > 0)) return std::nullopt;
   return PhotonRay{Ray{p, d->w}, d->weight / pdf_area};
 }
@@ -64,32 +46,21 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
                                                 float u_target, Vec2 u_direction) {
   const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
   if (!o || !(o->pdf_area > 0)) return std::nullopt;
-  const std::vector<BoundingSphere>& targets = scene.specular_targets;
-  std::vector<float> weights;
-  weights.reserve(targets.size());
-  float sum = 0;
-  for (const BoundingSphere& t : targets) {
-    const float dist2 = LengthSquared(t.center - o->p);
-    if (dist2 <= t.radius * t.radius) {
-      // Inside a target's sphere every direction may reach it: emit as the light does.
-      const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction);
-      if (!e) return std::nullopt;
-      return PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
-    }
-    // Solid angle of the cone, without cancellation for distant targets.
-    const float sin2 = t.radius * t.radius / dist2;
-    const float one_minus_cos = sin2 < 1e-3f ? sin2 / 2 : 1 - std::sqrt(1 - sin2);
-    sum += weights.emplace_back(2 * kPi * one_minus_cos);
+  const TargetSpheres& targets = scene.specular_targets;
+  if (targets.AnyContains(o->p)) {
+    // Inside a target's sphere every direction may reach it: emit as the light does.
+    const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction);
+    if (!e) return std::nullopt;
+    return PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
   }
-  const int j = PickWeighted(weights, sum, u_target);
-  if (j < 0) return std::nullopt;
-  const SphereSample s = SampleSphereFromPoint(targets[j].center, targets[j].radius, o->p, u_direction);
+  const std::optional<TargetSpheres::Pick> pick = targets.PickFrom(o->p, u_target);
+  if (!pick) return std::nullopt;
+  const BoundingSphere& picked = targets[pick->index];
+  const SphereSample s = SampleSphereFromPoint(picked.center, picked.radius, o->p, u_direction);
   const Vec3 d = s.p - o->p;
   if (!(LengthSquared(d) > 0)) return std::nullopt;
   const Vec3 w = Normalize(d);
-  float pdf_direction = 0;
-  for (std::size_t k = 0; k < targets.size(); ++k)
-    pdf_direction += (weights[k] / sum) * SphereFromPointPdf(targets[k].center, targets[k].radius, o->p, w);
+  const float pdf_direction = targets.DirectionPdf(o->p, w, pick);
   if (!(pdf_direction > 0)) return std::nullopt;
   Rgb power;
   if (o->is_point) {

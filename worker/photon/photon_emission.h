@@ -6,14 +6,17 @@
 // Global photons leave each light as the light emits (lights.h SampleLe). Caustic photons
 // are aimed at the specular geometry, as Jensen's projection maps do, so that the few paths
 // that make caustics are not a small fraction of a large emission: from the sampled point of
-// the light, a bounding sphere of a specular shape is chosen in proportion to the solid
-// angle it subtends and a direction sampled uniformly in its cone; the photon's power is
-// divided by the density of the whole mixture of cones, so the estimate stays unbiased for
-// every path light -> specular (a spot's power along the direction is scaled by its
-// falloff). For light from infinitely far away (sun, environment), the direction is
-// sampled as the light emits and the point on its disc within the shadows that the
-// specular bounding spheres cast on the disc, with the mixture density by area. A light
-// point inside a bounding sphere falls back to plain emission.
+// the light, a bounding sphere of a specular shape is chosen by the hierarchy of
+// sampling/target_spheres.h (in proportion to the solid angle it subtends among a few, by
+// estimates of it down a tree among many) and a direction sampled uniformly in its cone; the
+// photon's power is divided by the density of the whole mixture of cones, summed over the
+// cones that hold the direction, so the estimate stays unbiased for every path light ->
+// specular (a spot's power along the direction is scaled by its falloff) and a photon costs
+// O(log n) in the number of specular shapes. For light from infinitely far away (sun,
+// environment), the direction is sampled as the light emits and the point on its disc within
+// the shadows that the specular bounding spheres cast on the disc, each chosen by its area,
+// with the mixture density by area. A light point inside a bounding sphere falls back to
+// plain emission.
 
 #include <optional>
 

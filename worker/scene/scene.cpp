@@ -343,10 +343,12 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     d.shapes.push_back(std::move(record));
   }
 
+  std::vector<BoundingSphere> specular_targets;
   for (const ShapeRecord& shape : d.shapes) {
     d.bounds.Extend(BoundsOf(shape.geometry));
-    AddSpecularTargets(shape.geometry, shape.material, d.capabilities, d.specular_targets);
+    AddSpecularTargets(shape.geometry, shape.material, d.capabilities, specular_targets);
   }
+  d.specular_targets = TargetSpheres(std::move(specular_targets));
   const BoundingSphere scene_sphere = BoundingSphere::Of(d.bounds);
   for (int i = 0; i < description.lights_size(); ++i)
     d.lights.push_back(LightFromProto(description.lights(i), scene_sphere));

@@ -16,6 +16,7 @@
 #include "math/vec3.h"
 #include "media/homogeneous_medium.h"
 #include "sampling/distribution.h"
+#include "sampling/target_spheres.h"
 #include "scene/accelerator.h"
 #include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
@@ -126,7 +127,7 @@ struct SceneData {
   BoundingSphere medium_ball;
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
   // at them. Empty: the scene needs no caustic map.
-  std::vector<BoundingSphere> specular_targets;
+  TargetSpheres specular_targets;
   PhotonSettings photons;
 
   // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
