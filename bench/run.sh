@@ -16,7 +16,7 @@ cd "$root"
 echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo "== worker photon tracing (C++, scenes/cornell-caustics.json)"
 "$build/bin/farm_bench_photons"
-echo "== caustic emission with 10 and with 10,000 specular spheres, same paths (C++, in-process; target: at most 2x)"
+echo "== caustic emission with 10 and with 10,000 specular spheres, same paths (C++, in-process; target: aiming at most 2x)"
 "$build/bin/farm_bench_caustic_emission"
 echo "== coordinator kd-tree build (Go, coordinator/photonmap.Build)"
 go build -o "$tmp/mksnapshot" ./bench/cmd/mksnapshot

@@ -25,20 +25,15 @@ std::optional<PhotonRay> AimAtTargetsAlong(const SceneData& scene, const std::op
   const Frame frame = Frame::FromZ(d->w);
   const Vec3 disc_center = disc.CenterFor(d->w);
   // Each target's shadow on the disc's plane: a disc of its radius around the projection of
-  // its centre. Chosen in proportion to area.
+  // its centre, chosen in proportion to area.
   const TargetSpheres::Pick pick = targets.PickByCrossSection(u_target);
-  if (!(pick.probability > 0)) return std::nullopt;
-  auto project = [&](const Vec3& c) { return c - d->w * Dot(c - disc_center, d->w); };
-  const Vec2 o = SampleUniformDiskConcentric(u_disc);
-  const BoundingSphere& picked = targets[pick.index];
-  const Vec3 p = project(picked.center) + (frame.x * o.x + frame.y * o.y) * picked.radius;
-  float pdf_area = 0;
-  targets.ForEachNearLine(p, d->w, [&](int k) {
-    const float r = targets[k].radius;
-    if (LengthSquared(p - project(targets[k].center)) <= r * r) pdf_area += targets.CrossSectionPmf(k) / (kPi * r * r);
-  });
+  const BoundingSphere& target = targets[pick.index];
+  const double pdf_area = pick.probability / (kPi * double(target.radius) * target.radius);
   if (!(pdf_area > 0)) return std::nullopt;
-  return PhotonRay{Ray{p, d->w}, d->weight / pdf_area};
+  const Vec3 center = target.center - d->w * Dot(target.center - disc_center, d->w);
+  const Vec2 o = SampleUniformDiskConcentric(u_disc);
+  const Vec3 p = center + (frame.x * o.x + frame.y * o.y) * target.radius;
+  return PhotonRay{Ray{p, d->w}, d->weight / static_cast<float>(pdf_area), pick.index};
 }
 
 // From a point of a light with an origin of its own (every kind but the sun).
@@ -55,12 +50,12 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
   }
   const std::optional<TargetSpheres::Pick> pick = targets.PickFrom(o->p, u_target);
   if (!pick) return std::nullopt;
-  const BoundingSphere& picked = targets[pick->index];
-  const SphereSample s = SampleSphereFromPoint(picked.center, picked.radius, o->p, u_direction);
+  const BoundingSphere& target = targets[pick->index];
+  const SphereSample s = SampleSphereFromPoint(target.center, target.radius, o->p, u_direction);
   const Vec3 d = s.p - o->p;
   if (!(LengthSquared(d) > 0)) return std::nullopt;
   const Vec3 w = Normalize(d);
-  const float pdf_direction = targets.DirectionPdf(o->p, w, pick);
+  const float pdf_direction = static_cast<float>(pick->probability * s.pdf);
   if (!(pdf_direction > 0)) return std::nullopt;
   Rgb power;
   if (o->is_point) {
@@ -71,7 +66,7 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
     power = o->emission * (cos_light / (o->pdf_area * pdf_direction));
   }
   if (!power.IsFinite()) return std::nullopt;
-  return PhotonRay{RayFrom(o->p, o->n, w, scene.ray_epsilon), power};
+  return PhotonRay{RayFrom(o->p, o->n, w, scene.ray_epsilon), power, pick->index};
 }
 
 std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,

@@ -6,7 +6,6 @@
 #include <numeric>
 
 #include "math/math.h"
-#include "sampling/warps.h"
 
 namespace farm {
 namespace {
@@ -23,21 +22,16 @@ double SolidAngle(const BoundingSphere& s, const Vec3& p) {
 }
 
 // A sphere's box, widened by a thousandth of its size and a few ulps of its position, so
-// that rounding in the walks never leaves a point of the sphere outside.
+// that rounding never leaves a point of the sphere outside.
 Bounds3 Widened(const BoundingSphere& s) {
   const float margin = s.radius * 1.001f + 1e-6f * MaxComponent(Abs(s.center)) + 1e-30f;
   const Vec3 m(margin, margin, margin);
   return {s.center - m, s.center + m};
 }
 
-double SquaredDistanceToBox(const Bounds3& b, const Vec3& p) {
-  double d2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double below = double(b.min[a]) - p[a], above = double(p[a]) - b.max[a];
-    const double out = std::max({below, above, 0.0});
-    d2 += out * out;
-  }
-  return d2;
+float SquaredDistanceToBox(const Bounds3& b, const Vec3& p) {
+  const Vec3 out = Max(Max(b.min - p, p - b.max), Vec3(0, 0, 0));
+  return LengthSquared(out);
 }
 
 }  // namespace
@@ -51,19 +45,17 @@ TargetSpheres::TargetSpheres(std::vector<BoundingSphere> spheres) : spheres_(std
   std::vector<int> order(spheres_.size());
   std::iota(order.begin(), order.end(), 0);
   nodes_.reserve(2 * spheres_.size() - 1);
-  leaf_.resize(spheres_.size());
-  Build(order, 0, static_cast<int>(order.size()), -1);
+  Build(order, 0, static_cast<int>(order.size()));
 }
 
 // Splits at the median centre along the widest axis of the centres: balanced, so a
 // descent is O(log n) steps; ties broken by index so the tree is the same on every host.
-int TargetSpheres::Build(std::vector<int>& order, int begin, int end, int parent) {
+int TargetSpheres::Build(std::vector<int>& order, int begin, int end) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   if (end - begin == 1) {
     const BoundingSphere& s = spheres_[order[begin]];
-    nodes_[index] = Node{Widened(s), s.radius * s.radius, -1, -1, parent, order[begin]};
-    leaf_[order[begin]] = index;
+    nodes_[index] = Node{Widened(s), s.radius * s.radius, -1, -1, order[begin]};
     return index;
   }
   Bounds3 centers;
@@ -75,11 +67,11 @@ int TargetSpheres::Build(std::vector<int>& order, int begin, int end, int parent
     const float ca = spheres_[a].center[axis], cb = spheres_[b].center[axis];
     return ca < cb || (ca == cb && a < b);
   });
-  const int left = Build(order, begin, middle, index);
-  const int right = Build(order, middle, end, index);
+  const int left = Build(order, begin, middle);
+  const int right = Build(order, middle, end);
   Bounds3 box = nodes_[left].box;
   box.Extend(nodes_[right].box);
-  nodes_[index] = Node{box, nodes_[left].cross_section + nodes_[right].cross_section, left, right, parent, -1};
+  nodes_[index] = Node{box, nodes_[left].cross_section + nodes_[right].cross_section, left, right, -1};
   return index;
 }
 
@@ -88,12 +80,22 @@ int TargetSpheres::Build(std::vector<int>& order, int begin, int end, int parent
 // than they do), at most the whole sphere of directions.
 double TargetSpheres::Weight(const Node& n, const Vec3& p) const {
   if (n.sphere >= 0) return SolidAngle(spheres_[n.sphere], p);
-  const double d2 = SquaredDistanceToBox(n.box, p);
-  return d2 > 0 ? std::min(kFullSphere, kPi * n.cross_section / d2) : kFullSphere;
+  const float d2 = SquaredDistanceToBox(n.box, p);
+  return d2 > 0 ? std::min(kFullSphere, kPi * n.cross_section / double(d2)) : kFullSphere;
 }
 
 double TargetSpheres::LeftProbability(const Node& n, const Vec3& p) const {
-  const double left = Weight(nodes_[n.left], p), right = Weight(nodes_[n.right], p);
+  const Node &a = nodes_[n.left], &b = nodes_[n.right];
+  if (a.sphere < 0 && b.sphere < 0) {
+    // Two clusters away from p, neither capped (the common case, all the way down but the
+    // last step): the same ratio as Weight's, cross-multiplied, without a division each.
+    const float da = SquaredDistanceToBox(a.box, p), db = SquaredDistanceToBox(b.box, p);
+    if (a.cross_section < 4 * da && b.cross_section < 4 * db) {
+      const float left = a.cross_section * db, sum = left + b.cross_section * da;
+      return sum > 0 ? left / sum : -1;
+    }
+  }
+  const double left = Weight(a, p), right = Weight(b, p);
   const double sum = left + right;
   return sum > 0 ? left / sum : -1;
 }
@@ -137,33 +139,6 @@ std::optional<TargetSpheres::Pick> TargetSpheres::PickFrom(const Vec3& p, float 
   }
   if (!(probability > 0)) return std::nullopt;
   return Pick{nodes_[node].sphere, probability};
-}
-
-double TargetSpheres::Probability(int i, const Vec3& p) const {
-  double probability = 1;
-  for (int child = leaf_[i], parent = nodes_[child].parent; parent >= 0;
-       child = parent, parent = nodes_[parent].parent) {
-    const Node& n = nodes_[parent];
-    const double left = LeftProbability(n, p);
-    if (left < 0) return 0;
-    probability *= child == n.left ? left : 1 - left;
-  }
-  return probability;
-}
-
-// Walks only the boxes the ray meets, with no weights: a photon's direction is usually in
-// the cone of the sphere it was aimed at alone, so probabilities are computed only for the
-// spheres whose cone holds it.
-float TargetSpheres::DirectionPdf(const Vec3& p, const Vec3& w, const std::optional<Pick>& picked) const {
-  double pdf = 0;
-  auto add = [&](int i) {
-    const BoundingSphere& s = spheres_[i];
-    const float cone = SphereFromPointPdf(s.center, s.radius, p, w);
-    if (!(cone > 0)) return;
-    pdf += (picked && picked->index == i ? picked->probability : Probability(i, p)) * cone;
-  };
-  Walk(Slab(p, w), true, add);
-  return static_cast<float>(pdf);
 }
 
 TargetSpheres::Pick TargetSpheres::PickByCrossSection(float u) const {

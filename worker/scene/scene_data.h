@@ -126,8 +126,16 @@ struct SceneData {
   std::optional<HomogeneousMedium> medium;
   BoundingSphere medium_ball;
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
-  // at them. Empty: the scene needs no caustic map.
+  // at them. Empty: the scene needs no caustic map. The surface each bounds, by index: a
+  // shape, and for an instance the part (a caustic path counts only for the target whose
+  // surface it hits first: photon_emission.h).
   TargetSpheres specular_targets;
+  struct TargetSurface {
+    int shape = 0;
+    uint32_t part = 0;
+    bool operator==(const TargetSurface&) const = default;
+  };
+  std::vector<TargetSurface> specular_target_surfaces;
   PhotonSettings photons;
 
   // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
