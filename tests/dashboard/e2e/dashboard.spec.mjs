@@ -326,6 +326,27 @@ try {
     check(!(await jobPage.locator(tid('failure-banner')).isVisible()), 'a succeeded job shows a failure banner');
   });
 
+  // (f1) Workers by name: the task table and the tiles' titles say the --name each worker
+  // registered with (farmtest names them worker-1, worker-2), never its id; the photon map's
+  // build and merge run in the coordinator, as "coordinator-builder".
+  await step('tasks and tiles name their workers, not worker ids', async () => {
+    const ids = (await workers(list)).map((w) => w.id);
+    check(ids.length === 2, `want two workers, got ${JSON.stringify(ids)}`);
+    const shown = await waitFor('every succeeded task row to name its worker', 10000, async () => {
+      const cells = await jobPage.locator(`${tid('task-row')}[data-state="TASK_STATE_SUCCEEDED"]`).evaluateAll((rows) => {
+        const heads = [...rows[0].closest('table').querySelectorAll('thead th')].map((th) => th.textContent.trim());
+        const col = heads.indexOf('Worker');
+        return rows.map((r) => r.children[col]?.textContent.trim() ?? '');
+      });
+      return cells.some((c) => /^worker-[12]$/.test(c)) && cells.every((c) => /^(worker-[12]|coordinator-builder)$/.test(c)) ? cells : null;
+    }, () => jobPage.locator(`${tid('task-row')}[data-state="TASK_STATE_SUCCEEDED"]`).allInnerTexts());
+    check(!shown.some((c) => ids.includes(c)), `a task row shows a worker id: ${shown}`);
+    const titles = await jobPage.locator('.mosaic__slot').evaluateAll((ss) => ss.map((s) => s.title));
+    check(titles.length > 0 && titles.every((t) => / · worker-[12]$/.test(t)), `tile titles ${JSON.stringify(titles.slice(0, 3))}: want each to end with its worker's name`);
+    check(!titles.some((t) => ids.some((id) => t.includes(id))), 'a tile title shows a worker id');
+    console.log(`             ${shown.length} task rows by ${[...new Set(shown)].sort().join(', ')}`);
+  });
+
   // (f2) The viewer's controls: exposure, layers, zoom (viewer.mjs).
   await step('the exposure slider scales the shown pixels by 2^EV in linear light', async () => {
     const at0 = await canvasPixels(jobPage);

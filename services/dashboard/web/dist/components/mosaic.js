@@ -7,6 +7,7 @@ import { ARTIFACT } from "../contract.gen.js";
 import { h, setAttr, setText } from "../dom.js";
 import { formatNumber } from "../format.js";
 import { artifact } from "../types.js";
+import { workerName } from "../workernames.js";
 function rectOf(task) {
     const r = task.renderTile?.rect;
     if (!r || !r.width || !r.height)
@@ -92,7 +93,7 @@ export class Mosaic {
             const r = cell.rect;
             setAttr(el.slot, "title", `Tile ${r.x},${r.y} ${r.width}×${r.height}` +
                 (cell.current ? ` · ${(state ?? "").replace("TASK_STATE_", "").toLowerCase()}` : "") +
-                (cell.current?.workerId ? ` · ${cell.current.workerId}` : ""));
+                (cell.current?.workerId ? ` · ${workerName(cell.current.workerId)}` : ""));
             if (cell.shown && cell.shown.digest !== el.digest) {
                 if (!el.img) {
                     el.img = h("img", { class: "mosaic__tile", "data-testid": "tile", alt: "", decoding: "async" });

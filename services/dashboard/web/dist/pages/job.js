@@ -17,6 +17,7 @@ import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatR
 import { jobElapsed, jobEta, jobProgress } from "../progress.js";
 import { artifact, jobEnded } from "../types.js";
 import { progressLabel } from "./jobs.js";
+import { onWorkerNames, workerName } from "../workernames.js";
 /** Rows the task table shows at first, and adds per "Show more". */
 const PAGE_ROWS = 500;
 /** Tasks the page reads by itself (pages of the server's 500); past this, "Show more" reads a page more. */
@@ -177,7 +178,7 @@ export function jobPage(id) {
                 render: (t, td) => badgeCell(td, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")),
             },
             { header: "Attempts", className: "num", text: (t) => String(t.attempts ?? 0) },
-            { header: "Worker", className: "mono", text: (t) => t.workerId ?? "" },
+            { header: "Worker", text: (t) => workerName(t.workerId) },
             {
                 header: "Error",
                 className: "col-error",
@@ -313,7 +314,7 @@ export function jobPage(id) {
             blockedSig = bs;
             const list = j.blockedWorkers ?? [];
             blocked.replaceChildren(...(list.length
-                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { class: "mono" }, b.workerId ?? ""), h("span", { class: "blocked__reason" }, b.reason ?? ""), timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" })))
+                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { title: b.workerId ?? null }, workerName(b.workerId)), h("span", { class: "blocked__reason" }, b.reason ?? ""), timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" })))
                 : [h("li", { class: "empty" }, "No worker is blocked.")]));
         }
         const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, ARTIFACT.PREVIEW_PNG) : undefined;
@@ -374,6 +375,11 @@ export function jobPage(id) {
         mosaic.update(job, tasks, !next);
         renderTasks();
     });
+    // Names arriving after a render: the blocked list's signature does not hold them.
+    const stopNames = onWorkerNames(() => {
+        blockedSig = "";
+        render.schedule();
+    });
     const stream = new LiveStream(`api/jobs/${encodeURIComponent(id)}/events`, {
         events: {
             job: (data) => {
@@ -418,6 +424,7 @@ export function jobPage(id) {
         },
         destroy() {
             stream.close();
+            stopNames();
             render.cancel();
         },
     };

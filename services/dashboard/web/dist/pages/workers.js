@@ -7,6 +7,7 @@ import { badgeCell, timeElement } from "../components/widgets.js";
 import { frameScheduler, h, setText } from "../dom.js";
 import { enumKey, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
 import { jobHref } from "../router.js";
+import { rememberWorkers } from "../workernames.js";
 /** A task id is "{job_id}.{index}". */
 function jobOfTask(taskId) {
     const dot = taskId.lastIndexOf(".");
@@ -91,6 +92,7 @@ export function workersPage() {
         events: {
             workers: (data) => {
                 live = data.workers ?? [];
+                rememberWorkers(live);
                 // The first page's token names the page after it; once more pages are loaded,
                 // the last of them says where to go on.
                 if (!more.length)

@@ -9,6 +9,7 @@ import { h, setAttr, setText } from "../dom.js";
 import { formatNumber } from "../format.js";
 import type { Job, PixelRect, Task, TaskState } from "../types.js";
 import { artifact } from "../types.js";
+import { workerName } from "../workernames.js";
 
 interface Cell {
   rect: Required<PixelRect>;
@@ -113,7 +114,7 @@ export class Mosaic {
         "title",
         `Tile ${r.x},${r.y} ${r.width}×${r.height}` +
           (cell.current ? ` · ${(state ?? "").replace("TASK_STATE_", "").toLowerCase()}` : "") +
-          (cell.current?.workerId ? ` · ${cell.current.workerId}` : ""),
+          (cell.current?.workerId ? ` · ${workerName(cell.current.workerId)}` : ""),
       );
       if (cell.shown && cell.shown.digest !== el.digest) {
         if (!el.img) {

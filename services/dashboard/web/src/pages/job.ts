@@ -31,6 +31,7 @@ import type { Page } from "../router.js";
 import type { Job, Task, TaskPage, TaskState } from "../types.js";
 import { artifact, jobEnded } from "../types.js";
 import { progressLabel } from "./jobs.js";
+import { onWorkerNames, workerName } from "../workernames.js";
 
 /** Rows the task table shows at first, and adds per "Show more". */
 const PAGE_ROWS = 500;
@@ -227,7 +228,7 @@ export function jobPage(id: string): Page {
         render: (t, td) => badgeCell(td, taskStateLabel(t.state), enumKey(t.state, "TASK_STATE_")),
       },
       { header: "Attempts", className: "num", text: (t) => String(t.attempts ?? 0) },
-      { header: "Worker", className: "mono", text: (t) => t.workerId ?? "" },
+      { header: "Worker", text: (t) => workerName(t.workerId) },
       {
         header: "Error",
         className: "col-error",
@@ -439,7 +440,7 @@ export function jobPage(id: string): Page {
               h(
                 "li",
                 { class: "blocked__item", "data-testid": "blocked-worker" },
-                h("span", { class: "mono" }, b.workerId ?? ""),
+                h("span", { title: b.workerId ?? null }, workerName(b.workerId)),
                 h("span", { class: "blocked__reason" }, b.reason ?? ""),
                 timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" }),
               ),
@@ -518,6 +519,11 @@ export function jobPage(id: string): Page {
     mosaic.update(job, tasks, !next);
     renderTasks();
   });
+  // Names arriving after a render: the blocked list's signature does not hold them.
+  const stopNames = onWorkerNames(() => {
+    blockedSig = "";
+    render.schedule();
+  });
 
   const stream = new LiveStream(`api/jobs/${encodeURIComponent(id)}/events`, {
     events: {
@@ -569,6 +575,7 @@ export function jobPage(id: string): Page {
     },
     destroy() {
       stream.close();
+      stopNames();
       render.cancel();
     },
   };

@@ -9,6 +9,7 @@ import { frameScheduler, h, setText } from "../dom.js";
 import { enumKey, formatNumber, formatRelative, parseTime, workerStateLabel } from "../format.js";
 import { jobHref, type Page } from "../router.js";
 import type { WorkerInfo, WorkerPage } from "../types.js";
+import { rememberWorkers } from "../workernames.js";
 
 /** A task id is "{job_id}.{index}". */
 function jobOfTask(taskId: string): string {
@@ -114,6 +115,7 @@ export function workersPage(): Page {
     events: {
       workers: (data: WorkerPage) => {
         live = data.workers ?? [];
+        rememberWorkers(live);
         // The first page's token names the page after it; once more pages are loaded,
         // the last of them says where to go on.
         if (!more.length) next = data.nextPageToken ?? "";
