@@ -13,8 +13,12 @@ import (
 	"time"
 
 	"photonfarm/client"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
+
+	"google.golang.org/grpc"
+	"google.golang.org/grpc/credentials/insecure"
 )
 
 const (
@@ -40,6 +44,7 @@ func TestDashboardInABrowser(t *testing.T) {
 			t.Fatalf("%s did not register within 15 s", w.Name)
 		}
 	}
+	blockedJob, blockedWorker := blockAWorker(t, f)
 	_, url := f.StartDashboard(t)
 
 	shots := os.Getenv("DASHBOARD_SCREENSHOT_DIR")
@@ -62,6 +67,8 @@ func TestDashboardInABrowser(t *testing.T) {
 		"CHROMIUM="+chromium,
 		"FAILED_JOB_ID="+failedJob,
 		"FAILED_REASON="+badInputReason,
+		"BLOCKED_JOB_ID="+blockedJob,
+		"BLOCKED_WORKER_ID="+blockedWorker,
 		"PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1",
 	)
 	var out bytes.Buffer
@@ -90,6 +97,53 @@ func failAsBadInput(t *testing.T, f *farmtest.Farm) string {
 		t.Fatalf("job after the bad-input report: %v, %v; want it failed", got, err)
 	}
 	return job.GetId()
+}
+
+// blockAWorker submits a long job of low priority (render tiles only, far too many to
+// finish during the test, so the real workers run it only when nothing else is queued),
+// blocks a worker from it the way the coordinator does (three failed attempts; the real
+// workers are live, so the job does not fail for want of a worker), unregisters that
+// worker, and returns the job's and the worker's ids.
+func blockAWorker(t *testing.T, f *farmtest.Farm) (jobID, workerID string) {
+	t.Helper()
+	sc := scenetest.Unlit(1280, 960)
+	sc.Name = "blocked-worker-job"
+	sc.Sampling.SamplesPerPixel = 512
+	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
+	defer cancel()
+	job, err := f.Client.Submit(ctx, sc, client.WithPriority(-10))
+	if err != nil {
+		t.Fatal(err)
+	}
+	conn, err := grpc.NewClient(f.Addr, grpc.WithTransportCredentials(insecure.NewCredentials()), client.WorkerSecrets())
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer conn.Close()
+	wctx := client.ContextWithToken(ctx, workerToken)
+	w := pb.NewWorkerServiceClient(conn)
+	reg, err := w.RegisterWorker(wctx, &pb.RegisterWorkerRequest{Hostname: "flaky-worker"})
+	if err != nil {
+		t.Fatal(err)
+	}
+	for i := range 3 {
+		l, err := w.LeaseTask(wctx, &pb.LeaseTaskRequest{WorkerId: reg.GetWorkerId()})
+		if err != nil || l.GetLease() == nil {
+			t.Fatalf("lease %d of the flaky worker: %v, %v; want a task", i, l, err)
+		}
+		if _, err := w.FailTask(wctx, &pb.FailTaskRequest{WorkerId: reg.GetWorkerId(), TaskId: l.GetLease().GetTaskId(),
+			Epoch: l.GetLease().GetEpoch(), Error: "out of memory"}); err != nil {
+			t.Fatal(err)
+		}
+	}
+	if _, err := w.UnregisterWorker(wctx, &pb.UnregisterWorkerRequest{WorkerId: reg.GetWorkerId()}); err != nil {
+		t.Fatal(err)
+	}
+	got, err := f.Client.GetJob(ctx, job.GetId())
+	if err != nil || len(got.GetBlockedWorkers()) != 1 || got.GetState() != pb.JobState_JOB_STATE_RUNNING && got.GetState() != pb.JobState_JOB_STATE_QUEUED {
+		t.Fatalf("the job after three failures of one worker: %v, %v; want it running with that worker blocked", got, err)
+	}
+	return job.GetId(), reg.GetWorkerId()
 }
 
 // browserTools checks that node, chromium and the pinned playwright-core are installed and

@@ -12,6 +12,7 @@
 //   CHROMIUM        the browser, /usr/bin/chromium unless set
 //   FAILED_JOB_ID   a job that failed as bad input before the test (a worker reported it)
 //   FAILED_REASON   the error that worker reported
+//   BLOCKED_JOB_ID, BLOCKED_WORKER_ID  a long low-priority job and a worker blocked from it
 
 import fs from 'node:fs';
 import path from 'node:path';
@@ -35,6 +36,11 @@ const scenePath = env('SCENE_PATH');
 const shotDir = env('SCREENSHOT_DIR');
 const browserPath = env('CHROMIUM', '/usr/bin/chromium');
 const failedJobId = env('FAILED_JOB_ID');
+const blockedJob = env('BLOCKED_JOB_ID'); // submitted before the test, a worker blocked from it
+const blockedWorker = env('BLOCKED_WORKER_ID');
+// The jobs there are before the test submits any.
+const jobsBefore = [failedJobId, blockedJob].sort();
+const sameJobs = (ids, want) => JSON.stringify([...ids].sort()) === JSON.stringify(want);
 const failedReason = env('FAILED_REASON');
 
 const api = (p) => new URL(p.replace(/^\//, ''), baseURL).toString();
@@ -175,7 +181,7 @@ try {
     check(session.authenticated === true, `GET /api/session after login: ${JSON.stringify(session)}`);
     const jobs = await (await list.request.get(api('/api/jobs'))).json();
     const ids = (jobs.jobs ?? []).map((j) => j.id);
-    check(ids.length === 1 && ids[0] === failedJobId, `the refused POST made a job: ${JSON.stringify(ids)}, want only ${failedJobId}`);
+    check(sameJobs(ids, jobsBefore), `the refused POST made a job: ${JSON.stringify(ids)}, want only ${jobsBefore}`);
   });
 
   // (b2) Pages on another port of the same host (the same site, so SameSite=Strict cookies
@@ -208,7 +214,7 @@ try {
     }
     const status = await formPost(context, '/submit', '/api/jobs');
     const ids = (await jobs(list)).map((j) => j.id);
-    check(ids.length === 1 && ids[0] === failedJobId, `the cross-port submit form made a job: ${JSON.stringify(ids)}`);
+    check(sameJobs(ids, jobsBefore), `the cross-port submit form made a job: ${JSON.stringify(ids)}`);
     console.log(`             submit form (logged-in browser): ${status}`);
   });
   site.close();
@@ -434,6 +440,37 @@ try {
     await list.goto(`${baseURL}#/workers`);
     await waitFor('two worker-row elements', 15000, async () => (await list.locator(tid('worker-row')).count()) === 2,
       () => list.locator(tid('worker-row')).allInnerTexts());
+  });
+
+  // (h) Unblock, from one of two pages open on the job: it asks first, and both pages
+  // see the worker leave the blocked list (the job's changes reach every watcher).
+  await step('unblock-button asks first, then unblocks the worker on every open page', async () => {
+    await list.goto(`${baseURL}#/jobs/${blockedJob}`);
+    await jobPage.goto(`${baseURL}#/jobs/${blockedJob}`);
+    for (const p of [list, jobPage]) {
+      await waitFor('the blocked worker listed', 15000, async () => (await p.locator(tid('blocked-worker')).count()) === 1,
+        () => p.locator(tid('blocked-worker')).allInnerTexts());
+    }
+    // The worker unregistered, so no name is known for it: its id is shown.
+    check((await list.locator(tid('blocked-worker')).innerText()).includes(blockedWorker), 'the blocked worker item does not name the worker');
+    dismissDialogs = true;
+    let before = dialogs.length;
+    await list.locator(tid('unblock-button')).click({ timeout: 15000 });
+    await waitFor('a confirm dialog', 5000, () => dialogs.length > before);
+    dismissDialogs = false;
+    await sleep(1000);
+    check((await jobPage.locator(tid('blocked-worker')).count()) === 1, 'a dismissed unblock still unblocked the worker');
+    before = dialogs.length;
+    await list.locator(tid('unblock-button')).click({ timeout: 15000 });
+    check(dialogs.length > before && dialogs[dialogs.length - 1].message.includes('Unblock'), 'the unblock did not ask first');
+    for (const p of [list, jobPage]) {
+      await waitFor('no blocked worker on both pages', 10000, async () => (await p.locator(tid('blocked-worker')).count()) === 0,
+        () => p.locator(tid('blocked-worker')).allInnerTexts());
+    }
+    const r = await list.request.get(api(`/api/jobs/${blockedJob}`));
+    check(((await r.json())?.job?.blockedWorkers ?? []).length === 0, 'GET /api/jobs says a worker is still blocked');
+    const c = await list.request.post(api(`/api/jobs/${blockedJob}/cancel`), { data: {} });
+    check(c.status() === 200, `cancelling the blocked job answered ${c.status()}`);
   });
 
   // (i) A long job, cancelled from its page: the state turns cancelled and the workers

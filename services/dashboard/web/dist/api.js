@@ -94,6 +94,8 @@ export const api = {
     /** The scene file's text, sent as it is (the server parses and validates it). */
     submit: (sceneJson) => request("POST", "api/jobs", sceneJson),
     cancel: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),
+    /** Takes the worker off the job's blocklist, so it can lease the job's tasks again. */
+    unblock: (id, workerId) => request("POST", `api/jobs/${encodeURIComponent(id)}/unblock`, { workerId }),
     setPriority: (id, priority) => request("POST", `api/jobs/${encodeURIComponent(id)}/priority`, { priority }),
 };
 /** The URL of a content-addressed blob (cacheable forever). */

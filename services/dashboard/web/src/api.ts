@@ -108,6 +108,9 @@ export const api = {
   /** The scene file's text, sent as it is (the server parses and validates it). */
   submit: (sceneJson: string) => request<{ job: Job }>("POST", "api/jobs", sceneJson),
   cancel: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),
+  /** Takes the worker off the job's blocklist, so it can lease the job's tasks again. */
+  unblock: (id: string, workerId: string) =>
+    request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/unblock`, { workerId }),
   setPriority: (id: string, priority: number) =>
     request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/priority`, { priority }),
 };

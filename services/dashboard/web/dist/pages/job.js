@@ -120,6 +120,25 @@ export function jobPage(id) {
             cancelButton.disabled = job ? jobEnded(job) : false;
         }
     });
+    /** Unblocks one worker, after asking: its failures on this job are forgiven. */
+    function unblockButton(workerId) {
+        const button = h("button", { type: "button", class: "button", "data-testid": "unblock-button" }, "Unblock");
+        button.addEventListener("click", async () => {
+            const name = workerName(workerId);
+            if (!window.confirm(`Unblock ${name}? It may lease this job's tasks again, after it failed them.`))
+                return;
+            button.disabled = true;
+            try {
+                applyJob((await api.unblock(id, workerId)).job);
+                showNotice("success", `${name} was unblocked.`);
+            }
+            catch (err) {
+                showNotice("error", `Could not unblock ${name}: ${errorMessage(err)}`);
+                button.disabled = false;
+            }
+        });
+        return button;
+    }
     // ---- stats strip
     const progress = progressBar(0, "0%", { "data-testid": "job-progress", "aria-label": "Progress of the current round" });
     const sRound = stat("Round");
@@ -314,7 +333,7 @@ export function jobPage(id) {
             blockedSig = bs;
             const list = j.blockedWorkers ?? [];
             blocked.replaceChildren(...(list.length
-                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { title: b.workerId ?? null }, workerName(b.workerId)), h("span", { class: "blocked__reason" }, b.reason ?? ""), timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" })))
+                ? list.map((b) => h("li", { class: "blocked__item", "data-testid": "blocked-worker" }, h("span", { title: b.workerId ?? null }, workerName(b.workerId)), h("span", { class: "blocked__reason" }, b.reason ?? ""), timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" }), unblockButton(b.workerId ?? "")))
                 : [h("li", { class: "empty" }, "No worker is blocked.")]));
         }
         const preview = j.state === "JOB_STATE_SUCCEEDED" ? artifact(j.outputs, ARTIFACT.PREVIEW_PNG) : undefined;

@@ -152,6 +152,24 @@ export function jobPage(id: string): Page {
     }
   });
 
+  /** Unblocks one worker, after asking: its failures on this job are forgiven. */
+  function unblockButton(workerId: string): HTMLElement {
+    const button = h("button", { type: "button", class: "button", "data-testid": "unblock-button" }, "Unblock");
+    button.addEventListener("click", async () => {
+      const name = workerName(workerId);
+      if (!window.confirm(`Unblock ${name}? It may lease this job's tasks again, after it failed them.`)) return;
+      button.disabled = true;
+      try {
+        applyJob((await api.unblock(id, workerId)).job);
+        showNotice("success", `${name} was unblocked.`);
+      } catch (err) {
+        showNotice("error", `Could not unblock ${name}: ${errorMessage(err)}`);
+        button.disabled = false;
+      }
+    });
+    return button;
+  }
+
   // ---- stats strip
   const progress = progressBar(0, "0%", { "data-testid": "job-progress", "aria-label": "Progress of the current round" });
   const sRound = stat("Round");
@@ -443,6 +461,7 @@ export function jobPage(id: string): Page {
                 h("span", { title: b.workerId ?? null }, workerName(b.workerId)),
                 h("span", { class: "blocked__reason" }, b.reason ?? ""),
                 timeElement(b.blockTime, (ms) => formatRelative(ms, now), { class: "muted" }),
+                unblockButton(b.workerId ?? ""),
               ),
             )
           : [h("li", { class: "empty" }, "No worker is blocked.")]),
