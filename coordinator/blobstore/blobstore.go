@@ -348,3 +348,17 @@ func (w *Writer) Abort() {
 	w.done = true
 	w.sink.abort()
 }
+
+// probeDigest names a blob nobody stores (the digest of no known content): asking for its
+// size reaches the backend and answers NotFound when the backend is up.
+const probeDigest = "sha256:0000000000000000000000000000000000000000000000000000000000000000"
+
+// Ping reports whether the backend answers, for the coordinator's health service: a
+// size lookup of a blob that does not exist, which succeeds as NotFound.
+func (s *Store) Ping(ctx context.Context) error {
+	_, err := s.b.size(ctx, probeDigest)
+	if err == nil || errs.Is(err, errs.NotFound) {
+		return nil
+	}
+	return err
+}
