@@ -20,7 +20,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--blobs URL] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--blobs URL] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F] [--cpu-profile F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }

@@ -106,14 +106,17 @@ func startCoordinator(ctx context.Context, bin, dataDir, redisURL, blobs string,
 	}
 }
 
-// stop ends the coordinators with SIGTERM, then Redis, and waits for them.
+// stop ends the coordinators with SIGINT and waits for them, then Redis, so that no
+// coordinator stops with its Redis gone.
 func (f *farm) stop() {
-	for _, c := range append(f.coords, f.redis) {
+	for _, c := range f.coords {
 		_ = c.Process.Signal(os.Interrupt)
 	}
-	for _, c := range append(f.coords, f.redis) {
+	for _, c := range f.coords {
 		_ = c.Wait()
 	}
+	_ = f.redis.Process.Signal(os.Interrupt)
+	_ = f.redis.Wait()
 }
 
 // usage is a process's CPU seconds (user + system) and peak resident memory, from /proc.
