@@ -1,7 +1,6 @@
 #include "photon/photon_emission.h"
 
 #include <cmath>
-#include <vector>
 
 #include "math/frame.h"
 #include "math/math.h"
@@ -16,80 +15,53 @@ Ray RayFrom(const Vec3& p, const Vec3& n, const Vec3& w, float epsilon) {
   return Ray{on_surface ? OffsetRayOrigin(p, n, w, epsilon) : p, w};
 }
 
-// Picks index j with probability weights[j] / sum from u; -1 if all weights are zero.
-int PickWeighted(const std::vector<float>& weights, float sum, float u) {
-  if (!(sum > 0)) return -1;
-  float target = u * sum, running = 0;
-  int last = -1;
-  for (std::size_t j = 0; j < weights.size(); ++j) {
-    if (!(weights[j] > 0)) continue;
-    last = static_cast<int>(j);
-    running += weights[j];
-    if (target < running) return last;
-  }
-  return last;  // rounding left u * sum at the very top
-}
-
 // Light from infinitely far away, travelling along d.w: the point on the disc for d.w is
-// sampled within the shadows the targets cast on it.
-std::optional<PhotonRay> AimAtTargetsAlong(const SceneData& scene, const std::optional<DistantDirection>& d,
+// sampled within the shadows the targets cast on it, a disc of each target's radius about
+// the projection of its centre, chosen by the light's table (by area).
+std::optional<PhotonRay> AimAtTargetsAlong(const SceneData& scene, int light, const std::optional<DistantDirection>& d,
                                            const DistantDisc& disc, float u_target, Vec2 u_disc) {
   if (!d) return std::nullopt;
-  const std::vector<BoundingSphere>& targets = scene.specular_targets;
+  const CausticTargets& targets = scene.caustic_targets;
+  const AliasTable& table = targets.ForLight(light);
+  if (!(table.total() > 0)) return std::nullopt;
   const Frame frame = Frame::FromZ(d->w);
   const Vec3 disc_center = disc.CenterFor(d->w);
-  // Each target's shadow on the disc's plane: a disc of its radius around the projection of
-  // its centre. Chosen in proportion to area.
-  std::vector<float> weights;
-  weights.reserve(targets.size());
-  float sum = 0;
-  for (const BoundingSphere& t : targets) sum += weights.emplace_back(t.radius * t.radius);
-  const int j = PickWeighted(weights, sum, u_target);
-  if (j < 0) return std::nullopt;
   auto project = [&](const Vec3& c) { return c - d->w * Dot(c - disc_center, d->w); };
+  const BoundingSphere& chosen = targets.sphere(table.Sample(u_target));
   const Vec2 o = SampleUniformDiskConcentric(u_disc);
-  const Vec3 p = project(targets[j].center) + (frame.x * o.x + frame.y * o.y) * targets[j].radius;
+  const Vec3 p = project(chosen.center) + (frame.x * o.x + frame.y * o.y) * chosen.radius;
+  // The shadows that hold p are those of the spheres the line through p along w crosses.
   float pdf_area = 0;
-  for (std::size_t k = 0; k < targets.size(); ++k) {
-    const float r = targets[k].radius;
-    if (LengthSquared(p - project(targets[k].center)) <= r * r)
-      pdf_area += (weights[k] / sum) / (kPi * r * r);
-  }
+  targets.ForEachNearLine(p, d->w, [&](int k) {
+    const BoundingSphere& t = targets.sphere(k);
+    if (LengthSquared(p - project(t.center)) <= t.radius * t.radius)
+      pdf_area += table.Pmf(k) / (kPi * t.radius * t.radius);
+  });
   if (!(pdf_area > 0)) return std::nullopt;
   return PhotonRay{Ray{p, d->w}, d->weight / pdf_area};
 }
 
 // From a point of a light with an origin of its own (every kind but the sun).
-std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Light& light, Vec2 u_origin,
+std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, int light_index, Vec2 u_origin,
                                                 float u_target, Vec2 u_direction) {
+  const Light& light = scene.lights[light_index];
   const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
   if (!o || !(o->pdf_area > 0)) return std::nullopt;
-  const std::vector<BoundingSphere>& targets = scene.specular_targets;
-  std::vector<float> weights;
-  weights.reserve(targets.size());
-  float sum = 0;
-  for (const BoundingSphere& t : targets) {
-    const float dist2 = LengthSquared(t.center - o->p);
-    if (dist2 <= t.radius * t.radius) {
-      // Inside a target's sphere every direction may reach it: emit as the light does.
-      const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction);
-      if (!e) return std::nullopt;
-      return PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
-    }
-    // Solid angle of the cone, without cancellation for distant targets.
-    const float sin2 = t.radius * t.radius / dist2;
-    const float one_minus_cos = sin2 < 1e-3f ? sin2 / 2 : 1 - std::sqrt(1 - sin2);
-    sum += weights.emplace_back(2 * kPi * one_minus_cos);
+  const CausticTargets& targets = scene.caustic_targets;
+  if (targets.MayContainPointsOf(light_index) && targets.AnyContains(o->p)) {
+    // Inside a target's sphere every direction may reach it: emit as the light does.
+    const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction);
+    if (!e) return std::nullopt;
+    return PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
   }
-  const int j = PickWeighted(weights, sum, u_target);
-  if (j < 0) return std::nullopt;
-  const SphereSample s = SampleSphereFromPoint(targets[j].center, targets[j].radius, o->p, u_direction);
+  const AliasTable& table = targets.ForLight(light_index);
+  if (!(table.total() > 0)) return std::nullopt;
+  const BoundingSphere& chosen = targets.sphere(table.Sample(u_target));
+  const SphereSample s = SampleSphereFromPoint(chosen.center, chosen.radius, o->p, u_direction);
   const Vec3 d = s.p - o->p;
   if (!(LengthSquared(d) > 0)) return std::nullopt;
   const Vec3 w = Normalize(d);
-  float pdf_direction = 0;
-  for (std::size_t k = 0; k < targets.size(); ++k)
-    pdf_direction += (weights[k] / sum) * SphereFromPointPdf(targets[k].center, targets[k].radius, o->p, w);
+  const float pdf_direction = CausticAimPdf(scene, light_index, o->p, w);
   if (!(pdf_direction > 0)) return std::nullopt;
   Rgb power;
   if (o->is_point) {
@@ -103,24 +75,38 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
   return PhotonRay{RayFrom(o->p, o->n, w, scene.ray_epsilon), power};
 }
 
-std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,
-                                      float u_target, Vec2 u_direction) {
+std::optional<PhotonRay> AimAtTargets(const SceneData& scene, int light_index, Vec2 u_origin, float u_target,
+                                      Vec2 u_direction) {
+  const Light& light = scene.lights[light_index];
   return std::visit(
       Overloaded{
           [&](const SunLight& sun) {
-            return AimAtTargetsAlong(scene, SampleDistantDirection(sun, u_direction), sun.disc, u_target, u_origin);
+            return AimAtTargetsAlong(scene, light_index, SampleDistantDirection(sun, u_direction), sun.disc, u_target,
+                                     u_origin);
           },
           [&](const EnvironmentLight& env) {
-            return AimAtTargetsAlong(scene, SampleDistantDirection(env, u_direction), env.disc, u_target, u_origin);
+            return AimAtTargetsAlong(scene, light_index, SampleDistantDirection(env, u_direction), env.disc, u_target,
+                                     u_origin);
           },
           [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight, SpotLight> auto&) {
-            return AimAtTargetsFromOrigin(scene, light, u_origin, u_target, u_direction);
+            return AimAtTargetsFromOrigin(scene, light_index, u_origin, u_target, u_direction);
           },
       },
       light);
 }
 
 }  // namespace
+
+float CausticAimPdf(const SceneData& scene, int light, const Vec3& o, const Vec3& w) {
+  const CausticTargets& targets = scene.caustic_targets;
+  const AliasTable& table = targets.ForLight(light);
+  float pdf = 0;
+  targets.ForEachNearRay(o, w, [&](int k) {
+    const BoundingSphere& t = targets.sphere(k);
+    pdf += table.Pmf(k) * SphereFromPointPdf(t.center, t.radius, o, w);
+  });
+  return pdf;
+}
 
 std::optional<PhotonRay> EmitPhoton(const SceneData& scene, PhotonMapKind kind,
                                     PhotonRandom& random) {
@@ -136,8 +122,8 @@ std::optional<PhotonRay> EmitPhoton(const SceneData& scene, PhotonMapKind kind,
 
   std::optional<PhotonRay> photon;
   if (kind == PhotonMapKind::kCaustic) {
-    if (scene.specular_targets.empty()) return std::nullopt;
-    photon = AimAtTargets(scene, light, u_origin, u_target, u_direction);
+    if (scene.caustic_targets.empty()) return std::nullopt;
+    photon = AimAtTargets(scene, pick.index, u_origin, u_target, u_direction);
   } else if (const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction)) {
     photon = PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
   }

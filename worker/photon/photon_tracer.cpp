@@ -57,8 +57,14 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
   PhotonRandom random(scene.seed, kind, index);
   const std::optional<PhotonRay> emitted = EmitPhoton(scene, kind, random);
   if (!emitted) return;
-  Ray ray = emitted->ray;
-  Rgb power = emitted->power * power_scale;
+  ContinuePhotonPath(scene, kind, *emitted, random, power_scale, options, out);
+}
+
+void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const PhotonRay& emitted,
+                        PhotonRandom& random, float power_scale, const PhotonTraceOptions& options,
+                        std::vector<ShardPhoton>& out) {
+  Ray ray = emitted.ray;
+  Rgb power = emitted.power * power_scale;
   int specular_bounces = 0, diffuse_bounces = 0;
 
   for (int bounce = 0; bounce < kMaxBounces; ++bounce) {

@@ -366,6 +366,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   std::vector<float> power;
   for (const Light& light : d.lights) power.push_back(Power(light).Luminance());
   d.light_power = DiscreteDistribution(power);
+  d.caustic_targets = CausticTargets(d.specular_targets, d.lights);
 
   // ~17 ulps of the largest coordinate: above the rounding of the primitives' own
   // coordinates, which is what rays leaving points near the origin of a large scene meet.

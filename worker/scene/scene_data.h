@@ -19,6 +19,7 @@
 #include "scene/accelerator.h"
 #include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
+#include "scene/caustic_targets.h"
 #include "scene/cutout.h"
 #include "scene/environment.h"
 #include "scene/indirect_settings.h"
@@ -127,6 +128,9 @@ struct SceneData {
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
   // at them. Empty: the scene needs no caustic map.
   std::vector<BoundingSphere> specular_targets;
+  // The same spheres indexed for aiming photons at them (scene/caustic_targets.h), built
+  // once the lights are.
+  CausticTargets caustic_targets;
   PhotonSettings photons;
 
   // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
