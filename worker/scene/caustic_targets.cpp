@@ -8,6 +8,13 @@
 #include "util/overloaded.h"
 
 namespace farm {
+
+struct CausticTargets::BinaryNode {
+  Bounds3 box;    // of the spheres below, grown by a margin against rounding
+  int first = 0;  // a leaf: its first sphere; an inner node: its second child
+  int count = 0;  // spheres of a leaf; 0 for an inner node (first child: the next node)
+};
+
 namespace {
 
 constexpr int kLeafSpheres = 4;
@@ -61,8 +68,12 @@ bool Overlap(const BoundingSphere& a, const BoundingSphere& b) {
 CausticTargets::CausticTargets(std::span<const BoundingSphere> spheres, std::span<const Light> lights)
     : spheres_(spheres.begin(), spheres.end()) {
   if (spheres_.empty()) return;
-  nodes_.reserve(2 * spheres_.size() / kLeafSpheres + 2);
-  Build(0, size());
+  std::vector<BinaryNode> tree;
+  tree.reserve(2 * spheres_.size() / kLeafSpheres + 2);
+  BuildBinary(spheres_, 0, size(), tree);
+  root_box_ = tree[0].box;
+  nodes_.reserve(tree.size() / 2 + 1);
+  Collapse(tree, 0);
 
   std::vector<float> weights;
   for (const BoundingSphere& s : spheres_) weights.push_back(s.radius * s.radius);
@@ -84,43 +95,91 @@ CausticTargets::CausticTargets(std::span<const BoundingSphere> spheres, std::spa
   }
 }
 
-// Median split of [begin, end) along the widest axis of the centres; returns the node.
-int CausticTargets::Build(int begin, int end) {
+// Median split of spheres[begin, end) along the widest axis of the centres, appending the
+// nodes to tree; returns the node.
+int CausticTargets::BuildBinary(std::vector<BoundingSphere>& spheres, int begin, int end,
+                                std::vector<BinaryNode>& tree) {
   Bounds3 box, centres;
   for (int k = begin; k < end; ++k) {
-    const BoundingSphere& s = spheres_[k];
+    const BoundingSphere& s = spheres[k];
     const Vec3 r(s.radius, s.radius, s.radius);
     box.Extend(s.center - r);
     box.Extend(s.center + r);
     centres.Extend(s.center);
   }
-  const int index = static_cast<int>(nodes_.size());
+  const int index = static_cast<int>(tree.size());
   const Vec3 grow = Vec3(1, 1, 1) * (kRelativeMargin * (box.Diagonal() + MaxComponent(Max(Abs(box.min), Abs(box.max)))));
-  Node node;
-  node.box = {box.min - grow, box.max + grow};
-  node.radius = node.box.Diagonal() / 2;
-  nodes_.push_back(node);
-  if (end - begin <= kLeafSpheres) {
-    nodes_[index].first = begin;
-    nodes_[index].count = end - begin;
-    return index;
-  }
+  tree.push_back({Bounds3{box.min - grow, box.max + grow}, begin, end - begin});
+  if (end - begin <= kLeafSpheres) return index;
   const Vec3 extent = centres.max - centres.min;
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const auto key = [axis](const BoundingSphere& s) { return axis == 0 ? s.center.x : axis == 1 ? s.center.y : s.center.z; };
   const int middle = begin + (end - begin) / 2;
-  std::nth_element(spheres_.begin() + begin, spheres_.begin() + middle, spheres_.begin() + end,
+  std::nth_element(spheres.begin() + begin, spheres.begin() + middle, spheres.begin() + end,
                    [&](const BoundingSphere& a, const BoundingSphere& b) { return key(a) < key(b); });
-  Build(begin, middle);  // the first child: the next node
-  const int second = Build(middle, end);
-  nodes_[index].first = second;
+  BuildBinary(spheres, begin, middle, tree);  // the first child: the next node
+  const int second = BuildBinary(spheres, middle, end, tree);
+  tree[index].first = second;
+  tree[index].count = 0;
   return index;
+}
+
+// A wide node for binary node `index`: its children, the inner ones among them replaced
+// by theirs while there is room.
+int CausticTargets::Collapse(const std::vector<BinaryNode>& tree, int index) {
+  std::vector<int> slots;
+  if (tree[index].count > 0) {
+    slots = {index};
+  } else {
+    slots = {index + 1, tree[index].first};
+  }
+  for (std::size_t i = 0; i < slots.size() && slots.size() < 4;) {
+    const BinaryNode& n = tree[slots[i]];
+    if (n.count > 0) {
+      ++i;
+      continue;
+    }
+    const int left = slots[i] + 1, right = n.first;
+    slots[i] = left;
+    slots.insert(slots.begin() + static_cast<std::ptrdiff_t>(i) + 1, right);
+  }
+  const int wide = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  for (int c = 0; c < 4; ++c) {
+    WideNode& w = nodes_[wide];
+    if (c >= static_cast<int>(slots.size())) {
+      const float inf = std::numeric_limits<float>::infinity();
+      for (int a = 0; a < 3; ++a) {
+        w.lo[a][c] = inf;
+        w.hi[a][c] = -inf;
+      }
+      w.first[c] = 0;
+      w.count[c] = -1;
+      continue;
+    }
+    const BinaryNode& n = tree[slots[c]];
+    const float lo[3] = {n.box.min.x, n.box.min.y, n.box.min.z}, hi[3] = {n.box.max.x, n.box.max.y, n.box.max.z};
+    for (int a = 0; a < 3; ++a) {
+      w.lo[a][c] = lo[a];
+      w.hi[a][c] = hi[a];
+    }
+    w.count[c] = n.count;
+    w.first[c] = n.count > 0 ? n.first : 0;
+    if (n.count == 0) {
+      const int child = Collapse(tree, slots[c]);  // may move nodes_
+      nodes_[wide].first[c] = child;
+    }
+  }
+  return wide;
 }
 
 CausticTargets::RayQuery CausticTargets::Query(const Vec3& o, const Vec3& w, float t_min, float slack) const {
   RayQuery q;
   q.o = o;
   q.w = w;
+  q.origin[0] = o.x;
+  q.origin[1] = o.y;
+  q.origin[2] = o.z;
   q.t_min = t_min;
   const float d[3] = {w.x, w.y, w.z};
   for (int a = 0; a < 3; ++a) {
@@ -129,19 +188,25 @@ CausticTargets::RayQuery CausticTargets::Query(const Vec3& o, const Vec3& w, flo
     q.inv[a] = 1 / (std::abs(d[a]) < 1e-20f ? 1e-20f : d[a]);
     q.near_is_max[a] = q.inv[a] < 0;
   }
-  const Bounds3& root = nodes_.empty() ? Bounds3{} : nodes_[0].box;
-  const Vec3 far = Max(Abs(root.min - o), Abs(root.max - o));
-  q.grow = slack * (far.x + far.y + far.z);
+  const Vec3 far = Max(Abs(root_box_.min - o), Abs(root_box_.max - o));
+  q.grow = slack * Length(far);  // the farthest corner
   return q;
 }
 
 bool CausticTargets::AnyContains(const Vec3& p) const {
   bool found = false;
-  const auto inside = [&](const Bounds3& b) {
-    return p.x >= b.min.x && p.y >= b.min.y && p.z >= b.min.z && p.x <= b.max.x && p.y <= b.max.y && p.z <= b.max.z;
-  };
-  Traverse([&](const Node& n) { return !found && inside(n.box); },
-           [&](int k) { found = found || LengthSquared(spheres_[k].center - p) <= spheres_[k].radius * spheres_[k].radius; });
+  const float q[3] = {p.x, p.y, p.z};
+  Traverse(
+      [&](const WideNode& n) {
+        int mask = 0;
+        for (int c = 0; c < 4 && !found; ++c) {
+          bool inside = true;
+          for (int a = 0; a < 3; ++a) inside = inside && q[a] >= n.lo[a][c] && q[a] <= n.hi[a][c];
+          mask |= inside << c;
+        }
+        return mask;
+      },
+      [&](int k) { found = found || LengthSquared(spheres_[k].center - p) <= spheres_[k].radius * spheres_[k].radius; });
   return found;
 }
 

@@ -23,6 +23,7 @@
 // sharding.
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <span>
 #include <vector>
@@ -66,7 +67,7 @@ class CausticTargets {
   template <typename Visit>
   void ForEachNearRay(const Vec3& o, const Vec3& w, Visit&& visit) const {
     const RayQuery q = Query(o, w, 0, kConeSlack);
-    Traverse([&](const Node& n) { return q.Near(n); }, [&](int k) {
+    Traverse([&](const WideNode& n) { return q.Near(n); }, [&](int k) {
       if (q.Near(spheres_[k])) visit(k);
     });
   }
@@ -75,7 +76,7 @@ class CausticTargets {
   template <typename Visit>
   void ForEachNearLine(const Vec3& o, const Vec3& w, Visit&& visit) const {
     const RayQuery q = Query(o, w, -std::numeric_limits<float>::infinity(), kLineSlack);
-    Traverse([&](const Node& n) { return q.Near(n); }, [&](int k) {
+    Traverse([&](const WideNode& n) { return q.Near(n); }, [&](int k) {
       if (q.Near(spheres_[k])) visit(k);
     });
   }
@@ -86,34 +87,44 @@ class CausticTargets {
   bool AnyContains(const Vec3& p) const;
 
  private:
-  struct Node {
-    Bounds3 box;       // of the spheres below, grown by a margin against rounding
-    float radius = 0;  // half the box's diagonal
-    int first = 0;     // a leaf: its first sphere; an inner node: its second child
-    int count = 0;     // spheres of a leaf; 0 for an inner node (first child: the next node)
+  // Four children side by side, their boxes by axis then child, so that one load brings
+  // four boxes and their slab tests run together. A box is grown by a margin against
+  // rounding; an empty slot has count -1 and an empty box (lo > hi).
+  struct alignas(64) WideNode {  // two cache lines
+    float lo[3][4], hi[3][4];
+    int first[4];  // a leaf child: its first sphere; an inner child: its wide node
+    int count[4];  // a leaf child's spheres; 0 for an inner child; -1 for an empty slot
   };
+  struct BinaryNode;  // the median-split tree the wide nodes are collapsed from
 
   // Slab tests against the nodes' boxes and distance tests against the spheres, both grown
   // by slack times the farthest any point of the root's box is from o (so by more than the
-  // slack at the distance of any sphere), without square roots.
+  // slack at the distance of any sphere), without square roots per node.
   struct RayQuery {
+    float origin[3], inv[3];
     Vec3 o, w;
-    float inv[3];
-    int near_is_max[3];  // per axis: whether the ray meets the box's max plane first
+    bool near_is_max[3];  // per axis: whether the ray meets a box's max plane first
     float t_min = 0, grow = 0;
 
-    bool Near(const Node& n) const {
-      const float lo[3] = {n.box.min.x - grow, n.box.min.y - grow, n.box.min.z - grow};
-      const float hi[3] = {n.box.max.x + grow, n.box.max.y + grow, n.box.max.z + grow};
-      const float origin[3] = {o.x, o.y, o.z};
-      float t0 = t_min, t1 = std::numeric_limits<float>::infinity();
+    // Bit c: whether the ray meets child c's box. Four lanes at once (GCC's and Clang's
+    // vector extensions: SSE on x86-64, NEON on ARM), the children side by side.
+    int Near(const WideNode& n) const {
+      using Lanes = float __attribute__((vector_size(16)));
+      Lanes t0 = {t_min, t_min, t_min, t_min};
+      constexpr float inf = std::numeric_limits<float>::infinity();
+      Lanes t1 = {inf, inf, inf, inf};
       for (int a = 0; a < 3; ++a) {
-        const float enter = ((near_is_max[a] ? hi[a] : lo[a]) - origin[a]) * inv[a];
-        const float leave = ((near_is_max[a] ? lo[a] : hi[a]) - origin[a]) * inv[a];
+        Lanes enter_plane, leave_plane;
+        std::memcpy(&enter_plane, near_is_max[a] ? n.hi[a] : n.lo[a], sizeof enter_plane);
+        std::memcpy(&leave_plane, near_is_max[a] ? n.lo[a] : n.hi[a], sizeof leave_plane);
+        const float out = near_is_max[a] ? grow : -grow;  // the growth of the entry plane
+        const Lanes enter = (enter_plane + (out - origin[a])) * inv[a];
+        const Lanes leave = (leave_plane - (out + origin[a])) * inv[a];
         t0 = enter > t0 ? enter : t0;
         t1 = leave < t1 ? leave : t1;
       }
-      return t0 <= t1;
+      const auto hit = t0 <= t1;
+      return (hit[0] & 1) | (hit[1] & 2) | (hit[2] & 4) | (hit[3] & 8);
     }
     // The ray's distance from the centre, from the vector to its nearest point (no
     // cancellation of two squares).
@@ -125,8 +136,11 @@ class CausticTargets {
   };
   RayQuery Query(const Vec3& o, const Vec3& w, float t_min, float slack) const;
 
-  int Build(int begin, int end);
+  static int BuildBinary(std::vector<BoundingSphere>& spheres, int begin, int end, std::vector<BinaryNode>& tree);
+  int Collapse(const std::vector<BinaryNode>& tree, int index);
 
+  // enter(node) gives the mask of the children to enter; visit(k) is called for the
+  // spheres of every leaf entered, in a fixed order.
   template <typename Enter, typename Visit>
   void Traverse(Enter&& enter, Visit&& visit) const {
     if (nodes_.empty()) return;
@@ -134,20 +148,25 @@ class CausticTargets {
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-      const int index = stack[--top];
-      const Node& n = nodes_[index];
-      if (!enter(n)) continue;
-      if (n.count > 0) {
-        for (int k = n.first; k < n.first + n.count; ++k) visit(k);
-      } else {
-        stack[top++] = n.first;
-        stack[top++] = index + 1;  // the first child, next
+      const WideNode& n = nodes_[stack[--top]];
+      const int mask = enter(n);
+      for (int c = 0; c < 4; ++c) {
+        if (!(mask & (1 << c)) || n.count[c] < 0) continue;
+        if (n.count[c] == 0) {
+          const char* next = reinterpret_cast<const char*>(&nodes_[n.first[c]]);
+          __builtin_prefetch(next);
+          __builtin_prefetch(next + 64);
+          stack[top++] = n.first[c];
+        } else {
+          for (int k = n.first[c]; k < n.first[c] + n.count[c]; ++k) visit(k);
+        }
       }
     }
   }
 
   std::vector<BoundingSphere> spheres_;
-  std::vector<Node> nodes_;
+  std::vector<WideNode> nodes_;
+  Bounds3 root_box_;
   std::vector<AliasTable> tables_;  // [0]: by cross-section
   std::vector<int> table_of_light_;
   std::vector<bool> may_contain_;  // by light
