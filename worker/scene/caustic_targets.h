@@ -5,22 +5,23 @@
 // may pass through, in time that grows with the logarithm of their number, not with it.
 //
 // Choosing. A photon of light i picks sphere k with a probability fixed per light
-// (ForLight), not per emission point, so that the choice is one look-up in an alias
-// table rather than a pass over every sphere. A light with an origin (area,
-// point, spot) weighs each sphere by the solid angle it subtends from the nearest point of
-// the light's bounding sphere (for a point or spot light, exactly the cone seen from the
-// light; 2 pi where the spheres overlap); light from infinitely far away weighs each
-// sphere by its cross-section r^2 (the area of its shadow on the light's disc). Any
-// weights that are positive for every sphere keep the estimate unbiased; these put photons
-// where the spheres look large. Past kMaxTableEntries entries (lights x spheres) every
-// light shares the cross-section table, so memory stays linear in both.
+// (ForLight), not per emission point, so that the choice is one look-up in an alias table
+// rather than a pass over every sphere. A light with an origin (area, point, spot) weighs
+// each sphere by the solid angle it subtends from the nearest point of the light's
+// bounding sphere (for a point or spot light, exactly the cone seen from the light; 2 pi
+// where the spheres overlap); light from infinitely far away weighs each sphere by its
+// cross-section r^2 (the area of its shadow on the light's disc). Any weights that are
+// positive for every sphere keep the estimate unbiased; these put photons where the
+// spheres look large. Past kMaxTableEntries entries (lights x spheres) every light shares
+// the cross-section table, so memory stays linear in both.
 //
 // Densities. The mixture's density at a direction sums only the spheres its ray passes
-// through. ForEachNearRay visits a superset of them through a bounding-sphere hierarchy
-// whose tests are widened (by an angle and a relative margin) beyond the rounding of
-// the exact per-sphere tests the caller applies, so the sum is that of a pass over every
-// sphere. The order of visits is fixed by the scene, so photons are the same whatever the
-// sharding.
+// through. ForEachNearRay (ForEachNearLine for a distant light's line) visits a superset
+// of them: a median-split hierarchy collapsed into nodes of four boxes, whose slab tests
+// run four at once, and then a distance test per sphere, both widened (by an angle times
+// the distance and a relative margin) beyond the rounding of the exact per-sphere tests
+// the caller applies, so the sum is that of a pass over every sphere. The order of visits
+// is fixed by the scene, so photons are the same whatever the sharding.
 
 #include <algorithm>
 #include <cstring>
