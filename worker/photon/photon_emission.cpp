@@ -99,6 +99,7 @@ std::optional<PhotonRay> AimAtTargets(const SceneData& scene, int light_index, V
 
 float CausticAimPdf(const SceneData& scene, int light, const Vec3& o, const Vec3& w) {
   const CausticTargets& targets = scene.caustic_targets;
+  if (targets.empty()) return 0;
   const AliasTable& table = targets.ForLight(light);
   float pdf = 0;
   targets.ForEachNearRay(o, w, [&](int k) {

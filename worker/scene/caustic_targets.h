@@ -145,6 +145,7 @@ class CausticTargets {
   template <typename Enter, typename Visit>
   void Traverse(Enter&& enter, Visit&& visit) const {
     if (nodes_.empty()) return;
+    // At most 3 a level: a median split of 2^31 spheres collapses to 16 levels of wide nodes.
     int stack[64];
     int top = 0;
     stack[top++] = 0;
