@@ -1,10 +1,10 @@
 #!/bin/sh
 # Runs every benchmark and prints the figures (`make bench`).
 #   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
-# Needs farm_bench_photons, farm_bench_caustic_emission, farm_bench_knn, farm_bench_specular and
-# farm_bench_edge_aa built in BUILD_DIR, and $BENCH_PYTHON (default python3) a Python with
-# mitsuba and numpy (make bench makes one: scripts/install-deps.sh --bench; without them the
-# Mitsuba comparisons are skipped with a message). Snapshots and renders go to a temporary folder, removed at exit; Mitsuba
+# Needs farm_bench_photons, farm_bench_caustic_emission, farm_bench_knn, farm_bench_specular and farm_bench_edge_aa built in BUILD_DIR, and
+# $BENCH_PYTHON (default python3) a Python with mitsuba and numpy (make bench makes one:
+# scripts/install-deps.sh --bench; without them the Mitsuba comparisons are skipped with a
+# message). Snapshots and renders go to a temporary folder, removed at exit; Mitsuba
 # references are cached in BUILD_DIR/bench-cache.
 set -eu
 build=${1:-build}
@@ -16,7 +16,7 @@ cd "$root"
 echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 echo "== worker photon tracing (C++, scenes/cornell-caustics.json)"
 "$build/bin/farm_bench_photons"
-echo "== caustic emission with 10,000 specular balls against 10, same photon count (C++, in-process; target at most 2x, MISSED when above: not an error)"
+echo "== caustic emission with 10 and with 10,000 specular spheres, same paths (C++, in-process; target: aiming at most 2x)"
 "$build/bin/farm_bench_caustic_emission"
 echo "== coordinator kd-tree build (Go, coordinator/photonmap.Build)"
 go build -o "$tmp/mksnapshot" ./bench/cmd/mksnapshot

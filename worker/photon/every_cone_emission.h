@@ -1,12 +1,13 @@
 #pragma once
 
-// The caustic emission of main before issue 17, kept as the reference that
-// photon_emission_test.cpp and bench/caustic_emission_bench.cpp compare EmitPhoton with:
+// The caustic emission of main before issue 17 (7f376ca), kept as the reference that
+// photon_emission_test.cpp compares EmitPhoton's caustics with:
 // spheres chosen by the solid angle each subtends from the emission point itself, the
 // density summed over every cone (for the sun, every shadow on its disc), a pass over every
 // specular shape per photon. Same random numbers as EmitPhoton. Handles what those scenes
 // hold: area and point lights (no spot falloff) and the sun, no environment, no light
-// point inside a target (none emits then). Header-only, never linked into the worker.
+// point inside a target (none emits then). Its photons own no target (PhotonRay::target
+// -1): the tracer keeps them whatever they hit first. Header-only, never in the worker.
 
 #include <cmath>
 #include <optional>
@@ -25,8 +26,10 @@ namespace farm::testing {
 
 // Whether p is inside or on some specular target's sphere, by a pass over all of them.
 inline bool InsideSomeTarget(const SceneData& scene, const Vec3& p) {
-  for (const BoundingSphere& t : scene.specular_targets)
+  for (int k = 0; k < scene.specular_targets.size(); ++k) {
+    const BoundingSphere& t = scene.specular_targets[k];
     if (LengthSquared(t.center - p) <= t.radius * t.radius) return true;
+  }
   return false;
 }
 
@@ -37,7 +40,8 @@ inline std::optional<PhotonRay> EmitByEveryCone(const SceneData& scene, PhotonRa
   const Vec2 u_direction = random.Get2D();
   const auto pick = scene.light_power.Sample(u_light);
   const Light& light = scene.lights[pick.index];
-  const std::vector<BoundingSphere>& targets = scene.specular_targets;
+  std::vector<BoundingSphere> targets;
+  for (int k = 0; k < scene.specular_targets.size(); ++k) targets.push_back(scene.specular_targets[k]);
   std::vector<float> weights;
   std::optional<PhotonRay> photon;
   if (const auto* sun = std::get_if<SunLight>(&light)) {

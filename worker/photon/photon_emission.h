@@ -5,20 +5,22 @@
 //
 // Global photons leave each light as the light emits (lights.h SampleLe). Caustic photons
 // are aimed at the specular geometry, as Jensen's projection maps do, so that the few paths
-// that make caustics are not a small fraction of a large emission. From the sampled point
-// of the light, a bounding sphere of a specular shape is chosen by a table fixed per light
-// (scene/caustic_targets.h: the solid angle each sphere subtends from the nearest point of
-// the light's bounds, in an alias table) and a direction sampled uniformly in its cone; the
-// photon's power is divided by the density of the whole mixture of cones, which sums only
-// the cones that hold the direction (the spheres its ray passes through, found through the
-// targets' hierarchy), so the estimate stays unbiased for every path light -> specular (a
-// spot's power along the direction is scaled by its falloff) and the cost per photon grows
-// with the logarithm of the number of specular shapes, not with it. For light from
-// infinitely far away (sun, environment), the direction is sampled as the light emits and
-// the point on its disc within the shadows that the specular bounding spheres cast on the
-// disc (a shadow chosen by its area), with the mixture density by area over the shadows
-// that hold the point (the spheres the line through it crosses). A light point inside a
-// bounding sphere falls back to plain emission.
+// that make caustics are not a small fraction of a large emission: from the sampled point of
+// the light, the bounding sphere of a specular surface is picked (sampling/target_spheres.h:
+// by the solid angle it subtends, estimated down a tree, O(log n) in their number) and a
+// direction sampled uniformly in its cone. For light from infinitely far away (sun,
+// environment), the direction is sampled as the light emits and the point on its disc within
+// the shadow one bounding sphere casts on the disc, picked by its area. A light point inside
+// a bounding sphere falls back to plain emission.
+//
+// The photon is aimed at target i, and its path counts only if the first surface it hits is
+// target i's (the photon tracer ends it otherwise): every caustic path L S+ D has exactly
+// one target able to own it, the one around its first specular surface, whose sampling
+// reaches it with a positive density (its surface lies in the sphere, so its direction in
+// the cone and its point in the shadow). The power divided by that one strategy's density
+// (the pick's probability times the cone's or the disc's) is then unbiased, with no sum
+// over the other targets: paths aimed at one sphere that hit another's surface first (one
+// behind the other) are the price, instead of a sum over every cone that cost O(n).
 
 #include <optional>
 
@@ -32,16 +34,13 @@ namespace farm {
 struct PhotonRay {
   Ray ray;
   Rgb power;  // flux of this one path, before dividing by the number of paths
+  // The specular target it was aimed at (an index of SceneData::specular_targets): the path
+  // counts only if it hits that target's surface first. -1: emitted as the light emits.
+  int target = -1;
 };
 
 // Nothing if the sample carries no light (the path still counts as emitted).
 std::optional<PhotonRay> EmitPhoton(const SceneData& scene, PhotonMapKind kind,
                                     PhotonRandom& random);
-
-// The density per unit solid angle of the directions in which light `light` (an index into
-// scene.lights, a light with an origin) aims caustic photons from o, outside every target
-// sphere, at the unit direction w: the sum over the spheres k of the light's table's
-// Pmf(k) times the cone density SphereFromPointPdf of k at w.
-float CausticAimPdf(const SceneData& scene, int light, const Vec3& o, const Vec3& w);
 
 }  // namespace farm

@@ -76,6 +76,10 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
 
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return;
+    // A photon aimed at a target is that target's to carry only (photon_emission.h).
+    if (bounce == 0 && emitted.target >= 0 &&
+        !(scene.specular_target_surfaces[emitted.target] == SceneData::TargetSurface{hit->shape, hit->part}))
+      return;
     // A photon is one sample among very many: a point lookup of the textures (emission
     // aside: it scatters light, whatever the surface emits).
     const Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{.emission = false});

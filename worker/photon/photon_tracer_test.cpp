@@ -176,25 +176,51 @@ TEST(PhotonTracer, SphereLightPhotonsGivePiLTimesRadiusOverDistanceSquared) {
   }
 }
 
-TEST(PhotonTracer, MirrorCausticMatchesTheMirrorImageOfAPointLight) {
-  // A point light at height 1 over a white floor... reflected by a mirror ceiling at height
-  // 2: the caustic map holds light -> mirror -> floor, whose irradiance is that of an image
-  // light at height 3 with intensity rho_mirror * I.
+// A square mirror of side `side` at height h over the floor of FloorScene, a point light
+// of intensity 5 at height 1 under it, and its material "mirror" (reflectance 0.8).
+pb::Scene MirrorOverPointLight(double side, double h) {
   pb::Scene s = FloorScene();
   pb::Material* m = s.add_materials();
   m->set_name("mirror");
   Set(m->mutable_mirror()->mutable_reflectance(), Rgb(0.8f));
-  AddQuad(s, "mirror", {-6, -6, 2}, {12, 0, 0}, {0, 12, 0});
+  AddQuad(s, "mirror", {-side / 2, -side / 2, h}, {side, 0, 0}, {0, side, 0});
   auto* light = s.add_lights()->mutable_point();
   Set(light->mutable_position(), {0, 0, 1});
   Set(light->mutable_intensity(), Rgb(5));
+  return s;
+}
+
+// The caustic of MirrorOverPointLight's mirror at height h on the floor, at each x of xs
+// (within the mirror's reflection): that of an image light at height 2h - 1 with
+// intensity rho_mirror * I.
+void ExpectTheImageLightsCaustic(const pb::Scene& s, double h, std::initializer_list<double> xs) {
   const auto photons = Trace(s, PhotonMapKind::kCaustic, 400'000);
-  const auto E = [&](double x, double y) { return 0.8 * 5 * 3 / std::pow(9 + x * x + y * y, 1.5); };
-  for (double x : {0.0, 1.5}) {
+  const double image = 2 * h - 1;
+  const auto E = [&](double x, double y) { return 0.8 * 5 * image / std::pow(image * image + x * x + y * y, 1.5); };
+  for (double x : xs) {
     const double expected = DiscAverage(E, x, 0, 0.3);
     EXPECT_NEAR(DiscIrradiance(photons, Vec3(float(x), 0, 0), 0.3f), expected, 0.06 * expected)
         << "x = " << x;
   }
+}
+
+TEST(PhotonTracer, MirrorCausticMatchesTheMirrorImageOfAPointLight) {
+  // A point light at height 1 over a white floor... reflected by a mirror ceiling at height
+  // 2: the caustic map holds light -> mirror -> floor. The light is inside the mirror's
+  // bounding sphere, so its photons leave as it emits.
+  ExpectTheImageLightsCaustic(MirrorOverPointLight(12, 2), 2, {0.0, 1.5});
+}
+
+TEST(PhotonTracer, AMirrorCausticCountsEachPathForTheTargetItHitsFirst) {
+  // A 2 x 2 mirror at height 4, the light outside its bounding sphere (so caustic photons
+  // are aimed, not emitted plainly), and 25 small mirror balls above it, which it hides
+  // from the light. Photons are aimed at 26 targets and a path counts only for the target
+  // whose surface it hits first (photon_emission.h): those aimed at the hidden balls meet
+  // the mirror first and must not add to its caustic (within |x| < 7/3 on the floor).
+  pb::Scene s = MirrorOverPointLight(2, 4);
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) AddSphere(s, "mirror", {-0.8 + 0.4 * i, -0.8 + 0.4 * j, 4.5}, 0.1);
+  ExpectTheImageLightsCaustic(s, 4, {0.0, 1.2});
 }
 
 TEST(PhotonTracer, ASmoothPrincipledMetalCausticIsTheImageLightTimesSchlicksFresnel) {

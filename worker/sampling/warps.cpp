@@ -130,8 +130,12 @@ float SphereFromPointPdf(const Vec3& center, float radius, const Vec3& ref, cons
     return cos_light > 0 ? t * t / (cos_light * 4 * kPi * radius * radius) : 0.0f;
   }
   const float sin2_theta_max = radius * radius / dist2;
-  const float cos_theta_max = SafeSqrt(1 - sin2_theta_max);
-  if (Dot(w, to_center) / std::sqrt(dist2) < cos_theta_max) return 0;
+  // Inside the cone by the sine of the angle to the centre, not its cosine: a distant
+  // sphere's narrow cone has cosines that round to within a few percent of their distance
+  // from 1, which turned away directions sampled at its rim. The slack keeps directions
+  // to the rim inside after rounding.
+  if (!(Dot(w, to_center) > 0)) return 0;
+  if (LengthSquared(Cross(w, to_center)) / dist2 > sin2_theta_max * (1 + 1e-4f)) return 0;
   return 1 / (2 * kPi * OneMinusCosThetaMax(sin2_theta_max));
 }
 

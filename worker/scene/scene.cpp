@@ -182,14 +182,21 @@ void AddLights(const ShapeGeometry& geometry, int material, SceneData& d) {
 
 // Spheres around a shape's specular surfaces (caustic photons are aimed at them): the
 // shape's if its material is specular; for an instance, each specular part's, placed.
-void AddSpecularTargets(const ShapeGeometry& geometry, int material, const std::vector<MaterialCapabilities>& can,
-                        std::vector<BoundingSphere>& targets) {
+void AddSpecularTargets(int shape, const ShapeGeometry& geometry, int material,
+                        const std::vector<MaterialCapabilities>& can, std::vector<BoundingSphere>& targets,
+                        std::vector<SceneData::TargetSurface>& surfaces) {
   if (const auto* instance = std::get_if<InstanceShape>(&geometry)) {
-    for (const SceneMesh::Part& part : instance->mesh->parts)
-      if (can[part.material].specular) targets.push_back(BoundingSphere::Of(Place(part.bounds, instance->placement)));
+    for (std::size_t p = 0; p < instance->mesh->parts.size(); ++p) {
+      const SceneMesh::Part& part = instance->mesh->parts[p];
+      if (!can[part.material].specular) continue;
+      targets.push_back(BoundingSphere::Of(Place(part.bounds, instance->placement)));
+      surfaces.push_back({shape, static_cast<uint32_t>(p)});
+    }
     return;
   }
-  if (can[material].specular) targets.push_back(BoundingSphereOf(geometry));
+  if (!can[material].specular) return;
+  targets.push_back(BoundingSphereOf(geometry));
+  surfaces.push_back({shape, 0});
 }
 
 // Largest absolute coordinate of any geometry: sets the absolute floor of ray offsets.
@@ -343,10 +350,14 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     d.shapes.push_back(std::move(record));
   }
 
-  for (const ShapeRecord& shape : d.shapes) {
+  std::vector<BoundingSphere> specular_targets;
+  for (std::size_t i = 0; i < d.shapes.size(); ++i) {
+    const ShapeRecord& shape = d.shapes[i];
     d.bounds.Extend(BoundsOf(shape.geometry));
-    AddSpecularTargets(shape.geometry, shape.material, d.capabilities, d.specular_targets);
+    AddSpecularTargets(static_cast<int>(i), shape.geometry, shape.material, d.capabilities, specular_targets,
+                       d.specular_target_surfaces);
   }
+  d.specular_targets = TargetSpheres(std::move(specular_targets));
   const BoundingSphere scene_sphere = BoundingSphere::Of(d.bounds);
   for (int i = 0; i < description.lights_size(); ++i)
     d.lights.push_back(LightFromProto(description.lights(i), scene_sphere));
@@ -366,7 +377,6 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   std::vector<float> power;
   for (const Light& light : d.lights) power.push_back(Power(light).Luminance());
   d.light_power = DiscreteDistribution(power);
-  d.caustic_targets = CausticTargets(d.specular_targets, d.lights);
 
   // ~17 ulps of the largest coordinate: above the rounding of the primitives' own
   // coordinates, which is what rays leaving points near the origin of a large scene meet.

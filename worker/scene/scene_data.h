@@ -16,10 +16,10 @@
 #include "math/vec3.h"
 #include "media/homogeneous_medium.h"
 #include "sampling/distribution.h"
+#include "sampling/target_spheres.h"
 #include "scene/accelerator.h"
 #include "scene/antialiasing_settings.h"
 #include "scene/camera.h"
-#include "scene/caustic_targets.h"
 #include "scene/cutout.h"
 #include "scene/environment.h"
 #include "scene/indirect_settings.h"
@@ -126,11 +126,16 @@ struct SceneData {
   std::optional<HomogeneousMedium> medium;
   BoundingSphere medium_ball;
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
-  // at them. Empty: the scene needs no caustic map.
-  std::vector<BoundingSphere> specular_targets;
-  // The same spheres indexed for aiming photons at them (scene/caustic_targets.h), built
-  // once the lights are.
-  CausticTargets caustic_targets;
+  // at them. Empty: the scene needs no caustic map. The surface each bounds, by index: a
+  // shape, and for an instance the part (a caustic path counts only for the target whose
+  // surface it hits first: photon_emission.h).
+  TargetSpheres specular_targets;
+  struct TargetSurface {
+    int shape = 0;
+    uint32_t part = 0;
+    bool operator==(const TargetSurface&) const = default;
+  };
+  std::vector<TargetSurface> specular_target_surfaces;
   PhotonSettings photons;
 
   // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
