@@ -37,6 +37,11 @@ echo "== final gathering vs the photon map seen directly at equal wall-clock bud
 "$root/bench/fg_vs_photonmap.sh" "$build"
 echo "== edge anti-aliasing vs full 12x supersampling (C++, in-process; exits 1 on FAIL)"
 "$build/bin/farm_bench_edge_aa"
+echo "== coordinator load: N simulated gRPC workers on real coordinators and redis-server (issue 17; target at N=1000: 5,000 leases/s, LeaseTask p99 < 20 ms, MISSED when below)"
+go build -o "$tmp/loadsim" ./bench/cmd/loadsim
+"$tmp/loadsim" -bin "$build/bin" -workers 10,100,1000 -replicas 1 -duration "${LOADSIM_DURATION:-15s}"
+"$tmp/loadsim" -bin "$build/bin" -workers 1000 -replicas 2 -duration "${LOADSIM_DURATION:-15s}"
+"$tmp/loadsim" -bin "$build/bin" -workers 1000 -replicas 1 -upload=false -duration "${LOADSIM_DURATION:-15s}"
 echo "== the atrium demonstration scene at 1280x720 on a two-worker farm, the Cornell box as the baseline"
 "$root/bench/atrium.sh" "$build"
 python=${BENCH_PYTHON:-python3}

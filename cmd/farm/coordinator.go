@@ -11,6 +11,7 @@ import (
 	"net/http"
 	"os"
 	"path/filepath"
+	"runtime/pprof"
 	"strings"
 	"time"
 
@@ -19,7 +20,7 @@ import (
 
 var coordinatorVerb = &verb{
 	name:    "coordinator",
-	args:    "[--listen ADDR] [--data-dir DIR] [--blobs URL] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F]",
+	args:    "[--listen ADDR] [--data-dir DIR] [--blobs URL] [--redis URL] [--metrics-listen ADDR] [--lease-duration D] [--stuck-timeout D] [--retention D] [--blob-grace D] [--client-token-file F] [--worker-token-file F] [--tls-cert F --tls-key F] [--cpu-profile F]",
 	summary: "run a coordinator (gRPC: jobs, workers, blobs)",
 	run:     runCoordinator,
 }
@@ -49,8 +50,20 @@ func runCoordinator(ctx context.Context, e *env, args []string) error {
 	redisURL := fs.String("redis", "", "keep jobs, tasks and leases in Redis at this `URL` (redis://host:6379/0; also $FARM_REDIS_URL) so they survive restarts; default: in memory")
 	redisPrefix := fs.String("redis-prefix", coordinator.DefaultRedisPrefix, "`prefix` of every Redis key, so that farms can share a Redis")
 	metricsListen := fs.String("metrics-listen", "", "serve Prometheus metrics over HTTP at `address`/metrics (HOST:PORT); default: off")
+	cpuProfile := fs.String("cpu-profile", "", "write a Go CPU profile (go tool pprof) of the whole run to `file` when the coordinator stops (bench/cmd/loadsim)")
 	if _, err := parse(fs, args, 0, 0); err != nil {
 		return err
+	}
+	if *cpuProfile != "" {
+		f, err := os.Create(*cpuProfile)
+		if err != nil {
+			return usageErrorf("coordinator: --cpu-profile: %v", err)
+		}
+		defer f.Close()
+		if err := pprof.StartCPUProfile(f); err != nil {
+			return fmt.Errorf("coordinator: --cpu-profile: %w", err)
+		}
+		defer pprof.StopCPUProfile()
 	}
 	clientTokens, err := loadTokens(*clientTokenFile, e.getenv("FARM_CLIENT_TOKENS"))
 	if err != nil {

@@ -135,7 +135,7 @@ const (
 
 // NewGRPCServer returns a gRPC server with the three services and gRPC's standard health
 // service registered (Kubernetes' grpc probes and grpc_health_probe call it; it needs no
-// token), the error mapping interceptors installed and message and connection limits set;
+// token; NOT_SERVING while the store or the blob store does not answer: health.go), the error mapping interceptors installed and message and connection limits set;
 // opts are appended.
 func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	base := []grpc.ServerOption{
@@ -152,7 +152,9 @@ func (s *Service) NewGRPCServer(opts ...grpc.ServerOption) *grpc.Server {
 	pb.RegisterJobServiceServer(srv, &jobServer{s: s})
 	pb.RegisterWorkerServiceServer(srv, &workerServer{s: s})
 	pb.RegisterBlobServiceServer(srv, &blobServer{s: s})
-	healthpb.RegisterHealthServer(srv, health.NewServer())
+	h := health.NewServer()
+	healthpb.RegisterHealthServer(srv, h)
+	go s.watchHealth(h)
 	return srv
 }
 

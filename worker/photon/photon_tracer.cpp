@@ -57,8 +57,14 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
   PhotonRandom random(scene.seed, kind, index);
   const std::optional<PhotonRay> emitted = EmitPhoton(scene, kind, random);
   if (!emitted) return;
-  Ray ray = emitted->ray;
-  Rgb power = emitted->power * power_scale;
+  ContinuePhotonPath(scene, kind, *emitted, random, power_scale, options, out);
+}
+
+void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const PhotonRay& emitted,
+                        PhotonRandom& random, float power_scale, const PhotonTraceOptions& options,
+                        std::vector<ShardPhoton>& out) {
+  Ray ray = emitted.ray;
+  Rgb power = emitted.power * power_scale;
   int specular_bounces = 0, diffuse_bounces = 0;
 
   for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
@@ -71,8 +77,8 @@ void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
     if (!hit) return;
     // A photon aimed at a target is that target's to carry only (photon_emission.h).
-    if (bounce == 0 && emitted->target >= 0 &&
-        !(scene.specular_target_surfaces[emitted->target] == SceneData::TargetSurface{hit->shape, hit->part}))
+    if (bounce == 0 && emitted.target >= 0 &&
+        !(scene.specular_target_surfaces[emitted.target] == SceneData::TargetSurface{hit->shape, hit->part}))
       return;
     // A photon is one sample among very many: a point lookup of the textures (emission
     // aside: it scatters light, whatever the surface emits).

@@ -7,6 +7,8 @@
 #include <stop_token>
 #include <vector>
 
+#include "photon/photon_emission.h"
+#include "photon/photon_random.h"
 #include "photon/photon_tracer.h"
 #include "photonmap/shard_format.h"
 #include "scene/scene_data.h"
@@ -30,6 +32,12 @@ struct PhotonTraceOptions {
 void TracePhotonPath(const SceneData& scene, PhotonMapKind kind, uint64_t index,
                      float power_scale, const PhotonTraceOptions& options,
                      std::vector<ShardPhoton>& out);
+
+// The rest of a path once emitted, drawing from the path's random numbers where EmitPhoton
+// left them (tests trace photons emitted otherwise, to compare emission schemes).
+void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const PhotonRay& emitted,
+                        PhotonRandom& random, float power_scale, const PhotonTraceOptions& options,
+                        std::vector<ShardPhoton>& out);
 
 // The photons of request's paths in path-index order, traced in parallel over chunks of
 // the range. Throws std::invalid_argument for a bad request, BadInputError (naming the

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numeric>
 
 #include "math/math.h"
@@ -30,8 +29,13 @@ Bounds3 Widened(const BoundingSphere& s) {
 }
 
 float SquaredDistanceToBox(const Bounds3& b, const Vec3& p) {
-  const Vec3 out = Max(Max(b.min - p, p - b.max), Vec3(0, 0, 0));
-  return LengthSquared(out);
+  float d2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const float below = b.min[a] - p[a], above = p[a] - b.max[a];
+    const float out = below > 0 ? below : above > 0 ? above : 0;
+    d2 += out * out;
+  }
+  return d2;
 }
 
 }  // namespace
@@ -41,22 +45,22 @@ TargetSpheres::TargetSpheres(std::vector<BoundingSphere> spheres) : spheres_(std
   std::vector<float> cross_sections;
   cross_sections.reserve(spheres_.size());
   for (const BoundingSphere& s : spheres_) cross_sections.push_back(s.radius * s.radius);
-  by_cross_section_ = DiscreteDistribution(cross_sections);
+  if (std::any_of(cross_sections.begin(), cross_sections.end(), [](float c) { return c > 0; }))
+    by_cross_section_ = AliasTable(cross_sections);
   std::vector<int> order(spheres_.size());
   std::iota(order.begin(), order.end(), 0);
-  nodes_.reserve(2 * spheres_.size() - 1);
-  Build(order, 0, static_cast<int>(order.size()));
+  float cross_section = 0;
+  root_ = Build(order, 0, static_cast<int>(order.size()), root_box_, cross_section);
 }
 
-// Splits at the median centre along the widest axis of the centres: balanced, so a
-// descent is O(log n) steps; ties broken by index so the tree is the same on every host.
-int TargetSpheres::Build(std::vector<int>& order, int begin, int end) {
-  const int index = static_cast<int>(nodes_.size());
-  nodes_.emplace_back();
-  if (end - begin == 1) {
-    const BoundingSphere& s = spheres_[order[begin]];
-    nodes_[index] = Node{Widened(s), s.radius * s.radius, -1, -1, order[begin]};
-    return index;
+// Splits [begin, end) of order at the median centre along the widest axis of the centres,
+// `levels` times over, into at most 2^levels ranges appended to `ranges`; ties broken by
+// index so the tree is the same on every host.
+void TargetSpheres::Split(std::vector<int>& order, int begin, int end, int levels,
+                          std::vector<std::pair<int, int>>& ranges) const {
+  if (levels == 0 || end - begin == 1) {
+    ranges.emplace_back(begin, end);
+    return;
   }
   Bounds3 centers;
   for (int i = begin; i < end; ++i) centers.Extend(spheres_[order[i]].center);
@@ -67,53 +71,62 @@ int TargetSpheres::Build(std::vector<int>& order, int begin, int end) {
     const float ca = spheres_[a].center[axis], cb = spheres_[b].center[axis];
     return ca < cb || (ca == cb && a < b);
   });
-  const int left = Build(order, begin, middle);
-  const int right = Build(order, middle, end);
-  Bounds3 box = nodes_[left].box;
-  box.Extend(nodes_[right].box);
-  nodes_[index] = Node{box, nodes_[left].cross_section + nodes_[right].cross_section, left, right, -1};
+  Split(order, begin, middle, levels - 1, ranges);
+  Split(order, middle, end, levels - 1, ranges);
+}
+
+// Three median splits make up to eight children a node: balanced, so a descent is
+// O(log n) steps, few enough that the nodes it reads (the tree's memory, not its
+// arithmetic, is what a descent waits for) stay a handful. Returns the subtree as a child
+// reference, with its box and cross-section.
+int TargetSpheres::Build(std::vector<int>& order, int begin, int end, Bounds3& box, float& cross_section) {
+  if (end - begin == 1) {
+    const BoundingSphere& s = spheres_[order[begin]];
+    box = Widened(s);
+    cross_section = s.radius * s.radius;
+    return LeafRef(order[begin]);
+  }
+  std::vector<std::pair<int, int>> ranges;
+  Split(order, begin, end, 3, ranges);
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  Node n;
+  n.count = static_cast<int>(ranges.size());
+  box = Bounds3();
+  cross_section = 0;
+  for (int c = 0; c < n.count; ++c) {
+    n.child[c] = Build(order, ranges[c].first, ranges[c].second, n.box[c], n.cross_section[c]);
+    box.Extend(n.box[c]);
+    cross_section += n.cross_section[c];
+  }
+  nodes_[index] = n;
   return index;
 }
 
 // A leaf's exact solid angle; for a cluster, its spheres' cross-section over the squared
 // distance to the nearest point of its box (what they would subtend there, never much less
 // than they do), at most the whole sphere of directions.
-double TargetSpheres::Weight(const Node& n, const Vec3& p) const {
-  if (n.sphere >= 0) return SolidAngle(spheres_[n.sphere], p);
-  const float d2 = SquaredDistanceToBox(n.box, p);
-  return d2 > 0 ? std::min(kFullSphere, kPi * n.cross_section / double(d2)) : kFullSphere;
-}
-
-double TargetSpheres::LeftProbability(const Node& n, const Vec3& p) const {
-  const Node &a = nodes_[n.left], &b = nodes_[n.right];
-  if (a.sphere < 0 && b.sphere < 0) {
-    // Two clusters away from p, neither capped (the common case, all the way down but the
-    // last step): the same ratio as Weight's, cross-multiplied, without a division each.
-    const float da = SquaredDistanceToBox(a.box, p), db = SquaredDistanceToBox(b.box, p);
-    if (a.cross_section < 4 * da && b.cross_section < 4 * db) {
-      const float left = a.cross_section * db, sum = left + b.cross_section * da;
-      return sum > 0 ? left / sum : -1;
-    }
-  }
-  const double left = Weight(a, p), right = Weight(b, p);
-  const double sum = left + right;
-  return sum > 0 ? left / sum : -1;
+double TargetSpheres::Weight(const Node& n, int c, const Vec3& p) const {
+  if (IsLeaf(n.child[c])) return SolidAngle(spheres_[SphereOf(n.child[c])], p);
+  const float d2 = SquaredDistanceToBox(n.box[c], p);
+  return d2 > 0 ? std::min(kFullSphere, kPi * n.cross_section[c] / double(d2)) : kFullSphere;
 }
 
 bool TargetSpheres::AnyContains(const Vec3& p) const {
-  if (empty()) return false;
-  int stack[kMaxDepth];
+  if (empty() || SquaredDistanceToBox(root_box_, p) > 0) return false;
+  int stack[kMaxStack];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = root_;
   while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (n.sphere >= 0) {
-      const BoundingSphere& s = spheres_[n.sphere];
+    const int ref = stack[--top];
+    if (IsLeaf(ref)) {
+      const BoundingSphere& s = spheres_[SphereOf(ref)];
       if (LengthSquared(s.center - p) <= s.radius * s.radius) return true;
-    } else if (SquaredDistanceToBox(n.box, p) == 0) {
-      stack[top++] = n.left;
-      stack[top++] = n.right;
+      continue;
     }
+    const Node& n = nodes_[ref];
+    for (int c = 0; c < n.count; ++c)
+      if (SquaredDistanceToBox(n.box[c], p) == 0) stack[top++] = n.child[c];
   }
   return false;
 }
@@ -121,28 +134,28 @@ bool TargetSpheres::AnyContains(const Vec3& p) const {
 std::optional<TargetSpheres::Pick> TargetSpheres::PickFrom(const Vec3& p, float u) const {
   if (empty()) return std::nullopt;
   double remaining = u, probability = 1;
-  int node = 0;
-  while (nodes_[node].sphere < 0) {
-    const Node& n = nodes_[node];
-    const double left = LeftProbability(n, p);
-    if (left < 0) return std::nullopt;
-    if (remaining < left) {
-      remaining /= left;
-      probability *= left;
-      node = n.left;
-    } else {
-      remaining = (remaining - left) / (1 - left);
-      probability *= 1 - left;
-      node = n.right;
-    }
-    remaining = std::clamp(remaining, 0.0, std::nextafter(1.0, 0.0));
+  int ref = root_;
+  while (!IsLeaf(ref)) {
+    const Node& n = nodes_[ref];
+    double weight[kWidth], sum = 0;
+    for (int c = 0; c < n.count; ++c) sum += weight[c] = Weight(n, c, p);
+    if (!(sum > 0)) return std::nullopt;
+    // The child whose share of [0, 1) holds u, and u rescaled within it.
+    int c = 0;
+    double below = 0;
+    while (c + 1 < n.count && remaining >= below + weight[c] / sum) below += weight[c++] / sum;
+    const double share = weight[c] / sum;
+    probability *= share;
+    remaining = std::clamp((remaining - below) / share, 0.0, std::nextafter(1.0, 0.0));
+    ref = n.child[c];
   }
   if (!(probability > 0)) return std::nullopt;
-  return Pick{nodes_[node].sphere, probability};
+  return Pick{SphereOf(ref), probability};
 }
 
 TargetSpheres::Pick TargetSpheres::PickByCrossSection(float u) const {
-  const DiscreteDistribution::Choice c = by_cross_section_.Sample(u);
+  if (by_cross_section_.size() == 0) return {0, 0};
+  const AliasTable::Choice c = by_cross_section_.Sample(u);
   return {c.index, c.pmf};
 }
 

@@ -3,9 +3,9 @@
 // Spheres that photons are aimed at (the bounds of a scene's specular shapes), with what
 // aiming needs in time that grows at most with the logarithm of their number:
 //
-// - from a point: a sphere picked by descending a balanced binary hierarchy of boxes, each
-//   step choosing a child in proportion to an estimate of the solid angle its spheres
-//   subtend (exact between two single spheres), with the probability of the pick;
+// - from a point: a sphere picked by descending a balanced hierarchy of boxes, each step
+//   choosing one of up to eight children in proportion to an estimate of the solid angle
+//   its spheres subtend (exact for single spheres), with the probability of the pick;
 // - along a direction (light from infinitely far away): a sphere picked in proportion to
 //   its cross-section.
 //
@@ -15,11 +15,12 @@
 // is that strategy's density alone, with no sum over the other spheres' cones.
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "math/bounds.h"
 #include "math/vec3.h"
-#include "sampling/distribution.h"
+#include "sampling/alias_table.h"
 
 namespace farm {
 
@@ -42,27 +43,37 @@ class TargetSpheres {
   // A sphere seen from p, which lies outside every sphere; none if every weight is zero.
   std::optional<Pick> PickFrom(const Vec3& p, float u) const;
 
-  // A sphere picked in proportion to its cross-section (radius squared), and its pmf.
+  // A sphere picked in proportion to its cross-section (radius squared), and its pmf: in
+  // constant time; probability 0 when every sphere has radius 0.
   Pick PickByCrossSection(float u) const;
 
  private:
-  // The tree is balanced (median splits), so its depth is at most 32 for any int count, and
-  // a depth-first walk holds at most depth + 1 nodes.
-  static constexpr int kMaxDepth = 64;
+  // Up to eight children a node; the tree is balanced (median splits), so a depth-first walk
+  // holds at most 7 entries a level, and there are at most 11 levels for any int count.
+  static constexpr int kWidth = 8;
+  static constexpr int kMaxStack = 7 * 11 + 1;
+  // An inner node holds its children's boxes (widened a little, see Widened) and
+  // cross-sections (sum of radius squared), so that a step of the descent reads one node.
+  // A child is an inner node's index, or a leaf: -1 - its sphere's index.
   struct Node {
-    Bounds3 box;              // of every sphere below, widened a little (see Widened)
-    float cross_section = 0;  // sum of radius squared below
-    int left = -1, right = -1;
-    int sphere = -1;  // a leaf's sphere, -1 for an inner node
+    Bounds3 box[kWidth];
+    float cross_section[kWidth] = {};
+    int child[kWidth] = {};
+    int count = 0;
   };
-  int Build(std::vector<int>& order, int begin, int end);
-  // Probability of descending to the left child of inner node n, seen from p.
-  double LeftProbability(const Node& n, const Vec3& p) const;
-  double Weight(const Node& n, const Vec3& p) const;
+  static bool IsLeaf(int ref) { return ref < 0; }
+  static int LeafRef(int sphere) { return -1 - sphere; }
+  static int SphereOf(int ref) { return -1 - ref; }
+  void Split(std::vector<int>& order, int begin, int end, int levels, std::vector<std::pair<int, int>>& ranges) const;
+  int Build(std::vector<int>& order, int begin, int end, Bounds3& box, float& cross_section);
+  // Weight of child c of n seen from p: what picks it, in proportion.
+  double Weight(const Node& n, int c, const Vec3& p) const;
 
   std::vector<BoundingSphere> spheres_;
-  std::vector<Node> nodes_;  // nodes_[0] is the root when there are spheres
-  DiscreteDistribution by_cross_section_;
+  std::vector<Node> nodes_;  // the inner nodes
+  int root_ = 0;             // a child reference: a leaf when there is one sphere
+  Bounds3 root_box_;
+  AliasTable by_cross_section_;
 };
 
 }  // namespace farm

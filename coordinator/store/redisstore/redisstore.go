@@ -337,3 +337,11 @@ func (s *Store) ListTasks(ctx context.Context, jobID string, pageSize int, pageT
 	}
 	return out, next, nil
 }
+
+// Ping reports whether Redis answers, for the coordinator's health service.
+func (s *Store) Ping(ctx context.Context) error {
+	if err := s.rdb.Ping(ctx).Err(); err != nil {
+		return fmt.Errorf("redisstore: %w", err)
+	}
+	return nil
+}

@@ -80,6 +80,18 @@ func (s *Server) Restart() {
 	s.start(s.cmd.Path)
 }
 
+// Kill stops the server as a crash would, until Revive; clients' calls fail meanwhile.
+func (s *Server) Kill() {
+	s.t.Helper()
+	s.stop()
+}
+
+// Revive starts a killed server again on the same port and directory.
+func (s *Server) Revive() {
+	s.t.Helper()
+	s.start(s.cmd.Path)
+}
+
 func (s *Server) start(bin string) {
 	s.t.Helper()
 	s.cmd = exec.Command(bin, s.args...)
