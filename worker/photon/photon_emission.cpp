@@ -37,8 +37,8 @@ std::optional<PhotonRay> AimAtTargetsAlong(const SceneData& scene, const std::op
 }
 
 // From a point of a light with an origin of its own (every kind but the sun).
-std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Light& light, Vec2 u_origin,
-                                                float u_target, Vec2 u_direction) {
+std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Light& light, const AliasTable& aim,
+                                                Vec2 u_origin, float u_target, Vec2 u_direction) {
   const std::optional<LightOrigin> o = SampleLightOrigin(light, u_origin);
   if (!o || !(o->pdf_area > 0)) return std::nullopt;
   const TargetSpheres& targets = scene.specular_targets;
@@ -48,7 +48,14 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
     if (!e) return std::nullopt;
     return PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
   }
-  const std::optional<TargetSpheres::Pick> pick = targets.PickFrom(o->p, u_target);
+  // The light's table when it has one (one read), else the tree's descent from o.
+  std::optional<TargetSpheres::Pick> pick;
+  if (aim.size() > 0) {
+    const AliasTable::Choice c = aim.Sample(u_target);
+    pick = TargetSpheres::Pick{c.index, c.pmf};
+  } else {
+    pick = targets.PickFrom(o->p, u_target);
+  }
   if (!pick) return std::nullopt;
   const BoundingSphere& target = targets[pick->index];
   const SphereSample s = SampleSphereFromPoint(target.center, target.radius, o->p, u_direction);
@@ -69,8 +76,9 @@ std::optional<PhotonRay> AimAtTargetsFromOrigin(const SceneData& scene, const Li
   return PhotonRay{RayFrom(o->p, o->n, w, scene.ray_epsilon), power, pick->index};
 }
 
-std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light, Vec2 u_origin,
-                                      float u_target, Vec2 u_direction) {
+std::optional<PhotonRay> AimAtTargets(const SceneData& scene, int light_index, Vec2 u_origin, float u_target,
+                                      Vec2 u_direction) {
+  const Light& light = scene.lights[light_index];
   return std::visit(
       Overloaded{
           [&](const SunLight& sun) {
@@ -80,7 +88,8 @@ std::optional<PhotonRay> AimAtTargets(const SceneData& scene, const Light& light
             return AimAtTargetsAlong(scene, SampleDistantDirection(env, u_direction), env.disc, u_target, u_origin);
           },
           [&](const OneOf<SphereLight, QuadLight, TriangleMeshLight, PointLight, SpotLight> auto&) {
-            return AimAtTargetsFromOrigin(scene, light, u_origin, u_target, u_direction);
+            return AimAtTargetsFromOrigin(scene, light, scene.caustic_aim[light_index], u_origin, u_target,
+                                          u_direction);
           },
       },
       light);
@@ -103,7 +112,7 @@ std::optional<PhotonRay> EmitPhoton(const SceneData& scene, PhotonMapKind kind,
   std::optional<PhotonRay> photon;
   if (kind == PhotonMapKind::kCaustic) {
     if (scene.specular_targets.empty()) return std::nullopt;
-    photon = AimAtTargets(scene, light, u_origin, u_target, u_direction);
+    photon = AimAtTargets(scene, pick.index, u_origin, u_target, u_direction);
   } else if (const std::optional<LightEmission> e = SampleLe(light, u_origin, u_direction)) {
     photon = PhotonRay{RayFrom(e->p, e->n, e->w, scene.ray_epsilon), e->power};
   }

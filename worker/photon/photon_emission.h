@@ -6,9 +6,11 @@
 // Global photons leave each light as the light emits (lights.h SampleLe). Caustic photons
 // are aimed at the specular geometry, as Jensen's projection maps do, so that the few paths
 // that make caustics are not a small fraction of a large emission: from the sampled point of
-// the light, the bounding sphere of a specular surface is picked (sampling/target_spheres.h:
-// by the solid angle it subtends, estimated down a tree, O(log n) in their number) and a
-// direction sampled uniformly in its cone. For light from infinitely far away (sun,
+// the light, the bounding sphere of a specular surface is picked (sampling/target_spheres.h)
+// and a direction sampled uniformly in its cone: from the light's table (SceneData::
+// caustic_aim: the solid angles seen from one point of the light, one read a photon), or,
+// for lights beyond the tables' budget, down a tree by the solid angle estimated from the
+// photon's own point (O(log n) in their number). For light from infinitely far away (sun,
 // environment), the direction is sampled as the light emits and the point on its disc within
 // the shadow one bounding sphere casts on the disc, picked by its area. A light point inside
 // a bounding sphere falls back to plain emission.

@@ -153,6 +153,15 @@ std::optional<TargetSpheres::Pick> TargetSpheres::PickFrom(const Vec3& p, float 
   return Pick{SphereOf(ref), probability};
 }
 
+std::optional<AliasTable> TargetSpheres::TableFrom(const Vec3& p) const {
+  std::vector<float> weights;
+  weights.reserve(spheres_.size());
+  bool any = false;
+  for (const BoundingSphere& s : spheres_) any |= weights.emplace_back(static_cast<float>(SolidAngle(s, p))) > 0;
+  if (!any) return std::nullopt;
+  return AliasTable(weights);
+}
+
 TargetSpheres::Pick TargetSpheres::PickByCrossSection(float u) const {
   if (by_cross_section_.size() == 0) return {0, 0};
   const AliasTable::Choice c = by_cross_section_.Sample(u);

@@ -43,6 +43,11 @@ class TargetSpheres {
   // A sphere seen from p, which lies outside every sphere; none if every weight is zero.
   std::optional<Pick> PickFrom(const Vec3& p, float u) const;
 
+  // The spheres by the solid angle each subtends seen from p, for a light whose every
+  // photon starts near p (a point or spot light, a small lamp): a pick from it is one table
+  // read, not a descent. None if every sphere has radius 0.
+  std::optional<AliasTable> TableFrom(const Vec3& p) const;
+
   // A sphere picked in proportion to its cross-section (radius squared), and its pmf: in
   // constant time; probability 0 when every sphere has radius 0.
   Pick PickByCrossSection(float u) const;

@@ -165,6 +165,25 @@ TEST(TargetSpheres, AimingMeasuresTheSolidAngleOfOverlappingCones) {
   EXPECT_NEAR(m.mean, brute, 5 * std::hypot(m.sigma, brute_sigma)) << "sigmas " << m.sigma << ", " << brute_sigma;
 }
 
+TEST(TargetSpheres, TableFromAPointWeighsEachSphereByItsSolidAngle) {
+  const std::vector<BoundingSphere> spheres = Scattered(200, 10);
+  const TargetSpheres targets(spheres);
+  std::mt19937 rng(11);
+  const Vec3 p = OutsidePoint(spheres, rng);
+  const std::optional<AliasTable> table = targets.TableFrom(p);
+  ASSERT_TRUE(table);
+  double total = 0;
+  std::vector<double> solid(spheres.size());
+  for (std::size_t k = 0; k < spheres.size(); ++k) {
+    const double sin2 = double(spheres[k].radius) * spheres[k].radius / LengthSquared(spheres[k].center - p);
+    total += solid[k] = 2 * kPi * (1 - std::sqrt(1 - sin2));
+  }
+  // Within 1e-3: narrow cones take the small-angle form sin^2 / 2 of 1 - cos, off by sin^2 / 4.
+  for (std::size_t k = 0; k < spheres.size(); ++k)
+    EXPECT_NEAR(table->Pmf(static_cast<int>(k)), solid[k] / total, 1e-3 * solid[k] / total) << "sphere " << k;
+  EXPECT_FALSE(TargetSpheres({{Vec3(0, 0, 0), 0.0f}}).TableFrom(Vec3(1, 0, 0)));
+}
+
 TEST(TargetSpheres, AnyContainsIsBruteForce) {
   const std::vector<BoundingSphere> spheres = Scattered(1000, 6);
   const TargetSpheres targets(spheres);

@@ -199,6 +199,26 @@ void AddSpecularTargets(int shape, const ShapeGeometry& geometry, int material,
   surfaces.push_back({shape, 0});
 }
 
+// The caustic targets' table of each light with an origin, seen from the point its
+// origin sampling gives the middle of [0, 1)^2 (a point light's position, a lamp's centre or
+// a point on it): any point will do for an unbiased estimate (every target's solid angle is
+// positive from anywhere outside it), and one near the light's photons keeps their weights
+// even.
+void AddCausticAim(SceneData& d) {
+  d.caustic_aim.resize(d.lights.size());
+  if (d.specular_targets.empty()) return;
+  std::size_t entries = 0;
+  for (std::size_t i = 0; i < d.lights.size(); ++i) {
+    if (entries + d.specular_targets.size() > SceneData::kMaxCausticAimEntries) return;
+    const std::optional<LightOrigin> o = SampleLightOrigin(d.lights[i], {0.5f, 0.5f});
+    if (!o) continue;
+    if (std::optional<AliasTable> table = d.specular_targets.TableFrom(o->p)) {
+      d.caustic_aim[i] = std::move(*table);
+      entries += d.specular_targets.size();
+    }
+  }
+}
+
 // Largest absolute coordinate of any geometry: sets the absolute floor of ray offsets.
 float SceneExtent(const std::vector<ShapeRecord>& shapes) {
   float extent = 0;
@@ -377,6 +397,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   std::vector<float> power;
   for (const Light& light : d.lights) power.push_back(Power(light).Luminance());
   d.light_power = DiscreteDistribution(power);
+  AddCausticAim(d);
 
   // ~17 ulps of the largest coordinate: above the rounding of the primitives' own
   // coordinates, which is what rays leaving points near the origin of a large scene meet.

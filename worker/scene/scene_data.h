@@ -136,6 +136,12 @@ struct SceneData {
     bool operator==(const TargetSurface&) const = default;
   };
   std::vector<TargetSurface> specular_target_surfaces;
+  // By light: the targets by the solid angle each subtends from one point of the light
+  // (TargetSpheres::TableFrom), so that a caustic photon's pick is one table read; empty for
+  // a sun or the environment and once the tables would hold more than
+  // kMaxCausticAimEntries entries in all (those lights pick down the tree instead).
+  std::vector<AliasTable> caustic_aim;
+  static constexpr std::size_t kMaxCausticAimEntries = std::size_t{1} << 20;
   PhotonSettings photons;
 
   // Absolute floor of ray offsets (see math/ray.h), proportional to the scene's extent.
