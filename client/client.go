@@ -29,8 +29,8 @@ const DefaultAddress = "localhost:7070"
 
 // Client talks to one coordinator over one gRPC connection. It is safe for concurrent use.
 type Client struct {
-	conn     *grpc.ClientConn
-	owned    bool // Close closes conn
+	conn     grpc.ClientConnInterface
+	owned    *grpc.ClientConn // the connection Dial made, which Close closes
 	jobs     pb.JobServiceClient
 	blobs    pb.BlobServiceClient
 	chunkLen int
@@ -104,7 +104,7 @@ func Dial(addr string, opts ...Option) (*Client, error) {
 		return nil, fmt.Errorf("client: coordinator address %q: %w", addr, err)
 	}
 	c := New(conn)
-	c.owned = true
+	c.owned = conn
 	c.chunkLen = o.chunkLen
 	return c, nil
 }
@@ -119,7 +119,7 @@ func CallLimits() grpc.DialOption {
 }
 
 // New returns a Client using an existing connection, which Close leaves open.
-func New(conn *grpc.ClientConn) *Client {
+func New(conn grpc.ClientConnInterface) *Client {
 	return &Client{
 		conn:     conn,
 		jobs:     pb.NewJobServiceClient(conn),
@@ -130,8 +130,8 @@ func New(conn *grpc.ClientConn) *Client {
 
 // Close closes the connection if Dial made it.
 func (c *Client) Close() error {
-	if c.owned {
-		return c.conn.Close()
+	if c.owned != nil {
+		return c.owned.Close()
 	}
 	return nil
 }

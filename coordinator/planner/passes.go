@@ -36,7 +36,7 @@ func Passes(s *pb.Scene) *pb.Plan {
 		}
 	}
 	shards := func(n uint64) uint64 { return scene.ShardsPerMap(s, n) }
-	plan := &pb.Plan{}
+	plan := &pb.Plan{MaxRounds: scene.Rounds(s)}
 	add := func(name string, enabled bool, format string, args ...any) {
 		plan.Passes = append(plan.Passes, &pb.PlannedPass{Name: name, Enabled: enabled, Reason: fmt.Sprintf(format, args...)})
 	}

@@ -8,51 +8,33 @@ import (
 	"math"
 	"net/http"
 
-	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// submit queues the scene JSON in the body (scenes/*.json's format, meshes inline) as a
-// new job.
+// submit queues the scene in the body (scenes/*.json's format) as a new job, with the
+// files it names sent beside it (uploads.go) stored first.
 func (s *Server) submit(w http.ResponseWriter, r *http.Request) {
 	data, err := io.ReadAll(r.Body)
 	if err != nil {
 		s.writeError(w, r, err)
 		return
 	}
-	sc, err := scene.ParseJSON(data)
+	sc, files, err := readSubmission(data)
 	if err != nil {
-		s.writeError(w, r, errorf(http.StatusBadRequest, "not a scene file: "+err.Error()))
-		return
-	}
-	if why := fileByPath(sc); why != "" {
-		s.writeError(w, r, errorf(http.StatusBadRequest, why))
+		s.writeError(w, r, err)
 		return
 	}
 	s.answer(w, r, func(ctx context.Context) (any, error) {
+		if err := attachFiles(ctx, s.files, sc, files); err != nil {
+			return nil, err
+		}
 		resp, err := s.jobs.SubmitJob(ctx, &pb.SubmitJobRequest{Scene: sc})
 		if err != nil {
 			return nil, err
 		}
-		s.log.Info("dashboard submitted a job", "job", resp.GetJob().GetId(), "name", resp.GetJob().GetDisplayName())
+		s.log.Info("dashboard submitted a job", "job", resp.GetJob().GetId(), "name", resp.GetJob().GetDisplayName(), "files", len(files))
 		return jobAnswer(resp, nil)
 	})
-}
-
-// fileByPath says why a scene that names a file by path cannot be submitted from a
-// browser, or "" if it names none: the browser sends the scene alone, so there is nothing
-// to upload the file from.
-func fileByPath(sc *pb.Scene) string {
-	const how = "the dashboard cannot upload files from the browser: put the mesh inline as \"triangles\", or submit the scene with farm submit"
-	for i, sh := range sc.GetShapes() {
-		if m := sh.GetMesh(); m.GetPath() != "" && m.GetDigest() == "" {
-			return fmt.Sprintf("shapes[%d].mesh names the file %s, but %s", i, m.GetPath(), how)
-		}
-	}
-	if p := sc.GetProgressive().GetReference().GetPath(); p != "" && sc.GetProgressive().GetReference().GetDigest() == "" {
-		return fmt.Sprintf("progressive.reference names the image %s, but the dashboard cannot upload files from the browser: submit the scene with farm submit", p)
-	}
-	return ""
 }
 
 // jobAnswer is the answer {"job": Job} of a call that returns a job.

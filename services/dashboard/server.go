@@ -71,6 +71,7 @@ type Server struct {
 	log      *slog.Logger
 	jobs     pb.JobServiceClient
 	blobs    pb.BlobServiceClient
+	files    *client.Client // uploads the files a browser sends with a scene
 	mux      *http.ServeMux
 	streams  chan struct{} // a slot per open event stream
 	refused  *throttle     // refused tokens per client address
@@ -103,6 +104,7 @@ func New(cfg Config) *Server {
 		log:     cfg.Logger,
 		jobs:    pb.NewJobServiceClient(cfg.Conn),
 		blobs:   pb.NewBlobServiceClient(cfg.Conn),
+		files:   client.New(cfg.Conn),
 		mux:     http.NewServeMux(),
 		streams: make(chan struct{}, cfg.MaxStreams),
 		refused: newThrottle(cfg.RefusedTokenBurst, time.Now),

@@ -229,13 +229,13 @@ func TestSubmitRefusesBadScenes(t *testing.T) {
 		t.Errorf("unknown field: %s, want it named", r.Body)
 	}
 	wantStatus(t, "not JSON", f.do(b, "POST", "/api/jobs", `{"film": `), http.StatusBadRequest)
-	// A mesh named by path cannot come from a browser: it must be inline.
+	// A mesh named by path must come with the scene (uploads_test.go sends it).
 	m["film"] = map[string]any{"width": 16, "height": 16}
 	m["shapes"] = append(m["shapes"].([]any), map[string]any{"name": "m", "material": "white", "mesh": map[string]any{"path": "meshes/octahedron.obj"}})
 	withPath, _ := json.Marshal(m)
 	r = f.do(b, "POST", "/api/jobs", string(withPath))
 	wantStatus(t, "mesh by path", r, http.StatusBadRequest)
-	if !strings.Contains(r.Body, "names the file meshes/octahedron.obj, but the dashboard cannot upload files from the browser") {
+	if !strings.Contains(r.Body, "names the file meshes/octahedron.obj, which was not sent with the scene (sent: no other file)") {
 		t.Errorf("mesh by path: %s, want it to say why in the user's terms", r.Body)
 	}
 

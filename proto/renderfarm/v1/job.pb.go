@@ -632,8 +632,12 @@ func (x *BlockedWorker) GetBlockTime() *timestamppb.Timestamp {
 
 // What the planner decided for a scene: every pass it knows, run or skipped.
 type Plan struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	Passes        []*PlannedPass         `protobuf:"bytes,1,rep,name=passes,proto3" json:"passes,omitempty"`
+	state  protoimpl.MessageState `protogen:"open.v1"`
+	Passes []*PlannedPass         `protobuf:"bytes,1,rep,name=passes,proto3" json:"passes,omitempty"`
+	// The most progressive rounds the job runs (progressive.max_rounds, 1 without); it may
+	// stop earlier at its target error or time budget. Progress bars fold rounds into one
+	// fraction over this many.
+	MaxRounds     uint32 `protobuf:"varint,2,opt,name=max_rounds,json=maxRounds,proto3" json:"max_rounds,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -673,6 +677,13 @@ func (x *Plan) GetPasses() []*PlannedPass {
 		return x.Passes
 	}
 	return nil
+}
+
+func (x *Plan) GetMaxRounds() uint32 {
+	if x != nil {
+		return x.MaxRounds
+	}
+	return 0
 }
 
 type PlannedPass struct {
@@ -3076,9 +3087,11 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x16\n" +
 	"\x06reason\x18\x02 \x01(\tR\x06reason\x129\n" +
 	"\n" +
-	"block_time\x18\x03 \x01(\v2\x1a.google.protobuf.TimestampR\tblockTime\":\n" +
+	"block_time\x18\x03 \x01(\v2\x1a.google.protobuf.TimestampR\tblockTime\"Y\n" +
 	"\x04Plan\x122\n" +
-	"\x06passes\x18\x01 \x03(\v2\x1a.renderfarm.v1.PlannedPassR\x06passes\"S\n" +
+	"\x06passes\x18\x01 \x03(\v2\x1a.renderfarm.v1.PlannedPassR\x06passes\x12\x1d\n" +
+	"\n" +
+	"max_rounds\x18\x02 \x01(\rR\tmaxRounds\"S\n" +
 	"\vPlannedPass\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12\x18\n" +
 	"\aenabled\x18\x02 \x01(\bR\aenabled\x12\x16\n" +

@@ -8,7 +8,8 @@
 //   DASHBOARD_URL   where `farm dashboard` serves, e.g. http://127.0.0.1:40123/
 //   FARM_TOKEN      the coordinator's client token (the dashboard's login)
 //   SCENE_PATH      a self-contained scene JSON that renders in several seconds
-//   SCREENSHOT_DIR  where job-page.png, failed-job-page.png (and failure.png) go
+//   SCREENSHOT_DIR  where job-page.png, job-page-running.png, job-page-done.png,
+//                   failed-job-page.png (and failure.png) go
 //   CHROMIUM        the browser, /usr/bin/chromium unless set
 //   FAILED_JOB_ID   a job that failed as bad input before the test (a worker reported it)
 //   FAILED_REASON   the error that worker reported
@@ -124,13 +125,16 @@ async function newPage() {
 // Submits a scene through the jobs page's file input and returns the new job's id. The
 // dashboard's POST must answer 200; the id is the one job /api/jobs lists that it did not
 // list before (the response body is not read: Chromium keeps it only if the page reads it).
-async function submitThroughFileInput(page, sceneJSON, fileName) {
+// Submits a scene file, and any other files ({name, buffer}) chosen with it, through the
+// job list's file input, and returns the new job's id.
+async function submitThroughFileInput(page, sceneJSON, fileName, others = []) {
   const before = new Set((await jobs(page)).map((j) => j.id));
   await page.goto(baseURL + '#/');
   const input = page.locator(tid('submit-file'));
   await waitFor('the submit-file input', 15000, () => input.count());
   const answered = page.waitForResponse((r) => r.request().method() === 'POST' && new URL(r.url()).pathname === '/api/jobs', { timeout: 30000 });
-  await input.setInputFiles({ name: fileName, mimeType: 'application/json', buffer: Buffer.from(sceneJSON) });
+  await input.setInputFiles([{ name: fileName, mimeType: 'application/json', buffer: Buffer.from(sceneJSON) },
+    ...others.map((f) => ({ mimeType: 'application/octet-stream', ...f }))]);
   const response = await answered;
   if (response.status() !== 200) {
     const body = await Promise.race([response.text(), sleep(2000).then(() => '(body not available)')]).catch(() => '');
@@ -241,10 +245,14 @@ try {
     await list.screenshot({ path: path.join(shotDir, 'failed-job-page.png') });
   });
 
-  // A scene naming a mesh file cannot come from a browser: the refusal says so.
-  await step('a scene naming a mesh file is refused with a reason in the user\'s terms', async () => {
-    const withFile = structuredClone(scene);
-    withFile.shapes = [...withFile.shapes, { name: 'm', material: withFile.shapes[0].material, mesh: { path: 'meshes/bunny.obj' } }];
+  // A scene naming a mesh file submits with the file chosen beside it; alone, it is
+  // refused, naming the file it lacks.
+  const withFile = structuredClone(scene);
+  withFile.name = `${scene.name}-with-mesh`;
+  withFile.film = { ...scene.film, width: 48, height: 32, tileSize: 16 };
+  withFile.progressive = { maxRounds: 1 };
+  withFile.shapes = [...withFile.shapes, { name: 'm', material: withFile.shapes[0].material, mesh: { path: 'meshes/octahedron.obj' } }];
+  await step('a scene naming a mesh file, chosen alone, is refused naming the file it lacks', async () => {
     await list.goto(baseURL + '#/');
     const input = list.locator(tid('submit-file'));
     await waitFor('the submit-file input', 15000, () => input.count());
@@ -256,9 +264,20 @@ try {
       const el = list.locator(tid('submit-error'));
       return (await el.count()) ? el.innerText() : null;
     });
-    for (const want of ['with-mesh.json was refused, nothing was queued', 'names the file meshes/bunny.obj', 'cannot upload files from the browser']) {
+    for (const want of ['with-mesh.json was refused, nothing was queued', 'names the file meshes/octahedron.obj, which was not sent with the scene']) {
       check(text.includes(want), `submit-error says ${JSON.stringify(text)}, want ${JSON.stringify(want)}`);
     }
+  });
+  await step('a scene submits from the browser with its mesh file and renders', async () => {
+    const mesh = fs.readFileSync(new URL('../../../scenes/meshes/octahedron.obj', import.meta.url));
+    const id = await submitThroughFileInput(list, JSON.stringify(withFile), 'with-mesh.json', [{ name: 'octahedron.obj', buffer: mesh }]);
+    const job = await waitFor(`job ${id} to succeed`, 60000, async () => {
+      const r = await list.request.get(api(`/api/jobs/${id}`));
+      const j = (await r.json()).job;
+      check(!['JOB_STATE_FAILED', 'JOB_STATE_CANCELLED'].includes(j.state), `the job with a mesh ended ${j.state}: ${j.error}`);
+      return j.state === 'JOB_STATE_SUCCEEDED' ? j : null;
+    });
+    console.log(`             job ${job.id} (with meshes/octahedron.obj) succeeded`);
   });
 
   // (c) Submit the scene through the file input.
@@ -276,7 +295,20 @@ try {
   const jobPage = await newPage();
   await jobPage.goto(`${baseURL}#/jobs/${jobId}`);
 
-  const samples = []; // {state, percent, tiles, loadedTiles}
+  // The mosaic is the mean of every round so far: what it showed once each round's
+  // composite had been read (its pixels, checked against the final image below), and how
+  // much of the canvas it had painted at each sample.
+  const mosaicCanvas = jobPage.locator(tid('mosaic-canvas'));
+  const mosaicState = () => mosaicCanvas.evaluate((c) => {
+    const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    let painted = 0;
+    for (let i = 3; i < px.length; i += 4) if (px[i] > 0) painted++;
+    return { base: Number(c.dataset.baseRound ?? 0), reading: Number(c.dataset.reading ?? 0), painted, px: Array.from(px) };
+  });
+  const byRound = new Map(); // base round -> the mosaic's RGBA once that round was read
+  const runningShot = path.join(shotDir, 'job-page-running.png');
+  fs.rmSync(runningShot, { force: true }); // one from an earlier run must not count
+  const samples = []; // {state, percent, painted}
   await step('watching the job run (list progress, job page mosaic)', () =>
     waitFor('the job to end', 180000, async () => {
       const state = await row.getAttribute('data-state', { timeout: 2000 });
@@ -284,14 +316,17 @@ try {
       const inRow = row.locator(tid('job-progress'));
       const bar = (await inRow.count()) ? inRow.first() : jobPage.locator(tid('job-progress')).first();
       const pct = await bar.getAttribute('data-percent', { timeout: 2000 });
-      const tiles = await jobPage.locator(`${tid('mosaic')} ${tid('tile')}`).count();
-      const s = { state: norm(state), percent: pct === null ? NaN : Number(pct), tiles };
+      const m = await mosaicState();
+      if (m.base > 0 && m.reading === 0 && !byRound.has(m.base)) byRound.set(m.base, m.px);
+      // The job page mid-job, for people to look at (the README's picture).
+      if (m.base >= 2 && norm(state) === 'running' && !fs.existsSync(runningShot)) await jobPage.screenshot({ path: runningShot });
+      const s = { state: norm(state), percent: pct === null ? NaN : Number(pct), painted: m.painted };
       const last = samples[samples.length - 1];
-      if (!last || last.state !== s.state || last.percent !== s.percent || last.tiles !== s.tiles) samples.push(s);
+      if (!last || last.state !== s.state || last.percent !== s.percent || last.painted !== s.painted) samples.push(s);
       return ended(state);
     }, () => samples.slice(-5)));
-  const pretty = samples.map((s) => `${s.state}:${s.percent}%/${s.tiles}t`).join(' ');
-  console.log(`             seen (state:percent/tiles): ${pretty}`);
+  const pretty = samples.map((s) => `${s.state}:${s.percent}%/${s.painted}px`).join(' ');
+  console.log(`             seen (state:percent/painted pixels): ${pretty}`);
 
   await step('progress rose while the job ran', () => {
     const final = samples[samples.length - 1];
@@ -306,17 +341,13 @@ try {
     check(final.percent === 100, `the succeeded job shows ${final.percent}%, want 100`);
   });
 
-  await step('tiles appeared in the mosaic before the job ended', async () => {
-    const before = samples.filter((s) => !ended(s.state)).map((s) => s.tiles);
-    const most = Math.max(0, ...before);
-    check(most > 0, `no tile element in the mosaic while the job ran (counts: ${before})`);
-    check(new Set(before.filter((n) => n > 0)).size >= 2, `the tile count did not grow while the job ran (counts: ${before})`);
-    // The tiles are the workers' tile.png previews: they decode.
-    const loaded = await waitFor('a tile image to load', 10000, () =>
-      jobPage.locator(`${tid('mosaic')} ${tid('tile')}`).evaluateAll((ts) => ts.filter((t) => t.complete && t.naturalWidth > 0).length));
-    console.log(`             ${most} tiles while running; ${loaded} decoded tile images now`);
+  await step('the mosaic painted tiles as they finished, before the job ended', () => {
+    const before = samples.filter((s) => !ended(s.state)).map((s) => s.painted);
+    const all = scene.film.width * scene.film.height;
+    const partial = [...new Set(before.filter((n) => n > 0 && n < all))];
+    check(partial.length >= 2, `want the mosaic to paint at least two partial areas of the first round tile by tile, painted pixel counts: ${before}`);
+    console.log(`             partial paintings of round 1: ${partial.join(', ')} of ${all} pixels`);
   });
-
   // (f) The final image.
   await step('the final image shows once the job succeeded', async () => {
     const canvas = jobPage.locator(tid('final-canvas'));
@@ -330,6 +361,39 @@ try {
       /succeeded/i.test(await jobPage.locator(tid('job-state')).first().innerText()),
     () => jobPage.locator(tid('job-state')).first().innerText());
     check(!(await jobPage.locator(tid('failure-banner')).isVisible()), 'a succeeded job shows a failure banner');
+  });
+
+  // (f0) The mosaic converges to the final image: its error against the final image (both
+  // shown as clipped sRGB at 0 EV) falls as rounds complete, and once the last round is read
+  // it is the final image.
+  await step('the mosaic\'s error against the final image fell as rounds completed', async () => {
+    const rounds = scene.progressive.maxRounds;
+    const last = await waitFor(`the mosaic to read round ${rounds}'s composite`, 15000, async () => {
+      const m = await mosaicState();
+      return m.base === rounds && m.reading === 0 ? m : null;
+    }, async () => { const { px, ...m } = await mosaicState(); return m; });
+    byRound.set(rounds, last.px);
+    const final = await canvasPixels(jobPage);
+    const rmse = (px) => {
+      let sum = 0;
+      let n = 0;
+      for (let i = 0; i < px.length; i++) {
+        if (i % 4 === 3) continue;
+        sum += (px[i] - final[i]) ** 2;
+        n++;
+      }
+      return Math.sqrt(sum / n);
+    };
+    const seen = [...byRound.keys()].sort((a, b) => a - b);
+    const errors = seen.map((r) => rmse(byRound.get(r)));
+    console.log(`             RMSE against the final image (8-bit) after rounds ${seen.join(', ')}: ${errors.map((e) => e.toFixed(2)).join(', ')}`);
+    check(seen.length >= 3, `the mosaic was seen after only rounds ${seen} of ${rounds}: want three`);
+    for (let i = 1; i < errors.length; i++) {
+      check(errors[i] < errors[i - 1], `the error rose from ${errors[i - 1].toFixed(3)} (round ${seen[i - 1]}) to ${errors[i].toFixed(3)} (round ${seen[i]})`);
+    }
+    check(errors[0] > 0.5, `after round ${seen[0]} the mosaic is already the final image (RMSE ${errors[0]}): the rounds are not noisy enough to show convergence`);
+    const worst = last.px.reduce((m, v, i) => (i % 4 === 3 ? m : Math.max(m, Math.abs(v - final[i]))), 0);
+    check(worst <= 1, `after the last round the mosaic differs from the final image by up to ${worst} levels`);
   });
 
   // (f1) Workers by name: the task table and the tiles' titles say the --name each worker
@@ -433,7 +497,11 @@ try {
 
   // (h) The job page, for people to look at.
   const shot = path.join(shotDir, 'job-page.png');
-  await step(`screenshot of the job page to ${shot}`, () => jobPage.screenshot({ path: shot, fullPage: true }));
+  await step(`screenshot of the job page to ${shot}`, async () => {
+    await jobPage.screenshot({ path: shot, fullPage: true });
+    await jobPage.screenshot({ path: path.join(shotDir, 'job-page-done.png') }); // the viewport: the README's picture
+    check(fs.existsSync(runningShot), `no screenshot of the job page while it ran (${runningShot}): the mosaic never showed round 2 of a running job`);
+  });
 
   // (g) Both workers are listed.
   await step('the workers page lists both workers', async () => {

@@ -91,8 +91,11 @@ export const api = {
     tasks: (id, pageToken) => request("GET", `api/jobs/${encodeURIComponent(id)}/tasks?pageToken=${encodeURIComponent(pageToken)}`),
     /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
     workers: (pageToken = "") => request("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
-    /** The scene file's text, sent as it is (the server parses and validates it). */
-    submit: (sceneJson) => request("POST", "api/jobs", sceneJson),
+    /**
+     * The scene file's text, sent as it is (the server parses and validates it), with the
+     * files it names (meshes, textures), base64 by their names or paths in a chosen folder.
+     */
+    submit: (sceneJson, files = {}) => request("POST", "api/jobs", Object.keys(files).length ? `{"scene": ${sceneJson}, "files": ${JSON.stringify(files)}}` : sceneJson),
     cancel: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),
     /** Takes the worker off the job's blocklist, so it can lease the job's tasks again. */
     unblock: (id, workerId) => request("POST", `api/jobs/${encodeURIComponent(id)}/unblock`, { workerId }),

@@ -105,8 +105,12 @@ export const api = {
   /** A page of workers, oldest first; pageToken from the page before ("" for the first). */
   workers: (pageToken = "") =>
     request<WorkerPage>("GET", `api/workers${pageToken ? `?pageToken=${encodeURIComponent(pageToken)}` : ""}`),
-  /** The scene file's text, sent as it is (the server parses and validates it). */
-  submit: (sceneJson: string) => request<{ job: Job }>("POST", "api/jobs", sceneJson),
+  /**
+   * The scene file's text, sent as it is (the server parses and validates it), with the
+   * files it names (meshes, textures), base64 by their names or paths in a chosen folder.
+   */
+  submit: (sceneJson: string, files: Record<string, string> = {}) =>
+    request<{ job: Job }>("POST", "api/jobs", Object.keys(files).length ? `{"scene": ${sceneJson}, "files": ${JSON.stringify(files)}}` : sceneJson),
   cancel: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),
   /** Takes the worker off the job's blocklist, so it can lease the job's tasks again. */
   unblock: (id: string, workerId: string) =>

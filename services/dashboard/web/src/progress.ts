@@ -1,19 +1,25 @@
-// A job's progress and ETA, from the phase counts of its current round (job.phases holds
-// the latest round's) and the rounds it has finished.
+// A job's progress and ETA: one fraction for the whole job, its rounds and the phases of
+// each folded together (as the CLI's bar does, cmd/farm/fraction.go, there with phase
+// times measured from events; here, stateless, phases weigh by their task counts):
+// (rounds finished + the current round's tasks succeeded over its tasks) / the rounds the
+// plan allows. A job that stops early (target error, time budget) jumps to 1 when it ends.
 
 import { parseTime } from "./format.js";
 import type { Job } from "./types.js";
 import { jobEnded } from "./types.js";
 
 export interface Progress {
-  /** In [0, 1]: tasks succeeded over tasks planned, in the current round. */
+  /** In [0, 1]: the whole job's, rounds and phases folded. */
   fraction: number;
+  /** Tasks succeeded and planned in the current round. */
   succeeded: number;
   total: number;
   /** The round under way (from 1), or the last one once the job ended. */
   round: number;
   /** Rounds finished. */
   roundsDone: number;
+  /** The most rounds the job runs (it may stop earlier). */
+  rounds: number;
 }
 
 export function jobProgress(job: Job): Progress {
@@ -25,7 +31,11 @@ export function jobProgress(job: Job): Progress {
   }
   const roundsDone = job.rounds?.length ?? 0;
   const ended = jobEnded(job);
-  let fraction = total > 0 ? succeeded / total : 0;
+  const rounds = Math.max(job.plan?.maxRounds ?? 1, roundsDone + (ended ? 0 : 1), 1);
+  // A finished round's phases, before the next round's tasks are listed, count as that
+  // round (already in roundsDone), not as the next.
+  const current = total > 0 && !(succeeded >= total && roundsDone > 0 && !ended) ? succeeded / total : 0;
+  let fraction = (Math.min(roundsDone, rounds) + (roundsDone < rounds ? current : 0)) / rounds;
   if (job.state === "JOB_STATE_SUCCEEDED") fraction = 1;
   return {
     fraction: Math.min(1, Math.max(0, fraction)),
@@ -33,6 +43,7 @@ export function jobProgress(job: Job): Progress {
     total,
     round: ended ? Math.max(1, roundsDone) : roundsDone + 1,
     roundsDone,
+    rounds,
   };
 }
 
@@ -45,18 +56,13 @@ export function jobElapsed(job: Job, now: number): number | undefined {
 }
 
 /**
- * Seconds until the current round ends, at the rate the round has progressed so far:
+ * Seconds until the job ends, at the rate it has progressed so far (elapsed / fraction):
  * undefined before any of its tasks succeeded, and for jobs not running.
  */
 export function jobEta(job: Job, now: number): number | undefined {
   if (job.state !== "JOB_STATE_RUNNING") return undefined;
-  const created = parseTime(job.createTime);
-  if (created === undefined) return undefined;
+  const elapsed = jobElapsed(job, now);
   const p = jobProgress(job);
-  if (p.fraction <= 0 || p.fraction >= 1) return undefined;
-  const last = job.rounds?.[job.rounds.length - 1];
-  const roundStart = created + (last?.elapsedSeconds ?? 0) * 1000;
-  const spent = (now - roundStart) / 1000;
-  if (spent <= 0) return undefined;
-  return (spent * (1 - p.fraction)) / p.fraction;
+  if (elapsed === undefined || elapsed <= 0 || p.fraction <= 0 || p.fraction >= 1) return undefined;
+  return (elapsed * (1 - p.fraction)) / p.fraction;
 }

@@ -84,7 +84,7 @@ export interface Job {
   error?: string;
   failureKind?: FailureKind;
   outputs?: Artifact[];
-  plan?: { passes?: PlannedPass[] };
+  plan?: { passes?: PlannedPass[]; maxRounds?: number };
   rounds?: RoundReport[];
   priority?: number;
   blockedWorkers?: BlockedWorker[];

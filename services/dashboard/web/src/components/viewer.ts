@@ -4,6 +4,7 @@
 // pixels (1:1 shows one image pixel per CSS pixel, larger zooms show square pixels, never
 // a blurred stretch).
 
+import { srgb8 } from "../display.js";
 import { h, setAttr, setText } from "../dom.js";
 import { decodeExr, type ExrImage } from "../exr.js";
 
@@ -36,14 +37,6 @@ export function layersOf(img: ExrImage): Layer[] {
   }
   // The beauty image first, the AOVs in the file's (alphabetical) order.
   return [...layers.values()].sort((a, b) => Number(b.name === BEAUTY) - Number(a.name === BEAUTY));
-}
-
-/** Linear to 8-bit sRGB. */
-function srgb8(v: number): number {
-  if (!(v > 0)) return 0;
-  if (v >= 1) return 255;
-  const s = v <= 0.0031308 ? 12.92 * v : 1.055 * v ** (1 / 2.4) - 0.055;
-  return Math.round(s * 255);
 }
 
 /**

@@ -174,7 +174,7 @@ export function jobPage(id: string): Page {
   const progress = progressBar(0, "0%", { "data-testid": "job-progress", "aria-label": "Progress of the current round" });
   const sRound = stat("Round");
   const sElapsed = stat("Elapsed");
-  const sEta = stat("ETA (round)");
+  const sEta = stat("ETA");
   const sPhotons = stat("Photons");
   const sSpp = stat("Samples / pixel");
   const sError = stat("Estimated error");
@@ -287,7 +287,7 @@ export function jobPage(id: string): Page {
     h(
       "div",
       { class: "job__grid" },
-      h("div", { class: "job__main" }, finalCard, card("Tiles", mosaic.element), card("Error against time", chart.element)),
+      h("div", { class: "job__main" }, finalCard, card("Image so far", mosaic.element), card("Error against time", chart.element)),
       h(
         "div",
         { class: "job__side" },

@@ -16,6 +16,7 @@ import {
 } from "../format.js";
 import { jobElapsed, jobEta, jobProgress } from "../progress.js";
 import { jobHref, type Page } from "../router.js";
+import { readSubmission } from "../submission.js";
 import type { Job } from "../types.js";
 import { jobEnded } from "../types.js";
 
@@ -23,7 +24,7 @@ export function progressLabel(job: Job): string {
   const p = jobProgress(job);
   const pct = `${Math.round(p.fraction * 100)}%`;
   if (job.state === "JOB_STATE_QUEUED") return "Queued";
-  return p.roundsDone > 0 || p.round > 1 ? `${pct} · round ${p.round}` : pct;
+  return p.rounds > 1 ? `${pct} · round ${p.round} of ${p.rounds}` : pct;
 }
 
 /** The job-state badge cell. */
@@ -107,29 +108,41 @@ export function jobsPage(): Page {
   const summary = h("p", { class: "page__summary muted", "aria-live": "polite" }, "Loading jobs…");
   const notice = h("div", { class: "notice-area" });
 
+  // The scene and its files (meshes, textures), chosen together or as the folder that
+  // holds them: the scene is the one .json file among them (scene.ts).
   const fileInput = h("input", {
     type: "file",
     id: "submit-file",
-    accept: ".json,application/json",
+    multiple: true,
     class: "visually-hidden",
     "data-testid": "submit-file",
   });
-  const uploadLabel = h("label", { for: "submit-file", class: "button button--primary" }, "Submit scene");
-  fileInput.addEventListener("change", async () => {
-    const file = fileInput.files?.[0];
-    if (!file) return;
+  const folderInput = h("input", {
+    type: "file",
+    id: "submit-folder",
+    webkitdirectory: true,
+    class: "visually-hidden",
+    "data-testid": "submit-folder",
+  });
+  const uploadLabel = h("label", { for: "submit-file", class: "button button--primary", title: "Choose a scene .json and the files it names" }, "Submit scene");
+  const folderLabel = h("label", { for: "submit-folder", class: "button", title: "Choose the folder that holds a scene .json and its files" }, "Submit folder");
+  const onChosen = (input: HTMLInputElement) => async () => {
+    const chosen = [...(input.files ?? [])];
+    if (chosen.length === 0) return;
     uploadLabel.classList.add("is-busy");
     notice.replaceChildren();
+    let name = chosen[0]!.name;
     try {
-      const text = await file.text();
-      const { job } = await api.submit(text);
+      const { scene, files } = await readSubmission(chosen);
+      name = scene.name;
+      const { job } = await api.submit(await scene.text(), files);
       notice.replaceChildren(
         h(
           "div",
           { class: "notice notice--success", role: "status" },
           "Submitted ",
           h("a", { href: jobHref(job.id) }, job.displayName || job.id),
-          ".",
+          Object.keys(files).length ? ` with ${Object.keys(files).length} ${Object.keys(files).length === 1 ? "file" : "files"}.` : ".",
         ),
       );
       if (!jobs.some((j) => j.id === job.id)) {
@@ -137,15 +150,17 @@ export function jobsPage(): Page {
         render.schedule();
       }
     } catch (err) {
-      const [headline, message] = submitRefusal(file.name, err);
+      const [headline, message] = submitRefusal(name, err);
       notice.replaceChildren(
         h("div", { class: "notice notice--error", role: "alert", "data-testid": "submit-error" }, h("strong", null, headline), message),
       );
     } finally {
       uploadLabel.classList.remove("is-busy");
-      fileInput.value = "";
+      input.value = "";
     }
-  });
+  };
+  fileInput.addEventListener("change", onChosen(fileInput));
+  folderInput.addEventListener("change", onChosen(folderInput));
 
   const element = h(
     "section",
@@ -154,7 +169,7 @@ export function jobsPage(): Page {
       "div",
       { class: "page__header" },
       h("div", null, h("h1", { id: "jobs-title" }, "Jobs"), summary),
-      h("div", { class: "page__actions" }, fileInput, uploadLabel),
+      h("div", { class: "page__actions" }, fileInput, uploadLabel, folderInput, folderLabel),
     ),
     notice,
     h("div", { class: "card card--flush table-wrap" }, table.element),

@@ -1,0 +1,91 @@
+// The image a job would deliver if it stopped now, kept in the browser from what the farm
+// stores: the newest round composite's accumulation.exr (per pixel, the weighted sums of
+// R, G, B over the rounds so far and the sum of their weights; worker/image/
+// accumulation_exr.h) plus every render tile finished since, each added with weight 1 (a
+// round of samples_per_pixel samples). Under adaptive sampling a newer tile's true weight
+// is its allocated samples over samples_per_pixel, so between composites the mean is
+// approximate; the next composite replaces it with the exact one.
+const RGB = ["R", "G", "B"];
+function channel(img, name, what) {
+    const values = img.channels.get(name);
+    if (!values)
+        throw new Error(`${what} has no channel ${name}`);
+    return values;
+}
+/** The R, G, B channels of a decoded tile.exr at rect, or an Error naming what is missing. */
+export function tileValues(img, round, rect) {
+    if (img.width !== rect.width || img.height !== rect.height) {
+        throw new Error(`tile.exr is ${img.width}x${img.height}, its task's rectangle ${rect.width}x${rect.height}`);
+    }
+    const [r, g, b] = RGB.map((c) => channel(img, c, "tile.exr"));
+    return { round, rect, rgb: [r, g, b] };
+}
+export class RunningImage {
+    constructor(width, height) {
+        this.width = width;
+        this.height = height;
+        /** The round of the accumulation the sums hold (0: none yet). */
+        this.baseRound = 0;
+        /** Tiles of rounds after baseRound, by task id. */
+        this.newer = new Map();
+        this.sums = new Float32Array(3 * width * height);
+        this.weights = new Float32Array(width * height);
+    }
+    /** Whether the tile of this task is counted (in the sums or as a newer tile). */
+    has(taskId, round) {
+        return round <= this.baseRound || this.newer.has(taskId);
+    }
+    /**
+     * Replaces the sums with round's accumulation.exr (decoded) and drops the tiles it
+     * already holds. An older round than the one held changes nothing (returns false).
+     */
+    setBase(round, acc) {
+        if (round <= this.baseRound)
+            return false;
+        if (acc.width !== this.width || acc.height !== this.height) {
+            throw new Error(`accumulation.exr is ${acc.width}x${acc.height}, the job's image ${this.width}x${this.height}`);
+        }
+        const sums = RGB.map((c) => channel(acc, `sum.${c}`, "accumulation.exr"));
+        const weight = channel(acc, "weight", "accumulation.exr");
+        for (let p = 0; p < this.weights.length; p++) {
+            for (let c = 0; c < 3; c++)
+                this.sums[3 * p + c] = sums[c][p];
+            this.weights[p] = weight[p];
+        }
+        this.baseRound = round;
+        for (const [id, tile] of this.newer)
+            if (tile.round <= round)
+                this.newer.delete(id);
+        return true;
+    }
+    /** Adds a finished tile of a round after baseRound (returns false if already counted). */
+    addTile(taskId, tile) {
+        if (this.has(taskId, tile.round))
+            return false;
+        this.newer.set(taskId, tile);
+        return true;
+    }
+    /** The mean so far, linear R, G, B per pixel (NaN where nothing has arrived yet). */
+    mean() {
+        const sums = Float32Array.from(this.sums);
+        const weights = Float32Array.from(this.weights);
+        for (const { rect, rgb } of this.newer.values()) {
+            for (let y = 0; y < rect.height; y++) {
+                for (let x = 0; x < rect.width; x++) {
+                    const p = (rect.y + y) * this.width + rect.x + x;
+                    const t = y * rect.width + x;
+                    for (let c = 0; c < 3; c++) {
+                        const v = rgb[c][t];
+                        sums[3 * p + c] += Number.isFinite(v) ? v : 0;
+                    }
+                    weights[p] += 1;
+                }
+            }
+        }
+        for (let p = 0; p < weights.length; p++) {
+            for (let c = 0; c < 3; c++)
+                sums[3 * p + c] = weights[p] > 0 ? sums[3 * p + c] / weights[p] : NaN;
+        }
+        return sums;
+    }
+}
