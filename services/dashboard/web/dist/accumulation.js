@@ -26,10 +26,12 @@ export class RunningImage {
         this.height = height;
         /** The round of the accumulation the sums hold (0: none yet). */
         this.baseRound = 0;
-        /** Tiles of rounds after baseRound, by task id. */
+        // The tiles of rounds after baseRound, by task id, and their sums and counts per pixel.
         this.newer = new Map();
         this.sums = new Float32Array(3 * width * height);
         this.weights = new Float32Array(width * height);
+        this.newerSums = new Float32Array(3 * width * height);
+        this.newerCounts = new Uint16Array(width * height);
     }
     /** Whether the tile of this task is counted (in the sums or as a newer tile). */
     has(taskId, round) {
@@ -53,9 +55,12 @@ export class RunningImage {
             this.weights[p] = weight[p];
         }
         this.baseRound = round;
-        for (const [id, tile] of this.newer)
-            if (tile.round <= round)
-                this.newer.delete(id);
+        for (const [id, tile] of this.newer) {
+            if (tile.round > round)
+                continue;
+            this.fold(tile, -1);
+            this.newer.delete(id);
+        }
         return true;
     }
     /** Adds a finished tile of a round after baseRound (returns false if already counted). */
@@ -63,29 +68,28 @@ export class RunningImage {
         if (this.has(taskId, tile.round))
             return false;
         this.newer.set(taskId, tile);
+        this.fold(tile, 1);
         return true;
     }
-    /** The mean so far, linear R, G, B per pixel (NaN where nothing has arrived yet). */
-    mean() {
-        const sums = Float32Array.from(this.sums);
-        const weights = Float32Array.from(this.weights);
-        for (const { rect, rgb } of this.newer.values()) {
-            for (let y = 0; y < rect.height; y++) {
-                for (let x = 0; x < rect.width; x++) {
-                    const p = (rect.y + y) * this.width + rect.x + x;
-                    const t = y * rect.width + x;
-                    for (let c = 0; c < 3; c++) {
-                        const v = rgb[c][t];
-                        sums[3 * p + c] += Number.isFinite(v) ? v : 0;
-                    }
-                    weights[p] += 1;
+    /** Adds (sign 1) or takes away (-1) a tile's values in the newer sums. */
+    fold({ rect, rgb }, sign) {
+        for (let y = 0; y < rect.height; y++) {
+            for (let x = 0; x < rect.width; x++) {
+                const p = (rect.y + y) * this.width + rect.x + x;
+                const t = y * rect.width + x;
+                this.newerCounts[p] += sign;
+                for (let c = 0; c < 3; c++) {
+                    const v = rgb[c][t];
+                    // Exactly 0 once no tile is left, whatever rounding the sums took.
+                    this.newerSums[3 * p + c] = this.newerCounts[p] === 0 ? 0 : this.newerSums[3 * p + c] + sign * (Number.isFinite(v) ? v : 0);
                 }
             }
         }
-        for (let p = 0; p < weights.length; p++) {
-            for (let c = 0; c < 3; c++)
-                sums[3 * p + c] = weights[p] > 0 ? sums[3 * p + c] / weights[p] : NaN;
-        }
-        return sums;
+    }
+    /** The mean so far of pixel p, linear R, G, B into out (NaN where nothing has arrived yet). */
+    meanAt(p, out) {
+        const w = this.weights[p] + this.newerCounts[p];
+        for (let c = 0; c < 3; c++)
+            out[c] = w > 0 ? (this.sums[3 * p + c] + this.newerSums[3 * p + c]) / w : NaN;
     }
 }

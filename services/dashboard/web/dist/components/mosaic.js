@@ -35,6 +35,7 @@ export class Mosaic {
         this.unreadable = new Map();
         this.queue = [];
         this.drawPending = false;
+        this.dirty = [];
         this.canvas = h("canvas", { class: "mosaic__canvas", "data-testid": "mosaic-canvas" });
         this.box = h("div", { class: "mosaic", "data-testid": "mosaic", role: "img", "aria-label": "The image so far" }, this.canvas);
         this.caption = h("figcaption", { class: "mosaic__caption" });
@@ -55,6 +56,8 @@ export class Mosaic {
             this.canvas.width = width;
             this.canvas.height = height;
             this.image = new RunningImage(width, height);
+            this.pixels = undefined;
+            this.dirty = undefined;
             this.queue = [];
         }
         // Tasks arrive in plan order, so later rounds come later: the last one wins.
@@ -135,7 +138,7 @@ export class Mosaic {
         const sources = [];
         if (base) {
             const { round, digest } = base;
-            sources.push({ key: `acc:${round}`, digest, name: ARTIFACT.ACCUMULATION_EXR, apply: (img) => image.setBase(round, img) });
+            sources.push({ key: `acc:${round}`, digest, name: ARTIFACT.ACCUMULATION_EXR, apply: (img) => image.setBase(round, img) && this.changed() });
         }
         const after = base?.round ?? image.baseRound;
         for (const t of tasks) {
@@ -144,7 +147,12 @@ export class Mosaic {
             const exr = t.state === "TASK_STATE_SUCCEEDED" ? artifact(t.outputs, ARTIFACT.TILE_EXR) : undefined;
             if (!rect || !exr?.digest || round <= after || image.has(t.id, round))
                 continue;
-            sources.push({ key: `tile:${t.id}`, digest: exr.digest, name: ARTIFACT.TILE_EXR, apply: (img) => image.addTile(t.id, tileValues(img, round, rect)) });
+            sources.push({
+                key: `tile:${t.id}`,
+                digest: exr.digest,
+                name: ARTIFACT.TILE_EXR,
+                apply: (img) => image.addTile(t.id, tileValues(img, round, rect)) && this.changed(rect),
+            });
         }
         this.queue = sources.filter((s) => !this.reading.has(s.key) && !this.unreadable.has(s.key));
         this.pump();
@@ -170,8 +178,8 @@ export class Mosaic {
             if (!res.ok)
                 throw new Error(`${source.name}: ${res.status} ${res.statusText}`);
             const img = await decodeExr(await res.arrayBuffer());
-            if (image === this.image && source.apply(img))
-                this.scheduleDraw();
+            if (image === this.image)
+                source.apply(img);
         }
         catch (err) {
             this.unreadable.set(source.key, err instanceof Error ? err.message : String(err));
@@ -182,31 +190,46 @@ export class Mosaic {
         setAttr(this.canvas, "data-base-round", String(this.image?.baseRound ?? 0));
         setAttr(this.canvas, "data-reading", String(this.reading.size + this.queue.length));
     }
-    scheduleDraw() {
-        if (this.drawPending)
-            return;
-        this.drawPending = true;
-        requestAnimationFrame(() => {
-            this.drawPending = false;
-            this.draw();
-        });
+    /** Marks rect (undefined: the whole image) to draw again at the next frame. */
+    changed(rect) {
+        if (!rect)
+            this.dirty = undefined;
+        else
+            this.dirty?.push(rect);
+        if (!this.drawPending) {
+            this.drawPending = true;
+            requestAnimationFrame(() => {
+                this.drawPending = false;
+                this.draw();
+            });
+        }
+        return true;
     }
     draw() {
         const image = this.image;
         const ctx = this.canvas.getContext("2d");
         if (!image || !ctx)
             return;
-        const mean = image.mean();
-        const out = ctx.createImageData(image.width, image.height);
-        const px = out.data;
-        for (let p = 0; p < image.width * image.height; p++) {
-            if (Number.isNaN(mean[3 * p]))
-                continue; // nothing yet: transparent
-            for (let c = 0; c < 3; c++)
-                px[4 * p + c] = srgb8(mean[3 * p + c]);
-            px[4 * p + 3] = 255;
+        const { width, height } = image;
+        this.pixels ?? (this.pixels = ctx.createImageData(width, height));
+        const rects = this.dirty ?? [{ x: 0, y: 0, width, height }];
+        this.dirty = [];
+        const px = this.pixels.data;
+        const rgb = new Float32Array(3);
+        for (const r of rects) {
+            for (let y = r.y; y < r.y + r.height; y++) {
+                for (let x = r.x; x < r.x + r.width; x++) {
+                    const p = y * width + x;
+                    image.meanAt(p, rgb);
+                    if (Number.isNaN(rgb[0]))
+                        continue; // nothing yet: clear
+                    for (let c = 0; c < 3; c++)
+                        px[4 * p + c] = srgb8(rgb[c]);
+                    px[4 * p + 3] = 255;
+                }
+            }
+            ctx.putImageData(this.pixels, 0, 0, r.x, r.y, r.width, r.height);
         }
-        ctx.putImageData(out, 0, 0);
         setAttr(this.canvas, "data-drawn", String(Number(this.canvas.dataset["drawn"] ?? 0) + 1));
     }
 }

@@ -4,7 +4,7 @@
 // freely): dimmed until the current round's tile is done, outlined while leased. The
 // pixels are linear values clipped to sRGB, as the final-image viewer shows them at 0 EV.
 
-import { RunningImage, tileValues } from "../accumulation.js";
+import { RunningImage, tileValues, type Rect } from "../accumulation.js";
 import { blobUrl } from "../api.js";
 import { ARTIFACT } from "../contract.gen.js";
 import { srgb8 } from "../display.js";
@@ -58,6 +58,9 @@ export class Mosaic {
   private readonly unreadable = new Map<string, string>();
   private queue: Source[] = [];
   private drawPending = false;
+  /** What the canvas shows, and the rectangles of it to draw again (undefined: all). */
+  private pixels?: ImageData;
+  private dirty: Rect[] | undefined = [];
 
   constructor() {
     this.canvas = h("canvas", { class: "mosaic__canvas", "data-testid": "mosaic-canvas" });
@@ -85,6 +88,8 @@ export class Mosaic {
       this.canvas.width = width;
       this.canvas.height = height;
       this.image = new RunningImage(width, height);
+      this.pixels = undefined;
+      this.dirty = undefined;
       this.queue = [];
     }
 
@@ -163,7 +168,7 @@ export class Mosaic {
     const sources: Source[] = [];
     if (base) {
       const { round, digest } = base;
-      sources.push({ key: `acc:${round}`, digest, name: ARTIFACT.ACCUMULATION_EXR, apply: (img) => image.setBase(round, img) });
+      sources.push({ key: `acc:${round}`, digest, name: ARTIFACT.ACCUMULATION_EXR, apply: (img) => image.setBase(round, img) && this.changed() });
     }
     const after = base?.round ?? image.baseRound;
     for (const t of tasks) {
@@ -171,7 +176,12 @@ export class Mosaic {
       const round = t.round ?? 1;
       const exr = t.state === "TASK_STATE_SUCCEEDED" ? artifact(t.outputs, ARTIFACT.TILE_EXR) : undefined;
       if (!rect || !exr?.digest || round <= after || image.has(t.id, round)) continue;
-      sources.push({ key: `tile:${t.id}`, digest: exr.digest, name: ARTIFACT.TILE_EXR, apply: (img) => image.addTile(t.id, tileValues(img, round, rect)) });
+      sources.push({
+        key: `tile:${t.id}`,
+        digest: exr.digest,
+        name: ARTIFACT.TILE_EXR,
+        apply: (img) => image.addTile(t.id, tileValues(img, round, rect)) && this.changed(rect),
+      });
     }
     this.queue = sources.filter((s) => !this.reading.has(s.key) && !this.unreadable.has(s.key));
     this.pump();
@@ -197,7 +207,7 @@ export class Mosaic {
       const res = await fetch(blobUrl(source.digest, source.name), { credentials: "same-origin" });
       if (!res.ok) throw new Error(`${source.name}: ${res.status} ${res.statusText}`);
       const img = await decodeExr(await res.arrayBuffer());
-      if (image === this.image && source.apply(img)) this.scheduleDraw();
+      if (image === this.image) source.apply(img);
     } catch (err) {
       this.unreadable.set(source.key, err instanceof Error ? err.message : String(err));
     }
@@ -209,28 +219,42 @@ export class Mosaic {
     setAttr(this.canvas, "data-reading", String(this.reading.size + this.queue.length));
   }
 
-  private scheduleDraw(): void {
-    if (this.drawPending) return;
-    this.drawPending = true;
-    requestAnimationFrame(() => {
-      this.drawPending = false;
-      this.draw();
-    });
+  /** Marks rect (undefined: the whole image) to draw again at the next frame. */
+  private changed(rect?: Rect): true {
+    if (!rect) this.dirty = undefined;
+    else this.dirty?.push(rect);
+    if (!this.drawPending) {
+      this.drawPending = true;
+      requestAnimationFrame(() => {
+        this.drawPending = false;
+        this.draw();
+      });
+    }
+    return true;
   }
 
   private draw(): void {
     const image = this.image;
     const ctx = this.canvas.getContext("2d");
     if (!image || !ctx) return;
-    const mean = image.mean();
-    const out = ctx.createImageData(image.width, image.height);
-    const px = out.data;
-    for (let p = 0; p < image.width * image.height; p++) {
-      if (Number.isNaN(mean[3 * p])) continue; // nothing yet: transparent
-      for (let c = 0; c < 3; c++) px[4 * p + c] = srgb8(mean[3 * p + c]!);
-      px[4 * p + 3] = 255;
+    const { width, height } = image;
+    this.pixels ??= ctx.createImageData(width, height);
+    const rects = this.dirty ?? [{ x: 0, y: 0, width, height }];
+    this.dirty = [];
+    const px = this.pixels.data;
+    const rgb = new Float32Array(3);
+    for (const r of rects) {
+      for (let y = r.y; y < r.y + r.height; y++) {
+        for (let x = r.x; x < r.x + r.width; x++) {
+          const p = y * width + x;
+          image.meanAt(p, rgb);
+          if (Number.isNaN(rgb[0])) continue; // nothing yet: clear
+          for (let c = 0; c < 3; c++) px[4 * p + c] = srgb8(rgb[c]!);
+          px[4 * p + 3] = 255;
+        }
+      }
+      ctx.putImageData(this.pixels, 0, 0, r.x, r.y, r.width, r.height);
     }
-    ctx.putImageData(out, 0, 0);
     setAttr(this.canvas, "data-drawn", String(Number(this.canvas.dataset["drawn"] ?? 0) + 1));
   }
 }
