@@ -23,6 +23,7 @@
 #include "daemon/retry.h"
 #include "daemon/task_executor.h"
 #include "daemon/task_log.h"
+#include "daemon/task_log_upload.h"
 #include "daemon/version.h"
 #include "renderfarm/v1/worker.grpc.pb.h"
 
@@ -130,9 +131,11 @@ class Worker::Impl {
   std::string ReportComplete(const pb::Lease& lease, const TaskResult& result, const std::optional<pb::Artifact>& log);
   std::string ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind,
                             const std::optional<pb::Artifact>& log);
-  // Ends the task's log and uploads it as "task.log"; nullopt if the upload failed, which
-  // is logged and never fails the task.
-  std::optional<pb::Artifact> UploadLog(std::optional<TaskLog>& log, const pb::Lease& lease);
+  // Ends the task's log and uploads it as "task.log" (UploadTaskLog): nullopt if the
+  // upload failed, which is logged and never fails the task.
+  std::optional<pb::Artifact> UploadLog(std::optional<TaskLog>& log, const pb::Lease& lease) {
+    return UploadTaskLog(log, lease.task_id(), [&](std::string_view bytes) { return blobs_.Upload(bytes, abort_.get_token()); });
+  }
   // Sends the report that call makes (on a context given its deadline) until the
   // coordinator acknowledges it, as completions and failures are idempotent there, or the
   // worker aborts (the lease is then released). Returns "" once acknowledged, else what
@@ -452,21 +455,6 @@ std::string Worker::Impl::Report(const pb::Lease& lease, const std::string& meth
     return "abandoned while reporting";
   }
   return "refused: " + status.error_message();
-}
-
-std::optional<pb::Artifact> Worker::Impl::UploadLog(std::optional<TaskLog>& log, const pb::Lease& lease) {
-  const std::string text = log->Text();
-  log.reset();  // The upload's own lines and the report's are not the task's.
-  try {
-    pb::Artifact a;
-    a.set_name(contract::ArtifactName(pb::ARTIFACT_KIND_TASK_LOG));
-    a.set_digest(blobs_.Upload(text, abort_.get_token()));
-    a.set_size_bytes(static_cast<std::int64_t>(text.size()));
-    return a;
-  } catch (const std::exception& e) {
-    Log(LogLevel::kWarn, "cannot upload the task log; reporting without it", {{"task", lease.task_id()}, {"err", e.what()}});
-    return std::nullopt;
-  }
 }
 
 std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result,
