@@ -48,7 +48,7 @@ func rpcLimits() *pb.RpcLimits {
 	opts := pb.File_renderfarm_v1_blob_proto.Options()
 	l := proto.GetExtension(opts, pb.E_RpcLimits).(*pb.RpcLimits)
 	if l.GetMaxMessageBytes() == 0 || l.GetMaxUploadChunkBytes() == 0 || l.GetMaxDownloadChunkBytes() == 0 ||
-		l.GetMaxBlobBytes() == 0 || l.GetMaxErrorBytes() == 0 {
+		l.GetMaxBlobBytes() == 0 || l.GetMaxErrorBytes() == 0 || l.GetMaxTaskLogBytes() == 0 {
 		panic("rules: blob.proto declares no complete rpc_limits option")
 	}
 	return l

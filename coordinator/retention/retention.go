@@ -185,6 +185,9 @@ func (w *Sweeper) references(ctx context.Context) (map[string]bool, error) {
 			return w.cfg.Store.ListTasks(ctx, j.GetId(), listPage, token)
 		}, func(t *pb.Task) (bool, error) {
 			add(t.GetOutputs())
+			if l := t.GetLog(); l != nil {
+				add([]*pb.Artifact{l})
+			}
 			return true, nil
 		})
 		if errs.Is(err, errs.NotFound) {

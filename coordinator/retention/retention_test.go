@@ -22,7 +22,8 @@ import (
 // retention is a week) is deleted; then of the blobs older than the grace period, those
 // no remaining job refers to (its scene, its task's output, an orphan) are deleted, and
 // those the running job refers to (its scene, a mesh and a reference image its scene
-// names, also named by the deleted job's scene, and its task's output) are kept, as is
+// names, also named by the deleted job's scene, its task's output and the log of its
+// task's failed attempt, Task.log) are kept, as is
 // a fresh upload no job names yet and an old one just touched by a submit in flight.
 func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 	ctx := context.Background()
@@ -44,7 +45,15 @@ func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 		}
 		return put(string(b))
 	}
-	create := func(name string) (*pb.Job, string) {
+	lease := func() *store.Leased {
+		t.Helper()
+		l, err := st.LeaseTask(ctx, "w1", store.WorkerPhases)
+		if err != nil || l == nil {
+			t.Fatalf("LeaseTask = %v, %v", l, err)
+		}
+		return l
+	}
+	create := func(name string) (j *pb.Job, tile, log string) {
 		t.Helper()
 		nj := storetest.TileJob(name, 1)
 		nj.SceneDigest = sceneNaming(name)
@@ -52,27 +61,31 @@ func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 		if err != nil {
 			t.Fatal(err)
 		}
-		l, err := st.LeaseTask(ctx, "w1", store.WorkerPhases)
-		if err != nil || l == nil {
-			t.Fatalf("LeaseTask = %v, %v", l, err)
-		}
-		out := put("tile of " + name)
-		if _, err := st.CompleteTask(ctx, store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch},
-			[]*pb.Artifact{{Name: "tile.exr", Digest: out, SizeBytes: int64(len("tile of " + name))}}); err != nil {
+		l := lease()
+		log = put("log of " + name)
+		if _, err := st.FailTask(ctx, store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch},
+			store.Failure{Message: "flaky", Log: &pb.Artifact{Name: "task.log", Digest: log, SizeBytes: int64(len("log of " + name))}}); err != nil {
 			t.Fatal(err)
 		}
-		return j, out
+		clk.Advance(store.DefaultMaxRetryBackoff)
+		l = lease()
+		tile = put("tile of " + name)
+		if _, err := st.CompleteTask(ctx, store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch},
+			[]*pb.Artifact{{Name: "tile.exr", Digest: tile, SizeBytes: int64(len("tile of " + name))}}); err != nil {
+			t.Fatal(err)
+		}
+		return j, tile, log
 	}
-	old, oldTile := create("old")
+	old, oldTile, oldLog := create("old")
 	if _, err := st.CancelJob(ctx, old.Id); err != nil {
 		t.Fatal(err)
 	}
 	clk.Advance(200 * time.Hour)
-	live, liveTile := create("live")
+	live, liveTile, liveLog := create("live")
 	orphan, inFlight := put("an orphan"), put("uploaded for a submit in flight")
 
 	// Everything but the fresh upload is two days old.
-	blobs.Age(now.Add(-48*time.Hour), mesh, reference, old.SceneDigest, oldTile, live.SceneDigest, liveTile, orphan, inFlight)
+	blobs.Age(now.Add(-48*time.Hour), mesh, reference, old.SceneDigest, oldTile, oldLog, live.SceneDigest, liveTile, liveLog, orphan, inFlight)
 	fresh := put("a fresh upload")
 	if _, err := blobs.Touch(ctx, inFlight); err != nil { // what SubmitJob does
 		t.Fatal(err)
@@ -89,14 +102,14 @@ func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 	if _, err := st.GetJob(ctx, live.Id); err != nil {
 		t.Errorf("the live job: %v", err)
 	}
-	for d, kept := range map[string]bool{old.SceneDigest: false, oldTile: false, orphan: false,
-		live.SceneDigest: true, liveTile: true, mesh: true, reference: true, fresh: true, inFlight: true} {
+	for d, kept := range map[string]bool{old.SceneDigest: false, oldTile: false, oldLog: false, orphan: false,
+		live.SceneDigest: true, liveTile: true, liveLog: true, mesh: true, reference: true, fresh: true, inFlight: true} {
 		_, err := blobs.Stat(ctx, d)
 		if got := err == nil; got != kept {
 			t.Errorf("blob %s kept = %v, want %v", d[:15], got, kept)
 		}
 	}
-	if r.Jobs != 1 || r.Blobs != 3 {
-		t.Errorf("report %+v, want 1 job and 3 blobs deleted", r)
+	if r.Jobs != 1 || r.Blobs != 4 {
+		t.Errorf("report %+v, want 1 job and 4 blobs deleted", r)
 	}
 }

@@ -271,18 +271,19 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		return end, "", nil
 	}
 	for _, o := range outputs {
-		if !forNextRound[o.GetName()] {
+		if !notFinal[o.GetName()] {
 			end.Final = append(end.Final, o)
 		}
 	}
 	return end, why, nil
 }
 
-// forNextRound names the composite's outputs only the next round reads, which a job's
-// final outputs leave out.
-var forNextRound = map[string]bool{
+// notFinal names the composite's outputs that a job's final outputs leave out: those only
+// the next round reads, and the composite's own log (on the task).
+var notFinal = map[string]bool{
 	tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_ACCUMULATION_EXR): true,
 	tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_SAMPLE_MAP):       true,
+	tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_TASK_LOG):         true,
 }
 
 // StopReason says why a progressive job stops after the round of report, or "" if it goes

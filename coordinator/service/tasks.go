@@ -143,22 +143,8 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		return err
 	}
 	for i, a := range outputs {
-		p := fmt.Sprintf("outputs[%d]", i)
-		if a.GetName() == "" || len(a.GetName()) > 255 {
-			return errs.Field(p+".name", "must be 1 to 255 bytes, got %d", len(a.GetName()))
-		}
-		if !rules.ValidDigest(a.GetDigest()) {
-			return errs.Field(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", a.GetDigest())
-		}
-		info, err := s.cfg.Blobs.Touch(ctx, a.GetDigest())
-		if errs.Is(err, errs.NotFound) {
-			return errs.Field(p+".digest", "no blob %s; upload it before completing the task", a.GetDigest())
-		}
-		if err != nil {
+		if err := s.checkArtifact(ctx, fmt.Sprintf("outputs[%d]", i), a); err != nil {
 			return err
-		}
-		if info.Size != a.GetSizeBytes() {
-			return errs.Field(p+".size_bytes", "blob %s has %d bytes, not %d", a.GetDigest(), info.Size, a.GetSizeBytes())
 		}
 	}
 	task, err := s.cfg.Store.GetTask(ctx, ref.TaskID)
@@ -204,8 +190,38 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 	return nil
 }
 
+// taskLogName is the name of a task's log among its outputs and in FailTaskRequest.log.
+var taskLogName = tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_TASK_LOG)
+
+// checkArtifact checks artifact a of a report, at field path p: a name, a digest that
+// names a stored blob of its size_bytes, and for a task log ("task.log") at most the
+// contract's max_task_log_bytes. The blob is touched (blobstore.Touch), so that the
+// collector of unreferenced blobs keeps it until the report is recorded.
+func (s *Service) checkArtifact(ctx context.Context, p string, a *pb.Artifact) error {
+	if a.GetName() == "" || len(a.GetName()) > 255 {
+		return errs.Field(p+".name", "must be 1 to 255 bytes, got %d", len(a.GetName()))
+	}
+	if !rules.ValidDigest(a.GetDigest()) {
+		return errs.Field(p+".digest", "must be \"sha256:\" followed by 64 lowercase hex digits, got %q", a.GetDigest())
+	}
+	if max := int64(rules.RPC.GetMaxTaskLogBytes()); a.GetName() == taskLogName && a.GetSizeBytes() > max {
+		return errs.Field(p+".size_bytes", "a task log must be at most %d bytes (max_task_log_bytes), got %d", max, a.GetSizeBytes())
+	}
+	info, err := s.cfg.Blobs.Touch(ctx, a.GetDigest())
+	if errs.Is(err, errs.NotFound) {
+		return errs.Field(p+".digest", "no blob %s; upload it before reporting the task", a.GetDigest())
+	}
+	if err != nil {
+		return err
+	}
+	if info.Size != a.GetSizeBytes() {
+		return errs.Field(p+".size_bytes", "blob %s has %d bytes, not %d", a.GetDigest(), info.Size, a.GetSizeBytes())
+	}
+	return nil
+}
+
 // Fail records a task's failure; its message is truncated to the contract's
-// max_error_bytes. A permanent kind fails the job at once; a transient one (or none, or
+// max_error_bytes, and its log, if any, is checked as outputs are (checkArtifact). A permanent kind fails the job at once; a transient one (or none, or
 // one this coordinator does not know, from a newer worker) is retried, and if it blocks the worker from the job and every worker is then blocked,
 // the job fails (failIfEveryWorkerBlocked).
 func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure) error {
@@ -214,6 +230,14 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure)
 		return errs.Field("error", "must say why the task failed")
 	}
 	f.Message = rules.Truncate(f.Message, int(rules.RPC.GetMaxErrorBytes()))
+	if f.Log != nil {
+		if f.Log.GetName() != taskLogName {
+			return errs.Field("log.name", "must be %q, got %q", taskLogName, f.Log.GetName())
+		}
+		if err := s.checkArtifact(ctx, "log", f.Log); err != nil {
+			return err
+		}
+	}
 	c, err := s.cfg.Store.FailTask(ctx, ref, f)
 	if err != nil {
 		return err

@@ -171,7 +171,7 @@ func (ws *workerServer) CompleteTask(ctx context.Context, req *pb.CompleteTaskRe
 
 func (ws *workerServer) FailTask(ctx context.Context, req *pb.FailTaskRequest) (*pb.FailTaskResponse, error) {
 	return onLease[pb.FailTaskResponse](ctx, req, func(ref store.LeaseRef) error {
-		return ws.s.Fail(ctx, ref, store.Failure{Message: req.GetError(), Kind: req.GetKind()})
+		return ws.s.Fail(ctx, ref, store.Failure{Message: req.GetError(), Kind: req.GetKind(), Log: req.GetLog()})
 	})
 }
 

@@ -1,6 +1,7 @@
 package service_test
 
 import (
+	"bytes"
 	"context"
 	"math"
 	"strings"
@@ -10,6 +11,7 @@ import (
 	"google.golang.org/grpc/codes"
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/coordinatortest"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -212,5 +214,42 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 	}
 	for _, c := range cases {
 		t.Run(c.name, func(t *testing.T) { wantCode(t, c.name, c.call(f.ctx), c.code, c.field) })
+	}
+}
+
+// A task log ("task.log") is checked as outputs are, with the contract's size limit, in
+// CompleteTask's outputs and FailTask's log; a failure's log is then the task's Task.log.
+func TestTaskLogIsCheckedAndKeptOnTheTask(t *testing.T) {
+	f := newFarm(t)
+	_, w, l := f.leased(scenetest.Unlit(8, 8))
+	log := f.upload([]byte("time=2026-12-02T18:00:00.000Z level=INFO msg=\"task started\"\n"))
+	log.Name = "task.log"
+	big := f.upload(bytes.Repeat([]byte("x"), int(rules.RPC.GetMaxTaskLogBytes())+1))
+	big.Name = "task.log"
+	_, err := f.workers.CompleteTask(f.ctx, &pb.CompleteTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Outputs: []*pb.Artifact{big}})
+	wantCode(t, "complete with a log over max_task_log_bytes", err, codes.InvalidArgument, "outputs[0].size_bytes")
+	tests := []struct {
+		name  string
+		log   *pb.Artifact
+		field string
+	}{
+		{"log of another name", &pb.Artifact{Name: "tile.exr", Digest: log.Digest, SizeBytes: log.SizeBytes}, "log.name"},
+		{"log not uploaded", &pb.Artifact{Name: "task.log", Digest: "sha256:" + strings.Repeat("ab", 32), SizeBytes: 4}, "log.digest"},
+		{"log of the wrong size", &pb.Artifact{Name: "task.log", Digest: log.Digest, SizeBytes: log.SizeBytes + 1}, "log.size_bytes"},
+		{"log over max_task_log_bytes", big, "log.size_bytes"},
+	}
+	for _, tt := range tests {
+		_, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Error: "boom", Log: tt.log})
+		wantCode(t, tt.name, err, codes.InvalidArgument, tt.field)
+	}
+	if _, err := f.workers.FailTask(f.ctx, &pb.FailTaskRequest{WorkerId: w, TaskId: l.Lease.TaskId, Epoch: l.Lease.Epoch, Error: "boom", Log: log}); err != nil {
+		t.Fatalf("fail with a good log: %v", err)
+	}
+	tasks, err := f.jobs.ListTasks(f.ctx, &pb.ListTasksRequest{JobId: l.Task.JobId})
+	if err != nil {
+		t.Fatal(err)
+	}
+	if got := tasks.Tasks[l.Task.Index].GetLog(); !proto.Equal(got, log) {
+		t.Errorf("failed task's log = %v, want %v", got, log)
 	}
 }

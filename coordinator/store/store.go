@@ -234,6 +234,9 @@ var (
 type Failure struct {
 	Message string
 	Kind    pb.FailureKind
+	// The attempt's log ("task.log"), if the worker sent one: the task's Task.log from
+	// then on. Nil keeps the log of an earlier attempt.
+	Log *pb.Artifact
 }
 
 // Permanent reports whether retrying cannot help, as the kind's failure_info says; an

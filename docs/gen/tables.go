@@ -117,6 +117,7 @@ func rpcLimits() string {
 		"max_download_chunk_bytes": "largest `DownloadBlob` chunk",
 		"max_blob_bytes":           "largest blob (`RESOURCE_EXHAUSTED` past it)",
 		"max_error_bytes":          "longest `FailTaskRequest.error` kept; longer ones are truncated",
+		"max_task_log_bytes":       "largest task log (`task.log`, a completed task's output or `FailTaskRequest.log`): the worker keeps the task's first and last lines within it and says how many lines it left out between them; the coordinator refuses a bigger one",
 	})
 }
 

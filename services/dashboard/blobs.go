@@ -18,6 +18,7 @@ var contentTypes = map[string]string{
 	".exr":  "image/x-exr",
 	".json": "application/json",
 	".txt":  "text/plain; charset=utf-8",
+	".log":  "text/plain; charset=utf-8", // a task's log ("task.log")
 }
 
 func contentTypeOf(name string) string {

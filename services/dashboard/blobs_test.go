@@ -38,3 +38,31 @@ func TestBlobProxyNeverServesADamagedBlob(t *testing.T) {
 		}
 	}
 }
+
+// A blob is served with the content type of its name's extension, never sniffed: a task's
+// log is plain UTF-8 text even when it holds markup.
+func TestBlobProxyContentTypeFollowsTheName(t *testing.T) {
+	f := newFarm(t)
+	b := f.browser(clientToken)
+	log := "time=2026-12-02T18:00:00.000Z level=WARN msg=\"task failed\" error=\"<script>alert(1)</script> é\"\n"
+	digest, err := f.c.UploadBytes(f.ctx, []byte(log))
+	must(t, err)
+	for _, tt := range []struct{ name, want string }{
+		{"task.log", "text/plain; charset=utf-8"},
+		{"tile.png", "image/png"},
+		{"image.exr", "image/x-exr"},
+		{"photons.shard", "application/octet-stream"},
+	} {
+		r := f.do(b, "GET", "/api/blobs/"+digest+"?name="+tt.name, "")
+		wantStatus(t, tt.name, r, http.StatusOK)
+		if got := r.Header.Get("Content-Type"); got != tt.want {
+			t.Errorf("%s: Content-Type %q, want %q", tt.name, got, tt.want)
+		}
+		if got := r.Header.Get("X-Content-Type-Options"); got != "nosniff" {
+			t.Errorf("%s: X-Content-Type-Options %q, want nosniff", tt.name, got)
+		}
+		if r.Body != log {
+			t.Errorf("%s: body %q, want the blob's bytes", tt.name, r.Body)
+		}
+	}
+}

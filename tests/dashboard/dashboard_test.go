@@ -6,9 +6,11 @@ package dashboard_test
 import (
 	"bytes"
 	"context"
+	"encoding/binary"
 	"os"
 	"os/exec"
 	"path/filepath"
+	"strings"
 	"testing"
 	"time"
 
@@ -44,6 +46,7 @@ func TestDashboardInABrowser(t *testing.T) {
 			t.Fatalf("%s did not register within 15 s", w.Name)
 		}
 	}
+	workerFailedJob := failOnARealWorker(t, f)
 	blockedJob, blockedWorker := blockAWorker(t, f)
 	_, url := f.StartDashboard(t)
 
@@ -67,6 +70,8 @@ func TestDashboardInABrowser(t *testing.T) {
 		"CHROMIUM="+chromium,
 		"FAILED_JOB_ID="+failedJob,
 		"FAILED_REASON="+badInputReason,
+		"WORKER_FAILED_JOB_ID="+workerFailedJob,
+		"WORKER_FAILED_REASON="+badReferenceReason,
 		"BLOCKED_JOB_ID="+blockedJob,
 		"BLOCKED_WORKER_ID="+blockedWorker,
 		"PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1",
@@ -97,6 +102,61 @@ func failAsBadInput(t *testing.T, f *farmtest.Farm) string {
 		t.Fatalf("job after the bad-input report: %v, %v; want it failed", got, err)
 	}
 	return job.GetId()
+}
+
+// badReferenceReason is what a real worker's composite reports for the reference image
+// that failOnARealWorker's job names.
+const badReferenceReason = "progressive.reference.digest: reference image is not a readable OpenEXR file"
+
+// failOnARealWorker submits a small scene whose reference image is an OpenEXR header
+// without pixels (the film's size: submit checks only the header): a real farm-worker's
+// composite fails it as bad input, and the job fails at that report with the task's log.
+// It returns the job's id once the job has failed so.
+func failOnARealWorker(t *testing.T, f *farmtest.Farm) string {
+	t.Helper()
+	ctx, cancel := context.WithTimeout(context.Background(), 60*time.Second)
+	defer cancel()
+	digest, err := f.Client.UploadBytes(ctx, exrHeaderOnly(16, 16))
+	if err != nil {
+		t.Fatal(err)
+	}
+	sc := f.TestScene(t, 16, 16, 16, 1)
+	sc.Name = "bad-reference-job"
+	sc.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Digest: digest}}
+	job := f.Submit(t, sc)
+	end, err := f.Client.Watch(ctx, job.GetId(), nil)
+	if err != nil || end.GetState() != pb.JobState_JOB_STATE_FAILED || !strings.Contains(end.GetError(), badReferenceReason) {
+		t.Fatalf("the job with a reference image without pixels ended %v (%v): %q; want FAILED naming %q",
+			end.GetState(), err, end.GetError(), badReferenceReason)
+	}
+	return job.GetId()
+}
+
+// exrHeaderOnly is a scanline OpenEXR file of w x h float RGBA pixels that ends after its
+// header: no offset table, no pixels.
+func exrHeaderOnly(w, h int32) []byte {
+	le := binary.LittleEndian
+	attr := func(b []byte, name, typ string, value []byte) []byte {
+		b = append(append(append(append(b, name...), 0), typ...), 0)
+		return append(le.AppendUint32(b, uint32(len(value))), value...)
+	}
+	var channels []byte
+	for _, c := range []string{"A", "B", "G", "R"} { // sorted, as OpenEXR stores them
+		channels = append(append(channels, c...), 0)
+		channels = le.AppendUint32(channels, 2) // FLOAT
+		channels = append(channels, 0, 0, 0, 0) // pLinear and reserved
+		channels = le.AppendUint32(le.AppendUint32(channels, 1), 1)
+	}
+	var window []byte
+	for _, v := range []int32{0, 0, w - 1, h - 1} {
+		window = le.AppendUint32(window, uint32(v))
+	}
+	b := le.AppendUint32(le.AppendUint32(nil, 20000630), 2) // magic, version 2 (scanline)
+	b = attr(b, "channels", "chlist", append(channels, 0))
+	b = attr(b, "compression", "compression", []byte{3}) // ZIP
+	b = attr(b, "dataWindow", "box2i", window)
+	b = attr(b, "displayWindow", "box2i", window)
+	return append(b, 0)
 }
 
 // blockAWorker submits a long job of low priority (render tiles only, far too many to

@@ -297,7 +297,8 @@ const pb::RpcLimits& RpcLimits() {
     const pb::RpcLimits& l =
         pb::DownloadBlobRequest::descriptor()->file()->options().GetExtension(pb::rpc_limits);
     if (l.max_message_bytes() == 0 || l.max_upload_chunk_bytes() == 0 ||
-        l.max_download_chunk_bytes() == 0 || l.max_blob_bytes() == 0 || l.max_error_bytes() == 0)
+        l.max_download_chunk_bytes() == 0 || l.max_blob_bytes() == 0 || l.max_error_bytes() == 0 ||
+        l.max_task_log_bytes() == 0)
       throw std::logic_error("contract: blob.proto declares no complete rpc_limits option");
     return l;
   }();

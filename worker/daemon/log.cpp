@@ -4,6 +4,7 @@
 #include <ctime>
 
 #include "contract/go_text.h"
+#include "daemon/task_log.h"
 
 namespace farm {
 namespace {
@@ -47,6 +48,7 @@ std::string FormatLogLine(std::chrono::system_clock::time_point when, LogLevel l
 
 void Log(LogLevel level, std::string_view msg, std::span<const LogAttr> attrs) {
   std::string line = FormatLogLine(std::chrono::system_clock::now(), level, msg, attrs);
+  AddToTaskLogs(line);
   line += '\n';
   // One write per line: stdio locks the stream for the call.
   std::fwrite(line.data(), 1, line.size(), stderr);

@@ -41,8 +41,8 @@ struct LogAttr {
 std::string FormatLogLine(std::chrono::system_clock::time_point when, LogLevel level, std::string_view msg,
                           std::span<const LogAttr> attrs);
 
-// Writes the event at the current time to stderr. Lines from different threads never
-// interleave.
+// Writes the event at the current time to stderr, and keeps it in every live TaskLog
+// (task_log.h). Lines from different threads never interleave.
 void Log(LogLevel level, std::string_view msg, std::span<const LogAttr> attrs);
 inline void Log(LogLevel level, std::string_view msg, std::initializer_list<LogAttr> attrs = {}) {
   Log(level, msg, std::span<const LogAttr>(attrs.begin(), attrs.size()));

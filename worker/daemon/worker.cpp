@@ -22,6 +22,8 @@
 #include "daemon/peak_memory.h"
 #include "daemon/retry.h"
 #include "daemon/task_executor.h"
+#include "daemon/task_log.h"
+#include "daemon/task_log_upload.h"
 #include "daemon/version.h"
 #include "renderfarm/v1/worker.grpc.pb.h"
 
@@ -85,6 +87,12 @@ std::string ReportedError(const std::string& error) {
   return contract::Truncate(error, contract::RpcLimits().max_error_bytes() - kCutMark.size());
 }
 
+// What names a task in its lines, with the coordinator's field names.
+std::vector<LogAttr> TaskAttrs(const pb::Task& task, const pb::Lease& lease, const std::string& worker) {
+  return {{"job", task.job_id()},        {"task", lease.task_id()}, {"attempt", task.attempts()},
+          {"epoch", lease.epoch()},       {"worker", worker},         {"spec", DescribeTask(task)}};
+}
+
 }  // namespace
 
 class Worker::Impl {
@@ -120,8 +128,14 @@ class Worker::Impl {
   grpc::Status LeaseOnce(pb::LeaseTaskResponse& leased);
   void RunTask(const pb::LeaseTaskResponse& leased);
   // Each returns what went wrong with the report, or "" once the coordinator has it.
-  std::string ReportComplete(const pb::Lease& lease, const TaskResult& result);
-  std::string ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind);
+  std::string ReportComplete(const pb::Lease& lease, const TaskResult& result, const std::optional<pb::Artifact>& log);
+  std::string ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind,
+                            const std::optional<pb::Artifact>& log);
+  // Ends the task's log and uploads it as "task.log" (UploadTaskLog): nullopt if the
+  // upload failed, which is logged and never fails the task.
+  std::optional<pb::Artifact> UploadLog(std::optional<TaskLog>& log, const pb::Lease& lease) {
+    return UploadTaskLog(log, lease.task_id(), [&](std::string_view bytes) { return blobs_.Upload(bytes, abort_.get_token()); });
+  }
   // Sends the report that call makes (on a context given its deadline) until the
   // coordinator acknowledges it, as completions and failures are idempotent there, or the
   // worker aborts (the lease is then released). Returns "" once acknowledged, else what
@@ -337,7 +351,11 @@ int Worker::Impl::Run() {
 
 void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
   const pb::Lease& lease = leased.lease();
+  const pb::Task& task = leased.task();
   const auto start = std::chrono::steady_clock::now();
+  // Every line the worker logs from here to the report, uploaded with it (UploadLog).
+  std::optional<TaskLog> task_log(std::in_place, contract::RpcLimits().max_task_log_bytes());
+  Log(LogLevel::kInfo, "task started", TaskAttrs(task, lease, WorkerId()));
   const PeakMemory memory = PeakMemory::Start();
   std::stop_source task_stop;
   Progress progress;
@@ -370,14 +388,11 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     std::lock_guard lock(mu_);
     lost = current_->lost;
   }
-  // One line per task, with the coordinator's names for what identifies it, and the peak
-  // resident memory of the worker while it ran.
-  const pb::Task& task = leased.task();
+  // One line per task's outcome, with the coordinator's names for what identifies it, and
+  // the peak resident memory of the worker while it ran.
   const auto log = [&](LogLevel level, std::string_view msg, const std::vector<LogAttr>& more) {
-    std::vector<LogAttr> attrs{{"job", task.job_id()},     {"task", lease.task_id()},
-                               {"attempt", task.attempts()}, {"epoch", lease.epoch()},
-                               {"worker", WorkerId()},     {"spec", DescribeTask(task)},
-                               {"seconds", Seconds(std::chrono::steady_clock::now() - start)}};
+    std::vector<LogAttr> attrs = TaskAttrs(task, lease, WorkerId());
+    attrs.emplace_back("seconds", Seconds(std::chrono::steady_clock::now() - start));
     if (const std::optional<std::uint64_t> peak = memory.Bytes()) {
       attrs.emplace_back("peak_memory_bytes", *peak);
       if (memory.since_start()) attrs.emplace_back("peak_memory_since", "process start");
@@ -393,22 +408,28 @@ void Worker::Impl::RunTask(const pb::LeaseTaskResponse& leased) {
     Release(lease);
     log(LogLevel::kInfo, "task released unfinished", {});
   } else if (error) {
+    // Logged before the report, so that the task's log ends with it.
     const contract::FailureEntry treated = contract::FailureOf(kind);
     pause_before_lease_ = !treated.permanent && !treated.blames_worker;
-    const std::string problem = ReportFailure(lease, *error, kind);
-    log(LogLevel::kWarn, "task failed",
-        {{"error", *error}, {"kind", contract::FailureOf(kind).label}, {"report", problem.empty() ? "sent" : problem}});
+    log(LogLevel::kWarn, "task failed", {{"error", *error}, {"kind", treated.label}});
+    const std::optional<pb::Artifact> uploaded = UploadLog(task_log, lease);
+    if (const std::string problem = ReportFailure(lease, *error, kind, uploaded); !problem.empty()) {
+      Log(LogLevel::kWarn, "task failure not reported", {{"task", lease.task_id()}, {"report", problem}});
+    }
   } else {
     spare_pause_.Reset();
-    const std::string problem = ReportComplete(lease, result);
-    std::vector<LogAttr> more{{"report", problem.empty() ? "sent" : problem}};
+    std::vector<LogAttr> more;
     // A render tile's sample counts, so that a tile with bad samples shows in the log too.
     if (result.samples) {
       more.emplace_back("samples", result.samples->samples());
       more.emplace_back("nonfinite_samples", result.samples->nonfinite());
       more.emplace_back("zero_samples", result.samples->zero());
     }
-    log(problem.empty() ? LogLevel::kInfo : LogLevel::kWarn, "task done", more);
+    log(LogLevel::kInfo, "task done", more);
+    const std::optional<pb::Artifact> uploaded = UploadLog(task_log, lease);
+    if (const std::string problem = ReportComplete(lease, result, uploaded); !problem.empty()) {
+      Log(LogLevel::kWarn, "task result not reported", {{"task", lease.task_id()}, {"report", problem}});
+    }
   }
   {
     std::lock_guard lock(mu_);
@@ -436,10 +457,12 @@ std::string Worker::Impl::Report(const pb::Lease& lease, const std::string& meth
   return "refused: " + status.error_message();
 }
 
-std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result) {
+std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResult& result,
+                                         const std::optional<pb::Artifact>& log) {
   pb::CompleteTaskRequest request;
   NameLease(request, lease);
   for (const auto& a : result.outputs) *request.add_outputs() = a;
+  if (log) *request.add_outputs() = *log;
   if (result.metrics) *request.mutable_metrics() = *result.metrics;
   if (result.samples) *request.mutable_samples() = *result.samples;
   return Report(lease, "CompleteTask", "result dropped", [&](grpc::ClientContext& ctx) {
@@ -448,11 +471,13 @@ std::string Worker::Impl::ReportComplete(const pb::Lease& lease, const TaskResul
   });
 }
 
-std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind) {
+std::string Worker::Impl::ReportFailure(const pb::Lease& lease, const std::string& error, pb::FailureKind kind,
+                                        const std::optional<pb::Artifact>& log) {
   pb::FailTaskRequest request;
   NameLease(request, lease);
   request.set_error(ReportedError(error));
   request.set_kind(kind);
+  if (log) *request.mutable_log() = *log;
   return Report(lease, "FailTask", "not reported", [&](grpc::ClientContext& ctx) {
     pb::FailTaskResponse response;
     return stub_->FailTask(&ctx, request, &response);

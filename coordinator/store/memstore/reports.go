@@ -153,7 +153,7 @@ func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, f store.Failur
 	}
 	if f.Permanent() {
 		s.unlease(t)
-		t.pb.Error, t.pb.FailureKind = f.Message, f.Kind
+		t.recordFailure(f)
 		t.pb.State = pb.TaskState_TASK_STATE_FAILED
 		s.end(t.job, pb.JobState_JOB_STATE_FAILED, store.PermanentFailure(t.pb.Id, f.Message), f.Kind)
 		return s.change(t, true, false), nil
@@ -168,7 +168,7 @@ func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, f store.Failur
 func (s *Store) failAttempt(t *task, workerID string, f store.Failure) store.Change {
 	j := t.job
 	t.failures++
-	t.pb.Error, t.pb.FailureKind = f.Message, f.Kind
+	t.recordFailure(f)
 	if f.BlamesWorker() {
 		j.failures[workerID]++
 		if n := j.failures[workerID]; n >= s.opts.BlockAfterFailures && !blocked(j, workerID) {
@@ -183,6 +183,14 @@ func (s *Store) failAttempt(t *task, workerID string, f store.Failure) store.Cha
 	}
 	s.delay(t, s.now().Add(s.opts.Backoff(t.failures)))
 	return s.change(t, false, false)
+}
+
+// recordFailure keeps f's message, kind and log (if it has one) on t.
+func (t *task) recordFailure(f store.Failure) {
+	t.pb.Error, t.pb.FailureKind = f.Message, f.Kind
+	if f.Log != nil {
+		t.pb.Log = proto.Clone(f.Log).(*pb.Artifact)
+	}
 }
 
 // failJob fails t, which failed n times, and its job with t's last error and kind.

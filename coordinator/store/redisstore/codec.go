@@ -36,7 +36,8 @@ import (
 // without id, job, index, state, attempts, worker, error or outputs) and: job, idx, phase,
 // round, stage (store.Stage), state (as last written: see jobView.taskState), and, once
 // leased (a field not written yet reads as zero or empty), epoch (the fencing token; only
-// grows), attempts, failures, expiries, worker, error, fkind (Task.failure_kind), outputs,
+// grows), attempts, failures, expiries, worker, error, fkind (Task.failure_kind), log (the
+// last failed attempt's Task.log, a serialized pb.Artifact), outputs,
 // expire (µs), retry (µs, or empty: Task.retry_time), progress (the lease's largest
 // HeldLease.progress, decimal) and ptime (µs, when it last grew).
 
@@ -171,6 +172,12 @@ func decodeTask(h map[string]string, v jobView) (*pb.Task, error) {
 		return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode outputs of task %s", t.Id))
 	}
 	t.Outputs = outs
+	if h["log"] != "" {
+		t.Log = &pb.Artifact{}
+		if err := proto.Unmarshal([]byte(h["log"]), t.Log); err != nil {
+			return nil, errs.Wrap(errs.Internal, err, fmt.Sprintf("decode log of task %s", t.Id))
+		}
+	}
 	return t, nil
 }
 

@@ -199,7 +199,14 @@ func (s *Store) FailTask(ctx context.Context, ref store.LeaseRef, f store.Failur
 	if f.Permanent() {
 		jobError = store.PermanentFailure(ref.TaskID, f.Message)
 	}
-	r, err := s.change(ctx, failScript, append(refArgs(ref), f.Message, s.policy(), int32(f.Kind), jobError)...)
+	var log []byte
+	if f.Log != nil {
+		var err error
+		if log, err = proto.Marshal(f.Log); err != nil {
+			return store.Change{}, errs.Wrap(errs.Internal, err, "encode task log")
+		}
+	}
+	r, err := s.change(ctx, failScript, append(refArgs(ref), f.Message, s.policy(), int32(f.Kind), jobError, log)...)
 	return r.change, err
 }
 

@@ -513,11 +513,13 @@ return ok(1, 0, jid, t)
 
 // failScript: ARGV[3] task, [4] worker, [5] epoch, [6] message, [7] policy, [8] failure
 // kind, [9] the job's error if the failure is permanent (store.PermanentFailure), else
-// empty: a permanent failure fails the task and the job at once and blames no worker.
+// empty: a permanent failure fails the task and the job at once and blames no worker;
+// [10] the attempt's log (a serialized pb.Artifact) or empty, which keeps the last one.
 var failScript = newScript(`
 local t, worker, epoch, kind = ARGV[3], ARGV[4], ARGV[5], ARGV[8]
 local e = held(t, worker, epoch)
 if e then return e end
+if ARGV[10] ~= '' then redis.call('HSET', tkey(t), 'log', ARGV[10]) end
 if ARGV[9] == '' then return fail(t, worker, ARGV[6], policy(ARGV[7]), kind) end
 redis.call('HSET', tkey(t), 'error', ARGV[6], 'fkind', kind)
 return failjob(t, redis.call('HGET', tkey(t), 'job'), ARGV[9])

@@ -4,6 +4,8 @@ import (
 	"fmt"
 	"time"
 
+	"google.golang.org/protobuf/proto"
+
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -128,4 +130,52 @@ func testFailBlockedJob(f *fixture) {
 	nothing("the job has ended", "w1", "w2")
 	_, err = f.s.FailBlockedJob(f.ctx, "nope", []string{"w1"})
 	wantKind(f.t, "FailBlockedJob of an unknown job", err, errs.NotFound)
+}
+
+// A failed attempt's log is the task's Task.log until a later failure sends another (one
+// without a log keeps it); a success's log is among its outputs, the failed attempt's
+// still on the task; a permanent failure's log is on the failed task.
+func testTaskLogs(f *fixture) {
+	logOf := func(attempt string) *pb.Artifact { return artifact("task.log", "log of "+attempt) }
+	failWithLog := func(worker string, kind pb.FailureKind, log *pb.Artifact) store.Change {
+		f.t.Helper()
+		c, err := f.s.FailTask(f.ctx, ref(worker, f.lease(worker)), store.Failure{Message: "flaky", Kind: kind, Log: log})
+		if err != nil {
+			f.t.Fatalf("FailTask: %v", err)
+		}
+		f.clock.Advance(f.opts.MaxRetryBackoff)
+		return c
+	}
+	a := f.create("a", 1)
+	for i, step := range []struct {
+		worker string
+		log    *pb.Artifact
+		want   *pb.Artifact
+	}{
+		{"w1", logOf("1"), logOf("1")},
+		{"w2", nil, logOf("1")}, // no log sent: the last one stays
+	} {
+		c := failWithLog(step.worker, pb.FailureKind_FAILURE_KIND_TRANSIENT, step.log)
+		if !proto.Equal(c.Task.GetLog(), step.want) {
+			f.t.Errorf("failure %d: change's task log = %v, want %v", i+1, c.Task.GetLog(), step.want)
+		}
+		if got := f.tasks(a.Id)[0].GetLog(); !proto.Equal(got, step.want) {
+			f.t.Errorf("failure %d: stored task log = %v, want %v", i+1, got, step.want)
+		}
+	}
+	done := logOf("3")
+	f.complete("w3", f.lease("w3"), artifact("tile.exr", "t0"), done)
+	t := f.tasks(a.Id)[0]
+	if t.State != pb.TaskState_TASK_STATE_SUCCEEDED || len(t.Outputs) != 2 || !proto.Equal(t.Outputs[1], done) {
+		f.t.Errorf("completed task = %v, want SUCCEEDED with its log among its outputs", t)
+	}
+	if !proto.Equal(t.GetLog(), logOf("1")) {
+		f.t.Errorf("completed task's log = %v, want the last failed attempt's %v", t.GetLog(), logOf("1"))
+	}
+
+	// Job a's composite.
+	c := failWithLog("w4", pb.FailureKind_FAILURE_KIND_BAD_INPUT, logOf("composite"))
+	if stored := f.tasks(a.Id)[c.Task.GetIndex()]; c.Task.State != pb.TaskState_TASK_STATE_FAILED || !proto.Equal(stored.GetLog(), logOf("composite")) {
+		f.t.Errorf("permanently failed task = %v, want FAILED with its log %v", stored, logOf("composite"))
+	}
 }

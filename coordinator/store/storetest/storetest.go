@@ -97,6 +97,7 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"PermanentFailureFailsTheJobAtOnceAndBlamesNoWorker", testPermanentFailure},
 		{"TransientKindsRetryAndRecordTheirKind", testTransientKinds},
 		{"ResourceExhaustionRetriesWithoutBlamingTheWorker", testResourceExhaustionBlamesNoWorker},
+		{"TaskKeepsTheLastFailedAttemptsLogAndASuccessOnesInItsOutputs", testTaskLogs},
 		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
 		{"PurgeDeletesEndedJobsWithTheirTasksAndRequestIDs", testPurgeDeletesEndedJobs},
 		{"PurgeGoesInBoundedSteps", testPurgeGoesInBoundedSteps},

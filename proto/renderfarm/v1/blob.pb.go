@@ -436,7 +436,7 @@ const file_renderfarm_v1_blob_proto_rawDesc = "" +
 	"\n" +
 	"UploadBlob\x12 .renderfarm.v1.UploadBlobRequest\x1a!.renderfarm.v1.UploadBlobResponse(\x01\x12Y\n" +
 	"\fDownloadBlob\x12\".renderfarm.v1.DownloadBlobRequest\x1a#.renderfarm.v1.DownloadBlobResponse0\x01\x12T\n" +
-	"\vGetBlobInfo\x12!.renderfarm.v1.GetBlobInfoRequest\x1a\".renderfarm.v1.GetBlobInfoResponseBH\xb2\xb5\x18\x17\b\x80\x80\x80 \x10\x80\x80\x80\x02\x18\x80\x80@ \x80\x80\x80\x80\x04(\x80 Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\vGetBlobInfo\x12!.renderfarm.v1.GetBlobInfoRequest\x1a\".renderfarm.v1.GetBlobInfoResponseBL\xb2\xb5\x18\x1b\b\x80\x80\x80 \x10\x80\x80\x80\x02\x18\x80\x80@ \x80\x80\x80\x80\x04(\x80 0\x80\x80\x04Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_blob_proto_rawDescOnce sync.Once

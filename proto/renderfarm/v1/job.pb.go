@@ -1162,8 +1162,12 @@ type Task struct {
 	//	*Task_PrecomputeIrradiance
 	//	*Task_MergeIrradiance
 	Spec isTask_Spec `protobuf_oneof:"spec"`
-	// What the task produced once it succeeded.
+	// What the task produced once it succeeded; with the worker's log of the attempt
+	// ("task.log") if it sent one.
 	Outputs []*Artifact `protobuf:"bytes,12,rep,name=outputs,proto3" json:"outputs,omitempty"`
+	// The log ("task.log") of the last failed attempt that sent one (FailTaskRequest.log);
+	// a success's log is among its outputs.
+	Log *Artifact `protobuf:"bytes,20,opt,name=log,proto3" json:"log,omitempty"`
 	// The progressive round the task belongs to, from 1.
 	Round uint32 `protobuf:"varint,15,opt,name=round,proto3" json:"round,omitempty"`
 	// After a failure, the task is queued again but not leased before this time
@@ -1330,6 +1334,13 @@ func (x *Task) GetMergeIrradiance() *MergeIrradianceSpec {
 func (x *Task) GetOutputs() []*Artifact {
 	if x != nil {
 		return x.Outputs
+	}
+	return nil
+}
+
+func (x *Task) GetLog() *Artifact {
+	if x != nil {
+		return x.Log
 	}
 	return nil
 }
@@ -3131,7 +3142,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x01x\x18\x01 \x01(\rR\x01x\x12\f\n" +
 	"\x01y\x18\x02 \x01(\rR\x01y\x12\x14\n" +
 	"\x05width\x18\x03 \x01(\rR\x05width\x12\x16\n" +
-	"\x06height\x18\x04 \x01(\rR\x06height\"\xa2\a\n" +
+	"\x06height\x18\x04 \x01(\rR\x06height\"\xcd\a\n" +
 	"\x04Task\x12\x0e\n" +
 	"\x02id\x18\x01 \x01(\tR\x02id\x12\x15\n" +
 	"\x06job_id\x18\x02 \x01(\tR\x05jobId\x12\x14\n" +
@@ -3150,7 +3161,8 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x10build_photon_map\x18\x0e \x01(\v2!.renderfarm.v1.BuildPhotonMapSpecB\x04е\x18\x02H\x00R\x0ebuildPhotonMap\x12d\n" +
 	"\x15precompute_irradiance\x18\x10 \x01(\v2'.renderfarm.v1.PrecomputeIrradianceSpecB\x04е\x18\x03H\x00R\x14precomputeIrradiance\x12U\n" +
 	"\x10merge_irradiance\x18\x11 \x01(\v2\".renderfarm.v1.MergeIrradianceSpecB\x04е\x18\x04H\x00R\x0fmergeIrradiance\x121\n" +
-	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12\x14\n" +
+	"\aoutputs\x18\f \x03(\v2\x17.renderfarm.v1.ArtifactR\aoutputs\x12)\n" +
+	"\x03log\x18\x14 \x01(\v2\x17.renderfarm.v1.ArtifactR\x03log\x12\x14\n" +
 	"\x05round\x18\x0f \x01(\rR\x05round\x129\n" +
 	"\n" +
 	"retry_time\x18\x12 \x01(\v2\x1a.google.protobuf.TimestampR\tretryTimeB\x06\n" +
@@ -3415,69 +3427,70 @@ var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	17, // 22: renderfarm.v1.Task.precompute_irradiance:type_name -> renderfarm.v1.PrecomputeIrradianceSpec
 	18, // 23: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
 	13, // 24: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
-	46, // 25: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
-	14, // 26: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
-	13, // 27: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	13, // 28: renderfarm.v1.RenderTileSpec.sample_map:type_name -> renderfarm.v1.Artifact
-	13, // 29: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	13, // 30: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
-	13, // 31: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
-	3,  // 32: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
-	21, // 33: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
-	19, // 34: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
-	13, // 35: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
-	23, // 36: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
-	13, // 37: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
-	13, // 38: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
-	13, // 39: renderfarm.v1.CompositeSpec.sample_map:type_name -> renderfarm.v1.Artifact
-	14, // 40: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
-	13, // 41: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	48, // 42: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
-	6,  // 43: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 44: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
-	30, // 45: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
-	4,  // 46: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
-	46, // 47: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
-	46, // 48: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
-	6,  // 49: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
-	48, // 50: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
-	8,  // 51: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
-	12, // 52: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
-	6,  // 53: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
-	6,  // 54: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
-	15, // 55: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
-	6,  // 56: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 57: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	46, // 58: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	6,  // 59: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	15, // 60: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	49, // 61: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
-	1,  // 62: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
-	24, // 63: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	35, // 64: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	37, // 65: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	39, // 66: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	41, // 67: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	33, // 68: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	43, // 69: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	26, // 70: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
-	31, // 71: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
-	28, // 72: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
-	25, // 73: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	36, // 74: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	38, // 75: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	40, // 76: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	42, // 77: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	34, // 78: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	44, // 79: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	27, // 80: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
-	32, // 81: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
-	29, // 82: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
-	73, // [73:83] is the sub-list for method output_type
-	63, // [63:73] is the sub-list for method input_type
-	62, // [62:63] is the sub-list for extension type_name
-	61, // [61:62] is the sub-list for extension extendee
-	0,  // [0:61] is the sub-list for field type_name
+	13, // 25: renderfarm.v1.Task.log:type_name -> renderfarm.v1.Artifact
+	46, // 26: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
+	14, // 27: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
+	13, // 28: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	13, // 29: renderfarm.v1.RenderTileSpec.sample_map:type_name -> renderfarm.v1.Artifact
+	13, // 30: renderfarm.v1.PrecomputeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	13, // 31: renderfarm.v1.MergeIrradianceSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
+	13, // 32: renderfarm.v1.MergeIrradianceSpec.irradiance_shards:type_name -> renderfarm.v1.Artifact
+	3,  // 33: renderfarm.v1.EmitPhotonsSpec.map:type_name -> renderfarm.v1.PhotonMapKind
+	21, // 34: renderfarm.v1.BuildPhotonMapSpec.shards:type_name -> renderfarm.v1.EmittedShard
+	19, // 35: renderfarm.v1.EmittedShard.spec:type_name -> renderfarm.v1.EmitPhotonsSpec
+	13, // 36: renderfarm.v1.EmittedShard.shard:type_name -> renderfarm.v1.Artifact
+	23, // 37: renderfarm.v1.CompositeSpec.tiles:type_name -> renderfarm.v1.TileInput
+	13, // 38: renderfarm.v1.CompositeSpec.previous_accumulation:type_name -> renderfarm.v1.Artifact
+	13, // 39: renderfarm.v1.CompositeSpec.reference:type_name -> renderfarm.v1.Artifact
+	13, // 40: renderfarm.v1.CompositeSpec.sample_map:type_name -> renderfarm.v1.Artifact
+	14, // 41: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
+	13, // 42: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
+	48, // 43: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	6,  // 44: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 45: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
+	30, // 46: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
+	4,  // 47: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
+	46, // 48: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
+	46, // 49: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
+	6,  // 50: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
+	48, // 51: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	8,  // 52: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
+	12, // 53: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
+	6,  // 54: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 55: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
+	15, // 56: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
+	6,  // 57: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 58: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	46, // 59: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	6,  // 60: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	15, // 61: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	49, // 62: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
+	1,  // 63: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
+	24, // 64: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	35, // 65: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	37, // 66: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	39, // 67: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	41, // 68: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	33, // 69: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	43, // 70: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	26, // 71: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	31, // 72: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	28, // 73: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
+	25, // 74: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	36, // 75: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	38, // 76: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	40, // 77: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	42, // 78: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	34, // 79: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	44, // 80: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	27, // 81: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	32, // 82: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	29, // 83: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
+	74, // [74:84] is the sub-list for method output_type
+	64, // [64:74] is the sub-list for method input_type
+	63, // [63:64] is the sub-list for extension type_name
+	62, // [62:63] is the sub-list for extension extendee
+	0,  // [0:62] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }

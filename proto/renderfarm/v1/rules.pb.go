@@ -97,21 +97,26 @@ const (
 	// With adaptive sampling, how many camera samples each pixel draws in the next round
 	// (worker/image/sample_map.h); the next round's tiles and composite read it.
 	ArtifactKind_ARTIFACT_KIND_SAMPLE_MAP ArtifactKind = 9
+	// The worker's log lines for one attempt at a task (text, UTF-8, one slog-style line a
+	// line), at most max_task_log_bytes: among a completed task's outputs, and the failed
+	// attempt's FailTaskRequest.log. Any task may carry one; no phase reads it.
+	ArtifactKind_ARTIFACT_KIND_TASK_LOG ArtifactKind = 10
 )
 
 // Enum value maps for ArtifactKind.
 var (
 	ArtifactKind_name = map[int32]string{
-		0: "ARTIFACT_KIND_UNSPECIFIED",
-		1: "ARTIFACT_KIND_PHOTON_SHARD",
-		2: "ARTIFACT_KIND_PHOTON_SNAPSHOT",
-		3: "ARTIFACT_KIND_IRRADIANCE_SHARD",
-		4: "ARTIFACT_KIND_TILE_EXR",
-		5: "ARTIFACT_KIND_TILE_PNG",
-		6: "ARTIFACT_KIND_IMAGE_EXR",
-		7: "ARTIFACT_KIND_PREVIEW_PNG",
-		8: "ARTIFACT_KIND_ACCUMULATION_EXR",
-		9: "ARTIFACT_KIND_SAMPLE_MAP",
+		0:  "ARTIFACT_KIND_UNSPECIFIED",
+		1:  "ARTIFACT_KIND_PHOTON_SHARD",
+		2:  "ARTIFACT_KIND_PHOTON_SNAPSHOT",
+		3:  "ARTIFACT_KIND_IRRADIANCE_SHARD",
+		4:  "ARTIFACT_KIND_TILE_EXR",
+		5:  "ARTIFACT_KIND_TILE_PNG",
+		6:  "ARTIFACT_KIND_IMAGE_EXR",
+		7:  "ARTIFACT_KIND_PREVIEW_PNG",
+		8:  "ARTIFACT_KIND_ACCUMULATION_EXR",
+		9:  "ARTIFACT_KIND_SAMPLE_MAP",
+		10: "ARTIFACT_KIND_TASK_LOG",
 	}
 	ArtifactKind_value = map[string]int32{
 		"ARTIFACT_KIND_UNSPECIFIED":      0,
@@ -124,6 +129,7 @@ var (
 		"ARTIFACT_KIND_PREVIEW_PNG":      7,
 		"ARTIFACT_KIND_ACCUMULATION_EXR": 8,
 		"ARTIFACT_KIND_SAMPLE_MAP":       9,
+		"ARTIFACT_KIND_TASK_LOG":         10,
 	}
 )
 
@@ -727,8 +733,11 @@ type RpcLimits struct {
 	MaxBlobBytes uint64 `protobuf:"varint,4,opt,name=max_blob_bytes,json=maxBlobBytes,proto3" json:"max_blob_bytes,omitempty"`
 	// Longest FailTaskRequest.error kept (longer ones are truncated).
 	MaxErrorBytes uint64 `protobuf:"varint,5,opt,name=max_error_bytes,json=maxErrorBytes,proto3" json:"max_error_bytes,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	// Largest task log ("task.log"): the worker keeps a task's first and last lines within
+	// it, with a line saying how many it left out between them.
+	MaxTaskLogBytes uint64 `protobuf:"varint,6,opt,name=max_task_log_bytes,json=maxTaskLogBytes,proto3" json:"max_task_log_bytes,omitempty"`
+	unknownFields   protoimpl.UnknownFields
+	sizeCache       protoimpl.SizeCache
 }
 
 func (x *RpcLimits) Reset() {
@@ -792,6 +801,13 @@ func (x *RpcLimits) GetMaxBlobBytes() uint64 {
 func (x *RpcLimits) GetMaxErrorBytes() uint64 {
 	if x != nil {
 		return x.MaxErrorBytes
+	}
+	return 0
+}
+
+func (x *RpcLimits) GetMaxTaskLogBytes() uint64 {
+	if x != nil {
+		return x.MaxTaskLogBytes
 	}
 	return 0
 }
@@ -944,17 +960,18 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\vFailureInfo\x12\x1c\n" +
 	"\tpermanent\x18\x01 \x01(\bR\tpermanent\x12\x14\n" +
 	"\x05label\x18\x02 \x01(\tR\x05label\x12#\n" +
-	"\rblames_worker\x18\x03 \x01(\bR\fblamesWorker\"\xf3\x01\n" +
+	"\rblames_worker\x18\x03 \x01(\bR\fblamesWorker\"\xa0\x02\n" +
 	"\tRpcLimits\x12*\n" +
 	"\x11max_message_bytes\x18\x01 \x01(\x04R\x0fmaxMessageBytes\x123\n" +
 	"\x16max_upload_chunk_bytes\x18\x02 \x01(\x04R\x13maxUploadChunkBytes\x127\n" +
 	"\x18max_download_chunk_bytes\x18\x03 \x01(\x04R\x15maxDownloadChunkBytes\x12$\n" +
 	"\x0emax_blob_bytes\x18\x04 \x01(\x04R\fmaxBlobBytes\x12&\n" +
-	"\x0fmax_error_bytes\x18\x05 \x01(\x04R\rmaxErrorBytes*S\n" +
+	"\x0fmax_error_bytes\x18\x05 \x01(\x04R\rmaxErrorBytes\x12+\n" +
+	"\x12max_task_log_bytes\x18\x06 \x01(\x04R\x0fmaxTaskLogBytes*S\n" +
 	"\bExecutor\x12\x18\n" +
 	"\x14EXECUTOR_UNSPECIFIED\x10\x00\x12\x13\n" +
 	"\x0fEXECUTOR_WORKER\x10\x01\x12\x18\n" +
-	"\x14EXECUTOR_COORDINATOR\x10\x02*\x82\x04\n" +
+	"\x14EXECUTOR_COORDINATOR\x10\x02*\xae\x04\n" +
 	"\fArtifactKind\x12\x1d\n" +
 	"\x19ARTIFACT_KIND_UNSPECIFIED\x10\x00\x123\n" +
 	"\x1aARTIFACT_KIND_PHOTON_SHARD\x10\x01\x1a\x13\xa2\xb5\x18\x0f\n" +
@@ -976,7 +993,11 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x1eARTIFACT_KIND_ACCUMULATION_EXR\x10\b\x1a\x18\xa2\xb5\x18\x14\n" +
 	"\x10accumulation.exr\x10\x01\x121\n" +
 	"\x18ARTIFACT_KIND_SAMPLE_MAP\x10\t\x1a\x13\xa2\xb5\x18\x0f\n" +
-	"\vsamples.map\x10\x01*\xc5\x02\n" +
+	"\vsamples.map\x10\x01\x12*\n" +
+	"\x16ARTIFACT_KIND_TASK_LOG\x10\n" +
+	"\x1a\x0e\xa2\xb5\x18\n" +
+	"\n" +
+	"\btask.log*\xc5\x02\n" +
 	"\vFailureKind\x12-\n" +
 	"\x18FAILURE_KIND_UNSPECIFIED\x10\x00\x1a\x0f\xaa\xb5\x18\v\x12\afailure\x18\x01\x125\n" +
 	"\x16FAILURE_KIND_TRANSIENT\x10\x01\x1a\x19\xaa\xb5\x18\x15\x12\x11transient failure\x18\x01\x12-\n" +

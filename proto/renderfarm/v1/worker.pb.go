@@ -774,8 +774,11 @@ type FailTaskRequest struct {
 	TaskId   string                 `protobuf:"bytes,2,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
 	Epoch    uint64                 `protobuf:"varint,3,opt,name=epoch,proto3" json:"epoch,omitempty"`
 	// What went wrong, naming the file and field when the input is at fault.
-	Error         string      `protobuf:"bytes,4,opt,name=error,proto3" json:"error,omitempty"`
-	Kind          FailureKind `protobuf:"varint,5,opt,name=kind,proto3,enum=renderfarm.v1.FailureKind" json:"kind,omitempty"`
+	Error string      `protobuf:"bytes,4,opt,name=error,proto3" json:"error,omitempty"`
+	Kind  FailureKind `protobuf:"varint,5,opt,name=kind,proto3,enum=renderfarm.v1.FailureKind" json:"kind,omitempty"`
+	// The attempt's log ("task.log", uploaded first), if the worker kept one: the task's
+	// Task.log from then on.
+	Log           *Artifact `protobuf:"bytes,6,opt,name=log,proto3" json:"log,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -843,6 +846,13 @@ func (x *FailTaskRequest) GetKind() FailureKind {
 		return x.Kind
 	}
 	return FailureKind_FAILURE_KIND_UNSPECIFIED
+}
+
+func (x *FailTaskRequest) GetLog() *Artifact {
+	if x != nil {
+		return x.Log
+	}
+	return nil
 }
 
 type FailTaskResponse struct {
@@ -1114,13 +1124,14 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
 	"\x0f_reference_rmse\"\x16\n" +
-	"\x14CompleteTaskResponse\"\xa3\x01\n" +
+	"\x14CompleteTaskResponse\"\xce\x01\n" +
 	"\x0fFailTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
 	"\atask_id\x18\x02 \x01(\tR\x06taskId\x12\x14\n" +
 	"\x05epoch\x18\x03 \x01(\x04R\x05epoch\x12\x14\n" +
 	"\x05error\x18\x04 \x01(\tR\x05error\x12.\n" +
-	"\x04kind\x18\x05 \x01(\x0e2\x1a.renderfarm.v1.FailureKindR\x04kind\"\x12\n" +
+	"\x04kind\x18\x05 \x01(\x0e2\x1a.renderfarm.v1.FailureKindR\x04kind\x12)\n" +
+	"\x03log\x18\x06 \x01(\v2\x17.renderfarm.v1.ArtifactR\x03log\"\x12\n" +
 	"\x10FailTaskResponse\"`\n" +
 	"\x12ReleaseTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +
@@ -1195,25 +1206,26 @@ var file_renderfarm_v1_worker_proto_depIdxs = []int32{
 	18, // 12: renderfarm.v1.RoundMetrics.layer_reference_rmse:type_name -> renderfarm.v1.RoundMetrics.LayerReferenceRmseEntry
 	23, // 13: renderfarm.v1.RoundMetrics.samples:type_name -> renderfarm.v1.SampleSpread
 	24, // 14: renderfarm.v1.FailTaskRequest.kind:type_name -> renderfarm.v1.FailureKind
-	0,  // 15: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
-	4,  // 16: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
-	6,  // 17: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
-	8,  // 18: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
-	12, // 19: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
-	14, // 20: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
-	16, // 21: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
-	1,  // 22: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
-	5,  // 23: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
-	7,  // 24: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
-	11, // 25: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
-	13, // 26: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
-	15, // 27: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
-	17, // 28: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
-	22, // [22:29] is the sub-list for method output_type
-	15, // [15:22] is the sub-list for method input_type
-	15, // [15:15] is the sub-list for extension type_name
-	15, // [15:15] is the sub-list for extension extendee
-	0,  // [0:15] is the sub-list for field type_name
+	22, // 15: renderfarm.v1.FailTaskRequest.log:type_name -> renderfarm.v1.Artifact
+	0,  // 16: renderfarm.v1.WorkerService.RegisterWorker:input_type -> renderfarm.v1.RegisterWorkerRequest
+	4,  // 17: renderfarm.v1.WorkerService.Heartbeat:input_type -> renderfarm.v1.HeartbeatRequest
+	6,  // 18: renderfarm.v1.WorkerService.LeaseTask:input_type -> renderfarm.v1.LeaseTaskRequest
+	8,  // 19: renderfarm.v1.WorkerService.CompleteTask:input_type -> renderfarm.v1.CompleteTaskRequest
+	12, // 20: renderfarm.v1.WorkerService.FailTask:input_type -> renderfarm.v1.FailTaskRequest
+	14, // 21: renderfarm.v1.WorkerService.ReleaseTask:input_type -> renderfarm.v1.ReleaseTaskRequest
+	16, // 22: renderfarm.v1.WorkerService.UnregisterWorker:input_type -> renderfarm.v1.UnregisterWorkerRequest
+	1,  // 23: renderfarm.v1.WorkerService.RegisterWorker:output_type -> renderfarm.v1.RegisterWorkerResponse
+	5,  // 24: renderfarm.v1.WorkerService.Heartbeat:output_type -> renderfarm.v1.HeartbeatResponse
+	7,  // 25: renderfarm.v1.WorkerService.LeaseTask:output_type -> renderfarm.v1.LeaseTaskResponse
+	11, // 26: renderfarm.v1.WorkerService.CompleteTask:output_type -> renderfarm.v1.CompleteTaskResponse
+	13, // 27: renderfarm.v1.WorkerService.FailTask:output_type -> renderfarm.v1.FailTaskResponse
+	15, // 28: renderfarm.v1.WorkerService.ReleaseTask:output_type -> renderfarm.v1.ReleaseTaskResponse
+	17, // 29: renderfarm.v1.WorkerService.UnregisterWorker:output_type -> renderfarm.v1.UnregisterWorkerResponse
+	23, // [23:30] is the sub-list for method output_type
+	16, // [16:23] is the sub-list for method input_type
+	16, // [16:16] is the sub-list for extension type_name
+	16, // [16:16] is the sub-list for extension extendee
+	0,  // [0:16] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_worker_proto_init() }

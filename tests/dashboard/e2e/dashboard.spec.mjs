@@ -13,6 +13,8 @@
 //   CHROMIUM        the browser, /usr/bin/chromium unless set
 //   FAILED_JOB_ID   a job that failed as bad input before the test (a worker reported it)
 //   FAILED_REASON   the error that worker reported
+//   WORKER_FAILED_JOB_ID, WORKER_FAILED_REASON  a job a real farm-worker failed (its
+//                   composite, as bad input), and the reason it reported
 //   BLOCKED_JOB_ID, BLOCKED_WORKER_ID  a long low-priority job and a worker blocked from it
 
 import fs from 'node:fs';
@@ -37,10 +39,12 @@ const scenePath = env('SCENE_PATH');
 const shotDir = env('SCREENSHOT_DIR');
 const browserPath = env('CHROMIUM', '/usr/bin/chromium');
 const failedJobId = env('FAILED_JOB_ID');
+const workerFailedJob = env('WORKER_FAILED_JOB_ID');
+const workerFailedReason = env('WORKER_FAILED_REASON');
 const blockedJob = env('BLOCKED_JOB_ID'); // submitted before the test, a worker blocked from it
 const blockedWorker = env('BLOCKED_WORKER_ID');
 // The jobs there are before the test submits any.
-const jobsBefore = [failedJobId, blockedJob].sort();
+const jobsBefore = [failedJobId, workerFailedJob, blockedJob].sort();
 const sameJobs = (ids, want) => JSON.stringify([...ids].sort()) === JSON.stringify(want);
 const failedReason = env('FAILED_REASON');
 
@@ -157,6 +161,42 @@ async function workers(page) {
   check(r.status() === 200, `GET /api/workers answered ${r.status()}: ${await r.text()}`);
   return (await r.json()).workers ?? [];
 }
+
+async function jobTasks(page, jobId) {
+  const r = await page.request.get(api(`/api/jobs/${jobId}`));
+  check(r.status() === 200, `GET /api/jobs/${jobId} answered ${r.status()}: ${await r.text()}`);
+  return (await r.json()).tasks ?? [];
+}
+
+// Opens task t's log on page, the job's page, with its task-log-button (which: "done", the
+// log among its outputs, or "failed", its last failed attempt's), and returns the text
+// task-log-text shows, after checking that the log is served as plain text and shown as
+// text, not markup.
+async function openTaskLog(page, t, which) {
+  const log = which === 'done' ? (t.outputs ?? []).find((a) => a.name === 'task.log') : t.log;
+  check(log?.digest, `task ${t.id} has no ${which} log: ${JSON.stringify(t)}`);
+  const r = await page.request.get(api(`/api/blobs/${log.digest}?name=task.log`));
+  check(r.status() === 200, `GET the log of ${t.id} answered ${r.status()}`);
+  const type = r.headers()['content-type'];
+  const sniff = r.headers()['x-content-type-options'];
+  check(type === 'text/plain; charset=utf-8' && sniff === 'nosniff', `the log of ${t.id} is served as ${type} (X-Content-Type-Options ${sniff})`);
+  const body = await r.text();
+  check(body.length === Number(log.sizeBytes), `the log of ${t.id} has ${body.length} bytes, the artifact says ${log.sizeBytes}`);
+  const button = page.locator(`${tid('task-log-button')}[data-task-id="${t.id}"][data-which="${which}"]`);
+  await waitFor(`a task-log-button (${which}) on task ${t.id}'s row`, 15000, () => button.count(),
+    () => page.locator(tid('task-log-button')).evaluateAll((bs) => bs.slice(0, 5).map((b) => `${b.dataset.taskId}:${b.dataset.which}`)));
+  await button.first().click();
+  const panel = page.locator(`${tid('task-log')}[data-task-id="${t.id}"][data-ready="true"]`);
+  await panel.waitFor({ state: 'visible', timeout: 15000 });
+  const text = page.locator(`${tid('task-log')} ${tid('task-log-text')}`);
+  check(await text.evaluate((el) => el.children.length) === 0, 'task-log-text holds elements: the log was shown as markup');
+  const shown = await text.evaluate((el) => el.textContent);
+  check(shown === body, `task-log-text shows ${JSON.stringify(shown.slice(0, 200))}, not the log served`);
+  return shown;
+}
+
+// The lines of log whose msg is msg and whose task field is taskId.
+const linesOf = (log, msg, taskId) => log.split('\n').filter((l) => l.includes(`msg="${msg}"`) && l.includes(` task=${taskId} `));
 
 let exitCode = 0;
 try {
@@ -394,6 +434,34 @@ try {
     check(errors[0] > 0.5, `after round ${seen[0]} the mosaic is already the final image (RMSE ${errors[0]}): the rounds are not noisy enough to show convergence`);
     const worst = last.px.reduce((m, v, i) => (i % 4 === 3 ? m : Math.max(m, Math.abs(v - final[i]))), 0);
     check(worst <= 1, `after the last round the mosaic differs from the final image by up to ${worst} levels`);
+  });
+
+  // (f0) Task logs: a render tile's log, from the worker that ran it, among its outputs.
+  await step('a completed task shows the log its worker uploaded with it', async () => {
+    const tile = (await jobTasks(jobPage, jobId)).find((t) => t.phase === 'PHASE_RENDER' && t.state === 'TASK_STATE_SUCCEEDED');
+    check(tile, 'no succeeded render task');
+    const log = await openTaskLog(jobPage, tile, 'done');
+    check(linesOf(log, 'task started', tile.id).length === 1 && linesOf(log, 'task done', tile.id).length === 1,
+      `the log of ${tile.id} does not have its "task started" and "task done" lines:\n${log}`);
+    check(log.split('\n').filter(Boolean).every((l) => /^time=\S+ level=(DEBUG|INFO|WARN|ERROR) msg=/.test(l)), `a line of ${tile.id}'s log is not a log line:\n${log}`);
+    // The same button again closes it.
+    await jobPage.locator(`${tid('task-log-button')}[data-task-id="${tile.id}"]`).first().click();
+    await jobPage.locator(tid('task-log')).waitFor({ state: 'hidden', timeout: 5000 });
+    console.log(`             ${tile.id}: ${log.split('\n').filter(Boolean).length} lines`);
+  });
+
+  // A task a real worker failed: its log, sent with the failure report, is the task's log.
+  await step('a failed task shows the log its worker sent with the failure', async () => {
+    const failedPage = await newPage();
+    await failedPage.goto(`${baseURL}#/jobs/${workerFailedJob}`);
+    const failed = (await jobTasks(failedPage, workerFailedJob)).find((t) => t.state === 'TASK_STATE_FAILED');
+    check(failed, `job ${workerFailedJob} has no failed task`);
+    const log = await openTaskLog(failedPage, failed, 'failed');
+    const lines = linesOf(log, 'task failed', failed.id);
+    check(linesOf(log, 'task started', failed.id).length === 1 && lines.length === 1 && lines[0].includes(workerFailedReason) &&
+      lines[0].includes('kind="bad input"'), `the log of ${failed.id} does not say it started and failed with ${JSON.stringify(workerFailedReason)}:\n${log}`);
+    await failedPage.screenshot({ path: path.join(shotDir, 'failed-task-log.png'), fullPage: true });
+    await failedPage.close();
   });
 
   // (f1) Workers by name: the task table and the tiles' titles say the --name each worker

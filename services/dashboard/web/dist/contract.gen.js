@@ -20,6 +20,7 @@ export const ARTIFACT = {
     PREVIEW_PNG: "preview.png",
     ACCUMULATION_EXR: "accumulation.exr",
     SAMPLE_MAP: "samples.map",
+    TASK_LOG: "task.log",
 };
 /** How each failure kind is shown and treated (failure_info): a permanent kind fails the job at once; one that blames the worker counts toward its blocklist. */
 export const FAILURE_KINDS = {

@@ -32,6 +32,7 @@ export const ARTIFACT = {
   PREVIEW_PNG: "preview.png",
   ACCUMULATION_EXR: "accumulation.exr",
   SAMPLE_MAP: "samples.map",
+  TASK_LOG: "task.log",
 } as const;
 
 /** Why a task or job failed (rules.proto), as protojson names it. */

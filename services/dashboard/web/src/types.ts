@@ -102,6 +102,8 @@ export interface Task {
   failureKind?: FailureKind;
   renderTile?: { rect?: PixelRect };
   outputs?: Artifact[];
+  /** The last failed attempt's log ("task.log"); a success's is among outputs. */
+  log?: Artifact;
   round?: number;
   retryTime?: string;
 }

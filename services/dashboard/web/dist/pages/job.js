@@ -9,6 +9,7 @@ import { ErrorChart } from "../components/chart.js";
 import { Mosaic } from "../components/mosaic.js";
 import { ImageViewer } from "../components/viewer.js";
 import { PhaseList } from "../components/phases.js";
+import { TaskLogPanel, logButtons, logSig } from "../components/tasklog.js";
 import { DataTable } from "../components/table.js";
 import { badge, badgeCell, progressBar, timeElement, updateBadge, updateProgressBar } from "../components/widgets.js";
 import { ARTIFACT } from "../contract.gen.js";
@@ -207,9 +208,12 @@ export function jobPage(id) {
                     setAttr(td, "title", t.error || null);
                 },
             },
+            { header: "Log", sig: logSig, render: logButtons },
         ],
     });
-    const tasksCard = h("section", { class: "card", "aria-labelledby": "card-tasks" }, h("div", { class: "card__header" }, h("h2", { id: "card-tasks", class: "card__title" }, "Tasks"), h("div", { class: "filters" }, h("label", { for: "task-state-filter", class: "visually-hidden" }, "Filter by state"), stateSelect, h("label", { for: "task-phase-filter", class: "visually-hidden" }, "Filter by phase"), phaseSelect)), tableInfo, h("div", { class: "table-wrap" }, taskTable.element), h("div", { class: "table-more" }, moreButton));
+    const taskLog = new TaskLogPanel();
+    taskLog.attach(taskTable.element);
+    const tasksCard = h("section", { class: "card", "aria-labelledby": "card-tasks" }, h("div", { class: "card__header" }, h("h2", { id: "card-tasks", class: "card__title" }, "Tasks"), h("div", { class: "filters" }, h("label", { for: "task-state-filter", class: "visually-hidden" }, "Filter by state"), stateSelect, h("label", { for: "task-phase-filter", class: "visually-hidden" }, "Filter by phase"), phaseSelect)), tableInfo, h("div", { class: "table-wrap" }, taskTable.element), h("div", { class: "table-more" }, moreButton), taskLog.element);
     const body = h("div", { class: "job__body", hidden: true }, stats, h("div", { class: "job__grid" }, h("div", { class: "job__main" }, finalCard, card("Image so far", mosaic.element), card("Error against time", chart.element)), h("div", { class: "job__side" }, card("Phases", phases.element), card("Plan", plan), card("Blocked workers", blocked))), tasksCard);
     const missing = h("div", { class: "card empty-state", hidden: true });
     const element = h("section", { class: "page job", "aria-labelledby": "job-title" }, h("nav", { class: "breadcrumb", "aria-label": "Breadcrumb" }, h("a", { href: "#/" }, "Jobs"), h("span", { "aria-hidden": "true" }, " / "), h("span", null, id)), h("div", { class: "page__header" }, h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine), h("div", { class: "page__actions" }, priorityForm, cancelButton)), failureBanner, notice, missing, body);

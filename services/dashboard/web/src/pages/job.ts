@@ -10,6 +10,7 @@ import { ErrorChart } from "../components/chart.js";
 import { Mosaic } from "../components/mosaic.js";
 import { ImageViewer } from "../components/viewer.js";
 import { PhaseList } from "../components/phases.js";
+import { TaskLogPanel, logButtons, logSig } from "../components/tasklog.js";
 import { DataTable } from "../components/table.js";
 import { badge, badgeCell, progressBar, timeElement, updateBadge, updateProgressBar } from "../components/widgets.js";
 import { ARTIFACT } from "../contract.gen.js";
@@ -256,8 +257,11 @@ export function jobPage(id: string): Page {
           setAttr(td, "title", t.error || null);
         },
       },
+      { header: "Log", sig: logSig, render: logButtons },
     ],
   });
+  const taskLog = new TaskLogPanel();
+  taskLog.attach(taskTable.element);
 
   const tasksCard = h(
     "section",
@@ -278,6 +282,7 @@ export function jobPage(id: string): Page {
     tableInfo,
     h("div", { class: "table-wrap" }, taskTable.element),
     h("div", { class: "table-more" }, moreButton),
+    taskLog.element,
   );
 
   const body = h(
