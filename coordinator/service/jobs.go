@@ -263,7 +263,7 @@ func (j *jobServer) RetryTask(ctx context.Context, req *pb.RetryTaskRequest) (*p
 	}
 	jobID, ok := store.JobOfTask(req.GetTaskId())
 	if !ok {
-		return nil, errs.Field("task_id", "is not a task id: want {job_id}.{index}, as ListTasks gives them")
+		return nil, errs.Field("task_id", "is not a task id: want {job_id}.{index}, as the job's task list names them")
 	}
 	c, err := j.s.cfg.Store.ReopenJob(ctx, jobID, req.GetTaskId())
 	if err != nil {
