@@ -629,6 +629,21 @@ try {
     const r = await list.request.get(api(`/api/jobs/${longId}`));
     check(r.status() === 404, `GET /api/jobs/${longId} after the delete answered ${r.status()}`);
   });
+  await step('a running job deleted elsewhere: its open page says it was deleted', async () => {
+    const r = await list.request.post(api('/api/jobs'), { data: JSON.stringify(longScene), headers: { 'content-type': 'application/json' } });
+    check(r.status() === 200, `POST /api/jobs answered ${r.status()}: ${await r.text()}`);
+    const { job } = await r.json();
+    await third.goto(`${baseURL}#/jobs/${job.id}`);
+    await waitFor('the job running on its page', 30000, async () =>
+      /running/i.test(await third.locator(tid('job-state')).first().innerText()));
+    const d = await list.request.post(api(`/api/jobs/${job.id}/delete`), { data: {} });
+    check(d.status() === 200 && norm((await d.json())?.job?.state) === 'cancelled', `POST delete of the running job answered ${d.status()}`);
+    await waitFor('its page to say the job was deleted', 10000, async () => {
+      const el = third.locator(tid('job-missing'));
+      return (await el.count()) && /deleted/.test(await el.innerText());
+    }, () => third.locator(tid('job-state')).first().innerText());
+    await waitFor('every worker idle', 10000, async () => (await workers(list)).every((w) => norm(w.state) === 'idle'), () => workers(list));
+  });
 
   console.log(`${clock()}  PASS dashboard.spec (screenshot: ${shot})`);
 } catch (e) {

@@ -482,14 +482,34 @@ export function jobPage(id) {
     /** The job ended: follow the job list for a requeue, a retry or a delete made anywhere. */
     function followEnded() {
         feed?.close();
+        // The list is polled, so it may show a job that was reopened and ended again since
+        // (never running in between), or be older than what the page has: compare update times.
         const seen = (jobs) => {
             const j = jobs?.find((x) => x.id === id);
-            if (j && !jobEnded(j))
+            if (!j)
+                return false;
+            if (!jobEnded(j))
                 reopened(j);
+            else if (Date.parse(j.updateTime ?? "") > Date.parse(job?.updateTime ?? "")) {
+                api.job(id).then((res) => {
+                    firstPage(res);
+                    applyJob(res.job);
+                }, () => { });
+            }
+            return true;
         };
         feed = new LiveStream("api/events", {
             events: {
-                jobs: (data) => seen(data.jobs),
+                // The whole list: a job missing from it may have been deleted before the feed
+                // began (a delete cancels a running job first, which ended its stream): ask.
+                jobs: (data) => {
+                    if (seen(data.jobs))
+                        return;
+                    api.job(id).then((res) => reopened(res.job), (err) => {
+                        if (err instanceof ApiError && err.status === 404)
+                            deleted();
+                    });
+                },
                 "jobs-changed": (data) => {
                     if (data.removed?.includes(id))
                         deleted();

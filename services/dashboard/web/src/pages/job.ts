@@ -626,13 +626,36 @@ export function jobPage(id: string): Page {
   /** The job ended: follow the job list for a requeue, a retry or a delete made anywhere. */
   function followEnded(): void {
     feed?.close();
+    // The list is polled, so it may show a job that was reopened and ended again since
+    // (never running in between), or be older than what the page has: compare update times.
     const seen = (jobs: Job[] | undefined) => {
       const j = jobs?.find((x) => x.id === id);
-      if (j && !jobEnded(j)) reopened(j);
+      if (!j) return false;
+      if (!jobEnded(j)) reopened(j);
+      else if (Date.parse(j.updateTime ?? "") > Date.parse(job?.updateTime ?? "")) {
+        api.job(id).then(
+          (res) => {
+            firstPage(res);
+            applyJob(res.job);
+          },
+          () => {},
+        );
+      }
+      return true;
     };
     feed = new LiveStream("api/events", {
       events: {
-        jobs: (data: { jobs?: Job[] }) => seen(data.jobs),
+        // The whole list: a job missing from it may have been deleted before the feed
+        // began (a delete cancels a running job first, which ended its stream): ask.
+        jobs: (data: { jobs?: Job[] }) => {
+          if (seen(data.jobs)) return;
+          api.job(id).then(
+            (res) => reopened(res.job),
+            (err) => {
+              if (err instanceof ApiError && err.status === 404) deleted();
+            },
+          );
+        },
         "jobs-changed": (data: { jobs?: Job[]; removed?: string[] }) => {
           if (data.removed?.includes(id)) deleted();
           else seen(data.jobs);
