@@ -686,8 +686,9 @@ return ok(0, unblocked, jid, nil)
 // the current stage's tasks as they were, so the tasks leased since the stage opened,
 // [cur, next), that did not succeed are written QUEUED and put in the queue (and out of
 // DELAYED), while those never leased, [next, curend), and the later stages' are WAITING
-// records already. Refusals are worded as store.CheckReopen and store.CheckRetry word
-// them.
+// records already. Unlike the other scripts its work grows with a job's tasks (those of
+// one stage at most), which an operator's requeue may cost. Refusals are worded as
+// store.CheckReopen and store.CheckRetry word them.
 var reopenScript = newScript(`
 local jid, ft = ARGV[3], ARGV[4]
 local jk = jkey(jid)

@@ -3,6 +3,7 @@ package storetest
 import (
 	"fmt"
 	"slices"
+	"strings"
 	"testing"
 	"time"
 
@@ -162,23 +163,28 @@ func testReopenRefusals(f *fixture) {
 	running := f.create("running", 2)
 	f.lease("w5")
 	queued := f.create("queued", 2)
+	t0, t3, q0 := store.TaskID(failed.Id, 0), store.TaskID(failed.Id, 3), store.TaskID(queued.Id, 0)
 	tests := []struct {
 		name, job, task string
 		want            errs.Kind
+		says            string // the message, as both stores word it (CheckReopen, CheckRetry)
 	}{
-		{"SucceededJob", succeeded.Id, "", errs.FailedPrecondition},
-		{"QueuedJob", queued.Id, "", errs.FailedPrecondition},
-		{"RunningJob", running.Id, "", errs.FailedPrecondition},
-		{"UnknownJob", "j-nosuchjob", "", errs.NotFound},
-		{"SucceededTaskOfAFailedJob", failed.Id, store.TaskID(failed.Id, 0), errs.FailedPrecondition},
-		{"CancelledTaskOfAFailedJob", failed.Id, store.TaskID(failed.Id, 3), errs.FailedPrecondition},
-		{"QueuedTaskOfAQueuedJob", queued.Id, store.TaskID(queued.Id, 0), errs.FailedPrecondition},
-		{"UnknownTask", failed.Id, store.TaskID(failed.Id, 99), errs.NotFound},
-		{"TaskOfAnotherJob", running.Id, failedTask, errs.NotFound},
+		{"SucceededJob", succeeded.Id, "", errs.FailedPrecondition, "job " + succeeded.Id + " succeeded: only a failed or cancelled job can be requeued"},
+		{"QueuedJob", queued.Id, "", errs.FailedPrecondition, "job " + queued.Id + " has not ended (JOB_STATE_QUEUED): only a failed or cancelled job can be requeued"},
+		{"RunningJob", running.Id, "", errs.FailedPrecondition, "has not ended (JOB_STATE_RUNNING)"},
+		{"UnknownJob", "j-nosuchjob", "", errs.NotFound, "j-nosuchjob"},
+		{"SucceededTaskOfAFailedJob", failed.Id, t0, errs.FailedPrecondition, "task " + t0 + " is TASK_STATE_SUCCEEDED, not failed: only a failed task can be retried"},
+		{"CancelledTaskOfAFailedJob", failed.Id, t3, errs.FailedPrecondition, "task " + t3 + " is TASK_STATE_CANCELLED, not failed"},
+		{"QueuedTaskOfAQueuedJob", queued.Id, q0, errs.FailedPrecondition, "task " + q0 + " is TASK_STATE_QUEUED, not failed"},
+		{"UnknownTask", failed.Id, store.TaskID(failed.Id, 99), errs.NotFound, store.TaskID(failed.Id, 99)},
+		{"TaskOfAnotherJob", running.Id, failedTask, errs.NotFound, failedTask},
 	}
 	for _, tt := range tests {
 		_, err := f.s.ReopenJob(f.ctx, tt.job, tt.task)
 		wantKind(f.t, tt.name, err, tt.want)
+		if !strings.Contains(err.Error(), tt.says) {
+			f.t.Errorf("%s: %v, want it to say %q", tt.name, err, tt.says)
+		}
 	}
 	// Nothing refused changed anything.
 	if got := f.job(failed.Id); got.State != pb.JobState_JOB_STATE_FAILED || got.Error == "" {
