@@ -142,6 +142,35 @@ func (c *Client) Cancel(ctx context.Context, jobID string) (*pb.Job, error) {
 	return resp.GetJob(), nil
 }
 
+// Requeue reopens a failed or cancelled job where it stopped (RequeueJob).
+func (c *Client) Requeue(ctx context.Context, jobID string) (*pb.Job, error) {
+	resp, err := c.jobs.RequeueJob(ctx, &pb.RequeueJobRequest{JobId: jobID})
+	if err != nil {
+		return nil, fromRPC("requeue job", err)
+	}
+	return resp.GetJob(), nil
+}
+
+// RetryTask queues a failed task again and reopens its job; it returns the job and the
+// task.
+func (c *Client) RetryTask(ctx context.Context, taskID string) (*pb.Job, *pb.Task, error) {
+	resp, err := c.jobs.RetryTask(ctx, &pb.RetryTaskRequest{TaskId: taskID})
+	if err != nil {
+		return nil, nil, fromRPC("retry task", err)
+	}
+	return resp.GetJob(), resp.GetTask(), nil
+}
+
+// Delete deletes the job (cancelling it if it has not ended) and returns it as it was
+// deleted.
+func (c *Client) Delete(ctx context.Context, jobID string) (*pb.Job, error) {
+	resp, err := c.jobs.DeleteJob(ctx, &pb.DeleteJobRequest{JobId: jobID})
+	if err != nil {
+		return nil, fromRPC("delete job", err)
+	}
+	return resp.GetJob(), nil
+}
+
 // JobEnded reports whether a job in state s has ended.
 func JobEnded(s pb.JobState) bool {
 	return s == pb.JobState_JOB_STATE_SUCCEEDED || s == pb.JobState_JOB_STATE_FAILED ||

@@ -44,7 +44,7 @@ var verbs []*verb
 func init() {
 	verbs = []*verb{
 		renderVerb, importVerb, coordinatorVerb, dashboardVerb, submitVerb, watchVerb, fetchVerb,
-		statusVerb, listVerb, tasksVerb, cancelVerb, priorityVerb, unblockVerb, validateVerb, planVerb, reportVerb,
+		statusVerb, listVerb, tasksVerb, cancelVerb, requeueVerb, retryVerb, deleteVerb, priorityVerb, unblockVerb, validateVerb, planVerb, reportVerb,
 		versionVerb,
 	}
 }

@@ -11,17 +11,7 @@ import (
 // TestPriorityAndUnblockVerbs runs submit --priority, priority, status, list and unblock
 // against an in-process coordinator.
 func TestPriorityAndUnblockVerbs(t *testing.T) {
-	ec, err := startEmbedded(t.TempDir(), time.Minute, io.Discard, "client-token", "worker-token")
-	if err != nil {
-		t.Fatal(err)
-	}
-	defer ec.stop(5 * time.Second)
-	vars := map[string]string{"FARM_TOKEN": "client-token", "FARM_COORDINATOR": ec.addr}
-	code, stdout, stderr := runForTest(t, vars, "submit", "../../scenes/test-small.json", "--priority", "7")
-	if code != exitOK {
-		t.Fatalf("submit: exit %d, stderr %q", code, stderr)
-	}
-	job := strings.TrimSpace(stdout)
+	vars, job := embeddedWithJob(t, "--priority", "7")
 	for _, tc := range []struct {
 		args []string
 		code int
@@ -45,4 +35,22 @@ func TestPriorityAndUnblockVerbs(t *testing.T) {
 			t.Errorf("farm %q: exit %d, stdout %q, stderr %q; want exit %d matching %q", tc.args, code, stdout, stderr, tc.code, tc.want)
 		}
 	}
+}
+
+// embeddedWithJob starts an in-process coordinator (no worker: jobs stay queued) for the
+// test and submits scenes/test-small.json to it with the flags submit; it returns the
+// environment of client verbs and the job id.
+func embeddedWithJob(t *testing.T, submit ...string) (vars map[string]string, job string) {
+	t.Helper()
+	ec, err := startEmbedded(t.TempDir(), time.Minute, io.Discard, "client-token", "worker-token")
+	if err != nil {
+		t.Fatal(err)
+	}
+	t.Cleanup(func() { ec.stop(5 * time.Second) })
+	vars = map[string]string{"FARM_TOKEN": "client-token", "FARM_COORDINATOR": ec.addr}
+	code, stdout, stderr := runForTest(t, vars, append([]string{"submit", "../../scenes/test-small.json"}, submit...)...)
+	if code != exitOK {
+		t.Fatalf("submit: exit %d, stderr %q", code, stderr)
+	}
+	return vars, strings.TrimSpace(stdout)
 }

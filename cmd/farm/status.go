@@ -41,6 +41,27 @@ var cancelVerb = &verb{
 	run:     runCancel,
 }
 
+var requeueVerb = &verb{
+	name:    "requeue",
+	args:    "JOB [--coordinator ADDR]",
+	summary: "reopen a failed or cancelled job where it stopped",
+	run:     runRequeue,
+}
+
+var retryVerb = &verb{
+	name:    "retry",
+	args:    "TASK [--coordinator ADDR]",
+	summary: "queue a failed task again (as 'farm tasks' names it), reopening its job",
+	run:     runRetry,
+}
+
+var deleteVerb = &verb{
+	name:    "delete",
+	args:    "JOB [--coordinator ADDR]",
+	summary: "delete a job and its tasks (cancelling it first if it runs); its blobs go after the blob grace",
+	run:     runDelete,
+}
+
 func runStatus(ctx context.Context, e *env, args []string) error {
 	return withClient(newFlags("status", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
 		job, err := c.GetJob(ctx, pos[0])
@@ -148,6 +169,40 @@ func runCancel(ctx context.Context, e *env, args []string) error {
 			return err
 		}
 		fmt.Fprintf(e.stdout, "job %s %s\n", printable(job.GetId()), tasks.JobStateName(job.GetState()))
+		return nil
+	})
+}
+
+func runRequeue(ctx context.Context, e *env, args []string) error {
+	return withClient(newFlags("requeue", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, err := c.Requeue(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "job %s %s\n", printable(job.GetId()), tasks.JobStateName(job.GetState()))
+		return nil
+	})
+}
+
+func runRetry(ctx context.Context, e *env, args []string) error {
+	return withClient(newFlags("retry", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, task, err := c.RetryTask(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "task %s %s; job %s %s\n", printable(task.GetId()), tasks.TaskStateName(task.GetState()),
+			printable(job.GetId()), tasks.JobStateName(job.GetState()))
+		return nil
+	})
+}
+
+func runDelete(ctx context.Context, e *env, args []string) error {
+	return withClient(newFlags("delete", e), e, args, 1, 1, func(c *client.Client, pos []string) error {
+		job, err := c.Delete(ctx, pos[0])
+		if err != nil {
+			return err
+		}
+		fmt.Fprintf(e.stdout, "job %s deleted (was %s)\n", printable(job.GetId()), tasks.JobStateName(job.GetState()))
 		return nil
 	})
 }

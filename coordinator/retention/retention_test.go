@@ -113,3 +113,79 @@ func TestSweepDeletesExpiredJobsAndTheBlobsOnlyTheyUsed(t *testing.T) {
 		t.Errorf("report %+v, want 1 job and 4 blobs deleted", r)
 	}
 }
+
+// TestADeletedJobsBlobsGoAfterTheGrace: DeleteJob removes a job at once, but its blobs
+// (its scene, its tasks' outputs) are the blob collection's: a sweep keeps them while they
+// are younger than the grace and deletes them after, unless another job names them.
+func TestADeletedJobsBlobsGoAfterTheGrace(t *testing.T) {
+	for _, tt := range []struct {
+		name   string
+		finish bool // the job ends before it is deleted
+	}{{"DeletedWhileRunning", false}, {"DeletedAfterItEnded", true}} {
+		t.Run(tt.name, func(t *testing.T) {
+			ctx := context.Background()
+			now := time.Now()
+			clk := clock.NewFake(now)
+			st := memstore.New(store.Options{Clock: clk})
+			blobs := blobtest.New(t)
+			b, err := proto.Marshal(scenetest.Valid(8, 8))
+			if err != nil {
+				t.Fatal(err)
+			}
+			scene := blobs.Put(string(b)) // both jobs render it
+			mk := func(name string) *pb.Job {
+				t.Helper()
+				nj := storetest.TileJob(name, 1)
+				nj.SceneDigest = scene
+				j, err := st.CreateJob(ctx, nj)
+				if err != nil {
+					t.Fatal(err)
+				}
+				return j
+			}
+			doomed := mk("doomed")
+			l, err := st.LeaseTask(ctx, "w1", store.WorkerPhases)
+			if err != nil || l == nil {
+				t.Fatalf("LeaseTask = %v, %v", l, err)
+			}
+			tile := blobs.Put("tile of doomed")
+			ref := store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch}
+			if _, err := st.CompleteTask(ctx, ref, []*pb.Artifact{{Name: "tile.exr", Digest: tile, SizeBytes: 14}}); err != nil {
+				t.Fatal(err)
+			}
+			if tt.finish {
+				if _, err := st.CancelJob(ctx, doomed.Id); err != nil {
+					t.Fatal(err)
+				}
+			}
+			other := mk("other")
+			if _, err := st.DeleteJob(ctx, doomed.Id); err != nil {
+				t.Fatal(err)
+			}
+			sweep := func() {
+				t.Helper()
+				if _, err := retention.New(retention.Config{Store: st, Blobs: blobs.Store, Clock: clk}).Sweep(ctx); err != nil {
+					t.Fatal(err)
+				}
+			}
+			kept := func(when string, want map[string]bool) {
+				t.Helper()
+				for d, keep := range want {
+					if _, err := blobs.Stat(ctx, d); (err == nil) != keep {
+						t.Errorf("%s: blob %s kept = %v, want %v", when, d[:15], err == nil, keep)
+					}
+				}
+			}
+			sweep()
+			kept("within the grace", map[string]bool{tile: true, scene: true})
+			blobs.Age(now.Add(-48*time.Hour), tile, scene)
+			sweep()
+			kept("after the grace", map[string]bool{tile: false, scene: true}) // the other job renders the scene
+			if _, err := st.DeleteJob(ctx, other.Id); err != nil {
+				t.Fatal(err)
+			}
+			sweep()
+			kept("after the other job's delete", map[string]bool{scene: false})
+		})
+	}
+}

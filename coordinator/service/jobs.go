@@ -3,6 +3,7 @@ package service
 import (
 	"bytes"
 	"context"
+	"time"
 
 	"google.golang.org/protobuf/proto"
 	"google.golang.org/protobuf/types/known/timestamppb"
@@ -10,6 +11,7 @@ import (
 	"photonfarm/contract/scene"
 	"photonfarm/coordinator/errs"
 	"photonfarm/coordinator/planner"
+	"photonfarm/coordinator/retention"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -238,6 +240,69 @@ func (j *jobServer) UnblockWorker(ctx context.Context, req *pb.UnblockWorkerRequ
 	}
 	j.s.publish(c)
 	return &pb.UnblockWorkerResponse{Job: c.Job}, nil
+}
+
+// RequeueJob reopens a failed or cancelled job where it stopped and wakes waiting workers.
+func (j *jobServer) RequeueJob(ctx context.Context, req *pb.RequeueJobRequest) (*pb.RequeueJobResponse, error) {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	c, err := j.s.cfg.Store.ReopenJob(ctx, req.GetJobId(), "")
+	if err != nil {
+		return nil, err
+	}
+	j.s.log.Info("job requeued", "job", req.GetJobId())
+	j.s.publish(c)
+	return &pb.RequeueJobResponse{Job: c.Job}, nil
+}
+
+// RetryTask queues a failed task again, reopening its job.
+func (j *jobServer) RetryTask(ctx context.Context, req *pb.RetryTaskRequest) (*pb.RetryTaskResponse, error) {
+	if err := checkID("task_id", req.GetTaskId()); err != nil {
+		return nil, err
+	}
+	jobID, ok := store.JobOfTask(req.GetTaskId())
+	if !ok {
+		return nil, errs.Field("task_id", "is not a task id: want {job_id}.{index}, as the job's task list names them")
+	}
+	c, err := j.s.cfg.Store.ReopenJob(ctx, jobID, req.GetTaskId())
+	if err != nil {
+		return nil, err
+	}
+	j.s.log.Info("task retried", "task", req.GetTaskId(), "job", jobID)
+	j.s.publish(c)
+	return &pb.RetryTaskResponse{Job: c.Job, Task: c.Task}, nil
+}
+
+// DeletePurgeSteps bounds the PurgeJobs steps DeleteJob runs (each of
+// retention.PurgeBudget task records): a larger job is finished by the next sweep.
+const DeletePurgeSteps = 64
+
+// DeleteJob cancels a job that has not ended and deletes it: gone for every read at once,
+// its records deleted by purge steps run now. Its blobs are left to the blob collection
+// (retention), since another job may share them.
+func (j *jobServer) DeleteJob(ctx context.Context, req *pb.DeleteJobRequest) (*pb.DeleteJobResponse, error) {
+	if err := checkID("job_id", req.GetJobId()); err != nil {
+		return nil, err
+	}
+	c, err := j.s.cfg.Store.DeleteJob(ctx, req.GetJobId())
+	if err != nil {
+		return nil, err
+	}
+	j.s.log.Info("job deleted", "job", req.GetJobId(), "state", c.Job.GetState().String())
+	j.s.publish(c)
+	for range DeletePurgeSteps {
+		// No cutoffs: only the jobs marked deleted are purged.
+		p, err := j.s.cfg.Store.PurgeJobs(ctx, time.Time{}, time.Time{}, retention.PurgeBudget)
+		if err != nil {
+			j.s.log.Warn("purge after a delete failed; the next sweep finishes it", "job", req.GetJobId(), "err", err)
+			break
+		}
+		if !p.More {
+			break
+		}
+	}
+	return &pb.DeleteJobResponse{Job: c.Job}, nil
 }
 
 // WatchJob sends a snapshot, then every event of the job, and returns after the event

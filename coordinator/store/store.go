@@ -20,7 +20,10 @@
 //   - ReleaseTask and ReleaseWorker requeue without counting a failure;
 //   - CancelJob drops queued tasks and revokes held leases;
 //   - PurgeJobs deletes ended jobs past their retention, a bounded step at a time;
-//   - SetJobPriority reorders a job; UnblockWorker takes workers off its blocklist.
+//   - SetJobPriority reorders a job; UnblockWorker takes workers off its blocklist;
+//   - ReopenJob reopens a failed or cancelled job where it stopped (RequeueJob, and
+//     RetryTask of one of its failed tasks: see Reopening);
+//   - DeleteJob cancels a job if need be and hands it to PurgeJobs at once.
 //
 // Scheduling: LeaseTask picks, among the jobs with a leasable task of the caller's
 // phases that have not blocked the caller, the highest Job.priority; among equal
@@ -66,6 +69,15 @@
 // count. The store does not know which workers exist; the caller does, and
 // FailBlockedJob fails a job once every worker it knows is on the job's blocklist (the
 // job would otherwise wait for ever).
+//
+// Reopening: ReopenJob takes a job that ended FAILED or CANCELLED back to where it
+// stopped. Its tasks that succeeded stand; those of the stage it stopped in that did not
+// are QUEUED again, and those of later stages of the round WAITING, each with its failure
+// and expiry counts (MaxAttempts, MaxExpiries) and retry_time reset (Task.attempts, the
+// leases granted, and Task.error, the last failure, stay as history). The job's error,
+// failure_kind and end_time are cleared and it is QUEUED (RUNNING at its next lease). Its
+// blocklist stands: a job every worker is blocked from is failed again by FailBlockedJob
+// until UnblockWorker. A report under a lease the end cancelled stays refused.
 //
 // Reports about a task (complete, fail, release) name a LeaseRef; one under a retired
 // epoch, by another worker, or after the lease expired is refused with an
@@ -160,6 +172,20 @@ type Store interface {
 	// budget task records at most, so that a large job takes several; Purge.More says to
 	// call again.
 	PurgeJobs(ctx context.Context, endedBefore, abandonedBefore time.Time, budget int) (Purge, error)
+
+	// ReopenJob reopens a job that ended FAILED or CANCELLED (see Reopening). If
+	// failedTask is not empty it must name a FAILED task of the job (RetryTask). It
+	// returns errs.NotFound for an unknown job or task and errs.FailedPrecondition for a
+	// job that succeeded or has not ended, or a task that has not failed (CheckReopen,
+	// CheckRetry). The Change has JobStateChanged and Queued set, and Task if failedTask
+	// was given.
+	ReopenJob(ctx context.Context, jobID, failedTask string) (Change, error)
+	// DeleteJob cancels the job if it has not ended and, in the same step, marks it for
+	// PurgeJobs: from then on it is gone for every read (NotFound, left out of ListJobs)
+	// and for every report, and the next PurgeJobs steps delete its records whatever the
+	// times they are given. The Change is the job as it was deleted, JobStateChanged if it
+	// was cancelled. It returns errs.NotFound for an unknown job.
+	DeleteJob(ctx context.Context, jobID string) (Change, error)
 
 	// UnblockWorker takes workerID (every worker if empty) off the job's blocklist and
 	// resets its failure count; unblocking a worker that is not blocked changes nothing.
@@ -435,4 +461,37 @@ func TaskID(jobID string, index uint32) string {
 // Ended reports whether a job state is terminal.
 func Ended(s pb.JobState) bool {
 	return s == pb.JobState_JOB_STATE_SUCCEEDED || s == pb.JobState_JOB_STATE_FAILED || s == pb.JobState_JOB_STATE_CANCELLED
+}
+
+// JobOfTask returns the id of the job a task id ("{job_id}.{index}") names, and false for
+// an id of no task.
+func JobOfTask(taskID string) (string, bool) {
+	k := strings.LastIndexByte(taskID, '.')
+	if k <= 0 {
+		return "", false
+	}
+	if _, err := strconv.ParseUint(taskID[k+1:], 10, 32); err != nil {
+		return "", false
+	}
+	return taskID[:k], true
+}
+
+// CheckReopen refuses to reopen a job in state: only a FAILED or CANCELLED one can be.
+// (redisstore's reopenScript words its refusals alike.)
+func CheckReopen(jobID string, state pb.JobState) error {
+	switch state {
+	case pb.JobState_JOB_STATE_FAILED, pb.JobState_JOB_STATE_CANCELLED:
+		return nil
+	case pb.JobState_JOB_STATE_SUCCEEDED:
+		return errs.E(errs.FailedPrecondition, "job %s succeeded: only a failed or cancelled job can be requeued", jobID)
+	}
+	return errs.E(errs.FailedPrecondition, "job %s has not ended (%s): only a failed or cancelled job can be requeued", jobID, state)
+}
+
+// CheckRetry refuses to retry a task in state: only a FAILED one can be.
+func CheckRetry(taskID string, state pb.TaskState) error {
+	if state == pb.TaskState_TASK_STATE_FAILED {
+		return nil
+	}
+	return errs.E(errs.FailedPrecondition, "task %s is %s, not failed: only a failed task can be retried", taskID, state)
 }

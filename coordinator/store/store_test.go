@@ -88,3 +88,24 @@ func TestCheckPlanRefusesATaskWhosePhaseIsNotItsSpecs(t *testing.T) {
 		}
 	}
 }
+
+func TestJobOfTask(t *testing.T) {
+	for _, tc := range []struct {
+		task, job string
+		ok        bool
+	}{
+		{"j-0123456789abcdef.0", "j-0123456789abcdef", true},
+		{"j-0123456789abcdef.95538", "j-0123456789abcdef", true},
+		{store.TaskID("j-a.b", 7), "j-a.b", true},
+		{"j-0123456789abcdef", "", false},
+		{"j-0123456789abcdef.", "", false},
+		{"j-0123456789abcdef.x", "", false},
+		{"j-0123456789abcdef.-1", "", false},
+		{".3", "", false},
+		{"", "", false},
+	} {
+		if job, ok := store.JobOfTask(tc.task); job != tc.job || ok != tc.ok {
+			t.Errorf("JobOfTask(%q) = %q, %v; want %q, %v", tc.task, job, ok, tc.job, tc.ok)
+		}
+	}
+}

@@ -7,6 +7,7 @@ import (
 	"io"
 	"math"
 	"net/http"
+	"strings"
 
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -49,6 +50,41 @@ func jobAnswer(resp interface{ GetJob() *pb.Job }, err error) (any, error) {
 func (s *Server) cancel(w http.ResponseWriter, r *http.Request) {
 	s.answer(w, r, func(ctx context.Context) (any, error) {
 		return jobAnswer(s.jobs.CancelJob(ctx, &pb.CancelJobRequest{JobId: r.PathValue("id")}))
+	})
+}
+
+// requeue reopens a failed or cancelled job where it stopped; 409 for any other.
+func (s *Server) requeue(w http.ResponseWriter, r *http.Request) {
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		return jobAnswer(s.jobs.RequeueJob(ctx, &pb.RequeueJobRequest{JobId: r.PathValue("id")}))
+	})
+}
+
+// retry queues a failed task of the job again, reopening the job: {"job": Job, "task":
+// Task}; 409 for a task that has not failed, 404 for a task not of that job.
+func (s *Server) retry(w http.ResponseWriter, r *http.Request) {
+	jobID, taskID := r.PathValue("id"), r.PathValue("task")
+	if !strings.HasPrefix(taskID, jobID+".") { // task ids are "{job_id}.{index}"
+		s.writeError(w, r, errorf(http.StatusNotFound, fmt.Sprintf("job %s has no task %q", jobID, taskID)))
+		return
+	}
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		resp, err := s.jobs.RetryTask(ctx, &pb.RetryTaskRequest{TaskId: taskID})
+		if err != nil {
+			return nil, err
+		}
+		return map[string]any{"job": pj(resp.GetJob()), "task": pj(resp.GetTask())}, nil
+	})
+}
+
+// deleteJob deletes a job (cancelling it if it runs): {"job": Job} as it was deleted.
+func (s *Server) deleteJob(w http.ResponseWriter, r *http.Request) {
+	s.answer(w, r, func(ctx context.Context) (any, error) {
+		resp, err := s.jobs.DeleteJob(ctx, &pb.DeleteJobRequest{JobId: r.PathValue("id")})
+		if err == nil {
+			s.log.Info("dashboard deleted a job", "job", resp.GetJob().GetId())
+		}
+		return jobAnswer(resp, err)
 	})
 }
 

@@ -133,6 +133,9 @@ func (s *Server) routes() {
 	m.HandleFunc("POST /api/jobs/{id}/cancel", s.jsonPost(MaxSmallBody, s.cancel))
 	m.HandleFunc("POST /api/jobs/{id}/priority", s.jsonPost(MaxSmallBody, s.setPriority))
 	m.HandleFunc("POST /api/jobs/{id}/unblock", s.jsonPost(MaxSmallBody, s.unblock))
+	m.HandleFunc("POST /api/jobs/{id}/requeue", s.jsonPost(MaxSmallBody, s.requeue))
+	m.HandleFunc("POST /api/jobs/{id}/tasks/{task}/retry", s.jsonPost(MaxSmallBody, s.retry))
+	m.HandleFunc("POST /api/jobs/{id}/delete", s.jsonPost(MaxSmallBody, s.deleteJob))
 
 	// Anything else under /api/ is a JSON 404 (or 405), never the front end's page.
 	m.HandleFunc("/api/", func(w http.ResponseWriter, r *http.Request) {

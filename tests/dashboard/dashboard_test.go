@@ -31,7 +31,7 @@ const (
 
 // TestDashboardInABrowser logs in, submits a scene through the file input, watches its
 // progress and tiles arrive, sees the final image and both workers, saves a screenshot of
-// the job page, and cancels a long job: every step is in e2e/dashboard.spec.mjs, which
+// the job page, cancels a long job, retries, requeues and deletes jobs: every step is in e2e/dashboard.spec.mjs, which
 // prints one line per step.
 func TestDashboardInABrowser(t *testing.T) {
 	e2e := filepath.Join(farmtest.RepoRoot(), "tests", "dashboard", "e2e")
@@ -40,6 +40,7 @@ func TestDashboardInABrowser(t *testing.T) {
 	f := farmtest.StartFarm(t, farmtest.TokenFlags(t, clientToken, workerToken), client.WithToken(clientToken))
 	// Before the workers start, so that no real worker leases its task first.
 	failedJob := failAsBadInput(t, f)
+	requeueJob := failAsBadInput(t, f) // the first has failed, so its task is this one's
 	for range 2 {
 		w := f.StartWorker(t, "--token", workerToken)
 		if w.WorkerID(t, 15*time.Second) == "" {
@@ -72,6 +73,7 @@ func TestDashboardInABrowser(t *testing.T) {
 		"FAILED_REASON="+badInputReason,
 		"WORKER_FAILED_JOB_ID="+workerFailedJob,
 		"WORKER_FAILED_REASON="+badReferenceReason,
+		"REQUEUE_JOB_ID="+requeueJob,
 		"BLOCKED_JOB_ID="+blockedJob,
 		"BLOCKED_WORKER_ID="+blockedWorker,
 		"PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1",

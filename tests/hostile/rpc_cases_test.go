@@ -60,6 +60,18 @@ func jobCases(f *farm) []hostileCase {
 		{"unblock: unknown job", coordinatortest.Call(f.jobs.UnblockWorker, &pb.UnblockWorkerRequest{JobId: "j-ffffffffffffffff", WorkerId: f.workerID}), codes.NotFound, "j-ffffffffffffffff"},
 		{"unblock: control characters in worker id", coordinatortest.Call(f.jobs.UnblockWorker, &pb.UnblockWorkerRequest{JobId: f.job.GetId(), WorkerId: "w-\x00\x1b[2J"}), codes.InvalidArgument, "worker_id"},
 		{"unblock: huge worker id", coordinatortest.Call(f.jobs.UnblockWorker, &pb.UnblockWorkerRequest{JobId: f.job.GetId(), WorkerId: strings.Repeat("w", 1<<20)}), codes.InvalidArgument, "worker_id"},
+		{"requeue: no id", coordinatortest.Call(f.jobs.RequeueJob, &pb.RequeueJobRequest{}), codes.InvalidArgument, "job_id"},
+		{"requeue: unknown", coordinatortest.Call(f.jobs.RequeueJob, &pb.RequeueJobRequest{JobId: "j-ffffffffffffffff"}), codes.NotFound, "j-ffffffffffffffff"},
+		{"requeue: running job", coordinatortest.Call(f.jobs.RequeueJob, &pb.RequeueJobRequest{JobId: f.job.GetId()}), codes.FailedPrecondition, "has not ended"},
+		{"requeue: huge id", coordinatortest.Call(f.jobs.RequeueJob, &pb.RequeueJobRequest{JobId: strings.Repeat("j", 1<<20)}), codes.InvalidArgument, "job_id"},
+		{"retry: no id", coordinatortest.Call(f.jobs.RetryTask, &pb.RetryTaskRequest{}), codes.InvalidArgument, "task_id"},
+		{"retry: a job id", coordinatortest.Call(f.jobs.RetryTask, &pb.RetryTaskRequest{TaskId: f.job.GetId()}), codes.InvalidArgument, "task_id"},
+		{"retry: unknown task", coordinatortest.Call(f.jobs.RetryTask, &pb.RetryTaskRequest{TaskId: "j-ffffffffffffffff.0"}), codes.NotFound, "j-ffffffffffffffff"},
+		{"retry: leased task", coordinatortest.Call(f.jobs.RetryTask, &pb.RetryTaskRequest{TaskId: f.lease.GetTaskId()}), codes.FailedPrecondition, "not failed"},
+		{"retry: control characters", coordinatortest.Call(f.jobs.RetryTask, &pb.RetryTaskRequest{TaskId: "j-\x00\x1b[2J.0"}), codes.InvalidArgument, "task_id"},
+		{"delete: no id", coordinatortest.Call(f.jobs.DeleteJob, &pb.DeleteJobRequest{}), codes.InvalidArgument, "job_id"},
+		{"delete: unknown", coordinatortest.Call(f.jobs.DeleteJob, &pb.DeleteJobRequest{JobId: "j-ffffffffffffffff"}), codes.NotFound, "j-ffffffffffffffff"},
+		{"delete: huge id", coordinatortest.Call(f.jobs.DeleteJob, &pb.DeleteJobRequest{JobId: strings.Repeat("j", 1<<20)}), codes.InvalidArgument, "job_id"},
 	}
 }
 

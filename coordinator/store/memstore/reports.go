@@ -1,6 +1,7 @@
 package memstore
 
 import (
+	"container/heap"
 	"context"
 	"slices"
 	"time"
@@ -321,12 +322,96 @@ func (s *Store) PurgeJobs(ctx context.Context, endedBefore, abandonedBefore time
 			return false
 		}
 		freed += len(j.tasks)
-		delete(s.jobs, j.pb.Id)
-		if s.requests[j.request] == j {
-			delete(s.requests, j.request)
-		}
+		s.forget(j)
 		p.Deleted = append(p.Deleted, j.pb.Id)
 		return true
 	})
 	return p, nil
+}
+
+// forget deletes an ended job but for its place in ordered: its tasks in backoff are
+// dropped when due (promote skips ended jobs).
+func (s *Store) forget(j *job) {
+	delete(s.jobs, j.pb.Id)
+	if s.requests[j.request] == j {
+		delete(s.requests, j.request)
+	}
+}
+
+// DeleteJob implements store.Store. Deleting is dropping the job from the maps, so it is
+// done at once and leaves PurgeJobs nothing.
+func (s *Store) DeleteJob(ctx context.Context, jobID string) (store.Change, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return store.Change{}, err
+	}
+	cancelled := !j.ended()
+	if cancelled {
+		s.end(j, pb.JobState_JOB_STATE_CANCELLED, "", pb.FailureKind_FAILURE_KIND_UNSPECIFIED)
+	}
+	c := store.Change{Job: j.snapshot(), JobStateChanged: cancelled}
+	s.forget(j)
+	s.ordered = slices.DeleteFunc(s.ordered, func(o *job) bool { return o == j })
+	return c, nil
+}
+
+// ReopenJob implements store.Store.
+func (s *Store) ReopenJob(ctx context.Context, jobID, failedTask string) (store.Change, error) {
+	s.mu.Lock()
+	defer s.mu.Unlock()
+	j, err := s.job(jobID)
+	if err != nil {
+		return store.Change{}, err
+	}
+	var t *task
+	if failedTask != "" {
+		if t = s.task(failedTask); t == nil || t.job != j {
+			return store.Change{}, noTask(failedTask)
+		}
+		if err := store.CheckRetry(failedTask, t.pb.State); err != nil {
+			return store.Change{}, err
+		}
+	}
+	if err := store.CheckReopen(jobID, j.pb.State); err != nil {
+		return store.Change{}, err
+	}
+	s.reopen(j)
+	c := store.Change{Job: j.snapshot(), JobStateChanged: true, Queued: true}
+	if t != nil {
+		c.Task = t.snapshot()
+	}
+	return c, nil
+}
+
+// reopen takes an ended job back to its current stage (store package comment,
+// Reopening): end left the stage's tasks [cur, end) and those after it cancelled, the
+// stage's never-leased range [next, end) unchanged, and its leased-before tasks out of
+// returned.
+func (s *Store) reopen(j *job) {
+	j.pb.State = pb.JobState_JOB_STATE_QUEUED
+	j.pb.Error, j.pb.FailureKind, j.pb.EndTime = "", pb.FailureKind_FAILURE_KIND_UNSPECIFIED, nil
+	j.pb.UpdateTime = timestamppb.New(s.now())
+	j.returned = j.returned[:0]
+	for i := j.cur; i < len(j.tasks); i++ {
+		t := j.tasks[i]
+		if t.pb.State == pb.TaskState_TASK_STATE_SUCCEEDED {
+			continue
+		}
+		t.failures, t.expiries = 0, 0
+		t.pb.RetryTime, t.retryAt, t.pb.WorkerId = nil, time.Time{}, ""
+		if i >= j.end {
+			t.pb.State = pb.TaskState_TASK_STATE_WAITING
+			continue
+		}
+		t.pb.State = pb.TaskState_TASK_STATE_QUEUED
+		if i < j.next {
+			heap.Push(&j.returned, i)
+		}
+	}
+	// Its tasks still in the delay queue are queued now: promote must not queue them twice.
+	s.delayed = slices.DeleteFunc(s.delayed, func(t *task) bool { return t.job == j })
+	heap.Init(&s.delayed)
+	s.place(j)
 }

@@ -237,6 +237,18 @@ func (s *Store) CancelJob(ctx context.Context, jobID string) (store.Change, erro
 	return r.change, err
 }
 
+// ReopenJob implements store.Store: one reopenScript.
+func (s *Store) ReopenJob(ctx context.Context, jobID, failedTask string) (store.Change, error) {
+	r, err := s.change(ctx, reopenScript, jobID, failedTask)
+	return r.change, err
+}
+
+// DeleteJob implements store.Store: one deleteScript; PurgeJobs deletes the records.
+func (s *Store) DeleteJob(ctx context.Context, jobID string) (store.Change, error) {
+	r, err := s.change(ctx, deleteScript, jobID)
+	return r.change, err
+}
+
 // SetJobPriority implements store.Store.
 func (s *Store) SetJobPriority(ctx context.Context, jobID string, priority int32) (store.Change, error) {
 	if err := store.CheckPriority(priority); err != nil {

@@ -255,6 +255,19 @@ local function endjob(jid, state, msg, kind)
   place(jid)
 end
 
+-- doom marks a job for deletion: no read sees it from then on, its request id is
+-- forgotten, and purgeScript deletes its records (the field doomed counts those left).
+local function doom(jid)
+  local jk = jkey(jid)
+  local h = redis.call('HMGET', jk, 'req', 'ntasks', 'stop')
+  redis.call('ZREM', JOBS, jid)
+  redis.call('ZREM', ENDED, jid)
+  redis.call('ZREM', PENDING, jid)
+  if h[1] and h[1] ~= '' and redis.call('HGET', REQUESTS, h[1]) == jid then redis.call('HDEL', REQUESTS, h[1]) end
+  redis.call('HSET', jk, 'doomed', math.max(tonumber(h[2] or '0'), tonumber(h[3] or '0')))
+  redis.call('ZADD', DOOMED, NOW_S, jid)
+end
+
 -- failjob fails leased task t and its job with msg, of the kind of t's last failure.
 local function failjob(t, jid, msg)
   local k = tkey(t)
@@ -670,6 +683,71 @@ if unblocked == 1 then redis.call('HSET', jk, 'update', NOW_S) end
 return ok(0, unblocked, jid, nil)
 `)
 
+// reopenScript: ARGV[3] job id, [4] a FAILED task of it to retry, or empty. It reopens a
+// failed or cancelled job (store package comment, Reopening): endjob left the records of
+// the current stage's tasks as they were, so the tasks leased since the stage opened,
+// [cur, next), that did not succeed are written QUEUED and put in the queue (and out of
+// DELAYED), while those never leased, [next, curend), and the later stages' are WAITING
+// records already. Unlike the other scripts its work grows with a job's tasks (those of
+// one stage at most), which an operator's requeue may cost. Refusals are worded as
+// store.CheckReopen and store.CheckRetry word them.
+var reopenScript = newScript(`
+local jid, ft = ARGV[3], ARGV[4]
+local jk = jkey(jid)
+local e = unknown(jid)
+if e then return e end
+local j = redis.call('HMGET', jk, 'state', 'cur', 'next', 'curend', 'cphase')
+local st, cur, nxt, curend, phase = tonumber(j[1]), tonumber(j[2]), tonumber(j[3]), tonumber(j[4]), j[5]
+if ft ~= '' then
+  local h = redis.call('HMGET', tkey(ft), 'job', 'state', 'idx')
+  if h[1] ~= jid then return refuse('notfound', 'task_id', 'no task "' .. ft .. '"') end
+  -- The state as a read shows it (codec.go, taskState).
+  local ts, idx = tonumber(h[2]), tonumber(h[3])
+  if ended(st) and (ts == WAITING or ts == QUEUED or ts == LEASED) then ts = CANCELLED end
+  if ts == WAITING and cur <= idx and idx < curend then ts = QUEUED end
+  if ts ~= FAILED then
+    return refuse('precondition', '', 'task ' .. ft .. ' is TASK_STATE_' .. TASK_STATES[ts] .. ', not failed: only a failed task can be retried')
+  end
+end
+if st == JSUCCEEDED then
+  return refuse('precondition', '', 'job ' .. jid .. ' succeeded: only a failed or cancelled job can be requeued')
+end
+if not ended(st) then
+  return refuse('precondition', '', 'job ' .. jid .. ' has not ended (JOB_STATE_' .. JOB_STATES[st] ..
+    '): only a failed or cancelled job can be requeued')
+end
+for i = cur, nxt - 1 do
+  local t = tid(jid, i)
+  local k = tkey(t)
+  if tonumber(redis.call('HGET', k, 'state')) ~= SUCCEEDED then
+    redis.call('HSET', k, 'state', QUEUED, 'worker', '', 'retry', '', 'failures', 0, 'expiries', 0)
+    redis.call('ZREM', DELAYED, t)
+    redis.call('ZADD', qkey(jid, phase), i, tostring(i))
+  end
+end
+redis.call('HSET', jk, 'state', JQUEUED, 'error', '', 'fkind', 0, 'update', NOW_S)
+redis.call('HDEL', jk, 'end')
+redis.call('ZREM', ENDED, jid)
+place(jid)
+if ft == '' then ft = nil end
+return ok(1, 1, jid, ft)
+`)
+
+// deleteScript: ARGV[3] job id. It cancels the job if it has not ended and dooms it (see
+// purgeScript).
+var deleteScript = newScript(`
+local jid = ARGV[3]
+local e = unknown(jid)
+if e then return e end
+local changed = 0
+if not ended(tonumber(redis.call('HGET', jkey(jid), 'state'))) then
+  endjob(jid, JCANCELLED, '', 0)
+  changed = 1
+end
+doom(jid)
+return ok(changed, 0, jid, nil)
+`)
+
 // purgeScript: ARGV[3] ended-before (µs), [4] abandoned-before (µs), [5] budget. It marks
 // for deletion (doomed: no read sees the job from then on, its request id is forgotten)
 // up to 16 jobs that ended before ARGV[3] and 16 half-made jobs not grown since ARGV[4],
@@ -679,16 +757,6 @@ return ok(0, unblocked, jid, nil)
 // finished}.
 var purgeScript = newScript(`
 local budget = tonumber(ARGV[5])
-local function doom(jid)
-  local jk = jkey(jid)
-  local h = redis.call('HMGET', jk, 'req', 'ntasks', 'stop')
-  redis.call('ZREM', JOBS, jid)
-  redis.call('ZREM', ENDED, jid)
-  redis.call('ZREM', PENDING, jid)
-  if h[1] and h[1] ~= '' and redis.call('HGET', REQUESTS, h[1]) == jid then redis.call('HDEL', REQUESTS, h[1]) end
-  redis.call('HSET', jk, 'doomed', math.max(tonumber(h[2] or '0'), tonumber(h[3] or '0')))
-  redis.call('ZADD', DOOMED, NOW_S, jid)
-end
 for _, jid in ipairs(redis.call('ZRANGEBYSCORE', ENDED, '-inf', '(' .. ARGV[3], 'LIMIT', 0, 16)) do doom(jid) end
 for _, jid in ipairs(redis.call('ZRANGEBYSCORE', PENDING, '-inf', '(' .. ARGV[4], 'LIMIT', 0, 16)) do doom(jid) end
 local out = {0}

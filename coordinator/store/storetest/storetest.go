@@ -42,14 +42,19 @@ type fixture struct {
 	clock *clock.Fake
 	opts  store.Options // as the store got them, defaults filled in
 	s     store.Store
+	// newStore made s: fresh makes another store for a subtest.
+	newStore NewStoreFunc
 }
+
+// fresh is a fixture of an empty store of the same kind, for subtest t.
+func (f *fixture) fresh(t *testing.T) *fixture { return setup(t, f.newStore) }
 
 func setup(t *testing.T, newStore NewStoreFunc) *fixture {
 	t.Helper()
 	clk := clock.NewFake(start)
 	opts := store.Options{Clock: clk, LeaseDuration: leaseDuration, MaxAttempts: maxAttempts,
 		MaxExpiries: maxExpiries, BlockAfterFailures: blockAfter, StuckTimeout: stuckTimeout}.WithDefaults()
-	return &fixture{t: t, ctx: context.Background(), clock: clk, opts: opts, s: newStore(t, opts)}
+	return &fixture{t: t, ctx: context.Background(), clock: clk, opts: opts, s: newStore(t, opts), newStore: newStore}
 }
 
 // Run runs the whole suite against the implementation newStore makes.
@@ -101,6 +106,10 @@ func Run(t *testing.T, newStore NewStoreFunc) {
 		{"JobEveryGivenWorkerIsBlockedFromFailsWithTheLatestBlock", testFailBlockedJob},
 		{"PurgeDeletesEndedJobsWithTheirTasksAndRequestIDs", testPurgeDeletesEndedJobs},
 		{"PurgeGoesInBoundedSteps", testPurgeGoesInBoundedSteps},
+		{"RequeueReopensWhereTheJobStopped", testRequeueReopensWhereTheJobStopped},
+		{"RetryTaskQueuesItAndReopensTheJob", testRetryTaskQueuesItAndReopensTheJob},
+		{"ReopenRefusesJobsNotFailedOrCancelledAndTasksNotFailed", testReopenRefusals},
+		{"DeleteJobIsGoneAtOnceAndPurgedAfter", testDeleteJobIsGoneAtOnce},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) { tt.fn(setup(t, newStore)) })

@@ -2935,6 +2935,280 @@ func (x *CancelJobResponse) GetJob() *Job {
 	return nil
 }
 
+type RequeueJobRequest struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	JobId         string                 `protobuf:"bytes,1,opt,name=job_id,json=jobId,proto3" json:"job_id,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RequeueJobRequest) Reset() {
+	*x = RequeueJobRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RequeueJobRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RequeueJobRequest) ProtoMessage() {}
+
+func (x *RequeueJobRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RequeueJobRequest.ProtoReflect.Descriptor instead.
+func (*RequeueJobRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{37}
+}
+
+func (x *RequeueJobRequest) GetJobId() string {
+	if x != nil {
+		return x.JobId
+	}
+	return ""
+}
+
+type RequeueJobResponse struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	Job           *Job                   `protobuf:"bytes,1,opt,name=job,proto3" json:"job,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RequeueJobResponse) Reset() {
+	*x = RequeueJobResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[38]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RequeueJobResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RequeueJobResponse) ProtoMessage() {}
+
+func (x *RequeueJobResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[38]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RequeueJobResponse.ProtoReflect.Descriptor instead.
+func (*RequeueJobResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{38}
+}
+
+func (x *RequeueJobResponse) GetJob() *Job {
+	if x != nil {
+		return x.Job
+	}
+	return nil
+}
+
+type RetryTaskRequest struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	TaskId        string                 `protobuf:"bytes,1,opt,name=task_id,json=taskId,proto3" json:"task_id,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RetryTaskRequest) Reset() {
+	*x = RetryTaskRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[39]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RetryTaskRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RetryTaskRequest) ProtoMessage() {}
+
+func (x *RetryTaskRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[39]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RetryTaskRequest.ProtoReflect.Descriptor instead.
+func (*RetryTaskRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{39}
+}
+
+func (x *RetryTaskRequest) GetTaskId() string {
+	if x != nil {
+		return x.TaskId
+	}
+	return ""
+}
+
+type RetryTaskResponse struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Job   *Job                   `protobuf:"bytes,1,opt,name=job,proto3" json:"job,omitempty"`
+	// The task, queued again.
+	Task          *Task `protobuf:"bytes,2,opt,name=task,proto3" json:"task,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *RetryTaskResponse) Reset() {
+	*x = RetryTaskResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[40]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *RetryTaskResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*RetryTaskResponse) ProtoMessage() {}
+
+func (x *RetryTaskResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[40]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use RetryTaskResponse.ProtoReflect.Descriptor instead.
+func (*RetryTaskResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{40}
+}
+
+func (x *RetryTaskResponse) GetJob() *Job {
+	if x != nil {
+		return x.Job
+	}
+	return nil
+}
+
+func (x *RetryTaskResponse) GetTask() *Task {
+	if x != nil {
+		return x.Task
+	}
+	return nil
+}
+
+type DeleteJobRequest struct {
+	state         protoimpl.MessageState `protogen:"open.v1"`
+	JobId         string                 `protobuf:"bytes,1,opt,name=job_id,json=jobId,proto3" json:"job_id,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *DeleteJobRequest) Reset() {
+	*x = DeleteJobRequest{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[41]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *DeleteJobRequest) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*DeleteJobRequest) ProtoMessage() {}
+
+func (x *DeleteJobRequest) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[41]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use DeleteJobRequest.ProtoReflect.Descriptor instead.
+func (*DeleteJobRequest) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{41}
+}
+
+func (x *DeleteJobRequest) GetJobId() string {
+	if x != nil {
+		return x.JobId
+	}
+	return ""
+}
+
+type DeleteJobResponse struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// The job as it was deleted (CANCELLED if it had not ended).
+	Job           *Job `protobuf:"bytes,1,opt,name=job,proto3" json:"job,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *DeleteJobResponse) Reset() {
+	*x = DeleteJobResponse{}
+	mi := &file_renderfarm_v1_job_proto_msgTypes[42]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *DeleteJobResponse) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*DeleteJobResponse) ProtoMessage() {}
+
+func (x *DeleteJobResponse) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_job_proto_msgTypes[42]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use DeleteJobResponse.ProtoReflect.Descriptor instead.
+func (*DeleteJobResponse) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{42}
+}
+
+func (x *DeleteJobResponse) GetJob() *Job {
+	if x != nil {
+		return x.Job
+	}
+	return nil
+}
+
 type WatchJobRequest struct {
 	state         protoimpl.MessageState `protogen:"open.v1"`
 	JobId         string                 `protobuf:"bytes,1,opt,name=job_id,json=jobId,proto3" json:"job_id,omitempty"`
@@ -2944,7 +3218,7 @@ type WatchJobRequest struct {
 
 func (x *WatchJobRequest) Reset() {
 	*x = WatchJobRequest{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[43]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2956,7 +3230,7 @@ func (x *WatchJobRequest) String() string {
 func (*WatchJobRequest) ProtoMessage() {}
 
 func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[37]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[43]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2969,7 +3243,7 @@ func (x *WatchJobRequest) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobRequest.ProtoReflect.Descriptor instead.
 func (*WatchJobRequest) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{37}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{43}
 }
 
 func (x *WatchJobRequest) GetJobId() string {
@@ -2993,7 +3267,7 @@ type WatchJobResponse struct {
 
 func (x *WatchJobResponse) Reset() {
 	*x = WatchJobResponse{}
-	mi := &file_renderfarm_v1_job_proto_msgTypes[38]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[44]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3005,7 +3279,7 @@ func (x *WatchJobResponse) String() string {
 func (*WatchJobResponse) ProtoMessage() {}
 
 func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_job_proto_msgTypes[38]
+	mi := &file_renderfarm_v1_job_proto_msgTypes[44]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3018,7 +3292,7 @@ func (x *WatchJobResponse) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use WatchJobResponse.ProtoReflect.Descriptor instead.
 func (*WatchJobResponse) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{38}
+	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{44}
 }
 
 func (x *WatchJobResponse) GetKind() JobEventKind {
@@ -3267,6 +3541,19 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x10CancelJobRequest\x12\x15\n" +
 	"\x06job_id\x18\x01 \x01(\tR\x05jobId\"9\n" +
 	"\x11CancelJobResponse\x12$\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"*\n" +
+	"\x11RequeueJobRequest\x12\x15\n" +
+	"\x06job_id\x18\x01 \x01(\tR\x05jobId\":\n" +
+	"\x12RequeueJobResponse\x12$\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"+\n" +
+	"\x10RetryTaskRequest\x12\x17\n" +
+	"\atask_id\x18\x01 \x01(\tR\x06taskId\"b\n" +
+	"\x11RetryTaskResponse\x12$\n" +
+	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\x12'\n" +
+	"\x04task\x18\x02 \x01(\v2\x13.renderfarm.v1.TaskR\x04task\")\n" +
+	"\x10DeleteJobRequest\x12\x15\n" +
+	"\x06job_id\x18\x01 \x01(\tR\x05jobId\"9\n" +
+	"\x11DeleteJobResponse\x12$\n" +
 	"\x03job\x18\x01 \x01(\v2\x12.renderfarm.v1.JobR\x03job\"(\n" +
 	"\x0fWatchJobRequest\x12\x15\n" +
 	"\x06job_id\x18\x01 \x01(\tR\x05jobId\"\xc2\x01\n" +
@@ -3319,7 +3606,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x17JOB_EVENT_KIND_SNAPSHOT\x10\x01\x12 \n" +
 	"\x1cJOB_EVENT_KIND_STATE_CHANGED\x10\x02\x12\x1f\n" +
 	"\x1bJOB_EVENT_KIND_TASK_UPDATED\x10\x03\x12\x1e\n" +
-	"\x1aJOB_EVENT_KIND_JOB_UPDATED\x10\x042\xc0\x06\n" +
+	"\x1aJOB_EVENT_KIND_JOB_UPDATED\x10\x042\xb3\b\n" +
 	"\n" +
 	"JobService\x12N\n" +
 	"\tSubmitJob\x12\x1f.renderfarm.v1.SubmitJobRequest\x1a .renderfarm.v1.SubmitJobResponse\x12E\n" +
@@ -3330,7 +3617,11 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\tPlanScene\x12\x1f.renderfarm.v1.PlanSceneRequest\x1a .renderfarm.v1.PlanSceneResponse\x12M\n" +
 	"\bWatchJob\x12\x1e.renderfarm.v1.WatchJobRequest\x1a\x1f.renderfarm.v1.WatchJobResponse0\x01\x12]\n" +
 	"\x0eSetJobPriority\x12$.renderfarm.v1.SetJobPriorityRequest\x1a%.renderfarm.v1.SetJobPriorityResponse\x12Z\n" +
-	"\rUnblockWorker\x12#.renderfarm.v1.UnblockWorkerRequest\x1a$.renderfarm.v1.UnblockWorkerResponse\x12T\n" +
+	"\rUnblockWorker\x12#.renderfarm.v1.UnblockWorkerRequest\x1a$.renderfarm.v1.UnblockWorkerResponse\x12Q\n" +
+	"\n" +
+	"RequeueJob\x12 .renderfarm.v1.RequeueJobRequest\x1a!.renderfarm.v1.RequeueJobResponse\x12N\n" +
+	"\tRetryTask\x12\x1f.renderfarm.v1.RetryTaskRequest\x1a .renderfarm.v1.RetryTaskResponse\x12N\n" +
+	"\tDeleteJob\x12\x1f.renderfarm.v1.DeleteJobRequest\x1a .renderfarm.v1.DeleteJobResponse\x12T\n" +
 	"\vListWorkers\x12!.renderfarm.v1.ListWorkersRequest\x1a\".renderfarm.v1.ListWorkersResponse:T\n" +
 	"\n" +
 	"task_phase\x12\x1d.google.protobuf.FieldOptions\x18چ\x03 \x01(\x0e2\x14.renderfarm.v1.PhaseR\ttaskPhaseB-Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
@@ -3348,7 +3639,7 @@ func file_renderfarm_v1_job_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_job_proto_enumTypes = make([]protoimpl.EnumInfo, 6)
-var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 40)
+var file_renderfarm_v1_job_proto_msgTypes = make([]protoimpl.MessageInfo, 46)
 var file_renderfarm_v1_job_proto_goTypes = []any{
 	(JobState)(0),                     // 0: renderfarm.v1.JobState
 	(Phase)(0),                        // 1: renderfarm.v1.Phase
@@ -3393,33 +3684,39 @@ var file_renderfarm_v1_job_proto_goTypes = []any{
 	(*ListTasksResponse)(nil),         // 40: renderfarm.v1.ListTasksResponse
 	(*CancelJobRequest)(nil),          // 41: renderfarm.v1.CancelJobRequest
 	(*CancelJobResponse)(nil),         // 42: renderfarm.v1.CancelJobResponse
-	(*WatchJobRequest)(nil),           // 43: renderfarm.v1.WatchJobRequest
-	(*WatchJobResponse)(nil),          // 44: renderfarm.v1.WatchJobResponse
-	nil,                               // 45: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
-	(*timestamppb.Timestamp)(nil),     // 46: google.protobuf.Timestamp
-	(FailureKind)(0),                  // 47: renderfarm.v1.FailureKind
-	(*Scene)(nil),                     // 48: renderfarm.v1.Scene
-	(*descriptorpb.FieldOptions)(nil), // 49: google.protobuf.FieldOptions
+	(*RequeueJobRequest)(nil),         // 43: renderfarm.v1.RequeueJobRequest
+	(*RequeueJobResponse)(nil),        // 44: renderfarm.v1.RequeueJobResponse
+	(*RetryTaskRequest)(nil),          // 45: renderfarm.v1.RetryTaskRequest
+	(*RetryTaskResponse)(nil),         // 46: renderfarm.v1.RetryTaskResponse
+	(*DeleteJobRequest)(nil),          // 47: renderfarm.v1.DeleteJobRequest
+	(*DeleteJobResponse)(nil),         // 48: renderfarm.v1.DeleteJobResponse
+	(*WatchJobRequest)(nil),           // 49: renderfarm.v1.WatchJobRequest
+	(*WatchJobResponse)(nil),          // 50: renderfarm.v1.WatchJobResponse
+	nil,                               // 51: renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	(*timestamppb.Timestamp)(nil),     // 52: google.protobuf.Timestamp
+	(FailureKind)(0),                  // 53: renderfarm.v1.FailureKind
+	(*Scene)(nil),                     // 54: renderfarm.v1.Scene
+	(*descriptorpb.FieldOptions)(nil), // 55: google.protobuf.FieldOptions
 }
 var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	0,  // 0: renderfarm.v1.Job.state:type_name -> renderfarm.v1.JobState
-	46, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
-	46, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
-	46, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
+	52, // 1: renderfarm.v1.Job.create_time:type_name -> google.protobuf.Timestamp
+	52, // 2: renderfarm.v1.Job.update_time:type_name -> google.protobuf.Timestamp
+	52, // 3: renderfarm.v1.Job.end_time:type_name -> google.protobuf.Timestamp
 	12, // 4: renderfarm.v1.Job.phases:type_name -> renderfarm.v1.PhaseProgress
-	47, // 5: renderfarm.v1.Job.failure_kind:type_name -> renderfarm.v1.FailureKind
+	53, // 5: renderfarm.v1.Job.failure_kind:type_name -> renderfarm.v1.FailureKind
 	13, // 6: renderfarm.v1.Job.outputs:type_name -> renderfarm.v1.Artifact
 	8,  // 7: renderfarm.v1.Job.plan:type_name -> renderfarm.v1.Plan
 	10, // 8: renderfarm.v1.Job.rounds:type_name -> renderfarm.v1.RoundReport
 	7,  // 9: renderfarm.v1.Job.blocked_workers:type_name -> renderfarm.v1.BlockedWorker
-	46, // 10: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
+	52, // 10: renderfarm.v1.BlockedWorker.block_time:type_name -> google.protobuf.Timestamp
 	9,  // 11: renderfarm.v1.Plan.passes:type_name -> renderfarm.v1.PlannedPass
-	45, // 12: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
+	51, // 12: renderfarm.v1.RoundReport.layer_reference_rmse:type_name -> renderfarm.v1.RoundReport.LayerReferenceRmseEntry
 	11, // 13: renderfarm.v1.RoundReport.samples:type_name -> renderfarm.v1.SampleSpread
 	1,  // 14: renderfarm.v1.PhaseProgress.phase:type_name -> renderfarm.v1.Phase
 	1,  // 15: renderfarm.v1.Task.phase:type_name -> renderfarm.v1.Phase
 	2,  // 16: renderfarm.v1.Task.state:type_name -> renderfarm.v1.TaskState
-	47, // 17: renderfarm.v1.Task.failure_kind:type_name -> renderfarm.v1.FailureKind
+	53, // 17: renderfarm.v1.Task.failure_kind:type_name -> renderfarm.v1.FailureKind
 	16, // 18: renderfarm.v1.Task.render_tile:type_name -> renderfarm.v1.RenderTileSpec
 	22, // 19: renderfarm.v1.Task.composite:type_name -> renderfarm.v1.CompositeSpec
 	19, // 20: renderfarm.v1.Task.emit_photons:type_name -> renderfarm.v1.EmitPhotonsSpec
@@ -3428,7 +3725,7 @@ var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	18, // 23: renderfarm.v1.Task.merge_irradiance:type_name -> renderfarm.v1.MergeIrradianceSpec
 	13, // 24: renderfarm.v1.Task.outputs:type_name -> renderfarm.v1.Artifact
 	13, // 25: renderfarm.v1.Task.log:type_name -> renderfarm.v1.Artifact
-	46, // 26: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
+	52, // 26: renderfarm.v1.Task.retry_time:type_name -> google.protobuf.Timestamp
 	14, // 27: renderfarm.v1.RenderTileSpec.rect:type_name -> renderfarm.v1.PixelRect
 	13, // 28: renderfarm.v1.RenderTileSpec.photon_snapshot:type_name -> renderfarm.v1.Artifact
 	13, // 29: renderfarm.v1.RenderTileSpec.sample_map:type_name -> renderfarm.v1.Artifact
@@ -3445,52 +3742,62 @@ var file_renderfarm_v1_job_proto_depIdxs = []int32{
 	13, // 40: renderfarm.v1.CompositeSpec.sample_map:type_name -> renderfarm.v1.Artifact
 	14, // 41: renderfarm.v1.TileInput.rect:type_name -> renderfarm.v1.PixelRect
 	13, // 42: renderfarm.v1.TileInput.tile:type_name -> renderfarm.v1.Artifact
-	48, // 43: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
+	54, // 43: renderfarm.v1.SubmitJobRequest.scene:type_name -> renderfarm.v1.Scene
 	6,  // 44: renderfarm.v1.SubmitJobResponse.job:type_name -> renderfarm.v1.Job
 	6,  // 45: renderfarm.v1.SetJobPriorityResponse.job:type_name -> renderfarm.v1.Job
 	30, // 46: renderfarm.v1.ListWorkersResponse.workers:type_name -> renderfarm.v1.WorkerInfo
 	4,  // 47: renderfarm.v1.WorkerInfo.state:type_name -> renderfarm.v1.WorkerState
-	46, // 48: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
-	46, // 49: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
+	52, // 48: renderfarm.v1.WorkerInfo.register_time:type_name -> google.protobuf.Timestamp
+	52, // 49: renderfarm.v1.WorkerInfo.last_heartbeat:type_name -> google.protobuf.Timestamp
 	6,  // 50: renderfarm.v1.UnblockWorkerResponse.job:type_name -> renderfarm.v1.Job
-	48, // 51: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
+	54, // 51: renderfarm.v1.PlanSceneRequest.scene:type_name -> renderfarm.v1.Scene
 	8,  // 52: renderfarm.v1.PlanSceneResponse.plan:type_name -> renderfarm.v1.Plan
 	12, // 53: renderfarm.v1.PlanSceneResponse.phases:type_name -> renderfarm.v1.PhaseProgress
 	6,  // 54: renderfarm.v1.GetJobResponse.job:type_name -> renderfarm.v1.Job
 	6,  // 55: renderfarm.v1.ListJobsResponse.jobs:type_name -> renderfarm.v1.Job
 	15, // 56: renderfarm.v1.ListTasksResponse.tasks:type_name -> renderfarm.v1.Task
 	6,  // 57: renderfarm.v1.CancelJobResponse.job:type_name -> renderfarm.v1.Job
-	5,  // 58: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
-	46, // 59: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
-	6,  // 60: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
-	15, // 61: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
-	49, // 62: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
-	1,  // 63: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
-	24, // 64: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
-	35, // 65: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
-	37, // 66: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
-	39, // 67: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
-	41, // 68: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
-	33, // 69: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
-	43, // 70: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
-	26, // 71: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
-	31, // 72: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
-	28, // 73: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
-	25, // 74: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
-	36, // 75: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
-	38, // 76: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
-	40, // 77: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
-	42, // 78: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
-	34, // 79: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
-	44, // 80: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
-	27, // 81: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
-	32, // 82: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
-	29, // 83: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
-	74, // [74:84] is the sub-list for method output_type
-	64, // [64:74] is the sub-list for method input_type
-	63, // [63:64] is the sub-list for extension type_name
-	62, // [62:63] is the sub-list for extension extendee
-	0,  // [0:62] is the sub-list for field type_name
+	6,  // 58: renderfarm.v1.RequeueJobResponse.job:type_name -> renderfarm.v1.Job
+	6,  // 59: renderfarm.v1.RetryTaskResponse.job:type_name -> renderfarm.v1.Job
+	15, // 60: renderfarm.v1.RetryTaskResponse.task:type_name -> renderfarm.v1.Task
+	6,  // 61: renderfarm.v1.DeleteJobResponse.job:type_name -> renderfarm.v1.Job
+	5,  // 62: renderfarm.v1.WatchJobResponse.kind:type_name -> renderfarm.v1.JobEventKind
+	52, // 63: renderfarm.v1.WatchJobResponse.time:type_name -> google.protobuf.Timestamp
+	6,  // 64: renderfarm.v1.WatchJobResponse.job:type_name -> renderfarm.v1.Job
+	15, // 65: renderfarm.v1.WatchJobResponse.task:type_name -> renderfarm.v1.Task
+	55, // 66: renderfarm.v1.task_phase:extendee -> google.protobuf.FieldOptions
+	1,  // 67: renderfarm.v1.task_phase:type_name -> renderfarm.v1.Phase
+	24, // 68: renderfarm.v1.JobService.SubmitJob:input_type -> renderfarm.v1.SubmitJobRequest
+	35, // 69: renderfarm.v1.JobService.GetJob:input_type -> renderfarm.v1.GetJobRequest
+	37, // 70: renderfarm.v1.JobService.ListJobs:input_type -> renderfarm.v1.ListJobsRequest
+	39, // 71: renderfarm.v1.JobService.ListTasks:input_type -> renderfarm.v1.ListTasksRequest
+	41, // 72: renderfarm.v1.JobService.CancelJob:input_type -> renderfarm.v1.CancelJobRequest
+	33, // 73: renderfarm.v1.JobService.PlanScene:input_type -> renderfarm.v1.PlanSceneRequest
+	49, // 74: renderfarm.v1.JobService.WatchJob:input_type -> renderfarm.v1.WatchJobRequest
+	26, // 75: renderfarm.v1.JobService.SetJobPriority:input_type -> renderfarm.v1.SetJobPriorityRequest
+	31, // 76: renderfarm.v1.JobService.UnblockWorker:input_type -> renderfarm.v1.UnblockWorkerRequest
+	43, // 77: renderfarm.v1.JobService.RequeueJob:input_type -> renderfarm.v1.RequeueJobRequest
+	45, // 78: renderfarm.v1.JobService.RetryTask:input_type -> renderfarm.v1.RetryTaskRequest
+	47, // 79: renderfarm.v1.JobService.DeleteJob:input_type -> renderfarm.v1.DeleteJobRequest
+	28, // 80: renderfarm.v1.JobService.ListWorkers:input_type -> renderfarm.v1.ListWorkersRequest
+	25, // 81: renderfarm.v1.JobService.SubmitJob:output_type -> renderfarm.v1.SubmitJobResponse
+	36, // 82: renderfarm.v1.JobService.GetJob:output_type -> renderfarm.v1.GetJobResponse
+	38, // 83: renderfarm.v1.JobService.ListJobs:output_type -> renderfarm.v1.ListJobsResponse
+	40, // 84: renderfarm.v1.JobService.ListTasks:output_type -> renderfarm.v1.ListTasksResponse
+	42, // 85: renderfarm.v1.JobService.CancelJob:output_type -> renderfarm.v1.CancelJobResponse
+	34, // 86: renderfarm.v1.JobService.PlanScene:output_type -> renderfarm.v1.PlanSceneResponse
+	50, // 87: renderfarm.v1.JobService.WatchJob:output_type -> renderfarm.v1.WatchJobResponse
+	27, // 88: renderfarm.v1.JobService.SetJobPriority:output_type -> renderfarm.v1.SetJobPriorityResponse
+	32, // 89: renderfarm.v1.JobService.UnblockWorker:output_type -> renderfarm.v1.UnblockWorkerResponse
+	44, // 90: renderfarm.v1.JobService.RequeueJob:output_type -> renderfarm.v1.RequeueJobResponse
+	46, // 91: renderfarm.v1.JobService.RetryTask:output_type -> renderfarm.v1.RetryTaskResponse
+	48, // 92: renderfarm.v1.JobService.DeleteJob:output_type -> renderfarm.v1.DeleteJobResponse
+	29, // 93: renderfarm.v1.JobService.ListWorkers:output_type -> renderfarm.v1.ListWorkersResponse
+	81, // [81:94] is the sub-list for method output_type
+	68, // [68:81] is the sub-list for method input_type
+	67, // [67:68] is the sub-list for extension type_name
+	66, // [66:67] is the sub-list for extension extendee
+	0,  // [0:66] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_job_proto_init() }
@@ -3516,7 +3823,7 @@ func file_renderfarm_v1_job_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_job_proto_rawDesc), len(file_renderfarm_v1_job_proto_rawDesc)),
 			NumEnums:      6,
-			NumMessages:   40,
+			NumMessages:   46,
 			NumExtensions: 1,
 			NumServices:   1,
 		},

@@ -28,6 +28,9 @@ const (
 	JobService_WatchJob_FullMethodName       = "/renderfarm.v1.JobService/WatchJob"
 	JobService_SetJobPriority_FullMethodName = "/renderfarm.v1.JobService/SetJobPriority"
 	JobService_UnblockWorker_FullMethodName  = "/renderfarm.v1.JobService/UnblockWorker"
+	JobService_RequeueJob_FullMethodName     = "/renderfarm.v1.JobService/RequeueJob"
+	JobService_RetryTask_FullMethodName      = "/renderfarm.v1.JobService/RetryTask"
+	JobService_DeleteJob_FullMethodName      = "/renderfarm.v1.JobService/DeleteJob"
 	JobService_ListWorkers_FullMethodName    = "/renderfarm.v1.JobService/ListWorkers"
 )
 
@@ -68,6 +71,22 @@ type JobServiceClient interface {
 	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
 	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
 	UnblockWorker(ctx context.Context, in *UnblockWorkerRequest, opts ...grpc.CallOption) (*UnblockWorkerResponse, error)
+	// Reopens a job that ended FAILED or CANCELLED where it stopped: its tasks that did not
+	// succeed are queued again (those of the stage it stopped in) or wait for their stage
+	// (later stages), with their failure and expiry counts and retry_time reset; the job's
+	// error and failure_kind are cleared and it is QUEUED again (its blocklist stands:
+	// UnblockWorker). Returns NOT_FOUND for an unknown job and FAILED_PRECONDITION for one
+	// that succeeded or has not ended.
+	RequeueJob(ctx context.Context, in *RequeueJobRequest, opts ...grpc.CallOption) (*RequeueJobResponse, error)
+	// Queues a FAILED task again and reopens its job as RequeueJob does. Returns NOT_FOUND
+	// for an unknown task and FAILED_PRECONDITION for a task that has not failed.
+	RetryTask(ctx context.Context, in *RetryTaskRequest, opts ...grpc.CallOption) (*RetryTaskResponse, error)
+	// Deletes a job: cancels it if it has not ended, then removes it with its tasks and
+	// round reports, at once for every read (GetJob answers NOT_FOUND, ListJobs leaves it
+	// out). Its blobs (outputs, and the scene's if no other job names it) are then
+	// unreferenced, and the coordinator's blob collection deletes them after its grace
+	// period (docs/limits.md, "Retention"). Returns NOT_FOUND for an unknown job.
+	DeleteJob(ctx context.Context, in *DeleteJobRequest, opts ...grpc.CallOption) (*DeleteJobResponse, error)
 	// Lists the workers this coordinator knows (registered, not unregistered and heard
 	// from lately: a worker silent for four lease durations is forgotten), for
 	// monitoring: what each is doing and how it has fared. Paged like ListJobs.
@@ -181,6 +200,36 @@ func (c *jobServiceClient) UnblockWorker(ctx context.Context, in *UnblockWorkerR
 	return out, nil
 }
 
+func (c *jobServiceClient) RequeueJob(ctx context.Context, in *RequeueJobRequest, opts ...grpc.CallOption) (*RequeueJobResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(RequeueJobResponse)
+	err := c.cc.Invoke(ctx, JobService_RequeueJob_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
+func (c *jobServiceClient) RetryTask(ctx context.Context, in *RetryTaskRequest, opts ...grpc.CallOption) (*RetryTaskResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(RetryTaskResponse)
+	err := c.cc.Invoke(ctx, JobService_RetryTask_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
+func (c *jobServiceClient) DeleteJob(ctx context.Context, in *DeleteJobRequest, opts ...grpc.CallOption) (*DeleteJobResponse, error) {
+	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
+	out := new(DeleteJobResponse)
+	err := c.cc.Invoke(ctx, JobService_DeleteJob_FullMethodName, in, out, cOpts...)
+	if err != nil {
+		return nil, err
+	}
+	return out, nil
+}
+
 func (c *jobServiceClient) ListWorkers(ctx context.Context, in *ListWorkersRequest, opts ...grpc.CallOption) (*ListWorkersResponse, error) {
 	cOpts := append([]grpc.CallOption{grpc.StaticMethod()}, opts...)
 	out := new(ListWorkersResponse)
@@ -228,6 +277,22 @@ type JobServiceServer interface {
 	// Takes a worker (or, with worker_id empty, every worker) off a job's blocklist, so
 	// that it may lease the job's tasks again. Returns NOT_FOUND for an unknown job.
 	UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error)
+	// Reopens a job that ended FAILED or CANCELLED where it stopped: its tasks that did not
+	// succeed are queued again (those of the stage it stopped in) or wait for their stage
+	// (later stages), with their failure and expiry counts and retry_time reset; the job's
+	// error and failure_kind are cleared and it is QUEUED again (its blocklist stands:
+	// UnblockWorker). Returns NOT_FOUND for an unknown job and FAILED_PRECONDITION for one
+	// that succeeded or has not ended.
+	RequeueJob(context.Context, *RequeueJobRequest) (*RequeueJobResponse, error)
+	// Queues a FAILED task again and reopens its job as RequeueJob does. Returns NOT_FOUND
+	// for an unknown task and FAILED_PRECONDITION for a task that has not failed.
+	RetryTask(context.Context, *RetryTaskRequest) (*RetryTaskResponse, error)
+	// Deletes a job: cancels it if it has not ended, then removes it with its tasks and
+	// round reports, at once for every read (GetJob answers NOT_FOUND, ListJobs leaves it
+	// out). Its blobs (outputs, and the scene's if no other job names it) are then
+	// unreferenced, and the coordinator's blob collection deletes them after its grace
+	// period (docs/limits.md, "Retention"). Returns NOT_FOUND for an unknown job.
+	DeleteJob(context.Context, *DeleteJobRequest) (*DeleteJobResponse, error)
 	// Lists the workers this coordinator knows (registered, not unregistered and heard
 	// from lately: a worker silent for four lease durations is forgotten), for
 	// monitoring: what each is doing and how it has fared. Paged like ListJobs.
@@ -268,6 +333,15 @@ func (UnimplementedJobServiceServer) SetJobPriority(context.Context, *SetJobPrio
 }
 func (UnimplementedJobServiceServer) UnblockWorker(context.Context, *UnblockWorkerRequest) (*UnblockWorkerResponse, error) {
 	return nil, status.Error(codes.Unimplemented, "method UnblockWorker not implemented")
+}
+func (UnimplementedJobServiceServer) RequeueJob(context.Context, *RequeueJobRequest) (*RequeueJobResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method RequeueJob not implemented")
+}
+func (UnimplementedJobServiceServer) RetryTask(context.Context, *RetryTaskRequest) (*RetryTaskResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method RetryTask not implemented")
+}
+func (UnimplementedJobServiceServer) DeleteJob(context.Context, *DeleteJobRequest) (*DeleteJobResponse, error) {
+	return nil, status.Error(codes.Unimplemented, "method DeleteJob not implemented")
 }
 func (UnimplementedJobServiceServer) ListWorkers(context.Context, *ListWorkersRequest) (*ListWorkersResponse, error) {
 	return nil, status.Error(codes.Unimplemented, "method ListWorkers not implemented")
@@ -448,6 +522,60 @@ func _JobService_UnblockWorker_Handler(srv interface{}, ctx context.Context, dec
 	return interceptor(ctx, in, info, handler)
 }
 
+func _JobService_RequeueJob_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(RequeueJobRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).RequeueJob(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_RequeueJob_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).RequeueJob(ctx, req.(*RequeueJobRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
+func _JobService_RetryTask_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(RetryTaskRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).RetryTask(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_RetryTask_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).RetryTask(ctx, req.(*RetryTaskRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
+func _JobService_DeleteJob_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
+	in := new(DeleteJobRequest)
+	if err := dec(in); err != nil {
+		return nil, err
+	}
+	if interceptor == nil {
+		return srv.(JobServiceServer).DeleteJob(ctx, in)
+	}
+	info := &grpc.UnaryServerInfo{
+		Server:     srv,
+		FullMethod: JobService_DeleteJob_FullMethodName,
+	}
+	handler := func(ctx context.Context, req interface{}) (interface{}, error) {
+		return srv.(JobServiceServer).DeleteJob(ctx, req.(*DeleteJobRequest))
+	}
+	return interceptor(ctx, in, info, handler)
+}
+
 func _JobService_ListWorkers_Handler(srv interface{}, ctx context.Context, dec func(interface{}) error, interceptor grpc.UnaryServerInterceptor) (interface{}, error) {
 	in := new(ListWorkersRequest)
 	if err := dec(in); err != nil {
@@ -504,6 +632,18 @@ var JobService_ServiceDesc = grpc.ServiceDesc{
 		{
 			MethodName: "UnblockWorker",
 			Handler:    _JobService_UnblockWorker_Handler,
+		},
+		{
+			MethodName: "RequeueJob",
+			Handler:    _JobService_RequeueJob_Handler,
+		},
+		{
+			MethodName: "RetryTask",
+			Handler:    _JobService_RetryTask_Handler,
+		},
+		{
+			MethodName: "DeleteJob",
+			Handler:    _JobService_DeleteJob_Handler,
 		},
 		{
 			MethodName: "ListWorkers",

@@ -15,6 +15,7 @@
 //   FAILED_REASON   the error that worker reported
 //   WORKER_FAILED_JOB_ID, WORKER_FAILED_REASON  a job a real farm-worker failed (its
 //                   composite, as bad input), and the reason it reported
+//   REQUEUE_JOB_ID  another job failed so, to requeue (FAILED_JOB_ID's failed task is retried)
 //   BLOCKED_JOB_ID, BLOCKED_WORKER_ID  a long low-priority job and a worker blocked from it
 
 import fs from 'node:fs';
@@ -43,8 +44,9 @@ const workerFailedJob = env('WORKER_FAILED_JOB_ID');
 const workerFailedReason = env('WORKER_FAILED_REASON');
 const blockedJob = env('BLOCKED_JOB_ID'); // submitted before the test, a worker blocked from it
 const blockedWorker = env('BLOCKED_WORKER_ID');
+const requeueJobId = env('REQUEUE_JOB_ID');
 // The jobs there are before the test submits any.
-const jobsBefore = [failedJobId, workerFailedJob, blockedJob].sort();
+const jobsBefore = [failedJobId, workerFailedJob, requeueJobId, blockedJob].sort();
 const sameJobs = (ids, want) => JSON.stringify([...ids].sort()) === JSON.stringify(want);
 const failedReason = env('FAILED_REASON');
 
@@ -687,6 +689,96 @@ try {
     } finally {
       jobPage.off('response', onResponse);
     }
+  });
+
+  // (k) Retry and requeue, each from one of two pages open on the job: the job runs again
+  // and succeeds, and both pages follow it (an ended job's page watches the job list).
+  const bothSucceed = async (id) => {
+    for (const p of [list, jobPage]) {
+      await waitFor(`job-state to say succeeded on ${p.url()}`, 60000, async () =>
+        /succeeded/i.test(await p.locator(tid('job-state')).first().innerText()),
+      () => p.locator(tid('job-state')).first().innerText());
+      check(await p.locator(tid('failure-banner')).isHidden(), `the failure banner still shows on ${p.url()}`);
+    }
+    const r = await list.request.get(api(`/api/jobs/${id}`));
+    const state = norm((await r.json())?.job?.state);
+    check(state === 'succeeded', `GET /api/jobs/${id} says ${state}`);
+  };
+  await step('retry-button on the failed task queues it again: the job succeeds on both open pages', async () => {
+    for (const p of [list, jobPage]) {
+      await p.goto(`${baseURL}#/jobs/${failedJobId}`);
+      await waitFor('one retry-button, on the failed task', 15000, async () => (await p.locator(tid('retry-button')).count()) === 1,
+        () => p.locator(tid('task-row')).evaluateAll((rs) => rs.map((r) => r.dataset.state)));
+    }
+    await list.locator(tid('retry-button')).click();
+    await bothSucceed(failedJobId);
+    check((await jobPage.locator(tid('retry-button')).count()) === 0, 'a retry-button is left after the job succeeded');
+  });
+  await step('requeue-button on a failed job reopens it: it succeeds on both open pages', async () => {
+    for (const p of [list, jobPage]) {
+      await p.goto(`${baseURL}#/jobs/${requeueJobId}`);
+      await p.locator(tid('requeue-button')).waitFor({ state: 'visible', timeout: 15000 });
+    }
+    await jobPage.locator(tid('requeue-button')).click();
+    await bothSucceed(requeueJobId);
+    check(await list.locator(tid('requeue-button')).isHidden(), 'the requeue-button still shows on a succeeded job');
+  });
+
+  // (l) Delete, from a job page, with two other pages open: the job list and the job. A
+  // dismissed confirm changes nothing; a confirmed one removes the job everywhere.
+  const listRow = (id) => list.locator(`${tid('job-row')}[data-job-id="${id}"]`);
+  const third = await newPage();
+  await step('delete-button asks first: dismissed, the job stays', async () => {
+    await list.goto(baseURL + '#/');
+    await jobPage.goto(`${baseURL}#/jobs/${longId}`);
+    await third.goto(`${baseURL}#/jobs/${longId}`);
+    await waitFor('the long job in the list', 15000, () => listRow(longId).count());
+    await third.locator(tid('delete-button')).waitFor({ state: 'visible', timeout: 15000 });
+    dismissDialogs = true;
+    const before = dialogs.length;
+    await jobPage.locator(tid('delete-button')).click({ timeout: 15000 });
+    await waitFor('a confirm dialog', 5000, () => dialogs.length > before);
+    dismissDialogs = false;
+    const d = dialogs[dialogs.length - 1];
+    check(d.type === 'confirm' && d.message.includes('Delete') && d.message.includes(longScene.name), `dialog ${JSON.stringify(d)}: want a confirm naming ${longScene.name}`);
+    await sleep(1500);
+    const r = await list.request.get(api(`/api/jobs/${longId}`));
+    check(r.status() === 200, `after a dismissed delete, GET /api/jobs/${longId} answered ${r.status()}`);
+    check((await listRow(longId).count()) === 1, 'after a dismissed delete the job left the list');
+  });
+  await step('delete-button deletes once confirmed: the job vanishes from every open page and GET /api/jobs', async () => {
+    const before = dialogs.length;
+    await jobPage.locator(tid('delete-button')).click({ timeout: 15000 });
+    check(dialogs.length > before, 'the delete did not ask first');
+    await waitFor('the deleting page back on the job list', 10000, () => new URL(jobPage.url()).hash === '#/', () => jobPage.url());
+    await waitFor('the job gone from the list on both list pages', 10000, async () =>
+      (await listRow(longId).count()) === 0 &&
+      (await jobPage.locator(`${tid('job-row')}[data-job-id="${longId}"]`).count()) === 0 &&
+      (await jobPage.locator(tid('job-row')).count()) > 0);
+    const said = await waitFor('the third page to say the job was deleted', 10000, async () => {
+      const el = third.locator(tid('job-missing'));
+      return (await el.count()) && /deleted/.test(await el.innerText()) ? el.innerText() : null;
+    });
+    console.log(`             third page: ${said}`);
+    const ids = (await jobs(list)).map((j) => j.id);
+    check(!ids.includes(longId), `GET /api/jobs still lists ${longId}`);
+    const r = await list.request.get(api(`/api/jobs/${longId}`));
+    check(r.status() === 404, `GET /api/jobs/${longId} after the delete answered ${r.status()}`);
+  });
+  await step('a running job deleted elsewhere: its open page says it was deleted', async () => {
+    const r = await list.request.post(api('/api/jobs'), { data: JSON.stringify(longScene), headers: { 'content-type': 'application/json' } });
+    check(r.status() === 200, `POST /api/jobs answered ${r.status()}: ${await r.text()}`);
+    const { job } = await r.json();
+    await third.goto(`${baseURL}#/jobs/${job.id}`);
+    await waitFor('the job running on its page', 30000, async () =>
+      /running/i.test(await third.locator(tid('job-state')).first().innerText()));
+    const d = await list.request.post(api(`/api/jobs/${job.id}/delete`), { data: {} });
+    check(d.status() === 200 && norm((await d.json())?.job?.state) === 'cancelled', `POST delete of the running job answered ${d.status()}`);
+    await waitFor('its page to say the job was deleted', 10000, async () => {
+      const el = third.locator(tid('job-missing'));
+      return (await el.count()) && /deleted/.test(await el.innerText());
+    }, () => third.locator(tid('job-state')).first().innerText());
+    await waitFor('every worker idle', 10000, async () => (await workers(list)).every((w) => norm(w.state) === 'idle'), () => workers(list));
   });
 
   console.log(`${clock()}  PASS dashboard.spec (screenshot: ${shot})`);

@@ -99,6 +99,12 @@ export const api = {
     cancel: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/cancel`, {}),
     /** Takes the worker off the job's blocklist, so it can lease the job's tasks again. */
     unblock: (id, workerId) => request("POST", `api/jobs/${encodeURIComponent(id)}/unblock`, { workerId }),
+    /** Reopens a failed or cancelled job where it stopped. */
+    requeue: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/requeue`, {}),
+    /** Queues a failed task of the job again, reopening the job. */
+    retry: (id, taskId) => request("POST", `api/jobs/${encodeURIComponent(id)}/tasks/${encodeURIComponent(taskId)}/retry`, {}),
+    /** Deletes the job (cancelling it if it runs); answers the job as it was deleted. */
+    deleteJob: (id) => request("POST", `api/jobs/${encodeURIComponent(id)}/delete`, {}),
     setPriority: (id, priority) => request("POST", `api/jobs/${encodeURIComponent(id)}/priority`, { priority }),
 };
 /** The URL of a content-addressed blob (cacheable forever). */

@@ -3,7 +3,7 @@
 //
 // Paths are relative ("api/jobs"), so the dashboard also works mounted under a prefix.
 
-import type { Job, Session, TaskPage, WorkerPage } from "./types.js";
+import type { Job, Session, Task, TaskPage, WorkerPage } from "./types.js";
 
 /** An API answer other than 2xx, with the server's {"error": "..."} message. */
 export class ApiError extends Error {
@@ -115,6 +115,13 @@ export const api = {
   /** Takes the worker off the job's blocklist, so it can lease the job's tasks again. */
   unblock: (id: string, workerId: string) =>
     request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/unblock`, { workerId }),
+  /** Reopens a failed or cancelled job where it stopped. */
+  requeue: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/requeue`, {}),
+  /** Queues a failed task of the job again, reopening the job. */
+  retry: (id: string, taskId: string) =>
+    request<{ job: Job; task: Task }>("POST", `api/jobs/${encodeURIComponent(id)}/tasks/${encodeURIComponent(taskId)}/retry`, {}),
+  /** Deletes the job (cancelling it if it runs); answers the job as it was deleted. */
+  deleteJob: (id: string) => request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/delete`, {}),
   setPriority: (id: string, priority: number) =>
     request<{ job: Job }>("POST", `api/jobs/${encodeURIComponent(id)}/priority`, { priority }),
 };

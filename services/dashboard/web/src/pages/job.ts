@@ -1,9 +1,11 @@
-// One job (#/jobs/{id}): header and actions (priority, cancel), progress figures, the live
+// One job (#/jobs/{id}): header and actions (priority, cancel, requeue, delete; retry on a
+// failed task's row), progress figures, the live
 // tile mosaic, phases, plan, error chart, final image (components/viewer.ts), blocked workers and the task table,
 // live from /api/jobs/{id}/events. The server sends the job with the first page of its
 // tasks; the page reads the next pages itself (/api/jobs/{id}/tasks), by itself up to
 // AUTO_LOAD_TASKS and then a page per "Show more", so a job of 95,000 tasks is never
-// read whole at once.
+// read whole at once. Once the job has ended the page follows it on /api/events (the job
+// list): a requeue or retry from anywhere reopens its stream, and a delete says so.
 
 import { ApiError, LiveStream, api, blobUrl } from "../api.js";
 import { ErrorChart } from "../components/chart.js";
@@ -102,6 +104,8 @@ export function jobPage(id: string): Page {
     priorityButton,
   );
   const cancelButton = h("button", { type: "button", class: "button button--danger", "data-testid": "cancel-button" }, "Cancel job");
+  const requeueButton = h("button", { type: "button", class: "button", hidden: true, "data-testid": "requeue-button" }, "Requeue");
+  const deleteButton = h("button", { type: "button", class: "button button--danger", "data-testid": "delete-button" }, "Delete job");
   const notice = h("div", { class: "notice-area" });
   // Why a failed job failed, at the top of the page: the failure kind's label and the error.
   const failureKind = h("strong", { class: "banner__kind", "data-testid": "failure-kind" });
@@ -152,6 +156,46 @@ export function jobPage(id: string): Page {
       cancelButton.disabled = job ? jobEnded(job) : false;
     }
   });
+
+  requeueButton.addEventListener("click", async () => {
+    requeueButton.disabled = true;
+    try {
+      reopened((await api.requeue(id)).job);
+      showNotice("success", "The job was requeued: its unfinished tasks are queued again.");
+    } catch (err) {
+      showNotice("error", `Could not requeue the job: ${errorMessage(err)}`);
+    } finally {
+      requeueButton.disabled = false;
+    }
+  });
+  deleteButton.addEventListener("click", async () => {
+    const name = job?.displayName || id;
+    const running = job && !jobEnded(job) ? " It is cancelled first." : "";
+    if (!window.confirm(`Delete the job ${name}? It and its tasks are removed for good.${running}`)) return;
+    deleteButton.disabled = true;
+    try {
+      await api.deleteJob(id);
+      deleted();
+      location.hash = "#/";
+    } catch (err) {
+      showNotice("error", `Could not delete the job: ${errorMessage(err)}`);
+      deleteButton.disabled = false;
+    }
+  });
+
+  /** Queues a failed task again (its job reopens with it). */
+  async function retryTask(taskId: string, button: HTMLButtonElement): Promise<void> {
+    button.disabled = true;
+    try {
+      const res = await api.retry(id, taskId);
+      upsertTask(res.task);
+      reopened(res.job);
+      showNotice("success", `Task ${taskId} was queued again.`);
+    } catch (err) {
+      showNotice("error", `Could not retry ${taskId}: ${errorMessage(err)}`);
+      button.disabled = false;
+    }
+  }
 
   /** Unblocks one worker, after asking: its failures on this job are forgiven. */
   function unblockButton(workerId: string): HTMLElement {
@@ -258,6 +302,19 @@ export function jobPage(id: string): Page {
         },
       },
       { header: "Log", sig: logSig, render: logButtons },
+      {
+        header: "",
+        sig: (t) => (t.state === "TASK_STATE_FAILED" ? t.id : ""),
+        render: (t, td) => {
+          if (t.state !== "TASK_STATE_FAILED") {
+            td.replaceChildren();
+            return;
+          }
+          const button = h("button", { type: "button", class: "button button--small", "data-testid": "retry-button" }, "Retry");
+          button.addEventListener("click", () => void retryTask(t.id, button));
+          td.replaceChildren(button);
+        },
+      },
     ],
   });
   const taskLog = new TaskLogPanel();
@@ -314,7 +371,7 @@ export function jobPage(id: string): Page {
       "div",
       { class: "page__header" },
       h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine),
-      h("div", { class: "page__actions" }, priorityForm, cancelButton),
+      h("div", { class: "page__actions" }, priorityForm, cancelButton, requeueButton, deleteButton),
     ),
     failureBanner,
     notice,
@@ -407,6 +464,8 @@ export function jobPage(id: string): Page {
     priorityButton.disabled = ended;
     cancelButton.disabled = ended;
     setAttr(cancelButton, "title", ended ? "The job has ended" : null);
+    cancelButton.hidden = ended;
+    requeueButton.hidden = !ended || j.state === "JOB_STATE_SUCCEEDED";
 
     const failed = j.state === "JOB_STATE_FAILED";
     failureBanner.hidden = !failed;
@@ -549,23 +608,36 @@ export function jobPage(id: string): Page {
     render.schedule();
   });
 
-  const stream = new LiveStream(`api/jobs/${encodeURIComponent(id)}/events`, {
-    events: {
-      job: (data: { job: Job } & TaskPage) => {
-        firstPage(data);
-        now = Date.now();
-        applyJob(data.job);
-      },
-      task: (data: { job: Job; task: Task }) => {
-        upsertTask(data.task);
-        now = Date.now();
-        applyJob(data.job);
-      },
-      end: (data: { job: Job }) => {
-        stream.close();
-        now = Date.now();
-        applyJob(data.job);
-        // The last task changes may have been coalesced away: read the final tasks once.
+  /** The page says the job is gone (or was never there, or is not ours). */
+  function gone(heading: string, ...why: (Node | string)[]): void {
+    stream?.close();
+    feed?.close();
+    body.hidden = true;
+    missing.hidden = false;
+    failureBanner.hidden = true;
+    setText(title, heading);
+    stateBadge.hidden = true;
+    priorityForm.hidden = true;
+    cancelButton.hidden = true;
+    requeueButton.hidden = true;
+    deleteButton.hidden = true;
+    missing.replaceChildren(h("p", { "data-testid": "job-missing" }, ...why), h("p", null, h("a", { href: "#/" }, "Back to the jobs")));
+  }
+
+  function deleted(): void {
+    gone("Job deleted", `The job ${job?.displayName || id} (${id}) was deleted.`);
+  }
+
+  /** The job ended: follow the job list for a requeue, a retry or a delete made anywhere. */
+  function followEnded(): void {
+    feed?.close();
+    // The list is polled, so it may show a job that was reopened and ended again since
+    // (never running in between), or be older than what the page has: compare update times.
+    const seen = (jobs: Job[] | undefined) => {
+      const j = jobs?.find((x) => x.id === id);
+      if (!j) return false;
+      if (!jobEnded(j)) reopened(j);
+      else if (Date.parse(j.updateTime ?? "") > Date.parse(job?.updateTime ?? "")) {
         api.job(id).then(
           (res) => {
             firstPage(res);
@@ -573,22 +645,83 @@ export function jobPage(id: string): Page {
           },
           () => {},
         );
+      }
+      return true;
+    };
+    feed = new LiveStream("api/events", {
+      events: {
+        // The whole list: a job missing from it may have been deleted before the feed
+        // began (a delete cancels a running job first, which ended its stream): ask.
+        jobs: (data: { jobs?: Job[] }) => {
+          if (seen(data.jobs)) return;
+          api.job(id).then(
+            (res) => reopened(res.job),
+            (err) => {
+              if (err instanceof ApiError && err.status === 404) deleted();
+            },
+          );
+        },
+        "jobs-changed": (data: { jobs?: Job[]; removed?: string[] }) => {
+          if (data.removed?.includes(id)) deleted();
+          else seen(data.jobs);
+        },
       },
-    },
-    probe: () => api.job(id),
-    onFatal: (err) => {
-      body.hidden = true;
-      missing.hidden = false;
-      setText(title, err.status === 404 ? "Job not found" : "Not allowed");
-      stateBadge.hidden = true;
-      priorityForm.hidden = true;
-      cancelButton.hidden = true;
-      missing.replaceChildren(
-        h("p", null, err.status === 404 ? `There is no job ${id}.` : err.message),
-        h("p", null, h("a", { href: "#/" }, "Back to the jobs")),
-      );
-    },
-  });
+      probe: () => api.job(id),
+      onFatal: () => deleted(),
+    });
+  }
+
+  /** The job runs again (requeued, a task retried): watch its events anew. */
+  function reopened(j: Job): void {
+    applyJob(j);
+    if (jobEnded(j) || streaming) return;
+    feed?.close();
+    feed = null;
+    watch();
+  }
+
+  let stream: LiveStream | null = null;
+  let feed: LiveStream | null = null;
+  let streaming = false; // the job's own stream is open: the job has not ended
+  function watch(): void {
+    streaming = true;
+    stream = new LiveStream(`api/jobs/${encodeURIComponent(id)}/events`, {
+      events: {
+        job: (data: { job: Job } & TaskPage) => {
+          firstPage(data);
+          now = Date.now();
+          applyJob(data.job);
+        },
+        task: (data: { job: Job; task: Task }) => {
+          upsertTask(data.task);
+          now = Date.now();
+          applyJob(data.job);
+        },
+        end: (data: { job: Job }) => {
+          stream?.close();
+          streaming = false;
+          now = Date.now();
+          applyJob(data.job);
+          // The last task changes may have been coalesced away: read the final tasks once.
+          api.job(id).then(
+            (res) => {
+              firstPage(res);
+              applyJob(res.job);
+            },
+            () => {},
+          );
+          followEnded();
+        },
+      },
+      probe: () => api.job(id),
+      onFatal: (err) => {
+        streaming = false;
+        if (err.status === 404) gone("Job not found", `There is no job ${id}.`);
+        else gone("Not allowed", err.message);
+      },
+    });
+  }
+  watch();
 
   return {
     element,
@@ -598,7 +731,8 @@ export function jobPage(id: string): Page {
       if (job && !jobEnded(job)) render.schedule();
     },
     destroy() {
-      stream.close();
+      stream?.close();
+      feed?.close();
       stopNames();
       render.cancel();
     },
