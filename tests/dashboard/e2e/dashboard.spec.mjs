@@ -352,7 +352,7 @@ try {
   fs.rmSync(runningShot, { force: true }); // one from an earlier run must not count
   const samples = []; // {state, percent, painted}
   await step('watching the job run (list progress, job page mosaic)', () =>
-    waitFor('the job to end', 180000, async () => {
+    waitFor('the job to end', 300000, async () => {
       const state = await row.getAttribute('data-state', { timeout: 2000 });
       // The row's progress bar; the job page's if the row has none.
       const inRow = row.locator(tid('job-progress'));
