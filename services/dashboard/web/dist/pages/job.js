@@ -492,9 +492,16 @@ export function jobPage(id) {
             const j = jobs?.find((x) => x.id === id);
             if (!j)
                 return false;
+            const t = Date.parse(j.updateTime ?? "");
+            const mine = Date.parse(job?.updateTime ?? "");
+            // Older than the page's job: the list was polled before the job ended (a running
+            // job deleted at once still shows running there). Not newer (equal to the ms): its
+            // own stream tells, at the cost of one stream opened.
+            if (t < mine)
+                return true;
             if (!jobEnded(j))
                 reopened(j);
-            else if (Date.parse(j.updateTime ?? "") > Date.parse(job?.updateTime ?? "")) {
+            else if (t > mine) {
                 api.job(id).then((res) => {
                     firstPage(res);
                     applyJob(res.job);
@@ -567,7 +574,10 @@ export function jobPage(id) {
             probe: () => api.job(id),
             onFatal: (err) => {
                 streaming = false;
-                if (err.status === 404)
+                // Job ids are never reused: a job this page has shown and is now unknown was deleted.
+                if (err.status === 404 && job)
+                    deleted();
+                else if (err.status === 404)
                     gone("Job not found", `There is no job ${id}.`);
                 else
                     gone("Not allowed", err.message);
