@@ -73,8 +73,9 @@ limits: build
 	FARM_BIN_DIR=$(abspath $(BIN)) go test -count=1 -v -timeout 3h ./tests/limits/ -limits.full
 
 # Issue 7's docker-compose farm, for real: starts a Docker engine if none runs, builds the
-# images, renders the Cornell box on Redis + coordinator + dashboard + 2 worker containers,
-# checks it byte-identical to farm render, kills a worker mid-job, tears down. The last
+# images, renders the Cornell box on Redis + object store + coordinator + dashboard + 2
+# worker containers, checks it byte-identical to farm render, replaces the coordinator's
+# container (it keeps nothing of its own), kills a worker mid-job, tears down. The last
 # step of make test (about a minute and a half with the images cached, three cold; needs
 # root for dockerd).
 compose-test: build

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Builds the farm's container images: photonfarm/redis, photonfarm/coordinator,
-# photonfarm/dashboard and photonfarm/worker, all on debian:bookworm-slim.
+# Builds the farm's container images: photonfarm/redis, photonfarm/objectstore,
+# photonfarm/coordinator, photonfarm/dashboard and photonfarm/worker, all on
+# debian:bookworm-slim.
 #
 # The binaries are built on the host and copied in (Debian's Go is too old for this module,
 # and the host is bookworm too, so the worker's shared libraries match the runtime image's):
 #   deploy/.build/farm         static Go binary (CGO_ENABLED=0): coordinator, dashboard, CLI
 #   deploy/.build/farm-worker  the C++ worker from build/bin (make cpp)
+#   deploy/.build/weed         SeaweedFS's weed, built by scripts/install-deps.sh
 # If debian:bookworm-slim is neither present nor pullable, it is made locally with
 # debootstrap from the Debian mirror in /etc/apt/sources.list.d/debian.sources.
 #
@@ -33,6 +35,11 @@ if ! file "$deploy/.build/farm" | grep -q 'statically linked'; then
 fi
 cmake --build "$build_dir" --target farm-worker -j "$(nproc)" >/dev/null
 install -m 0755 "$build_dir/bin/farm-worker" "$deploy/.build/farm-worker"
+# SeaweedFS's weed, which scripts/install-deps.sh builds at the version it pins ($FARM_WEED
+# overrides, as in coordinator/blobstore/s3test).
+weed="${FARM_WEED:-${FARM_TOOLS_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/photonfarm/tools}/seaweedfs-$(cat "$root/scripts/seaweedfs.version")/weed}"
+[ -x "$weed" ] || { echo "build-images: no SeaweedFS weed at $weed: run scripts/install-deps.sh" >&2; exit 1; }
+install -m 0755 "$weed" "$deploy/.build/weed"
 echo "build-images: host binaries in $(since "$t")"
 
 # 2. The base image.
@@ -60,7 +67,7 @@ if ! docker image inspect debian:bookworm-slim >/dev/null 2>&1 &&
 fi
 
 # 3. The images. One small context: the Dockerfiles, the entrypoints and the binaries.
-for image in redis coordinator dashboard worker; do
+for image in redis objectstore coordinator dashboard worker; do
   t=$(now)
   log=$(mktemp)
   if ! docker build -t "photonfarm/$image:$tag" -f "$deploy/docker/$image.Dockerfile" "$deploy" >"$log" 2>&1; then

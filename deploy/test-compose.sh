@@ -3,10 +3,12 @@
 #
 #  1. starts a Docker engine if none answers (installing docker.io, docker-compose and
 #     debootstrap if they are missing), builds the images (deploy/build-images.sh);
-#  2. brings up Redis, coordinator, dashboard and 2 workers under a unique project name,
-#     with random tokens and free host ports;
+#  2. brings up Redis, the object store (SeaweedFS), coordinator, dashboard and 2 workers
+#     under a unique project name, with random tokens and keys and free host ports;
 #  3. submits the Cornell box (at 128x128) from the host with build/bin/farm, waits, fetches
 #     the EXR and PNG and checks both are byte-identical to `farm render` of the same scene;
+#     checks the coordinator wrote nothing to its own disk, replaces its container with a
+#     new one and fetches the same bytes again (blobs in the object store, state in Redis);
 #  4. submits a longer job (256x256, 4 samples), kills one worker container while tiles are
 #     rendering, checks the job still succeeds and is byte-identical too;
 #  5. tears everything down (docker-compose down -v) on success and on failure.
@@ -96,6 +98,8 @@ coord_port=$(free_port)
 cat >"$env_file" <<ENV
 FARM_CLIENT_TOKEN=$client_token
 FARM_WORKER_TOKEN=$(rand_hex)
+FARM_S3_ACCESS_KEY=$(rand_hex)
+FARM_S3_SECRET_KEY=$(rand_hex)
 FARM_BIND=127.0.0.1
 FARM_COORDINATOR_PORT=$coord_port
 FARM_DASHBOARD_PORT=$(free_port)
@@ -107,18 +111,23 @@ FARM_IMAGE_TAG=${FARM_IMAGE_TAG:-local}
 ENV
 . "$env_file"
 
+# wait_healthy: every container of the project reports healthy within 60 s.
+wait_healthy() {
+  local unhealthy
+  for _ in $(seq 60); do
+    unhealthy=$(docker ps --filter "label=com.docker.compose.project=$project" \
+      --format '{{.Names}} {{.Status}}' | grep -v '(healthy)' || true)
+    [ -z "$unhealthy" ] && return
+    sleep 1
+  done
+  fail "not healthy after 60 s: $unhealthy"
+}
 up=1
 dc up -d --scale worker=2 >"$work/up.log" 2>&1 || { cat "$work/up.log" >&2; fail "docker-compose up"; }
-for _ in $(seq 60); do
-  unhealthy=$(docker ps --filter "label=com.docker.compose.project=$project" \
-    --format '{{.Names}} {{.Status}}' | grep -v '(healthy)' || true)
-  [ -z "$unhealthy" ] && break
-  sleep 1
-done
-[ -z "$unhealthy" ] || fail "not healthy after 60 s: $unhealthy"
+wait_healthy
 workers=$(dc ps -q worker | wc -l)
 [ "$workers" -eq 2 ] || fail "expected 2 worker containers, got $workers"
-step "farm up and healthy: redis, coordinator, dashboard, $workers workers (project $project)"
+step "farm up and healthy: redis, object store, coordinator, dashboard, $workers workers (project $project)"
 
 export FARM_TOKEN="$client_token" FARM_COORDINATOR="127.0.0.1:$coord_port"
 # Read the whole answer before matching: with pipefail, grep -q closing the pipe early
@@ -165,6 +174,18 @@ step "compose farm rendered $small as $job: $(grep -o 'took .*' "$work/watch1.lo
 "$bin/farm" render "$small" -o "$work/host-small" --workers 2 >/dev/null 2>&1 || fail "farm render"
 step "host farm render of the same scene"
 same "$work/farm-small" "$work/host-small"
+
+# 3b. The coordinator keeps nothing of its own: its blobs are in the object store, its state
+# in Redis, so a new coordinator container (its anonymous volume removed too) serves the job.
+dc exec -T coordinator sh -c '! ls -A /var/lib/farm | grep -q .' ||
+  fail "the coordinator keeps files on its own disk: $(dc exec -T coordinator ls -A /var/lib/farm)"
+stored_kb=$(dc exec -T objectstore du -sk /data | cut -f1)
+dc rm -fsv coordinator >"$work/rm.log" 2>&1 || { cat "$work/rm.log" >&2; fail "docker-compose rm coordinator"; }
+dc up -d coordinator >"$work/up2.log" 2>&1 || { cat "$work/up2.log" >&2; fail "docker-compose up coordinator"; }
+wait_healthy
+"$bin/farm" fetch "$job" -o "$work/farm-small-again" --name cornell-box >/dev/null
+same "$work/farm-small" "$work/farm-small-again"
+step "a new coordinator container served $job from Redis and the object store (${stored_kb} KB in its bucket's volume)"
 
 # 4. Kill a worker container while tiles render.
 big=$(scene big 256 4)

@@ -247,15 +247,26 @@ func checkService(t *testing.T, dir string, f *farm, s *corev1.Service) {
 	t.Errorf("%s: Service %s selects no workload", dir, s.Name)
 }
 
-// Tokens come from a Secret by reference; no manifest carries one in a container's env.
-func TestTokensAreSecretReferences(t *testing.T) {
+// secretEnv says whether an environment variable holds a secret: a token or a key.
+func secretEnv(name string) bool {
+	for _, suffix := range []string{"_TOKEN", "_TOKENS", "_KEY", "_KEY_ID"} {
+		if strings.HasSuffix(name, suffix) {
+			return true
+		}
+	}
+	return false
+}
+
+// Tokens and the object store's keys come from Secrets by reference; no manifest carries
+// one in a container's env.
+func TestTokensAndKeysAreSecretReferences(t *testing.T) {
 	for _, dir := range kustomizations {
 		f := render(t, dir)
 		refs := 0
 		for name, tpl := range f.workloads {
 			for _, c := range tpl.Spec.Containers {
 				for _, e := range c.Env {
-					if !strings.HasSuffix(e.Name, "_TOKEN") && !strings.HasSuffix(e.Name, "_TOKENS") {
+					if !secretEnv(e.Name) {
 						continue
 					}
 					ref := e.ValueFrom
@@ -276,12 +287,13 @@ func TestTokensAreSecretReferences(t *testing.T) {
 				}
 			}
 		}
-		// The coordinator takes both tokens, each worker its own.
-		if refs < 3 {
-			t.Errorf("%s: %d token references, want the coordinator's two and the worker's", dir, refs)
+		// The coordinator takes both tokens and both keys, the object store both keys, each
+		// worker its token.
+		if refs < 7 {
+			t.Errorf("%s: %d token and key references, want the coordinator's four, the object store's two and the worker's", dir, refs)
 		}
 		if dir == "base" && len(f.secrets) != 0 {
-			t.Errorf("base renders %d Secrets: tokens do not belong in the base", len(f.secrets))
+			t.Errorf("base renders %d Secrets: tokens and keys do not belong in the base", len(f.secrets))
 		}
 	}
 }
