@@ -66,6 +66,35 @@ def test_submit_watch_fetch_gives_the_indirect_layer_as_an_array_of_the_film(cli
     assert report.rounds[0].photons > 0 and report.rounds[0].elapsed_seconds > 0
 
 
+def test_cancel_requeue_and_delete_a_job_and_retry_refuses_a_task_that_did_not_fail(client):
+    scene = small(json.loads(SCENE.read_text()))
+    # A job of a second or more (several phases): the cancel, a few ms after the submit,
+    # finds it queued or running.
+    scene["sampling"]["samplesPerPixel"] = 64
+    job = client.submit(scene, asset_root=REPO / "scenes")
+    assert client.cancel(job.id).state == job_pb2.JOB_STATE_CANCELLED
+    with pytest.raises(photonfarm.FarmError) as e:
+        client.cancel(job.id)
+    assert e.value.code == grpc.StatusCode.FAILED_PRECONDITION
+
+    assert client.requeue(job.id).state in (job_pb2.JOB_STATE_QUEUED, job_pb2.JOB_STATE_RUNNING)
+    events = list(client.watch(job.id))
+    assert events[-1].job.state == job_pb2.JOB_STATE_SUCCEEDED, events[-1].job.error
+    with pytest.raises(photonfarm.FarmError) as e:
+        client.requeue(job.id)
+    assert e.value.code == grpc.StatusCode.FAILED_PRECONDITION
+
+    tasks = client.jobs.ListTasks(job_pb2.ListTasksRequest(job_id=job.id, page_size=1), timeout=10).tasks
+    with pytest.raises(photonfarm.FarmError) as e:
+        client.retry(tasks[0].id)
+    assert e.value.code == grpc.StatusCode.FAILED_PRECONDITION
+
+    assert client.delete(job.id).id == job.id
+    with pytest.raises(photonfarm.FarmError) as e:
+        client.get_job(job.id)
+    assert e.value.code == grpc.StatusCode.NOT_FOUND
+
+
 def test_a_dict_scene_takes_a_mesh_from_bytes(client):
     scene = small(json.loads(SCENE.read_text()))
     scene["shapes"][3]["mesh"]["path"] = "made/in-memory.obj"  # no such file on disk

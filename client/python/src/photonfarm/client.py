@@ -8,7 +8,7 @@ import pathlib
 import secrets
 import tempfile
 from collections.abc import Iterator, Mapping
-from typing import BinaryIO, Optional
+from typing import Any, BinaryIO, Optional
 
 import grpc
 from renderfarm.v1 import blob_pb2, blob_pb2_grpc, job_pb2, job_pb2_grpc
@@ -88,11 +88,35 @@ class Client:
         except grpc.RpcError as e:
             raise self._fail("submit job", e) from None
 
-    def get_job(self, job_id: str) -> job_pb2.Job:
+    def _call(self, what: str, rpc: grpc.UnaryUnaryMultiCallable, request: object) -> Any:
+        """One unary call with the client's timeout; a failure raises FarmError naming what."""
         try:
-            return self.jobs.GetJob(job_pb2.GetJobRequest(job_id=job_id), timeout=self.timeout).job
+            return rpc(request, timeout=self.timeout)
         except grpc.RpcError as e:
-            raise self._fail("get job", e) from None
+            raise self._fail(what, e) from None
+
+    def get_job(self, job_id: str) -> job_pb2.Job:
+        return self._call("get job", self.jobs.GetJob, job_pb2.GetJobRequest(job_id=job_id)).job
+
+    def cancel(self, job_id: str) -> job_pb2.Job:
+        """Cancels a job that has not ended; returns it, CANCELLED. FAILED_PRECONDITION if
+        it has ended."""
+        return self._call("cancel job", self.jobs.CancelJob, job_pb2.CancelJobRequest(job_id=job_id)).job
+
+    def requeue(self, job_id: str) -> job_pb2.Job:
+        """Reopens a FAILED or CANCELLED job where it stopped: its tasks that did not succeed
+        are queued again. FAILED_PRECONDITION for a job that succeeded or has not ended."""
+        return self._call("requeue job", self.jobs.RequeueJob, job_pb2.RequeueJobRequest(job_id=job_id)).job
+
+    def retry(self, task_id: str) -> job_pb2.Job:
+        """Queues a FAILED task again and reopens its job; returns the job.
+        FAILED_PRECONDITION for a task that has not failed."""
+        return self._call("retry task", self.jobs.RetryTask, job_pb2.RetryTaskRequest(task_id=task_id)).job
+
+    def delete(self, job_id: str) -> job_pb2.Job:
+        """Deletes a job, cancelling it first if it has not ended; returns it as it was
+        deleted. Its outputs go with the coordinator's blob collection."""
+        return self._call("delete job", self.jobs.DeleteJob, job_pb2.DeleteJobRequest(job_id=job_id)).job
 
     def watch(self, job_id: str) -> Iterator[JobEvent]:
         """Yields the job's events, the first a snapshot of it, and stops after the one that
