@@ -249,6 +249,13 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 		defer close(buildDone)
 		_ = c.builder.Run(ctx)
 	}()
+	followDone := make(chan struct{})
+	go func() {
+		defer close(followDone)
+		if feed, ok := c.store.(store.Feed); ok {
+			_ = c.svc.FollowReplicas(ctx, feed)
+		}
+	}()
 	retainDone := make(chan struct{})
 	go func() {
 		defer close(retainDone)
@@ -276,6 +283,7 @@ func (c *Coordinator) Serve(ctx context.Context, lis net.Listener) error {
 	}
 	<-sweepDone
 	<-buildDone
+	<-followDone
 	<-retainDone
 	if err != nil {
 		return fmt.Errorf("coordinator: %w", err)

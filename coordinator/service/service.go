@@ -46,6 +46,7 @@ var _ Blobs = (*blobstore.Store)(nil)
 type Events interface {
 	Publish(ev *pb.WatchJobResponse)
 	Watch(jobID string) *events.Watcher
+	Watchers(jobID string) int
 }
 
 var _ Events = (*events.Broker)(nil)
@@ -175,9 +176,37 @@ func (s *Service) ExpireLeases(ctx context.Context) error {
 	return err
 }
 
+// FollowReplicas hears of the changes other coordinators on the same store make
+// (store.Feed) until ctx ends, and handles each as one of its own: events for this
+// coordinator's watchers of the job, waiting workers woken when tasks were queued, jobs
+// that block workers tracked (FailBlockedJobs). It reads the job and the task only when
+// one of those needs them, so that followers cost the store little for the changes
+// nobody here watches.
+func (s *Service) FollowReplicas(ctx context.Context, feed store.Feed) error {
+	return feed.Follow(ctx, func(r store.Remote) {
+		if s.cfg.Events.Watchers(r.JobID) == 0 && r.TaskID != "" && !r.JobStateChanged && !r.Blocks {
+			if r.Queued {
+				s.queued.broadcast()
+			}
+			return
+		}
+		c, err := r.Load(ctx)
+		if err != nil {
+			if ctx.Err() == nil {
+				s.log.Warn("reading another coordinator's change", "job", r.JobID, "task", r.TaskID, "err", err)
+			}
+			c = store.Change{Queued: r.Queued}
+		}
+		s.publish(c)
+	})
+}
+
 // publish turns a store change into events and wakes waiting workers.
 func (s *Service) publish(c store.Change) {
 	if c.Job == nil {
+		if c.Queued {
+			s.queued.broadcast()
+		}
 		return
 	}
 	s.blocked.track(c.Job)

@@ -21,7 +21,10 @@ package redisstore
 //	                      leases held: jobs with leasable tasks of phase (scripts.go)
 //	leases                zset task id, score = lease expiry (µs): live leases
 //	delayed               zset task id, score = retry time (µs): queued tasks in backoff
-//	op:{token}            string, expires: an operation's answer (scripts.go, Operations)
+//	op:{origin}.{token}   string, expires: an operation's answer (scripts.go, Operations);
+//	                      origin names the Store value that ran it (feed.go)
+//	changes               stream, trimmed to about FeedLength entries: every change as
+//	                      the scripts answer it, for the other replicas (feed.go)
 const (
 	layoutKey   = "layout"
 	seqKey      = "seq"
@@ -33,6 +36,7 @@ const (
 	endedKey    = "ended"
 	doomedKey   = "doomed"
 	opPrefix    = "op:"
+	changesKey  = "changes"
 
 	jobPrefix    = "j:"
 	roundsPrefix = "r:"

@@ -31,12 +31,13 @@ func buildPreamble() string {
 	enumLocals(&b, pb.JobState(0).Descriptor(), "JOB_STATE_", "J", "JOB_STATES")
 	enumLocals(&b, pb.FailureKind(0).Descriptor(), "FAILURE_KIND_", "F", "")
 	for _, k := range []struct{ local, name string }{
-		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey}, {"PENDING", pendingKey}, {"ENDED", endedKey}, {"DOOMED", doomedKey},
+		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey}, {"PENDING", pendingKey}, {"ENDED", endedKey}, {"DOOMED", doomedKey}, {"CHANGES", changesKey},
 	} {
 		fmt.Fprintf(&b, "local %s = P .. %s\n", k.local, lua(k.name))
 	}
 	fmt.Fprintf(&b, "local BLOCKED, FAILURES = %s, %s\n", lua(blockedField), lua(failuresField))
 	fmt.Fprintf(&b, "local PROMOTE_BATCH = %d\n", PromoteBatch)
+	fmt.Fprintf(&b, "local FEED_LENGTH = %d\n", FeedLength)
 	fmt.Fprintf(&b, "local SPARES = {%s}\n", sparedKinds())
 	for _, k := range []struct{ fn, prefix string }{
 		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"lkey", leasesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix},

@@ -52,6 +52,9 @@ type Store struct {
 	prefix string
 	opts   store.Options
 	rounds roundCache
+	// ops is the head of this Store value's operation keys, "op:" and its origin, so
+	// that Follow can tell its own changes from other replicas'.
+	ops string
 }
 
 var _ store.Store = (*Store)(nil)
@@ -73,7 +76,9 @@ func New(ctx context.Context, rdb redis.UniversalClient, prefix string, opts sto
 			return nil, fmt.Errorf("redisstore: load scripts: %w", err)
 		}
 	}
-	return &Store{rdb: rdb, prefix: prefix, opts: opts.WithDefaults()}, nil
+	var origin [8]byte
+	_, _ = rand.Read(origin[:])
+	return &Store{rdb: rdb, prefix: prefix, opts: opts.WithDefaults(), ops: prefix + opPrefix + hex.EncodeToString(origin[:]) + "."}, nil
 }
 
 // layoutVersion names the key layout of keys.go and scripts.go. Version 2 (issue 12: stages
@@ -115,7 +120,7 @@ func (s *Store) run(ctx context.Context, sc *redis.Script, args ...any) (any, er
 	args = append([]any{s.prefix, micros(s.opts.Clock.Now())}, args...)
 	var token [16]byte
 	_, _ = rand.Read(token[:])
-	keys := []string{s.key(jobsKey), s.key(opPrefix + hex.EncodeToString(token[:]))}
+	keys := []string{s.key(jobsKey), s.ops + hex.EncodeToString(token[:])}
 	start := time.Now()
 	for attempt := 0; ; attempt++ {
 		v, err := sc.Run(ctx, s.rdb, keys, args...).Result()

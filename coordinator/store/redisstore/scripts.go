@@ -114,8 +114,15 @@ local function unlease(t, jid)
   redis.call('HINCRBY', jkey(jid), 'held', -1)
 end
 
--- ok is the skeleton of a change's answer (see Operations); render expands it.
-local function ok(changed, queued, jid, t) return {'OK', changed, queued, jid, t or ''} end
+-- ok is the skeleton of a change's answer (see Operations); render expands it. The same
+-- skeleton goes into the feed (feed.go) in the same script, so no change is stored without
+-- reaching the other replicas, whatever happens to the coordinator that made it; 'b' says
+-- whether the job has ever blocked a worker (its bkind is set), which followers track.
+local function ok(changed, queued, jid, t)
+  redis.call('XADD', CHANGES, 'MAXLEN', '~', FEED_LENGTH, '*', 'o', KEYS[2], 'c', changed, 'q', queued, 'j', jid, 't', t or '',
+    'b', redis.call('HEXISTS', jkey(jid), 'bkind'))
+  return {'OK', changed, queued, jid, t or ''}
+end
 
 local function render(r)
   if type(r) ~= 'table' then return r end
