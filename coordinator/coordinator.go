@@ -161,7 +161,7 @@ func New(cfg Config) (*Coordinator, error) {
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
 	}
-	st, closers, err := openStore(cfg)
+	st, workers, closers, err := openStore(cfg)
 	if err != nil {
 		blobs.Close()
 		return nil, err
@@ -173,6 +173,7 @@ func New(cfg Config) (*Coordinator, error) {
 		Metrics:           m,
 		Blobs:             blobs,
 		Events:            events.NewBroker(0),
+		Workers:           workers,
 		Clock:             cfg.Clock,
 		Logger:            cfg.Logger,
 		LeaseDuration:     cfg.LeaseDuration,
@@ -189,15 +190,16 @@ func New(cfg Config) (*Coordinator, error) {
 	return &Coordinator{cfg: cfg, auth: authn, log: cfg.Logger, store: st, closers: closers, metrics: m, svc: svc, builder: b, sweeper: sw, blobs: blobs}, nil
 }
 
-// openStore opens the store cfg names, and what must be closed after it.
-func openStore(cfg Config) (store.Store, []io.Closer, error) {
+// openStore opens the store cfg names, its worker registry (in Redis, the one every
+// replica on that Redis shares), and what must be closed after them.
+func openStore(cfg Config) (store.Store, store.Workers, []io.Closer, error) {
 	opts := store.Options{Clock: cfg.Clock, LeaseDuration: cfg.LeaseDuration, StuckTimeout: cfg.StuckTimeout}
 	if cfg.RedisURL == "" {
-		return memstore.New(opts), nil, nil
+		return memstore.New(opts), memstore.NewWorkers(), nil, nil
 	}
 	ropts, err := redis.ParseURL(cfg.RedisURL)
 	if err != nil {
-		return nil, nil, fmt.Errorf("coordinator: Config.RedisURL: %w", err)
+		return nil, nil, nil, fmt.Errorf("coordinator: Config.RedisURL: %w", err)
 	}
 	prefix := cfg.RedisPrefix
 	if prefix == "" {
@@ -209,9 +211,9 @@ func openStore(cfg Config) (store.Store, []io.Closer, error) {
 	st, err := redisstore.New(ctx, rdb, prefix, opts)
 	if err != nil {
 		rdb.Close()
-		return nil, nil, fmt.Errorf("coordinator: Redis at %s: %w", ropts.Addr, err)
+		return nil, nil, nil, fmt.Errorf("coordinator: Redis at %s: %w", ropts.Addr, err)
 	}
-	return st, []io.Closer{rdb}, nil
+	return st, st.Workers(), []io.Closer{rdb}, nil
 }
 
 // MetricsHandler serves the coordinator's Prometheus metrics.
@@ -338,7 +340,9 @@ func (c *Coordinator) sweep(ctx context.Context) {
 			if err := c.svc.ExpireLeases(ctx); err != nil && ctx.Err() == nil {
 				c.log.Error("expiring leases", "err", err)
 			}
-			c.svc.ForgetSilentWorkers()
+			if err := c.svc.ForgetSilentWorkers(ctx); err != nil && ctx.Err() == nil {
+				c.log.Error("forgetting silent workers", "err", err)
+			}
 			if err := c.svc.FailBlockedJobs(ctx); err != nil && ctx.Err() == nil {
 				c.log.Error("failing blocked jobs", "err", err)
 			}

@@ -55,7 +55,10 @@ func (s *Service) FailBlockedJobs(ctx context.Context) error {
 	if len(ids) == 0 {
 		return nil
 	}
-	live := s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration)
+	live, err := s.workers.Live(ctx, s.cfg.Clock.Now(), s.cfg.LeaseDuration)
+	if err != nil {
+		return err
+	}
 	for _, id := range ids {
 		if err := s.failBlockedJob(ctx, id, live); err != nil {
 			return err

@@ -9,6 +9,7 @@ import (
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/coordinator/service"
+	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -71,7 +72,9 @@ func TestSilentWorkersAreForgotten(t *testing.T) {
 		if _, err := f.workers.Heartbeat(f.ctx, &pb.HeartbeatRequest{WorkerId: alive}); err != nil {
 			t.Fatal(err)
 		}
-		f.svc.ForgetSilentWorkers()
+		if err := f.svc.ForgetSilentWorkers(f.ctx); err != nil {
+			t.Fatal(err)
+		}
 		if elapsed == 2*leaseDuration {
 			wantWorker(t, "silent for two lease durations", f.workerInfo(silent), pb.WorkerState_WORKER_STATE_LOST, "", 0, 0)
 		}
@@ -91,7 +94,7 @@ func TestSilentWorkersAreForgotten(t *testing.T) {
 func TestRegistryIsBounded(t *testing.T) {
 	f := newFarm(t)
 	first := f.register()
-	for range service.MaxWorkers - 1 {
+	for range store.MaxWorkers - 1 {
 		f.register()
 	}
 	_, err := f.workers.RegisterWorker(f.ctx, &pb.RegisterWorkerRequest{Hostname: "one too many"})
@@ -110,10 +113,10 @@ func TestRegistryIsBounded(t *testing.T) {
 		t.Fatal(err)
 	}
 	t.Logf("%d registrations keep %d workers; a ListWorkers page holds at most %d of them: %d bytes",
-		service.MaxWorkers+1, service.MaxWorkers, len(resp.GetWorkers()), proto.Size(resp))
+		store.MaxWorkers+1, store.MaxWorkers, len(resp.GetWorkers()), proto.Size(resp))
 	all, _ := f.allWorkers(service.MaxWorkersPage)
-	if len(all) != service.MaxWorkers {
-		t.Fatalf("%d workers registered, want %d", len(all), service.MaxWorkers)
+	if len(all) != store.MaxWorkers {
+		t.Fatalf("%d workers registered, want %d", len(all), store.MaxWorkers)
 	}
 	if all[0].GetId() != first || all[len(all)-1].GetId() != newcomer {
 		t.Errorf("first %s and last %s; want %s (it heartbeat, so it stays) and the newcomer %s",

@@ -26,6 +26,7 @@ import (
 	"photonfarm/coordinator/events"
 	"photonfarm/coordinator/metrics"
 	"photonfarm/coordinator/store"
+	"photonfarm/coordinator/store/memstore"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -62,6 +63,9 @@ type Config struct {
 	Metrics *metrics.Metrics
 	Blobs   Blobs
 	Events  Events
+	// Workers is the worker registry; nil keeps one in memory (memstore.NewWorkers). Replicas
+	// share one (redisstore.Store.Workers) to list the same workers.
+	Workers store.Workers
 	Clock   clock.Clock
 	Logger  *slog.Logger
 	// LeaseDuration and HeartbeatInterval are told to workers when they register; the
@@ -76,7 +80,7 @@ type Service struct {
 	log       *slog.Logger
 	queued    notifier
 	retries   retries
-	workers   registry
+	workers   store.Workers
 	blocked   blockedJobs
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
@@ -99,6 +103,9 @@ func New(cfg Config) *Service {
 	if cfg.LeaseDuration <= 0 {
 		cfg.LeaseDuration = store.DefaultLeaseDuration
 	}
+	if cfg.Workers == nil {
+		cfg.Workers = memstore.NewWorkers()
+	}
 	if cfg.HeartbeatInterval <= 0 {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
@@ -106,7 +113,7 @@ func New(cfg Config) *Service {
 		cfg:          cfg,
 		log:          cfg.Logger,
 		queued:       newNotifier(),
-		workers:      newRegistry(),
+		workers:      cfg.Workers,
 		blocked:      blockedJobs{ids: make(map[string]bool)},
 		snapshots:    newCache[*pb.Artifact](1024),
 		scenes:       newCache[*pb.Scene](64),
@@ -168,12 +175,27 @@ func (s *Service) Shutdown() { s.once.Do(func() { close(s.done) }) }
 func (s *Service) ExpireLeases(ctx context.Context) error {
 	changes, err := s.cfg.Store.ExpireLeases(ctx)
 	for _, c := range changes {
-		s.workers.expired(c.Task.GetId())
+		s.mirror("an expired lease", s.workers.Expired(ctx, c.Task.GetId()))
 		s.cfg.Metrics.LeaseExpired()
 		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts(), "job_state", c.Job.GetState().String())
 		s.publish(c)
 	}
 	return err
+}
+
+// mirror logs a failure to record in the worker registry what a worker did: the registry
+// only mirrors the store's leases for ListWorkers, so the call it belongs to goes on.
+func (s *Service) mirror(what string, err error) {
+	if err != nil {
+		s.log.Warn("worker registry: cannot record "+what, "err", err)
+	}
+}
+
+// dropped records that ref's worker no longer holds its task, whatever the store said of
+// the report (a report under a lease lost to a cancel is refused, and the worker has
+// stopped working on the task all the same).
+func (s *Service) dropped(ctx context.Context, ref store.LeaseRef) {
+	s.mirror("a report", s.workers.Dropped(ctx, ref.WorkerID, ref.TaskID))
 }
 
 // FollowReplicas hears of the changes other coordinators on the same store make

@@ -93,7 +93,7 @@ func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased)
 		}
 		return nil, err
 	}
-	s.workers.leased(workerID, l.Lease.GetTaskId())
+	s.mirror("a lease", s.workers.Leased(ctx, workerID, l.Lease.GetTaskId()))
 	s.cfg.Metrics.LeaseGranted(l.Task.GetPhase())
 	s.log.Debug("task leased", "task", l.Task.GetId(), "worker", workerID, "epoch", l.Lease.GetEpoch(), "attempt", l.Task.GetAttempts())
 	return &pb.LeaseTaskResponse{Lease: l.Lease, Task: l.Task, SceneDigest: l.SceneDigest}, nil
@@ -108,7 +108,7 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 		return nil, nil, err
 	}
 	for _, c := range hb.Changes {
-		s.workers.ended(workerID, c.Task.GetId(), false)
+		s.mirror("a stuck lease", s.workers.Ended(ctx, workerID, c.Task.GetId(), false))
 		s.cfg.Metrics.TaskFailed()
 		s.log.Warn("task failed", "task", c.Task.GetId(), "job", c.Job.GetId(), "worker", workerID, "error", c.Task.GetError())
 		s.publish(c)
@@ -117,7 +117,7 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 		}
 	}
 	for _, r := range hb.Revoked {
-		s.workers.dropped(workerID, r.GetTaskId())
+		s.mirror("a revoked lease", s.workers.Dropped(ctx, workerID, r.GetTaskId()))
 	}
 	return hb.Extended, hb.Revoked, nil
 }
@@ -135,7 +135,7 @@ func (s *Service) Complete(ctx context.Context, ref store.LeaseRef, outputs []*p
 func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, outputs []*pb.Artifact, metrics *pb.RoundMetrics) error {
 	// Whatever the store says (a report under a lease lost to a cancel is refused), the
 	// worker has stopped working on the task.
-	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
+	defer s.dropped(ctx, ref)
 	if metrics == nil {
 		metrics = &pb.RoundMetrics{}
 	}
@@ -182,7 +182,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		return err
 	}
 	if c.Task != nil {
-		s.workers.ended(ref.WorkerID, ref.TaskID, true)
+		s.mirror("a completion", s.workers.Ended(ctx, ref.WorkerID, ref.TaskID, true))
 		s.cfg.Metrics.TaskCompleted(c.Task.GetPhase())
 		s.log.Debug("task completed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch)
 	}
@@ -225,7 +225,7 @@ func (s *Service) checkArtifact(ctx context.Context, p string, a *pb.Artifact) e
 // one this coordinator does not know, from a newer worker) is retried, and if it blocks the worker from the job and every worker is then blocked,
 // the job fails (failIfEveryWorkerBlocked).
 func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure) error {
-	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
+	defer s.dropped(ctx, ref)
 	if f.Message == "" {
 		return errs.Field("error", "must say why the task failed")
 	}
@@ -242,7 +242,7 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure)
 	if err != nil {
 		return err
 	}
-	s.workers.ended(ref.WorkerID, ref.TaskID, false)
+	s.mirror("a failure", s.workers.Ended(ctx, ref.WorkerID, ref.TaskID, false))
 	s.cfg.Metrics.TaskFailed()
 	s.log.Warn("task failed", "task", ref.TaskID, "job", c.Job.GetId(), "worker", ref.WorkerID, "epoch", ref.Epoch,
 		"kind", tasks.FailureOf(f.Kind).Label, "permanent", f.Permanent(), "error", f.Message)
@@ -252,7 +252,7 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure)
 
 // Release queues a leased task again without counting a failure.
 func (s *Service) Release(ctx context.Context, ref store.LeaseRef) error {
-	defer s.workers.dropped(ref.WorkerID, ref.TaskID)
+	defer s.dropped(ctx, ref)
 	c, err := s.cfg.Store.ReleaseTask(ctx, ref)
 	if err != nil {
 		return err
@@ -276,5 +276,9 @@ func (s *Service) failIfEveryWorkerBlocked(ctx context.Context, c store.Change, 
 	if ph, ok := tasks.Phases.Of(c.Task.GetPhase()); !ok || ph.Executor != pb.Executor_EXECUTOR_WORKER {
 		return nil
 	}
-	return s.failBlockedJob(ctx, job.GetId(), s.workers.live(s.cfg.Clock.Now(), s.cfg.LeaseDuration))
+	live, err := s.workers.Live(ctx, s.cfg.Clock.Now(), s.cfg.LeaseDuration)
+	if err != nil {
+		return err
+	}
+	return s.failBlockedJob(ctx, job.GetId(), live)
 }

@@ -29,7 +29,7 @@ func (j *jobServer) ListWorkers(ctx context.Context, req *pb.ListWorkersRequest)
 	if err != nil {
 		return nil, err
 	}
-	workers, next, err := s.workers.list(s.cfg.Clock.Now(), s.cfg.LeaseDuration, n, req.GetPageToken())
+	workers, next, err := s.workers.List(ctx, s.cfg.Clock.Now(), s.cfg.LeaseDuration, n, req.GetPageToken())
 	if err != nil {
 		return nil, err
 	}
@@ -38,10 +38,12 @@ func (j *jobServer) ListWorkers(ctx context.Context, req *pb.ListWorkersRequest)
 
 // ForgetSilentWorkers forgets the workers not heard from for ForgetAfterLeases lease
 // durations. The coordinator calls it periodically.
-func (s *Service) ForgetSilentWorkers() {
-	if n := s.workers.forgetSilent(s.cfg.Clock.Now(), ForgetAfterLeases*s.cfg.LeaseDuration); n > 0 {
+func (s *Service) ForgetSilentWorkers(ctx context.Context) error {
+	n, err := s.workers.ForgetSilent(ctx, s.cfg.Clock.Now(), ForgetAfterLeases*s.cfg.LeaseDuration)
+	if n > 0 {
 		s.log.Info("forgot silent workers", "workers", n, "silent_for", ForgetAfterLeases*s.cfg.LeaseDuration)
 	}
+	return err
 }
 
 func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWorkerRequest) (*pb.RegisterWorkerResponse, error) {
@@ -54,8 +56,8 @@ func (ws *workerServer) RegisterWorker(ctx context.Context, req *pb.RegisterWork
 	}
 	now := s.cfg.Clock.Now()
 	secret, id := newWorkerSecret()
-	w := &worker{id: id, hostname: req.GetHostname(), cores: req.GetCores(), version: req.GetVersion(), registered: now, lastSeen: now}
-	if err := s.workers.add(w, now, s.cfg.LeaseDuration); err != nil {
+	w := store.Worker{ID: id, Hostname: req.GetHostname(), Cores: req.GetCores(), Version: req.GetVersion(), Registered: now, LastSeen: now}
+	if err := s.workers.Add(ctx, w, s.cfg.LeaseDuration); err != nil {
 		return nil, err
 	}
 	s.log.Info("worker registered", "worker", id, "hostname", req.GetHostname(), "cores", req.GetCores(), "version", req.GetVersion())
@@ -100,7 +102,7 @@ func (ws *workerServer) Heartbeat(ctx context.Context, req *pb.HeartbeatRequest)
 			return nil, errs.Field(fmt.Sprintf("leases[%d].epoch", i), "must be > 0 (the epoch the lease was granted under)")
 		}
 	}
-	if err := s.workers.touch(req.GetWorkerId(), s.cfg.Clock.Now()); err != nil {
+	if err := s.workers.Touch(ctx, req.GetWorkerId(), s.cfg.Clock.Now()); err != nil {
 		return nil, err
 	}
 	ext, rev, err := s.Extend(ctx, req.GetWorkerId(), req.GetLeases())
@@ -128,7 +130,7 @@ func (ws *workerServer) LeaseTask(ctx context.Context, req *pb.LeaseTaskRequest)
 		}
 		wait = min(wait, MaxLeaseWait)
 	}
-	if err := s.workers.touch(req.GetWorkerId(), s.cfg.Clock.Now()); err != nil {
+	if err := s.workers.Touch(ctx, req.GetWorkerId(), s.cfg.Clock.Now()); err != nil {
 		return nil, err
 	}
 	return s.Lease(ctx, req.GetWorkerId(), store.WorkerPhases, wait)
@@ -185,7 +187,7 @@ func (ws *workerServer) UnregisterWorker(ctx context.Context, req *pb.Unregister
 	if err := checkWorker(ctx, req.GetWorkerId()); err != nil {
 		return nil, err
 	}
-	if err := s.workers.remove(req.GetWorkerId()); err != nil {
+	if err := s.workers.Remove(ctx, req.GetWorkerId()); err != nil {
 		return nil, err
 	}
 	changes, err := s.cfg.Store.ReleaseWorker(ctx, req.GetWorkerId())

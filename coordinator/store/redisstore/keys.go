@@ -21,6 +21,11 @@ package redisstore
 //	                      leases held: jobs with leasable tasks of phase (scripts.go)
 //	leases                zset task id, score = lease expiry (µs): live leases
 //	delayed               zset task id, score = retry time (µs): queued tasks in backoff
+//	workers               zset worker id, score = registration sequence: ListWorkers
+//	seen                  zset worker id, score = when last heard from (µs)
+//	holders               hash task id -> the worker holding its latest lease
+//	wseq                  INCR counter: worker registration sequence
+//	w:{worker}            hash: one registered worker (workers.go)
 //	op:{origin}.{token}   string, expires: an operation's answer (scripts.go, Operations);
 //	                      origin names the Store value that ran it (feed.go)
 //	changes               stream, trimmed to about FeedLength entries: every change as
@@ -37,8 +42,13 @@ const (
 	doomedKey   = "doomed"
 	opPrefix    = "op:"
 	changesKey  = "changes"
+	workersKey  = "workers"
+	seenKey     = "seen"
+	holdersKey  = "holders"
+	wseqKey     = "wseq"
 
 	jobPrefix    = "j:"
+	workerPrefix = "w:"
 	roundsPrefix = "r:"
 	stagesPrefix = "s:"
 	leasesPrefix = "l:"

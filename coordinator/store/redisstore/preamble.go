@@ -32,6 +32,7 @@ func buildPreamble() string {
 	enumLocals(&b, pb.FailureKind(0).Descriptor(), "FAILURE_KIND_", "F", "")
 	for _, k := range []struct{ local, name string }{
 		{"SEQ", seqKey}, {"JOBS", jobsKey}, {"REQUESTS", requestsKey}, {"LEASES", leasesKey}, {"DELAYED", delayedKey}, {"PENDING", pendingKey}, {"ENDED", endedKey}, {"DOOMED", doomedKey}, {"CHANGES", changesKey},
+		{"WORKERS", workersKey}, {"SEEN", seenKey}, {"HOLDERS", holdersKey}, {"WSEQ", wseqKey},
 	} {
 		fmt.Fprintf(&b, "local %s = P .. %s\n", k.local, lua(k.name))
 	}
@@ -40,7 +41,7 @@ func buildPreamble() string {
 	fmt.Fprintf(&b, "local FEED_LENGTH = %d\n", FeedLength)
 	fmt.Fprintf(&b, "local SPARES = {%s}\n", sparedKinds())
 	for _, k := range []struct{ fn, prefix string }{
-		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"lkey", leasesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix},
+		{"jkey", jobPrefix}, {"rkey", roundsPrefix}, {"skey", stagesPrefix}, {"lkey", leasesPrefix}, {"tkey", taskPrefix}, {"readykey", readyPrefix}, {"wkey", workerPrefix},
 	} {
 		fmt.Fprintf(&b, "local function %s(id) return P .. %s .. id end\n", k.fn, lua(k.prefix))
 	}

@@ -28,6 +28,20 @@ func TestStore(t *testing.T) {
 	})
 }
 
+// TestWorkers runs the registry's behavioural suite, each case under a prefix of its own.
+func TestWorkers(t *testing.T) {
+	srv := redistest.Start(t)
+	rdb := srv.Client()
+	var n atomic.Int64
+	storetest.RunWorkers(t, func(t *testing.T) store.Workers {
+		s, err := redisstore.New(context.Background(), rdb, fmt.Sprintf("workers%d:", n.Add(1)), store.Options{})
+		if err != nil {
+			t.Fatal(err)
+		}
+		return s.Workers()
+	})
+}
+
 // TestAPrefixOfAnOlderLayoutIsRefused: keys written by the scripts of before issue 12
 // (a job sequence, no layout key) make New fail naming the prefix, and stay as they were,
 // instead of jobs failing midway; an empty prefix is claimed and opens again.
