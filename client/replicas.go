@@ -13,8 +13,8 @@ import (
 // Coordinator replicas on one Redis serve the same jobs, so a client may be given all of
 // them: "host:port,host:port". Its calls are spread over the replicas that answer (gRPC's
 // round_robin) and go on through the others when one goes away. One DNS name that
-// resolves to every replica (a Kubernetes Service, a compose network alias) works the
-// same way, through gRPC's DNS resolver. farm-worker takes the same forms
+// resolves to every replica (a Kubernetes Service, a compose network alias) fails over
+// the same way, through gRPC's DNS resolver and pick_first, without the spreading. farm-worker takes the same forms
 // (worker/daemon/coordinator_address.h), except that its lists must be IP literals.
 
 // roundRobin is the service config that spreads calls over every address of the target.
@@ -47,16 +47,19 @@ func Addresses(addr string) ([]string, error) {
 }
 
 // ReplicaTarget is the gRPC target and the dial options that reach the replicas at addr
-// (one address, or a comma list), spreading calls over them.
+// (one address, or a comma list whose calls are spread over them).
 func ReplicaTarget(addr string) (string, []grpc.DialOption, error) {
 	addrs, err := Addresses(addr)
 	if err != nil {
 		return "", nil, err
 	}
-	opts := []grpc.DialOption{grpc.WithDefaultServiceConfig(roundRobin)}
 	if len(addrs) == 1 {
-		return addr, opts, nil
+		// gRPC's default, pick_first: calls go to the first address that answers and move
+		// to the next when it goes. (round_robin here made the first call after a restarted
+		// coordinator fail on the old connection, where pick_first reconnects.)
+		return addr, nil, nil
 	}
+	opts := []grpc.DialOption{grpc.WithDefaultServiceConfig(roundRobin)}
 	list := manual.NewBuilderWithScheme(replicasScheme)
 	state := resolver.State{}
 	for _, a := range addrs {
