@@ -93,9 +93,17 @@ func (b bearerToken) GetRequestMetadata(context.Context, ...string) (map[string]
 func (b bearerToken) RequireTransportSecurity() bool { return b.requireTLS }
 
 // IsLoopback reports whether the gRPC target addr ("host:port", "dns:///host:port",
-// "unix:path") names this machine without leaving it: localhost, a loopback IP or a unix
+// "unix:path", or a comma list of "host:port" replicas, each of them) names this machine without leaving it: localhost, a loopback IP or a unix
 // socket. Names are not resolved.
 func IsLoopback(addr string) bool {
+	if addrs, err := Addresses(addr); err == nil && len(addrs) > 1 {
+		for _, a := range addrs {
+			if !IsLoopback(a) {
+				return false
+			}
+		}
+		return true
+	}
 	if strings.HasPrefix(addr, "unix:") || strings.HasPrefix(addr, "unix-abstract:") {
 		return true
 	}

@@ -15,6 +15,7 @@ package client
 import (
 	"errors"
 	"fmt"
+	"time"
 
 	"google.golang.org/grpc"
 	"google.golang.org/grpc/credentials"
@@ -34,6 +35,8 @@ type Client struct {
 	jobs     pb.JobServiceClient
 	blobs    pb.BlobServiceClient
 	chunkLen int
+	// How long Watch tries to reopen a cut stream (watchResumeFor; tests shorten it).
+	watchResumeFor time.Duration
 }
 
 // An Option configures Dial.
@@ -71,12 +74,14 @@ func withChunkSize(n int) Option {
 	return func(o *dialOptions) { o.chunkLen = n }
 }
 
-// Dial returns a Client for the coordinator at addr ("host:port"). The connection is made
+// Dial returns a Client for the coordinator at addr ("host:port", or the replicas at
+// "host:port,host:port": replicas.go). The connection is made
 // lazily, on the first call, so Dial fails only for a malformed address or options, or
 // for a token that would travel in plaintext to another machine (ErrPlaintextToken).
 func Dial(addr string, opts ...Option) (*Client, error) {
-	if addr == "" {
-		return nil, errors.New("client: empty coordinator address")
+	target, targetOpts, err := ReplicaTarget(addr)
+	if err != nil {
+		return nil, fmt.Errorf("client: %w", err)
 	}
 	o := dialOptions{creds: insecure.NewCredentials(), chunkLen: UploadChunkSize}
 	for _, opt := range opts {
@@ -94,12 +99,12 @@ func Dial(addr string, opts ...Option) (*Client, error) {
 		}
 		o.perRPC = bearerToken{token: o.token, requireTLS: o.secure}
 	}
-	dopts := []grpc.DialOption{grpc.WithTransportCredentials(o.creds), CallLimits()}
+	dopts := append([]grpc.DialOption{grpc.WithTransportCredentials(o.creds), CallLimits()}, targetOpts...)
 	if o.perRPC != nil {
 		dopts = append(dopts, grpc.WithPerRPCCredentials(o.perRPC))
 	}
 	dopts = append(dopts, o.extra...)
-	conn, err := grpc.NewClient(addr, dopts...)
+	conn, err := grpc.NewClient(target, dopts...)
 	if err != nil {
 		return nil, fmt.Errorf("client: coordinator address %q: %w", addr, err)
 	}
@@ -121,10 +126,11 @@ func CallLimits() grpc.DialOption {
 // New returns a Client using an existing connection, which Close leaves open.
 func New(conn grpc.ClientConnInterface) *Client {
 	return &Client{
-		conn:     conn,
-		jobs:     pb.NewJobServiceClient(conn),
-		blobs:    pb.NewBlobServiceClient(conn),
-		chunkLen: UploadChunkSize,
+		conn:           conn,
+		jobs:           pb.NewJobServiceClient(conn),
+		blobs:          pb.NewBlobServiceClient(conn),
+		chunkLen:       UploadChunkSize,
+		watchResumeFor: watchResumeFor,
 	}
 }
 

@@ -12,6 +12,7 @@ import (
 	"strings"
 	"sync"
 	"testing"
+	"time"
 
 	"google.golang.org/genproto/googleapis/rpc/errdetails"
 	"google.golang.org/grpc"
@@ -109,7 +110,9 @@ type fakeJobs struct {
 	mu        sync.Mutex
 	submitted []*pb.Scene
 	job       *pb.Job
-	events    []*pb.WatchJobResponse
+	events    []*pb.WatchJobResponse   // what a WatchJob stream sends before it ends
+	cuts      [][]*pb.WatchJobResponse // first: what the next streams send before UNAVAILABLE
+	watches   int                      // WatchJob calls
 	tasks     []*pb.Task
 	workers   []*pb.WorkerInfo
 }
@@ -165,10 +168,20 @@ func (f *fakeJobs) GetJob(_ context.Context, req *pb.GetJobRequest) (*pb.GetJobR
 }
 
 func (f *fakeJobs) WatchJob(req *pb.WatchJobRequest, stream grpc.ServerStreamingServer[pb.WatchJobResponse]) error {
-	for _, ev := range f.events {
+	f.mu.Lock()
+	f.watches++
+	events, cut := f.events, len(f.cuts) > 0
+	if cut {
+		events, f.cuts = f.cuts[0], f.cuts[1:]
+	}
+	f.mu.Unlock()
+	for _, ev := range events {
 		if err := stream.Send(ev); err != nil {
 			return err
 		}
+	}
+	if cut {
+		return status.Error(codes.Unavailable, "the coordinator went away")
 	}
 	return nil
 }
@@ -367,10 +380,44 @@ func TestWatchReturnsTheEndedJob(t *testing.T) {
 		t.Fatalf("Watch = %v, %v after %d events", job, err, seen)
 	}
 
-	// A stream that ends while the job runs is an error.
+	// A stream that ends while the job runs is reopened while the job changes, and is an
+	// error once it has not for the resume period.
+	c.watchResumeFor = 300 * time.Millisecond
 	jobs.events = jobs.events[:2]
+	start := time.Now()
 	if _, err := c.Watch(context.Background(), "j1", nil); err == nil {
-		t.Fatal("no error for a stream that ended early")
+		t.Fatal("no error for a stream that keeps ending early")
+	}
+	if took := time.Since(start); took < c.watchResumeFor || took > 10*c.watchResumeFor {
+		t.Errorf("Watch of a stream that keeps ending early gave up after %v, want about %v", took, c.watchResumeFor)
+	}
+}
+
+func TestWatchReopensAStreamTheCoordinatorCut(t *testing.T) {
+	c, _, jobs := startFake(t)
+	running := func(done uint32) *pb.Job {
+		return &pb.Job{Id: "j1", State: pb.JobState_JOB_STATE_RUNNING, Phases: []*pb.PhaseProgress{{TasksSucceeded: done}}}
+	}
+	done := &pb.Job{Id: "j1", State: pb.JobState_JOB_STATE_SUCCEEDED}
+	jobs.cuts = [][]*pb.WatchJobResponse{
+		{{Kind: pb.JobEventKind_JOB_EVENT_KIND_SNAPSHOT, Job: running(0)}, {Kind: pb.JobEventKind_JOB_EVENT_KIND_TASK_UPDATED, Job: running(1)}},
+		{}, // the replica is gone: the next call finds no one yet
+		{{Kind: pb.JobEventKind_JOB_EVENT_KIND_SNAPSHOT, Job: running(2)}},
+	}
+	jobs.events = []*pb.WatchJobResponse{
+		{Kind: pb.JobEventKind_JOB_EVENT_KIND_SNAPSHOT, Job: running(3)},
+		{Kind: pb.JobEventKind_JOB_EVENT_KIND_STATE_CHANGED, Job: done},
+	}
+	var seen int
+	job, err := c.Watch(context.Background(), "j1", func(*pb.WatchJobResponse) { seen++ })
+	if err != nil || job.GetState() != pb.JobState_JOB_STATE_SUCCEEDED || seen != 5 || jobs.watches != 4 {
+		t.Fatalf("Watch = %v, %v after %d events in %d streams; want SUCCEEDED after 5 in 4", job, err, seen, jobs.watches)
+	}
+
+	// A farm that cuts the first stream before any event is not waited for.
+	jobs.cuts, jobs.watches = [][]*pb.WatchJobResponse{{}}, 0
+	if _, err := c.Watch(context.Background(), "j1", nil); status.Code(errors.Unwrap(err)) != codes.Unavailable || jobs.watches != 1 {
+		t.Errorf("Watch of a farm that never answered = %v after %d streams, want UNAVAILABLE after 1", err, jobs.watches)
 	}
 }
 

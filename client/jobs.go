@@ -9,8 +9,10 @@ import (
 	"os"
 	"path/filepath"
 	"strings"
+	"time"
 
 	"google.golang.org/grpc/codes"
+	"google.golang.org/protobuf/proto"
 
 	"photonfarm/contract/pages"
 	"photonfarm/contract/tasks"
@@ -177,10 +179,41 @@ func JobEnded(s pb.JobState) bool {
 		s == pb.JobState_JOB_STATE_CANCELLED
 }
 
+// watchResumeFor is how long Watch keeps trying to reopen a stream that a coordinator
+// going away cut (UNAVAILABLE), counted from when it last saw the job change: long enough
+// for a restarted coordinator to come back, or for the call to find another replica.
+const watchResumeFor = 30 * time.Second
+
 // Watch follows the job's events until it ends, calling fn (if not nil) for each event,
-// the initial snapshot included, and returns the job as it ended. It returns an error if
-// ctx ends first or the stream breaks before the job has ended.
+// the initial snapshot included, and returns the job as it ended. A stream that told of
+// the job and was then cut because the coordinator went away is reopened (on another
+// replica, for a client of several) for up to 30 s from the last change it saw in the
+// job; fn then sees the new stream's snapshot, which carries the job as it stands. It
+// returns an error if ctx ends first, or the stream breaks for another reason or cannot
+// be reopened in time.
 func (c *Client) Watch(ctx context.Context, jobID string, fn func(*pb.WatchJobResponse)) (*pb.Job, error) {
+	var changed time.Time // zero until the first event: a farm never reached fails at once
+	var last *pb.Job
+	for pause := 100 * time.Millisecond; ; pause = min(2*pause, 2*time.Second) {
+		job, err := c.watchOnce(ctx, jobID, fn)
+		if job != nil && !proto.Equal(job, last) {
+			last, changed, pause = job, time.Now(), 100*time.Millisecond
+		}
+		var e *Error
+		if err == nil || !errors.As(err, &e) || e.Code != codes.Unavailable || changed.IsZero() || time.Since(changed) > c.watchResumeFor {
+			return last, err
+		}
+		select {
+		case <-ctx.Done():
+			return last, ctx.Err()
+		case <-time.After(pause):
+		}
+	}
+}
+
+// watchOnce is one WatchJob stream: the last job it told of, and nil once the job has
+// ended.
+func (c *Client) watchOnce(ctx context.Context, jobID string, fn func(*pb.WatchJobResponse)) (*pb.Job, error) {
 	ctx, cancel := context.WithCancel(ctx)
 	defer cancel()
 	stream, err := c.jobs.WatchJob(ctx, &pb.WatchJobRequest{JobId: jobID})

@@ -3,15 +3,18 @@
 #
 #  1. starts a Docker engine if none answers (installing docker.io, docker-compose and
 #     debootstrap if they are missing), builds the images (deploy/build-images.sh);
-#  2. brings up Redis, the object store (SeaweedFS), coordinator, dashboard and 2 workers
-#     under a unique project name, with random tokens and keys and free host ports;
+#  2. brings up Redis, the object store (SeaweedFS), two coordinator replicas, dashboard and
+#     2 workers under a unique project name, with random tokens and keys and free host
+#     ports; the host CLI is given both replicas;
 #  3. submits the Cornell box (at 128x128) from the host with build/bin/farm, waits, fetches
 #     the EXR and PNG and checks both are byte-identical to `farm render` of the same scene;
-#     checks the coordinator wrote nothing to its own disk, replaces its container with a
+#     checks a coordinator wrote nothing to its own disk, replaces its container with a
 #     new one and fetches the same bytes again (blobs in the object store, state in Redis);
 #  4. submits a longer job (256x256, 4 samples), kills one worker container while tiles are
 #     rendering, checks the job still succeeds and is byte-identical too;
-#  5. tears everything down (docker-compose down -v) on success and on failure.
+#  5. submits it again and kills a coordinator container (SIGKILL) while tiles are
+#     rendering: the other replica finishes the job, byte-identical too;
+#  6. tears everything down (docker-compose down -v) on success and on failure.
 set -euo pipefail
 deploy="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$deploy/.." && pwd)"
@@ -95,6 +98,8 @@ free_port() {
 }
 client_token=$(rand_hex)
 coord_port=$(free_port)
+coord_b_port=$(free_port)
+metrics_b_port=$(free_port)
 cat >"$env_file" <<ENV
 FARM_CLIENT_TOKEN=$client_token
 FARM_WORKER_TOKEN=$(rand_hex)
@@ -102,6 +107,8 @@ FARM_S3_ACCESS_KEY=$(rand_hex)
 FARM_S3_SECRET_KEY=$(rand_hex)
 FARM_BIND=127.0.0.1
 FARM_COORDINATOR_PORT=$coord_port
+FARM_COORDINATOR_B_PORT=$coord_b_port
+FARM_METRICS_B_PORT=$metrics_b_port
 FARM_DASHBOARD_PORT=$(free_port)
 FARM_METRICS_PORT=$(free_port)
 FARM_WORKERS=2
@@ -127,14 +134,22 @@ dc up -d --scale worker=2 >"$work/up.log" 2>&1 || { cat "$work/up.log" >&2; fail
 wait_healthy
 workers=$(dc ps -q worker | wc -l)
 [ "$workers" -eq 2 ] || fail "expected 2 worker containers, got $workers"
-step "farm up and healthy: redis, object store, coordinator, dashboard, $workers workers (project $project)"
+coordinators=$(dc ps -q coordinator-a coordinator-b | wc -l)
+[ "$coordinators" -eq 2 ] || fail "expected 2 coordinator containers, got $coordinators"
+step "farm up and healthy: redis, object store, $coordinators coordinators, dashboard, $workers workers (project $project)"
 
-export FARM_TOKEN="$client_token" FARM_COORDINATOR="127.0.0.1:$coord_port"
-# Read the whole answer before matching: with pipefail, grep -q closing the pipe early
-# would fail curl with SIGPIPE on a large answer.
-metrics=$(curl -fsS "http://127.0.0.1:$FARM_METRICS_PORT/metrics" || true)
-grep -q '^farm_jobs_submitted_total' <<<"$metrics" ||
-  fail "no farm metrics on 127.0.0.1:$FARM_METRICS_PORT"
+# The host CLI is given both replicas: its calls go on through one if the other goes.
+export FARM_TOKEN="$client_token" FARM_COORDINATOR="127.0.0.1:$coord_port,127.0.0.1:$coord_b_port"
+# leases_granted PORT: the sum of farm_leases_granted_total on that metrics port. Reads the
+# whole answer before matching: with pipefail, grep -q closing the pipe early would fail
+# curl with SIGPIPE on a large answer.
+leases_granted() {
+  curl -fsS "http://127.0.0.1:$1/metrics" | awk '/^farm_leases_granted_total/ { n += $2 } END { print n + 0 }'
+}
+for port in "$FARM_METRICS_PORT" "$FARM_METRICS_B_PORT"; do
+  metrics=$(curl -fsS "http://127.0.0.1:$port/metrics" || true)
+  grep -q '^farm_jobs_submitted_total' <<<"$metrics" || fail "no farm metrics on 127.0.0.1:$port"
+done
 curl -fsS -o /dev/null "http://127.0.0.1:$FARM_DASHBOARD_PORT/" || fail "no dashboard on :$FARM_DASHBOARD_PORT"
 
 # scene NAME WIDTH SPP: a copy of the Cornell box at WIDTHxWIDTH in $work/NAME/.
@@ -171,44 +186,63 @@ job=$("$bin/farm" submit "$small")
 "$bin/farm" watch "$job" >"$work/watch1.log" 2>&1 || { cat "$work/watch1.log" >&2; fail "job $job did not succeed"; }
 "$bin/farm" fetch "$job" -o "$work/farm-small" --name cornell-box >/dev/null
 step "compose farm rendered $small as $job: $(grep -o 'took .*' "$work/watch1.log" | tail -1)"
+leases_a=$(leases_granted "$FARM_METRICS_PORT")
+leases_b=$(leases_granted "$FARM_METRICS_B_PORT")
+[ "$leases_a" -gt 0 ] && [ "$leases_b" -gt 0 ] ||
+  fail "the workers did not talk to both replicas: leases granted by coordinator-a $leases_a, coordinator-b $leases_b"
+echo "compose-test:   leases granted by coordinator-a $leases_a, by coordinator-b $leases_b"
 "$bin/farm" render "$small" -o "$work/host-small" --workers 2 >/dev/null 2>&1 || fail "farm render"
 step "host farm render of the same scene"
 same "$work/farm-small" "$work/host-small"
 
-# 3b. The coordinator keeps nothing of its own: its blobs are in the object store, its state
+# 3b. A coordinator keeps nothing of its own: its blobs are in the object store, its state
 # in Redis, so a new coordinator container (its anonymous volume removed too) serves the job.
-dc exec -T coordinator sh -c '! ls -A /var/lib/farm | grep -q .' ||
-  fail "the coordinator keeps files on its own disk: $(dc exec -T coordinator ls -A /var/lib/farm)"
+for c in coordinator-a coordinator-b; do
+  dc exec -T "$c" sh -c '! ls -A /var/lib/farm | grep -q .' ||
+    fail "$c keeps files on its own disk: $(dc exec -T "$c" ls -A /var/lib/farm)"
+done
 stored_kb=$(dc exec -T objectstore du -sk /data | cut -f1)
-dc rm -fsv coordinator >"$work/rm.log" 2>&1 || { cat "$work/rm.log" >&2; fail "docker-compose rm coordinator"; }
-dc up -d coordinator >"$work/up2.log" 2>&1 || { cat "$work/up2.log" >&2; fail "docker-compose up coordinator"; }
+dc rm -fsv coordinator-a >"$work/rm.log" 2>&1 || { cat "$work/rm.log" >&2; fail "docker-compose rm coordinator-a"; }
+dc up -d coordinator-a >"$work/up2.log" 2>&1 || { cat "$work/up2.log" >&2; fail "docker-compose up coordinator-a"; }
 wait_healthy
 "$bin/farm" fetch "$job" -o "$work/farm-small-again" --name cornell-box >/dev/null
 same "$work/farm-small" "$work/farm-small-again"
-step "a new coordinator container served $job from Redis and the object store (${stored_kb} KB in its bucket's volume)"
+step "a new coordinator-a container served $job from Redis and the object store (${stored_kb} KB in its bucket's volume)"
+
+# kill_mid_render SCENE SERVICE OUT: submits SCENE, SIGKILLs the first container of
+# SERVICE while one of its render tiles is leased, and fetches the job once it succeeds
+# into OUT.
+kill_mid_render() {
+  local job killed="" leased state left retried
+  job=$("$bin/farm" submit "$1")
+  for _ in $(seq 600); do
+    leased=$("$bin/farm" tasks "$job" 2>/dev/null | awk '$2 == "render" && $3 == "leased"' || true)
+    if [ -n "$leased" ]; then
+      killed=$(dc ps -q "$2" | awk 'NR == 1')  # awk reads it all: head could SIGPIPE docker-compose under pipefail
+      docker kill "$killed" >/dev/null
+      break
+    fi
+    state=$("$bin/farm" status "$job" | awk '$1 == "state" {print $2}')
+    [ "$state" = succeeded ] || [ "$state" = failed ] || [ "$state" = cancelled ] && break
+    sleep 0.2
+  done
+  [ -n "$killed" ] || fail "job $job left the render phase before a $2 container could be killed"
+  left=$("$bin/farm" tasks "$job" | awk '$2 == "render" && $3 != "succeeded"' | wc -l)
+  step "killed $2 container ${killed:0:12} mid-render ($left render tasks unfinished)"
+  "$bin/farm" watch "$job" >"$work/watch-$2.log" 2>&1 || { cat "$work/watch-$2.log" >&2; fail "job $job did not survive the kill"; }
+  "$bin/farm" fetch "$job" -o "$3" --name cornell-box >/dev/null
+  retried=$("$bin/farm" tasks "$job" | awk 'NR > 1 && $4 > 1' | wc -l)
+  step "job $job succeeded after the kill ($retried tasks took more than one attempt): $(grep -o 'took .*' "$work/watch-$2.log" | tail -1)"
+}
 
 # 4. Kill a worker container while tiles render.
 big=$(scene big 256 4)
-job=$("$bin/farm" submit "$big")
-killed=""
-for _ in $(seq 600); do
-  leased=$("$bin/farm" tasks "$job" 2>/dev/null | awk '$2 == "render" && $3 == "leased"' || true)
-  if [ -n "$leased" ]; then
-    killed=$(dc ps -q worker | awk 'NR == 1')  # awk reads it all: head could SIGPIPE docker-compose under pipefail
-    docker kill "$killed" >/dev/null
-    break
-  fi
-  state=$("$bin/farm" status "$job" | awk '$1 == "state" {print $2}')
-  [ "$state" = succeeded ] || [ "$state" = failed ] || [ "$state" = cancelled ] && break
-  sleep 0.2
-done
-[ -n "$killed" ] || fail "job $job left the render phase before a worker could be killed"
-left=$("$bin/farm" tasks "$job" | awk '$2 == "render" && $3 != "succeeded"' | wc -l)
-step "killed worker container ${killed:0:12} mid-render ($left render tasks unfinished)"
-"$bin/farm" watch "$job" >"$work/watch2.log" 2>&1 || { cat "$work/watch2.log" >&2; fail "job $job did not survive the kill"; }
-"$bin/farm" fetch "$job" -o "$work/farm-big" --name cornell-box >/dev/null
-retried=$("$bin/farm" tasks "$job" | awk 'NR > 1 && $4 > 1' | wc -l)
-step "job $job succeeded after the kill ($retried tasks took more than one attempt): $(grep -o 'took .*' "$work/watch2.log" | tail -1)"
+kill_mid_render "$big" worker "$work/farm-big"
 "$bin/farm" render "$big" -o "$work/host-big" --workers 2 >/dev/null 2>&1 || fail "farm render"
 step "host farm render of the same scene"
 same "$work/farm-big" "$work/host-big"
+
+# 5. Kill a coordinator container while tiles render: the other replica carries on, for the
+# workers (the alias `coordinator` now resolves to it alone) and for the host CLI.
+kill_mid_render "$big" coordinator-a "$work/farm-big-again"
+same "$work/farm-big-again" "$work/host-big"

@@ -243,7 +243,7 @@ func flagHint(fs *flagSet, err error) string {
 
 // coordinatorFlag adds --coordinator to fs; the returned func gives the address to use.
 func coordinatorFlag(fs *flagSet, e *env) func() string {
-	addr := fs.String("coordinator", "", "coordinator address HOST:PORT (default $FARM_COORDINATOR, else "+client.DefaultAddress+")")
+	addr := fs.String("coordinator", "", "coordinator address HOST:PORT, or replicas HOST:PORT,HOST:PORT (default $FARM_COORDINATOR, else "+client.DefaultAddress+")")
 	return func() string {
 		if *addr != "" {
 			return *addr

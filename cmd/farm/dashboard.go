@@ -75,7 +75,11 @@ func dialForDashboard(addr, caFile string) (*grpc.ClientConn, error) {
 		}
 		creds = credentials.NewTLS(&tls.Config{MinVersion: tls.VersionTLS12, RootCAs: pool})
 	}
-	conn, err := grpc.NewClient(addr, append(dashboard.DialOptions(), grpc.WithTransportCredentials(creds))...)
+	target, targetOpts, err := client.ReplicaTarget(addr)
+	if err != nil {
+		return nil, usageErrorf("dashboard: %v", err)
+	}
+	conn, err := grpc.NewClient(target, append(append(dashboard.DialOptions(), targetOpts...), grpc.WithTransportCredentials(creds))...)
 	if err != nil {
 		return nil, fmt.Errorf("dashboard: coordinator address %q: %w", addr, err)
 	}

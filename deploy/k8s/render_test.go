@@ -149,9 +149,12 @@ func TestEveryContainerHasResourcesAndProbes(t *testing.T) {
 // composeFile is what this test reads of deploy/compose.yaml.
 type composeFile struct {
 	Services map[string]struct {
-		Image   string   `json:"image"`
-		Command []string `json:"command"`
-		Ports   []string `json:"ports"`
+		Image    string   `json:"image"`
+		Command  []string `json:"command"`
+		Ports    []string `json:"ports"`
+		Networks map[string]struct {
+			Aliases []string `json:"aliases"`
+		} `json:"networks"`
 	} `json:"services"`
 }
 
@@ -198,7 +201,13 @@ func TestImagesFlagsAndPortsMatchTheComposeFarm(t *testing.T) {
 	}
 	for _, dir := range kustomizations {
 		f := render(t, dir)
-		for name, svc := range compose.Services {
+		for service, svc := range compose.Services {
+			// Replicas of one role (coordinator-a, coordinator-b) share its name as their
+			// network alias: the cluster runs that role as one workload.
+			name := service
+			if aliases := svc.Networks["default"].Aliases; len(aliases) > 0 {
+				name = aliases[0]
+			}
 			c := f.container(t, name)
 			if want := composeDefault(svc.Image); c.Image != want {
 				t.Errorf("%s: %s image %q, compose runs %q", dir, name, c.Image, want)
@@ -343,15 +352,49 @@ func TestWorkersScaleOnTheCoordinatorsQueueDepth(t *testing.T) {
 			t.Errorf("%s: HPA replicas %v..%d", dir, h.Spec.MinReplicas, h.Spec.MaxReplicas)
 		}
 		// A disruption budget covers the workers the HPA scales.
-		worker := f.deployment["worker"]
-		if worker == nil {
-			t.Fatalf("%s: no worker Deployment", dir)
-		}
-		if !slices.ContainsFunc(f.pdbs, func(p *policyv1.PodDisruptionBudget) bool {
-			sel, err := metav1.LabelSelectorAsSelector(p.Spec.Selector)
-			return err == nil && sel.Matches(labels.Set(worker.Spec.Template.Labels))
-		}) {
+		if f.budget(t, "worker") == nil {
 			t.Errorf("%s: no PodDisruptionBudget selects the worker pods", dir)
+		}
+	}
+}
+
+// budget is the PodDisruptionBudget that selects the pods of Deployment name, or nil.
+func (f *farm) budget(t *testing.T, name string) *policyv1.PodDisruptionBudget {
+	t.Helper()
+	d := f.deployment[name]
+	if d == nil {
+		t.Fatalf("no %s Deployment", name)
+	}
+	for _, p := range f.pdbs {
+		if sel, err := metav1.LabelSelectorAsSelector(p.Spec.Selector); err == nil && sel.Matches(labels.Set(d.Spec.Template.Labels)) {
+			return p
+		}
+	}
+	return nil
+}
+
+// Coordinator replicas (issue 17): at least two, never all down at once (rolling updates
+// that add before they remove, a disruption budget that keeps one), behind a headless
+// Service, so that the name resolves to every replica for gRPC's round_robin.
+func TestCoordinatorRunsAsReplicasBehindAHeadlessService(t *testing.T) {
+	for _, dir := range kustomizations {
+		f := render(t, dir)
+		d := f.deployment["coordinator"]
+		if d == nil {
+			t.Fatalf("%s: no coordinator Deployment", dir)
+		}
+		if d.Spec.Replicas == nil || *d.Spec.Replicas < 2 {
+			t.Errorf("%s: coordinator replicas %v, want at least 2", dir, d.Spec.Replicas)
+		}
+		if ru := d.Spec.Strategy.RollingUpdate; d.Spec.Strategy.Type != appsv1.RollingUpdateDeploymentStrategyType || ru == nil || ru.MaxUnavailable == nil || ru.MaxUnavailable.IntValue() != 0 {
+			t.Errorf("%s: coordinator strategy %+v, want a rolling update with maxUnavailable 0", dir, d.Spec.Strategy)
+		}
+		if p := f.budget(t, "coordinator"); p == nil || p.Spec.MinAvailable == nil || p.Spec.MinAvailable.IntValue() < 1 {
+			t.Errorf("%s: no PodDisruptionBudget keeps a coordinator replica up", dir)
+		}
+		i := slices.IndexFunc(f.services, func(s *corev1.Service) bool { return s.Name == "coordinator" })
+		if i < 0 || f.services[i].Spec.ClusterIP != corev1.ClusterIPNone {
+			t.Errorf("%s: the coordinator Service is missing or not headless", dir)
 		}
 	}
 }

@@ -51,7 +51,7 @@ func StartFarmIn(t testing.TB, wrap, coordArgs []string, opts ...client.Option) 
 		args:     append([]string{"--lease-duration", LeaseDuration, "--data-dir", filepath.Join(t.TempDir(), "data")}, coordArgs...),
 		cacheDir: t.TempDir(),
 	}
-	f.Addr = f.startCoordinator(t, "127.0.0.1:0")
+	f.Addr, f.coord = f.startCoordinator(t, "127.0.0.1:0")
 	c, err := client.Dial(f.Addr, opts...)
 	if err != nil {
 		t.Fatal(err)
@@ -70,12 +70,21 @@ func (f *Farm) RestartCoordinator(t testing.TB) {
 	t.Helper()
 	f.coord.Kill(syscall.SIGKILL)
 	<-f.coord.Done()
-	f.startCoordinator(t, f.Addr)
+	_, f.coord = f.startCoordinator(t, f.Addr)
 }
 
-// startCoordinator starts a coordinator listening on listen and returns the address it
-// says it listens on.
-func (f *Farm) startCoordinator(t testing.TB, listen string) string {
+// StartReplica starts another coordinator with the farm's flags (its Redis, its blob
+// store) on a port and a data folder of its own: a replica serving the same jobs, for
+// workers and clients given both addresses. It returns the replica's address; the farm's
+// Client and Coordinator stay the first coordinator's.
+func (f *Farm) StartReplica(t testing.TB) (string, *Proc) {
+	t.Helper()
+	return f.startCoordinator(t, "127.0.0.1:0", "--data-dir", filepath.Join(t.TempDir(), "data"))
+}
+
+// startCoordinator starts a coordinator listening on listen, with the farm's flags and
+// then extra, and returns the address it says it listens on and its process.
+func (f *Farm) startCoordinator(t testing.TB, listen string, extra ...string) (string, *Proc) {
 	t.Helper()
 	f.starts++
 	name := "coordinator"
@@ -83,11 +92,11 @@ func (f *Farm) startCoordinator(t testing.TB, listen string) string {
 		name = fmt.Sprintf("coordinator-%d", f.starts)
 	}
 	addrc := make(chan string, 1)
-	cmd := append([]string{filepath.Join(f.Bin, "farm"), "coordinator", "--listen", listen}, f.args...)
+	cmd := append(append([]string{filepath.Join(f.Bin, "farm"), "coordinator", "--listen", listen}, f.args...), extra...)
 	if len(f.wrap) > 0 {
 		cmd = append(slices.Clone(f.wrap), cmd...)
 	}
-	f.coord = Start(t, name, cmd[0], cmd[1:],
+	proc := Start(t, name, cmd[0], cmd[1:],
 		func(line string) {
 			if _, addr, ok := strings.Cut(line, "coordinator listening on "); ok {
 				select {
@@ -98,13 +107,13 @@ func (f *Farm) startCoordinator(t testing.TB, listen string) string {
 		})
 	select {
 	case addr := <-addrc:
-		return addr
-	case <-f.coord.Done():
-		t.Fatalf("%s exited before listening: %v", name, f.coord.Err())
+		return addr, proc
+	case <-proc.Done():
+		t.Fatalf("%s exited before listening: %v", name, proc.Err())
 	case <-time.After(15 * time.Second):
 		t.Fatalf("%s did not say `coordinator listening on` within 15s", name)
 	}
-	return ""
+	return "", nil
 }
 
 // StartWorker runs a farm-worker with a cache folder of its own, one render thread (the

@@ -10,6 +10,7 @@ import (
 
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/client"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -78,10 +79,16 @@ func (f *Farm) Wait(t testing.TB, jobID string, timeout time.Duration) *pb.Job {
 // Output downloads the named artifact ("image.exr", "preview.png") of a succeeded job.
 func (f *Farm) Output(t testing.TB, job *pb.Job, name string) []byte {
 	t.Helper()
+	return f.OutputFrom(t, f.Client, job, name)
+}
+
+// OutputFrom is Output through another client (another replica's).
+func (f *Farm) OutputFrom(t testing.TB, c *client.Client, job *pb.Job, name string) []byte {
+	t.Helper()
 	for _, a := range job.GetOutputs() {
 		if a.GetName() == name {
 			var b strings.Builder
-			if _, err := f.Client.Download(context.Background(), a.GetDigest(), &b); err != nil {
+			if _, err := c.Download(context.Background(), a.GetDigest(), &b); err != nil {
 				t.Fatalf("download %s: %v", name, err)
 			}
 			return []byte(b.String())

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "contract/rules.h"
+#include "daemon/coordinator_address.h"
 #include "util/read_file.h"
 
 namespace farm {
@@ -68,6 +69,10 @@ std::shared_ptr<grpc::Channel> MakeCoordinatorChannel(const WorkerOptions& optio
   // Notice a restarted coordinator within seconds (gRPC's default backoff grows to 2 min).
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 5000);
+  // Every replica serves every call (their state is in Redis): spread the calls over the
+  // ones that answer, and leave out one that went away until it answers again.
+  args.SetLoadBalancingPolicyName("round_robin");
+  const std::string target = CoordinatorTarget(options.coordinators);
 
   std::shared_ptr<grpc::ChannelCredentials> creds;
   if (options.tls_ca.empty()) {
@@ -78,11 +83,11 @@ std::shared_ptr<grpc::Channel> MakeCoordinatorChannel(const WorkerOptions& optio
     creds = grpc::SslCredentials(ssl);
   }
   if (options.token.empty()) {
-    return grpc::CreateCustomChannel(options.coordinator, creds, args);
+    return grpc::CreateCustomChannel(target, creds, args);
   }
   std::vector<std::unique_ptr<exp::ClientInterceptorFactoryInterface>> interceptors;
   interceptors.push_back(std::make_unique<BearerInterceptorFactory>(options.token));
-  return exp::CreateCustomChannelWithInterceptors(options.coordinator, creds, args,
+  return exp::CreateCustomChannelWithInterceptors(target, creds, args,
                                                   std::move(interceptors));
 }
 

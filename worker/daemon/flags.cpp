@@ -1,5 +1,8 @@
 #include "daemon/flags.h"
 
+#include "daemon/coordinator_address.h"
+
+#include <algorithm>
 #include <charconv>
 #include <optional>
 #include <string_view>
@@ -7,7 +10,7 @@
 namespace farm {
 
 const char kWorkerUsage[] =
-    "usage: farm-worker --coordinator HOST:PORT [--cache-dir DIR] [--cache-max-bytes N]\n"
+    "usage: farm-worker --coordinator HOST:PORT[,...] [--cache-dir DIR] [--cache-max-bytes N]\n"
     "                   [--threads N] [--name NAME] [--token TOKEN] [--tls-ca FILE] [--insecure]\n"
     "                   [--texture-cache-mib N]\n"
     "\n"
@@ -16,7 +19,10 @@ const char kWorkerUsage[] =
     "SIGTERM or SIGINT: finish the current task, report it and exit; a second one abandons\n"
     "the task (it goes back to the queue).\n"
     "\n"
-    "  --coordinator HOST:PORT  the coordinator's gRPC address (required)\n"
+    "  --coordinator HOST:PORT  the coordinator's gRPC address (required); replicas on one\n"
+    "                           Redis: one DNS name that resolves to each, or a comma list of\n"
+    "                           IP literals (10.0.0.1:50051,10.0.0.2:50051); calls are spread\n"
+    "                           over the replicas that answer\n"
     "  --cache-dir DIR          where fetched scenes, meshes and photon snapshots are kept;\n"
     "                           workers sharing it share a snapshot's pages in memory\n"
     "                           (default, shared by this user's workers on the host:\n"
@@ -67,20 +73,6 @@ std::optional<int> ParseInt(std::string_view s) {
   return v;
 }
 
-// HOST:PORT with a non-empty host (a name, an IPv4 address or a bracketed IPv6 address)
-// and a port in 1..65535.
-bool IsHostPort(std::string_view s) {
-  const auto colon = s.rfind(':');
-  if (colon == std::string_view::npos || colon == 0) return false;
-  const std::string_view host = s.substr(0, colon);
-  if (host.front() == '[' ? host.back() != ']' || host.size() < 3
-                          : host.find_first_of(":/ ") != std::string_view::npos) {
-    return false;
-  }
-  const auto port = ParseInt(s.substr(colon + 1));
-  return port && *port >= 1 && *port <= 65535;
-}
-
 // Printable ASCII without spaces: what a gRPC metadata value carries unchanged.
 bool IsTokenText(std::string_view s) {
   for (const char c : s) {
@@ -90,12 +82,6 @@ bool IsTokenText(std::string_view s) {
 }
 
 }  // namespace
-
-bool IsLoopbackAddress(const std::string& host_port) {
-  const auto colon = host_port.rfind(':');
-  const std::string_view host = std::string_view(host_port).substr(0, colon);
-  return host == "localhost" || host.starts_with("127.") || host == "[::1]";
-}
 
 ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
                              const std::function<const char*(const char*)>& getenv) {
@@ -133,10 +119,9 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       value = args[++i];
     }
     if (name == "--coordinator") {
-      if (!IsHostPort(*value)) {
-        return fail("--coordinator \"" + *value + "\" is not HOST:PORT (e.g. localhost:50051)");
+      if (const auto error = ParseCoordinatorAddresses(*value, out.options.coordinators)) {
+        return fail("--coordinator: " + *error);
       }
-      out.options.coordinator = *value;
       have_coordinator = true;
     } else if (name == "--cache-dir") {
       if (value->empty()) return fail("--cache-dir is empty");
@@ -168,6 +153,7 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
     }
   }
   if (!have_coordinator) return fail("--coordinator HOST:PORT is required");
+  const bool all_loopback = std::ranges::all_of(out.options.coordinators, [](const std::string& a) { return IsLoopbackAddress(a); });
   if (out.options.token.empty()) {
     if (const char* t = getenv("FARM_WORKER_TOKEN"); t && t[0] != '\0') out.options.token = t;
   }
@@ -175,8 +161,8 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
     return fail("the worker token has spaces or characters outside printable ASCII");
   }
   if (!out.options.token.empty() && out.options.tls_ca.empty() && !out.options.insecure &&
-      !IsLoopbackAddress(out.options.coordinator)) {
-    return fail("refusing to send the worker token without TLS to " + out.options.coordinator +
+      !all_loopback) {
+    return fail("refusing to send the worker token without TLS to " + JoinedAddresses(out.options) +
                 " (not loopback): pass --tls-ca FILE, or --insecure on a trusted network");
   }
   if (!have_cache_dir) {

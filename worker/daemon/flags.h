@@ -12,10 +12,6 @@ namespace farm {
 
 extern const char kWorkerUsage[];
 
-// Whether HOST:PORT names this machine without leaving it (localhost, 127.x.y.z, [::1]).
-// Names are not resolved.
-bool IsLoopbackAddress(const std::string& host_port);
-
 struct ParsedFlags {
   WorkerOptions options;
   bool help = false;   // --help was given: print kWorkerUsage and exit 0.

@@ -24,7 +24,7 @@ TEST(WorkerFlags, AllFlagsInBothForms) {
                                "--threads", "3", "--name=render-07", "--texture-cache-mib", "64"});
   ASSERT_EQ(f.error, "");
   EXPECT_FALSE(f.help);
-  EXPECT_EQ(f.options.coordinator, "farm.example:50051");
+  EXPECT_EQ(f.options.coordinators, std::vector<std::string>{"farm.example:50051"});
   EXPECT_EQ(f.options.cache_dir, "/tmp/c");
   EXPECT_EQ(f.options.threads, 3);
   EXPECT_EQ(f.options.name, "render-07");
@@ -95,11 +95,20 @@ TEST(WorkerFlags, ClearErrors) {
       {{"--coordinator=h:1", "--tls-ca="}, "--tls-ca is empty"},
       {{"--coordinator=localhost:1", "--token", "a b"}, "printable ASCII"},
       {{"--coordinator=farm.example:1", "--token", "t"}, "refusing to send the worker token"},
+      {{"--coordinator=127.0.0.1:1,10.0.0.2:1", "--token", "t"}, "to 127.0.0.1:1,10.0.0.2:1 (not loopback)"},
+      {{"--coordinator", "a.example:1,b.example:1"}, "--coordinator: several addresses must be IP literals"},
   };
   for (const auto& [args, want] : cases) {
     const ParsedFlags f = Parse(args);
     EXPECT_NE(f.error.find(want), std::string::npos) << "got \"" << f.error << "\", want \"" << want << "\"";
   }
+}
+
+TEST(WorkerFlags, ATokenGoesInPlaintextOnlyWhenEveryReplicaIsOnLoopback) {
+  const ParsedFlags f = Parse({"--coordinator=127.0.0.1:7001,127.0.0.1:7002", "--token=t"});
+  ASSERT_EQ(f.error, "");
+  EXPECT_EQ(f.options.coordinators, (std::vector<std::string>{"127.0.0.1:7001", "127.0.0.1:7002"}));
+  EXPECT_EQ(JoinedAddresses(f.options), "127.0.0.1:7001,127.0.0.1:7002");
 }
 
 TEST(WorkerFlags, TokenFromFlagElseEnvironment) {

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace farm {
 
@@ -12,7 +13,7 @@ inline constexpr std::uint64_t kDefaultCacheMaxBytes = std::uint64_t{8} << 30;
 
 // How a farm-worker process is configured (from its command line).
 struct WorkerOptions {
-  std::string coordinator;           // HOST:PORT of the coordinator's gRPC endpoint.
+  std::vector<std::string> coordinators;  // HOST:PORT of each coordinator replica (coordinator_address.h).
   std::filesystem::path cache_dir;   // Where fetched scenes and meshes are kept.
   std::uint64_t cache_max_bytes = kDefaultCacheMaxBytes;  // The most the cache may hold.
   int threads = 0;                   // Render threads; 0 means all cores.
@@ -22,5 +23,12 @@ struct WorkerOptions {
   bool insecure = false;             // Allow a token in plaintext to a non-loopback address.
   int texture_cache_mib = 512;       // Bound of the texture tile cache, MiB.
 };
+
+// The coordinator addresses as the worker's lines show them.
+inline std::string JoinedAddresses(const WorkerOptions& options) {
+  std::string joined;
+  for (const std::string& address : options.coordinators) joined += (joined.empty() ? "" : ",") + address;
+  return joined;
+}
 
 }  // namespace farm

@@ -98,7 +98,7 @@ std::vector<LogAttr> TaskAttrs(const pb::Task& task, const pb::Lease& lease, con
 class Worker::Impl {
  public:
   Impl(const WorkerOptions& options, unsigned cores)
-      : coordinator_(options.coordinator),
+      : coordinator_(JoinedAddresses(options)),
         hostname_(options.name.empty() ? HostName() : options.name),
         cores_(cores),
         cache_(options.cache_dir, options.cache_max_bytes),
