@@ -18,6 +18,7 @@ const (
 	PassDirect      = "direct lighting"
 	PassMedia       = "participating media"
 	PassVolumeMap   = "volume photon map"
+	PassDispersion  = "dispersion"
 	PassEdgeAA      = "edge antialiasing"
 	PassRounds      = "progressive rounds"
 	PassAdaptive    = "adaptive sampling"
@@ -82,6 +83,13 @@ func Passes(s *pb.Scene) *pb.Plan {
 		add(PassVolumeMap, false, "multiple scattering in media is not implemented yet (issue 15): media get single scattering only")
 	}
 
+	if names := dispersiveMaterials(s); len(names) == 0 {
+		add(PassDispersion, false, "no dispersive material (no dielectric sets a dispersion): every path is traced in RGB")
+	} else {
+		add(PassDispersion, true, "%s: light through it is traced at one wavelength from there on (photons and camera paths), in RGB elsewhere",
+			strings.Join(names, ", "))
+	}
+
 	switch scene.AntialiasingMode(s) {
 	case pb.AntialiasingMode_ANTIALIASING_MODE_NONE:
 		add(PassEdgeAA, false, "antialiasing.mode is NONE: every pixel gets %d samples", scene.SamplesPerPixel(s))
@@ -139,6 +147,37 @@ func mediaOf(s *pb.Scene) string {
 		parts = append(parts, strconv.Itoa(interiors)+" shapes' interior media")
 	}
 	return strings.Join(parts, " and ")
+}
+
+// dispersiveMaterials names, in the order shapes first use them, the dispersive
+// dielectrics the scene's shapes and mesh parts use, with their law: `material "prism"
+// (BK7)`, `material "gem" (Abbe number 30)`.
+func dispersiveMaterials(s *pb.Scene) []string {
+	var names []string
+	seen := map[string]bool{}
+	for _, materials := range scene.ShapeMaterials(s) {
+		for _, m := range materials {
+			d := m.GetDielectric().GetDispersion()
+			if d == nil || seen[m.GetName()] {
+				continue
+			}
+			seen[m.GetName()] = true
+			law := "Abbe number " + strconv.FormatFloat(d.GetAbbeNumber(), 'g', -1, 64)
+			if _, ok := d.GetLaw().(*pb.Dispersion_Glass); ok {
+				law = glassName(d.GetGlass())
+			}
+			names = append(names, fmt.Sprintf("material %q (%s)", m.GetName(), law))
+		}
+	}
+	return names
+}
+
+// glassName is a Glass as its catalogue writes it: BK7, FUSED_SILICA, DIAMOND, SF11.
+func glassName(g pb.Glass) string {
+	if g == pb.Glass_GLASS_UNSPECIFIED {
+		g = pb.Glass_GLASS_BK7
+	}
+	return strings.TrimPrefix(g.String(), "GLASS_")
 }
 
 func count(n uint64) string {

@@ -74,6 +74,14 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 		{"media without a volume map yet", func(s *pb.Scene) {
 			s.Medium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: &pb.Color{R: 0.1}, SigmaS: &pb.Color{}}}}
 		}, planner.PassVolumeMap, false, "not implemented yet"},
+		{"no dispersion", shapes("glass", "white"), planner.PassDispersion, false, "no dispersive material"},
+		{"a dispersive glass and a gem", func(s *pb.Scene) {
+			prism, gem := material("prism", "glass"), material("gem", "glass")
+			prism.GetDielectric().Dispersion = &pb.Dispersion{Law: &pb.Dispersion_Glass{Glass: pb.Glass_GLASS_BK7}}
+			gem.GetDielectric().Dispersion = &pb.Dispersion{Law: &pb.Dispersion_AbbeNumber{AbbeNumber: 30}}
+			s.Materials = append(s.Materials, prism, gem)
+			s.Shapes[0].Material, s.Shapes[1].Material = "gem", "prism"
+		}, planner.PassDispersion, true, `material "gem" (Abbe number 30), material "prism" (BK7): light through it is traced at one wavelength`},
 		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
 		{"an environment is one more light", func(s *pb.Scene) {
 			s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.2, G: 0.3, B: 0.5}}

@@ -110,3 +110,53 @@ func TestWorkerKilledDuringEmissionLeaseExpiresAndImageIsUnchanged(t *testing.T)
 	checkTakenOver(t, tasks, victim, secondID)
 	checkSameAsUndisturbed(t, f, sc, exrAfterKill, 120*time.Second)
 }
+
+// TestDispersiveCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill: the caustics scene
+// with its glass ball made of BK7 (dispersive: photons and camera paths through it carry one
+// wavelength each) renders to the same bytes on two workers as on one, also when the only
+// worker is SIGKILLed during emission and another takes over (issue 18, acceptance 4).
+func TestDispersiveCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill(t *testing.T) {
+	dispersive := func(f *farmtest.Farm) *pb.Scene {
+		sc := slowShards(f.LoadScene(t, causticsFile))
+		for _, m := range sc.GetMaterials() {
+			if d := m.GetDielectric(); d != nil {
+				d.Ior = 1.5168
+				d.Dispersion = &pb.Dispersion{Law: &pb.Dispersion_Glass{Glass: pb.Glass_GLASS_BK7}}
+			}
+		}
+		return sc
+	}
+	two := farmtest.StartFarm(t, nil)
+	two.StartWorker(t)
+	two.StartWorker(t)
+	exrTwo := checkCausticsOutputs(t, two, two.Render(t, dispersive(two), 180*time.Second))
+
+	f := farmtest.StartFarm(t, nil)
+	first := f.StartWorker(t)
+	first.WorkerID(t, 15*time.Second)
+	sc := dispersive(f)
+	job := f.Submit(t, sc)
+	if !planRuns(job, "dispersion") {
+		t.Errorf("the plan does not run dispersion: %v", job.GetPlan())
+	}
+	victim := killWhileLeasing(t, f, first, job.GetId(), pb.Phase_PHASE_EMIT)
+	second := f.StartWorker(t)
+	secondID := second.WorkerID(t, 15*time.Second)
+	exrAfterKill := checkCausticsOutputs(t, f, f.Wait(t, job.GetId(), 180*time.Second))
+	checkTakenOver(t, f.Tasks(t, job.GetId()), victim, secondID)
+	if !bytes.Equal(farmtest.WithoutRenderTime(exrTwo), farmtest.WithoutRenderTime(exrAfterKill)) {
+		t.Errorf("the dispersive render on two workers (%d bytes) differs from the one after a kill (%d bytes)", len(exrTwo), len(exrAfterKill))
+	}
+	// And the same again on the one worker left, undisturbed.
+	checkSameAsUndisturbed(t, f, sc, exrAfterKill, 180*time.Second)
+}
+
+// planRuns says whether job's plan runs the pass called name.
+func planRuns(job *pb.Job, name string) bool {
+	for _, p := range job.GetPlan().GetPasses() {
+		if p.GetName() == name {
+			return p.GetEnabled()
+		}
+	}
+	return false
+}

@@ -1,8 +1,9 @@
 #pragma once
 
 // Linear RGB (Rec. 709 primaries) radiance, irradiance or reflectance. A separate type from
-// Vec3 so that a colour can never be passed where a direction is expected. Spectral
-// rendering, later, replaces this with wavelength samples behind the same operations.
+// Vec3 so that a colour can never be passed where a direction is expected. Light is
+// carried in RGB except past a dispersive surface, where a path carries one wavelength
+// (spectral/monochrome.h) and converts back to this for the film.
 
 #include <cmath>
 #include <cstdio>

@@ -16,6 +16,7 @@
 #include "photon/trace_photons.h"
 #include "scene/scene_data.h"
 #include "scene/surface_shading.h"
+#include "spectral/monochrome.h"
 
 namespace farm {
 namespace {
@@ -66,6 +67,10 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
   Ray ray = emitted.ray;
   Rgb power = emitted.power * power_scale;
   int specular_bounces = 0, diffuse_bounces = 0;
+  // Set at the first dispersive surface: the photon is light of one wavelength from there
+  // on, of power mono_power at it (its RGB power is mono->ToRgb(mono_power)).
+  std::optional<MonochromePath> mono;
+  double mono_power = 0;
 
   for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
     // Four draws per bounce whatever happens, so that bounce k's numbers never shift.
@@ -82,8 +87,17 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
       return;
     // A photon is one sample among very many: a point lookup of the textures (emission
     // aside: it scatters light, whatever the surface emits).
-    const Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{.emission = false});
+    Material material = MaterialAt(scene, *hit, ray.direction, TextureRead{.emission = false});
     const Vec3 wi = -ray.direction;  // towards where the photon came from
+    if (IsDispersive(material)) {
+      // u_store is free here: a dielectric stores no photon.
+      if (!mono) {
+        mono = options.wavelength_nm > 0 ? MonochromePath{options.wavelength_nm} : MonochromePath::Sample(u_store);
+        mono_power = mono->ValueOf(power);
+        power = mono->ToRgb(mono_power);
+      }
+      material = AtWavelength(material, mono->lambda_nm);
+    }
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
     if (!can.specular && !can.reflects) return;  // emitters absorb
@@ -110,14 +124,21 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
     // A caustic path goes on only through specular bounces (a smooth principled surface's
     // diffuse base ends it: the photon was stored above).
     if (kind == PhotonMapKind::kCaustic && !s->specular) return;
-    Rgb next = power * s->weight;
+    Rgb weight = s->weight;
     // A shading normal (a mesh's smooth normals, a normal map) makes the BSDF non-symmetric
     // for what photons carry (Veach's adjoint): |wi.ns| |wo.n| / (|wi.n| |wo.ns|), for wi
     // towards where the photon came from and wo where it goes. Exactly 1 without one.
     if (const Vec3 ns = ShadingNormalOf(material, hit->ns); ns != hit->n) {
       const float scale = AbsDot(wi, ns) * AbsDot(s->wi, hit->n) / (AbsDot(wi, hit->n) * AbsDot(s->wi, ns));
       if (!std::isfinite(scale)) return;
-      next = next * scale;
+      weight = weight * scale;
+    }
+    // At one wavelength, the surface's RGB weight acts as its uplifted spectrum there.
+    double next_mono = 0;
+    Rgb next = power * weight;
+    if (mono) {
+      next_mono = mono_power * mono->ValueOf(weight);
+      next = mono->ToRgb(next_mono);
     }
     // Russian roulette: survive with the ratio of the new to the old power (its largest
     // channel), and divide by it, so that surviving photons keep roughly constant power.
@@ -125,6 +146,7 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
                                              MaxComponent(Vec3(power.r, power.g, power.b)));
     if (!(survive > 0) || u_survive >= survive) return;
     power = next / survive;
+    mono_power = next_mono / survive;
     if (!power.IsFinite()) return;
     if (s->specular) {
       ++specular_bounces;

@@ -15,6 +15,7 @@
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
 #include "scene/surface_shading.h"
+#include "spectral/monochrome.h"
 #include "texture/footprint.h"
 
 namespace farm {
@@ -179,6 +180,36 @@ struct PhotonMappingIntegrator::PathBranch {
   float share = 1;
   uint64_t key = 0;
   const HomogeneousMedium* medium = nullptr;  // the one the ray travels in; null: vacuum
+  // Set once the branch crossed a dispersive surface: it carries light of one wavelength
+  // from there on, with throughput mono_throughput at it (throughput is its RGB,
+  // mono->ToRgb(mono_throughput)), and sees an RGB quantity as its uplift there.
+  std::optional<MonochromePath> mono;
+  double mono_throughput = 1;
+
+  // What light x (RGB) reaching the branch adds to the film.
+  Rgb Carried(const Rgb& x) const { return mono ? mono->ToRgb(mono_throughput * mono->ValueOf(x)) : throughput * x; }
+
+  // The branch with its throughput times weight (RGB: a surface's or a medium's), over
+  // survive.
+  PathBranch Continued(const Rgb& weight, float survive = 1) const {
+    PathBranch on = *this;
+    if (mono) {
+      on.mono_throughput = mono_throughput * mono->ValueOf(weight) / survive;
+      on.throughput = mono->ToRgb(on.mono_throughput);
+    } else {
+      on.throughput = throughput * weight / survive;
+    }
+    return on;
+  }
+
+  // The branch at one wavelength from here on, carrying the uplift of its throughput there.
+  PathBranch AtOneWavelength(const MonochromePath& at) const {
+    PathBranch on = *this;
+    on.mono = at;
+    on.mono_throughput = at.ValueOf(throughput);
+    on.throughput = at.ToRgb(on.mono_throughput);
+    return on;
+  }
 };
 
 // The sampler's dimensions of one bounce.
@@ -233,7 +264,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   Branches branches;
   // The camera is in the scene's medium (docs/media.md: not inside a shape's).
   branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, Rgb(1), 1, 0,
-                 scene_.medium ? &*scene_.medium : nullptr});
+                 scene_.medium ? &*scene_.medium : nullptr, std::nullopt, 1});
   for (int depth = 0; depth < kMaxSpecularDepth && branches.count > 0; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit; the branches share them.
@@ -266,7 +297,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
                                      std::vector<PhotonNeighbour>& scratch, SampleResult& result,
                                      Branches& next) const {
   const Ray& ray = branch.ray;
-  Rgb throughput = branch.throughput;
+  PathBranch path = branch;  // its throughput as the medium leaves it
   const std::optional<SurfaceHit> hit = scene_.Intersect(ray);
   // 2^32 levels from the sample's dimension, hashed so that nearby values give unrelated
   // scrambles.
@@ -277,21 +308,26 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     // medium (media_transport.h). Single scattering is direct light.
     const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
-    result.direct += throughput * InScattered(segment, ray, SubSeed(seed, kMediumSeed));
-    throughput = throughput * segment.TransmittanceTo(t_end);
+    result.direct += path.Carried(InScattered(segment, ray, SubSeed(seed, kMediumSeed)));
+    path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
     // The environment, seen directly (unless hidden) or through specular bounces, which
     // only this path can reach (a delta BSDF): no other strategy shares it.
     if (scene_.environment && (depth > 0 || scene_.environment_visible)) {
-      result.emitted += throughput * scene_.environment->Radiance(ray.direction);
+      result.emitted += path.Carried(scene_.environment->Radiance(ray.direction));
       if (depth == 0) result.alpha = 1;  // the background is part of the picture
     }
     return;
   }
   const Vec3 wo = -ray.direction;
   const RayCone cone{branch.cone.WidthAt(hit->t), branch.cone.spread};
-  const Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
+  Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
+  if (IsDispersive(material)) {
+    // The wavelength from the direction's dimension, which a dielectric does not use.
+    if (!path.mono) path = path.AtOneWavelength(MonochromePath::Sample(ForBranch(u.direction.x, branch.key, 3)));
+    material = AtWavelength(material, path.mono->lambda_nm);
+  }
   const Shading at(*hit, wo, material, cone.width, branch.medium);
   if (branch.key == 0) {
     // Never 0, which stands for no hit.
@@ -306,7 +342,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     result.surface_normal = Dot(hit->n, at.n) < 0 ? -hit->ns : hit->ns;
     result.depth = hit->t;
   }
-  result.emitted += throughput * Emitted(material, hit->n, wo);
+  result.emitted += path.Carried(Emitted(material, hit->n, wo));
 
   const MaterialCapabilities& can = scene_.capabilities_of(*hit);
   if (can.reflects) {
@@ -315,7 +351,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
     Rgb irradiance;
     Shade(at, strategies, seed, scratch, direct, caustic, indirect, branch.key == 0 ? &irradiance : nullptr);
-    result.direct_irradiance += throughput * irradiance;
+    result.direct_irradiance += path.Carried(irradiance);
     if (final_gather_) {
       const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
       const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
@@ -324,16 +360,22 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     }
     // Added, not set: a smooth principled surface is shaded for its diffuse base here and
     // followed through its specular lobe below, and what lies beyond adds its own.
-    result.direct += throughput * direct;
-    result.caustic += throughput * caustic;
-    result.indirect += throughput * indirect;
+    result.direct += path.Carried(direct);
+    result.caustic += path.Carried(caustic);
+    result.indirect += path.Carried(indirect);
   }
   if (!can.specular) return;
 
-  const auto go_on = [&](const Vec3& wi, const Rgb& t, float share, uint64_t key) {
-    if (!t.IsFinite() || t.IsBlack()) return;
-    next.Push({Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi}, cone, t, share, key,
-               MediumBeyond(*hit, wo, wi, branch.medium)});
+  // The branch on along wi, its throughput times weight, then divided by survive.
+  const auto go_on = [&](const Vec3& wi, const Rgb& weight, float share, uint64_t key, float survive = 1) {
+    PathBranch on = path.Continued(weight, survive);
+    if (!on.throughput.IsFinite() || on.throughput.IsBlack()) return;
+    on.ray = Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi};
+    on.cone = cone;
+    on.share = share;
+    on.key = key;
+    on.medium = MediumBeyond(*hit, wo, wi, branch.medium);
+    next.Push(on);
   };
   if (scene_.split_specular && depth < kSplitDepth) {
     if (const std::optional<SpecularSplit> split = SplitSpecular(material, hit->ns, wo, TransportMode::kRadiance)) {
@@ -341,10 +383,8 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
       // that the branches' shading points draw unrelated numbers.
       const auto share = [&](const BsdfSample& s) { return branch.share * MaxComponent(s.weight); };
       if (split->transmitted)
-        go_on(split->transmitted->wi, throughput * split->transmitted->weight, share(*split->transmitted),
-              branch.key);
-      go_on(split->reflected.wi, throughput * split->reflected.weight, share(split->reflected),
-            Hash(branch.key, uint64_t(depth) + 1));
+        go_on(split->transmitted->wi, split->transmitted->weight, share(*split->transmitted), branch.key);
+      go_on(split->reflected.wi, split->reflected.weight, share(split->reflected), Hash(branch.key, uint64_t(depth) + 1));
       return;
     }
   }
@@ -352,15 +392,14 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const std::optional<BsdfSample> s = SampleSpecular(material, hit->ns, wo, ForBranch(u.lobe, branch.key, 5),
                                                      u_direction, TransportMode::kRadiance);
   if (!s) return;
-  Rgb t = throughput * s->weight;
+  float survive = 1;
   if (depth >= kRouletteDepth) {
     // On what the path has lost besides its split shares: a branch is not cut for being
     // one of several.
-    const float survive = std::min(1.0f, MaxComponent(t) / branch.share);
+    survive = std::min(1.0f, MaxComponent(path.Continued(s->weight).throughput) / branch.share);
     if (!(survive > 0) || ForBranch(u.survive, branch.key, 6) >= survive) return;
-    t = t / survive;
   }
-  go_on(s->wi, t, branch.share, branch.key);
+  go_on(s->wi, s->weight, branch.share, branch.key, survive);
 }
 
 void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strategies, uint32_t seed,

@@ -24,6 +24,16 @@ double AbbeNumber(const Dispersion& d) {
   return (IndexAt(d, kFraunhoferD) - 1) / (IndexAt(d, kFraunhoferF) - IndexAt(d, kFraunhoferC));
 }
 
+CauchyDispersion CauchyFromAbbe(double n_d, double abbe_number) {
+  const auto inverse_square = [](double lambda_nm) { return 1e6 / (lambda_nm * lambda_nm); };  // 1/µm²
+  const double b = (n_d - 1) / (abbe_number * (inverse_square(kFraunhoferF) - inverse_square(kFraunhoferC)));
+  return CauchyDispersion{n_d - b * inverse_square(kFraunhoferD), b, 0};
+}
+
+double ScaledIndexAt(const Dispersion& law, double ior, double lambda_nm) {
+  return 1 + (ior - 1) * (IndexAt(law, lambda_nm) - 1) / (IndexAt(law, kFraunhoferD) - 1);
+}
+
 std::optional<SellmeierDispersion> NamedGlass(std::string_view name) {
   // Schott's optical glass data sheets (N-BK7, SF11); Malitson, J. Opt. Soc. Am. 55 (1965)
   // 1205 for fused silica (his resonance wavelengths squared); Peter, Z. Phys. 15 (1923)

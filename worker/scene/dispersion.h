@@ -40,6 +40,15 @@ double IndexAt(const Dispersion& d, double lambda_nm);
 // about 64), small for glass that spreads them much (dense flint about 25).
 double AbbeNumber(const Dispersion& d);
 
+// Cauchy's two-term law n(λ) = A + B / λ² with index n_d at the d line and Abbe number V_d.
+CauchyDispersion CauchyFromAbbe(double n_d, double abbe_number);
+
+// The index at λ of a dielectric whose index at the d line is ior and whose index varies as
+// law's does: 1 + (ior - 1) (n(λ) - 1) / (n_d - 1), n the law's (scene.proto's Dispersion).
+// At least 1 wherever the law's is; law's own index when ior is its n_d; the Abbe number is
+// law's whatever ior.
+double ScaledIndexAt(const Dispersion& law, double ior, double lambda_nm);
+
 // "BK7", "fused-silica", "diamond" or "flint-SF11"; nothing for any other name.
 std::optional<SellmeierDispersion> NamedGlass(std::string_view name);
 

@@ -58,5 +58,30 @@ TEST(Dispersion, SellmeierWithoutResonanceIsConstant) {
   EXPECT_NEAR(IndexAt(glass, 700), 1.5, 1e-12);
 }
 
+TEST(Dispersion, CauchyFromAbbeHasThatIndexAndAbbeNumber) {
+  for (const double n_d : {1.0001, 1.5, 2.4, 4.0}) {
+    for (const double v : {15.0, 20.0, 64.17, 90.0, 100.0}) {
+      const Dispersion law = CauchyFromAbbe(n_d, v);
+      EXPECT_NEAR(IndexAt(law, kFraunhoferD), n_d, 1e-12) << n_d << " " << v;
+      EXPECT_NEAR(AbbeNumber(law), v, 1e-9 * v) << n_d << " " << v;
+    }
+  }
+}
+
+TEST(Dispersion, ScaledIndexIsTheLawsAtItsOwnIndexAndKeepsItsAbbeNumber) {
+  const Dispersion bk7 = *NamedGlass("BK7");
+  const double n_d = IndexAt(bk7, kFraunhoferD);
+  for (double lambda = 360; lambda <= 830; lambda += 10) {
+    EXPECT_NEAR(ScaledIndexAt(bk7, n_d, lambda), IndexAt(bk7, lambda), 1e-12) << lambda;
+    // A lower ior spreads colours less, by the same ratio; never below 1.
+    EXPECT_NEAR(ScaledIndexAt(bk7, 1.25, lambda) - 1, (IndexAt(bk7, lambda) - 1) * 0.25 / (n_d - 1), 1e-12);
+    EXPECT_GE(ScaledIndexAt(bk7, 1.0001, lambda), 1) << lambda;
+    EXPECT_EQ(ScaledIndexAt(bk7, 1, lambda), 1) << lambda;
+  }
+  // The scaled law's Abbe number is the glass's.
+  const auto scaled = [&](double lambda) { return ScaledIndexAt(bk7, 1.8, lambda); };
+  EXPECT_NEAR((scaled(kFraunhoferD) - 1) / (scaled(kFraunhoferF) - scaled(kFraunhoferC)), AbbeNumber(bk7), 1e-9);
+}
+
 }  // namespace
 }  // namespace farm

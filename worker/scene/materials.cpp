@@ -69,6 +69,36 @@ DielectricLobes DielectricLobesOf(const DielectricMaterial& m, const Vec3& n, co
   return lobes;
 }
 
+// A dispersion as the contract describes it, about the index ior at the d line.
+Dispersion DispersionFromProto(const pb::Dispersion& d, double ior) {
+  switch (d.law_case()) {
+    case pb::Dispersion::kAbbeNumber:
+      return CauchyFromAbbe(ior, d.abbe_number());
+    case pb::Dispersion::kGlass:
+      break;
+    case pb::Dispersion::LAW_NOT_SET:
+      throw std::invalid_argument("dispersion: no law (the scene was not checked)");
+  }
+  const char* name = "BK7";
+  switch (d.glass()) {
+    case pb::GLASS_UNSPECIFIED:
+    case pb::GLASS_BK7:
+      break;
+    case pb::GLASS_FUSED_SILICA:
+      name = "fused-silica";
+      break;
+    case pb::GLASS_DIAMOND:
+      name = "diamond";
+      break;
+    case pb::GLASS_SF11:
+      name = "flint-SF11";
+      break;
+    default:
+      throw std::invalid_argument("dispersion.glass: unknown glass " + std::to_string(d.glass()));
+  }
+  return *NamedGlass(name);
+}
+
 PrincipledMaterial PrincipledFromProto(const pb::Principled& p) {
   PrincipledMaterial m;
   if (p.has_base_color()) m.lobes.base_color = RgbOf(p.base_color());
@@ -118,6 +148,7 @@ Material MaterialFromProto(const pb::Material& material) {
       DielectricMaterial m;
       m.ior = static_cast<float>(d.ior());
       if (d.has_transmittance()) m.transmittance = RgbOf(d.transmittance());
+      if (d.has_dispersion()) m.dispersion = DispersionFromProto(d.dispersion(), d.ior());
       return m;
     }
     case pb::Material::kConductor:
@@ -307,6 +338,20 @@ std::optional<SpecularSplit> SplitSpecular(const Material& material, const Vec3&
       material);
 }
 
+bool IsDispersive(const Material& material) {
+  const auto* d = std::get_if<DielectricMaterial>(&material);
+  return d != nullptr && d->dispersion.has_value();
+}
+
+Material AtWavelength(const Material& material, double lambda_nm) {
+  const auto* d = std::get_if<DielectricMaterial>(&material);
+  if (d == nullptr || !d->dispersion) return material;
+  DielectricMaterial at = *d;
+  at.ior = static_cast<float>(ScaledIndexAt(*d->dispersion, d->ior, lambda_nm));
+  at.dispersion.reset();
+  return at;
+}
+
 Rgb Emission(const Material& material) {
   return std::visit(
       Overloaded{
@@ -416,8 +461,8 @@ std::string ToString(const Material& material) {
       return "Mirror{reflectance=" + ToString(m.reflectance) + "}";
     }
     std::string operator()(const DielectricMaterial& m) const {
-      return "Dielectric{ior=" + std::to_string(m.ior) +
-             ", transmittance=" + ToString(m.transmittance) + "}";
+      return "Dielectric{ior=" + std::to_string(m.ior) + ", transmittance=" + ToString(m.transmittance) +
+             (m.dispersion ? ", dispersion=" + ToString(*m.dispersion) : std::string()) + "}";
     }
     std::string operator()(const ConductorMaterial& m) const {
       return "Conductor{eta=" + ToString(m.eta) + ", k=" + ToString(m.k) + "}";

@@ -12,9 +12,10 @@
 //   mirror      reflectance                    perfect specular reflection, two-sided
 //   dielectric  ior in [1, 10] (inside         smooth glass: reflects with Fresnel's R and
 //               relative to outside),          transmits with 1 - R (one of the two chosen
-//               transmittance (default 1)      at random by those weights), total internal
-//                                              reflection; the front side is the outside;
-//                                              transmitted light is tinted by transmittance
+//               transmittance (default 1),     at random by those weights), total internal
+//               dispersion (optional)          reflection; the front side is the outside;
+//                                              transmitted light is tinted by transmittance;
+//                                              a dispersive one is seen at one wavelength
 //   conductor   eta, k per channel             smooth metal, exact complex Fresnel
 //   emissive    radiance L >= 0, reflectance   emits L from the front only; reflects as a
 //               rho (default 0)                lambert of rho (a light fixture lit by the room)
@@ -46,6 +47,7 @@
 
 #include "math/rgb.h"
 #include "math/vec3.h"
+#include "scene/dispersion.h"
 #include "scene/principled.h"
 
 namespace renderfarm::v1 {
@@ -69,8 +71,10 @@ struct MirrorMaterial {
 };
 
 struct DielectricMaterial {
-  float ior = 1.5f;
+  float ior = 1.5f;  // at the d line (587.56 nm) when dispersive
   Rgb transmittance{1};
+  // The law the index follows about ior (ScaledIndexAt); none: the same at every wavelength.
+  std::optional<Dispersion> dispersion;
 };
 
 struct ConductorMaterial {
@@ -140,6 +144,15 @@ struct MaterialCapabilities {
   float diffuse_fraction = 0;
 };
 MaterialCapabilities CapabilitiesOf(const Material& material);
+
+// Whether light through the material goes its own way at each wavelength (a dispersive
+// dielectric): a path crossing it is traced at one wavelength from there on
+// (spectral/monochrome.h).
+bool IsDispersive(const Material& material);
+
+// The material at one wavelength: a dispersive dielectric with its index at lambda_nm and
+// no dispersion; any other as it is.
+Material AtWavelength(const Material& material, double lambda_nm);
 
 // What a path carries: radiance (camera paths) or flux (photons). They differ at a
 // refraction, where radiance is scaled by (eta_from / eta_to)^2 as the beam's solid angle

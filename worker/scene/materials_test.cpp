@@ -109,7 +109,7 @@ Vec3 At(float theta_degrees) {
 }
 
 TEST(Materials, CapabilitiesClassifyEveryKind) {
-  for (const Material& m : {Material(MirrorMaterial{Rgb(1)}), Material(DielectricMaterial{1.5f, Rgb(1)}),
+  for (const Material& m : {Material(MirrorMaterial{Rgb(1)}), Material(DielectricMaterial{1.5f, Rgb(1), std::nullopt}),
                             Material(ConductorMaterial{Rgb(0.2f), Rgb(3)})}) {
     const MaterialCapabilities c = CapabilitiesOf(m);
     EXPECT_TRUE(c.specular) << ToString(m);
@@ -157,7 +157,7 @@ TEST(Materials, ConductorWeightIsItsFresnelReflectance) {
 }
 
 TEST(Materials, DielectricChoosesReflectionWithFresnelProbability) {
-  const Material glass = DielectricMaterial{1.5f, Rgb(1, 0.9f, 0.8f)};
+  const Material glass = DielectricMaterial{1.5f, Rgb(1, 0.9f, 0.8f), std::nullopt};
   for (float theta : {0.0f, 40.0f, 75.0f}) {
     for (bool from_inside : {false, true}) {
       const Vec3 wo = from_inside ? -At(theta) : At(theta);
@@ -190,7 +190,7 @@ TEST(Materials, DielectricChoosesReflectionWithFresnelProbability) {
 TEST(Materials, SplitDielectricWeighsBothWaysByTheirFresnelShares) {
   // SplitSpecular's two branches weigh what SampleBsdf's choice gives on average: R for
   // the reflection (the mirror direction), 1 - R times the chosen refraction's weight.
-  const Material glass = DielectricMaterial{1.5f, Rgb(1, 0.9f, 0.8f)};
+  const Material glass = DielectricMaterial{1.5f, Rgb(1, 0.9f, 0.8f), std::nullopt};
   for (float theta : {0.0f, 40.0f, 75.0f}) {
     for (bool from_inside : {false, true}) {
       const Vec3 wo = from_inside ? -At(theta) : At(theta);

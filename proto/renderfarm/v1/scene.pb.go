@@ -236,6 +236,66 @@ func (IndirectMode) EnumDescriptor() ([]byte, []int) {
 	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
+type Glass int32
+
+const (
+	// Selects BK7.
+	Glass_GLASS_UNSPECIFIED Glass = 0
+	// Schott N-BK7, the common borosilicate crown glass: n_d 1.5168, V_d 64.17.
+	Glass_GLASS_BK7 Glass = 1
+	// Fused silica (Malitson 1965): n_d 1.4585, V_d 67.8.
+	Glass_GLASS_FUSED_SILICA Glass = 2
+	// Diamond (Peter 1923): n_d 2.4175, V_d 55.
+	Glass_GLASS_DIAMOND Glass = 3
+	// Schott SF11, a dense flint glass: n_d 1.7847, V_d 25.68.
+	Glass_GLASS_SF11 Glass = 4
+)
+
+// Enum value maps for Glass.
+var (
+	Glass_name = map[int32]string{
+		0: "GLASS_UNSPECIFIED",
+		1: "GLASS_BK7",
+		2: "GLASS_FUSED_SILICA",
+		3: "GLASS_DIAMOND",
+		4: "GLASS_SF11",
+	}
+	Glass_value = map[string]int32{
+		"GLASS_UNSPECIFIED":  0,
+		"GLASS_BK7":          1,
+		"GLASS_FUSED_SILICA": 2,
+		"GLASS_DIAMOND":      3,
+		"GLASS_SF11":         4,
+	}
+)
+
+func (x Glass) Enum() *Glass {
+	p := new(Glass)
+	*p = x
+	return p
+}
+
+func (x Glass) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (Glass) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+}
+
+func (Glass) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+}
+
+func (x Glass) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use Glass.Descriptor instead.
+func (Glass) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+}
+
 type AlphaMode int32
 
 const (
@@ -271,11 +331,11 @@ func (x AlphaMode) String() string {
 }
 
 func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
 }
 
 func (AlphaMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+	return &file_renderfarm_v1_scene_proto_enumTypes[5]
 }
 
 func (x AlphaMode) Number() protoreflect.EnumNumber {
@@ -284,7 +344,7 @@ func (x AlphaMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AlphaMode.Descriptor instead.
 func (AlphaMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 type ToneMap int32
@@ -324,11 +384,11 @@ func (x ToneMap) String() string {
 }
 
 func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[6].Descriptor()
 }
 
 func (ToneMap) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[5]
+	return &file_renderfarm_v1_scene_proto_enumTypes[6]
 }
 
 func (x ToneMap) Number() protoreflect.EnumNumber {
@@ -337,7 +397,7 @@ func (x ToneMap) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use ToneMap.Descriptor instead.
 func (ToneMap) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
 }
 
 type Filter int32
@@ -379,11 +439,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[6].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[7].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[6]
+	return &file_renderfarm_v1_scene_proto_enumTypes[7]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -392,7 +452,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -1792,10 +1852,15 @@ func (x *Mirror) GetReflectance() *Color {
 // reflection past the critical angle. Light goes in through the front side.
 type Dielectric struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// Index of refraction inside relative to outside; glass is about 1.5.
+	// Index of refraction inside relative to outside; glass is about 1.5. With a dispersion,
+	// the index at the helium d line, 587.56 nm (the n_d of glass catalogues).
 	Ior float64 `protobuf:"fixed64,1,opt,name=ior,proto3" json:"ior,omitempty"`
 	// Colour filter applied on transmission; unset means (1, 1, 1).
 	Transmittance *Color `protobuf:"bytes,2,opt,name=transmittance,proto3" json:"transmittance,omitempty"`
+	// How the index changes with the wavelength; unset, it does not. Light through a
+	// dispersive dielectric is traced at one wavelength from there on (a prism's rainbow);
+	// `farm plan` says which materials make a scene spectral.
+	Dispersion    *Dispersion `protobuf:"bytes,3,opt,name=dispersion,proto3" json:"dispersion,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1844,6 +1909,102 @@ func (x *Dielectric) GetTransmittance() *Color {
 	return nil
 }
 
+func (x *Dielectric) GetDispersion() *Dispersion {
+	if x != nil {
+		return x.Dispersion
+	}
+	return nil
+}
+
+// A dielectric's index against the wavelength λ: n(λ) = 1 + (ior - 1) s(λ), with s a
+// law's (n(λ) - 1) / (n_d - 1), so that n is ior at 587.56 nm and never below 1, and the
+// law's Abbe number is kept whatever ior. Exactly one law is set.
+type Dispersion struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	// Types that are valid to be assigned to Law:
+	//
+	//	*Dispersion_AbbeNumber
+	//	*Dispersion_Glass
+	Law           isDispersion_Law `protobuf_oneof:"law"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *Dispersion) Reset() {
+	*x = Dispersion{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *Dispersion) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*Dispersion) ProtoMessage() {}
+
+func (x *Dispersion) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use Dispersion.ProtoReflect.Descriptor instead.
+func (*Dispersion) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
+}
+
+func (x *Dispersion) GetLaw() isDispersion_Law {
+	if x != nil {
+		return x.Law
+	}
+	return nil
+}
+
+func (x *Dispersion) GetAbbeNumber() float64 {
+	if x != nil {
+		if x, ok := x.Law.(*Dispersion_AbbeNumber); ok {
+			return x.AbbeNumber
+		}
+	}
+	return 0
+}
+
+func (x *Dispersion) GetGlass() Glass {
+	if x != nil {
+		if x, ok := x.Law.(*Dispersion_Glass); ok {
+			return x.Glass
+		}
+	}
+	return Glass_GLASS_UNSPECIFIED
+}
+
+type isDispersion_Law interface {
+	isDispersion_Law()
+}
+
+type Dispersion_AbbeNumber struct {
+	// The Abbe number V_d = (n_d - 1) / (n_F - n_C) of Cauchy's two-term law
+	// n(λ) = A + B / λ²: crown glass is about 64, dense flint about 25, diamond 55,
+	// fused silica 68; smaller spreads colours more.
+	AbbeNumber float64 `protobuf:"fixed64,1,opt,name=abbe_number,json=abbeNumber,proto3,oneof"`
+}
+
+type Dispersion_Glass struct {
+	// A catalogue glass's Sellmeier fit.
+	Glass Glass `protobuf:"varint,2,opt,name=glass,proto3,enum=renderfarm.v1.Glass,oneof"`
+}
+
+func (*Dispersion_AbbeNumber) isDispersion_Law() {}
+
+func (*Dispersion_Glass) isDispersion_Law() {}
+
 // A smooth metal with a complex index of refraction per channel (eta + i k), e.g. gold:
 // eta (0.143, 0.374, 1.442), k (3.983, 2.385, 1.603).
 type Conductor struct {
@@ -1856,7 +2017,7 @@ type Conductor struct {
 
 func (x *Conductor) Reset() {
 	*x = Conductor{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1868,7 +2029,7 @@ func (x *Conductor) String() string {
 func (*Conductor) ProtoMessage() {}
 
 func (x *Conductor) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[19]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1881,7 +2042,7 @@ func (x *Conductor) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Conductor.ProtoReflect.Descriptor instead.
 func (*Conductor) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{19}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
 }
 
 func (x *Conductor) GetEta() *Color {
@@ -1936,7 +2097,7 @@ type Principled struct {
 
 func (x *Principled) Reset() {
 	*x = Principled{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -1948,7 +2109,7 @@ func (x *Principled) String() string {
 func (*Principled) ProtoMessage() {}
 
 func (x *Principled) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[20]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -1961,7 +2122,7 @@ func (x *Principled) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Principled.ProtoReflect.Descriptor instead.
 func (*Principled) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{20}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
 }
 
 func (x *Principled) GetBaseColor() *Color {
@@ -2064,7 +2225,7 @@ type Light struct {
 
 func (x *Light) Reset() {
 	*x = Light{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2076,7 +2237,7 @@ func (x *Light) String() string {
 func (*Light) ProtoMessage() {}
 
 func (x *Light) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[21]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2089,7 +2250,7 @@ func (x *Light) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Light.ProtoReflect.Descriptor instead.
 func (*Light) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{21}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
 }
 
 func (x *Light) GetName() string {
@@ -2167,7 +2328,7 @@ type PointLight struct {
 
 func (x *PointLight) Reset() {
 	*x = PointLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2179,7 +2340,7 @@ func (x *PointLight) String() string {
 func (*PointLight) ProtoMessage() {}
 
 func (x *PointLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[22]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2192,7 +2353,7 @@ func (x *PointLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PointLight.ProtoReflect.Descriptor instead.
 func (*PointLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{22}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
 }
 
 func (x *PointLight) GetPosition() *Vec3 {
@@ -2225,7 +2386,7 @@ type SunLight struct {
 
 func (x *SunLight) Reset() {
 	*x = SunLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2237,7 +2398,7 @@ func (x *SunLight) String() string {
 func (*SunLight) ProtoMessage() {}
 
 func (x *SunLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[23]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2250,7 +2411,7 @@ func (x *SunLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SunLight.ProtoReflect.Descriptor instead.
 func (*SunLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{23}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
 }
 
 func (x *SunLight) GetDirection() *Vec3 {
@@ -2292,7 +2453,7 @@ type SpotLight struct {
 
 func (x *SpotLight) Reset() {
 	*x = SpotLight{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2304,7 +2465,7 @@ func (x *SpotLight) String() string {
 func (*SpotLight) ProtoMessage() {}
 
 func (x *SpotLight) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[24]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2317,7 +2478,7 @@ func (x *SpotLight) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use SpotLight.ProtoReflect.Descriptor instead.
 func (*SpotLight) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{24}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
 }
 
 func (x *SpotLight) GetPosition() *Vec3 {
@@ -2376,7 +2537,7 @@ type Environment struct {
 
 func (x *Environment) Reset() {
 	*x = Environment{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2388,7 +2549,7 @@ func (x *Environment) String() string {
 func (*Environment) ProtoMessage() {}
 
 func (x *Environment) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[25]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2401,7 +2562,7 @@ func (x *Environment) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Environment.ProtoReflect.Descriptor instead.
 func (*Environment) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{25}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
 }
 
 func (x *Environment) GetRadiance() *Color {
@@ -2444,7 +2605,7 @@ type Output struct {
 
 func (x *Output) Reset() {
 	*x = Output{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2456,7 +2617,7 @@ func (x *Output) String() string {
 func (*Output) ProtoMessage() {}
 
 func (x *Output) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[26]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2469,7 +2630,7 @@ func (x *Output) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Output.ProtoReflect.Descriptor instead.
 func (*Output) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{26}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
 }
 
 func (x *Output) GetExposureStops() float64 {
@@ -2506,7 +2667,7 @@ type PhotonMapping struct {
 
 func (x *PhotonMapping) Reset() {
 	*x = PhotonMapping{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2518,7 +2679,7 @@ func (x *PhotonMapping) String() string {
 func (*PhotonMapping) ProtoMessage() {}
 
 func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[27]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2531,7 +2692,7 @@ func (x *PhotonMapping) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use PhotonMapping.ProtoReflect.Descriptor instead.
 func (*PhotonMapping) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{27}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{28}
 }
 
 func (x *PhotonMapping) GetGlobalPhotons() uint64 {
@@ -2587,7 +2748,7 @@ type RadianceEstimate struct {
 
 func (x *RadianceEstimate) Reset() {
 	*x = RadianceEstimate{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[29]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2599,7 +2760,7 @@ func (x *RadianceEstimate) String() string {
 func (*RadianceEstimate) ProtoMessage() {}
 
 func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[28]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[29]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2612,7 +2773,7 @@ func (x *RadianceEstimate) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use RadianceEstimate.ProtoReflect.Descriptor instead.
 func (*RadianceEstimate) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{28}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{29}
 }
 
 func (x *RadianceEstimate) GetNeighbours() uint32 {
@@ -2670,7 +2831,7 @@ type Shape struct {
 
 func (x *Shape) Reset() {
 	*x = Shape{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2682,7 +2843,7 @@ func (x *Shape) String() string {
 func (*Shape) ProtoMessage() {}
 
 func (x *Shape) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[29]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2695,7 +2856,7 @@ func (x *Shape) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Shape.ProtoReflect.Descriptor instead.
 func (*Shape) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{29}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{30}
 }
 
 func (x *Shape) GetName() string {
@@ -2824,7 +2985,7 @@ type Medium struct {
 
 func (x *Medium) Reset() {
 	*x = Medium{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2836,7 +2997,7 @@ func (x *Medium) String() string {
 func (*Medium) ProtoMessage() {}
 
 func (x *Medium) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[30]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2849,7 +3010,7 @@ func (x *Medium) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Medium.ProtoReflect.Descriptor instead.
 func (*Medium) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{30}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{31}
 }
 
 func (x *Medium) GetCoefficients() isMedium_Coefficients {
@@ -2911,7 +3072,7 @@ type MediumCoefficients struct {
 
 func (x *MediumCoefficients) Reset() {
 	*x = MediumCoefficients{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2923,7 +3084,7 @@ func (x *MediumCoefficients) String() string {
 func (*MediumCoefficients) ProtoMessage() {}
 
 func (x *MediumCoefficients) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[31]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2936,7 +3097,7 @@ func (x *MediumCoefficients) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MediumCoefficients.ProtoReflect.Descriptor instead.
 func (*MediumCoefficients) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{31}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
 }
 
 func (x *MediumCoefficients) GetSigmaA() *Color {
@@ -2966,7 +3127,7 @@ type MediumAlbedo struct {
 
 func (x *MediumAlbedo) Reset() {
 	*x = MediumAlbedo{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -2978,7 +3139,7 @@ func (x *MediumAlbedo) String() string {
 func (*MediumAlbedo) ProtoMessage() {}
 
 func (x *MediumAlbedo) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -2991,7 +3152,7 @@ func (x *MediumAlbedo) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MediumAlbedo.ProtoReflect.Descriptor instead.
 func (*MediumAlbedo) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *MediumAlbedo) GetAlbedo() *Color {
@@ -3019,7 +3180,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3031,7 +3192,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3044,7 +3205,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{34}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -3074,7 +3235,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3086,7 +3247,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3099,7 +3260,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{34}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{35}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -3135,7 +3296,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3147,7 +3308,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3160,7 +3321,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{35}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{36}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -3195,7 +3356,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[37]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3207,7 +3368,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[37]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3220,7 +3381,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{36}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{37}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -3344,11 +3505,20 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bspecular\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorBB\x8a\xb5\x18>\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01Z(diffuse + specular <= 1 in every channelR\bspecular\x122\n" +
 	"\bexponent\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00j\xf8@R\bexponent\"Z\n" +
 	"\x06Mirror\x12P\n" +
-	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"\x8a\x01\n" +
+	"\vreflectance\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\vreflectance\"\xc5\x01\n" +
 	"\n" +
 	"Dielectric\x12(\n" +
 	"\x03ior\x18\x01 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\xf0?\x19\x00\x00\x00\x00\x00\x00$@R\x03ior\x12R\n" +
-	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\rtransmittance\"\x8b\x01\n" +
+	"\rtransmittance\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?R\rtransmittance\x129\n" +
+	"\n" +
+	"dispersion\x18\x03 \x01(\v2\x19.renderfarm.v1.DispersionR\n" +
+	"dispersion\"\x82\x01\n" +
+	"\n" +
+	"Dispersion\x129\n" +
+	"\vabbe_number\x18\x01 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00.@\x19\x00\x00\x00\x00\x00\x00Y@H\x00R\n" +
+	"abbeNumber\x12,\n" +
+	"\x05glass\x18\x02 \x01(\x0e2\x14.renderfarm.v1.GlassH\x00R\x05glassB\v\n" +
+	"\x03law\x12\x04\xb8\xb5\x18\x01\"\x8b\x01\n" +
 	"\tConductor\x12@\n" +
 	"\x03eta\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\x11\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x03eta\x12<\n" +
 	"\x01k\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00Y@0\x01R\x01k\"\xab\x06\n" +
@@ -3465,7 +3635,14 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\fIndirectMode\x12\x1d\n" +
 	"\x19INDIRECT_MODE_UNSPECIFIED\x10\x00\x12\x1e\n" +
 	"\x1aINDIRECT_MODE_FINAL_GATHER\x10\x01\x12\x1c\n" +
-	"\x18INDIRECT_MODE_PHOTON_MAP\x10\x02*S\n" +
+	"\x18INDIRECT_MODE_PHOTON_MAP\x10\x02*h\n" +
+	"\x05Glass\x12\x15\n" +
+	"\x11GLASS_UNSPECIFIED\x10\x00\x12\r\n" +
+	"\tGLASS_BK7\x10\x01\x12\x16\n" +
+	"\x12GLASS_FUSED_SILICA\x10\x02\x12\x11\n" +
+	"\rGLASS_DIAMOND\x10\x03\x12\x0e\n" +
+	"\n" +
+	"GLASS_SF11\x10\x04*S\n" +
 	"\tAlphaMode\x12\x1a\n" +
 	"\x16ALPHA_MODE_UNSPECIFIED\x10\x00\x12\x15\n" +
 	"\x11ALPHA_MODE_OPAQUE\x10\x01\x12\x13\n" +
@@ -3493,151 +3670,155 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 7)
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 37)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 8)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 38)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
 	(AdaptiveSampling)(0),      // 0: renderfarm.v1.AdaptiveSampling
 	(SpecularSampling)(0),      // 1: renderfarm.v1.SpecularSampling
 	(AntialiasingMode)(0),      // 2: renderfarm.v1.AntialiasingMode
 	(IndirectMode)(0),          // 3: renderfarm.v1.IndirectMode
-	(AlphaMode)(0),             // 4: renderfarm.v1.AlphaMode
-	(ToneMap)(0),               // 5: renderfarm.v1.ToneMap
-	(Filter)(0),                // 6: renderfarm.v1.Filter
-	(*Scene)(nil),              // 7: renderfarm.v1.Scene
-	(*Camera)(nil),             // 8: renderfarm.v1.Camera
-	(*Film)(nil),               // 9: renderfarm.v1.Film
-	(*PixelFilter)(nil),        // 10: renderfarm.v1.PixelFilter
-	(*BoxFilter)(nil),          // 11: renderfarm.v1.BoxFilter
-	(*TentFilter)(nil),         // 12: renderfarm.v1.TentFilter
-	(*GaussianFilter)(nil),     // 13: renderfarm.v1.GaussianFilter
-	(*MitchellFilter)(nil),     // 14: renderfarm.v1.MitchellFilter
-	(*Sampling)(nil),           // 15: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),       // 16: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),           // 17: renderfarm.v1.Indirect
-	(*Progressive)(nil),        // 18: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),     // 19: renderfarm.v1.ReferenceImage
-	(*Material)(nil),           // 20: renderfarm.v1.Material
-	(*Lambert)(nil),            // 21: renderfarm.v1.Lambert
-	(*Emissive)(nil),           // 22: renderfarm.v1.Emissive
-	(*Glossy)(nil),             // 23: renderfarm.v1.Glossy
-	(*Mirror)(nil),             // 24: renderfarm.v1.Mirror
-	(*Dielectric)(nil),         // 25: renderfarm.v1.Dielectric
-	(*Conductor)(nil),          // 26: renderfarm.v1.Conductor
-	(*Principled)(nil),         // 27: renderfarm.v1.Principled
-	(*Light)(nil),              // 28: renderfarm.v1.Light
-	(*PointLight)(nil),         // 29: renderfarm.v1.PointLight
-	(*SunLight)(nil),           // 30: renderfarm.v1.SunLight
-	(*SpotLight)(nil),          // 31: renderfarm.v1.SpotLight
-	(*Environment)(nil),        // 32: renderfarm.v1.Environment
-	(*Output)(nil),             // 33: renderfarm.v1.Output
-	(*PhotonMapping)(nil),      // 34: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil),   // 35: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),              // 36: renderfarm.v1.Shape
-	(*Medium)(nil),             // 37: renderfarm.v1.Medium
-	(*MediumCoefficients)(nil), // 38: renderfarm.v1.MediumCoefficients
-	(*MediumAlbedo)(nil),       // 39: renderfarm.v1.MediumAlbedo
-	(*Sphere)(nil),             // 40: renderfarm.v1.Sphere
-	(*Quad)(nil),               // 41: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),       // 42: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),           // 43: renderfarm.v1.MeshFile
-	(*Mesh)(nil),               // 44: renderfarm.v1.Mesh
-	(*Texture)(nil),            // 45: renderfarm.v1.Texture
-	(*Vec3)(nil),               // 46: renderfarm.v1.Vec3
-	(*Color)(nil),              // 47: renderfarm.v1.Color
-	(*TextureRef)(nil),         // 48: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),       // 49: renderfarm.v1.MeshInstance
-	(*Transform)(nil),          // 50: renderfarm.v1.Transform
+	(Glass)(0),                 // 4: renderfarm.v1.Glass
+	(AlphaMode)(0),             // 5: renderfarm.v1.AlphaMode
+	(ToneMap)(0),               // 6: renderfarm.v1.ToneMap
+	(Filter)(0),                // 7: renderfarm.v1.Filter
+	(*Scene)(nil),              // 8: renderfarm.v1.Scene
+	(*Camera)(nil),             // 9: renderfarm.v1.Camera
+	(*Film)(nil),               // 10: renderfarm.v1.Film
+	(*PixelFilter)(nil),        // 11: renderfarm.v1.PixelFilter
+	(*BoxFilter)(nil),          // 12: renderfarm.v1.BoxFilter
+	(*TentFilter)(nil),         // 13: renderfarm.v1.TentFilter
+	(*GaussianFilter)(nil),     // 14: renderfarm.v1.GaussianFilter
+	(*MitchellFilter)(nil),     // 15: renderfarm.v1.MitchellFilter
+	(*Sampling)(nil),           // 16: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),       // 17: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),           // 18: renderfarm.v1.Indirect
+	(*Progressive)(nil),        // 19: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),     // 20: renderfarm.v1.ReferenceImage
+	(*Material)(nil),           // 21: renderfarm.v1.Material
+	(*Lambert)(nil),            // 22: renderfarm.v1.Lambert
+	(*Emissive)(nil),           // 23: renderfarm.v1.Emissive
+	(*Glossy)(nil),             // 24: renderfarm.v1.Glossy
+	(*Mirror)(nil),             // 25: renderfarm.v1.Mirror
+	(*Dielectric)(nil),         // 26: renderfarm.v1.Dielectric
+	(*Dispersion)(nil),         // 27: renderfarm.v1.Dispersion
+	(*Conductor)(nil),          // 28: renderfarm.v1.Conductor
+	(*Principled)(nil),         // 29: renderfarm.v1.Principled
+	(*Light)(nil),              // 30: renderfarm.v1.Light
+	(*PointLight)(nil),         // 31: renderfarm.v1.PointLight
+	(*SunLight)(nil),           // 32: renderfarm.v1.SunLight
+	(*SpotLight)(nil),          // 33: renderfarm.v1.SpotLight
+	(*Environment)(nil),        // 34: renderfarm.v1.Environment
+	(*Output)(nil),             // 35: renderfarm.v1.Output
+	(*PhotonMapping)(nil),      // 36: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil),   // 37: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),              // 38: renderfarm.v1.Shape
+	(*Medium)(nil),             // 39: renderfarm.v1.Medium
+	(*MediumCoefficients)(nil), // 40: renderfarm.v1.MediumCoefficients
+	(*MediumAlbedo)(nil),       // 41: renderfarm.v1.MediumAlbedo
+	(*Sphere)(nil),             // 42: renderfarm.v1.Sphere
+	(*Quad)(nil),               // 43: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),       // 44: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),           // 45: renderfarm.v1.MeshFile
+	(*Mesh)(nil),               // 46: renderfarm.v1.Mesh
+	(*Texture)(nil),            // 47: renderfarm.v1.Texture
+	(*Vec3)(nil),               // 48: renderfarm.v1.Vec3
+	(*Color)(nil),              // 49: renderfarm.v1.Color
+	(*TextureRef)(nil),         // 50: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),       // 51: renderfarm.v1.MeshInstance
+	(*Transform)(nil),          // 52: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	8,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	9,  // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	15, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	20, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	36, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	28, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	34, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	16, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
-	17, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
-	18, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	44, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	45, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
-	32, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
-	33, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	37, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
-	46, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	46, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	46, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	10, // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
-	11, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
-	12, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
-	13, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
-	14, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
+	9,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	10, // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	16, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	21, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	38, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	30, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	36, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	17, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	18, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	19, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	46, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	47, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	34, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	35, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	39, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
+	48, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	48, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	48, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	11, // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
+	12, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
+	13, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
+	14, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
+	15, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
 	1,  // 23: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
 	0,  // 24: renderfarm.v1.Sampling.adaptive:type_name -> renderfarm.v1.AdaptiveSampling
 	2,  // 25: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
 	3,  // 26: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	19, // 27: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	21, // 28: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	22, // 29: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	23, // 30: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	24, // 31: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	25, // 32: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	26, // 33: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	27, // 34: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	47, // 35: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	47, // 36: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	47, // 37: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
-	47, // 38: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	47, // 39: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	47, // 40: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	47, // 41: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	47, // 42: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	47, // 43: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	47, // 44: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	48, // 45: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	48, // 46: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	48, // 47: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	47, // 48: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	48, // 49: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	4,  // 50: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	29, // 51: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	30, // 52: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	31, // 53: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	46, // 54: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	47, // 55: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	46, // 56: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	47, // 57: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	46, // 58: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	46, // 59: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	47, // 60: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	47, // 61: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	48, // 62: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	5,  // 63: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	35, // 64: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	35, // 65: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	6,  // 66: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	40, // 67: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	41, // 68: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	42, // 69: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	43, // 70: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	49, // 71: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	37, // 72: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
-	38, // 73: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
-	39, // 74: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
-	47, // 75: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
-	47, // 76: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
-	47, // 77: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
-	46, // 78: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	46, // 79: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	46, // 80: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	46, // 81: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	46, // 82: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	50, // 83: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	84, // [84:84] is the sub-list for method output_type
-	84, // [84:84] is the sub-list for method input_type
-	84, // [84:84] is the sub-list for extension type_name
-	84, // [84:84] is the sub-list for extension extendee
-	0,  // [0:84] is the sub-list for field type_name
+	20, // 27: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	22, // 28: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	23, // 29: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	24, // 30: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	25, // 31: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	26, // 32: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	28, // 33: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	29, // 34: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	49, // 35: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	49, // 36: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	49, // 37: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	49, // 38: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	49, // 39: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	49, // 40: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	49, // 41: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	27, // 42: renderfarm.v1.Dielectric.dispersion:type_name -> renderfarm.v1.Dispersion
+	4,  // 43: renderfarm.v1.Dispersion.glass:type_name -> renderfarm.v1.Glass
+	49, // 44: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	49, // 45: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	49, // 46: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	50, // 47: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	50, // 48: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	50, // 49: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	49, // 50: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	50, // 51: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	5,  // 52: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	31, // 53: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	32, // 54: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	33, // 55: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	48, // 56: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	49, // 57: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	48, // 58: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	49, // 59: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	48, // 60: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	48, // 61: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	49, // 62: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	49, // 63: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	50, // 64: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	6,  // 65: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	37, // 66: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	37, // 67: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	7,  // 68: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	42, // 69: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	43, // 70: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	44, // 71: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	45, // 72: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	51, // 73: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	39, // 74: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
+	40, // 75: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
+	41, // 76: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
+	49, // 77: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
+	49, // 78: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
+	49, // 79: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
+	48, // 80: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	48, // 81: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	48, // 82: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	48, // 83: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	48, // 84: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	52, // 85: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	86, // [86:86] is the sub-list for method output_type
+	86, // [86:86] is the sub-list for method input_type
+	86, // [86:86] is the sub-list for extension type_name
+	86, // [86:86] is the sub-list for extension extendee
+	0,  // [0:86] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -3663,19 +3844,23 @@ func file_renderfarm_v1_scene_proto_init() {
 		(*Material_Conductor)(nil),
 		(*Material_Principled)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[21].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[19].OneofWrappers = []any{
+		(*Dispersion_AbbeNumber)(nil),
+		(*Dispersion_Glass)(nil),
+	}
+	file_renderfarm_v1_scene_proto_msgTypes[22].OneofWrappers = []any{
 		(*Light_Point)(nil),
 		(*Light_Sun)(nil),
 		(*Light_Spot)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[29].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[30].OneofWrappers = []any{
 		(*Shape_Sphere)(nil),
 		(*Shape_Quad)(nil),
 		(*Shape_Triangles)(nil),
 		(*Shape_Mesh)(nil),
 		(*Shape_Instance)(nil),
 	}
-	file_renderfarm_v1_scene_proto_msgTypes[30].OneofWrappers = []any{
+	file_renderfarm_v1_scene_proto_msgTypes[31].OneofWrappers = []any{
 		(*Medium_Sigma)(nil),
 		(*Medium_Albedo)(nil),
 	}
@@ -3684,8 +3869,8 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      7,
-			NumMessages:   37,
+			NumEnums:      8,
+			NumMessages:   38,
 			NumExtensions: 0,
 			NumServices:   0,
 		},

@@ -9,7 +9,7 @@ import (
 // accepted lists the scenes every side must accept: each inclusive bound hit exactly, and
 // 0 wherever a default applies (0 is not written in JSON: such a case is base without the
 // field). The scene files of scenes/ are accepted too (sceneFiles).
-var accepted = slices.Concat(acceptedFilters, acceptedMedia, []vectorCase{
+var accepted = slices.Concat(acceptedFilters, acceptedMedia, acceptedDispersion, []vectorCase{
 	accept("accept-base", "TriangleMesh.positions:min_items=", unchanged),
 	accept("accept-mesh-named-by-path-and-digest", "", func(s *pb.Scene) { withMesh(s) }),
 	accept("accept-coordinates-at-max-magnitude", "Scene:max_magnitude=", func(s *pb.Scene) {

@@ -16,7 +16,7 @@ const (
 )
 
 // refused lists the scenes every side must refuse, each with the field its refusal names.
-var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, refusedMedia, []vectorCase{
+var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, refusedMedia, refusedDispersion, []vectorCase{
 	// Scene.
 	refuse("refuse-scene-name-of-257-bytes", "name", "Scene.name:max_bytes", func(s *pb.Scene) { s.Name = long(257) }),
 	refuse("refuse-no-camera", "camera", "Scene.camera:required", func(s *pb.Scene) { s.Camera = nil }),

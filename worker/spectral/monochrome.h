@@ -1,0 +1,36 @@
+#pragma once
+
+// A path made monochromatic by a dispersive interface (a prism splitting white light): from
+// there on it carries light at one wavelength λ as a number, drawn uniformly over the
+// visible range, and says what that is in the film's linear sRGB.
+//
+// The conversion uses sRGB matching functions clipped at zero: the linear sRGB of CIE
+// 1931's x̄, ȳ, z̄ at λ with its negative parts (the spectral colours outside sRGB's
+// gamut) set to 0, each channel scaled so that the equal-energy spectrum (1 everywhere)
+// is white (1, 1, 1). Photons must stay non-negative (the snapshot stores their power as
+// shared-exponent RGB); the price is a rainbow a little less saturated than the spectral
+// colours, and the same conversion for camera paths keeps a caustic seen directly and
+// through photons alike.
+
+#include "math/rgb.h"
+
+namespace farm {
+
+struct MonochromePath {
+  double lambda_nm = 0;
+
+  // The path at λ = kLambdaMin + u (kLambdaMax - kLambdaMin), u in [0, 1), carrying `value`
+  // = the uplift of what it carried in RGB (SmitsSpectrum) at λ.
+  static MonochromePath Sample(double u);
+
+  // The linear sRGB estimate of light of `value` at lambda_nm: the clipped matching
+  // functions at λ times value, over the density λ was drawn with. Over many paths
+  // carrying the uplift of an RGB colour, its mean is that colour (up to the uplift's
+  // round trip and the clipping).
+  Rgb ToRgb(double value) const;
+
+  // The uplift of an RGB colour (a photon's power, a surface's reflectance) at lambda_nm.
+  double ValueOf(const Rgb& rgb) const;
+};
+
+}  // namespace farm
