@@ -59,7 +59,9 @@ func ReplicaTarget(addr string) (string, []grpc.DialOption, error) {
 		// coordinator fail on the old connection, where pick_first reconnects.)
 		return addr, nil, nil
 	}
-	opts := []grpc.DialOption{grpc.WithDefaultServiceConfig(roundRobin)}
+	// One authority for every connection, the first replica's: with TLS the replicas'
+	// certificate must name it (gRPC checks each connection against the channel's).
+	opts := []grpc.DialOption{grpc.WithDefaultServiceConfig(roundRobin), grpc.WithAuthority(addrs[0])}
 	list := manual.NewBuilderWithScheme(replicasScheme)
 	state := resolver.State{}
 	for _, a := range addrs {

@@ -1,9 +1,11 @@
 package integration
 
 import (
+	"context"
 	"os"
 	"path/filepath"
 	"strings"
+	"syscall"
 	"testing"
 	"time"
 
@@ -53,4 +55,22 @@ func TestWorkerOverTLS(t *testing.T) {
 	w := f.StartWorkerWithCache(t, filepath.Join(t.TempDir(), "cache"), "--tls-ca", cert, "--token", testWorkerToken)
 	w.WorkerID(t, 15*time.Second)
 	f.Render(t, f.TestScene(t, 32, 32, 16, 1), 60*time.Second)
+
+	// Given as one of a list of replicas (the other one dead), over TLS too: every
+	// connection is checked against the first address, which the certificate names.
+	list := f.Addr + "," + farmtest.ClosedAddress(t)
+	c, err := client.Dial(list, client.WithTLS(cert), client.WithToken(testClientToken))
+	if err != nil {
+		t.Fatal(err)
+	}
+	defer c.Close()
+	w.Kill(syscall.SIGTERM)
+	<-w.Done()
+	listed := f.StartWorkerWithCache(t, filepath.Join(t.TempDir(), "cache"), "--coordinator", list, "--tls-ca", cert, "--token", testWorkerToken)
+	listed.WorkerID(t, 15*time.Second)
+	job, err := c.Submit(context.Background(), f.TestScene(t, 32, 32, 16, 1))
+	if err != nil {
+		t.Fatalf("submit through a list of replicas over TLS: %v", err)
+	}
+	f.Wait(t, job.GetId(), 60*time.Second)
 }

@@ -73,6 +73,9 @@ std::shared_ptr<grpc::Channel> MakeCoordinatorChannel(const WorkerOptions& optio
   // ones that answer, and leave out one that went away until it answers again.
   args.SetLoadBalancingPolicyName("round_robin");
   const std::string target = CoordinatorTarget(options.coordinators);
+  // One authority for every connection of a list, the first replica's: with TLS the
+  // replicas' certificate must name it (gRPC checks each connection against it).
+  if (options.coordinators.size() > 1) args.SetString(GRPC_ARG_DEFAULT_AUTHORITY, options.coordinators.front());
 
   std::shared_ptr<grpc::ChannelCredentials> creds;
   if (options.tls_ca.empty()) {

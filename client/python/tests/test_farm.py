@@ -156,6 +156,13 @@ def test_with_no_coordinator_the_error_says_to_start_one_within_5_s(unused_addre
     assert unused_address in e.value.hint and "farm coordinator" in e.value.hint
 
 
+def test_a_list_of_replicas_goes_on_through_the_one_that_answers(farm, unused_address):
+    # A dead replica first: round_robin leaves it out and every call reaches the live one.
+    with photonfarm.Client(f"{unused_address},{farm.address}", token=CLIENT_TOKEN, tls=str(farm.ca_file)) as c:
+        for _ in range(6):
+            c.jobs.ListJobs(job_pb2.ListJobsRequest(page_size=1), timeout=10)
+
+
 def test_plaintext_to_a_tls_coordinator_fails_as_unavailable(farm):
     with photonfarm.Client(farm.address, token=CLIENT_TOKEN, tls=False) as c:
         with pytest.raises(photonfarm.FarmError) as e:

@@ -11,7 +11,7 @@ import OpenEXR
 import pytest
 
 import photonfarm
-from photonfarm.connection import is_loopback
+from photonfarm.connection import is_loopback, replica_target
 from photonfarm.exr import read_image
 
 
@@ -19,10 +19,27 @@ from photonfarm.exr import read_image
     ("localhost:7070", True), ("render.localhost:7070", True), ("127.0.0.1:7070", True),
     ("127.9.9.9:1", True), ("[::1]:7070", True), ("dns:///localhost:7070", True), ("unix:/tmp/farm.sock", True),
     ("farm.example.invalid:7070", False), ("192.0.2.1:7070", False), ("[2001:db8::1]:7070", False),
-    ("localhost.example.invalid:7070", False),
+    ("localhost.example.invalid:7070", False), ("127.0.0.1:1,[::1]:2", True), ("127.0.0.1:1,192.0.2.1:2", False),
 ])
 def test_is_loopback(address, loopback):
     assert is_loopback(address) == loopback
+
+
+def test_replicas_are_a_list_target_of_ip_literals_spread_round_robin():
+    assert replica_target("coordinator:7070") == ("coordinator:7070", [])
+    assert replica_target("10.0.0.1:7070,10.0.0.2:7070") == (
+        "ipv4:10.0.0.1:7070,10.0.0.2:7070", [("grpc.lb_policy_name", "round_robin"), ("grpc.default_authority", "10.0.0.1:7070")])
+    assert replica_target("[::1]:1,[fd00::2]:2")[0] == "ipv6:[::1]:1,[fd00::2]:2"
+
+
+@pytest.mark.parametrize("address, says", [
+    ("a.example:1,b.example:1", "must be IP literals"), ("10.0.0.1:1,[::1]:1", "all IPv4 or all IPv6"),
+    ("10.0.0.1:1,", '"" in'), ("10.0.0.1:1,10.0.0.1:1", "twice"), ("10.0.0.1:1,10.0.0.2:0", "is not HOST:PORT"),
+])
+def test_a_list_grpc_cannot_reach_is_refused_saying_why(address, says):
+    with pytest.raises(photonfarm.FarmError) as e:
+        photonfarm.Client(address, tls=False)
+    assert e.value.code == grpc.StatusCode.INVALID_ARGUMENT and says in str(e.value)
 
 
 def test_a_token_is_not_sent_in_plaintext_to_another_machine():

@@ -22,10 +22,52 @@ TLS = Union[None, bool, str, os.PathLike]
 system's roots; a path: TLS trusting the CA certificates in that PEM file."""
 
 
+_LIST_OF_LITERALS = ("several addresses must be IP literals, all IPv4 or all IPv6 (gRPC's list targets take "
+                     "no names); for names, give one DNS name that resolves to every coordinator")
+
+
+def _ip_family(host_port: str) -> Optional[int]:
+    """4 or 6 for an IP literal's HOST:PORT (IPv6 bracketed), None for a name."""
+    host = host_port.rpartition(":")[0]
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+    try:
+        return ipaddress.ip_address(host).version
+    except ValueError:
+        return None
+
+
+def replica_target(address: str) -> tuple[str, list[tuple[str, object]]]:
+    """The gRPC target and channel options for address: one HOST:PORT (a name resolves to
+    every address it has) as it is, or coordinator replicas on one Redis as a comma list
+    of IP literals of one family, "ipv4:A,B" with calls spread over the replicas that
+    answer (round_robin), the rule farm-worker follows (worker/daemon/coordinator_address.h);
+    with TLS every replica is checked against the first one's address."""
+    parts = address.split(",")
+    if len(parts) == 1:
+        return address, []
+    families = set()
+    for part in parts:
+        host, _, port = part.rpartition(":")
+        if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
+            raise FarmError(grpc.StatusCode.INVALID_ARGUMENT, f'coordinator address "{part}" in "{address}" is not HOST:PORT')
+        families.add(_ip_family(part))
+    if len(set(parts)) != len(parts):
+        raise FarmError(grpc.StatusCode.INVALID_ARGUMENT, f'"{address}" lists an address twice')
+    if None in families or len(families) != 1:
+        raise FarmError(grpc.StatusCode.INVALID_ARGUMENT, f'"{address}": {_LIST_OF_LITERALS}')
+    # One authority for every connection, the first replica's: with TLS, the replicas'
+    # certificate must name it (gRPC checks every connection against the channel's authority).
+    return f"ipv{families.pop()}:{address}", [("grpc.lb_policy_name", "round_robin"),
+                                              ("grpc.default_authority", parts[0])]
+
+
 def is_loopback(address: str) -> bool:
-    """Whether the gRPC target ("host:port", "dns:///host:port", "unix:path") names this
-    machine without leaving it: localhost, a loopback IP or a unix socket. Names are not
-    resolved."""
+    """Whether the gRPC target ("host:port", "dns:///host:port", "unix:path", or a comma list
+    of replicas, each of them) names this machine without leaving it: localhost, a loopback
+    IP or a unix socket. Names are not resolved."""
+    if "," in address:
+        return all(is_loopback(a) for a in address.split(","))
     if address.startswith(("unix:", "unix-abstract:")):
         return True
     for scheme in ("dns:///", "passthrough:///"):
@@ -83,10 +125,11 @@ def open_channel(address: str, token: str, tls: TLS, allow_plaintext_token: bool
         raise FarmError(grpc.StatusCode.FAILED_PRECONDITION,
                         f"refusing to send the token without TLS to {address}, which is not loopback",
                         hint="pass tls=CA_FILE, or allow_plaintext_token=True on a trusted network")
+    target, options = replica_target(address)
     limit = contract.RPC.max_message_bytes
-    options = [("grpc.max_receive_message_length", limit), ("grpc.max_send_message_length", limit)]
+    options += [("grpc.max_receive_message_length", limit), ("grpc.max_send_message_length", limit)]
     if tls is False:
-        channel = grpc.insecure_channel(address, options=options)
+        channel = grpc.insecure_channel(target, options=options)
     else:
         roots: Optional[bytes] = None
         if tls is not True:
@@ -96,7 +139,7 @@ def open_channel(address: str, token: str, tls: TLS, allow_plaintext_token: bool
                 raise FarmError(grpc.StatusCode.INVALID_ARGUMENT, f"TLS CA file {tls}: {e.strerror}") from e
             if b"-----BEGIN CERTIFICATE-----" not in roots:
                 raise FarmError(grpc.StatusCode.INVALID_ARGUMENT, f"TLS CA file {tls}: no PEM certificate in it")
-        channel = grpc.secure_channel(address, grpc.ssl_channel_credentials(root_certificates=roots), options=options)
+        channel = grpc.secure_channel(target, grpc.ssl_channel_credentials(root_certificates=roots), options=options)
     if token:
         channel = grpc.intercept_channel(channel, _BearerToken(token))
     return channel
