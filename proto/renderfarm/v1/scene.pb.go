@@ -245,7 +245,7 @@ const (
 	Glass_GLASS_BK7 Glass = 1
 	// Fused silica (Malitson 1965): n_d 1.4585, V_d 67.8.
 	Glass_GLASS_FUSED_SILICA Glass = 2
-	// Diamond (Peter 1923): n_d 2.4175, V_d 55.
+	// Diamond (Peter 1923): n_d 2.4175, V_d about 55.
 	Glass_GLASS_DIAMOND Glass = 3
 	// Schott SF11, a dense flint glass: n_d 1.7847, V_d 25.68.
 	Glass_GLASS_SF11 Glass = 4
