@@ -1,8 +1,9 @@
 #pragma once
 
 // A path made monochromatic by a dispersive interface (a prism splitting white light): from
-// there on it carries light at one wavelength λ as a number, drawn uniformly over the
-// visible range, and says what that is in the film's linear sRGB.
+// there on it carries light at one wavelength λ as a number, drawn over the visible range
+// where the film's channels see light (Pdf), and says what that is in the film's linear
+// sRGB.
 //
 // The conversion uses sRGB matching functions clipped at zero: the linear sRGB of CIE
 // 1931's x̄, ȳ, z̄ at λ with its negative parts (the spectral colours outside sRGB's
@@ -19,9 +20,13 @@ namespace farm {
 struct MonochromePath {
   double lambda_nm = 0;
 
-  // The path at λ = kLambdaMin + u (kLambdaMax - kLambdaMin), u in [0, 1), carrying `value`
-  // = the uplift of what it carried in RGB (SmitsSpectrum) at λ.
+  // The path at a wavelength drawn from u in [0, 1) with density Pdf: in proportion to
+  // the sum of the three matching functions below, each over its integral (every channel
+  // gets its share of the samples, and none goes where no channel sees light).
   static MonochromePath Sample(double u);
+
+  // The density, per nm, Sample draws lambda_nm with.
+  double Pdf() const;
 
   // The linear sRGB estimate of light of `value` at lambda_nm: the clipped matching
   // functions at λ times value, over the density λ was drawn with. Over many paths

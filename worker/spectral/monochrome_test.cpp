@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "spectral/wavelengths.h"
 
 namespace farm {
@@ -52,6 +54,31 @@ TEST(MonochromePath, EveryWavelengthIsNonNegativeAndRainbowColoured) {
   EXPECT_GT(green.g, green.b);
   EXPECT_GT(red.r, 4 * red.g);
   EXPECT_GT(red.r, 4 * red.b);
+}
+
+TEST(MonochromePath, DrawingWhereTheChannelsSeeLightMoreThanHalvesTheColourNoiseOfWhite) {
+  // Per channel, the variance over wavelengths of white's estimate as drawn (Pdf) against
+  // the same estimate with wavelengths drawn uniformly over 360-830 nm.
+  constexpr int kN = 20000;
+  double sum[2][3] = {}, sum2[2][3] = {};
+  for (int i = 0; i < kN; ++i) {
+    const double u = (i + 0.5) / kN;
+    const MonochromePath drawn = MonochromePath::Sample(u), uniform{kLambdaMin + u * (kLambdaMax - kLambdaMin)};
+    const Rgb a = drawn.ToRgb(1);
+    const Rgb b = uniform.ToRgb(1) * static_cast<float>(uniform.Pdf() * (kLambdaMax - kLambdaMin));
+    const float values[2][3] = {{a.r, a.g, a.b}, {b.r, b.g, b.b}};
+    for (int k = 0; k < 2; ++k)
+      for (int c = 0; c < 3; ++c) sum[k][c] += values[k][c], sum2[k][c] += values[k][c] * values[k][c];
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double mean_drawn = sum[0][c] / kN, mean_uniform = sum[1][c] / kN;
+    EXPECT_NEAR(mean_drawn, 1, 0.005) << "channel " << c;
+    EXPECT_NEAR(mean_uniform, 1, 0.005) << "channel " << c;
+    const double var_drawn = sum2[0][c] / kN - mean_drawn * mean_drawn;
+    const double var_uniform = sum2[1][c] / kN - mean_uniform * mean_uniform;
+    EXPECT_LT(var_drawn, 0.5 * var_uniform) << "channel " << c;
+    std::printf("channel %d: variance of white %.3f drawn, %.3f uniform\n", c, var_drawn, var_uniform);
+  }
 }
 
 }  // namespace
