@@ -96,7 +96,7 @@ func (b bearerToken) RequireTransportSecurity() bool { return b.requireTLS }
 // "unix:path", or a comma list of "host:port" replicas, each of them) names this machine without leaving it: localhost, a loopback IP or a unix
 // socket. Names are not resolved.
 func IsLoopback(addr string) bool {
-	if addrs, err := Addresses(addr); err == nil && len(addrs) > 1 {
+	if addrs, err := addresses(addr); err == nil && len(addrs) > 1 {
 		for _, a := range addrs {
 			if !IsLoopback(a) {
 				return false

@@ -14,8 +14,10 @@ import (
 // them: "host:port,host:port". Its calls are spread over the replicas that answer (gRPC's
 // round_robin) and go on through the others when one goes away. One DNS name that
 // resolves to every replica (a Kubernetes Service, a compose network alias) fails over
-// the same way, through gRPC's DNS resolver and pick_first, without the spreading. farm-worker takes the same forms
-// (worker/daemon/coordinator_address.h), except that its lists must be IP literals.
+// the same way, through gRPC's DNS resolver and pick_first, without the spreading.
+// farm-worker and the Python SDK take the same forms, except that their lists must be IP
+// literals (gRPC core's list targets take no names: worker/daemon/coordinator_address.h);
+// Go resolves each name of a list itself.
 
 // roundRobin is the service config that spreads calls over every address of the target.
 const roundRobin = `{"loadBalancingConfig":[{"round_robin":{}}]}`
@@ -23,9 +25,9 @@ const roundRobin = `{"loadBalancingConfig":[{"round_robin":{}}]}`
 // replicasScheme names the resolver that lists the replicas given in a comma list.
 const replicasScheme = "farm-replicas"
 
-// Addresses splits addr into the replicas' addresses, each "host:port" or a gRPC target
+// addresses splits addr into the replicas' addresses, each "host:port" or a gRPC target
 // of its own (dns:///host:port, unix:path) when addr names one.
-func Addresses(addr string) ([]string, error) {
+func addresses(addr string) ([]string, error) {
 	if addr == "" {
 		return nil, fmt.Errorf("empty coordinator address")
 	}
@@ -49,7 +51,7 @@ func Addresses(addr string) ([]string, error) {
 // ReplicaTarget is the gRPC target and the dial options that reach the replicas at addr
 // (one address, or a comma list whose calls are spread over them).
 func ReplicaTarget(addr string) (string, []grpc.DialOption, error) {
-	addrs, err := Addresses(addr)
+	addrs, err := addresses(addr)
 	if err != nil {
 		return "", nil, err
 	}

@@ -13,7 +13,7 @@ import (
 	healthpb "google.golang.org/grpc/health/grpc_health_v1"
 )
 
-func TestAddressesSplitsAListOfReplicasAndSaysWhatIsWrong(t *testing.T) {
+func TestAddressListsSplitIntoReplicasOrSayWhatIsWrong(t *testing.T) {
 	for _, tc := range []struct {
 		addr    string
 		want    []string
@@ -28,15 +28,15 @@ func TestAddressesSplitsAListOfReplicasAndSaysWhatIsWrong(t *testing.T) {
 		{addr: "a:1,b", wantErr: `"b" in the list`},
 		{addr: "a:1,a:1", wantErr: `"a:1" is listed twice`},
 	} {
-		got, err := Addresses(tc.addr)
+		got, err := addresses(tc.addr)
 		if tc.wantErr != "" {
 			if err == nil || !strings.Contains(err.Error(), tc.wantErr) {
-				t.Errorf("Addresses(%q) = %v, %v; want an error with %q", tc.addr, got, err, tc.wantErr)
+				t.Errorf("addresses(%q) = %v, %v; want an error with %q", tc.addr, got, err, tc.wantErr)
 			}
 			continue
 		}
 		if err != nil || strings.Join(got, " ") != strings.Join(tc.want, " ") {
-			t.Errorf("Addresses(%q) = %q, %v; want %q", tc.addr, got, err, tc.want)
+			t.Errorf("addresses(%q) = %q, %v; want %q", tc.addr, got, err, tc.want)
 		}
 	}
 }
