@@ -1,7 +1,7 @@
 #!/bin/sh
 # Runs every benchmark and prints the figures (`make bench`).
 #   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
-# Needs farm_bench_photons, farm_bench_caustic_emission, farm_bench_knn, farm_bench_specular and farm_bench_edge_aa built in BUILD_DIR, and
+# Needs farm_bench_photons, farm_bench_caustic_emission, farm_bench_knn, farm_bench_specular, farm_bench_spectral and farm_bench_edge_aa built in BUILD_DIR, and
 # $BENCH_PYTHON (default python3) a Python with mitsuba and numpy (make bench makes one:
 # scripts/install-deps.sh --bench; without them the Mitsuba comparisons are skipped with a
 # message). Snapshots and renders go to a temporary folder, removed at exit; Mitsuba
@@ -33,6 +33,9 @@ echo "   (target 1.5x in every row, MISSED when below: not an error; exits 1 onl
 "$build/bin/farm_bench_knn" $snaps
 echo "== glass at one sample per pixel: camera paths split at glass vs one Fresnel choice (C++, in-process, scenes/cornell-caustics.json)"
 "$build/bin/farm_bench_specular"
+echo "== spectral mode (eight wavelengths a path) against RGB on scenes without dispersion: converged relMSE (target 0.005) and time to equal error (C++, in-process; issue 18)"
+"$build/bin/farm_bench_spectral" scenes/cornell-box.json
+"$build/bin/farm_bench_spectral" scenes/cornell-caustics.json
 echo "== final gathering vs the photon map seen directly at equal wall-clock budgets (through a local farm)"
 "$root/bench/fg_vs_photonmap.sh" "$build"
 echo "== edge anti-aliasing vs full 12x supersampling (C++, in-process; exits 1 on FAIL)"

@@ -5,6 +5,7 @@ import (
 	"strconv"
 	"strings"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -83,9 +84,18 @@ func Passes(s *pb.Scene) *pb.Plan {
 		add(PassVolumeMap, false, "multiple scattering in media is not implemented yet (issue 15): media get single scattering only")
 	}
 
-	if names := dispersiveMaterials(s); len(names) == 0 {
+	names := dispersiveMaterials(s)
+	switch {
+	case s.GetSampling().GetSpectral() == pb.SpectralSampling_SPECTRAL_SAMPLING_ALWAYS:
+		past := "no dispersive material"
+		if len(names) > 0 {
+			past = strings.Join(names, ", ") + ": past it only the hero wavelength goes on"
+		}
+		add(PassDispersion, true, "sampling.spectral is ALWAYS: every photon and camera path is traced at %d wavelengths from its start (a hero and its companions), colours uplifted to spectra; %s",
+			rules.Scene.GetSpectralWavelengthsPerPath(), past)
+	case len(names) == 0:
 		add(PassDispersion, false, "no dispersive material (no dielectric sets a dispersion): every path is traced in RGB")
-	} else {
+	default:
 		add(PassDispersion, true, "%s: light through it is traced at one wavelength from there on (photons and camera paths), in RGB elsewhere",
 			strings.Join(names, ", "))
 	}

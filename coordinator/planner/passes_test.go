@@ -1,10 +1,12 @@
 package planner_test
 
 import (
+	"fmt"
 	"math"
 	"strings"
 	"testing"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
 	"photonfarm/coordinator/planner"
@@ -82,6 +84,16 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Materials = append(s.Materials, prism, gem)
 			s.Shapes[0].Material, s.Shapes[1].Material = "gem", "prism"
 		}, planner.PassDispersion, true, `material "gem" (Abbe number 30), material "prism" (BK7): light through it is traced at one wavelength`},
+		{"spectral everywhere", func(s *pb.Scene) {
+			s.Sampling = &pb.Sampling{Spectral: pb.SpectralSampling_SPECTRAL_SAMPLING_ALWAYS}
+		}, planner.PassDispersion, true, fmt.Sprintf("sampling.spectral is ALWAYS: every photon and camera path is traced at %d wavelengths from its start (a hero and its companions), colours uplifted to spectra; no dispersive material", rules.Scene.GetSpectralWavelengthsPerPath())},
+		{"spectral everywhere through a prism", func(s *pb.Scene) {
+			prism := material("prism", "glass")
+			prism.GetDielectric().Dispersion = &pb.Dispersion{Law: &pb.Dispersion_Glass{Glass: pb.Glass_GLASS_BK7}}
+			s.Materials = append(s.Materials, prism)
+			s.Shapes[0].Material = "prism"
+			s.Sampling = &pb.Sampling{Spectral: pb.SpectralSampling_SPECTRAL_SAMPLING_ALWAYS}
+		}, planner.PassDispersion, true, `material "prism" (BK7): past it only the hero wavelength goes on`},
 		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
 		{"an environment is one more light", func(s *pb.Scene) {
 			s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.2, G: 0.3, B: 0.5}}

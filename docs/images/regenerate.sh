@@ -3,8 +3,9 @@
 # file: docs/images/atrium.png, the atrium demonstration scene (scenes/atrium) at 480x270
 # as `farm render` renders the .glb on a local two-worker farm, with the sampling `farm
 # import` gives it (the PNG preview: exposure 0, the filmic tone map, docs/output.md); and
-# docs/images/prism.png, scenes/prism.json as `farm render` renders it (about 3 minutes
-# on two cores: ten million caustic photon paths).
+# docs/images/prism.png and docs/images/crystal-sphere.png, scenes/prism.json and
+# scenes/crystal-sphere.json as `farm render` renders them (about 3 and 2 minutes on two
+# cores: ten and eight million caustic photon paths).
 #   docs/images/regenerate.sh BUILD_DIR
 set -eu
 build=${1:-build}
@@ -21,3 +22,6 @@ echo "wrote docs/images/atrium.png"
 "$build/bin/farm" render scenes/prism.json --workers 2 --no-dashboard -o "$tmp/prism"
 cp "$tmp/prism/prism.png" docs/images/prism.png
 echo "wrote docs/images/prism.png"
+"$build/bin/farm" render scenes/crystal-sphere.json --workers 2 --no-dashboard -o "$tmp/crystal"
+cp "$tmp/crystal/crystal-sphere.png" docs/images/crystal-sphere.png
+echo "wrote docs/images/crystal-sphere.png"

@@ -111,11 +111,12 @@ func TestWorkerKilledDuringEmissionLeaseExpiresAndImageIsUnchanged(t *testing.T)
 	checkSameAsUndisturbed(t, f, sc, exrAfterKill, 120*time.Second)
 }
 
-// TestDispersiveCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill: the caustics scene
-// with its glass ball made of BK7 (dispersive: photons and camera paths through it carry one
-// wavelength each) renders to the same bytes on two workers as on one, also when the only
-// worker is SIGKILLed during emission and another takes over (issue 18, acceptance 4).
-func TestDispersiveCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill(t *testing.T) {
+// TestSpectralCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill: the caustics scene
+// with its glass ball made of BK7, traced in spectral mode (every photon and camera path at
+// eight wavelengths, the hero alone past the glass), renders to the same bytes on two
+// workers as on one, also when the only worker is SIGKILLed during emission and another
+// takes over (issue 18, acceptance 4).
+func TestSpectralCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill(t *testing.T) {
 	dispersive := func(f *farmtest.Farm) *pb.Scene {
 		sc := slowShards(f.LoadScene(t, causticsFile))
 		for _, m := range sc.GetMaterials() {
@@ -124,6 +125,10 @@ func TestDispersiveCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill(t *testi
 				d.Dispersion = &pb.Dispersion{Law: &pb.Dispersion_Glass{Glass: pb.Glass_GLASS_BK7}}
 			}
 		}
+		if sc.Sampling == nil {
+			sc.Sampling = &pb.Sampling{}
+		}
+		sc.Sampling.Spectral = pb.SpectralSampling_SPECTRAL_SAMPLING_ALWAYS
 		return sc
 	}
 	two := farmtest.StartFarm(t, nil)
@@ -145,7 +150,7 @@ func TestDispersiveCausticsBitIdenticalWithOneOrTwoWorkersAndAfterAKill(t *testi
 	exrAfterKill := checkCausticsOutputs(t, f, f.Wait(t, job.GetId(), 180*time.Second))
 	checkTakenOver(t, f.Tasks(t, job.GetId()), victim, secondID)
 	if !bytes.Equal(farmtest.WithoutRenderTime(exrTwo), farmtest.WithoutRenderTime(exrAfterKill)) {
-		t.Errorf("the dispersive render on two workers (%d bytes) differs from the one after a kill (%d bytes)", len(exrTwo), len(exrAfterKill))
+		t.Errorf("the spectral render on two workers (%d bytes) differs from the one after a kill (%d bytes)", len(exrTwo), len(exrAfterKill))
 	}
 	// And the same again on the one worker left, undisturbed.
 	checkSameAsUndisturbed(t, f, sc, exrAfterKill, 180*time.Second)

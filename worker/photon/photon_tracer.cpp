@@ -16,7 +16,7 @@
 #include "photon/trace_photons.h"
 #include "scene/scene_data.h"
 #include "scene/surface_shading.h"
-#include "spectral/monochrome.h"
+#include "spectral/spectral_light.h"
 
 namespace farm {
 namespace {
@@ -67,10 +67,13 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
   Ray ray = emitted.ray;
   Rgb power = emitted.power * power_scale;
   int specular_bounces = 0, diffuse_bounces = 0;
-  // Set at the first dispersive surface: the photon is light of one wavelength from there
-  // on, of power mono_power at it (its RGB power is mono->ToRgb(mono_power)).
-  std::optional<MonochromePath> mono;
-  double mono_power = 0;
+  // Set in spectral mode from emission on, and at the first dispersive surface: the light
+  // the photon carries at a few wavelengths (power is its RGB, spectral->ToRgb()).
+  std::optional<SpectralLight> spectral;
+  if (scene.spectral_always) {
+    spectral = SpectralLight::Hero(power, random.Get1D());
+    power = spectral->ToRgb();
+  }
 
   for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
     // Four draws per bounce whatever happens, so that bounce k's numbers never shift.
@@ -91,12 +94,13 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
     const Vec3 wi = -ray.direction;  // towards where the photon came from
     if (IsDispersive(material)) {
       // u_store is free here: a dielectric stores no photon.
-      if (!mono) {
-        mono = options.wavelength_nm > 0 ? MonochromePath{options.wavelength_nm} : MonochromePath::Sample(u_store);
-        mono_power = mono->ValueOf(power);
-        power = mono->ToRgb(mono_power);
+      if (!spectral || spectral->count() > 1) {
+        const MonochromePath at =
+            options.wavelength_nm > 0 ? MonochromePath{options.wavelength_nm} : MonochromePath::Sample(u_store);
+        spectral = spectral ? spectral->HeroOnly() : SpectralLight::One(power, at);
+        power = spectral->ToRgb();
       }
-      material = AtWavelength(material, mono->lambda_nm);
+      material = AtWavelength(material, spectral->hero_nm());
     }
 
     const MaterialCapabilities& can = scene.capabilities_of(*hit);
@@ -134,11 +138,11 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
       weight = weight * scale;
     }
     // At one wavelength, the surface's RGB weight acts as its uplifted spectrum there.
-    double next_mono = 0;
+    std::optional<SpectralLight> next_spectral;
     Rgb next = power * weight;
-    if (mono) {
-      next_mono = mono_power * mono->ValueOf(weight);
-      next = mono->ToRgb(next_mono);
+    if (spectral) {
+      next_spectral = spectral->Times(weight);
+      next = next_spectral->ToRgb();
     }
     // Russian roulette: survive with the ratio of the new to the old power (its largest
     // channel), and divide by it, so that surviving photons keep roughly constant power.
@@ -146,7 +150,7 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
                                              MaxComponent(Vec3(power.r, power.g, power.b)));
     if (!(survive > 0) || u_survive >= survive) return;
     power = next / survive;
-    mono_power = next_mono / survive;
+    if (spectral) spectral = next_spectral->Over(survive);
     if (!power.IsFinite()) return;
     if (s->specular) {
       ++specular_bounces;

@@ -15,7 +15,7 @@
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
 #include "scene/surface_shading.h"
-#include "spectral/monochrome.h"
+#include "spectral/spectral_light.h"
 #include "texture/footprint.h"
 
 namespace farm {
@@ -180,34 +180,33 @@ struct PhotonMappingIntegrator::PathBranch {
   float share = 1;
   uint64_t key = 0;
   const HomogeneousMedium* medium = nullptr;  // the one the ray travels in; null: vacuum
-  // Set once the branch crossed a dispersive surface: it carries light of one wavelength
-  // from there on, with throughput mono_throughput at it (throughput is its RGB,
-  // mono->ToRgb(mono_throughput)), and sees an RGB quantity as its uplift there.
-  std::optional<MonochromePath> mono;
-  double mono_throughput = 1;
+  // Set in spectral mode from the start, and once the branch crossed a dispersive surface:
+  // the light it carries at a few wavelengths (throughput is its RGB, spectral->ToRgb()),
+  // which sees an RGB quantity as its uplift at each.
+  std::optional<SpectralLight> spectral;
 
   // What light x (RGB) reaching the branch adds to the film.
-  Rgb Carried(const Rgb& x) const { return mono ? mono->ToRgb(mono_throughput * mono->ValueOf(x)) : throughput * x; }
+  Rgb Carried(const Rgb& x) const { return spectral ? spectral->Times(x).ToRgb() : throughput * x; }
 
   // The branch with its throughput times weight (RGB: a surface's or a medium's), over
   // survive.
   PathBranch Continued(const Rgb& weight, float survive = 1) const {
     PathBranch on = *this;
-    if (mono) {
-      on.mono_throughput = mono_throughput * mono->ValueOf(weight) / survive;
-      on.throughput = mono->ToRgb(on.mono_throughput);
+    if (spectral) {
+      on.spectral = spectral->Times(weight, survive);
+      on.throughput = on.spectral->ToRgb();
     } else {
       on.throughput = throughput * weight / survive;
     }
     return on;
   }
 
-  // The branch at one wavelength from here on, carrying the uplift of its throughput there.
-  PathBranch AtOneWavelength(const MonochromePath& at) const {
+  // The branch at one wavelength from here on: the hero of its wavelengths, or (traced in
+  // RGB so far) one drawn from u, carrying the uplift of its throughput there.
+  PathBranch AtOneWavelength(float u) const {
     PathBranch on = *this;
-    on.mono = at;
-    on.mono_throughput = at.ValueOf(throughput);
-    on.throughput = at.ToRgb(on.mono_throughput);
+    on.spectral = spectral ? spectral->HeroOnly() : SpectralLight::One(throughput, MonochromePath::Sample(u));
+    on.throughput = on.spectral->ToRgb();
     return on;
   }
 };
@@ -263,8 +262,11 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
   Branches branches;
   // The camera is in the scene's medium (docs/media.md: not inside a shape's).
+  // In spectral mode the path's wavelengths come from a dimension of their own, drawn first.
+  std::optional<SpectralLight> spectral;
+  if (scene_.spectral_always) spectral = SpectralLight::Hero(Rgb(1), sampler.Get1D());
   branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, Rgb(1), 1, 0,
-                 scene_.medium ? &*scene_.medium : nullptr, std::nullopt, 1});
+                 scene_.medium ? &*scene_.medium : nullptr, spectral});
   for (int depth = 0; depth < kMaxSpecularDepth && branches.count > 0; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit; the branches share them.
@@ -325,8 +327,9 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   Material material = MaterialAt(scene_, *hit, ray.direction, TextureRead{cone.width, cone.filter});
   if (IsDispersive(material)) {
     // The wavelength from the direction's dimension, which a dielectric does not use.
-    if (!path.mono) path = path.AtOneWavelength(MonochromePath::Sample(ForBranch(u.direction.x, branch.key, 3)));
-    material = AtWavelength(material, path.mono->lambda_nm);
+    if (!path.spectral || path.spectral->count() > 1)
+      path = path.AtOneWavelength(ForBranch(u.direction.x, branch.key, 3));
+    material = AtWavelength(material, path.spectral->hero_nm());
   }
   const Shading at(*hit, wo, material, cone.width, branch.medium);
   if (branch.key == 0) {

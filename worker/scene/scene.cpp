@@ -308,6 +308,18 @@ bool SplitsSpecular(const pb::Sampling& sampling) {
   }
 }
 
+// Sampling.spectral with its default: whether every path is traced at wavelengths.
+bool SpectralAlways(const pb::Sampling& sampling) {
+  const pb::SpectralSampling mode = contract::OrDefault<pb::Sampling>(sampling.spectral(), "spectral");
+  switch (mode) {
+    case pb::SPECTRAL_SAMPLING_AUTO: return false;
+    case pb::SPECTRAL_SAMPLING_ALWAYS: return true;
+    default:  // a mode the contract declares and this worker does not know
+      throw UnsupportedError("sampling.spectral: " + pb::SpectralSampling_Name(mode) +
+                             " is not supported by this worker");
+  }
+}
+
 }  // namespace
 
 Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, const SceneOptions& options) {
@@ -326,6 +338,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   d.filter = PixelFilter::FromProto(film.filter());
   d.indirect = IndirectSettings::FromProto(description);
   d.split_specular = SplitsSpecular(description.sampling());
+  d.spectral_always = SpectralAlways(description.sampling());
   d.camera = Camera::FromProto(description.camera(), d.width, d.height);
 
   std::unordered_map<std::string, int> material_index;

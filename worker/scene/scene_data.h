@@ -95,6 +95,9 @@ struct SceneData {
   // Sampling.specular: SPLIT (glass followed both ways at a camera path's first bounces)
   // rather than CHOOSE.
   bool split_specular = true;
+  // Sampling.spectral ALWAYS: every camera path and photon traced at eight wavelengths from
+  // its start (spectral_light.h), rather than in RGB until a dispersive surface.
+  bool spectral_always = false;
 
   Camera camera;
   std::vector<Material> materials;

@@ -1,5 +1,7 @@
 #include "spectral/colour_matching.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace farm {
@@ -41,18 +43,6 @@ Xyz ColourMatching(double l) {
 
 double YIntegral() { return IntegralsOnce().y; }
 
-Xyz XyzOf(const SampledWavelengths& w, const std::array<double, kWavelengthsPerPath>& values) {
-  const double scale = 1 / (w.pdf * kWavelengthsPerPath * YIntegral());
-  Xyz sum;
-  for (int i = 0; i < kWavelengthsPerPath; ++i) {
-    const Xyz m = ColourMatching(w.lambda[i]);
-    sum.x += values[i] * m.x * scale;
-    sum.y += values[i] * m.y * scale;
-    sum.z += values[i] * m.z * scale;
-  }
-  return sum;
-}
-
 Rgb XyzToLinearSrgb(const Xyz& xyz) {
   // D65's XYZ (Y = 1) over the equal-energy white's under the fit.
   const Xyz& e = IntegralsOnce();
@@ -63,6 +53,34 @@ Rgb XyzToLinearSrgb(const Xyz& xyz) {
   return Rgb(static_cast<float>(3.2404542 * x - 1.5371385 * y - 0.4985314 * z),
              static_cast<float>(-0.9692660 * x + 1.8760108 * y + 0.0415560 * z),
              static_cast<float>(0.0556434 * x - 0.2040259 * y + 1.0572252 * z));
+}
+
+namespace {
+
+Rgb ClippedSrgbMatching(double lambda) {
+  const Rgb c = XyzToLinearSrgb(ColourMatching(lambda));
+  return Rgb(std::max(0.0f, c.r), std::max(0.0f, c.g), std::max(0.0f, c.b));
+}
+
+std::array<double, 3> ClippedIntegrals() {
+  std::array<double, 3> integral{};
+  for (int i = 0; i <= kFilmSteps; ++i) {
+    const Rgb c = ClippedSrgbMatching(kLambdaMin + kFilmStep * i);
+    const double w = (i == 0 || i == kFilmSteps) ? 0.5 : 1.0;
+    integral[0] += w * c.r * kFilmStep;
+    integral[1] += w * c.g * kFilmStep;
+    integral[2] += w * c.b * kFilmStep;
+  }
+  return integral;
+}
+
+}  // namespace
+
+Rgb FilmResponse(double lambda_nm) {
+  static const std::array<double, 3> integral = ClippedIntegrals();
+  const Rgb c = ClippedSrgbMatching(lambda_nm);
+  return Rgb(static_cast<float>(c.r / integral[0]), static_cast<float>(c.g / integral[1]),
+             static_cast<float>(c.b / integral[2]));
 }
 
 }  // namespace farm

@@ -7,8 +7,6 @@
 // piecewise Gaussians, within a few percent of the tabulated functions, evaluated anywhere
 // without a table.
 
-#include <array>
-
 #include "math/rgb.h"
 #include "spectral/wavelengths.h"
 
@@ -25,14 +23,23 @@ Xyz ColourMatching(double lambda_nm);
 // of f with Y = 1 for the spectrum that is 1 everywhere.
 double YIntegral();
 
-// One path's estimate of XYZ from its radiance at its wavelengths: the mean over them of
-// value x matching / pdf, over YIntegral(). What the film accumulates.
-Xyz XyzOf(const SampledWavelengths& w, const std::array<double, kWavelengthsPerPath>& values);
-
 // XYZ to linear sRGB (Rec. 709 primaries), with the equal-energy spectrum (1 everywhere)
 // as white: reflectances and emitters uplift white to that spectrum (uplift.h), so the
 // film adapts its white to sRGB's D65 by scaling XYZ (the simplest of the von Kries
 // adaptations, exact for the white point itself) before the sRGB matrix.
 Rgb XyzToLinearSrgb(const Xyz& xyz);
+
+// The film's response to light at a wavelength in nm: the linear sRGB of the matching
+// functions at λ with their negative parts (the spectral colours outside sRGB's gamut) set
+// to 0, each channel over its integral over the visible range, so that the spectrum that is
+// 1 everywhere is white (1, 1, 1). The film's colour of a spectrum S is ∫ S(λ) R(λ) dλ.
+// Clipped because photons must stay non-negative (the snapshot stores their power as
+// shared-exponent RGB); the price is spectral colours a little less saturated.
+Rgb FilmResponse(double lambda_nm);
+
+// FilmResponse's integration: the visible range in kFilmSteps intervals of kFilmStep nm
+// (fine against the matching functions' smooth lobes), by the trapezoid rule.
+inline constexpr int kFilmSteps = 940;
+inline constexpr double kFilmStep = (kLambdaMax - kLambdaMin) / kFilmSteps;
 
 }  // namespace farm

@@ -5,13 +5,9 @@
 // where the film's channels see light (Pdf), and says what that is in the film's linear
 // sRGB.
 //
-// The conversion uses sRGB matching functions clipped at zero: the linear sRGB of CIE
-// 1931's x̄, ȳ, z̄ at λ with its negative parts (the spectral colours outside sRGB's
-// gamut) set to 0, each channel scaled so that the equal-energy spectrum (1 everywhere)
-// is white (1, 1, 1). Photons must stay non-negative (the snapshot stores their power as
-// shared-exponent RGB); the price is a rainbow a little less saturated than the spectral
-// colours, and the same conversion for camera paths keeps a caustic seen directly and
-// through photons alike.
+// The conversion is the film's response (colour_matching.h: FilmResponse, sRGB matching
+// functions clipped at zero), the same for photons and camera paths, so that a caustic
+// seen directly and through photons is alike.
 
 #include "math/rgb.h"
 
@@ -28,8 +24,8 @@ struct MonochromePath {
   // The density, per nm, Sample draws lambda_nm with.
   double Pdf() const;
 
-  // The linear sRGB estimate of light of `value` at lambda_nm: the clipped matching
-  // functions at λ times value, over the density λ was drawn with. Over many paths
+  // The linear sRGB estimate of light of `value` at lambda_nm: the film's response at λ
+  // times value, over the density λ was drawn with. Over many paths
   // carrying the uplift of an RGB colour, its mean is that colour (up to the uplift's
   // round trip and the clipping).
   Rgb ToRgb(double value) const;

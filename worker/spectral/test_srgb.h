@@ -1,6 +1,6 @@
 #pragma once
 
-// For the tests: a spectrum's colour as the film estimates it.
+// For the tests: a spectrum's colour, the linear sRGB of its XYZ.
 
 #include <functional>
 
@@ -8,17 +8,19 @@
 
 namespace farm {
 
-// The sRGB of a spectrum as the film estimates it from n stratified paths.
+// The linear sRGB of a spectrum: its XYZ by the midpoint rule over n intervals of the
+// visible range, with Y = 1 for the spectrum that is 1 everywhere.
 inline Rgb SrgbOf(const std::function<double(double)>& spectrum, int n = 4096) {
+  const double step = (kLambdaMax - kLambdaMin) / n;
+  const double scale = step / YIntegral();
   Xyz sum;
   for (int k = 0; k < n; ++k) {
-    const SampledWavelengths w = SampleWavelengths((k + 0.5) / n);
-    std::array<double, kWavelengthsPerPath> values{};
-    for (int i = 0; i < kWavelengthsPerPath; ++i) values[i] = spectrum(w.lambda[i]);
-    const Xyz xyz = XyzOf(w, values);
-    sum.x += xyz.x / n;
-    sum.y += xyz.y / n;
-    sum.z += xyz.z / n;
+    const double lambda = kLambdaMin + (k + 0.5) * step;
+    const Xyz m = ColourMatching(lambda);
+    const double v = spectrum(lambda);
+    sum.x += v * m.x * scale;
+    sum.y += v * m.y * scale;
+    sum.z += v * m.z * scale;
   }
   return XyzToLinearSrgb(sum);
 }

@@ -408,8 +408,12 @@ type SceneLimits struct {
 	// photons stored on it), caustic photons are aimed at it and the scene gets a caustic
 	// map. The coordinator's planner and the workers read this one value.
 	PrincipledSpecularRoughness float64 `protobuf:"fixed64,11,opt,name=principled_specular_roughness,json=principledSpecularRoughness,proto3" json:"principled_specular_roughness,omitempty"`
-	unknownFields               protoimpl.UnknownFields
-	sizeCache                   protoimpl.SizeCache
+	// Wavelengths a photon or camera path carries in spectral mode (Sampling.spectral
+	// ALWAYS): a hero and its companions. The workers' value (worker/spectral/wavelengths.h)
+	// is checked against this one; the planner states it.
+	SpectralWavelengthsPerPath uint32 `protobuf:"varint,12,opt,name=spectral_wavelengths_per_path,json=spectralWavelengthsPerPath,proto3" json:"spectral_wavelengths_per_path,omitempty"`
+	unknownFields              protoimpl.UnknownFields
+	sizeCache                  protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -515,6 +519,13 @@ func (x *SceneLimits) GetMaxTexturePixels() uint64 {
 func (x *SceneLimits) GetPrincipledSpecularRoughness() float64 {
 	if x != nil {
 		return x.PrincipledSpecularRoughness
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetSpectralWavelengthsPerPath() uint32 {
+	if x != nil {
+		return x.SpectralWavelengthsPerPath
 	}
 	return 0
 }
@@ -935,7 +946,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\x8b\x04\n" +
+	"_max_bytes\"\xce\x04\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -948,7 +959,8 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x0fmax_film_pixels\x18\t \x01(\x04R\rmaxFilmPixels\x12,\n" +
 	"\x12max_texture_pixels\x18\n" +
 	" \x01(\x04R\x10maxTexturePixels\x12B\n" +
-	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\"\xc2\x01\n" +
+	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\x12A\n" +
+	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +

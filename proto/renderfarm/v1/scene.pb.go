@@ -21,6 +21,62 @@ const (
 	_ = protoimpl.EnforceVersion(protoimpl.MaxVersion - 20)
 )
 
+type SpectralSampling int32
+
+const (
+	// Selects AUTO.
+	SpectralSampling_SPECTRAL_SAMPLING_UNSPECIFIED SpectralSampling = 0
+	// RGB, except light that meets a dispersive dielectric: from there on that photon or
+	// camera path is traced at one wavelength. A scene without one is traced in RGB only.
+	SpectralSampling_SPECTRAL_SAMPLING_AUTO SpectralSampling = 1
+	// Every camera path and photon at eight wavelengths from its start (a hero wavelength
+	// and seven companions spread over the spectrum), reflectances and emitters uplifted
+	// to smooth spectra; at a dispersive surface only the hero goes on. Slower than AUTO,
+	// for scenes whose colours must be computed spectrally (or to check AUTO against).
+	SpectralSampling_SPECTRAL_SAMPLING_ALWAYS SpectralSampling = 2
+)
+
+// Enum value maps for SpectralSampling.
+var (
+	SpectralSampling_name = map[int32]string{
+		0: "SPECTRAL_SAMPLING_UNSPECIFIED",
+		1: "SPECTRAL_SAMPLING_AUTO",
+		2: "SPECTRAL_SAMPLING_ALWAYS",
+	}
+	SpectralSampling_value = map[string]int32{
+		"SPECTRAL_SAMPLING_UNSPECIFIED": 0,
+		"SPECTRAL_SAMPLING_AUTO":        1,
+		"SPECTRAL_SAMPLING_ALWAYS":      2,
+	}
+)
+
+func (x SpectralSampling) Enum() *SpectralSampling {
+	p := new(SpectralSampling)
+	*p = x
+	return p
+}
+
+func (x SpectralSampling) String() string {
+	return protoimpl.X.EnumStringOf(x.Descriptor(), protoreflect.EnumNumber(x))
+}
+
+func (SpectralSampling) Descriptor() protoreflect.EnumDescriptor {
+	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+}
+
+func (SpectralSampling) Type() protoreflect.EnumType {
+	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+}
+
+func (x SpectralSampling) Number() protoreflect.EnumNumber {
+	return protoreflect.EnumNumber(x)
+}
+
+// Deprecated: Use SpectralSampling.Descriptor instead.
+func (SpectralSampling) EnumDescriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+}
+
 type AdaptiveSampling int32
 
 const (
@@ -60,11 +116,11 @@ func (x AdaptiveSampling) String() string {
 }
 
 func (AdaptiveSampling) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[0].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
 }
 
 func (AdaptiveSampling) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[0]
+	return &file_renderfarm_v1_scene_proto_enumTypes[1]
 }
 
 func (x AdaptiveSampling) Number() protoreflect.EnumNumber {
@@ -73,7 +129,7 @@ func (x AdaptiveSampling) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AdaptiveSampling.Descriptor instead.
 func (AdaptiveSampling) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{0}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
 }
 
 type SpecularSampling int32
@@ -114,11 +170,11 @@ func (x SpecularSampling) String() string {
 }
 
 func (SpecularSampling) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[1].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
 }
 
 func (SpecularSampling) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[1]
+	return &file_renderfarm_v1_scene_proto_enumTypes[2]
 }
 
 func (x SpecularSampling) Number() protoreflect.EnumNumber {
@@ -127,7 +183,7 @@ func (x SpecularSampling) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use SpecularSampling.Descriptor instead.
 func (SpecularSampling) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{1}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
 }
 
 type AntialiasingMode int32
@@ -168,11 +224,11 @@ func (x AntialiasingMode) String() string {
 }
 
 func (AntialiasingMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[2].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
 }
 
 func (AntialiasingMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[2]
+	return &file_renderfarm_v1_scene_proto_enumTypes[3]
 }
 
 func (x AntialiasingMode) Number() protoreflect.EnumNumber {
@@ -181,7 +237,7 @@ func (x AntialiasingMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AntialiasingMode.Descriptor instead.
 func (AntialiasingMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{2}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
 }
 
 type IndirectMode int32
@@ -220,11 +276,11 @@ func (x IndirectMode) String() string {
 }
 
 func (IndirectMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[3].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
 }
 
 func (IndirectMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[3]
+	return &file_renderfarm_v1_scene_proto_enumTypes[4]
 }
 
 func (x IndirectMode) Number() protoreflect.EnumNumber {
@@ -233,7 +289,7 @@ func (x IndirectMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use IndirectMode.Descriptor instead.
 func (IndirectMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{3}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
 }
 
 type Glass int32
@@ -280,11 +336,11 @@ func (x Glass) String() string {
 }
 
 func (Glass) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[4].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
 }
 
 func (Glass) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[4]
+	return &file_renderfarm_v1_scene_proto_enumTypes[5]
 }
 
 func (x Glass) Number() protoreflect.EnumNumber {
@@ -293,7 +349,7 @@ func (x Glass) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Glass.Descriptor instead.
 func (Glass) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{4}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
 }
 
 type AlphaMode int32
@@ -331,11 +387,11 @@ func (x AlphaMode) String() string {
 }
 
 func (AlphaMode) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[5].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[6].Descriptor()
 }
 
 func (AlphaMode) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[5]
+	return &file_renderfarm_v1_scene_proto_enumTypes[6]
 }
 
 func (x AlphaMode) Number() protoreflect.EnumNumber {
@@ -344,7 +400,7 @@ func (x AlphaMode) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use AlphaMode.Descriptor instead.
 func (AlphaMode) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{5}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
 }
 
 type ToneMap int32
@@ -384,11 +440,11 @@ func (x ToneMap) String() string {
 }
 
 func (ToneMap) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[6].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[7].Descriptor()
 }
 
 func (ToneMap) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[6]
+	return &file_renderfarm_v1_scene_proto_enumTypes[7]
 }
 
 func (x ToneMap) Number() protoreflect.EnumNumber {
@@ -397,7 +453,7 @@ func (x ToneMap) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use ToneMap.Descriptor instead.
 func (ToneMap) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{6}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
 }
 
 type Filter int32
@@ -439,11 +495,11 @@ func (x Filter) String() string {
 }
 
 func (Filter) Descriptor() protoreflect.EnumDescriptor {
-	return file_renderfarm_v1_scene_proto_enumTypes[7].Descriptor()
+	return file_renderfarm_v1_scene_proto_enumTypes[8].Descriptor()
 }
 
 func (Filter) Type() protoreflect.EnumType {
-	return &file_renderfarm_v1_scene_proto_enumTypes[7]
+	return &file_renderfarm_v1_scene_proto_enumTypes[8]
 }
 
 func (x Filter) Number() protoreflect.EnumNumber {
@@ -452,7 +508,7 @@ func (x Filter) Number() protoreflect.EnumNumber {
 
 // Deprecated: Use Filter.Descriptor instead.
 func (Filter) EnumDescriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{7}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{8}
 }
 
 // A scene: what to render and how. Scene files on disk are this message in protobuf's
@@ -1127,7 +1183,9 @@ type Sampling struct {
 	Specular SpecularSampling `protobuf:"varint,4,opt,name=specular,proto3,enum=renderfarm.v1.SpecularSampling" json:"specular,omitempty"`
 	// Whether later progressive rounds move camera samples towards the pixels whose error is
 	// largest (docs/adaptive-sampling.md), at the same samples per round.
-	Adaptive      AdaptiveSampling `protobuf:"varint,5,opt,name=adaptive,proto3,enum=renderfarm.v1.AdaptiveSampling" json:"adaptive,omitempty"`
+	Adaptive AdaptiveSampling `protobuf:"varint,5,opt,name=adaptive,proto3,enum=renderfarm.v1.AdaptiveSampling" json:"adaptive,omitempty"`
+	// Whether light is traced in RGB or at wavelengths (docs/spectral.md).
+	Spectral      SpectralSampling `protobuf:"varint,6,opt,name=spectral,proto3,enum=renderfarm.v1.SpectralSampling" json:"spectral,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1195,6 +1253,13 @@ func (x *Sampling) GetAdaptive() AdaptiveSampling {
 		return x.Adaptive
 	}
 	return AdaptiveSampling_ADAPTIVE_SAMPLING_UNSPECIFIED
+}
+
+func (x *Sampling) GetSpectral() SpectralSampling {
+	if x != nil {
+		return x.Spectral
+	}
+	return SpectralSampling_SPECTRAL_SAMPLING_UNSPECIFIED
 }
 
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, and only edge pixels get
@@ -3409,7 +3474,7 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\x99\t\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\x9b\t\n" +
 	"\x05Scene\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x125\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraB\x06\x8a\xb5\x18\x020\x01R\x06camera\x12/\n" +
@@ -3427,7 +3492,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\btextures\x18\r \x03(\v2\x16.renderfarm.v1.TextureB\a\x8a\xb5\x18\x03@\x80 R\btextures\x12<\n" +
 	"\venvironment\x18\x0e \x01(\v2\x1a.renderfarm.v1.EnvironmentR\venvironment\x12-\n" +
 	"\x06output\x18\x0f \x01(\v2\x15.renderfarm.v1.OutputR\x06output\x12-\n" +
-	"\x06medium\x18\x10 \x01(\v2\x15.renderfarm.v1.MediumR\x06medium:A\x92\xb5\x18=\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x02(\x80\xad\xe2\x040\x80\xad\xe2\x048\x80\x80\x04@\x80\x90\xa1\x0fH\x80\x80\x80\x04P\x80\x80\x80\x80\x01Y\x9a\x99\x99\x99\x99\x99\xb9?\"\xa1\x03\n" +
+	"\x06medium\x18\x10 \x01(\v2\x15.renderfarm.v1.MediumR\x06medium:C\x92\xb5\x18?\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x02(\x80\xad\xe2\x040\x80\xad\xe2\x048\x80\x80\x04@\x80\x90\xa1\x0fH\x80\x80\x80\x04P\x80\x80\x80\x80\x01Y\x9a\x99\x99\x99\x99\x99\xb9?`\b\"\xa1\x03\n" +
 	"\x06Camera\x127\n" +
 	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12K\n" +
 	"\alook_at\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1d\x8a\xb5\x18\x190\x01Z\x15differs from positionR\x06lookAt\x12Y\n" +
@@ -3455,13 +3520,14 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xf8?R\x06radius\x125\n" +
 	"\x05sigma\x18\x02 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xc0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\xe0?R\x05sigma\"I\n" +
 	"\x0eMitchellFilter\x127\n" +
-	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\xb7\x02\n" +
+	"\x06radius\x18\x01 \x01(\x01B\x1f\x8a\xb5\x18\x1b\t\x00\x00\x00\x00\x00\x00\xe0?\x19\x00\x00\x00\x00\x00\x00\x00@)\x00\x00\x00\x00\x00\x00\x00@R\x06radius\"\x83\x03\n" +
 	"\bSampling\x12B\n" +
 	"\x11samples_per_pixel\x18\x01 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\xf0@)\x00\x00\x00\x00\x00\x00\xf0?R\x0fsamplesPerPixel\x12\x12\n" +
 	"\x04seed\x18\x02 \x01(\x04R\x04seed\x12;\n" +
 	"\rlight_samples\x18\x03 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x000@R\flightSamples\x12J\n" +
 	"\bspecular\x18\x04 \x01(\x0e2\x1f.renderfarm.v1.SpecularSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspecular\x12J\n" +
-	"\badaptive\x18\x05 \x01(\x0e2\x1f.renderfarm.v1.AdaptiveSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\badaptive\"\xcc\x01\n" +
+	"\badaptive\x18\x05 \x01(\x0e2\x1f.renderfarm.v1.AdaptiveSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\badaptive\x12J\n" +
+	"\bspectral\x18\x06 \x01(\x0e2\x1f.renderfarm.v1.SpectralSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspectral\"\xcc\x01\n" +
 	"\fAntialiasing\x12B\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
 	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
@@ -3618,7 +3684,11 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bMeshFile\x12\x1b\n" +
 	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12c\n" +
 	"\x06digest\x18\x02 \x01(\tBK\x8a\xb5\x18G0\x01P\x01ZAthe blob is uploaded first and parses as an OBJ or farm mesh fileR\x06digest\x126\n" +
-	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*j\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform*o\n" +
+	"\x10SpectralSampling\x12!\n" +
+	"\x1dSPECTRAL_SAMPLING_UNSPECIFIED\x10\x00\x12\x1a\n" +
+	"\x16SPECTRAL_SAMPLING_AUTO\x10\x01\x12\x1c\n" +
+	"\x18SPECTRAL_SAMPLING_ALWAYS\x10\x02*j\n" +
 	"\x10AdaptiveSampling\x12!\n" +
 	"\x1dADAPTIVE_SAMPLING_UNSPECIFIED\x10\x00\x12\x19\n" +
 	"\x15ADAPTIVE_SAMPLING_OFF\x10\x01\x12\x18\n" +
@@ -3670,155 +3740,157 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 	return file_renderfarm_v1_scene_proto_rawDescData
 }
 
-var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 8)
+var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 9)
 var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 38)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
-	(AdaptiveSampling)(0),      // 0: renderfarm.v1.AdaptiveSampling
-	(SpecularSampling)(0),      // 1: renderfarm.v1.SpecularSampling
-	(AntialiasingMode)(0),      // 2: renderfarm.v1.AntialiasingMode
-	(IndirectMode)(0),          // 3: renderfarm.v1.IndirectMode
-	(Glass)(0),                 // 4: renderfarm.v1.Glass
-	(AlphaMode)(0),             // 5: renderfarm.v1.AlphaMode
-	(ToneMap)(0),               // 6: renderfarm.v1.ToneMap
-	(Filter)(0),                // 7: renderfarm.v1.Filter
-	(*Scene)(nil),              // 8: renderfarm.v1.Scene
-	(*Camera)(nil),             // 9: renderfarm.v1.Camera
-	(*Film)(nil),               // 10: renderfarm.v1.Film
-	(*PixelFilter)(nil),        // 11: renderfarm.v1.PixelFilter
-	(*BoxFilter)(nil),          // 12: renderfarm.v1.BoxFilter
-	(*TentFilter)(nil),         // 13: renderfarm.v1.TentFilter
-	(*GaussianFilter)(nil),     // 14: renderfarm.v1.GaussianFilter
-	(*MitchellFilter)(nil),     // 15: renderfarm.v1.MitchellFilter
-	(*Sampling)(nil),           // 16: renderfarm.v1.Sampling
-	(*Antialiasing)(nil),       // 17: renderfarm.v1.Antialiasing
-	(*Indirect)(nil),           // 18: renderfarm.v1.Indirect
-	(*Progressive)(nil),        // 19: renderfarm.v1.Progressive
-	(*ReferenceImage)(nil),     // 20: renderfarm.v1.ReferenceImage
-	(*Material)(nil),           // 21: renderfarm.v1.Material
-	(*Lambert)(nil),            // 22: renderfarm.v1.Lambert
-	(*Emissive)(nil),           // 23: renderfarm.v1.Emissive
-	(*Glossy)(nil),             // 24: renderfarm.v1.Glossy
-	(*Mirror)(nil),             // 25: renderfarm.v1.Mirror
-	(*Dielectric)(nil),         // 26: renderfarm.v1.Dielectric
-	(*Dispersion)(nil),         // 27: renderfarm.v1.Dispersion
-	(*Conductor)(nil),          // 28: renderfarm.v1.Conductor
-	(*Principled)(nil),         // 29: renderfarm.v1.Principled
-	(*Light)(nil),              // 30: renderfarm.v1.Light
-	(*PointLight)(nil),         // 31: renderfarm.v1.PointLight
-	(*SunLight)(nil),           // 32: renderfarm.v1.SunLight
-	(*SpotLight)(nil),          // 33: renderfarm.v1.SpotLight
-	(*Environment)(nil),        // 34: renderfarm.v1.Environment
-	(*Output)(nil),             // 35: renderfarm.v1.Output
-	(*PhotonMapping)(nil),      // 36: renderfarm.v1.PhotonMapping
-	(*RadianceEstimate)(nil),   // 37: renderfarm.v1.RadianceEstimate
-	(*Shape)(nil),              // 38: renderfarm.v1.Shape
-	(*Medium)(nil),             // 39: renderfarm.v1.Medium
-	(*MediumCoefficients)(nil), // 40: renderfarm.v1.MediumCoefficients
-	(*MediumAlbedo)(nil),       // 41: renderfarm.v1.MediumAlbedo
-	(*Sphere)(nil),             // 42: renderfarm.v1.Sphere
-	(*Quad)(nil),               // 43: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),       // 44: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),           // 45: renderfarm.v1.MeshFile
-	(*Mesh)(nil),               // 46: renderfarm.v1.Mesh
-	(*Texture)(nil),            // 47: renderfarm.v1.Texture
-	(*Vec3)(nil),               // 48: renderfarm.v1.Vec3
-	(*Color)(nil),              // 49: renderfarm.v1.Color
-	(*TextureRef)(nil),         // 50: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),       // 51: renderfarm.v1.MeshInstance
-	(*Transform)(nil),          // 52: renderfarm.v1.Transform
+	(SpectralSampling)(0),      // 0: renderfarm.v1.SpectralSampling
+	(AdaptiveSampling)(0),      // 1: renderfarm.v1.AdaptiveSampling
+	(SpecularSampling)(0),      // 2: renderfarm.v1.SpecularSampling
+	(AntialiasingMode)(0),      // 3: renderfarm.v1.AntialiasingMode
+	(IndirectMode)(0),          // 4: renderfarm.v1.IndirectMode
+	(Glass)(0),                 // 5: renderfarm.v1.Glass
+	(AlphaMode)(0),             // 6: renderfarm.v1.AlphaMode
+	(ToneMap)(0),               // 7: renderfarm.v1.ToneMap
+	(Filter)(0),                // 8: renderfarm.v1.Filter
+	(*Scene)(nil),              // 9: renderfarm.v1.Scene
+	(*Camera)(nil),             // 10: renderfarm.v1.Camera
+	(*Film)(nil),               // 11: renderfarm.v1.Film
+	(*PixelFilter)(nil),        // 12: renderfarm.v1.PixelFilter
+	(*BoxFilter)(nil),          // 13: renderfarm.v1.BoxFilter
+	(*TentFilter)(nil),         // 14: renderfarm.v1.TentFilter
+	(*GaussianFilter)(nil),     // 15: renderfarm.v1.GaussianFilter
+	(*MitchellFilter)(nil),     // 16: renderfarm.v1.MitchellFilter
+	(*Sampling)(nil),           // 17: renderfarm.v1.Sampling
+	(*Antialiasing)(nil),       // 18: renderfarm.v1.Antialiasing
+	(*Indirect)(nil),           // 19: renderfarm.v1.Indirect
+	(*Progressive)(nil),        // 20: renderfarm.v1.Progressive
+	(*ReferenceImage)(nil),     // 21: renderfarm.v1.ReferenceImage
+	(*Material)(nil),           // 22: renderfarm.v1.Material
+	(*Lambert)(nil),            // 23: renderfarm.v1.Lambert
+	(*Emissive)(nil),           // 24: renderfarm.v1.Emissive
+	(*Glossy)(nil),             // 25: renderfarm.v1.Glossy
+	(*Mirror)(nil),             // 26: renderfarm.v1.Mirror
+	(*Dielectric)(nil),         // 27: renderfarm.v1.Dielectric
+	(*Dispersion)(nil),         // 28: renderfarm.v1.Dispersion
+	(*Conductor)(nil),          // 29: renderfarm.v1.Conductor
+	(*Principled)(nil),         // 30: renderfarm.v1.Principled
+	(*Light)(nil),              // 31: renderfarm.v1.Light
+	(*PointLight)(nil),         // 32: renderfarm.v1.PointLight
+	(*SunLight)(nil),           // 33: renderfarm.v1.SunLight
+	(*SpotLight)(nil),          // 34: renderfarm.v1.SpotLight
+	(*Environment)(nil),        // 35: renderfarm.v1.Environment
+	(*Output)(nil),             // 36: renderfarm.v1.Output
+	(*PhotonMapping)(nil),      // 37: renderfarm.v1.PhotonMapping
+	(*RadianceEstimate)(nil),   // 38: renderfarm.v1.RadianceEstimate
+	(*Shape)(nil),              // 39: renderfarm.v1.Shape
+	(*Medium)(nil),             // 40: renderfarm.v1.Medium
+	(*MediumCoefficients)(nil), // 41: renderfarm.v1.MediumCoefficients
+	(*MediumAlbedo)(nil),       // 42: renderfarm.v1.MediumAlbedo
+	(*Sphere)(nil),             // 43: renderfarm.v1.Sphere
+	(*Quad)(nil),               // 44: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),       // 45: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),           // 46: renderfarm.v1.MeshFile
+	(*Mesh)(nil),               // 47: renderfarm.v1.Mesh
+	(*Texture)(nil),            // 48: renderfarm.v1.Texture
+	(*Vec3)(nil),               // 49: renderfarm.v1.Vec3
+	(*Color)(nil),              // 50: renderfarm.v1.Color
+	(*TextureRef)(nil),         // 51: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),       // 52: renderfarm.v1.MeshInstance
+	(*Transform)(nil),          // 53: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
-	9,  // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
-	10, // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
-	16, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
-	21, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
-	38, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
-	30, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
-	36, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
-	17, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
-	18, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
-	19, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	46, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	47, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
-	34, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
-	35, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
-	39, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
-	48, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	48, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	48, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
-	11, // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
-	12, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
-	13, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
-	14, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
-	15, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
-	1,  // 23: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
-	0,  // 24: renderfarm.v1.Sampling.adaptive:type_name -> renderfarm.v1.AdaptiveSampling
-	2,  // 25: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
-	3,  // 26: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
-	20, // 27: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
-	22, // 28: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
-	23, // 29: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
-	24, // 30: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
-	25, // 31: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
-	26, // 32: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
-	28, // 33: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
-	29, // 34: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	49, // 35: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	49, // 36: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	49, // 37: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
-	49, // 38: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	49, // 39: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	49, // 40: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	49, // 41: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
-	27, // 42: renderfarm.v1.Dielectric.dispersion:type_name -> renderfarm.v1.Dispersion
-	4,  // 43: renderfarm.v1.Dispersion.glass:type_name -> renderfarm.v1.Glass
-	49, // 44: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	49, // 45: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	49, // 46: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	50, // 47: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	50, // 48: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	50, // 49: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	49, // 50: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	50, // 51: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
-	5,  // 52: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
-	31, // 53: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
-	32, // 54: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
-	33, // 55: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	48, // 56: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	49, // 57: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	48, // 58: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	49, // 59: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	48, // 60: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	48, // 61: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	49, // 62: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	49, // 63: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	50, // 64: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
-	6,  // 65: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
-	37, // 66: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	37, // 67: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	7,  // 68: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	42, // 69: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	43, // 70: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	44, // 71: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	45, // 72: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	51, // 73: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	39, // 74: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
-	40, // 75: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
-	41, // 76: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
-	49, // 77: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
-	49, // 78: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
-	49, // 79: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
-	48, // 80: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	48, // 81: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	48, // 82: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	48, // 83: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	48, // 84: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	52, // 85: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	86, // [86:86] is the sub-list for method output_type
-	86, // [86:86] is the sub-list for method input_type
-	86, // [86:86] is the sub-list for extension type_name
-	86, // [86:86] is the sub-list for extension extendee
-	0,  // [0:86] is the sub-list for field type_name
+	10, // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
+	11, // 1: renderfarm.v1.Scene.film:type_name -> renderfarm.v1.Film
+	17, // 2: renderfarm.v1.Scene.sampling:type_name -> renderfarm.v1.Sampling
+	22, // 3: renderfarm.v1.Scene.materials:type_name -> renderfarm.v1.Material
+	39, // 4: renderfarm.v1.Scene.shapes:type_name -> renderfarm.v1.Shape
+	31, // 5: renderfarm.v1.Scene.lights:type_name -> renderfarm.v1.Light
+	37, // 6: renderfarm.v1.Scene.photons:type_name -> renderfarm.v1.PhotonMapping
+	18, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
+	19, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
+	20, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
+	47, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	48, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	35, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
+	36, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
+	40, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
+	49, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	49, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	49, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	12, // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
+	13, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
+	14, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
+	15, // 21: renderfarm.v1.PixelFilter.gaussian:type_name -> renderfarm.v1.GaussianFilter
+	16, // 22: renderfarm.v1.PixelFilter.mitchell:type_name -> renderfarm.v1.MitchellFilter
+	2,  // 23: renderfarm.v1.Sampling.specular:type_name -> renderfarm.v1.SpecularSampling
+	1,  // 24: renderfarm.v1.Sampling.adaptive:type_name -> renderfarm.v1.AdaptiveSampling
+	0,  // 25: renderfarm.v1.Sampling.spectral:type_name -> renderfarm.v1.SpectralSampling
+	3,  // 26: renderfarm.v1.Antialiasing.mode:type_name -> renderfarm.v1.AntialiasingMode
+	4,  // 27: renderfarm.v1.Indirect.mode:type_name -> renderfarm.v1.IndirectMode
+	21, // 28: renderfarm.v1.Progressive.reference:type_name -> renderfarm.v1.ReferenceImage
+	23, // 29: renderfarm.v1.Material.lambert:type_name -> renderfarm.v1.Lambert
+	24, // 30: renderfarm.v1.Material.emissive:type_name -> renderfarm.v1.Emissive
+	25, // 31: renderfarm.v1.Material.glossy:type_name -> renderfarm.v1.Glossy
+	26, // 32: renderfarm.v1.Material.mirror:type_name -> renderfarm.v1.Mirror
+	27, // 33: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
+	29, // 34: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
+	30, // 35: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
+	50, // 36: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	50, // 37: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	50, // 38: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	50, // 39: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	50, // 40: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	50, // 41: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	50, // 42: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	28, // 43: renderfarm.v1.Dielectric.dispersion:type_name -> renderfarm.v1.Dispersion
+	5,  // 44: renderfarm.v1.Dispersion.glass:type_name -> renderfarm.v1.Glass
+	50, // 45: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	50, // 46: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	50, // 47: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	51, // 48: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	51, // 49: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	51, // 50: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	50, // 51: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	51, // 52: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	6,  // 53: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
+	32, // 54: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
+	33, // 55: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
+	34, // 56: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
+	49, // 57: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	50, // 58: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	49, // 59: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	50, // 60: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	49, // 61: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	49, // 62: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	50, // 63: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	50, // 64: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	51, // 65: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	7,  // 66: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
+	38, // 67: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	38, // 68: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	8,  // 69: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	43, // 70: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	44, // 71: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	45, // 72: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	46, // 73: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	52, // 74: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	40, // 75: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
+	41, // 76: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
+	42, // 77: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
+	50, // 78: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
+	50, // 79: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
+	50, // 80: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
+	49, // 81: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	49, // 82: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	49, // 83: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	49, // 84: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	49, // 85: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	53, // 86: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	87, // [87:87] is the sub-list for method output_type
+	87, // [87:87] is the sub-list for method input_type
+	87, // [87:87] is the sub-list for extension type_name
+	87, // [87:87] is the sub-list for extension extendee
+	0,  // [0:87] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -3869,7 +3941,7 @@ func file_renderfarm_v1_scene_proto_init() {
 		File: protoimpl.DescBuilder{
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
-			NumEnums:      8,
+			NumEnums:      9,
 			NumMessages:   38,
 			NumExtensions: 0,
 			NumServices:   0,

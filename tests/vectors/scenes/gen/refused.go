@@ -224,6 +224,7 @@ var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, refused
 	refuse("refuse-unknown-indirect-mode", "indirect.mode", "Indirect.mode:enum", func(s *pb.Scene) { s.Indirect.Mode = 5 }),
 	refuse("refuse-unknown-specular-sampling", "sampling.specular", "Sampling.specular:enum", func(s *pb.Scene) { s.Sampling.Specular = 6 }),
 	refuse("refuse-unknown-adaptive-sampling", "sampling.adaptive", "Sampling.adaptive:enum", func(s *pb.Scene) { s.Sampling.Adaptive = 7 }),
+	refuse("refuse-unknown-spectral-sampling", "sampling.spectral", "Sampling.spectral:enum", func(s *pb.Scene) { s.Sampling.Spectral = 3 }),
 	refuse("refuse-gather-rays-4097", "indirect.gather_rays", "Indirect.gather_rays:lte", func(s *pb.Scene) { s.Indirect.GatherRays = 4097 }),
 	refuse("refuse-secondary-gather-rays-4097", "indirect.secondary_gather_rays", "Indirect.secondary_gather_rays:lte", func(s *pb.Scene) { s.Indirect.SecondaryGatherRays = 4097 }),
 
