@@ -1,8 +1,8 @@
 #pragma once
 
-// For the in-process benchmarks: a scene file loaded and built without a blob store, a
-// photon map traced into memory (what a round's EMIT and BUILD phases give its tiles),
-// pixels rendered as the tile renderer draws them, and the error between two images.
+// For the in-process benchmarks: a scene file loaded and built without a blob store,
+// pixels rendered as the tile renderer draws them, and the error between two images
+// (photon maps traced into memory: photon/test_photons.h).
 
 #include <google/protobuf/util/json_util.h>
 #include <tbb/blocked_range.h>
@@ -16,8 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "photon/trace_photons.h"
-#include "photonmap/memory_photon_map.h"
+#include "photon/test_photons.h"
 #include "render/integrator.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "scene/scene.h"
@@ -41,17 +40,6 @@ inline Scene BuildScene(const pb::Scene& s) {
   return Scene::Build(s, [](const std::string& d) -> std::string {
     throw std::runtime_error("no blob store in the benchmark: " + d);
   });
-}
-
-// The photons of `paths` paths of map `kind`, from path index round_offset on (a round's
-// own photons); null when they store none.
-inline std::unique_ptr<MemoryPhotonMap> TraceMap(const Scene& scene, PhotonMapKind kind, uint64_t paths,
-                                                 uint64_t round_offset = 0) {
-  std::vector<DecodedPhoton> photons;
-  for (const ShardPhoton& p : TracePhotons(scene, {kind, 0, paths, paths, round_offset}))
-    photons.push_back({p.position, p.power, p.wi, p.normal});
-  if (photons.empty()) return nullptr;
-  return std::make_unique<MemoryPhotonMap>(std::move(photons));
 }
 
 // The mean beauty of samples [0, count) of each pixel (indices y * width + x), drawn as the

@@ -55,8 +55,8 @@ Rounds Render(const farm::Scene& scene, const std::vector<int>& pixels, uint32_t
   out.mean.assign(pixels.size(), Rgb());
   for (uint64_t r = first; r < first + count; ++r) {
     const auto start = std::chrono::steady_clock::now();
-    auto global = farm::bench::TraceMap(scene, farm::PhotonMapKind::kGlobal, global_paths, r * global_paths);
-    auto caustic = farm::bench::TraceMap(scene, farm::PhotonMapKind::kCaustic, caustic_paths, r * caustic_paths);
+    auto global = farm::testing::TraceIntoMemory(scene, farm::PhotonMapKind::kGlobal, global_paths, r * global_paths);
+    auto caustic = farm::testing::TraceIntoMemory(scene, farm::PhotonMapKind::kCaustic, caustic_paths, r * caustic_paths);
     if (global) global->set_irradiance(farm::ComputeIrradiance(data, *global, caustic.get(), 0, global->size(), 1.0));
     farm::PhotonMaps maps;
     maps.global = global.get();

@@ -74,8 +74,8 @@ int main(int argc, char** argv) try {
   const farm::SceneData& data = split.data();
 
   const auto traced = std::chrono::steady_clock::now();
-  auto global = farm::bench::TraceMap(split, farm::PhotonMapKind::kGlobal, description.photons().global_photons());
-  auto caustic = farm::bench::TraceMap(split, farm::PhotonMapKind::kCaustic, description.photons().caustic_photons());
+  auto global = farm::testing::TraceIntoMemory(split, farm::PhotonMapKind::kGlobal, description.photons().global_photons());
+  auto caustic = farm::testing::TraceIntoMemory(split, farm::PhotonMapKind::kCaustic, description.photons().caustic_photons());
   global->set_irradiance(farm::ComputeIrradiance(data, *global, caustic.get(), 0, global->size(), 1.0));
   farm::PhotonMaps maps;
   maps.global = global.get();

@@ -175,7 +175,8 @@ func (s *Service) Shutdown() { s.once.Do(func() { close(s.done) }) }
 func (s *Service) ExpireLeases(ctx context.Context) error {
 	changes, err := s.cfg.Store.ExpireLeases(ctx)
 	for _, c := range changes {
-		s.mirror("an expired lease", s.workers.Expired(ctx, c.Task.GetId()))
+		id := c.Task.GetId()
+		s.mirror(ctx, "an expired lease", func(ctx context.Context) error { return s.workers.Expired(ctx, id) })
 		s.cfg.Metrics.LeaseExpired()
 		s.log.Info("lease expired", "task", c.Task.GetId(), "job", c.Job.GetId(), "attempts", c.Task.GetAttempts(), "job_state", c.Job.GetState().String())
 		s.publish(c)
@@ -183,10 +184,18 @@ func (s *Service) ExpireLeases(ctx context.Context) error {
 	return err
 }
 
-// mirror logs a failure to record in the worker registry what a worker did: the registry
-// only mirrors the store's leases for ListWorkers, so the call it belongs to goes on.
-func (s *Service) mirror(what string, err error) {
-	if err != nil {
+// mirrorTimeout bounds one write to the worker registry.
+const mirrorTimeout = 5 * time.Second
+
+// mirror records in the worker registry what a worker did, once the store has committed
+// it: with the caller's context values but not its cancellation (a worker that stopped
+// waiting for the answer still did what the store recorded, and the registry must say so),
+// within mirrorTimeout. A failure is logged: the registry only mirrors the store's leases
+// for ListWorkers, so the call it belongs to goes on.
+func (s *Service) mirror(ctx context.Context, what string, record func(context.Context) error) {
+	ctx, cancel := context.WithTimeout(context.WithoutCancel(ctx), mirrorTimeout)
+	defer cancel()
+	if err := record(ctx); err != nil {
 		s.log.Warn("worker registry: cannot record "+what, "err", err)
 	}
 }
@@ -195,7 +204,7 @@ func (s *Service) mirror(what string, err error) {
 // the report (a report under a lease lost to a cancel is refused, and the worker has
 // stopped working on the task all the same).
 func (s *Service) dropped(ctx context.Context, ref store.LeaseRef) {
-	s.mirror("a report", s.workers.Dropped(ctx, ref.WorkerID, ref.TaskID))
+	s.mirror(ctx, "a report", func(ctx context.Context) error { return s.workers.Dropped(ctx, ref.WorkerID, ref.TaskID) })
 }
 
 // FollowReplicas hears of the changes other coordinators on the same store make

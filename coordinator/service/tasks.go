@@ -93,7 +93,7 @@ func (s *Service) granted(ctx context.Context, workerID string, l *store.Leased)
 		}
 		return nil, err
 	}
-	s.mirror("a lease", s.workers.Leased(ctx, workerID, l.Lease.GetTaskId()))
+	s.mirror(ctx, "a lease", func(ctx context.Context) error { return s.workers.Leased(ctx, workerID, l.Lease.GetTaskId()) })
 	s.cfg.Metrics.LeaseGranted(l.Task.GetPhase())
 	s.log.Debug("task leased", "task", l.Task.GetId(), "worker", workerID, "epoch", l.Lease.GetEpoch(), "attempt", l.Task.GetAttempts())
 	return &pb.LeaseTaskResponse{Lease: l.Lease, Task: l.Task, SceneDigest: l.SceneDigest}, nil
@@ -108,7 +108,7 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 		return nil, nil, err
 	}
 	for _, c := range hb.Changes {
-		s.mirror("a stuck lease", s.workers.Ended(ctx, workerID, c.Task.GetId(), false))
+		s.mirror(ctx, "a stuck lease", func(ctx context.Context) error { return s.workers.Ended(ctx, workerID, c.Task.GetId(), false) })
 		s.cfg.Metrics.TaskFailed()
 		s.log.Warn("task failed", "task", c.Task.GetId(), "job", c.Job.GetId(), "worker", workerID, "error", c.Task.GetError())
 		s.publish(c)
@@ -117,7 +117,7 @@ func (s *Service) Extend(ctx context.Context, workerID string, held []*pb.HeldLe
 		}
 	}
 	for _, r := range hb.Revoked {
-		s.mirror("a revoked lease", s.workers.Dropped(ctx, workerID, r.GetTaskId()))
+		s.mirror(ctx, "a revoked lease", func(ctx context.Context) error { return s.workers.Dropped(ctx, workerID, r.GetTaskId()) })
 	}
 	return hb.Extended, hb.Revoked, nil
 }
@@ -182,7 +182,7 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 		return err
 	}
 	if c.Task != nil {
-		s.mirror("a completion", s.workers.Ended(ctx, ref.WorkerID, ref.TaskID, true))
+		s.mirror(ctx, "a completion", func(ctx context.Context) error { return s.workers.Ended(ctx, ref.WorkerID, ref.TaskID, true) })
 		s.cfg.Metrics.TaskCompleted(c.Task.GetPhase())
 		s.log.Debug("task completed", "task", ref.TaskID, "worker", ref.WorkerID, "epoch", ref.Epoch)
 	}
@@ -242,7 +242,7 @@ func (s *Service) Fail(ctx context.Context, ref store.LeaseRef, f store.Failure)
 	if err != nil {
 		return err
 	}
-	s.mirror("a failure", s.workers.Ended(ctx, ref.WorkerID, ref.TaskID, false))
+	s.mirror(ctx, "a failure", func(ctx context.Context) error { return s.workers.Ended(ctx, ref.WorkerID, ref.TaskID, false) })
 	s.cfg.Metrics.TaskFailed()
 	s.log.Warn("task failed", "task", ref.TaskID, "job", c.Job.GetId(), "worker", ref.WorkerID, "epoch", ref.Epoch,
 		"kind", tasks.FailureOf(f.Kind).Label, "permanent", f.Permanent(), "error", f.Message)

@@ -25,8 +25,9 @@ struct PhotonTraceOptions {
   // a snapshot (nor, past about 38M photons, uploaded as one blob), and would hold the
   // worker's memory meanwhile: tracing stops and throws BadInputError.
   std::uint64_t max_photons = 0;
-  // The wavelength, nm, of every photon a dispersive surface makes monochromatic; 0 draws
-  // it (the farm). Tests fix it to measure a prism's deviation at one wavelength.
+  // The wavelength, nm, of every photon a dispersive surface makes monochromatic in RGB
+  // mode (in spectral mode the photon keeps its hero); 0 draws it (the farm). Tests fix it
+  // to measure a prism's deviation at one wavelength.
   double wavelength_nm = 0;
 };
 

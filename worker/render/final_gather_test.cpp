@@ -12,6 +12,7 @@
 #include <string>
 
 #include "photon/irradiance_precompute.h"
+#include "photon/test_photons.h"
 #include "photon/trace_photons.h"
 #include "photonmap/memory_photon_map.h"
 #include "render/integrator.h"
@@ -26,11 +27,7 @@ using namespace farm::testing;
 // Traces a scene's global photons into an in-memory map with precomputed irradiance: what
 // the farm's EMIT, BUILD, PRECOMPUTE and MERGE phases give a tile, minus quantisation.
 std::unique_ptr<MemoryPhotonMap> GlobalMapWithIrradiance(const Scene& scene, uint64_t paths) {
-  const std::vector<ShardPhoton> traced =
-      TracePhotons(scene, {PhotonMapKind::kGlobal, 0, paths, paths});
-  std::vector<DecodedPhoton> photons;
-  for (const ShardPhoton& p : traced) photons.push_back({p.position, p.power, p.wi, p.normal});
-  auto map = std::make_unique<MemoryPhotonMap>(std::move(photons));
+  auto map = TraceIntoMemory(scene, PhotonMapKind::kGlobal, paths);
   map->set_irradiance(ComputeIrradiance(scene.data(), *map, nullptr, 0, map->size(), 1.0));
   return map;
 }

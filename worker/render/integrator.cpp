@@ -261,12 +261,12 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   SampleResult result;
   // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
   Branches branches;
-  // The camera is in the scene's medium (docs/media.md: not inside a shape's).
   // In spectral mode the path's wavelengths come from a dimension of their own, drawn first.
   std::optional<SpectralLight> spectral;
   if (scene_.spectral_always) spectral = SpectralLight::Hero(Rgb(1), sampler.Get1D());
-  branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, Rgb(1), 1, 0,
-                 scene_.medium ? &*scene_.medium : nullptr, spectral});
+  // The camera is in the scene's medium (docs/media.md: not inside a shape's).
+  branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, spectral ? spectral->ToRgb() : Rgb(1), 1,
+                 0, scene_.medium ? &*scene_.medium : nullptr, spectral});
   for (int depth = 0; depth < kMaxSpecularDepth && branches.count > 0; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit; the branches share them.

@@ -20,8 +20,7 @@
 #include <sstream>
 
 #include "photon/irradiance_precompute.h"
-#include "photon/trace_photons.h"
-#include "photonmap/memory_photon_map.h"
+#include "photon/test_photons.h"
 #include "render/integrator.h"
 #include "scene/test_scenes.h"
 
@@ -37,13 +36,6 @@ pb::Scene LoadScene(const std::string& name) {
   pb::Scene s;
   EXPECT_TRUE(google::protobuf::util::JsonStringToMessage(text.str(), &s).ok()) << name;
   return s;
-}
-
-std::unique_ptr<MemoryPhotonMap> Trace(const Scene& scene, PhotonMapKind kind, uint64_t paths) {
-  std::vector<DecodedPhoton> photons;
-  for (const ShardPhoton& p : TracePhotons(scene, {kind, 0, paths, paths}))
-    photons.push_back({p.position, p.power, p.wi, p.normal});
-  return std::make_unique<MemoryPhotonMap>(std::move(photons));
 }
 
 // The ceiling (y = 548.8) above the light's quad (x in [213, 343], z in [227, 332]).
@@ -62,9 +54,9 @@ Outcome RenderOneRound(const std::string& name, int size, uint64_t paths) {
   s.mutable_film()->set_height(size);
   const Scene scene = Scene::Build(s, NoBlobs());
   const SceneData& data = scene.data();
-  auto global = Trace(scene, PhotonMapKind::kGlobal, paths);
+  auto global = TraceIntoMemory(scene, PhotonMapKind::kGlobal, paths);
   std::unique_ptr<MemoryPhotonMap> caustic;
-  if (!data.specular_targets.empty()) caustic = Trace(scene, PhotonMapKind::kCaustic, paths);
+  if (!data.specular_targets.empty()) caustic = TraceIntoMemory(scene, PhotonMapKind::kCaustic, paths);
   global->set_irradiance(ComputeIrradiance(data, *global, caustic.get(), 0, global->size(), 1.0));
   PhotonMaps maps;
   maps.global = global.get();

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "spectral/test_srgb.h"
 #include "spectral/wavelengths.h"
 
 namespace farm {
@@ -32,9 +33,7 @@ TEST(MonochromePath, WhiteLightSplitIntoWavelengthsAddsUpToWhite) {
 TEST(MonochromePath, AColourKeepsItsHueWithinTheUpliftsRoundTrip) {
   const Rgb orange(0.8f, 0.4f, 0.2f);
   const Rgb mean = MeanOver(orange);
-  EXPECT_NEAR(mean.r, orange.r, 0.12);
-  EXPECT_NEAR(mean.g, orange.g, 0.12);
-  EXPECT_NEAR(mean.b, orange.b, 0.12);
+  ExpectColourNear(mean, orange, 0.12f);
   EXPECT_GT(mean.r, mean.g);
   EXPECT_GT(mean.g, mean.b);
 }
@@ -60,24 +59,19 @@ TEST(MonochromePath, DrawingWhereTheChannelsSeeLightMoreThanHalvesTheColourNoise
   // Per channel, the variance over wavelengths of white's estimate as drawn (Pdf) against
   // the same estimate with wavelengths drawn uniformly over 360-830 nm.
   constexpr int kN = 20000;
-  double sum[2][3] = {}, sum2[2][3] = {};
+  ChannelSpread drawn_spread, uniform_spread;
   for (int i = 0; i < kN; ++i) {
     const double u = (i + 0.5) / kN;
     const MonochromePath drawn = MonochromePath::Sample(u), uniform{kLambdaMin + u * (kLambdaMax - kLambdaMin)};
-    const Rgb a = drawn.ToRgb(1);
-    const Rgb b = uniform.ToRgb(1) * static_cast<float>(uniform.Pdf() * (kLambdaMax - kLambdaMin));
-    const float values[2][3] = {{a.r, a.g, a.b}, {b.r, b.g, b.b}};
-    for (int k = 0; k < 2; ++k)
-      for (int c = 0; c < 3; ++c) sum[k][c] += values[k][c], sum2[k][c] += values[k][c] * values[k][c];
+    drawn_spread.Add(drawn.ToRgb(1));
+    uniform_spread.Add(uniform.ToRgb(1) * static_cast<float>(uniform.Pdf() * (kLambdaMax - kLambdaMin)));
   }
   for (int c = 0; c < 3; ++c) {
-    const double mean_drawn = sum[0][c] / kN, mean_uniform = sum[1][c] / kN;
-    EXPECT_NEAR(mean_drawn, 1, 0.005) << "channel " << c;
-    EXPECT_NEAR(mean_uniform, 1, 0.005) << "channel " << c;
-    const double var_drawn = sum2[0][c] / kN - mean_drawn * mean_drawn;
-    const double var_uniform = sum2[1][c] / kN - mean_uniform * mean_uniform;
-    EXPECT_LT(var_drawn, 0.5 * var_uniform) << "channel " << c;
-    std::printf("channel %d: variance of white %.3f drawn, %.3f uniform\n", c, var_drawn, var_uniform);
+    EXPECT_NEAR(drawn_spread.Mean(c), 1, 0.005) << "channel " << c;
+    EXPECT_NEAR(uniform_spread.Mean(c), 1, 0.005) << "channel " << c;
+    EXPECT_LT(drawn_spread.Variance(c), 0.5 * uniform_spread.Variance(c)) << "channel " << c;
+    std::printf("channel %d: variance of white %.3f drawn, %.3f uniform\n", c, drawn_spread.Variance(c),
+                uniform_spread.Variance(c));
   }
 }
 

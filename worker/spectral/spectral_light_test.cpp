@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "contract/rules.h"
+#include "spectral/test_srgb.h"
 
 namespace farm {
 namespace {
@@ -41,23 +42,18 @@ TEST(SpectralLight, CompanionsAreTheRotatedDrawsOfTheHero) {
 // it than one wavelength's: the colour noise hero wavelengths remove (a fortieth of it with
 // four wavelengths, less than a hundredth with eight: measured).
 TEST(SpectralLight, HeroWavelengthsOfWhiteAreWhiteWithATenthOfOnesColourNoise) {
-  double sum[2][3] = {}, sum2[2][3] = {};
+  ChannelSpread all, hero;
   for (int i = 0; i < kN; ++i) {
-    const SpectralLight four = SpectralLight::Hero(Rgb(1), (i + 0.5) / kN);
-    const Rgb c[2] = {four.ToRgb(), four.HeroOnly().ToRgb()};
-    for (int k = 0; k < 2; ++k) {
-      const float v[3] = {c[k].r, c[k].g, c[k].b};
-      for (int ch = 0; ch < 3; ++ch) sum[k][ch] += v[ch], sum2[k][ch] += double(v[ch]) * v[ch];
-    }
+    const SpectralLight light = SpectralLight::Hero(Rgb(1), (i + 0.5) / kN);
+    all.Add(light.ToRgb());
+    hero.Add(light.HeroOnly().ToRgb());
   }
   for (int ch = 0; ch < 3; ++ch) {
-    const double mean_four = sum[0][ch] / kN, mean_one = sum[1][ch] / kN;
-    EXPECT_NEAR(mean_four, 1, 0.01) << "channel " << ch;
-    EXPECT_NEAR(mean_one, 1, 0.01) << "channel " << ch;
-    const double var_four = sum2[0][ch] / kN - mean_four * mean_four;
-    const double var_one = sum2[1][ch] / kN - mean_one * mean_one;
-    EXPECT_LT(var_four, var_one / 10) << "channel " << ch;
-    std::printf("channel %d: variance of white %.4f at a path's wavelengths, %.4f at one\n", ch, var_four, var_one);
+    EXPECT_NEAR(all.Mean(ch), 1, 0.01) << "channel " << ch;
+    EXPECT_NEAR(hero.Mean(ch), 1, 0.01) << "channel " << ch;
+    EXPECT_LT(all.Variance(ch), hero.Variance(ch) / 10) << "channel " << ch;
+    std::printf("channel %d: variance of white %.4f at a path's wavelengths, %.4f at one\n", ch, all.Variance(ch),
+                hero.Variance(ch));
   }
 }
 
@@ -75,9 +71,7 @@ TEST(SpectralLight, TimesAColourKeepsItsHueAndOverDivides) {
     EXPECT_NEAR(a.b, b.b, 1e-6);
   }
   const Rgb mean = sum / float(kN);
-  EXPECT_NEAR(mean.r, orange.r, 0.12);
-  EXPECT_NEAR(mean.g, orange.g, 0.12);
-  EXPECT_NEAR(mean.b, orange.b, 0.12);
+  ExpectColourNear(mean, orange, 0.12f);
   EXPECT_GT(mean.r, mean.g);
   EXPECT_GT(mean.g, mean.b);
 }
