@@ -42,6 +42,22 @@ inline Scene BuildScene(const pb::Scene& s) {
   });
 }
 
+// The pixels (y * width + x) whose centre and four corners all see, first, a surface for
+// which keep(hit) holds (hit empty where a ray sees nothing): a pixel wholly of what it
+// measures, without a silhouette's edge.
+template <typename Keep>
+std::vector<int> PixelsWhere(const SceneData& data, const Keep& keep) {
+  std::vector<int> pixels;
+  for (int y = 0; y < data.height; ++y)
+    for (int x = 0; x < data.width; ++x) {
+      bool all = true;
+      for (const Vec2 o : {Vec2{0.5f, 0.5f}, {0, 0}, {1, 0}, {0, 1}, {1, 1}})
+        all = all && keep(data.Intersect(data.camera.GenerateRay({x + o.x, y + o.y})));
+      if (all) pixels.push_back(y * data.width + x);
+    }
+  return pixels;
+}
+
 // The mean beauty of samples [0, count) of each pixel (indices y * width + x), drawn as the
 // tile renderer draws them (a box filter over the pixel), with sampler seed `seed`;
 // seconds receives the wall time.

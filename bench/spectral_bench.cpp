@@ -77,17 +77,7 @@ Rounds Render(const farm::Scene& scene, const std::vector<int>& pixels, uint32_t
 // seen directly (and its edges, where a pixel's few samples decide how much of it is
 // seen) would swamp every figure. Its light is in every other pixel.
 std::vector<int> PixelsSeeingNoEmitter(const farm::SceneData& data) {
-  std::vector<int> pixels;
-  for (int y = 0; y < data.height; ++y)
-    for (int x = 0; x < data.width; ++x) {
-      bool sees = false;
-      for (const farm::Vec2 o : {farm::Vec2{0.5f, 0.5f}, {0, 0}, {1, 0}, {0, 1}, {1, 1}}) {
-        const auto hit = data.Intersect(data.camera.GenerateRay({x + o.x, y + o.y}));
-        sees = sees || (hit && data.capabilities_of(*hit).emits);
-      }
-      if (!sees) pixels.push_back(y * data.width + x);
-    }
-  return pixels;
+  return farm::bench::PixelsWhere(data, [&data](const auto& hit) { return !(hit && data.capabilities_of(*hit).emits); });
 }
 
 double RelativeMse(const std::vector<Rgb>& a, const std::vector<Rgb>& b) {

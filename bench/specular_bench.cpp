@@ -46,17 +46,7 @@ std::vector<int> PixelsOf(const farm::SceneData& data, const std::string& name) 
   for (std::size_t i = 0; i < data.material_names.size(); ++i)
     if (data.material_names[i] == name) material = int(i);
   if (material < 0) throw std::runtime_error("the scene has no material \"" + name + "\"");
-  std::vector<int> pixels;
-  for (int y = 0; y < data.height; ++y)
-    for (int x = 0; x < data.width; ++x) {
-      bool inside = true;
-      for (const farm::Vec2 o : {farm::Vec2{0.5f, 0.5f}, {0, 0}, {1, 0}, {0, 1}, {1, 1}}) {
-        const auto hit = data.Intersect(data.camera.GenerateRay({x + o.x, y + o.y}));
-        inside = inside && hit && hit->material == material;
-      }
-      if (inside) pixels.push_back(y * data.width + x);
-    }
-  return pixels;
+  return farm::bench::PixelsWhere(data, [material](const auto& hit) { return hit && hit->material == material; });
 }
 
 }  // namespace
