@@ -54,9 +54,12 @@
 // Participating media (docs/media.md, media_transport.h): each branch of a camera path
 // travels in a medium (the scene's, a shape's interior one it refracted into, or none); a
 // segment in one attenuates what it reaches and adds the light single-scattered along it
-// (to direct), and the shadow rays of the points it shades are attenuated. Indirect light
-// (photons, gather rays) ignores media for now. A scene without media draws exactly the
-// numbers it drew before media existed.
+// (to direct) and scattered more than once, read from the volume photon map (to indirect),
+// and the shadow rays of the points it shades are attenuated. Photons travel through media
+// too (photon_tracer.h), so the global and caustic maps hold light as media let it through.
+// A gather ray in a medium is attenuated up to its first hit and gathers the light
+// scattered along that first segment likewise; past a specular bounce it sees vacuum. A
+// scene without media draws exactly the numbers it drew before media existed.
 //
 // Light leaking at walls and corners: the remedy is that no direct light is ever read from
 // photons (it is sampled by a shadow ray at every gather hit, exact to the corner and
@@ -116,12 +119,14 @@ struct SampleResult {
   bool nonfinite = false;
 };
 
-// The job's photon maps (either may be null) with their estimate settings.
+// The job's photon maps (any may be null) with their estimate settings.
 struct PhotonMaps {
   const PhotonMap* global = nullptr;
   const PhotonMap* caustic = nullptr;
+  const PhotonMap* volume = nullptr;
   RadianceEstimateSettings global_estimate;
   RadianceEstimateSettings caustic_estimate;
+  RadianceEstimateSettings volume_estimate;
 };
 
 RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
@@ -193,8 +198,9 @@ class PhotonMappingIntegrator {
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
   // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch,
-                bool& escaped) const;
+  // medium: the one around the shading point, which the landing point's shadow ray crosses.
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const HomogeneousMedium* medium,
+                std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
@@ -202,17 +208,14 @@ class PhotonMappingIntegrator {
   LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
                           std::vector<PhotonNeighbour>& scratch) const;
 
-  // The medium a ray leaving hit along wi (arriving along wo) travels in: crossing a shape
-  // that has an interior medium from its front to its back enters it, the other way
-  // leaves it for the scene's; otherwise `current`.
-  const HomogeneousMedium* MediumBeyond(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi,
-                                        const HomogeneousMedium* current) const;
   // A light sample's light where it reaches a shading point: attenuated by the medium
   // around the point on the way.
   Rgb Arriving(const Shading& at, const LightSample& ls) const;
-  // The average of LightSampleCount() samples of the light single-scattered towards the
-  // ray's origin along the segment (media_transport.h).
-  Rgb InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed) const;
+  // The average of `count` samples of the light scattered towards the ray's
+  // origin along the segment (media_transport.h): single scattering from the lights
+  // (direct) and multiple scattering from the volume map (indirect).
+  LightSplit InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed, uint32_t count,
+                         std::vector<PhotonNeighbour>& scratch) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;

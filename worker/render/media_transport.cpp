@@ -4,22 +4,13 @@
 #include <cmath>
 #include <variant>
 
+#include "math/math.h"
 #include "media/equiangular.h"
 #include "media/henyey_greenstein.h"
 #include "scene/scene_data.h"
 
 namespace farm {
 namespace {
-
-// The interval of the ray's line inside a ball, or nothing if it misses.
-std::optional<std::pair<float, float>> BallInterval(const BoundingSphere& ball, const Ray& ray) {
-  const Vec3 to_center = ball.center - ray.origin;
-  const float b = Dot(to_center, ray.direction);
-  const float disc = b * b - (LengthSquared(to_center) - ball.radius * ball.radius);
-  if (!(disc >= 0)) return std::nullopt;
-  const float root = std::sqrt(disc);
-  return std::pair{b - root, b + root};
-}
 
 // Where a light sample's distance along the ray is drawn from: the point of a point or a
 // spot light, nothing for the others.
@@ -30,26 +21,6 @@ std::optional<Vec3> PointOf(const Light& light) {
 }
 
 }  // namespace
-
-Rgb MediumSegment::TransmittanceTo(float t) const {
-  if (!medium || !(t > t0)) return Rgb(1);
-  return medium->Transmittance(std::min(t, t1) - t0);
-}
-
-MediumSegment SegmentIn(const SceneData& scene, const HomogeneousMedium* medium, const Ray& ray, float t_end) {
-  if (!medium) return {};
-  if (!scene.medium || medium != &*scene.medium) return {medium, 0, t_end};
-  const std::optional<std::pair<float, float>> inside = BallInterval(scene.medium_ball, ray);
-  if (!inside) return {};
-  return {medium, std::max(0.0f, inside->first), std::min(t_end, inside->second)};
-}
-
-Rgb TransmittanceBetween(const SceneData& scene, const HomogeneousMedium* medium, const Vec3& a, const Vec3& b) {
-  if (!medium) return Rgb(1);
-  const float d = Distance(a, b);
-  if (!(d > 0)) return Rgb(1);
-  return SegmentIn(scene, medium, Ray{a, (b - a) / d}, d).TransmittanceTo(d);
-}
 
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
               const InScatterDimensions& u, const ShadowTransmittance& shadow) {
@@ -73,6 +44,54 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   const float pdf = pick_pmf * d->pdf * ls->pdf;
   if (!(pdf > 0) || !std::isfinite(pdf)) return {};
   return segment.TransmittanceTo(d->t) * m.sigma_s * arriving * (phase / pdf);
+}
+
+float SeenVolumeFraction(const SceneData& scene, const Vec3& x, float r, Vec2 u) {
+  double sum = 0;
+  const float golden = kPi * (3 - std::sqrt(5.0f));
+  for (int i = 0; i < kVolumeProbes; ++i) {
+    const float z = 1 - 2 * (float(i) + u.y) / float(kVolumeProbes);
+    const float s = std::sqrt(std::max(0.0f, 1 - z * z));
+    const float phi = golden * float(i) + 2 * kPi * u.x;
+    const Vec3 w(s * std::cos(phi), s * std::sin(phi), z);
+    const std::optional<SurfaceHit> hit = scene.Intersect(Ray{x, w});
+    const float d = hit ? std::min(hit->t, r) / r : 1.0f;
+    sum += double(d) * d * d;
+  }
+  return float(sum / kVolumeProbes);
+}
+
+Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
+                    const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
+                    std::vector<PhotonNeighbour>& scratch) {
+  if (segment.empty() || volume.size() == 0) return {};
+  const HomogeneousMedium& m = *segment.medium;
+  if (m.sigma_s.IsBlack()) return {};
+  const std::optional<DistanceSample> d = SampleTruncatedFlight(m, segment.t1 - segment.t0, u_channel, u_distance);
+  if (!d || !(d->pdf > 0)) return {};
+  const float t = segment.t0 + d->t;
+  const Vec3 x = ray.At(t);
+  volume.NearestK(x, estimate.neighbours, estimate.max_radius, scratch);
+  if (scratch.empty()) return {};
+  float r2 = estimate.max_radius * estimate.max_radius;
+  std::size_t farthest = scratch.size();  // none left out
+  if (scratch.size() >= std::size_t(std::max(estimate.neighbours, 2))) {
+    farthest = 0;
+    for (std::size_t i = 1; i < scratch.size(); ++i)
+      if (scratch[i].distance_squared > scratch[farthest].distance_squared) farthest = i;
+    r2 = scratch[farthest].distance_squared;
+  }
+  if (!(r2 > 0)) return {};
+  Rgb sum;
+  for (std::size_t i = 0; i < scratch.size(); ++i) {
+    if (i == farthest) continue;
+    const DecodedPhoton p = volume.photon(scratch[i].index);
+    sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, m.g);
+  }
+  const float r = std::sqrt(r2);
+  const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * SeenVolumeFraction(scene, x, r, u_probe);
+  if (!(volume_of_sphere > 0)) return {};
+  return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
 }
 
 }  // namespace farm

@@ -14,34 +14,21 @@
 // of the medium they cross.
 
 #include <functional>
+#include <vector>
 #include <optional>
 
 #include "math/bounds.h"
 #include "math/ray.h"
 #include "math/rgb.h"
 #include "media/homogeneous_medium.h"
+#include "photonmap/photon_map.h"
+#include "photonmap/radiance_estimate.h"
+#include "scene/media_segments.h"
+#include "scene/media_segments.h"
 #include "scene/lights.h"
 
 namespace farm {
 
-struct SceneData;
-
-// The medium a ray travels in (null: vacuum) and the part [t0, t1] of the ray it fills.
-struct MediumSegment {
-  const HomogeneousMedium* medium = nullptr;
-  float t0 = 0, t1 = 0;
-
-  bool empty() const { return !medium || !(t1 > t0); }
-  // The transmittance from the ray's origin to t (0 <= t).
-  Rgb TransmittanceTo(float t) const;
-};
-
-// The part of [0, t_end] of a ray in `medium`: the scene's medium fills its ball
-// (SceneData::medium_ball), a shape's interior medium the whole segment.
-MediumSegment SegmentIn(const SceneData& scene, const HomogeneousMedium* medium, const Ray& ray, float t_end);
-
-// The transmittance of `medium` between two points (the scene's clipped to its ball).
-Rgb TransmittanceBetween(const SceneData& scene, const HomogeneousMedium* medium, const Vec3& a, const Vec3& b);
 
 // The light a light sample reaches x with, times the transmittance of the way; zero where
 // something blocks it.
@@ -58,5 +45,29 @@ struct InScatterDimensions {
 // (picked with probability pick_pmf) along the segment; ray.direction unit.
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
               const InScatterDimensions& u, const ShadowTransmittance& shadow);
+
+// One sample of the radiance scattered towards the ray's origin along the segment by light
+// that bounced or scattered before (multiple scattering), from the volume photon map
+// (Jensen and Christensen 1998): at a distance drawn from the truncated free-flight
+// density, the in-scattered radiance times sigma_s is the photons' power weighed by the
+// phase function over the volume of the sphere holding the k nearest,
+//
+//   sigma_s L_i(x, wo) = sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3),
+//
+// the farthest of the k setting r and not summed (then the estimate of a uniform density
+// is unbiased, as on surfaces: radiance_estimate.h); fewer than k within max_radius: all
+// counted, r = max_radius. The sphere's volume is that part of it the point sees (probe
+// rays: SeenVolumeFraction), so no light is lost where it hangs over a wall. The
+// settings' filter does not apply. ray.direction unit; u_probe turns the probes.
+Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
+                    const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
+                    std::vector<PhotonNeighbour>& scratch);
+
+// The share of the ball of radius r around x that x sees (no surface between): the mean
+// over kVolumeProbes directions of (min(d, r) / r)^3, d the distance to the first surface
+// along each, a spherical Fibonacci set turned by u (its azimuth and its lattice's offset).
+// Exact for a wall in the ball when the probes are many; 1 in open space.
+inline constexpr int kVolumeProbes = 24;
+float SeenVolumeFraction(const SceneData& scene, const Vec3& x, float r, Vec2 u);
 
 }  // namespace farm

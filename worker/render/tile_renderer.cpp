@@ -79,9 +79,11 @@ PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
   if (photons) {
     maps.global = photons->map(PhotonMapKind::kGlobal);
     maps.caustic = photons->map(PhotonMapKind::kCaustic);
+    maps.volume = photons->map(PhotonMapKind::kVolume);
   }
   maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
   maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);
+  maps.volume_estimate = ToRadianceEstimate(data.photons.volume_estimate);
   return maps;
 }
 
