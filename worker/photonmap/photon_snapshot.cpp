@@ -187,7 +187,7 @@ PhotonSnapshot PhotonSnapshot::FromBytes(std::string bytes) {
 
 const PhotonMap* PhotonSnapshot::map(PhotonMapKind kind) const {
   auto k = static_cast<std::uint32_t>(kind);
-  if (!data_ || k < 1 || k > 2 || !data_->maps[k - 1]) return nullptr;
+  if (!data_ || !IsPhotonMapKind(k) || !data_->maps[k - 1]) return nullptr;
   return &*data_->maps[k - 1];
 }
 
