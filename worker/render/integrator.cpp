@@ -285,15 +285,16 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   // Never let NaN or infinity through: a bad term is dropped, not the whole sample, and
   // the sample counted (the tile renderer's non-finite count: a bug to find, not hide).
   result.nonfinite = !(result.emitted.IsFinite() && result.direct.IsFinite() && result.caustic.IsFinite() &&
-                       result.indirect.IsFinite());
+                       result.indirect.IsFinite() && result.volume.IsFinite());
   result.emitted = Finite(result.emitted);
   result.direct = Finite(result.direct);
   result.caustic = Finite(result.caustic);
   result.indirect = Finite(result.indirect);
+  result.volume = Finite(result.volume);
   result.albedo = Finite(result.albedo);
   result.direct_irradiance = Finite(result.direct_irradiance);
   if (!std::isfinite(result.depth)) result.depth = 0;
-  result.radiance = result.emitted + result.direct + result.indirect + result.caustic;
+  result.radiance = result.emitted + result.direct + result.indirect + result.caustic + result.volume;
   return result;
 }
 
@@ -308,13 +309,12 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const float u_seed = ForBranch(u.seed, branch.key, 0);
   const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
   if (branch.medium) {
-    // Light scattered towards the ray on its way, then what it reaches seen through the
-    // medium (media_transport.h). Single scattering is direct light, multiple indirect.
+    // Light scattered towards the ray on its way (the volume layer: single and multiple
+    // scattering), then what it reaches seen through the medium (media_transport.h).
     const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
     const LightSplit scattered = InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), scratch);
-    result.direct += path.Carried(scattered.direct);
-    result.indirect += path.Carried(scattered.indirect);
+    result.volume += path.Carried(scattered.direct + scattered.indirect);
     path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
@@ -609,7 +609,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
 
 std::string PhotonMappingIntegrator::ToString() const {
   return std::string("PhotonMappingIntegrator{global=") + (maps_.global ? "yes" : "no") +
-         ", caustic=" + (maps_.caustic ? "yes" : "no") +
+         ", caustic=" + (maps_.caustic ? "yes" : "no") + ", volume=" + (maps_.volume ? "yes" : "no") +
          ", indirect=" + (final_gather_ ? "final gathering" : "global map seen directly") + ", " +
          scene_.indirect.ToString() + "}";
 }

@@ -28,7 +28,8 @@
 //             PHOTON_MAP (or a snapshot without irradiance): the global map's radiance
 //             estimate seen directly (over the surface its disc covers, as the caustic's).
 //
-// each weighted by the throughput of the specular path, so the four add up to the beauty.
+// each weighted by the throughput of the specular path, so the four (and the volume layer
+// below) add up to the beauty.
 // Glass reflects and refracts: at a camera path's first three specular bounces (SPLIT, the
 // default of Sampling.specular) the path splits and follows both, each branch weighted by
 // its Fresnel share (the seed renderer's Whitted-style glass, so one sample per pixel shows
@@ -53,9 +54,9 @@
 //
 // Participating media (docs/media.md, media_transport.h): each branch of a camera path
 // travels in a medium (the scene's, a shape's interior one it refracted into, or none); a
-// segment in one attenuates what it reaches and adds the light single-scattered along it
-// (to direct) and scattered more than once, read from the volume photon map (to indirect),
-// and the shadow rays of the points it shades are attenuated. Photons travel through media
+// segment in one attenuates what it reaches and adds the light scattered along it towards
+// the camera (the volume layer): once, from light samples, and more than once, read from
+// the volume photon map; the shadow rays of the points it shades are attenuated. Photons travel through media
 // too (photon_tracer.h), so the global and caustic maps hold light as media let it through.
 // A gather ray in a medium is attenuated up to its first hit and gathers the light
 // scattered along that first segment likewise; past a specular bounce it sees vacuum. A
@@ -89,8 +90,11 @@ inline constexpr int kGatherSpecularDepth = 4;
 // Everything one camera sample contributes to its pixel; the tile renderer averages these
 // into the channels of RenderChannels().
 struct SampleResult {
-  Rgb radiance;  // beauty = emitted + direct + indirect + caustic
+  Rgb radiance;  // beauty = emitted + direct + indirect + caustic + volume
   Rgb emitted, direct, indirect, caustic;
+  // Light that media scattered towards the camera path's segments, once (from the lights)
+  // or more (from the volume photon map): the volume layer, graded apart from surfaces.
+  Rgb volume;
   // 1 if the camera ray hit geometry or sees an environment visible to the camera, 0 if
   // it escaped into black.
   float alpha = 0;
