@@ -12,11 +12,20 @@
 namespace farm {
 namespace {
 
-// Where a light sample's distance along the ray is drawn from: the point of a point or a
-// spot light, nothing for the others.
-std::optional<Vec3> PointOf(const Light& light) {
+// The point a light sample's distance along the ray is drawn towards (equiangularly): a
+// point or spot light's position, or the point of a quad or mesh light that SampleLi
+// picks with the same numbers (by area, whatever the shading point: lights.h). Drawing
+// the distance towards it cancels the 1 / d^2 of the light's geometry term, which under
+// free-flight sampling makes the points of a ray that passes close to an emitter blow up
+// (no receiver cosine tames it in a medium). Nothing for spheres, sampled by the cone they
+// subtend (bounded), and distant lights: their distance follows the free flight.
+std::optional<Vec3> PointOf(const Light& light, Vec2 u) {
   if (const auto* p = std::get_if<PointLight>(&light)) return p->position;
   if (const auto* s = std::get_if<SpotLight>(&light)) return s->position;
+  if (std::holds_alternative<QuadLight>(light) || std::holds_alternative<TriangleMeshLight>(light)) {
+    const std::optional<LightOrigin> origin = SampleLightOrigin(light, u);
+    if (origin) return origin->p;
+  }
   return std::nullopt;
 }
 
@@ -29,7 +38,7 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   if (m.sigma_s.IsBlack()) return {};
   const float length = segment.t1 - segment.t0;
   std::optional<DistanceSample> d;
-  if (const std::optional<Vec3> p = PointOf(light)) {
+  if (const std::optional<Vec3> p = PointOf(light, u.light)) {
     d = SampleEquiangular(ray.origin, ray.direction, segment.t0, segment.t1, *p, u.distance);
   } else if (std::optional<DistanceSample> s = SampleTruncatedFlight(m, length, u.channel, u.distance)) {
     d = DistanceSample{segment.t0 + s->t, s->pdf};

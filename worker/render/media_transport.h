@@ -8,9 +8,10 @@
 //   L_ss = integral over t of T(t0, t) sigma_s p(wo, wi) L_light(x(t), wi) T_shadow dt,
 //
 // estimated by picking a light in proportion to power and a distance along the segment:
-// equiangularly towards point and spot lights (media/equiangular.h: it cancels their 1 /
-// d^2, which is what makes their halos clean), by the truncated free-flight density
-// otherwise. Shadow rays from media and from surfaces are attenuated by the transmittance
+// equiangularly towards point and spot lights and towards the point drawn on a quad or mesh
+// light (media/equiangular.h: it cancels their 1 / d^2, which is what makes halos clean and
+// keeps rays that pass close to an emitter from blowing up), by the truncated free-flight
+// density for spheres and distant lights. Shadow rays from media and from surfaces are attenuated by the transmittance
 // of the medium they cross.
 
 #include <functional>
@@ -37,7 +38,7 @@ using ShadowTransmittance = std::function<Rgb(const Vec3& x, const LightSample& 
 // The random numbers of one single-scattering sample.
 struct InScatterDimensions {
   Vec2 light;  // the point on the light (SampleLi)
-  float channel = 0;  // which channel's free-flight density (lights that are not points)
+  float channel = 0;  // which channel's free-flight density (spheres and distant lights)
   float distance = 0;
 };
 
