@@ -73,7 +73,21 @@ enum Stream : uint32_t {
   kMediumChannel,
   kMediumDistance,
   kGatherMedium,
+  kVolumeChannel,
+  kVolumeDistance,
+  kVolumeProbe,
+  kGatherScatterPick,
 };
+
+// Volume photon estimates per camera-path segment: the estimate is smooth (k photons, the
+// probes of the ball's seen part), so the segment's light samples would mostly repeat it.
+constexpr uint32_t kVolumeEstimatesPerSegment = 2;
+// Of a shading point's gather rays in a medium, about this many gather the light scattered
+// along their first segment (every stride-th, from a random offset, weighted by the
+// stride: each ray is chosen with probability 1 / stride, so the sum stays unbiased); the
+// rest only see the medium's transmittance. Each such estimate costs a kNN search and
+// the seen-volume probes.
+constexpr uint32_t kGatherScatterSamples = 8;
 
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
 
@@ -488,6 +502,9 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   if (count == 0) return {};
   const Frame frame = Frame::FromZ(at.ns);
   const float light_samples = float(LightSampleCount());
+  const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
+  const uint32_t scatter_offset =
+      std::min(scatter_stride - 1, uint32_t(Point1(0, 1, seed, kGatherScatterPick) * float(scatter_stride)));
   Rgb indirect, escaped;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
@@ -505,8 +522,11 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
       const std::optional<SurfaceHit> first = scene_.Intersect(ray);
       const float t_end = first ? first->t : std::numeric_limits<float>::infinity();
       const MediumSegment segment = SegmentIn(scene_, at.medium, ray, t_end);
-      const LightSplit scattered = InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, scratch);
-      indirect += kd * (scattered.direct + scattered.indirect);
+      if (i % scatter_stride == scatter_offset) {
+        const LightSplit scattered =
+            InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, scratch);
+        indirect += kd * (scattered.direct + scattered.indirect) * float(scatter_stride);
+      }
       through = segment.TransmittanceTo(t_end);
     }
     bool escaped_directly = false;
@@ -600,11 +620,13 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
     const InScatterDimensions u{Point2(j, count, seed, kMediumLightPoint), Point1(j, count, seed, kMediumChannel),
                                 Point1(j, count, seed, kMediumDistance)};
     single += InScatter(segment, ray, scene_.lights[pick.index], pick.pmf, u, shadow);
-    if (maps_.volume)
-      multiple += VolumeInScatter(scene_, segment, ray, *maps_.volume, maps_.volume_estimate, u.channel, u.distance,
-                                  u.light, scratch);
   }
-  return {single / float(count), multiple / float(count)};
+  const uint32_t estimates = maps_.volume ? std::min(count, kVolumeEstimatesPerSegment) : 0;
+  for (uint32_t j = 0; j < estimates; ++j)
+    multiple += VolumeInScatter(scene_, segment, ray, *maps_.volume, maps_.volume_estimate,
+                                Point1(j, estimates, seed, kVolumeChannel), Point1(j, estimates, seed, kVolumeDistance),
+                                Point2(j, estimates, seed, kVolumeProbe), scratch);
+  return {single / float(count), estimates ? multiple / float(estimates) : Rgb()};
 }
 
 std::string PhotonMappingIntegrator::ToString() const {
