@@ -55,19 +55,32 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   return segment.TransmittanceTo(d->t) * m.sigma_s * arriving * (phase / pdf);
 }
 
-float SeenVolumeFraction(const SceneData& scene, const Vec3& x, float r, Vec2 u) {
+SeenBall SeenBall::Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u) {
+  SeenBall ball;
   double sum = 0;
   const float golden = kPi * (3 - std::sqrt(5.0f));
   for (int i = 0; i < kVolumeProbes; ++i) {
     const float z = 1 - 2 * (float(i) + u.y) / float(kVolumeProbes);
     const float s = std::sqrt(std::max(0.0f, 1 - z * z));
     const float phi = golden * float(i) + 2 * kPi * u.x;
-    const Vec3 w(s * std::cos(phi), s * std::sin(phi), z);
-    const std::optional<SurfaceHit> hit = scene.Intersect(Ray{x, w});
-    const float d = hit ? std::min(hit->t, r) / r : 1.0f;
-    sum += double(d) * d * d;
+    ball.directions[i] = Vec3(s * std::cos(phi), s * std::sin(phi), z);
+    const std::optional<SurfaceHit> hit = scene.Intersect(Ray{x, ball.directions[i]});
+    ball.depths[i] = hit ? std::min(hit->t, r) : r;
+    const double seen = ball.depths[i] / r;
+    sum += seen * seen * seen;
   }
-  return float(sum / kVolumeProbes);
+  ball.fraction = float(sum / kVolumeProbes);
+  return ball;
+}
+
+bool SeenBall::Sees(const Vec3& offset) const {
+  int nearest = 0;
+  float best = -2;
+  for (int i = 0; i < kVolumeProbes; ++i) {
+    const float c = Dot(directions[i], offset);
+    if (c > best) best = c, nearest = i;
+  }
+  return LengthSquared(offset) <= depths[nearest] * depths[nearest];
 }
 
 Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
@@ -91,14 +104,16 @@ Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const 
     r2 = scratch[farthest].distance_squared;
   }
   if (!(r2 > 0)) return {};
+  const float r = std::sqrt(r2);
+  const SeenBall seen = SeenBall::Probe(scene, x, r, u_probe);
   Rgb sum;
   for (std::size_t i = 0; i < scratch.size(); ++i) {
     if (i == farthest) continue;
     const DecodedPhoton p = volume.photon(scratch[i].index);
+    if (seen.fraction < 1 && !seen.Sees(p.position - x)) continue;
     sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, m.g);
   }
-  const float r = std::sqrt(r2);
-  const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * SeenVolumeFraction(scene, x, r, u_probe);
+  const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
   if (!(volume_of_sphere > 0)) return {};
   return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
 }

@@ -14,6 +14,7 @@
 // density for spheres and distant lights. Shadow rays from media and from surfaces are attenuated by the transmittance
 // of the medium they cross.
 
+#include <array>
 #include <functional>
 #include <vector>
 #include <optional>
@@ -57,18 +58,29 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
 //
 // the farthest of the k setting r and not summed (then the estimate of a uniform density
 // is unbiased, as on surfaces: radiance_estimate.h); fewer than k within max_radius: all
-// counted, r = max_radius. The sphere's volume is that part of it the point sees (probe
-// rays: SeenVolumeFraction), so no light is lost where it hangs over a wall. The
+// counted, r = max_radius. The sphere's volume is that part of it the point sees, and its
+// photons those in that part (probe rays: SeenBall), so no light is lost where it hangs
+// over a wall nor borrowed from beyond one. The
 // settings' filter does not apply. ray.direction unit; u_probe turns the probes.
 Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
                     const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
                     std::vector<PhotonNeighbour>& scratch);
 
-// The share of the ball of radius r around x that x sees (no surface between): the mean
-// over kVolumeProbes directions of (min(d, r) / r)^3, d the distance to the first surface
-// along each, a spherical Fibonacci set turned by u (its azimuth and its lattice's offset).
-// Exact for a wall in the ball when the probes are many; 1 in open space.
+// The part of the ball of radius r around x that x sees (no surface between), as
+// kVolumeProbes probe rays find it: a spherical Fibonacci set of directions turned by u
+// (its azimuth and its lattice's offset), each with the distance it sees, up to r.
+// fraction is the mean of (depth / r)^3, the seen share of the ball's volume (exact for a
+// wall in the ball when the probes are many; 1 in open space); Sees tells whether a point
+// at `offset` from x lies in the seen part, by the probe nearest its direction, so that
+// the photons beyond a wall (in the bright room behind a ceiling) are not counted.
 inline constexpr int kVolumeProbes = 24;
-float SeenVolumeFraction(const SceneData& scene, const Vec3& x, float r, Vec2 u);
+struct SeenBall {
+  std::array<Vec3, kVolumeProbes> directions;
+  std::array<float, kVolumeProbes> depths;
+  float fraction = 1;
+
+  static SeenBall Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u);
+  bool Sees(const Vec3& offset) const;
+};
 
 }  // namespace farm
