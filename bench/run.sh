@@ -60,3 +60,5 @@ echo "== the farm against a long Mitsuba reference on the Cornell scenes: region
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/converge.py" "$build" "$tmp/converge"
 echo "== adaptive against uniform sampling on the caustics scene at equal time, against the same reference (issue 14)"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/adaptive.py" "$build" "$tmp/adaptive"
+echo "== the fog Cornell box against Mitsuba 3's volumetric path tracer: relMSE of the converged images (target 0.01; issue 15)"
+"${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/fog.py" "$build" "$tmp/fog"

@@ -65,7 +65,7 @@ def main():
     build, out = args.build.resolve(), args.out.resolve()
     src = HERE.parent.parent / "scenes" / "cornell-caustics.json"
     base = converge.sized_scene(src, out / "reference", args.size, 1)
-    (h1, h2), _, cached = converge.reference(build / "bench-cache", base, out / "mitsuba", args.reference_spp)
+    (h1, h2), cached = converge.reference(build / "bench-cache", base, out / "mitsuba", args.reference_spp)
     ref = (h1 + h2) / 2
     _, measured = converge.region_masks(base, out / "mitsuba")
     noise = converge.rmse(h1, h2, measured) / 2

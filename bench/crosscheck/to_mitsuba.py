@@ -25,6 +25,16 @@ rather than rendering something else:
                 plus the scene's rotation_degrees), or `constant` for a plain radiance
   sun           `directional` of the same irradiance (a delta sun; a disc is refused)
   point         `point` of the same intensity
+  medium        Scene.medium: a `homogeneous` medium (sigma_t the density, or sigma_a +
+                sigma_s per channel with albedo sigma_s / sigma_t; `hg` phase of the same g,
+                positive forwards in both) inside a `sphere` of `null` BSDF, the farm's ball
+                (docs/media.md; `medium_ball` below), vacuum outside; the sensor in it when
+                the camera is inside the ball. Mitsuba changes a ray's medium only at a
+                shape that names one, so the walls inside the ball leave rays in the fog
+  interior      Shape.interior_medium: the shape's `interior` medium, its `exterior` the
+                scene's medium (every shape lies inside the ball) or vacuum without one
+  integrator    `path`, or `volpath` (the same depths) when the scene has any medium; the
+                camera is taken to be in no shape's interior, as the farm takes it
 """
 
 import copy
@@ -170,6 +180,102 @@ def geometry_of(mi, shape, ply_path):
     return None
 
 
+def medium_of(medium):
+    """Mitsuba's homogeneous medium of a farm Medium (albedo and density, or sigma_a and
+    sigma_s per channel)."""
+    if "albedo" in medium:
+        a = medium["albedo"]
+        albedo, sigma_t = rgb(a["albedo"]), float(a.get("density", 0.0))
+    elif "sigma" in medium:
+        s = medium["sigma"]
+        sa, ss = (np.array(vec(s.get(k, {}), "r", "g", "b")) for k in ("sigmaA", "sigmaS"))
+        st = sa + ss
+        # volpath's spectral sampling gives NaN in a channel of no extinction beside others
+        # that have some: that channel gets 1e-9 of the largest, a transmittance that differs
+        # from 1 by 1e-9 over the medium's mean free path.
+        if st.max() > 0:
+            st = np.maximum(st, 1e-9 * st.max())
+        albedo = {"type": "rgb", "value": np.divide(ss, st, out=np.zeros(3), where=st > 0).tolist()}
+        sigma_t = {"type": "rgb", "value": st.tolist()}
+    else:
+        raise Unsupported("a medium with neither sigma nor albedo")
+    return {"type": "homogeneous", "albedo": albedo, "sigma_t": sigma_t,
+            "phase": {"type": "hg", "g": float(medium.get("g", 0.0))}}
+
+
+def scene_bounds(scene, root):
+    """The axis-aligned bounds (lo, hi) of every shape of a farm scene as the worker computes
+    them (worker/scene/shapes.cpp BoundsOf): a sphere's box, a quad's four corners, the
+    vertices of inline triangles, and for an instance the eight corners of its mesh's box
+    placed by its matrix."""
+    points = []
+    meshes = {m["name"]: m for m in scene.get("meshes", [])}
+    for n, shape in enumerate(scene.get("shapes", [])):
+        if "sphere" in shape:
+            c, r = np.array(vec(shape["sphere"]["center"], "x", "y", "z")), float(shape["sphere"]["radius"])
+            points += [c - r, c + r]
+        elif "quad" in shape:
+            q = shape["quad"]
+            o, u, v = (np.array(vec(q[k], "x", "y", "z")) for k in ("origin", "edgeU", "edgeV"))
+            points += [o, o + u, o + v, o + u + v]
+        elif "triangles" in shape:
+            points += [np.array(vec(p, "x", "y", "z")) for p in shape["triangles"]["positions"]]
+        elif "instance" in shape:
+            inst = shape["instance"]
+            pos = np.concatenate([read_farm_mesh(root / part["path"])[0] for part in meshes[inst["mesh"]]["parts"]])
+            lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
+            m = np.array([float(x) for x in inst.get("transform", {}).get("matrix", [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0])])
+            m = m.reshape(3, 4)
+            for corner in range(8):
+                p = np.where([corner & 1, corner & 2, corner & 4], hi, lo)
+                points.append(m[:, :3] @ p + m[:, 3])
+        else:
+            raise Unsupported(f"shapes[{n}]: the bounds of this kind of shape are not computed")
+    points = np.array(points)
+    return points.min(axis=0), points.max(axis=0)
+
+
+def medium_ball(scene, root):
+    """Centre and radius of the ball Scene.medium fills: the sphere about the shapes' bounds
+    (its centre the box's, its radius half the diagonal) with the margin of
+    worker/scene/lights.cpp DistantDisc::Around."""
+    lo, hi = scene_bounds(scene, root)
+    centre = (lo + hi) / 2
+    radius = np.linalg.norm(hi - lo) / 2 * 1.01 + 1e-4 * (1 + np.max(np.abs(centre)))
+    return centre, float(radius)
+
+
+def add_media(out, scene, root):
+    """Puts the scene's medium (its ball) and the shapes' interior media into the Mitsuba
+    dictionary `out`, whose shapes are keyed shape{n} or shape{n}_{part}, and switches the
+    integrator to volpath when there is any."""
+    interiors = {n: s["interiorMedium"] for n, s in enumerate(scene.get("shapes", [])) if "interiorMedium" in s}
+    if "medium" not in scene and not interiors:
+        return
+    out["integrator"]["type"] = "volpath"
+    outside = None
+    if "medium" in scene:
+        # Declared once at the top and referred to by id: the ball's interior, the sensor's
+        # medium and every interior medium's exterior are then one object.
+        out["scene-medium"] = medium_of(scene["medium"])
+        outside = {"type": "ref", "id": "scene-medium"}
+        centre, radius = medium_ball(scene, root)
+        out["scene-medium-ball"] = {"type": "sphere", "center": centre.tolist(), "radius": radius,
+                                    "bsdf": {"type": "null"}, "interior": dict(outside)}
+        camera = np.array(vec(scene["camera"]["position"], "x", "y", "z"))
+        if np.linalg.norm(camera - centre) < radius:
+            out["sensor"]["medium"] = dict(outside)
+    for n, medium in interiors.items():
+        out[f"medium{n}"] = medium_of(medium)
+        keys = [k for k in out if k == f"shape{n}" or k.startswith(f"shape{n}_")]
+        if not keys:
+            raise Unsupported(f"shapes[{n}].interior_medium: the shape was not translated")
+        for key in keys:
+            out[key]["interior"] = {"type": "ref", "id": f"medium{n}"}
+            if outside:
+                out[key]["exterior"] = dict(outside)
+
+
 def mitsuba_scene(mi, scene_path, work_dir, spp, seed=0):
     """The Mitsuba scene dictionary of the farm scene at scene_path, and the farm material
     of each of its shapes (by key); PLY files go in work_dir."""
@@ -250,4 +356,5 @@ def mitsuba_scene(mi, scene_path, work_dir, spp, seed=0):
             out[f"light{n}"] = {"type": "point", "position": vec(pt["position"], "x", "y", "z"), "intensity": rgb(pt["intensity"])}
         else:
             raise Unsupported(f"lights[{n}]: only sun and point lights are translated")
+    add_media(out, scene, root)
     return out, material_of

@@ -221,6 +221,26 @@ func TestValidateAndPlanNeedNoCoordinator(t *testing.T) {
 	}
 }
 
+// TestPlanSaysHowManyVolumePhotonsInHowManyShards: issue 15's `farm plan` of a foggy scene
+// states the volume map's photon paths and shards, and plans its emission shards.
+func TestPlanSaysHowManyVolumePhotonsInHowManyShards(t *testing.T) {
+	path := filepath.Join(t.TempDir(), "fog.json")
+	fog := strings.Replace(validScene, `"shapes":`, `"medium": {"sigma": {"sigmaA": {"r": 0.01}, "sigmaS": {"r": 0.05, "g": 0.05, "b": 0.05}}},
+  "photons": {"volumePhotons": 30000, "photonsPerShard": 10000},
+  "shapes":`, 1)
+	os.WriteFile(path, []byte(fog), 0o644)
+	code, stdout, stderr := runForTest(t, map[string]string{"FARM_COORDINATOR": closedAddress(t)}, "plan", path)
+	for _, want := range []string{
+		"  run   volume photon map      30,000 volume photon paths per round in 3 shards: ",
+		"shadow rays attenuated; multiple scattering from the volume photon map\n",
+		"tasks per phase (round 1): emit 3, build 1, render 1, composite 1\n",
+	} {
+		if code != exitOK || !strings.Contains(stdout, want) {
+			t.Errorf("plan: exit %d, stdout %q, stderr %q; want %q", code, stdout, stderr, want)
+		}
+	}
+}
+
 // TestSubmitWithoutCoordinatorSaysWhatToRun: one line with a hint, exit status 1, well
 // within 5 s.
 func TestSubmitWithoutCoordinatorSaysWhatToRun(t *testing.T) {

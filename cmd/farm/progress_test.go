@@ -168,6 +168,8 @@ func TestTaskWorkDescribesTilesAndShards(t *testing.T) {
 		{&pb.Task{Spec: &pb.Task_RenderTile{RenderTile: &pb.RenderTileSpec{Rect: &pb.PixelRect{X: 32, Width: 16, Height: 8}}}}, "16x8+32+0"},
 		{&pb.Task{Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{Map: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC,
 			FirstPhoton: 10000, PhotonCount: 10000, TotalPhotons: 40000}}}, "caustic 10000+10000/40000"},
+		{&pb.Task{Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{Map: pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME,
+			FirstPhoton: 200000, PhotonCount: 50000, TotalPhotons: 200000}}}, "volume 200000+50000/200000"},
 		{&pb.Task{Spec: &pb.Task_BuildPhotonMap{BuildPhotonMap: &pb.BuildPhotonMapSpec{}}}, ""},
 	} {
 		if got := taskWork(tt.task); got != tt.want {

@@ -41,9 +41,6 @@ func runReport(ctx context.Context, e *env, args []string) error {
 	})
 }
 
-// layerOrder is the order of the per-layer reference RMSE columns.
-var layerOrder = []string{"direct", "indirect", "caustic"}
-
 // printReport writes the job's rounds as a table, with a reference RMSE column for each
 // light layer any round measured.
 func printReport(w io.Writer, job *pb.Job) {
@@ -53,7 +50,7 @@ func printReport(w io.Writer, job *pb.Job) {
 	}
 	fmt.Fprintf(w, "job %s (%s): %s, %d rounds\n", printable(job.GetId()), printable(name), tasks.JobStateName(job.GetState()), len(job.GetRounds()))
 	var layers []string
-	for _, l := range layerOrder {
+	for _, l := range tasks.MeasuredLayers {
 		for _, r := range job.GetRounds() {
 			if _, ok := r.GetLayerReferenceRmse()[l]; ok {
 				layers = append(layers, l)

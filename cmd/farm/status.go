@@ -156,8 +156,7 @@ func taskWork(t *pb.Task) string {
 		return fmt.Sprintf("%dx%d+%d+%d", r.GetWidth(), r.GetHeight(), r.GetX(), r.GetY())
 	}
 	if e := t.GetEmitPhotons(); e != nil {
-		m := strings.ToLower(strings.TrimPrefix(e.GetMap().String(), "PHOTON_MAP_KIND_"))
-		return fmt.Sprintf("%s %d+%d/%d", m, e.GetFirstPhoton(), e.GetPhotonCount(), e.GetTotalPhotons())
+		return fmt.Sprintf("%s %d+%d/%d", tasks.MapName(e.GetMap()), e.GetFirstPhoton(), e.GetPhotonCount(), e.GetTotalPhotons())
 	}
 	return ""
 }

@@ -41,8 +41,8 @@ func checkPixels(s *pb.Scene) *FieldError {
 	return nil
 }
 
-// checkShards: at most max_shards_per_map emission shards for the global and for the
-// caustic photon count (photons.photons_per_shard), whether or not the scene gets that map:
+// checkShards: at most max_shards_per_map emission shards for each of the global, caustic
+// and volume photon counts (photons.photons_per_shard), whether or not the scene gets that map:
 // a rule about the settings alone, so that the worker, which does not plan, checks it the
 // same way.
 func checkShards(s *pb.Scene) *FieldError {
@@ -50,7 +50,7 @@ func checkShards(s *pb.Scene) *FieldError {
 	for _, m := range []struct {
 		name    string
 		photons uint64
-	}{{"global", GlobalPhotons(s)}, {"caustic", CausticPhotons(s)}} {
+	}{{"global", GlobalPhotons(s)}, {"caustic", CausticPhotons(s)}, {"volume", VolumePhotons(s)}} {
 		if n := ShardsPerMap(s, m.photons); n > limit {
 			return rules.Errorf("photons.photons_per_shard", "%d photons per shard (photons.photons_per_shard) make %d emission shards of the %s map's %d photons (photons.%s_photons) per round, more than max_shards_per_map, %d: use more photons per shard",
 				PhotonsPerShard(s), n, m.name, m.photons, m.name, limit)

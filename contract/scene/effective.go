@@ -29,6 +29,7 @@ var (
 	LightSamples    = effective((*pb.Scene).GetSampling, (*pb.Sampling).GetLightSamples, "light_samples")
 	GlobalPhotons   = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetGlobalPhotons, "global_photons")
 	CausticPhotons  = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetCausticPhotons, "caustic_photons")
+	VolumePhotons   = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetVolumePhotons, "volume_photons")
 	PhotonsPerShard = effective((*pb.Scene).GetPhotons, (*pb.PhotonMapping).GetPhotonsPerShard, "photons_per_shard")
 	// AntialiasingMode, EdgeSamples (camera rays per edge pixel) and EdgeThreshold.
 	AntialiasingMode = effective((*pb.Scene).GetAntialiasing, (*pb.Antialiasing).GetMode, "mode")

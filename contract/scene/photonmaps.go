@@ -13,14 +13,15 @@ type PhotonMap struct {
 	Photons uint64
 }
 
-// Name is the map's kind for people: "global", "caustic".
+// Name is the map's kind for people: "global", "caustic", "volume".
 func (m PhotonMap) Name() string {
 	return strings.ToLower(strings.TrimPrefix(m.Kind.String(), "PHOTON_MAP_KIND_"))
 }
 
 // PhotonMaps returns the photon maps s gets, in plan order: a global map if its diffuse
 // surfaces can light one another (InterreflectionOf), a caustic map if a shape is specular
-// (SurfacesOf), each only if it is given photons.
+// (SurfacesOf), a volume map if a medium scatters light (MediaScatter), each only if it is
+// given photons. Every valid scene has a light (checkSomeLight), so none is asked for here.
 func PhotonMaps(s *pb.Scene) []PhotonMap {
 	var maps []PhotonMap
 	if n := GlobalPhotons(s); n > 0 && InterreflectionOf(s).Possible {
@@ -28,6 +29,9 @@ func PhotonMaps(s *pb.Scene) []PhotonMap {
 	}
 	if n := CausticPhotons(s); n > 0 && SurfacesOf(s).Specular {
 		maps = append(maps, PhotonMap{Kind: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, Photons: n})
+	}
+	if n := VolumePhotons(s); n > 0 && MediaScatter(s) {
+		maps = append(maps, PhotonMap{Kind: pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME, Photons: n})
 	}
 	return maps
 }

@@ -54,7 +54,7 @@ func Inputs(t *pb.Task) []Input {
 	return in
 }
 
-// MapName is a photon map's name for people: "global", "caustic".
+// MapName is a photon map's name for people: "global", "caustic", "volume".
 func MapName(k pb.PhotonMapKind) string {
 	return strings.ToLower(strings.TrimPrefix(k.String(), "PHOTON_MAP_KIND_"))
 }

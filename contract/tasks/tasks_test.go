@@ -156,8 +156,9 @@ func TestInputsNameWhatEachBlobHolds(t *testing.T) {
 			[]string{"tile x 32 y 64 of round 2 t", "the accumulation of round 1 acc", "the reference image ref"}},
 		{&pb.Task{Spec: &pb.Task_Composite{Composite: &pb.CompositeSpec{}}}, nil},
 		{&pb.Task{Round: 1, Spec: &pb.Task_BuildPhotonMap{BuildPhotonMap: &pb.BuildPhotonMapSpec{Shards: []*pb.EmittedShard{
-			{Spec: &pb.EmitPhotonsSpec{Map: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, FirstPhoton: 300, PhotonCount: 100}, Shard: a("s")}}}}},
-			[]string{"the caustic photon shard of paths 300+100 of round 1 s"}},
+			{Spec: &pb.EmitPhotonsSpec{Map: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, FirstPhoton: 300, PhotonCount: 100}, Shard: a("s")},
+			{Spec: &pb.EmitPhotonsSpec{Map: pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME, FirstPhoton: 0, PhotonCount: 50}, Shard: a("v")}}}}},
+			[]string{"the caustic photon shard of paths 300+100 of round 1 s", "the volume photon shard of paths 0+50 of round 1 v"}},
 		{&pb.Task{Round: 3, Spec: &pb.Task_MergeIrradiance{MergeIrradiance: &pb.MergeIrradianceSpec{
 			PhotonSnapshot: a("p"), IrradianceShards: []*pb.Artifact{a("i0"), a("i1")}}}},
 			[]string{"the photon snapshot of round 3 p", "irradiance shard 0 of round 3 i0", "irradiance shard 1 of round 3 i1"}},

@@ -46,7 +46,7 @@ func (e *TooManyPhotons) Error() string {
 }
 
 // BuildFrom merges emission shards, given in plan order (all global shards in path order,
-// then all caustic shards), into a snapshot of at most maxPhotons photons over all maps:
+// then all caustic shards, then all volume shards), into a snapshot of at most maxPhotons photons over all maps:
 // per map a left-balanced kd-tree of 20-byte photons (docs/photon-snapshot.md). Shards are
 // untrusted: a malformed one gives an InvalidArgument error naming it ("shards[3]: ..."),
 // a map over the format's limit ResourceExhausted, more photons than maxPhotons a
@@ -112,7 +112,7 @@ func planMaps(shards []Source, maxPhotons int) ([]mapInput, error) {
 		if len(maps) == 0 || maps[len(maps)-1].kind != h.kind {
 			if len(maps) > 0 && maps[len(maps)-1].kind > h.kind {
 				s.Close()
-				return nil, shardErr(i, "%s shard after %s shards: global shards come first", h.kind, maps[len(maps)-1].kind)
+				return nil, shardErr(i, "%s shard after %s shards: shards come in plan order, global, caustic, volume", h.kind, maps[len(maps)-1].kind)
 			}
 			maps = append(maps, mapInput{kind: h.kind})
 		}

@@ -31,6 +31,9 @@ func testCases() []testCase {
 		{"one-photon", append(splitShards(Global, uniformPhotons(r, 1)), splitShards(Caustic, nil)...), nil},
 		{"empty-caustic", append(splitShards(Global, uniformPhotons(r, 300)), splitShards(Caustic, nil)...), nil},
 		{"no-maps", nil, nil},
+		{"three-maps", slices.Concat(splitShards(Global, uniformPhotons(r, 400), 150), splitShards(Caustic, uniformPhotons(r, 200), 50),
+			splitShards(Volume, volumePhotons(r, 300), 100, 220)), nil},
+		{"volume-only", splitShards(Volume, volumePhotons(r, 250), 120), nil},
 	}
 }
 
@@ -211,6 +214,7 @@ func TestBuildRefusesMalformedShards(t *testing.T) {
 	rec := func(r, field int) int { return shardHeaderSize + r*shardRecordSize + field }
 	nextGlobal := EncodeShard(Global, 10, 5, nil)
 	caustic := EncodeShard(Caustic, 0, 5, nil)
+	volume := EncodeShard(Volume, 0, 5, nil)
 	cases := []struct {
 		name   string
 		shards [][]byte
@@ -220,7 +224,8 @@ func TestBuildRefusesMalformedShards(t *testing.T) {
 		{"empty", [][]byte{{}}, 0, "shorter"},
 		{"magic", [][]byte{edit(func(b []byte) []byte { b[0] = 'X'; return b })}, 0, "magic"},
 		{"version", [][]byte{edit(func(b []byte) []byte { b[8] = 2; return b })}, 0, "version"},
-		{"kind", [][]byte{edit(func(b []byte) []byte { b[12] = 7; return b })}, 0, "kind"},
+		{"kind past volume", [][]byte{edit(func(b []byte) []byte { b[12] = byte(Volume + 1); return b })}, 0, "unknown map kind 4"},
+		{"kind 0", [][]byte{edit(func(b []byte) []byte { b[12] = 0; return b })}, 0, "unknown map kind 0"},
 		{"record count too big", [][]byte{edit(func(b []byte) []byte { le.PutUint64(b[32:], 1<<62); return b })}, 0, "record_count"},
 		{"truncated", [][]byte{good[:len(good)-1]}, 0, "record_count"},
 		{"trailing", [][]byte{append(bytes.Clone(good), 0)}, 0, "record_count"},
@@ -233,7 +238,8 @@ func TestBuildRefusesMalformedShards(t *testing.T) {
 		{"gap", [][]byte{good, EncodeShard(Global, 11, 5, nil)}, 1, "starts at photon 11, want 10"},
 		{"overlap", [][]byte{good, EncodeShard(Global, 9, 5, nil)}, 1, "want 10"},
 		{"not from zero", [][]byte{nextGlobal}, 0, "want 0"},
-		{"global after caustic", [][]byte{caustic, good}, 1, "global shards come first"},
+		{"global after caustic", [][]byte{caustic, good}, 1, "global shard after caustic shards: shards come in plan order"},
+		{"caustic after volume", [][]byte{good, volume, caustic}, 2, "caustic shard after volume shards"},
 		{"path overflow", [][]byte{good, EncodeShard(Global, 10, math.MaxUint64, nil)}, 1, "overflows"},
 		{"bad shard after good ones", [][]byte{good, nextGlobal, caustic, {1, 2, 3}}, 3, "shorter"},
 	}

@@ -81,8 +81,8 @@ func parseHead(data []byte, size uint64) (snapshotLayout, error) {
 		return l, bad("header_size %d, want %d", h, headerSize)
 	}
 	count := le.Uint32(data[16:])
-	if count > 2 {
-		return l, bad("map_count %d > 2", count)
+	if count > maxMaps {
+		return l, bad("map_count %d > %d", count, maxMaps)
 	}
 	if e := le.Uint32(data[20:]); e != dirEntrySize {
 		return l, bad("directory_entry_size %d, want %d", e, dirEntrySize)
@@ -100,7 +100,7 @@ func parseHead(data []byte, size uint64) (snapshotLayout, error) {
 		m := mapLayout{kind: Kind(le.Uint32(d[0:])), count: uint64(le.Uint32(d[4:])), offset: le.Uint64(d[16:])}
 		scale := math.Float32frombits(le.Uint32(d[48:]))
 		switch {
-		case m.kind != Global && m.kind != Caustic:
+		case !m.kind.known():
 			return l, bad("map %d: unknown kind %d", i, m.kind)
 		case i > 0 && m.kind <= l.maps[i-1].kind:
 			return l, bad("map %d: kinds not increasing", i)
@@ -173,11 +173,11 @@ func ReadMaps(r io.Reader, size int64) ([]MapInfo, error) {
 // readHead reads the header and directory at the start of r, a snapshot of size bytes, and
 // checks them (parseHead); it returns the bytes read and the layout.
 func readHead(r io.Reader, size int64) ([]byte, snapshotLayout, error) {
-	head := make([]byte, headerSize, headerSize+2*dirEntrySize)
+	head := make([]byte, headerSize, headerSize+maxMaps*dirEntrySize)
 	if _, err := io.ReadFull(r, head); err != nil {
 		return nil, snapshotLayout{}, snapErr("reading the header: %v", err)
 	}
-	if count := le.Uint32(head[16:]); count <= 2 {
+	if count := le.Uint32(head[16:]); count <= maxMaps {
 		head = head[:headerSize+dirEntrySize*int(count)]
 		if _, err := io.ReadFull(r, head[headerSize:]); err != nil {
 			return nil, snapshotLayout{}, snapErr("reading the directory: %v", err)

@@ -11,6 +11,10 @@ type Kind uint32
 const (
 	Global  Kind = 1
 	Caustic Kind = 2
+	Volume  Kind = 3
+	// maxMaps is how many maps a snapshot holds at most: one of each kind, as its
+	// directory's kinds strictly increase.
+	maxMaps = uint32(Volume)
 )
 
 func (k Kind) String() string {
@@ -19,9 +23,14 @@ func (k Kind) String() string {
 		return "global"
 	case Caustic:
 		return "caustic"
+	case Volume:
+		return "volume"
 	}
 	return fmt.Sprintf("kind(%d)", uint32(k))
 }
+
+// known reports whether the formats define k.
+func (k Kind) known() bool { return k >= Global && k <= Volume }
 
 // Layout constants of the two formats.
 const (

@@ -26,6 +26,19 @@ func uniformPhotons(r *rand.Rand, n int) []ShardPhoton {
 	return ps
 }
 
+// oct7PlusZ is the oct7 code of +z (u = v = h = 63), the normal field of every volume
+// photon: a photon stored in a medium lies on no surface.
+const oct7PlusZ = 63<<2 | 63<<9
+
+// volumePhotons are n photons uniformly in [-1,1]^3 with the volume map's normal.
+func volumePhotons(r *rand.Rand, n int) []ShardPhoton {
+	ps := uniformPhotons(r, n)
+	for i := range ps {
+		ps[i].Normal = oct7PlusZ
+	}
+	return ps
+}
+
 // planePhotons all lie on z = 0.5: one axis has zero extent.
 func planePhotons(r *rand.Rand, n int) []ShardPhoton {
 	ps := uniformPhotons(r, n)

@@ -77,7 +77,7 @@ func parseShardHeader(i int, head []byte) (shardHeader, error) {
 		photonCount: le.Uint64(head[24:]),
 		records:     le.Uint64(head[32:]),
 	}
-	if h.kind != Global && h.kind != Caustic {
+	if !h.kind.known() {
 		return shardHeader{}, shardErr(i, "unknown map kind %d", uint32(h.kind))
 	}
 	return h, nil

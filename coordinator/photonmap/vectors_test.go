@@ -79,8 +79,9 @@ func TestVectors(t *testing.T) {
 			}
 		})
 	}
-	if cases < 7 {
-		t.Fatalf("only %d vector cases in %s", cases, vectorDir)
+	// Every case the generator writes, and no stale one it no longer does.
+	if want := len(testCases()) + len(irradianceCases()); cases != want {
+		t.Fatalf("%d vector cases in %s, want the %d of testCases and irradianceCases (regenerate with -update)", cases, vectorDir, want)
 	}
 }
 

@@ -28,13 +28,15 @@ const (
 // Passes returns every pass the renderer knows for s, each run or skipped with the reason.
 // s must have passed scene.Validate.
 func Passes(s *pb.Scene) *pb.Plan {
-	var global, caustic *scene.PhotonMap
+	var global, caustic, volume *scene.PhotonMap
 	for _, m := range scene.PhotonMaps(s) {
 		switch m.Kind {
 		case pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL:
 			global = &m
 		case pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC:
 			caustic = &m
+		case pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME:
+			volume = &m
 		}
 	}
 	shards := func(n uint64) uint64 { return scene.ShardsPerMap(s, n) }
@@ -75,13 +77,17 @@ func Passes(s *pb.Scene) *pb.Plan {
 	}
 
 	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightTargets(s), scene.LightSamples(s))
-	if media := mediaOf(s); media == "" {
+	switch media := mediaOf(s); {
+	case media == "":
 		add(PassMedia, false, "no medium in the scene (medium and every shape's interior_medium unset): rays travel through vacuum, nothing is marched")
 		add(PassVolumeMap, false, "no medium in the scene: no volume photons")
-	} else {
-		add(PassMedia, true, "%s: camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated",
-			media, scene.LightSamples(s))
-		add(PassVolumeMap, false, "multiple scattering in media is not implemented yet (issue 15): media get single scattering only")
+	case volume == nil:
+		add(PassMedia, true, "%s: %s", media, marching(s))
+		add(PassVolumeMap, false, "no medium scatters light (every sigma_s is 0, or every albedo or density is): the media only absorb, no volume photons")
+	default:
+		add(PassMedia, true, "%s: %s; multiple scattering from the volume photon map", media, marching(s))
+		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)",
+			count(volume.Photons), shards(volume.Photons), volumeNeighbours(s), volumeRadius(s))
 	}
 
 	names := dispersiveMaterials(s)
@@ -134,6 +140,28 @@ func roundsReason(s *pb.Scene) string {
 	}
 	parts = append(parts, fmt.Sprintf("alpha %s", strconv.FormatFloat(scene.Alpha(s), 'g', -1, 64)))
 	return strings.Join(parts, ", ")
+}
+
+// marching says what the renderer does in any medium.
+func marching(s *pb.Scene) string {
+	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated", scene.LightSamples(s))
+}
+
+// volumeNeighbours and volumeRadius are the volume estimate's k and search radius; their
+// 0 selects a value per map (scene.proto's RadianceEstimate), the radius one the workers
+// compute from the scene's bounds, which meshes in the blob store keep from the planner.
+func volumeNeighbours(s *pb.Scene) uint32 {
+	if k := s.GetPhotons().GetVolumeEstimate().GetNeighbours(); k > 0 {
+		return k
+	}
+	return 50
+}
+
+func volumeRadius(s *pb.Scene) string {
+	if r := s.GetPhotons().GetVolumeEstimate().GetMaxRadius(); r > 0 {
+		return strconv.FormatFloat(r, 'g', -1, 64)
+	}
+	return "1/20 of the scene's diagonal"
 }
 
 // mediaOf names the media a scene holds ("fog filling the scene", "2 shapes' interior

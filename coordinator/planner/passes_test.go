@@ -25,6 +25,16 @@ func passOf(t *testing.T, p *pb.Plan, name string) *pb.PlannedPass {
 	return nil
 }
 
+// absorbingFog fills the scene with a medium that only absorbs; scatteringFog with one
+// that also scatters.
+func absorbingFog(s *pb.Scene) {
+	s.Medium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: &pb.Color{R: 0.1}, SigmaS: &pb.Color{}}}}
+}
+
+func scatteringFog(s *pb.Scene) {
+	s.Medium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: &pb.Color{R: 0.1}, SigmaS: &pb.Color{B: 0.05}}}}
+}
+
 func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 	flatFloor := func(s *pb.Scene) { s.Shapes = s.Shapes[1:] } // floor and lamp only
 	sky := &pb.Texture{Name: "sky", Path: "sky.hdr", Digest: "sha256:" + strings.Repeat("0", 64)}
@@ -73,9 +83,18 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Medium = fog
 			s.Shapes[0].InteriorMedium = fog
 		}, planner.PassMedia, true, "fog filling the scene and 1 shape's interior medium: camera paths attenuated"},
-		{"media without a volume map yet", func(s *pb.Scene) {
-			s.Medium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: &pb.Color{R: 0.1}, SigmaS: &pb.Color{}}}}
-		}, planner.PassVolumeMap, false, "not implemented yet"},
+		{"absorbing fog: no volume map", absorbingFog, planner.PassVolumeMap, false, "no medium scatters light (every sigma_s is 0, or every albedo or density is): the media only absorb, no volume photons"},
+		{"a murky ball without density: no volume map", func(s *pb.Scene) {
+			s.Shapes[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}}}}
+		}, planner.PassVolumeMap, false, "the media only absorb"},
+		{"scattering fog: volume map", scatteringFog, planner.PassVolumeMap, true,
+			"200,000 volume photon paths per round in 2 shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k 50, radius 1/20 of the scene's diagonal)"},
+		{"scattering fog: volume map of the scene's photons and estimate", func(s *pb.Scene) {
+			scatteringFog(s)
+			s.Photons.VolumePhotons, s.Photons.PhotonsPerShard = 25000, 10000
+			s.Photons.VolumeEstimate = &pb.RadianceEstimate{Neighbours: 80, MaxRadius: 0.25}
+		}, planner.PassVolumeMap, true, "25,000 volume photon paths per round in 3 shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k 80, radius 0.25)"},
+		{"scattering fog: multiple scattering", scatteringFog, planner.PassMedia, true, "fog filling the scene: camera paths attenuated and single scattering from every light along them (16 samples per segment), shadow rays attenuated; multiple scattering from the volume photon map"},
 		{"no dispersion", shapes("glass", "white"), planner.PassDispersion, false, "no dispersive material"},
 		{"a dispersive glass and a gem", func(s *pb.Scene) {
 			prism, gem := material("prism", "glass"), material("gem", "glass")

@@ -82,6 +82,7 @@ func TestPlanPhotonPhases(t *testing.T) {
 			s.Photons = &pb.PhotonMapping{GlobalPhotons: global, CausticPhotons: caustic, PhotonsPerShard: per}
 		}
 	}
+	volumePhotons := func(n uint64) func(*pb.Scene) { return func(s *pb.Scene) { s.Photons.VolumePhotons = n } }
 	both := func(fs ...func(*pb.Scene)) func(*pb.Scene) {
 		return func(s *pb.Scene) {
 			for _, f := range fs {
@@ -106,6 +107,11 @@ func TestPlanPhotonPhases(t *testing.T) {
 		{"specular only: caustic map only", both(shapes("glass", "gold"), photons(1000, 2000, 1000)),
 			"C0+1000/2000 C1000+1000/2000 B R C"},
 		{"no reflecting surface: no photons at all", shapes("light", "light"), "R C"},
+		{"scattering fog adds the volume map after the others", both(shapes("mirror", "white"), photons(1000, 1000, 1000), volumePhotons(2500), scatteringFog),
+			"G0+1000/1000 C0+1000/1000 V0+1000/2500 V1000+1000/2500 V2000+500/2500 B R C"},
+		{"absorbing fog: no volume map", both(photons(1000, 0, 1000), volumePhotons(2500), absorbingFog), "G0+1000/1000 B R C"},
+		{"fog over a specular-only scene: volume map without precompute", both(shapes("glass", "gold"), photons(1000, 1000, 1000), volumePhotons(1000), scatteringFog),
+			"C0+1000/1000 V0+1000/1000 B R C"},
 	}
 	for _, tt := range tests {
 		t.Run(tt.name, func(t *testing.T) {
@@ -124,7 +130,7 @@ func TestPlanPhotonPhases(t *testing.T) {
 }
 
 // TestPlanLargestRoundStaysWithinLimits plans the largest round Validate accepts: the most
-// tiles (max_tiles_per_round) and, for both maps, the most emission shards
+// tiles (max_tiles_per_round) and, for all three maps, the most emission shards
 // (max_shards_per_map); one tile or one shard more is refused. Planning cost is bounded by
 // these two limits (docs/limits.md).
 func TestPlanLargestRoundStaysWithinLimits(t *testing.T) {
@@ -133,7 +139,8 @@ func TestPlanLargestRoundStaysWithinLimits(t *testing.T) {
 	s := scenetest.Valid(2048, 2048) // 4,194,304 pixels: at 8 pixels a tile, the most tiles
 	s.Film.TileSize = 8
 	shapes("mirror", "white")(s)
-	s.Photons = &pb.PhotonMapping{GlobalPhotons: maxShards * perShard, CausticPhotons: maxShards * perShard, PhotonsPerShard: perShard}
+	scatteringFog(s)
+	s.Photons = &pb.PhotonMapping{GlobalPhotons: maxShards * perShard, CausticPhotons: maxShards * perShard, VolumePhotons: maxShards * perShard, PhotonsPerShard: perShard}
 	if err := scene.Validate(s); err != nil {
 		t.Fatal(err)
 	}
@@ -147,10 +154,10 @@ func TestPlanLargestRoundStaysWithinLimits(t *testing.T) {
 		counts[task.Phase]++
 		photons += task.GetEmitPhotons().GetPhotonCount()
 	}
-	want := map[pb.Phase]uint64{pb.Phase_PHASE_EMIT: 2 * maxShards, pb.Phase_PHASE_BUILD: 1, pb.Phase_PHASE_PRECOMPUTE: maxShards,
+	want := map[pb.Phase]uint64{pb.Phase_PHASE_EMIT: 3 * maxShards, pb.Phase_PHASE_BUILD: 1, pb.Phase_PHASE_PRECOMPUTE: maxShards,
 		pb.Phase_PHASE_MERGE: 1, pb.Phase_PHASE_RENDER: maxTiles, pb.Phase_PHASE_COMPOSITE: 1}
-	if fmt.Sprint(counts) != fmt.Sprint(want) || photons != 2*maxShards*perShard {
-		t.Errorf("tasks per phase %v covering %d photons, want %v covering %d", counts, photons, want, 2*maxShards*perShard)
+	if fmt.Sprint(counts) != fmt.Sprint(want) || photons != 3*maxShards*perShard {
+		t.Errorf("tasks per phase %v covering %d photons, want %v covering %d", counts, photons, want, 3*maxShards*perShard)
 	}
 
 	for _, tt := range []struct {
@@ -160,6 +167,7 @@ func TestPlanLargestRoundStaysWithinLimits(t *testing.T) {
 	}{
 		{"one global photon more", func(s *pb.Scene) { s.Photons.GlobalPhotons++ }, "photons.photons_per_shard"},
 		{"one caustic photon more", func(s *pb.Scene) { s.Photons.CausticPhotons++ }, "photons.photons_per_shard"},
+		{"one volume photon more", func(s *pb.Scene) { s.Photons.VolumePhotons++ }, "photons.photons_per_shard"},
 		{"smaller tiles", func(s *pb.Scene) { s.Film.TileSize-- }, "film.tile_size"},
 	} {
 		over := proto.Clone(s).(*pb.Scene)

@@ -3,7 +3,8 @@
 //
 //   - emit: photon-emission shards of PhotonMapping.photons_per_shard paths (the last one
 //     partial), first for the global map (if diffuse surfaces can light each other), then
-//     for the caustic map (only if some shape is specular: mirror, dielectric, conductor).
+//     for the caustic map (only if some shape is specular: mirror, dielectric, conductor),
+//     then for the volume map (only if some medium scatters light).
 //     Round r traces path indices [(r-1)·N, r·N) of each map of N paths, so every round's
 //     photons are fresh; total_photons is N (each round's map stands alone);
 //   - build: one task merging the round's shards into a kd-tree snapshot;

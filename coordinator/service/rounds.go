@@ -4,6 +4,8 @@ import (
 	"context"
 	"fmt"
 	"math"
+	"slices"
+	"strings"
 
 	"google.golang.org/protobuf/proto"
 
@@ -193,9 +195,6 @@ func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	return sc, nil
 }
 
-// measuredLayers are the light layers a composite may report an RMSE for.
-var measuredLayers = map[string]bool{"direct": true, "indirect": true, "caustic": true}
-
 // checkMetrics refuses metrics that are not finite and >= 0, and layer errors of layers
 // a render does not have.
 func checkMetrics(m *pb.RoundMetrics) error {
@@ -210,8 +209,8 @@ func checkMetrics(m *pb.RoundMetrics) error {
 	}
 	for layer, v := range m.GetLayerReferenceRmse() {
 		field := fmt.Sprintf("metrics.layer_reference_rmse[%q]", layer)
-		if !measuredLayers[layer] {
-			return errs.Field(field, "is not a measured layer (direct, indirect, caustic)")
+		if !slices.Contains(tasks.MeasuredLayers, layer) {
+			return errs.Field(field, "is not a measured layer (%s)", strings.Join(tasks.MeasuredLayers, ", "))
 		}
 		values = append(values, value{field, true, v})
 	}

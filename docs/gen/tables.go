@@ -97,7 +97,7 @@ func sceneLimits() string {
 	return optionTable(rules.Scene.ProtoReflect(), map[string]string{
 		"max_magnitude":                 "largest magnitude of any double in a scene (coordinates, radii, colour components, angles), which must also be finite",
 		"max_tiles_per_round":           "render tiles in one round: `ceil(film.width / t) * ceil(film.height / t)`, t the tile size (refused as `film.tile_size`)",
-		"max_shards_per_map":            "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for the global and the caustic photon count, whether or not the scene gets that map (refused as `photons.photons_per_shard`)",
+		"max_shards_per_map":            "emission shards of one photon map in one round: `ceil(photons / photons_per_shard)`, for each of the global, caustic and volume photon counts, whether or not the scene gets that map (refused as `photons.photons_per_shard`)",
 		"max_asset_bytes":               "largest mesh file (and any other asset) a scene names: a worker holds a mesh file's bytes while it parses them",
 		"max_mesh_vertices":             "most vertices in one mesh file",
 		"max_mesh_triangles":            "most triangles in one mesh file, after splitting polygons: the largest mesh takes a worker about 2.6 GB to parse and put in Embree's BVH (measured: about 260 bytes a triangle, see Worker memory below)",
@@ -168,7 +168,7 @@ func planning() string {
 	rounds := uint64(rules.Max((*pb.Progressive)(nil), "max_rounds"))
 	side := uint64(rules.Max((*pb.Film)(nil), "width"))
 	return fmt.Sprintf("Planning a round makes a task per render tile and per emission shard, so these limits bound it: "+
-		"a round has at most %d render tiles and a composite, and per photon map (global, caustic) at most %d emission shards, "+
+		"a round has at most %d render tiles and a composite, and per photon map (global, caustic, volume) at most %d emission shards, "+
 		"then a build, %d irradiance precompute tasks (one per global shard) and a merge: %d tasks at most "+
 		"(`TestPlanLargestRoundStaysWithinLimits` plans that round). A job has at most %d rounds; each is planned when the one before has ended. "+
 		"A job of a million tiles is refused at submit (and by `farm validate` and `farm plan`) before anything is planned or stored, naming the limit: "+
@@ -178,11 +178,11 @@ func planning() string {
 }
 
 // largestRound is how many tasks the largest round the limits allow has: its tiles and a
-// composite, the shards of both maps, a build, a precompute task per global shard and a
-// merge.
+// composite, the shards of all three maps, a build, a precompute task per global shard and
+// a merge.
 func largestRound() int {
 	tiles, shards := int(rules.Scene.GetMaxTilesPerRound()), int(rules.Scene.GetMaxShardsPerMap())
-	return tiles + 1 + 2*shards + 1 + shards + 1
+	return tiles + 1 + 3*shards + 1 + shards + 1
 }
 
 func join(path, name string) string {

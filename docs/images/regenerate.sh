@@ -5,7 +5,9 @@
 # import` gives it (the PNG preview: exposure 0, the filmic tone map, docs/output.md); and
 # docs/images/prism.png and docs/images/crystal-sphere.png, scenes/prism.json and
 # scenes/crystal-sphere.json as `farm render` renders them (about 3 and 2 minutes on two
-# cores: ten and eight million caustic photon paths).
+# cores: ten and eight million caustic photon paths); docs/images/god-rays.png,
+# scenes/god-rays.json likewise (about 7 minutes). docs/images/cornell-fog-compare.png is
+# bench/crosscheck/fog.py's (make bench).
 #   docs/images/regenerate.sh BUILD_DIR
 set -eu
 build=${1:-build}
@@ -25,3 +27,6 @@ echo "wrote docs/images/prism.png"
 "$build/bin/farm" render scenes/crystal-sphere.json --workers 2 --no-dashboard -o "$tmp/crystal"
 cp "$tmp/crystal/crystal-sphere.png" docs/images/crystal-sphere.png
 echo "wrote docs/images/crystal-sphere.png"
+"$build/bin/farm" render scenes/god-rays.json --workers 2 --no-dashboard -o "$tmp/god-rays"
+cp "$tmp/god-rays/god-rays.png" docs/images/god-rays.png
+echo "wrote docs/images/god-rays.png"

@@ -134,11 +134,12 @@ func parseEXRHeader(b []byte) (*exrHeader, error) {
 }
 
 // aovChannels are the channels of a final image beyond the beauty R, G, B, A: the layers
-// direct, indirect, caustic, albedo, normal and depth (worker/render RenderChannels).
+// direct, indirect, caustic, volume, albedo, normal and depth (worker/render RenderChannels).
 var aovChannels = []string{
 	"direct.R", "direct.G", "direct.B",
 	"indirect.R", "indirect.G", "indirect.B",
 	"caustic.R", "caustic.G", "caustic.B",
+	"volume.R", "volume.G", "volume.B",
 	"albedo.R", "albedo.G", "albedo.B",
 	"normal.X", "normal.Y", "normal.Z",
 	"depth.Z",

@@ -2,17 +2,22 @@ package stiff
 
 // The suite's small harness: one real farm (a `farm coordinator` process and two
 // `farm-worker` processes, started with tests/farmtest) shared by every case of
-// TestStiffAndExtremeCases, a render helper that submits a scene and downloads the final
-// EXR, and a reader for that EXR built on `oiiotool` (see exr_test.go). The cases share one
-// farm, where tests/integration starts one per test, so that each case costs about a
-// second.
+// TestStiffAndExtremeCases, a render helper that submits a scene, downloads the final EXR
+// and counts the camera samples that came out NaN or infinite (from the coordinator's
+// metrics), and a reader for that EXR built on `oiiotool` (see exr_test.go). The cases
+// share one farm, where tests/integration starts one per test, so that each case costs
+// about a second.
 
 import (
 	"context"
 	"flag"
 	"fmt"
+	"io"
+	"net/http"
 	"os"
 	"path/filepath"
+	"regexp"
+	"strconv"
 	"strings"
 	"sync"
 	"testing"
@@ -31,20 +36,23 @@ const suiteWorkers = 2
 // farm is the suite's shared farm: the coordinator, its client and the workers.
 type farm struct {
 	*farmtest.Farm
-	suite *testing.T // the test the farm belongs to, which outlives every case
-	cache string     // the cache folder the workers share
+	suite   *testing.T // the test the farm belongs to, which outlives every case
+	cache   string     // the cache folder the workers share
+	metrics string     // the coordinator's metrics URL
 
 	mu      sync.Mutex
 	workers []*farmtest.Proc
 }
 
 // startSuiteFarm starts the shared farm for the suite test t: a coordinator with leases of
-// 5 s (a case's tasks take up to a few seconds on a loaded machine) and suiteWorkers
-// workers with one render thread each (two workers on two cores) and one cache folder, as
-// workers on one host share it by default. Everything stops when t ends.
+// 5 s (a case's tasks take up to a few seconds on a loaded machine) serving its metrics,
+// and suiteWorkers workers with one render thread each (two workers on two cores) and one
+// cache folder, as workers on one host share it by default. Everything stops when t ends.
 func startSuiteFarm(t *testing.T) *farm {
 	t.Helper()
-	f := &farm{Farm: farmtest.StartFarm(t, []string{"--lease-duration", "5s"}), suite: t, cache: filepath.Join(t.TempDir(), "cache")}
+	f := &farm{Farm: farmtest.StartFarm(t, []string{"--lease-duration", "5s", "--metrics-listen", "127.0.0.1:0"}),
+		suite: t, cache: filepath.Join(t.TempDir(), "cache")}
+	f.metrics = metricsURL(t, f.Coordinator())
 	for range suiteWorkers {
 		f.workers = append(f.workers, f.StartWorkerWithCache(t, f.cache))
 	}
@@ -82,6 +90,48 @@ func (f *farm) eachExited(fn func(i int, w *farmtest.Proc) string) []string {
 	return out
 }
 
+var metricsLine = regexp.MustCompile(`metrics on (http://\S+/metrics)`)
+
+// metricsURL waits up to 15 s for coordinator p to say where it serves its metrics.
+func metricsURL(t *testing.T, p *farmtest.Proc) string {
+	t.Helper()
+	for deadline := time.Now().Add(15 * time.Second); time.Now().Before(deadline); time.Sleep(50 * time.Millisecond) {
+		if m := metricsLine.FindStringSubmatch(p.LogTail(1000)); m != nil {
+			return m[1]
+		}
+	}
+	t.Fatalf("%s did not say where it serves its metrics", p.Name)
+	return ""
+}
+
+// nonfiniteSamples is the coordinator's count of camera samples with a light term that
+// came out NaN or infinite, farm_render_samples_total{outcome="nonfinite"}, over every
+// render tile completed so far. The worker drops such a sample from its pixel (so the EXR
+// stays finite) and counts it: a renderer bug the EXR alone would hide.
+func (f *farm) nonfiniteSamples(t *testing.T) uint64 {
+	t.Helper()
+	resp, err := http.Get(f.metrics)
+	if err != nil {
+		t.Fatalf("coordinator metrics: %v", err)
+	}
+	defer resp.Body.Close()
+	body, err := io.ReadAll(resp.Body)
+	if err != nil {
+		t.Fatalf("coordinator metrics: %v", err)
+	}
+	const series = `farm_render_samples_total{outcome="nonfinite"} `
+	for _, line := range strings.Split(string(body), "\n") {
+		if rest, ok := strings.CutPrefix(line, series); ok {
+			n, err := strconv.ParseFloat(rest, 64)
+			if err != nil {
+				t.Fatalf("coordinator metrics: line %q: %v", line, err)
+			}
+			return uint64(n)
+		}
+	}
+	return 0 // no tile has reported samples yet
+}
+
 // rendered is the result of one case's render.
 type rendered struct {
 	job     *pb.Job
@@ -91,7 +141,9 @@ type rendered struct {
 
 // render submits sc, waits up to timeout for the job to end, downloads the final EXR and
 // reads it. It fails t (naming the case) if the job does not succeed, if a worker dies
-// while it runs, or if the EXR cannot be read.
+// while it runs, if the EXR cannot be read, or if any camera sample of the job came out
+// NaN or infinite (the cases and references render one at a time, so the coordinator's
+// count grows only with this job's tiles while it runs).
 func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Duration) *rendered {
 	t.Helper()
 	if revived := f.reviveWorkers(); len(revived) > 0 {
@@ -100,6 +152,7 @@ func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Dura
 	if sc.Name == "" {
 		sc.Name = "stiff-" + name
 	}
+	nonfiniteBefore := f.nonfiniteSamples(t)
 	start := time.Now()
 	ctx, cancel := context.WithTimeout(context.Background(), timeout)
 	defer cancel()
@@ -120,6 +173,9 @@ func (f *farm) render(t *testing.T, name string, sc *pb.Scene, timeout time.Dura
 	}
 	if ended.GetState() != pb.JobState_JOB_STATE_SUCCEEDED {
 		t.Fatalf("case %s: job %s ended %v: %s\n%s", name, job.GetId(), ended.GetState(), ended.GetError(), f.logs())
+	}
+	if n := f.nonfiniteSamples(t) - nonfiniteBefore; n > 0 {
+		t.Errorf("case %s: %d camera samples came out NaN or infinite (dropped from their pixels by the worker, so the EXR does not show them; farm_render_samples_total{outcome=\"nonfinite\"})", name, n)
 	}
 	exr := f.Output(t, ended, "image.exr")
 	path := filepath.Join(t.TempDir(), name+".exr")

@@ -93,6 +93,9 @@ PhotonShardRequest ShardRequestOf(const pb::Task& task) {
     case pb::PHOTON_MAP_KIND_CAUSTIC:
       r.map = PhotonMapKind::kCaustic;
       break;
+    case pb::PHOTON_MAP_KIND_VOLUME:
+      r.map = PhotonMapKind::kVolume;
+      break;
     default:
       throw BadInputError("emit_photons.map " + std::to_string(spec.map()) + " is not a photon map");
   }

@@ -22,8 +22,9 @@ class ReferenceImageError : public ImageError {
 // The light components a render writes as layers ("direct.R" and so on) and whose error
 // is measured apart from the beauty's when the reference has them too: the beauty's error
 // is often dominated by one term (a bright emitter's edges), which hides how well another
-// (the indirect light) has converged.
-inline constexpr std::array<std::string_view, 3> kMeasuredLayers = {"direct", "indirect", "caustic"};
+// (the indirect light) has converged. Go's contract/tasks MeasuredLayers is the same list
+// (a test there reads this line).
+inline constexpr std::array<std::string_view, 4> kMeasuredLayers = {"direct", "indirect", "caustic", "volume"};
 
 // Reads the R, G and B channels (any pixel type; converted to float) of a single-part
 // OpenEXR whose data and display windows are both the whole `size` image, and the R, G, B

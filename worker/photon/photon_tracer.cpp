@@ -14,6 +14,8 @@
 #include "math/math.h"
 #include "photon/photon_emission.h"
 #include "photon/trace_photons.h"
+#include "media/henyey_greenstein.h"
+#include "scene/media_segments.h"
 #include "scene/scene_data.h"
 #include "scene/surface_shading.h"
 #include "spectral/spectral_light.h"
@@ -24,6 +26,9 @@ namespace {
 // Bounces after which a path is cut even if Russian roulette keeps it (light trapped by
 // total internal reflection would otherwise circle for long).
 constexpr int kMaxBounces = 32;
+// Scatterings in media after which a path is cut: an albedo-1 medium keeps every photon,
+// and in a dense one a path random-walks long before it reaches a wall.
+constexpr int kMaxScatterings = 256;
 
 // Paths per parallel work item: big enough to amortise scheduling, small enough to balance
 // two cores and to notice a stop request quickly.
@@ -36,7 +41,7 @@ constexpr uint64_t kChunkPaths = 2048;
 constexpr float kMinPhotonKeep = 0.5f;
 
 void CheckRequest(const PhotonShardRequest& r) {
-  if (r.map != PhotonMapKind::kGlobal && r.map != PhotonMapKind::kCaustic)
+  if (!IsPhotonMapKind(static_cast<uint32_t>(r.map)))
     throw std::invalid_argument("TracePhotonShard: map kind " +
                                 std::to_string(static_cast<uint32_t>(r.map)) + " is unknown");
   if (r.total_photons == 0)
@@ -75,14 +80,75 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
     power = spectral->ToRgb();
   }
 
-  for (int bounce = 0; bounce < kMaxBounces; ++bounce) {
-    // Four draws per bounce whatever happens, so that bounce k's numbers never shift.
+  // The medium the path travels in: lights sit in the scene's (docs/media.md).
+  const HomogeneousMedium* medium = scene.medium ? &*scene.medium : nullptr;
+  // Russian roulette: survive with the ratio of the new to the old power (its largest
+  // channel), and divide by it, so that surviving photons keep roughly constant power.
+  // False if the path ends.
+  const auto survive_with = [&](const Rgb& weight, float u_survive) {
+    std::optional<SpectralLight> next_spectral;
+    Rgb next = power * weight;
+    if (spectral) {
+      next_spectral = spectral->Times(weight);
+      next = next_spectral->ToRgb();
+    }
+    const float survive = std::min(1.0f, MaxComponent(Vec3(next.r, next.g, next.b)) /
+                                             MaxComponent(Vec3(power.r, power.g, power.b)));
+    if (!(survive > 0) || u_survive >= survive) return false;
+    power = next / survive;
+    if (spectral) spectral = next_spectral->Over(survive);
+    return power.IsFinite();
+  };
+
+  int scatterings = 0;
+  for (int bounce = 0; bounce < kMaxBounces && scatterings < kMaxScatterings;) {
+    // Four draws per bounce whatever happens, so that bounce k's numbers never shift; four
+    // more in a scene with media.
     const float u_store = random.Get1D();
     const float u_lobe = random.Get1D();
     const Vec2 u_direction = random.Get2D();
     const float u_survive = random.Get1D();
+    float u_channel = 0, u_distance = 0;
+    Vec2 u_phase;
+    if (scene.has_media) {
+      u_channel = random.Get1D();
+      u_distance = random.Get1D();
+      u_phase = random.Get2D();
+    }
 
     const std::optional<SurfaceHit> hit = scene.Intersect(ray);
+    if (const MediumSegment segment =
+            SegmentIn(scene, medium, ray, hit ? hit->t : std::numeric_limits<float>::infinity());
+        !segment.empty()) {
+      const HomogeneousMedium& m = *segment.medium;
+      const float length = segment.t1 - segment.t0;
+      if (const std::optional<DistanceSample> flight = SampleFreeFlight(m, length, u_channel, u_distance)) {
+        // Taken by the medium: a caustic path ends (what it scatters is the volume and
+        // global maps' light); a volume path stores a photon unless the light came straight
+        // from a light (single scattering is sampled from the lights: media_transport.h).
+        if (kind == PhotonMapKind::kCaustic) return;
+        // The photon carries what it scatters there (sigma_s T / pdf of the light it
+        // brings: the albedo, one channel): the density of scatterings, not of collisions.
+        const Vec3 x = ray.At(segment.t0 + flight->t);
+        const Rgb scattered = m.Transmittance(flight->t) * m.sigma_s / flight->pdf;
+        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0))
+          out.push_back({x, spectral ? spectral->Times(scattered).ToRgb() : power * scattered, -ray.direction,
+                         Vec3(0, 0, 1)});
+        if (!survive_with(scattered, u_survive)) return;
+        // Scattered light is indirect: the global map stores it where it lands.
+        ++diffuse_bounces;
+        ++scatterings;
+        ray = Ray{x, SampleHenyeyGreenstein(-ray.direction, m.g, u_phase).wi};
+        continue;
+      }
+      // Through: the transmittance over the probability of getting through.
+      const Rgb through = m.Transmittance(length) / FreeFlightPassProbability(m, length);
+      power = power * through;
+      if (spectral) {
+        spectral = spectral->Times(through);
+        power = spectral->ToRgb();
+      }
+    }
     if (!hit) return;
     // A photon aimed at a target is that target's to carry only (photon_emission.h).
     if (bounce == 0 && emitted.target >= 0 &&
@@ -108,9 +174,10 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
     if (can.reflects) {
       // Global: indirect light only (after a diffuse or glossy bounce). Caustic: L S+ D,
       // stored at the first non-specular surface, where the path ends.
-      const bool wanted = kind == PhotonMapKind::kCaustic
-                              ? specular_bounces > 0
-                              : diffuse_bounces > 0 || options.store_direct;
+      // Volume: nothing on surfaces.
+      const bool wanted = kind == PhotonMapKind::kCaustic  ? specular_bounces > 0
+                          : kind == PhotonMapKind::kGlobal ? diffuse_bounces > 0 || options.store_direct
+                                                           : false;
       if (wanted) {
         // Glossy surfaces keep a photon only with the probability of their diffuse share,
         // at least kMinPhotonKeep; the kept ones carry proportionally more power, so the
@@ -138,26 +205,15 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
       weight = weight * scale;
     }
     // At one wavelength, the surface's RGB weight acts as its uplifted spectrum there.
-    std::optional<SpectralLight> next_spectral;
-    Rgb next = power * weight;
-    if (spectral) {
-      next_spectral = spectral->Times(weight);
-      next = next_spectral->ToRgb();
-    }
-    // Russian roulette: survive with the ratio of the new to the old power (its largest
-    // channel), and divide by it, so that surviving photons keep roughly constant power.
-    const float survive = std::min(1.0f, MaxComponent(Vec3(next.r, next.g, next.b)) /
-                                             MaxComponent(Vec3(power.r, power.g, power.b)));
-    if (!(survive > 0) || u_survive >= survive) return;
-    power = next / survive;
-    if (spectral) spectral = next_spectral->Over(survive);
-    if (!power.IsFinite()) return;
+    if (!survive_with(weight, u_survive)) return;
     if (s->specular) {
       ++specular_bounces;
     } else {
       ++diffuse_bounces;
     }
+    medium = MediumBeyond(scene, *hit, wi, s->wi, medium);
     ray = Ray{OffsetRayOrigin(hit->p, hit->n, s->wi, scene.ray_epsilon), s->wi};
+    ++bounce;
   }
 }
 
@@ -189,7 +245,7 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
                       }
                     });
   if (stored.load() > max_photons) {
-    const char* map = request.map == PhotonMapKind::kGlobal ? "global" : "caustic";
+    const char* map = PhotonMapName(request.map);
     throw BadInputError(std::string("photons.") + map + "_photons: the " + map + " map's paths " +
                         std::to_string(request.first_photon) + "+" + std::to_string(request.photon_count) +
                         " store more than the " + std::to_string(max_photons) +

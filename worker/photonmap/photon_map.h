@@ -8,14 +8,28 @@
 
 namespace farm {
 
-enum class PhotonMapKind : std::uint32_t { kGlobal = 1, kCaustic = 2 };
+enum class PhotonMapKind : std::uint32_t { kGlobal = 1, kCaustic = 2, kVolume = 3 };
+
+// Every kind, in the order a snapshot lists them (docs/photon-snapshot.md).
+inline constexpr PhotonMapKind kPhotonMapKinds[] = {PhotonMapKind::kGlobal, PhotonMapKind::kCaustic,
+                                                    PhotonMapKind::kVolume};
+inline constexpr bool IsPhotonMapKind(std::uint32_t kind) { return kind >= 1 && kind <= 3; }
+// "global", "caustic", "volume": the map's name in messages and settings.
+inline constexpr const char* PhotonMapName(PhotonMapKind kind) {
+  switch (kind) {
+    case PhotonMapKind::kGlobal: return "global";
+    case PhotonMapKind::kCaustic: return "caustic";
+    case PhotonMapKind::kVolume: return "volume";
+  }
+  return "?";
+}
 
 // A photon as the renderer sees it, decoded from its compact stored form.
 struct DecodedPhoton {
   Vec3 position;
   Rgb power;   // flux carried, already divided by the number of paths emitted
   Vec3 wi;     // unit direction towards where the photon came from
-  Vec3 normal; // unit normal of the surface it landed on
+  Vec3 normal; // unit normal of the surface it landed on (+z, unused, in the volume map)
 };
 
 struct PhotonNeighbour {

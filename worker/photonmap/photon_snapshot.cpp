@@ -70,7 +70,7 @@ class MappedFile {
 struct SnapshotData {
   std::string owned;                  // FromBytes
   std::optional<MappedFile> mapped;   // Open
-  std::optional<KdPhotonMap> maps[2]; // by kind - 1
+  std::optional<KdPhotonMap> maps[3]; // by kind - 1
 };
 
 namespace {
@@ -88,7 +88,7 @@ void ParseSnapshot(std::string_view b, SnapshotData& data) {
   }
   if (byte_io::Load<std::uint32_t>(h + 12) != kHeaderSize) Fail("header_size is not 64");
   auto map_count = byte_io::Load<std::uint32_t>(h + 16);
-  if (map_count > 2) Fail("map_count " + std::to_string(map_count) + " > 2");
+  if (map_count > 3) Fail("map_count " + std::to_string(map_count) + " > 3");
   if (byte_io::Load<std::uint32_t>(h + 20) != kDirEntrySize) Fail("directory_entry_size is not 64");
   if (auto fs = byte_io::Load<std::uint64_t>(h + 24); fs != b.size()) {
     Fail("file_size " + std::to_string(fs) + " but " + std::to_string(b.size()) + " bytes");
@@ -104,7 +104,7 @@ void ParseSnapshot(std::string_view b, SnapshotData& data) {
     auto paths = byte_io::Load<std::uint64_t>(d + 8);
     auto offset = byte_io::Load<std::uint64_t>(d + 16);
     auto scale = byte_io::Load<float>(d + 48);
-    if (kind != 1 && kind != 2) Fail(m + "unknown kind " + std::to_string(kind));
+    if (!IsPhotonMapKind(kind)) Fail(m + "unknown kind " + std::to_string(kind));
     if (kind <= previous_kind) Fail(m + "kinds must increase");
     previous_kind = kind;
     if (count > kMaxPhotons) Fail(m + "photon_count over 2^31-1");
@@ -187,7 +187,7 @@ PhotonSnapshot PhotonSnapshot::FromBytes(std::string bytes) {
 
 const PhotonMap* PhotonSnapshot::map(PhotonMapKind kind) const {
   auto k = static_cast<std::uint32_t>(kind);
-  if (!data_ || k < 1 || k > 2 || !data_->maps[k - 1]) return nullptr;
+  if (!data_ || !IsPhotonMapKind(k) || !data_->maps[k - 1]) return nullptr;
   return &*data_->maps[k - 1];
 }
 

@@ -90,10 +90,12 @@ std::vector<Neighbour> BruteForce(const PhotonMap& map, const Vec3& q, int k, fl
 TEST(PhotonSnapshotVectors, DecodedPhotonsEqualTheShardPhotons) {
   auto cases = LoadVectors();
   ASSERT_GE(cases.size(), 5u) << "no vectors under " << PHOTON_SNAPSHOT_VECTORS;
+  int volume_maps = 0;  // the vectors' three-maps and volume-only cases
   for (const VectorCase& c : cases) {
     SCOPED_TRACE(c.name);
     PhotonSnapshot snap = PhotonSnapshot::Open(c.snapshot);
-    for (PhotonMapKind kind : {PhotonMapKind::kGlobal, PhotonMapKind::kCaustic}) {
+    volume_maps += snap.map(PhotonMapKind::kVolume) != nullptr;
+    for (PhotonMapKind kind : kPhotonMapKinds) {
       std::vector<ShardRecord> input;
       std::uint64_t paths = 0;
       bool present = false;
@@ -131,6 +133,7 @@ TEST(PhotonSnapshotVectors, DecodedPhotonsEqualTheShardPhotons) {
                 Vec3(INFINITY, INFINITY, INFINITY));
     }
   }
+  EXPECT_GE(volume_maps, 2);
 }
 
 TEST(PhotonSnapshotVectors, NearestKEqualsBruteForce) {
@@ -140,7 +143,7 @@ TEST(PhotonSnapshotVectors, NearestKEqualsBruteForce) {
   for (const VectorCase& c : LoadVectors()) {
     SCOPED_TRACE(c.name);
     PhotonSnapshot snap = PhotonSnapshot::Open(c.snapshot);
-    for (PhotonMapKind kind : {PhotonMapKind::kGlobal, PhotonMapKind::kCaustic}) {
+    for (PhotonMapKind kind : kPhotonMapKinds) {
       const PhotonMap* map = snap.map(kind);
       if (!map) continue;
       for (int query = 0; query < 200; ++query) {
@@ -173,7 +176,7 @@ TEST(PhotonSnapshot, FromBytesMatchesOpen) {
     PhotonSnapshot a = PhotonSnapshot::Open(c.snapshot);
     PhotonSnapshot b = PhotonSnapshot::FromBytes(ReadFile(c.snapshot));
     PhotonSnapshot moved = std::move(b);
-    for (PhotonMapKind kind : {PhotonMapKind::kGlobal, PhotonMapKind::kCaustic}) {
+    for (PhotonMapKind kind : kPhotonMapKinds) {
       ASSERT_EQ(a.map(kind) == nullptr, moved.map(kind) == nullptr) << c.name;
       if (!a.map(kind)) continue;
       ASSERT_EQ(a.map(kind)->size(), moved.map(kind)->size());
@@ -219,7 +222,7 @@ TEST(PhotonSnapshot, RefusesMalformedSnapshots) {
       {"irradiance count without a section", put32(40, 5), "irradiance"},
       {"irradiance offset past the end", put64(32, 64 * 1000), "irradiance"},
       {"header size", put32(12, 32), "header_size"},
-      {"map count", put32(16, 3), "map_count"},
+      {"map count", put32(16, 4), "map_count"},
       {"entry size", put32(20, 32), "directory_entry_size"},
       {"file size", put64(24, good.size() + 1), "file_size"},
       {"truncated", good.substr(0, good.size() - 20), "file_size"},

@@ -16,7 +16,7 @@ bool ValidPower(float c) { return std::isfinite(c) && c >= 0; }
 
 std::string EncodeShard(PhotonMapKind kind, std::uint64_t first_photon,
                         std::uint64_t photon_count, const std::vector<ShardPhoton>& photons) {
-  if (kind != PhotonMapKind::kGlobal && kind != PhotonMapKind::kCaustic) {
+  if (!IsPhotonMapKind(static_cast<std::uint32_t>(kind))) {
     throw std::invalid_argument("EncodeShard: unknown map kind " +
                                 std::to_string(static_cast<std::uint32_t>(kind)));
   }
@@ -61,7 +61,7 @@ DecodedShard DecodeShard(std::string_view bytes) {
     throw std::runtime_error("shard: unsupported version " + std::to_string(version));
   }
   auto kind = byte_io::Load<std::uint32_t>(p + 12);
-  if (kind != 1 && kind != 2) {
+  if (!IsPhotonMapKind(kind)) {
     throw std::runtime_error("shard: unknown map kind " + std::to_string(kind));
   }
   DecodedShard shard;

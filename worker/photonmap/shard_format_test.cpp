@@ -107,7 +107,7 @@ TEST(ShardFormat, DecodeRefusesMalformedShards) {
       {"short header", good.substr(0, 39)},
       {"magic", with(0, 'X')},
       {"version", with(8, 2)},
-      {"kind", with(12, 3)},
+      {"kind", with(12, 4)},
       {"record count", with(32, 2)},
       {"truncated record", good.substr(0, good.size() - 1)},
       {"trailing byte", good + "x"},

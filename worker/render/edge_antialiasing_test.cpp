@@ -22,7 +22,7 @@ namespace {
 using namespace farm::testing;
 
 constexpr int kW = 64, kH = 48;
-constexpr int kEdgeChannel = 20;
+const int kEdgeChannel = RenderChannelIndex("edge.Y");
 
 Scene Bars(pb::AntialiasingMode mode, uint32_t edges = 12, double threshold = 0) {
   pb::Scene s = ThinBarsScene(kW, kH, mode, edges);

@@ -23,7 +23,7 @@ namespace {
 using namespace farm::testing;
 
 constexpr int kSize = 32;
-constexpr int kEdgeChannel = 20;
+const int kEdgeChannel = RenderChannelIndex("edge.Y");
 constexpr int kTexels = 256;
 constexpr int kCell = 4;  // texels a checker cell: about 2.8 pixels in the view
 // The bumps' cells tilt the normal by this much about the texture's v axis, one way and the

@@ -72,7 +72,22 @@ enum Stream : uint32_t {
   kMediumLightPoint,
   kMediumChannel,
   kMediumDistance,
+  kGatherMedium,
+  kVolumeChannel,
+  kVolumeDistance,
+  kVolumeProbe,
+  kGatherScatterPick,
 };
+
+// Volume photon estimates per camera-path segment: the estimate is smooth (k photons, the
+// probes of the ball's seen part), so the segment's light samples would mostly repeat it.
+constexpr uint32_t kVolumeEstimatesPerSegment = 2;
+// Of a shading point's gather rays in a medium, about this many gather the light scattered
+// along their first segment (every stride-th, from a random offset, weighted by the
+// stride: each ray is chosen with probability 1 / stride, so the sum stays unbiased); the
+// rest only see the medium's transmittance. Each such estimate costs a kNN search and
+// the seen-volume probes.
+constexpr uint32_t kGatherScatterSamples = 8;
 
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
 
@@ -247,6 +262,7 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
   const float scale = std::isfinite(radius_scale) && radius_scale > 0 ? float(radius_scale) : 1.0f;
   maps_.global_estimate = ForRound(maps_.global_estimate, scale);
   maps_.caustic_estimate = ForRound(maps_.caustic_estimate, scale);
+  maps_.volume_estimate = ForRound(maps_.volume_estimate, scale);
   lookup_radius_ = maps_.global_estimate.max_radius;
   // Without precomputed irradiance (a job planned before the precompute phase existed, or
   // a map too small to need one) the global map is seen directly rather than not at all.
@@ -283,15 +299,16 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   // Never let NaN or infinity through: a bad term is dropped, not the whole sample, and
   // the sample counted (the tile renderer's non-finite count: a bug to find, not hide).
   result.nonfinite = !(result.emitted.IsFinite() && result.direct.IsFinite() && result.caustic.IsFinite() &&
-                       result.indirect.IsFinite());
+                       result.indirect.IsFinite() && result.volume.IsFinite());
   result.emitted = Finite(result.emitted);
   result.direct = Finite(result.direct);
   result.caustic = Finite(result.caustic);
   result.indirect = Finite(result.indirect);
+  result.volume = Finite(result.volume);
   result.albedo = Finite(result.albedo);
   result.direct_irradiance = Finite(result.direct_irradiance);
   if (!std::isfinite(result.depth)) result.depth = 0;
-  result.radiance = result.emitted + result.direct + result.indirect + result.caustic;
+  result.radiance = result.emitted + result.direct + result.indirect + result.caustic + result.volume;
   return result;
 }
 
@@ -306,11 +323,12 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const float u_seed = ForBranch(u.seed, branch.key, 0);
   const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
   if (branch.medium) {
-    // Light scattered towards the ray on its way, then what it reaches seen through the
-    // medium (media_transport.h). Single scattering is direct light.
+    // Light scattered towards the ray on its way (the volume layer: single and multiple
+    // scattering), then what it reaches seen through the medium (media_transport.h).
     const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
-    result.direct += path.Carried(InScattered(segment, ray, SubSeed(seed, kMediumSeed)));
+    const LightSplit scattered = InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), scratch);
+    result.volume += path.Carried(scattered.direct + scattered.indirect);
     path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
@@ -377,7 +395,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     on.cone = cone;
     on.share = share;
     on.key = key;
-    on.medium = MediumBeyond(*hit, wo, wi, branch.medium);
+    on.medium = MediumBeyond(scene_, *hit, wo, wi, branch.medium);
     next.Push(on);
   };
   if (scene_.split_specular && depth < kSplitDepth) {
@@ -484,6 +502,9 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   if (count == 0) return {};
   const Frame frame = Frame::FromZ(at.ns);
   const float light_samples = float(LightSampleCount());
+  const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
+  const uint32_t scatter_offset =
+      std::min(scatter_stride - 1, uint32_t(Point1(0, 1, seed, kGatherScatterPick) * float(scatter_stride)));
   Rgb indirect, escaped;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
@@ -494,23 +515,41 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
     const Rgb kd = DiffuseReflectance(at.material, at.ns, at.wo, w);
     if (kd.IsBlack()) continue;
     const Ray ray{OffsetRayOrigin(at.hit.p, at.hit.n, w, scene_.ray_epsilon), w};
+    // In a medium: what the ray's first segment scatters towards the point (one sample,
+    // all of it indirect light here), and what lies beyond seen through it.
+    Rgb through(1);
+    if (at.medium) {
+      const std::optional<SurfaceHit> first = scene_.Intersect(ray);
+      const float t_end = first ? first->t : std::numeric_limits<float>::infinity();
+      const MediumSegment segment = SegmentIn(scene_, at.medium, ray, t_end);
+      if (i % scatter_stride == scatter_offset) {
+        const LightSplit scattered =
+            InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, scratch);
+        indirect += kd * (scattered.direct + scattered.indirect) * float(scatter_stride);
+      }
+      through = segment.TransmittanceTo(t_end);
+    }
     bool escaped_directly = false;
-    indirect += kd * GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed, scratch, escaped_directly);
+    indirect += kd * through *
+                GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed,
+                          at.medium, scratch, escaped_directly);
     if (escaped_directly && scene_.environment_light >= 0) {
       // The environment seen by a gather ray is direct light, shared with light sampling.
       const float gather = float(count) * CosineHemispherePdf(local.z);
-      escaped += kd * scene_.environment->Radiance(w) * BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
+      escaped += kd * through * scene_.environment->Radiance(w) *
+                 BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
     }
   }
   return {escaped / float(count), indirect / float(count)};
 }
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
-                                       std::vector<PhotonNeighbour>& scratch, bool& escaped) const {
+                                       const HomogeneousMedium* medium, std::vector<PhotonNeighbour>& scratch,
+                                       bool& escaped) const {
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
   if (!d) return {};
-  const Shading at(d->hit, d->wo, d->material, d->cone_width);
+  const Shading at(d->hit, d->wo, d->material, d->cone_width, medium);
   const uint32_t count = scene_.indirect.gather_rays;
   Rgb e = DirectIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint));
   const auto visible = [&](const DecodedPhoton& photon) {
@@ -562,41 +601,37 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   return {Rgb(), weight * d->throughput * (direct + caustic + indirect)};
 }
 
-const HomogeneousMedium* PhotonMappingIntegrator::MediumBeyond(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi,
-                                                              const HomogeneousMedium* current) const {
-  const std::optional<HomogeneousMedium>& interior = scene_.shapes[hit.shape].interior_medium;
-  if (!interior) return current;
-  const bool from_front = Dot(wo, hit.n) > 0, to_front = Dot(wi, hit.n) > 0;
-  if (from_front == to_front) return current;  // reflected: still on the same side
-  if (from_front) return &*interior;
-  return scene_.medium ? &*scene_.medium : nullptr;
-}
-
 Rgb PhotonMappingIntegrator::Arriving(const Shading& at, const LightSample& ls) const {
   if (!at.medium) return ls.radiance;
   return ls.radiance * TransmittanceBetween(scene_, at.medium, at.hit.p, ls.p);
 }
 
-Rgb PhotonMappingIntegrator::InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed) const {
-  const uint32_t count = LightSampleCount();
+PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const MediumSegment& segment, const Ray& ray,
+                                                                         uint32_t seed, uint32_t count,
+                                                                         std::vector<PhotonNeighbour>& scratch) const {
   if (segment.empty() || scene_.light_power.empty() || count == 0) return {};
   const ShadowTransmittance shadow = [&](const Vec3& x, const LightSample& ls) {
     if (!scene_.Visible(x, Vec3(), ls.p, ls.n)) return Rgb();
     return ls.radiance * TransmittanceBetween(scene_, segment.medium, x, ls.p);
   };
-  Rgb sum;
+  Rgb single, multiple;
   for (uint32_t j = 0; j < count; ++j) {
     const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kMediumLightPick));
     const InScatterDimensions u{Point2(j, count, seed, kMediumLightPoint), Point1(j, count, seed, kMediumChannel),
                                 Point1(j, count, seed, kMediumDistance)};
-    sum += InScatter(segment, ray, scene_.lights[pick.index], pick.pmf, u, shadow);
+    single += InScatter(segment, ray, scene_.lights[pick.index], pick.pmf, u, shadow);
   }
-  return sum / float(count);
+  const uint32_t estimates = maps_.volume ? std::min(count, kVolumeEstimatesPerSegment) : 0;
+  for (uint32_t j = 0; j < estimates; ++j)
+    multiple += VolumeInScatter(scene_, segment, ray, *maps_.volume, maps_.volume_estimate,
+                                Point1(j, estimates, seed, kVolumeChannel), Point1(j, estimates, seed, kVolumeDistance),
+                                Point2(j, estimates, seed, kVolumeProbe), scratch);
+  return {single / float(count), estimates ? multiple / float(estimates) : Rgb()};
 }
 
 std::string PhotonMappingIntegrator::ToString() const {
   return std::string("PhotonMappingIntegrator{global=") + (maps_.global ? "yes" : "no") +
-         ", caustic=" + (maps_.caustic ? "yes" : "no") +
+         ", caustic=" + (maps_.caustic ? "yes" : "no") + ", volume=" + (maps_.volume ? "yes" : "no") +
          ", indirect=" + (final_gather_ ? "final gathering" : "global map seen directly") + ", " +
          scene_.indirect.ToString() + "}";
 }

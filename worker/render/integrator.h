@@ -28,7 +28,8 @@
 //             PHOTON_MAP (or a snapshot without irradiance): the global map's radiance
 //             estimate seen directly (over the surface its disc covers, as the caustic's).
 //
-// each weighted by the throughput of the specular path, so the four add up to the beauty.
+// each weighted by the throughput of the specular path, so the four (and the volume layer
+// below) add up to the beauty.
 // Glass reflects and refracts: at a camera path's first three specular bounces (SPLIT, the
 // default of Sampling.specular) the path splits and follows both, each branch weighted by
 // its Fresnel share (the seed renderer's Whitted-style glass, so one sample per pixel shows
@@ -53,10 +54,15 @@
 //
 // Participating media (docs/media.md, media_transport.h): each branch of a camera path
 // travels in a medium (the scene's, a shape's interior one it refracted into, or none); a
-// segment in one attenuates what it reaches and adds the light single-scattered along it
-// (to direct), and the shadow rays of the points it shades are attenuated. Indirect light
-// (photons, gather rays) ignores media for now. A scene without media draws exactly the
-// numbers it drew before media existed.
+// segment in one attenuates what it reaches and adds the light scattered along it towards
+// the camera (the volume layer): once, from light samples, and more than once, read from
+// the volume photon map; the shadow rays of the points it shades are attenuated. Photons travel through media
+// too (photon_tracer.h), so the global and caustic maps hold light as media let it through.
+// A gather ray in a medium is attenuated up to its first hit, and eight of a point's gather
+// rays (chosen at random, weighted to stay unbiased) gather the light scattered along that
+// first segment likewise; past a specular bounce it sees vacuum. A segment reads the
+// volume photon map twice, whatever its light samples. A
+// scene without media draws exactly the numbers it drew before media existed.
 //
 // Light leaking at walls and corners: the remedy is that no direct light is ever read from
 // photons (it is sampled by a shadow ray at every gather hit, exact to the corner and
@@ -86,8 +92,11 @@ inline constexpr int kGatherSpecularDepth = 4;
 // Everything one camera sample contributes to its pixel; the tile renderer averages these
 // into the channels of RenderChannels().
 struct SampleResult {
-  Rgb radiance;  // beauty = emitted + direct + indirect + caustic
+  Rgb radiance;  // beauty = emitted + direct + indirect + caustic + volume
   Rgb emitted, direct, indirect, caustic;
+  // Light that media scattered towards the camera path's segments, once (from the lights)
+  // or more (from the volume photon map): the volume layer, graded apart from surfaces.
+  Rgb volume;
   // 1 if the camera ray hit geometry or sees an environment visible to the camera, 0 if
   // it escaped into black.
   float alpha = 0;
@@ -116,12 +125,14 @@ struct SampleResult {
   bool nonfinite = false;
 };
 
-// The job's photon maps (either may be null) with their estimate settings.
+// The job's photon maps (any may be null) with their estimate settings.
 struct PhotonMaps {
   const PhotonMap* global = nullptr;
   const PhotonMap* caustic = nullptr;
+  const PhotonMap* volume = nullptr;
   RadianceEstimateSettings global_estimate;
   RadianceEstimateSettings caustic_estimate;
+  RadianceEstimateSettings volume_estimate;
 };
 
 RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
@@ -193,8 +204,9 @@ class PhotonMappingIntegrator {
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
   // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, std::vector<PhotonNeighbour>& scratch,
-                bool& escaped) const;
+  // medium: the one around the shading point, which the landing point's shadow ray crosses.
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const HomogeneousMedium* medium,
+                std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
@@ -202,17 +214,14 @@ class PhotonMappingIntegrator {
   LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
                           std::vector<PhotonNeighbour>& scratch) const;
 
-  // The medium a ray leaving hit along wi (arriving along wo) travels in: crossing a shape
-  // that has an interior medium from its front to its back enters it, the other way
-  // leaves it for the scene's; otherwise `current`.
-  const HomogeneousMedium* MediumBeyond(const SurfaceHit& hit, const Vec3& wo, const Vec3& wi,
-                                        const HomogeneousMedium* current) const;
   // A light sample's light where it reaches a shading point: attenuated by the medium
   // around the point on the way.
   Rgb Arriving(const Shading& at, const LightSample& ls) const;
-  // The average of LightSampleCount() samples of the light single-scattered towards the
-  // ray's origin along the segment (media_transport.h).
-  Rgb InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed) const;
+  // The average of `count` samples of the light scattered towards the ray's
+  // origin along the segment (media_transport.h): single scattering from the lights
+  // (direct) and multiple scattering from the volume map (indirect).
+  LightSplit InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed, uint32_t count,
+                         std::vector<PhotonNeighbour>& scratch) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;

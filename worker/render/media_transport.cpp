@@ -4,6 +4,7 @@
 #include <cmath>
 #include <variant>
 
+#include "math/math.h"
 #include "media/equiangular.h"
 #include "media/henyey_greenstein.h"
 #include "scene/scene_data.h"
@@ -11,45 +12,24 @@
 namespace farm {
 namespace {
 
-// The interval of the ray's line inside a ball, or nothing if it misses.
-std::optional<std::pair<float, float>> BallInterval(const BoundingSphere& ball, const Ray& ray) {
-  const Vec3 to_center = ball.center - ray.origin;
-  const float b = Dot(to_center, ray.direction);
-  const float disc = b * b - (LengthSquared(to_center) - ball.radius * ball.radius);
-  if (!(disc >= 0)) return std::nullopt;
-  const float root = std::sqrt(disc);
-  return std::pair{b - root, b + root};
-}
-
-// Where a light sample's distance along the ray is drawn from: the point of a point or a
-// spot light, nothing for the others.
-std::optional<Vec3> PointOf(const Light& light) {
+// The point a light sample's distance along the ray is drawn towards (equiangularly): a
+// point or spot light's position, or the point of a quad or mesh light that SampleLi
+// picks with the same numbers (by area, whatever the shading point: lights.h). Drawing
+// the distance towards it cancels the 1 / d^2 of the light's geometry term, which under
+// free-flight sampling makes the points of a ray that passes close to an emitter blow up
+// (no receiver cosine tames it in a medium). Nothing for spheres, sampled by the cone they
+// subtend (bounded), and distant lights: their distance follows the free flight.
+std::optional<Vec3> PointOf(const Light& light, Vec2 u) {
   if (const auto* p = std::get_if<PointLight>(&light)) return p->position;
   if (const auto* s = std::get_if<SpotLight>(&light)) return s->position;
+  if (std::holds_alternative<QuadLight>(light) || std::holds_alternative<TriangleMeshLight>(light)) {
+    const std::optional<LightOrigin> origin = SampleLightOrigin(light, u);
+    if (origin) return origin->p;
+  }
   return std::nullopt;
 }
 
 }  // namespace
-
-Rgb MediumSegment::TransmittanceTo(float t) const {
-  if (!medium || !(t > t0)) return Rgb(1);
-  return medium->Transmittance(std::min(t, t1) - t0);
-}
-
-MediumSegment SegmentIn(const SceneData& scene, const HomogeneousMedium* medium, const Ray& ray, float t_end) {
-  if (!medium) return {};
-  if (!scene.medium || medium != &*scene.medium) return {medium, 0, t_end};
-  const std::optional<std::pair<float, float>> inside = BallInterval(scene.medium_ball, ray);
-  if (!inside) return {};
-  return {medium, std::max(0.0f, inside->first), std::min(t_end, inside->second)};
-}
-
-Rgb TransmittanceBetween(const SceneData& scene, const HomogeneousMedium* medium, const Vec3& a, const Vec3& b) {
-  if (!medium) return Rgb(1);
-  const float d = Distance(a, b);
-  if (!(d > 0)) return Rgb(1);
-  return SegmentIn(scene, medium, Ray{a, (b - a) / d}, d).TransmittanceTo(d);
-}
 
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
               const InScatterDimensions& u, const ShadowTransmittance& shadow) {
@@ -58,7 +38,7 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   if (m.sigma_s.IsBlack()) return {};
   const float length = segment.t1 - segment.t0;
   std::optional<DistanceSample> d;
-  if (const std::optional<Vec3> p = PointOf(light)) {
+  if (const std::optional<Vec3> p = PointOf(light, u.light)) {
     d = SampleEquiangular(ray.origin, ray.direction, segment.t0, segment.t1, *p, u.distance);
   } else if (std::optional<DistanceSample> s = SampleTruncatedFlight(m, length, u.channel, u.distance)) {
     d = DistanceSample{segment.t0 + s->t, s->pdf};
@@ -73,6 +53,69 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   const float pdf = pick_pmf * d->pdf * ls->pdf;
   if (!(pdf > 0) || !std::isfinite(pdf)) return {};
   return segment.TransmittanceTo(d->t) * m.sigma_s * arriving * (phase / pdf);
+}
+
+SeenBall SeenBall::Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u) {
+  SeenBall ball;
+  double sum = 0;
+  const float golden = kPi * (3 - std::sqrt(5.0f));
+  for (int i = 0; i < kVolumeProbes; ++i) {
+    const float z = 1 - 2 * (float(i) + u.y) / float(kVolumeProbes);
+    const float s = std::sqrt(std::max(0.0f, 1 - z * z));
+    const float phi = golden * float(i) + 2 * kPi * u.x;
+    ball.directions[i] = Vec3(s * std::cos(phi), s * std::sin(phi), z);
+    const std::optional<SurfaceHit> hit = scene.Intersect(Ray{x, ball.directions[i]});
+    ball.depths[i] = hit ? std::min(hit->t, r) : r;
+    const double seen = ball.depths[i] / r;
+    sum += seen * seen * seen;
+  }
+  ball.fraction = float(sum / kVolumeProbes);
+  return ball;
+}
+
+bool SeenBall::Sees(const Vec3& offset) const {
+  int nearest = 0;
+  float best = -2;
+  for (int i = 0; i < kVolumeProbes; ++i) {
+    const float c = Dot(directions[i], offset);
+    if (c > best) best = c, nearest = i;
+  }
+  return LengthSquared(offset) <= depths[nearest] * depths[nearest];
+}
+
+Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
+                    const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
+                    std::vector<PhotonNeighbour>& scratch) {
+  if (segment.empty() || volume.size() == 0) return {};
+  const HomogeneousMedium& m = *segment.medium;
+  if (m.sigma_s.IsBlack()) return {};
+  const std::optional<DistanceSample> d = SampleTruncatedFlight(m, segment.t1 - segment.t0, u_channel, u_distance);
+  if (!d || !(d->pdf > 0)) return {};
+  const float t = segment.t0 + d->t;
+  const Vec3 x = ray.At(t);
+  volume.NearestK(x, estimate.neighbours, estimate.max_radius, scratch);
+  if (scratch.empty()) return {};
+  float r2 = estimate.max_radius * estimate.max_radius;
+  std::size_t farthest = scratch.size();  // none left out
+  if (scratch.size() >= std::size_t(std::max(estimate.neighbours, 2))) {
+    farthest = 0;
+    for (std::size_t i = 1; i < scratch.size(); ++i)
+      if (scratch[i].distance_squared > scratch[farthest].distance_squared) farthest = i;
+    r2 = scratch[farthest].distance_squared;
+  }
+  if (!(r2 > 0)) return {};
+  const float r = std::sqrt(r2);
+  const SeenBall seen = SeenBall::Probe(scene, x, r, u_probe);
+  Rgb sum;
+  for (std::size_t i = 0; i < scratch.size(); ++i) {
+    if (i == farthest) continue;
+    const DecodedPhoton p = volume.photon(scratch[i].index);
+    if (seen.fraction < 1 && !seen.Sees(p.position - x)) continue;
+    sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, m.g);
+  }
+  const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
+  if (!(volume_of_sphere > 0)) return {};
+  return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
 }
 
 }  // namespace farm

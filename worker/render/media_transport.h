@@ -8,40 +8,29 @@
 //   L_ss = integral over t of T(t0, t) sigma_s p(wo, wi) L_light(x(t), wi) T_shadow dt,
 //
 // estimated by picking a light in proportion to power and a distance along the segment:
-// equiangularly towards point and spot lights (media/equiangular.h: it cancels their 1 /
-// d^2, which is what makes their halos clean), by the truncated free-flight density
-// otherwise. Shadow rays from media and from surfaces are attenuated by the transmittance
+// equiangularly towards point and spot lights and towards the point drawn on a quad or mesh
+// light (media/equiangular.h: it cancels their 1 / d^2, which is what makes halos clean and
+// keeps rays that pass close to an emitter from blowing up), by the truncated free-flight
+// density for spheres and distant lights. Shadow rays from media and from surfaces are attenuated by the transmittance
 // of the medium they cross.
 
+#include <array>
 #include <functional>
+#include <vector>
 #include <optional>
 
 #include "math/bounds.h"
 #include "math/ray.h"
 #include "math/rgb.h"
 #include "media/homogeneous_medium.h"
+#include "photonmap/photon_map.h"
+#include "photonmap/radiance_estimate.h"
+#include "scene/media_segments.h"
+#include "scene/media_segments.h"
 #include "scene/lights.h"
 
 namespace farm {
 
-struct SceneData;
-
-// The medium a ray travels in (null: vacuum) and the part [t0, t1] of the ray it fills.
-struct MediumSegment {
-  const HomogeneousMedium* medium = nullptr;
-  float t0 = 0, t1 = 0;
-
-  bool empty() const { return !medium || !(t1 > t0); }
-  // The transmittance from the ray's origin to t (0 <= t).
-  Rgb TransmittanceTo(float t) const;
-};
-
-// The part of [0, t_end] of a ray in `medium`: the scene's medium fills its ball
-// (SceneData::medium_ball), a shape's interior medium the whole segment.
-MediumSegment SegmentIn(const SceneData& scene, const HomogeneousMedium* medium, const Ray& ray, float t_end);
-
-// The transmittance of `medium` between two points (the scene's clipped to its ball).
-Rgb TransmittanceBetween(const SceneData& scene, const HomogeneousMedium* medium, const Vec3& a, const Vec3& b);
 
 // The light a light sample reaches x with, times the transmittance of the way; zero where
 // something blocks it.
@@ -50,7 +39,7 @@ using ShadowTransmittance = std::function<Rgb(const Vec3& x, const LightSample& 
 // The random numbers of one single-scattering sample.
 struct InScatterDimensions {
   Vec2 light;  // the point on the light (SampleLi)
-  float channel = 0;  // which channel's free-flight density (lights that are not points)
+  float channel = 0;  // which channel's free-flight density (spheres and distant lights)
   float distance = 0;
 };
 
@@ -58,5 +47,40 @@ struct InScatterDimensions {
 // (picked with probability pick_pmf) along the segment; ray.direction unit.
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
               const InScatterDimensions& u, const ShadowTransmittance& shadow);
+
+// One sample of the radiance scattered towards the ray's origin along the segment by light
+// that bounced or scattered before (multiple scattering), from the volume photon map
+// (Jensen and Christensen 1998): at a distance drawn from the truncated free-flight
+// density, the in-scattered radiance times sigma_s is the photons' power weighed by the
+// phase function over the volume of the sphere holding the k nearest,
+//
+//   sigma_s L_i(x, wo) = sum_p p(wo, wi_p) Phi_p / (4/3 pi r^3),
+//
+// the farthest of the k setting r and not summed (then the estimate of a uniform density
+// is unbiased, as on surfaces: radiance_estimate.h); fewer than k within max_radius: all
+// counted, r = max_radius. The sphere's volume is that part of it the point sees, and its
+// photons those in that part (probe rays: SeenBall), so no light is lost where it hangs
+// over a wall nor borrowed from beyond one. The
+// settings' filter does not apply. ray.direction unit; u_probe turns the probes.
+Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
+                    const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
+                    std::vector<PhotonNeighbour>& scratch);
+
+// The part of the ball of radius r around x that x sees (no surface between), as
+// kVolumeProbes probe rays find it: a spherical Fibonacci set of directions turned by u
+// (its azimuth and its lattice's offset), each with the distance it sees, up to r.
+// fraction is the mean of (depth / r)^3, the seen share of the ball's volume (exact for a
+// wall in the ball when the probes are many; 1 in open space); Sees tells whether a point
+// at `offset` from x lies in the seen part, by the probe nearest its direction, so that
+// the photons beyond a wall (in the bright room behind a ceiling) are not counted.
+inline constexpr int kVolumeProbes = 24;
+struct SeenBall {
+  std::array<Vec3, kVolumeProbes> directions;
+  std::array<float, kVolumeProbes> depths;
+  float fraction = 1;
+
+  static SeenBall Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u);
+  bool Sees(const Vec3& offset) const;
+};
 
 }  // namespace farm

@@ -122,6 +122,28 @@ TEST(MediaTransport, SurfaceSeenThroughFogIsAttenuatedByBeerLambert) {
   EXPECT_NEAR(px[2], 2 * std::exp(-0.3 * d), 1e-6);
 }
 
+// A wall at height h under x cuts the ball of radius r: the probes find the part above it,
+// the seen volume's share is the sphere's cap above the plane (within the probes' error),
+// and points beyond the wall are not seen while points above it are.
+TEST(MediaTransport, SeenBallStopsAtAWall) {
+  namespace pb = renderfarm::v1;
+  pb::Scene s = testing::MakeScene(1, 1, {0, 5, 0}, {0, 0, 0}, {0, 0, 1}, 40, 1, 1);
+  testing::AddLambert(s, "floor", Rgb(0.5f));
+  testing::AddQuad(s, "floor", {-50, 0, 50}, {100, 0, 0}, {0, 0, -100});
+  testing::AddPointLight(s, {0, 3, 0}, Rgb(1));  // a scene needs a light
+  const Scene scene = Scene::Build(s, testing::NoBlobs());
+  const float r = 1, h = 0.5f;
+  const Vec3 x(0, h, 0);
+  const SeenBall ball = SeenBall::Probe(scene.data(), x, r, {0.3f, 0.6f});
+  // The ball less the cap below the plane: 1 - (r - h)^2 (2 r + h) / (4 r^3).
+  const double cut = double(r - h) * (r - h) * (2 * r + h) / (4.0 * r * r * r);
+  EXPECT_NEAR(ball.fraction, 1 - cut, 0.05);
+  EXPECT_TRUE(ball.Sees({0.3f, 0.2f, 0.1f}));
+  EXPECT_TRUE(ball.Sees({0, -0.4f, 0}));
+  EXPECT_FALSE(ball.Sees({0, -0.7f, 0}));
+  EXPECT_FALSE(ball.Sees({0.2f, -0.8f, -0.1f}));
+}
+
 // A room in fog with a point light and a murky glass ball (no photon maps: direct light
 // and media only): tiles stitch into the whole
 // image's bytes (every random number from the sample's own dimensions), every value is

@@ -22,7 +22,7 @@ inline PhotonMaps MapsOf(const SceneData& data, const PhotonMap* global) {
 }
 
 // The mean of `samples` camera samples of each pixel of a pixels x pixels block at the image
-// centre (radiance, direct, indirect and alpha).
+// centre (radiance, emitted, direct, indirect, caustic, volume and alpha).
 inline SampleResult MeanOverCentre(const SceneData& data, const PhotonMappingIntegrator& integrator, int pixels,
                                    uint32_t samples) {
   PixelSampler sampler(samples, data.seed);
@@ -36,14 +36,16 @@ inline SampleResult MeanOverCentre(const SceneData& data, const PhotonMappingInt
         const Vec2 u = sampler.Get2D();
         const SampleResult r = integrator.Li(data.camera.GenerateRay({x + u.x, y + u.y}), sampler, scratch);
         mean.radiance += r.radiance;
+        mean.emitted += r.emitted;
         mean.direct += r.direct;
         mean.indirect += r.indirect;
+        mean.caustic += r.caustic;
+        mean.volume += r.volume;
         mean.alpha += r.alpha;
         ++n;
       }
-  mean.radiance = mean.radiance / float(n);
-  mean.direct = mean.direct / float(n);
-  mean.indirect = mean.indirect / float(n);
+  for (Rgb* term : {&mean.radiance, &mean.emitted, &mean.direct, &mean.indirect, &mean.caustic, &mean.volume})
+    *term = *term / float(n);
   mean.alpha /= float(n);
   return mean;
 }

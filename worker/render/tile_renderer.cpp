@@ -62,13 +62,14 @@ enum Channel : int {
   kDirect = 4,
   kIndirect = 7,
   kCaustic = 10,
-  kAlbedo = 13,
-  kNormal = 16,
-  kDepth = 19,
-  kEdge = 20,
-  kSamples = 21,
-  kSummed = 20,  // channels summed over samples: all but the edge mask and the count
-  kChannelCount = 22,
+  kVolume = 13,
+  kAlbedo = 16,
+  kNormal = 19,
+  kDepth = 22,
+  kEdge = 23,
+  kSamples = 24,
+  kSummed = 23,  // channels summed over samples: all but the edge mask and the count
+  kChannelCount = 25,
   kHits = kSummed,  // in Sums after the channels: samples that hit geometry
 };
 
@@ -79,9 +80,11 @@ PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
   if (photons) {
     maps.global = photons->map(PhotonMapKind::kGlobal);
     maps.caustic = photons->map(PhotonMapKind::kCaustic);
+    maps.volume = photons->map(PhotonMapKind::kVolume);
   }
   maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
   maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);
+  maps.volume_estimate = ToRadianceEstimate(data.photons.volume_estimate);
   return maps;
 }
 
@@ -98,6 +101,7 @@ void AddLight(const SampleResult& r, double* sum) {
   Add(sum, kDirect, r.direct);
   Add(sum, kIndirect, r.indirect);
   Add(sum, kCaustic, r.caustic);
+  Add(sum, kVolume, r.volume);
   Add(sum, kAlbedo, r.albedo);
 }
 static_assert(kNormal == FilterSplats::kChannels, "the filtered channels are the light channels");
@@ -265,10 +269,18 @@ void CheckArguments(const SceneData& data, const PixelRect& rect, const RoundSet
 }  // namespace
 
 std::vector<std::string> RenderChannels() {
-  return {"R",          "G",          "B",          "A",          "direct.R",  "direct.G",
+  return {"R",          "G",          "B",         "A",          "direct.R",  "direct.G",
           "direct.B",   "indirect.R", "indirect.G", "indirect.B", "caustic.R", "caustic.G",
-          "caustic.B",  "albedo.R",   "albedo.G",   "albedo.B",   "normal.X",  "normal.Y",
-          "normal.Z",   "depth.Z",    "edge.Y",     kSamplesChannel};
+          "caustic.B",  "volume.R",   "volume.G",   "volume.B",   "albedo.R",  "albedo.G",
+          "albedo.B",   "normal.X",   "normal.Y",   "normal.Z",   "depth.Z",   "edge.Y",
+          kSamplesChannel};
+}
+
+int RenderChannelIndex(std::string_view name) {
+  const std::vector<std::string> channels = RenderChannels();
+  const auto at = std::find(channels.begin(), channels.end(), name);
+  if (at == channels.end()) throw std::out_of_range("RenderTile renders no channel " + std::string(name));
+  return int(at - channels.begin());
 }
 
 std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples) {

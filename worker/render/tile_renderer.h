@@ -4,6 +4,7 @@
 #include <span>
 #include <stop_token>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "image/image.h"
@@ -14,10 +15,15 @@
 namespace farm {
 
 // The channels RenderTile produces: the beauty (R, G, B, A), then the AOV layers
-// direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, albedo.{R,G,B}, normal.{X,Y,Z},
+// direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, volume.{R,G,B} (light scattered by
+// media towards the camera; 0 without media), albedo.{R,G,B}, normal.{X,Y,Z},
 // depth.Z, edge.Y (1 on pixels edge anti-aliasing supersampled) and samples.Y (the camera
 // samples the pixel drew), so that passes can be recombined after the render.
 std::vector<std::string> RenderChannels();
+
+// The index of channel `name` ("normal.X") in RenderChannels(); throws std::out_of_range
+// for a name it does not have.
+int RenderChannelIndex(std::string_view name);
 
 // What changes from one progressive round to the next.
 struct RoundSettings {

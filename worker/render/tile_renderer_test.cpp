@@ -17,6 +17,13 @@ namespace {
 
 using namespace farm::testing;
 
+// Where the layers sit among RenderChannels().
+const int kDirect = RenderChannelIndex("direct.R"), kIndirect = RenderChannelIndex("indirect.R"),
+          kCaustic = RenderChannelIndex("caustic.R"), kVolume = RenderChannelIndex("volume.R"),
+          kAlbedo = RenderChannelIndex("albedo.R"), kNormal = RenderChannelIndex("normal.X"),
+          kDepth = RenderChannelIndex("depth.Z"), kEdge = RenderChannelIndex("edge.Y"),
+          kSamples = RenderChannelIndex("samples.Y");
+
 // A small Cornell-like box: floor, back wall, a red and a green wall, a Lambert sphere, an
 // OBJ block and a quad light under the ceiling, seen from the front.
 pb::Scene BoxScene(uint64_t seed, int width = 24, int height = 16) {
@@ -132,7 +139,7 @@ TEST(RenderTile, FiltersWeighTheLightLayersAndKeepTheGeometryLayers) {
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 24; ++x) {
       differing_beauty += box.pixel(x, y)[0] != gaussian.pixel(x, y)[0];
-      for (int c = 16; c < 21; ++c) ASSERT_EQ(box.pixel(x, y)[c], gaussian.pixel(x, y)[c]) << x << ", " << y << " c " << c;
+      for (int c = kNormal; c < kSamples; ++c) ASSERT_EQ(box.pixel(x, y)[c], gaussian.pixel(x, y)[c]) << x << ", " << y << " c " << c;
     }
   EXPECT_GT(differing_beauty, 24 * 16 / 2);
 }
@@ -161,9 +168,9 @@ TEST(RenderTile, OrdinaryPixelsTakeOneSampleByDefault) {
       const float* p = image.pixel(x, y);
       ASSERT_TRUE(p[3] == 0.0f || p[3] == 1.0f) << x << ", " << y;
       if (p[3] == 1.0f) {
-        EXPECT_NEAR(Length(Vec3(p[16], p[17], p[18])), 1.0f, 1e-5f);
+        EXPECT_NEAR(Length(Vec3(p[kNormal], p[kNormal + 1], p[kNormal + 2])), 1.0f, 1e-5f);
       }
-      EXPECT_EQ(p[20], 0.0f);
+      EXPECT_EQ(p[kEdge], 0.0f);
     }
 }
 
@@ -183,7 +190,7 @@ TEST(RenderTile, ImageIsFiniteLitAndCovered) {
   const std::size_t channels = RenderChannels().size();
   for (std::size_t i = 0; i < data.size(); ++i) {
     ASSERT_TRUE(std::isfinite(data[i]));
-    const bool normal = i % channels >= 16 && i % channels < 19;  // normals may point any way
+    const bool normal = int(i % channels) >= kNormal && int(i % channels) < kNormal + 3;  // normals may point any way
     if (!normal) {
       ASSERT_GE(data[i], 0);
     }
@@ -192,7 +199,7 @@ TEST(RenderTile, ImageIsFiniteLitAndCovered) {
   EXPECT_GT(sum, 0);
   // The box fills the view's centre, where the back wall faces the camera.
   EXPECT_EQ(image.pixel(12, 8)[3], 1.0f);
-  EXPECT_NEAR(image.pixel(12, 8)[18], -1.0f, 1e-3);
+  EXPECT_NEAR(image.pixel(12, 8)[kNormal + 2], -1.0f, 1e-3);
 }
 
 TEST(RenderTile, RedWallAtLargeXIsOnTheLeft) {
@@ -208,31 +215,33 @@ TEST(RenderTile, PassesAddUpToTheBeautyAndGeometryLayersAreFilled) {
   const Image image = RenderTile(BuildBox(3), nullptr, {0, 0, 24, 16});
   const std::vector<std::string> channels = RenderChannels();
   ASSERT_EQ(image.channels(), channels);
-  ASSERT_EQ(channels.size(), 22u);
-  EXPECT_EQ(channels[19], "depth.Z");
-  EXPECT_EQ(channels[20], "edge.Y");
-  EXPECT_EQ(channels[21], "samples.Y");
+  ASSERT_EQ(channels.size(), 25u);
+  EXPECT_EQ(channels[kDepth], "depth.Z");
+  EXPECT_EQ(channels[kEdge], "edge.Y");
+  EXPECT_EQ(channels[kSamples], "samples.Y");
+  EXPECT_EQ(channels[kVolume], "volume.R");
   int edges = 0;
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 24; ++x) {
       const float* p = image.pixel(x, y);
-      // No photon maps: no indirect or caustic light; emitted light (the lamp) is the
-      // difference between beauty and direct.
+      // No photon maps and no media: no indirect, caustic or volume light; emitted light
+      // (the lamp) is the difference between beauty and direct.
       for (int c = 0; c < 3; ++c) {
-        EXPECT_EQ(p[7 + c], 0.0f);
-        EXPECT_EQ(p[10 + c], 0.0f);
-        EXPECT_LE(p[4 + c], p[c] * (1 + 1e-5f) + 1e-6f);
+        EXPECT_EQ(p[kIndirect + c], 0.0f);
+        EXPECT_EQ(p[kCaustic + c], 0.0f);
+        EXPECT_EQ(p[kVolume + c], 0.0f);
+        EXPECT_LE(p[kDirect + c], p[c] * (1 + 1e-5f) + 1e-6f);
       }
       if (p[3] == 1) {
-        const Vec3 n(p[16], p[17], p[18]);
+        const Vec3 n(p[kNormal], p[kNormal + 1], p[kNormal + 2]);
         // Averaged over the pixel: unit inside a face, shorter where faces meet.
         EXPECT_LE(Length(n), 1 + 1e-5f) << x << ", " << y;
         EXPECT_GT(Length(n), 0.0f) << x << ", " << y;
-        EXPECT_GT(p[19], 700);  // the box is at least 800 away, walls at an angle nearer
-        EXPECT_GT(p[13], 0);    // albedo of white, red or green walls
+        EXPECT_GT(p[kDepth], 700);  // the box is at least 800 away, walls at an angle nearer
+        EXPECT_GT(p[kAlbedo], 0);  // albedo of white, red or green walls
       }
-      EXPECT_TRUE(p[20] == 0.0f || p[20] == 1.0f);
-      edges += p[20] == 1.0f;
+      EXPECT_TRUE(p[kEdge] == 0.0f || p[kEdge] == 1.0f);
+      edges += p[kEdge] == 1.0f;
     }
   // The sphere, the block and the wall corners make edges; at this size, and with the soft
   // shadows' noise at 4 samples, so does much of the view, but not all of it.
@@ -277,7 +286,7 @@ TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSa
   const Image image = RenderTile(scene, nullptr, tile, {}, {}, Progress(counter));
   std::uint64_t edges = 0;
   for (int y = tile.y; y < tile.y_end(); ++y)
-    for (int x = tile.x; x < tile.x_end(); ++x) edges += image.pixel(x, y)[20] == 1.0f;
+    for (int x = tile.x; x < tile.x_end(); ++x) edges += image.pixel(x, y)[kEdge] == 1.0f;
   EXPECT_GT(edges, 0u);
   EXPECT_EQ(counter.load(), 10u * 10u * 4u + edges * (12u - 4u));
 }
@@ -297,7 +306,7 @@ TEST(RenderTile, CountsEverySampleAndTheZeroOnes) {
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 48; ++x) {
       const float* p = image.pixel(x, y);
-      const bool albedo = p[13] > 0 || p[14] > 0 || p[15] > 0;
+      const bool albedo = p[kAlbedo] > 0 || p[kAlbedo + 1] > 0 || p[kAlbedo + 2] > 0;
       black += p[3] == 1 && albedo && p[0] == 0 && p[1] == 0 && p[2] == 0;
     }
   EXPECT_EQ(counts.samples, 48u * 32u);

@@ -71,6 +71,28 @@ TEST(Lights, MeshLightIrradianceMatchesTheFormFactor) {
   EXPECT_NEAR(std::get<TriangleMeshLight>(light).area, 6 + 0.5e-4, 1e-4);
 }
 
+// Single scattering draws its distance towards the point SampleLightOrigin picks on a quad
+// or mesh light, then asks SampleLi for the same point (render/media_transport.cpp): by
+// area, the point must not depend on where it is seen from.
+TEST(Lights, AreaLightsSampleThePointOfTheirOriginWhereverTheShadingPoint) {
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->positions = {{-1, -1, 2}, {1, -1, 2}, {0, 1, 2.5f}};
+  mesh->indices = {0, 2, 1};
+  const std::vector<Light> lights = {QuadLight{QuadShape::Make({-1, -1, 2}, {0, 2, 0}, {2, 0, 0}), Rgb(1)},
+                                     TriangleMeshLight::Make(mesh, Rgb(1))};
+  for (const Light& light : lights)
+    for (int i = 0; i < 64; ++i) {
+      const Vec2 u{SobolSample(i, 0, 5), SobolSample(i, 1, 6)};
+      const std::optional<LightOrigin> origin = SampleLightOrigin(light, u);
+      ASSERT_TRUE(origin);
+      for (const Vec3& ref : {Vec3(0, 0, 0), Vec3(3, -2, 0.5f), Vec3(0.1f, 0.2f, 1.9f)}) {
+        const std::optional<LightSample> s = SampleLi(light, ref, u);
+        ASSERT_TRUE(s) << ToString(light);
+        EXPECT_EQ(s->p, origin->p) << ToString(light);
+      }
+    }
+}
+
 TEST(Lights, EmitOnlyFromTheFront) {
   const Light up_facing = QuadLight{QuadShape::Make({-1, -1, 1}, {2, 0, 0}, {0, 2, 0}), Rgb(1)};
   EXPECT_FALSE(SampleLi(up_facing, {0, 0, 0}, {0.5f, 0.5f}));

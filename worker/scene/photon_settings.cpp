@@ -19,6 +19,7 @@ struct MapDefaults {
 };
 constexpr MapDefaults kGlobalMap{100, 20, EstimateFilter::kBox};
 constexpr MapDefaults kCausticMap{50, 100, EstimateFilter::kCone};
+constexpr MapDefaults kVolumeMap{50, 20, EstimateFilter::kBox};
 
 EstimateSettings EstimateFromProto(const pb::RadianceEstimate& e, const MapDefaults& map,
                                    float diagonal) {
@@ -52,11 +53,15 @@ PhotonSettings PhotonSettings::FromProto(const pb::PhotonMapping& p, float scene
   PhotonSettings s;
   s.global_photons = OrDefault<pb::PhotonMapping>(p.global_photons(), "global_photons");
   s.caustic_photons = OrDefault<pb::PhotonMapping>(p.caustic_photons(), "caustic_photons");
+  s.volume_photons = OrDefault<pb::PhotonMapping>(p.volume_photons(), "volume_photons");
   s.photons_per_shard = OrDefault<pb::PhotonMapping>(p.photons_per_shard(), "photons_per_shard");
   // A scene without geometry has no diagonal; any positive radius will do there.
   const float diagonal = scene_diagonal > 0 ? scene_diagonal : 1.0f;
   s.global_estimate = EstimateFromProto(p.global_estimate(), kGlobalMap, diagonal);
   s.caustic_estimate = EstimateFromProto(p.caustic_estimate(), kCausticMap, diagonal);
+  // Counting every photon in the sphere alike: the volume estimate has no filter.
+  s.volume_estimate = EstimateFromProto(p.volume_estimate(), kVolumeMap, diagonal);
+  s.volume_estimate.filter = EstimateFilter::kBox;
   return s;
 }
 
@@ -67,10 +72,10 @@ std::string EstimateSettings::ToString() const {
 
 std::string PhotonSettings::ToString() const {
   return "PhotonSettings{global=" + std::to_string(global_photons) +
-         ", caustic=" + std::to_string(caustic_photons) +
+         ", caustic=" + std::to_string(caustic_photons) + ", volume=" + std::to_string(volume_photons) +
          ", per_shard=" + std::to_string(photons_per_shard) +
          ", global_estimate=" + global_estimate.ToString() +
-         ", caustic_estimate=" + caustic_estimate.ToString() + "}";
+         ", caustic_estimate=" + caustic_estimate.ToString() + ", volume_estimate=" + volume_estimate.ToString() + "}";
 }
 
 }  // namespace farm

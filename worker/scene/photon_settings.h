@@ -28,9 +28,11 @@ struct EstimateSettings {
 struct PhotonSettings {
   uint64_t global_photons = 0;
   uint64_t caustic_photons = 0;
+  uint64_t volume_photons = 0;
   uint64_t photons_per_shard = 0;
   EstimateSettings global_estimate;
   EstimateSettings caustic_estimate;
+  EstimateSettings volume_estimate;  // its filter is always box (scene.proto)
 
   // Reads `photons`, which has passed contract::CheckRules. The default search radii are
   // fractions of the scene's bounding box diagonal.

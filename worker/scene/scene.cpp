@@ -370,7 +370,10 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     ShapeRecord record;
     record.label = ShapeLabel(i, shape);
     if (!shape.has_instance()) record.material = material_index.at(shape.material());
-    if (shape.has_interior_medium()) record.interior_medium = MediumFromProto(shape.interior_medium());
+    if (shape.has_interior_medium()) {
+      record.interior_medium = MediumFromProto(shape.interior_medium());
+      d.has_media = true;
+    }
     try {
       record.geometry = GeometryFromProto(shape, field, sources);
     } catch (const SceneError& e) {
@@ -398,6 +401,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     d.medium = MediumFromProto(description.medium());
     const DistantDisc disc = DistantDisc::Around(scene_sphere);
     d.medium_ball = {disc.center, disc.radius};
+    d.has_media = true;
   }
   d.environment = EnvironmentFromProto(description, load_blob);
   d.environment_visible = d.environment && !description.environment().hidden_from_camera();

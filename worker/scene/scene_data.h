@@ -128,6 +128,9 @@ struct SceneData {
   // distant lights' disc's sphere) outside the shapes' interior media; none: vacuum.
   std::optional<HomogeneousMedium> medium;
   BoundingSphere medium_ball;
+  // Whether the scene or any shape holds a medium: photon paths draw their media's random
+  // numbers only then, so a scene without media traces what it traced before they existed.
+  bool has_media = false;
   // Spheres around the specular shapes (mirror, glass, metal): caustic photons are aimed
   // at them. Empty: the scene needs no caustic map. The surface each bounds, by index: a
   // shape, and for an instance the part (a caustic path counts only for the target whose

@@ -257,7 +257,7 @@ void CheckLightShapes(const pb::Scene& s) {
   }
 }
 
-// Both photon counts, whether or not the scene gets that map: a rule about the settings
+// Every map's photon count, whether or not the scene gets that map: a rule about the settings
 // alone, which the coordinator checks the same way without planning.
 void CheckShards(const pb::PhotonMapping& photons) {
   using contract::OrDefault;
@@ -269,6 +269,7 @@ void CheckShards(const pb::PhotonMapping& photons) {
   } maps[] = {
       {"global", OrDefault<pb::PhotonMapping>(photons.global_photons(), "global_photons")},
       {"caustic", OrDefault<pb::PhotonMapping>(photons.caustic_photons(), "caustic_photons")},
+      {"volume", OrDefault<pb::PhotonMapping>(photons.volume_photons(), "volume_photons")},
   };
   for (const auto& m : maps)
     if (CeilDiv(m.paths, per) > limit)

@@ -56,7 +56,7 @@ def test_submit_watch_fetch_gives_the_indirect_layer_as_an_array_of_the_film(cli
     assert indirect.mean() > 0, "the floor is lit by light bounced off the balls"
     # The renderer writes the beauty as the sum of the light layers: layers read into the
     # wrong names, transposed or in the wrong component order would break it.
-    light = image.layers["direct"] + indirect + image.layers["caustic"]
+    light = image.layers["direct"] + indirect + image.layers["caustic"] + image.layers["volume"]
     np.testing.assert_allclose(image.layers["beauty"][..., :3], light, rtol=1e-5, atol=1e-6)
     assert image.layers["depth"].shape == (film["height"], film["width"])
 

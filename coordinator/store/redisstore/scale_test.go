@@ -130,7 +130,7 @@ func TestOpeningAStageAndCancellingDoNotTouchEveryTask(t *testing.T) {
 }
 
 // TestLargestRoundNeverBlocksRedis creates a job of the largest round validation allows
-// (95,539 tasks), appends a second round of that size to another job with CompleteRound,
+// (105,539 tasks), appends a second round of that size to another job with CompleteRound,
 // leases from both, cancels them and purges them: each is done in scripts of about a
 // millisecond, so that Redis never stops serving other clients for long. Every command the
 // store sends is timed by the CPU Redis spent on it (redistest.CPUMeter), which must stay

@@ -759,7 +759,7 @@ return ok(changed, 0, jid, nil)
 // for deletion (doomed: no read sees the job from then on, its request id is forgotten)
 // up to 16 jobs that ended before ARGV[3] and 16 half-made jobs not grown since ARGV[4],
 // then deletes the records of the doomed jobs, a batch of task records at a time, from
-// their last task down, at most budget keys in all: a job of 95,539 tasks takes many
+// their last task down, at most budget keys in all: a job of 105,539 tasks takes many
 // calls, each about a millisecond. It answers {1 if work is left, the ids of the jobs
 // finished}.
 var purgeScript = newScript(`

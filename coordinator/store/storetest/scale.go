@@ -155,8 +155,8 @@ func UrgentJob(t testing.TB, s store.Store, tiles, workers int, taskTime time.Du
 }
 
 // LargestRound is round r of the largest plan scene validation allows (docs/limits.md,
-// "Planning"): per map max_shards_per_map emission shards for the global and the caustic
-// map, a build, max_shards_per_map precompute tasks, a merge, max_tiles_per_round tiles
+// "Planning"): per map max_shards_per_map emission shards for the global, the caustic and
+// the volume map, a build, max_shards_per_map precompute tasks, a merge, max_tiles_per_round tiles
 // and a composite, indexed from 0.
 func LargestRound(r uint32) []*pb.Task {
 	shards, tiles := int(rules.Scene.GetMaxShardsPerMap()), int(rules.Scene.GetMaxTilesPerRound())
@@ -169,11 +169,9 @@ func LargestRound(r uint32) []*pb.Task {
 			ts = append(ts, task)
 		}
 	}
-	add(2*shards, func(i int) *pb.Task {
-		kind := pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL
-		if i >= shards {
-			kind = pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC
-		}
+	maps := []pb.PhotonMapKind{pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL, pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME}
+	add(len(maps)*shards, func(i int) *pb.Task {
+		kind := maps[i/shards]
 		return &pb.Task{Spec: &pb.Task_EmitPhotons{EmitPhotons: &pb.EmitPhotonsSpec{Map: kind, FirstPhoton: uint64(1000 * (i % shards)),
 			PhotonCount: 1000, TotalPhotons: uint64(1000 * shards)}}}
 	})

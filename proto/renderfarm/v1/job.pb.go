@@ -225,6 +225,8 @@ const (
 	PhotonMapKind_PHOTON_MAP_KIND_GLOBAL PhotonMapKind = 1
 	// Photons that reached a diffuse surface through specular bounces only.
 	PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC PhotonMapKind = 2
+	// Photons scattered in a participating medium after at least one bounce or scattering.
+	PhotonMapKind_PHOTON_MAP_KIND_VOLUME PhotonMapKind = 3
 )
 
 // Enum value maps for PhotonMapKind.
@@ -233,11 +235,13 @@ var (
 		0: "PHOTON_MAP_KIND_UNSPECIFIED",
 		1: "PHOTON_MAP_KIND_GLOBAL",
 		2: "PHOTON_MAP_KIND_CAUSTIC",
+		3: "PHOTON_MAP_KIND_VOLUME",
 	}
 	PhotonMapKind_value = map[string]int32{
 		"PHOTON_MAP_KIND_UNSPECIFIED": 0,
 		"PHOTON_MAP_KIND_GLOBAL":      1,
 		"PHOTON_MAP_KIND_CAUSTIC":     2,
+		"PHOTON_MAP_KIND_VOLUME":      3,
 	}
 )
 
@@ -764,7 +768,7 @@ type RoundReport struct {
 	ErrorEstimate *float64 `protobuf:"fixed64,5,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the scene's reference image, if it names one.
 	ReferenceRmse *float64 `protobuf:"fixed64,6,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
-	// The RMSE of each light layer ("direct", "indirect", "caustic") against the reference's,
+	// The RMSE of each light layer ("direct", "indirect", "caustic", "volume") against the reference's,
 	// when both have it: the beauty's error can be dominated by one term (a bright emitter's
 	// edges) and hide how far another has converged.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,7,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
@@ -3591,11 +3595,12 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x11TASK_STATE_LEASED\x10\x03\x12\x18\n" +
 	"\x14TASK_STATE_SUCCEEDED\x10\x04\x12\x15\n" +
 	"\x11TASK_STATE_FAILED\x10\x05\x12\x18\n" +
-	"\x14TASK_STATE_CANCELLED\x10\x06*i\n" +
+	"\x14TASK_STATE_CANCELLED\x10\x06*\x85\x01\n" +
 	"\rPhotonMapKind\x12\x1f\n" +
 	"\x1bPHOTON_MAP_KIND_UNSPECIFIED\x10\x00\x12\x1a\n" +
 	"\x16PHOTON_MAP_KIND_GLOBAL\x10\x01\x12\x1b\n" +
-	"\x17PHOTON_MAP_KIND_CAUSTIC\x10\x02*p\n" +
+	"\x17PHOTON_MAP_KIND_CAUSTIC\x10\x02\x12\x1a\n" +
+	"\x16PHOTON_MAP_KIND_VOLUME\x10\x03*p\n" +
 	"\vWorkerState\x12\x1c\n" +
 	"\x18WORKER_STATE_UNSPECIFIED\x10\x00\x12\x15\n" +
 	"\x11WORKER_STATE_IDLE\x10\x01\x12\x15\n" +

@@ -2726,8 +2726,16 @@ type PhotonMapping struct {
 	PhotonsPerShard uint64            `protobuf:"varint,3,opt,name=photons_per_shard,json=photonsPerShard,proto3" json:"photons_per_shard,omitempty"`
 	GlobalEstimate  *RadianceEstimate `protobuf:"bytes,4,opt,name=global_estimate,json=globalEstimate,proto3" json:"global_estimate,omitempty"`
 	CausticEstimate *RadianceEstimate `protobuf:"bytes,5,opt,name=caustic_estimate,json=causticEstimate,proto3" json:"caustic_estimate,omitempty"`
-	unknownFields   protoimpl.UnknownFields
-	sizeCache       protoimpl.SizeCache
+	// Photon paths for the volume map (multiple scattering in participating media,
+	// docs/media.md): a path stores a photon wherever it scatters in a medium after its
+	// first bounce or scattering. Scenes without a scattering medium get no volume map.
+	VolumePhotons uint64 `protobuf:"varint,6,opt,name=volume_photons,json=volumePhotons,proto3" json:"volume_photons,omitempty"`
+	// The volume estimate counts every photon in its sphere alike: its filter and cone_k
+	// do not apply. neighbours 0 selects 50, max_radius 0 selects 1/20 of the scene's
+	// bounding box diagonal.
+	VolumeEstimate *RadianceEstimate `protobuf:"bytes,7,opt,name=volume_estimate,json=volumeEstimate,proto3" json:"volume_estimate,omitempty"`
+	unknownFields  protoimpl.UnknownFields
+	sizeCache      protoimpl.SizeCache
 }
 
 func (x *PhotonMapping) Reset() {
@@ -2791,6 +2799,20 @@ func (x *PhotonMapping) GetGlobalEstimate() *RadianceEstimate {
 func (x *PhotonMapping) GetCausticEstimate() *RadianceEstimate {
 	if x != nil {
 		return x.CausticEstimate
+	}
+	return nil
+}
+
+func (x *PhotonMapping) GetVolumePhotons() uint64 {
+	if x != nil {
+		return x.VolumePhotons
+	}
+	return 0
+}
+
+func (x *PhotonMapping) GetVolumeEstimate() *RadianceEstimate {
+	if x != nil {
+		return x.VolumeEstimate
 	}
 	return nil
 }
@@ -3634,13 +3656,15 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x12hidden_from_camera\x18\x04 \x01(\bR\x10hiddenFromCamera\"z\n" +
 	"\x06Output\x12=\n" +
 	"\x0eexposure_stops\x18\x01 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x004\xc0\x19\x00\x00\x00\x00\x00\x004@R\rexposureStops\x121\n" +
-	"\btone_map\x18\x02 \x01(\x0e2\x16.renderfarm.v1.ToneMapR\atoneMap\"\xab\x04\n" +
+	"\btone_map\x18\x02 \x01(\x0e2\x16.renderfarm.v1.ToneMapR\atoneMap\"\xc8\x05\n" +
 	"\rPhotonMapping\x12=\n" +
 	"\x0eglobal_photons\x18\x01 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\rglobalPhotons\x12?\n" +
-	"\x0fcaustic_photons\x18\x02 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\x0ecausticPhotons\x12\x83\x02\n" +
-	"\x11photons_per_shard\x18\x03 \x01(\x04B\xd6\x01\x8a\xb5\x18\xd1\x01\t\x00\x00\x00\x00\x00@\x8f@\x19\x00\x00\x00\x00\xd0\x12cA)\x00\x00\x00\x00\x00j\xf8@Z\xb3\x01ceil(photons / photons_per_shard) emission shards per round for global_photons and for caustic_photons (whether or not the scene gets that map), at most Scene's max_shards_per_mapR\x0fphotonsPerShard\x12H\n" +
+	"\x0fcaustic_photons\x18\x02 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\x0ecausticPhotons\x12\x97\x02\n" +
+	"\x11photons_per_shard\x18\x03 \x01(\x04B\xea\x01\x8a\xb5\x18\xe5\x01\t\x00\x00\x00\x00\x00@\x8f@\x19\x00\x00\x00\x00\xd0\x12cA)\x00\x00\x00\x00\x00j\xf8@Z\xc7\x01ceil(photons / photons_per_shard) emission shards per round for each of global_photons, caustic_photons and volume_photons (whether or not the scene gets that map), at most Scene's max_shards_per_mapR\x0fphotonsPerShard\x12H\n" +
 	"\x0fglobal_estimate\x18\x04 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0eglobalEstimate\x12J\n" +
-	"\x10caustic_estimate\x18\x05 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0fcausticEstimate\"\xd6\x01\n" +
+	"\x10caustic_estimate\x18\x05 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0fcausticEstimate\x12=\n" +
+	"\x0evolume_photons\x18\x06 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\rvolumePhotons\x12H\n" +
+	"\x0fvolume_estimate\x18\a \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0evolumeEstimate\"\xd6\x01\n" +
 	"\x10RadianceEstimate\x12-\n" +
 	"\n" +
 	"neighbours\x18\x01 \x01(\rB\r\x8a\xb5\x18\t\x19\x00\x00\x00\x00\x00\x88\xc3@R\n" +
@@ -3868,29 +3892,30 @@ var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	7,  // 66: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
 	38, // 67: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
 	38, // 68: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
-	8,  // 69: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	43, // 70: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	44, // 71: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	45, // 72: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	46, // 73: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	52, // 74: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
-	40, // 75: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
-	41, // 76: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
-	42, // 77: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
-	50, // 78: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
-	50, // 79: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
-	50, // 80: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
-	49, // 81: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	49, // 82: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	49, // 83: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	49, // 84: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	49, // 85: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	53, // 86: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	87, // [87:87] is the sub-list for method output_type
-	87, // [87:87] is the sub-list for method input_type
-	87, // [87:87] is the sub-list for extension type_name
-	87, // [87:87] is the sub-list for extension extendee
-	0,  // [0:87] is the sub-list for field type_name
+	38, // 69: renderfarm.v1.PhotonMapping.volume_estimate:type_name -> renderfarm.v1.RadianceEstimate
+	8,  // 70: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
+	43, // 71: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	44, // 72: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	45, // 73: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	46, // 74: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	52, // 75: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	40, // 76: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
+	41, // 77: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
+	42, // 78: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
+	50, // 79: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
+	50, // 80: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
+	50, // 81: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
+	49, // 82: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	49, // 83: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	49, // 84: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	49, // 85: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	49, // 86: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	53, // 87: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	88, // [88:88] is the sub-list for method output_type
+	88, // [88:88] is the sub-list for method input_type
+	88, // [88:88] is the sub-list for extension type_name
+	88, // [88:88] is the sub-list for extension extendee
+	0,  // [0:88] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }

@@ -664,7 +664,7 @@ type RoundMetrics struct {
 	ErrorEstimate *float64 `protobuf:"fixed64,1,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the reference image, if the composite was given one.
 	ReferenceRmse *float64 `protobuf:"fixed64,2,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
-	// RMSE of each light layer ("direct", "indirect", "caustic") that both the image and the
+	// RMSE of each light layer ("direct", "indirect", "caustic", "volume") that both the image and the
 	// reference have, against the reference's.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,3,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
 	// Where the camera samples went (absent from a composite whose tiles have no samples

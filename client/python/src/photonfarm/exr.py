@@ -20,7 +20,7 @@ class Image:
     """The final image of a job.
 
     layers maps a layer name to its pixels, rows from the top: "beauty" (R, G, B, A) as
-    an array of shape (height, width, 4), "direct", "indirect", "caustic" and "albedo" as
+    an array of shape (height, width, 4), "direct", "indirect", "caustic", "volume" and "albedo" as
     (height, width, 3) in R, G, B order, "normal" as (height, width, 3) in X, Y, Z order,
     a layer of one channel ("depth", from depth.Z) as (height, width); all float32.
     attributes holds the file's header (renderTime, samplesPerPixel, worldToCamera, ...).

@@ -179,6 +179,11 @@ var accepted = slices.Concat(acceptedFilters, acceptedMedia, acceptedDispersion,
 	}),
 	accept("accept-global-photons-0", "PhotonMapping.global_photons:default", func(s *pb.Scene) { s.Photons.GlobalPhotons = 0 }),
 	accept("accept-caustic-photons-0", "PhotonMapping.caustic_photons:default", func(s *pb.Scene) { s.Photons.CausticPhotons = 0 }),
+	accept("accept-volume-photons-50000000-in-10000-shards", "PhotonMapping.volume_photons:lte=", func(s *pb.Scene) {
+		fog(s)
+		s.Photons.VolumePhotons = 50000000 // base's 5000 photons per shard: max_shards_per_map exactly
+	}),
+	accept("accept-volume-photons-0", "PhotonMapping.volume_photons:default", func(s *pb.Scene) { fog(s); s.Photons.VolumePhotons = 0 }),
 	accept("accept-photons-per-shard-0", "PhotonMapping.photons_per_shard:default", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 0 }),
 	accept("accept-no-photon-settings", "", func(s *pb.Scene) { s.Photons = nil }),
 	accept("accept-neighbours-10000", "RadianceEstimate.neighbours:lte=", func(s *pb.Scene) { estimate(s).Neighbours = 10000 }),

@@ -62,4 +62,9 @@ var acceptedMedia = []vectorCase{
 		a.Albedo, a.Density = rgb(0, 1, 0.5), 0
 	}),
 	accept("accept-fog-and-murky-glass", "", func(s *pb.Scene) { fog(s); murk(s) }),
+	accept("accept-fog-with-volume-photons-and-estimate", "", func(s *pb.Scene) {
+		fog(s)
+		s.Photons.VolumePhotons = 30000
+		s.Photons.VolumeEstimate = &pb.RadianceEstimate{Neighbours: 80, MaxRadius: 0.25}
+	}),
 }

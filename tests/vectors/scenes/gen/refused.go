@@ -198,6 +198,7 @@ var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, refused
 	// Photon mapping.
 	refuse("refuse-global-photons-50000001", "photons.global_photons", "PhotonMapping.global_photons:lte", func(s *pb.Scene) { s.Photons.GlobalPhotons = 50000001 }),
 	refuse("refuse-caustic-photons-50000001", "photons.caustic_photons", "PhotonMapping.caustic_photons:lte", func(s *pb.Scene) { s.Photons.CausticPhotons = 50000001 }),
+	refuse("refuse-volume-photons-50000001", "photons.volume_photons", "PhotonMapping.volume_photons:lte", func(s *pb.Scene) { s.Photons.VolumePhotons = 50000001 }),
 	refuse("refuse-photons-per-shard-999", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:gte", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 999 }),
 	refuse("refuse-photons-per-shard-10000001", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:lte", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 10000001 }),
 	refuse("refuse-global-map-of-20000-shards", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:note", func(s *pb.Scene) {
@@ -211,8 +212,20 @@ var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, refused
 		withoutSpecular(s)
 		s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 50000000, 1000
 	}),
+	refuse("refuse-volume-map-of-10001-shards", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:note", func(s *pb.Scene) {
+		fog(s)
+		s.Photons.VolumePhotons, s.Photons.PhotonsPerShard = 10000001, 1000
+	}),
+	refuse("refuse-volume-photons-past-the-shard-limit-without-a-medium", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:note", func(s *pb.Scene) {
+		// Like the caustic count, the volume count is bounded whether or not the scene gets the map.
+		s.Photons.VolumePhotons, s.Photons.PhotonsPerShard = 50000000, 1000
+	}),
 	refuse("refuse-neighbours-10001", "photons.global_estimate.neighbours", "RadianceEstimate.neighbours:lte", func(s *pb.Scene) { estimate(s).Neighbours = 10001 }),
 	refuse("refuse-max-radius-negative", "photons.caustic_estimate.max_radius", "RadianceEstimate.max_radius:gte", func(s *pb.Scene) { s.Photons.CausticEstimate.MaxRadius = -1 }),
+	refuse("refuse-volume-estimate-neighbours-10001", "photons.volume_estimate.neighbours", "RadianceEstimate.neighbours:lte", func(s *pb.Scene) {
+		fog(s)
+		s.Photons.VolumeEstimate = &pb.RadianceEstimate{Neighbours: 10001}
+	}),
 	refuse("refuse-unknown-filter", "photons.caustic_estimate.filter", "RadianceEstimate.filter:enum", func(s *pb.Scene) { s.Photons.CausticEstimate.Filter = 9 }),
 	refuse("refuse-cone-k-below-1", "photons.global_estimate.cone_k", "RadianceEstimate.cone_k:gte", func(s *pb.Scene) { estimate(s).ConeK = 0.5 }),
 	refuse("refuse-cone-k-1000001", "photons.global_estimate.cone_k", "RadianceEstimate.cone_k:lte", func(s *pb.Scene) { estimate(s).ConeK = 1000001 }),

@@ -1,0 +1,78 @@
+package scene_test
+
+import (
+	"slices"
+	"testing"
+
+	"photonfarm/contract/scene"
+	pb "photonfarm/proto/renderfarm/v1"
+)
+
+func sigmaMedium(sigmaA, sigmaS *pb.Color) *pb.Medium {
+	return &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: sigmaA, SigmaS: sigmaS}}}
+}
+
+func albedoMedium(albedo *pb.Color, density float64) *pb.Medium {
+	return &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: albedo, Density: density}}}
+}
+
+// TestPhotonMapsGetAVolumeMapWhereAMediumScatters: the volume map comes after the global and
+// caustic maps, and only when the scene's medium or a shape's interior medium scatters
+// light in some channel; a medium that only absorbs gets none.
+func TestPhotonMapsGetAVolumeMapWhereAMediumScatters(t *testing.T) {
+	const (
+		global  = pb.PhotonMapKind_PHOTON_MAP_KIND_GLOBAL
+		caustic = pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC
+		volume  = pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME
+	)
+	fog := func(m *pb.Medium) func(*pb.Scene) { return func(s *pb.Scene) { s.Medium = m } }
+	tests := []struct {
+		name   string
+		mutate func(*pb.Scene)
+		want   []pb.PhotonMapKind
+	}{
+		{"no medium", func(*pb.Scene) {}, []pb.PhotonMapKind{global}},
+		{"fog that only absorbs", fog(sigmaMedium(rgb(0.1, 0.1, 0.1), rgb(0, 0, 0))), []pb.PhotonMapKind{global}},
+		{"fog scattering blue only", fog(sigmaMedium(rgb(0, 0, 0), rgb(0, 0, 0.01))), []pb.PhotonMapKind{global, volume}},
+		{"albedo without density", fog(albedoMedium(rgb(0.9, 0.9, 0.9), 0)), []pb.PhotonMapKind{global}},
+		{"black albedo with density", fog(albedoMedium(rgb(0, 0, 0), 2)), []pb.PhotonMapKind{global}},
+		{"a murky ball scatters", func(s *pb.Scene) { s.Shapes[0].InteriorMedium = albedoMedium(rgb(0, 0.5, 0), 2) }, []pb.PhotonMapKind{global, volume}},
+		{"one scattering medium among absorbing ones", func(s *pb.Scene) {
+			s.Medium = sigmaMedium(rgb(0.1, 0.1, 0.1), rgb(0, 0, 0))
+			s.Shapes[0].InteriorMedium = albedoMedium(rgb(0.9, 0.9, 0.9), 0)
+			s.Shapes[1].InteriorMedium = sigmaMedium(rgb(0, 0, 0), rgb(0.2, 0, 0))
+		}, []pb.PhotonMapKind{global, volume}},
+		{"plan order: global, caustic, volume", func(s *pb.Scene) {
+			addMaterial(mirror(rgb(1, 1, 1)))(s)
+			s.Shapes[0].Material = "mirror"
+			s.Medium = sigmaMedium(rgb(0, 0, 0), rgb(0.05, 0.05, 0.05))
+			s.Photons = &pb.PhotonMapping{VolumePhotons: 3000}
+		}, []pb.PhotonMapKind{global, caustic, volume}},
+	}
+	for _, tt := range tests {
+		t.Run(tt.name, func(t *testing.T) {
+			s := validated(t, tt.mutate)
+			var got []pb.PhotonMapKind
+			for _, m := range scene.PhotonMaps(s) {
+				got = append(got, m.Kind)
+				if want := scene.VolumePhotons(s); m.Kind == volume && m.Photons != want {
+					t.Errorf("volume map of %d photon paths, want photons.volume_photons' %d", m.Photons, want)
+				}
+			}
+			if !slices.Equal(got, tt.want) {
+				t.Errorf("PhotonMaps = %v, want %v", got, tt.want)
+			}
+		})
+	}
+}
+
+func TestVolumePhotonsDefaultsTo200000(t *testing.T) {
+	for _, tt := range []struct {
+		set, want uint64
+	}{{0, 200000}, {1, 1}, {50000000, 50000000}} {
+		s := validated(t, func(s *pb.Scene) { s.Photons = &pb.PhotonMapping{VolumePhotons: tt.set} })
+		if got := scene.VolumePhotons(s); got != tt.want {
+			t.Errorf("volume_photons %d: VolumePhotons = %d, want %d", tt.set, got, tt.want)
+		}
+	}
+}
