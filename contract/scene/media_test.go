@@ -1,9 +1,11 @@
 package scene_test
 
 import (
+	"math"
 	"slices"
 	"testing"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -15,6 +17,15 @@ func sigmaMedium(sigmaA, sigmaS *pb.Color) *pb.Medium {
 func albedoMedium(albedo *pb.Color, density float64) *pb.Medium {
 	return &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: albedo, Density: density}}}
 }
+
+// withG sets m's Henyey-Greenstein asymmetry.
+func withG(m *pb.Medium, g float64) *pb.Medium {
+	m.G = g
+	return m
+}
+
+// pathTracedG is the contract's path_traced_media_min_abs_g.
+var pathTracedG = rules.Scene.GetPathTracedMediaMinAbsG()
 
 // TestPhotonMapsGetAVolumeMapWhereAMediumScatters: the volume map comes after the global and
 // caustic maps, and only when the scene's medium or a shape's interior medium scatters
@@ -41,6 +52,15 @@ func TestPhotonMapsGetAVolumeMapWhereAMediumScatters(t *testing.T) {
 			s.Medium = sigmaMedium(rgb(0.1, 0.1, 0.1), rgb(0, 0, 0))
 			s.Shapes[0].InteriorMedium = albedoMedium(rgb(0.9, 0.9, 0.9), 0)
 			s.Shapes[1].InteriorMedium = sigmaMedium(rgb(0, 0, 0), rgb(0.2, 0, 0))
+		}, []pb.PhotonMapKind{global, volume}},
+		// At |g| >= path_traced_media_min_abs_g a medium's multiple scattering is path
+		// traced: it needs no volume map, and gets one only beside a medium that does.
+		{"forward-scattering fog at the threshold", fog(withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), pathTracedG)), []pb.PhotonMapKind{global}},
+		{"backward-scattering fog", fog(withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), -0.999)), []pb.PhotonMapKind{global}},
+		{"fog just below the threshold", fog(withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), math.Nextafter(pathTracedG, 0))), []pb.PhotonMapKind{global, volume}},
+		{"forward-scattering fog around an isotropic murky ball", func(s *pb.Scene) {
+			s.Medium = withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), 0.999)
+			s.Shapes[0].InteriorMedium = albedoMedium(rgb(0, 0.5, 0), 2)
 		}, []pb.PhotonMapKind{global, volume}},
 		{"plan order: global, caustic, volume", func(s *pb.Scene) {
 			addMaterial(mirror(rgb(1, 1, 1)))(s)

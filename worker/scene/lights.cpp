@@ -261,7 +261,9 @@ std::optional<LightSample> LightSampleAlong(const Light& light, const Vec3& ref,
             if (!(LengthSquared(wi + l.direction) / 2 <= l.one_minus_cos)) return std::nullopt;
             return distant(l.disc, l.radiance, 1 / (2 * kPi * l.one_minus_cos));
           },
-          [&](const EnvironmentLight& l) { return distant(l.disc, l.environment->Radiance(wi), l.environment->Pdf(wi)); },
+          [&](const EnvironmentLight& l) {
+            return distant(l.disc, l.environment->Radiance(wi), l.environment->Pdf(wi));
+          },
       },
       light);
 }
