@@ -55,13 +55,15 @@
 // Participating media (docs/media.md, media_transport.h): each branch of a camera path
 // travels in a medium (the scene's, a shape's interior one it refracted into, or none); a
 // segment in one attenuates what it reaches and adds the light scattered along it towards
-// the camera (the volume layer): once, from light samples, and more than once, read from
-// the volume photon map; the shadow rays of the points it shades are attenuated. Photons travel through media
-// too (photon_tracer.h), so the global and caustic maps hold light as media let it through.
-// A gather ray in a medium is attenuated up to its first hit, and eight of a point's gather
-// rays (chosen at random, weighted to stay unbiased) gather the light scattered along that
-// first segment likewise; past a specular bounce it sees vacuum. A segment reads the
-// volume photon map twice, whatever its light samples. A
+// the camera (the volume layer): once, from light samples and phase-function samples
+// weighed by MIS, and more than once, read from the volume photon map or, in a medium of
+// |g| at or above the contract's path_traced_media_min_abs_g, by a volumetric path from
+// each phase sample (VolumePath); the shadow rays of the points it shades are attenuated.
+// Photons travel through media too (photon_tracer.h), so the global and caustic maps hold
+// light as media let it through. A gather ray in a medium is attenuated up to its first
+// hit, and eight of a point's gather rays (chosen at random, weighted to stay unbiased)
+// gather the light scattered along that first segment likewise; past a specular bounce it
+// sees vacuum. A segment reads the volume photon map twice, whatever its light samples. A
 // scene without media draws exactly the numbers it drew before media existed.
 //
 // Light leaking at walls and corners: the remedy is that no direct light is ever read from
