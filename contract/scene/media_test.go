@@ -7,6 +7,7 @@ import (
 
 	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
+	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -94,5 +95,40 @@ func TestVolumePhotonsDefaultsTo200000(t *testing.T) {
 		if got := scene.VolumePhotons(s); got != tt.want {
 			t.Errorf("volume_photons %d: VolumePhotons = %d, want %d", tt.set, got, tt.want)
 		}
+	}
+}
+
+// TestHittableLightsAreThoseARayCanMeet: single scattering takes phase-function samples
+// only where some light has a surface or a solid angle a ray can meet.
+func TestHittableLightsAreThoseARayCanMeet(t *testing.T) {
+	withoutLamp := func(s *pb.Scene) { s.Shapes = s.Shapes[:len(s.Shapes)-1] }
+	light := func(l *pb.Light) func(*pb.Scene) {
+		return func(s *pb.Scene) {
+			withoutLamp(s)
+			s.Lights = []*pb.Light{l}
+		}
+	}
+	sun := func(degrees float64) *pb.Light {
+		return &pb.Light{Kind: &pb.Light_Sun{Sun: &pb.SunLight{Direction: scenetest.V(0, -1, 0), Irradiance: rgb(1, 1, 1), AngularDiameterDegrees: degrees}}}
+	}
+	for _, tt := range []struct {
+		name   string
+		mutate func(*pb.Scene)
+		want   bool
+	}{
+		{"an emissive quad", func(*pb.Scene) {}, true},
+		{"a point light", light(&pb.Light{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 2, 0), Intensity: rgb(1, 1, 1)}}}), false},
+		{"a sun without a disc", light(sun(0)), false},
+		{"a sun with a disc", light(sun(0.5)), true},
+		{"a constant sky", func(s *pb.Scene) {
+			light(sun(0))(s)
+			s.Environment = &pb.Environment{Radiance: rgb(0.1, 0.2, 0.3)}
+		}, true},
+	} {
+		t.Run(tt.name, func(t *testing.T) {
+			if got := scene.HittableLights(validated(t, tt.mutate)); got != tt.want {
+				t.Errorf("HittableLights = %v, want %v", got, tt.want)
+			}
+		})
 	}
 }

@@ -147,7 +147,11 @@ func roundsReason(s *pb.Scene) string {
 
 // marching says what the renderer does in any medium.
 func marching(s *pb.Scene) string {
-	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%d light samples and as many phase-function samples per segment, weighed by multiple importance sampling), shadow rays attenuated", scene.LightSamples(s))
+	samples := fmt.Sprintf("%d light samples and as many phase-function samples per segment, weighed by multiple importance sampling", scene.LightSamples(s))
+	if !scene.HittableLights(s) {
+		samples = fmt.Sprintf("%d light samples per segment: no phase-function sample can reach a point, spot or sun light without a disc", scene.LightSamples(s))
+	}
+	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%s), shadow rays attenuated", samples)
 }
 
 // multipleScattering says how light scattered more than once is found in s's scattering

@@ -126,6 +126,11 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			peakedFog(0.95)(s)
 			s.Shapes[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 0.1}}}
 		}, planner.PassVolumeMap, true, "200,000 volume photon paths per round"},
+		{"fog lit by a point light alone: light samples only", func(s *pb.Scene) {
+			scatteringFog(s)
+			s.Shapes = s.Shapes[:len(s.Shapes)-1] // the lamp
+			s.Lights = []*pb.Light{{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 2, 0), Intensity: &pb.Color{R: 1, G: 1, B: 1}}}}}
+		}, planner.PassMedia, true, "(16 light samples per segment: no phase-function sample can reach a point, spot or sun light without a disc)"},
 		{"absorbing forward-scattering fog: it only absorbs", func(s *pb.Scene) { absorbingFog(s); s.Medium.G = 0.95 }, planner.PassVolumeMap, false, "the media only absorb"},
 		{"no dispersion", shapes("glass", "white"), planner.PassDispersion, false, "no dispersive material"},
 		{"a dispersive glass and a gem", func(s *pb.Scene) {
