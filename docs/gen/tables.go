@@ -106,6 +106,7 @@ func sceneLimits() string {
 		"max_snapshot_photons":          "photons stored in one round's photon snapshot, every map together, and so in one emission shard (a path stores a photon at each diffuse bounce, so `photons.*_photons` alone do not bound it): the worker fails an emission shard that stores more, the builder a snapshot, as bad input naming the setting to lower; the largest snapshot is then 768 MB (24 bytes a global photon with irradiance), the largest shard 896 MB (28 bytes a photon), both under `max_blob_bytes`",
 		"max_texture_pixels":            "most pixels (width times height) of one texture, read from its header without decoding it",
 		"principled_specular_roughness": "a principled material whose roughness factor is below this counts as specular: its lobe is only sampled, never lit by light samples or photons, and the scene gets a caustic map",
+		"path_traced_media_min_abs_g":   "a medium whose Henyey-Greenstein g is at least this in absolute value scatters light more than once by volumetric path tracing (phase-function sampling with light samples weighed by MIS) rather than from the volume photon map, whose k photons cannot weigh so narrow a lobe; the planner leaves the volume map out when no scattering medium is below it (docs/media.md)",
 		"spectral_wavelengths_per_path": "wavelengths a photon or camera path carries with `sampling.spectral` ALWAYS (a hero and its companions, docs/spectral.md); the workers check theirs against it",
 	})
 }

@@ -16,6 +16,7 @@
 #include "photon/trace_photons.h"
 #include "media/henyey_greenstein.h"
 #include "scene/media_segments.h"
+#include "scene/multiple_scattering.h"
 #include "scene/scene_data.h"
 #include "scene/surface_shading.h"
 #include "spectral/spectral_light.h"
@@ -125,13 +126,14 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
       if (const std::optional<DistanceSample> flight = SampleFreeFlight(m, length, u_channel, u_distance)) {
         // Taken by the medium: a caustic path ends (what it scatters is the volume and
         // global maps' light); a volume path stores a photon unless the light came straight
-        // from a light (single scattering is sampled from the lights: media_transport.h).
+        // from a light (single scattering is sampled from the lights: media_transport.h)
+        // or the medium's multiple scattering is path traced (multiple_scattering.h).
         if (kind == PhotonMapKind::kCaustic) return;
         // The photon carries what it scatters there (sigma_s T / pdf of the light it
         // brings: the albedo, one channel): the density of scatterings, not of collisions.
         const Vec3 x = ray.At(segment.t0 + flight->t);
         const Rgb scattered = m.Transmittance(flight->t) * m.sigma_s / flight->pdf;
-        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0))
+        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0) && !PathTracesMultipleScattering(m))
           out.push_back({x, spectral ? spectral->Times(scattered).ToRgb() : power * scattered, -ray.direction,
                          Vec3(0, 0, 1)});
         if (!survive_with(scattered, u_survive)) return;

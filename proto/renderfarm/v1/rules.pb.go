@@ -412,8 +412,15 @@ type SceneLimits struct {
 	// ALWAYS): a hero and its companions. The workers' value (worker/spectral/wavelengths.h)
 	// is checked against this one; the planner states it.
 	SpectralWavelengthsPerPath uint32 `protobuf:"varint,12,opt,name=spectral_wavelengths_per_path,json=spectralWavelengthsPerPath,proto3" json:"spectral_wavelengths_per_path,omitempty"`
-	unknownFields              protoimpl.UnknownFields
-	sizeCache                  protoimpl.SizeCache
+	// A medium whose Henyey-Greenstein |g| is at least this scatters light more than once by
+	// volumetric path tracing (camera paths go on through it by sampling its phase
+	// function, with light samples weighed by multiple importance sampling) rather than from
+	// the volume photon map, whose estimate weighs its k photons by a lobe (1 - |g|)^2 wide
+	// and so misses it. The planner leaves the volume map out when no scattering medium is
+	// below it; the workers store no volume photon in a medium at or above it.
+	PathTracedMediaMinAbsG float64 `protobuf:"fixed64,13,opt,name=path_traced_media_min_abs_g,json=pathTracedMediaMinAbsG,proto3" json:"path_traced_media_min_abs_g,omitempty"`
+	unknownFields          protoimpl.UnknownFields
+	sizeCache              protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -526,6 +533,13 @@ func (x *SceneLimits) GetPrincipledSpecularRoughness() float64 {
 func (x *SceneLimits) GetSpectralWavelengthsPerPath() uint32 {
 	if x != nil {
 		return x.SpectralWavelengthsPerPath
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetPathTracedMediaMinAbsG() float64 {
+	if x != nil {
+		return x.PathTracedMediaMinAbsG
 	}
 	return 0
 }
@@ -946,7 +960,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xce\x04\n" +
+	"_max_bytes\"\x8b\x05\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -960,7 +974,8 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x12max_texture_pixels\x18\n" +
 	" \x01(\x04R\x10maxTexturePixels\x12B\n" +
 	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\x12A\n" +
-	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\"\xc2\x01\n" +
+	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\x12;\n" +
+	"\x1bpath_traced_media_min_abs_g\x18\r \x01(\x01R\x16pathTracedMediaMinAbsG\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +
