@@ -14,6 +14,7 @@ import (
 	"net"
 	"net/http"
 	"net/url"
+	"os"
 	"path/filepath"
 	"time"
 
@@ -47,7 +48,9 @@ const (
 
 // Config configures a Coordinator.
 type Config struct {
-	// DataDir holds the blob store (DataDir/blobs) unless BlobURL names another. Required.
+	// DataDir holds the blob store (DataDir/blobs) unless BlobURL names another, and the
+	// builder's snapshot files while they are built (DataDir/scratch: as large as the
+	// largest snapshot, docs/limits.md). Required.
 	DataDir string
 	// BlobURL, if set, names the blob store instead (blobstore.Open): file:///folder, or
 	// s3://bucket?endpoint=...&region=... for an S3-compatible object store that several
@@ -157,6 +160,10 @@ func New(cfg Config) (*Coordinator, error) {
 			cfg.TLS.MinVersion = tls.VersionTLS12
 		}
 	}
+	scratch := filepath.Join(cfg.DataDir, "scratch")
+	if err := os.MkdirAll(scratch, 0o755); err != nil {
+		return nil, fmt.Errorf("coordinator: %w", err)
+	}
 	blobs, err := openBlobs(cfg)
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
@@ -182,6 +189,7 @@ func New(cfg Config) (*Coordinator, error) {
 	b := builder.New(builder.Config{
 		Tasks:             svc,
 		Blobs:             blobs,
+		ScratchDir:        scratch,
 		HeartbeatInterval: cfg.HeartbeatInterval,
 		Logger:            cfg.Logger,
 	})

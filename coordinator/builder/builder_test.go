@@ -29,15 +29,16 @@ import (
 // fixture is a task service over an in-memory store and a real blob store, with a
 // builder running against it.
 type fixture struct {
-	t     *testing.T
-	ctx   context.Context
-	st    store.Store
-	svc   *service.Service
-	blobs *blobstore.Store
-	dir   string // the blob store's
+	t       *testing.T
+	ctx     context.Context
+	st      store.Store
+	svc     *service.Service
+	blobs   *blobstore.Store
+	dir     string // the blob store's
+	scratch string // the builder's
 }
 
-func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *fixture {
+func newFixture(t *testing.T, build func(photonmap.Output, []photonmap.Source) (int64, error)) *fixture {
 	t.Helper()
 	dir := t.TempDir()
 	bs, err := blobstore.New(dir, 0)
@@ -47,7 +48,8 @@ func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *f
 	st := memstore.New(store.Options{Clock: clock.Real{}, LeaseDuration: 5 * time.Second})
 	svc := service.New(service.Config{Store: st, Blobs: bs, Events: events.NewBroker(0)})
 	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
-	b := builder.New(builder.Config{Tasks: svc, Blobs: bs, Build: build, HeartbeatInterval: 50 * time.Millisecond})
+	scratch := t.TempDir()
+	b := builder.New(builder.Config{Tasks: svc, Blobs: bs, Build: build, ScratchDir: scratch, HeartbeatInterval: 50 * time.Millisecond})
 	done := make(chan error, 1)
 	go func() { done <- b.Run(ctx) }()
 	t.Cleanup(func() {
@@ -57,16 +59,22 @@ func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *f
 			t.Errorf("Run: %v", err)
 		}
 	})
-	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs, dir: dir}
+	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs, dir: dir, scratch: scratch}
 }
 
-// createJob plans a Valid scene with `shards` global-map shards of 1000 photons.
+// createJob plans a Valid scene with `shards` global-map shards of 1000 photons, without
+// final gathering: the build is followed by the tiles directly.
 func (f *fixture) createJob(shards int) *pb.Job {
+	return f.createJobIn(shards, pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP)
+}
+
+// createJobIn is createJob in the given indirect mode (final gathering adds a precompute
+// task per shard and a merge).
+func (f *fixture) createJobIn(shards int, mode pb.IndirectMode) *pb.Job {
 	f.t.Helper()
 	sc := scenetest.Valid(8, 8)
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: uint64(1000 * shards), PhotonsPerShard: 1000}
-	// Without final gathering the build is followed by the tiles directly.
-	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
+	sc.Indirect = &pb.Indirect{Mode: mode}
 	sc = scene.Defaults(sc)
 	// Workers' leases need the scene in the blob store, as SubmitJob leaves it.
 	data, err := proto.Marshal(sc)
@@ -202,10 +210,11 @@ func TestBuilderFailsTheJobAtOnceOnMalformedShards(t *testing.T) {
 func TestBuilderAbandonsABuildWhoseLeaseIsLost(t *testing.T) {
 	release := make(chan struct{})
 	started := make(chan struct{}, 1)
-	f := newFixture(t, func([]photonmap.Source) ([]byte, error) {
+	f := newFixture(t, func(out photonmap.Output, _ []photonmap.Source) (int64, error) {
 		started <- struct{}{}
 		<-release
-		return []byte("late snapshot"), nil
+		n, err := out.WriteAt([]byte("late snapshot"), 0)
+		return int64(n), err
 	})
 	j := f.createJob(1)
 	f.emit(validShard)
@@ -255,7 +264,7 @@ func TestBuilderFailsTheJobWhenAShardIsDamagedOnDisk(t *testing.T) {
 
 func TestBuilderRefusesMorePhotonsThanASnapshotMayHoldSayingWhatToLower(t *testing.T) {
 	const limit = 12 // each shard stores 5 photons: the third goes over
-	f := newFixture(t, func(s []photonmap.Source) ([]byte, error) { return photonmap.BuildFrom(s, limit) })
+	f := newFixture(t, func(o photonmap.Output, s []photonmap.Source) (int64, error) { return photonmap.BuildTo(o, s, limit) })
 	j := f.createJob(3)
 	f.emit(validShard)
 	build, job := f.waitFor(j.Id, func(_ *pb.Task, job *pb.Job) bool { return store.Ended(job.State) })
