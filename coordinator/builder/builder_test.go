@@ -14,6 +14,7 @@ import (
 	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/builder"
 	"photonfarm/coordinator/clock"
@@ -96,27 +97,41 @@ func (f *fixture) createJobIn(shards int, mode pb.IndirectMode) *pb.Job {
 // emit completes every emit shard of the job as a worker would, with data(i) as shard i.
 func (f *fixture) emit(data func(i int, spec *pb.EmitPhotonsSpec) []byte) [][]byte {
 	f.t.Helper()
+	return f.completeEach(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD, func(i int, t *pb.Task) []byte {
+		if spec := t.GetEmitPhotons(); spec != nil {
+			return data(i, spec)
+		}
+		return nil
+	})
+}
+
+// completeEach leases the workers' tasks one at a time and completes each as a worker
+// would, with data(i, task) stored as its artifact of the given kind, until data returns
+// nil (a task of another kind: it must not have been leased) or there is nothing to
+// lease. It returns what it stored.
+func (f *fixture) completeEach(kind pb.ArtifactKind, data func(i int, t *pb.Task) []byte) [][]byte {
+	f.t.Helper()
 	var out [][]byte
 	for i := 0; ; i++ {
 		l, err := f.svc.Lease(f.ctx, "w1", store.WorkerPhases, 0)
 		if err != nil {
 			f.t.Fatal(err)
 		}
-		spec := l.GetTask().GetEmitPhotons()
-		if spec == nil {
-			if l.GetLease() != nil {
-				f.t.Fatalf("leased %v, want an emit shard or nothing", l.Task)
-			}
+		if l.GetLease() == nil {
 			return out
 		}
-		b := data(i, spec)
+		b := data(i, l.GetTask())
+		if b == nil {
+			f.t.Fatalf("leased %v, want a task of the phase before the builder's or nothing", l.Task)
+		}
 		info, err := f.blobs.Put(f.ctx, bytes.NewReader(b), int64(len(b)), "")
 		if err != nil {
 			f.t.Fatal(err)
 		}
 		out = append(out, b)
 		ref := store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch}
-		if err := f.svc.Complete(f.ctx, ref, []*pb.Artifact{{Name: "photons.shard", Digest: info.Digest, SizeBytes: info.Size}}); err != nil {
+		art := &pb.Artifact{Name: tasks.ArtifactName(kind), Digest: info.Digest, SizeBytes: info.Size}
+		if err := f.svc.Complete(f.ctx, ref, []*pb.Artifact{art}); err != nil {
 			f.t.Fatal(err)
 		}
 	}

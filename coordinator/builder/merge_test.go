@@ -8,7 +8,6 @@ import (
 	"strings"
 	"testing"
 
-	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/store"
@@ -19,31 +18,12 @@ import (
 // spec) as irradiance shard i, and returns the shards.
 func (f *fixture) precompute(data func(i int, spec *pb.PrecomputeIrradianceSpec) []byte) [][]byte {
 	f.t.Helper()
-	var out [][]byte
-	for i := 0; ; i++ {
-		l, err := f.svc.Lease(f.ctx, "w1", store.WorkerPhases, 0)
-		if err != nil {
-			f.t.Fatal(err)
+	return f.completeEach(pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD, func(i int, t *pb.Task) []byte {
+		if spec := t.GetPrecomputeIrradiance(); spec != nil {
+			return data(i, spec)
 		}
-		spec := l.GetTask().GetPrecomputeIrradiance()
-		if spec == nil {
-			if l.GetLease() != nil {
-				f.t.Fatalf("leased %v, want a precompute task or nothing", l.Task)
-			}
-			return out
-		}
-		b := data(i, spec)
-		info, err := f.blobs.Put(f.ctx, bytes.NewReader(b), int64(len(b)), "")
-		if err != nil {
-			f.t.Fatal(err)
-		}
-		out = append(out, b)
-		ref := store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch}
-		art := &pb.Artifact{Name: tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_IRRADIANCE_SHARD), Digest: info.Digest, SizeBytes: info.Size}
-		if err := f.svc.Complete(f.ctx, ref, []*pb.Artifact{art}); err != nil {
-			f.t.Fatal(err)
-		}
-	}
+		return nil
+	})
 }
 
 // mergeTask is the job's merge task once done says it is finished.

@@ -8,10 +8,11 @@ import (
 
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
+	"photonfarm/tests/tcpproxy"
 )
 
 // A worker fetches a photon snapshot of about 24 MB in ranges of 16 MiB, through a proxy
-// that cuts every connection once, 8 MiB into the snapshot (in its first range): the
+// (tcpproxy) that cuts every connection once, 8 MiB into the snapshot (in its first range): the
 // worker resumes the download where the bytes stopped (it says so, naming the byte), the
 // job completes, and the proxy forwarded far fewer bytes than a download (or a range)
 // started over would take.
@@ -24,7 +25,7 @@ func TestACutSnapshotDownloadResumesWhereItStopped(t *testing.T) {
 
 	// The snapshot comes first, with nothing but small messages before it: shards and
 	// tiles go up, not down.
-	proxy := farmtest.StartProxy(t, f.Addr)
+	proxy := tcpproxy.New(t, f.Addr)
 	const cutAt = 8 << 20
 	cut := proxy.CutOnceAfter(cutAt)
 	w := f.StartWorkerVia(t, proxy.Addr, t.TempDir(), "--download-range-bytes", "16M")
