@@ -1,11 +1,14 @@
 package integration
 
 import (
+	"os"
+	"path/filepath"
 	"regexp"
 	"strconv"
 	"testing"
 	"time"
 
+	"photonfarm/coordinator/blobstore"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 	"photonfarm/tests/tcpproxy"
@@ -59,4 +62,52 @@ func TestACutSnapshotDownloadResumesWhereItStopped(t *testing.T) {
 		t.Errorf("the proxy forwarded %d bytes for a snapshot of %d: %d more, as if the download started over", proxy.Downstream(), size, wasted)
 	}
 	t.Logf("snapshot %d bytes, cut at %d forwarded bytes, resumed at byte %d; %d bytes forwarded in all", size, int64(cutAt), at, proxy.Downstream())
+}
+
+// A range is sent as stored, unchecked: a snapshot damaged in the coordinator's store after
+// its build reaches the worker in ranges, and the worker, finding that the whole does not
+// match its digest, asks GetBlobInfo, which finds the damage: the job fails at once as
+// lost input naming the snapshot, and no worker is blamed. The worker is held behind a
+// frozen proxy from the end of the emission to the damage, so it cannot fetch the snapshot
+// before it is damaged.
+func TestASnapshotDamagedInTheStoreFetchedInRangesIsLostInput(t *testing.T) {
+	f, blobs := lostInputFarm(t)
+	sc := farmtest.Furnace(100_000)
+	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
+	job := f.Submit(t, sc)
+	proxy := tcpproxy.New(t, f.Addr)
+	cache := t.TempDir()
+	f.StartWorkerVia(t, proxy.Addr, cache, "--download-range-bytes", "1M")
+	phaseDone := func(phase pb.Phase) []*pb.Task {
+		for deadline := time.Now().Add(2 * time.Minute); time.Now().Before(deadline); time.Sleep(5 * time.Millisecond) {
+			tasks := farmtest.TasksOf(f.Tasks(t, job.GetId()), phase)
+			done := len(tasks) > 0
+			for _, task := range tasks {
+				done = done && task.GetState() == pb.TaskState_TASK_STATE_SUCCEEDED
+			}
+			if done {
+				return tasks
+			}
+		}
+		t.Fatalf("the %v phase did not finish within 2 minutes", phase)
+		return nil
+	}
+	phaseDone(pb.Phase_PHASE_EMIT)
+	proxy.Freeze()
+	snap := phaseDone(pb.Phase_PHASE_BUILD)[0].GetOutputs()[0].GetDigest()
+	if _, err := os.Stat(filepath.Join(cache, "sha256", snap[len("sha256:"):])); err == nil {
+		t.Fatal("the worker fetched the snapshot before the proxy froze (the build took less than the test's poll)")
+	}
+	path := blobstore.PathIn(blobs, snap)
+	data, err := os.ReadFile(path)
+	if err != nil {
+		t.Fatal(err)
+	}
+	data[len(data)/2] ^= 0x10 // a photon's coordinate: the file still parses
+	if err := os.WriteFile(path, data, 0o644); err != nil {
+		t.Fatal(err)
+	}
+	start := time.Now()
+	proxy.Thaw()
+	waitLostInput(t, f, job.GetId(), "the photon snapshot of round 1: blob "+snap+" is damaged in the coordinator's blob store", start, 30*time.Second)
 }
