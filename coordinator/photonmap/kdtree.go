@@ -44,7 +44,7 @@ type treeWriter struct {
 	out   io.WriterAt
 	base  int64
 	block int
-	bufs  sync.Pool // []byte of recordSize*block
+	bufs  sync.Pool // *[]byte of recordSize*block
 	mu    sync.Mutex
 	err   error // the first write's error; the build stops writing after it
 }
@@ -115,11 +115,13 @@ func splitNode(s []item) (axis, left int) {
 // time: local level l, nodes [2^l - 1, 2^(l+1) - 1), is the run of global nodes starting at
 // (node+1)*2^l - 1.
 func (w *treeWriter) writeBlock(s []item, node int) {
-	buf, _ := w.bufs.Get().([]byte)
-	if len(buf) < recordSize*len(s) {
-		buf = make([]byte, recordSize*w.block)
+	p, _ := w.bufs.Get().(*[]byte)
+	if p == nil {
+		b := make([]byte, recordSize*w.block)
+		p = &b
 	}
-	defer w.bufs.Put(buf)
+	defer w.bufs.Put(p)
+	buf := *p
 	buildLocal(s, 0, buf)
 	for level := 0; ; level++ {
 		first := 1<<level - 1
