@@ -14,7 +14,6 @@ import (
 	"net"
 	"net/http"
 	"net/url"
-	"os"
 	"path/filepath"
 	"time"
 
@@ -160,10 +159,6 @@ func New(cfg Config) (*Coordinator, error) {
 			cfg.TLS.MinVersion = tls.VersionTLS12
 		}
 	}
-	scratch := filepath.Join(cfg.DataDir, "scratch")
-	if err := os.MkdirAll(scratch, 0o755); err != nil {
-		return nil, fmt.Errorf("coordinator: %w", err)
-	}
 	blobs, err := openBlobs(cfg)
 	if err != nil {
 		return nil, fmt.Errorf("coordinator: %w", err)
@@ -189,7 +184,7 @@ func New(cfg Config) (*Coordinator, error) {
 	b := builder.New(builder.Config{
 		Tasks:             svc,
 		Blobs:             blobs,
-		ScratchDir:        scratch,
+		ScratchDir:        filepath.Join(cfg.DataDir, "scratch"),
 		HeartbeatInterval: cfg.HeartbeatInterval,
 		Logger:            cfg.Logger,
 	})

@@ -77,7 +77,8 @@ type Config struct {
 	// photonmap.MergeIrradianceTo by default.
 	Merge func(w io.Writer, snapshot photonmap.Source, snapshotSize int64, shards []photonmap.Source) (int64, error)
 	// ScratchDir is the folder a build writes its snapshot file in before storing it (as
-	// large as the snapshot; removed once stored): os.TempDir() by default.
+	// large as the snapshot; removed once stored), made when a build first needs it (a
+	// coordinator on a read-only data folder still starts): os.TempDir() by default.
 	ScratchDir string
 	// WorkerID is the name the builder's leases go under (DefaultWorkerID by default).
 	WorkerID string
@@ -233,6 +234,11 @@ func (b *Builder) heartbeat(ctx context.Context, ref store.LeaseRef, cancel cont
 // build reads the shards, merges them into a snapshot file in the scratch folder and
 // stores it from there.
 func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec, inputs []tasks.Input) (*pb.Artifact, error) {
+	if b.cfg.ScratchDir != "" {
+		if err := os.MkdirAll(b.cfg.ScratchDir, 0o755); err != nil {
+			return nil, fmt.Errorf("build photon map: %w", err)
+		}
+	}
 	f, err := os.CreateTemp(b.cfg.ScratchDir, "snapshot-*")
 	if err != nil {
 		return nil, fmt.Errorf("build photon map: %w", err)
