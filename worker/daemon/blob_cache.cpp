@@ -71,6 +71,19 @@ std::system_error NoSpace(const std::string& what) {
   return std::system_error(std::make_error_code(std::errc::no_space_on_device), what);
 }
 
+// A download in progress writes its temporary file every few milliseconds; one untouched
+// for this long was left by a worker that died mid-download (a snapshot's can be
+// gigabytes), and is deleted the next time room is made.
+constexpr auto kStaleTemporary = std::chrono::hours(1);
+
+void RemoveIfStale(const std::filesystem::path& temporary) {
+  std::error_code ec;
+  const auto written = std::filesystem::last_write_time(temporary, ec);
+  if (!ec && std::filesystem::file_time_type::clock::now() - written > kStaleTemporary) {
+    std::filesystem::remove(temporary, ec);
+  }
+}
+
 struct Entry {
   std::filesystem::path path;
   std::uint64_t size;
@@ -155,7 +168,10 @@ void BlobCache::MakeRoom(std::string_view digest, std::uint64_t needed) const {
   std::uint64_t total = 0;
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(dir_ / "sha256", ec)) {
-    if (e.path().filename().string().find('.') != std::string::npos) continue;  // temporary
+    if (e.path().filename().string().find('.') != std::string::npos) {
+      RemoveIfStale(e.path());
+      continue;  // A download in progress, here or in another worker.
+    }
     struct stat st {};
     if (::stat(e.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
     const auto used = std::chrono::seconds(st.st_mtim.tv_sec) + std::chrono::nanoseconds(st.st_mtim.tv_nsec);

@@ -42,7 +42,9 @@ class BlobCache {
 
   // A blob being written into the cache as it arrives, never held in memory: a temporary
   // file in the cache folder, hashed as it grows, linked into place by Commit once whole.
-  // Dropped (its file removed) if destroyed uncommitted.
+  // Dropped (its file removed) if destroyed uncommitted; the file of a worker killed
+  // mid-download is deleted once it has not been written for an hour, when room is next
+  // made.
   class Incoming {
    public:
     Incoming(Incoming&& other) noexcept;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <unistd.h>
 
@@ -244,6 +245,21 @@ TEST_F(BlobCacheTest, ACommitAfterAnotherWorkersKeepsTheirEntry) {
   EXPECT_EQ(a->path(), b->path());
   EXPECT_EQ(cache.Get(digest), bytes);
   EXPECT_TRUE(Temporaries(dir_).empty());
+}
+
+// A worker killed mid-download leaves its temporary file: once it has not been written for
+// an hour it is deleted when room is next made; a fresh one (a download in progress) is
+// left alone.
+TEST_F(BlobCacheTest, MakingRoomDeletesTheTemporaryFilesOfDeadDownloads) {
+  BlobCache cache(dir_, kRoomy);
+  const auto stale = dir_ / "sha256" / "abc.tmp.99999.0";
+  const auto fresh = dir_ / "sha256" / "def.tmp.99999.1";
+  std::ofstream(stale) << "half a snapshot";
+  std::ofstream(fresh) << "a download in progress";
+  std::filesystem::last_write_time(stale, std::filesystem::file_time_type::clock::now() - std::chrono::hours(2));
+  cache.Put(Sha256Digest("x"), "x");
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_TRUE(std::filesystem::exists(fresh));
 }
 
 }  // namespace
