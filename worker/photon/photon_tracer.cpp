@@ -227,7 +227,7 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
   const float power_scale = static_cast<float>(1.0 / static_cast<double>(request.total_photons));
   const uint64_t chunks = (request.photon_count + kChunkPaths - 1) / kChunkPaths;
   const uint64_t max_photons =
-      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_snapshot_photons();
+      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_shard_photons();
   std::vector<std::vector<ShardPhoton>> per_chunk(chunks);
   std::atomic<uint64_t> stored{0};
   // Each chunk fills its own vector; concatenating them in chunk order gives path-index
@@ -248,11 +248,10 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
                     });
   if (stored.load() > max_photons) {
     const char* map = PhotonMapName(request.map);
-    throw BadInputError(std::string("photons.") + map + "_photons: the " + map + " map's paths " +
+    throw BadInputError(std::string("photons.photons_per_shard: the ") + map + " map's paths " +
                         std::to_string(request.first_photon) + "+" + std::to_string(request.photon_count) +
                         " store more than the " + std::to_string(max_photons) +
-                        " photons a snapshot may hold (scene_limits.max_snapshot_photons); lower photons." +
-                        map + "_photons");
+                        " photons a shard may hold (scene_limits.max_shard_photons); lower photons.photons_per_shard");
   }
   std::size_t total = 0;
   for (const auto& c : per_chunk) total += c.size();
