@@ -1,8 +1,10 @@
 package scene
 
 import (
+	"math"
 	"slices"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -31,6 +33,23 @@ func scatters(m *pb.Medium) bool {
 	return positive(m.GetSigma().GetSigmaS())
 }
 
-// MediaScatter reports whether some medium of s scatters light (scatters), which decides
-// whether s gets a volume map.
+// PathTraced reports whether m's multiple scattering is path traced rather than read from
+// the volume photon map: its Henyey-Greenstein |g| is at least the contract's
+// path_traced_media_min_abs_g (rules.Scene), a lobe too narrow for k photons to weigh.
+func PathTraced(m *pb.Medium) bool {
+	return math.Abs(m.GetG()) >= rules.Scene.GetPathTracedMediaMinAbsG()
+}
+
+// MediaScatter reports whether some medium of s scatters light (scatters).
 func MediaScatter(s *pb.Scene) bool { return slices.ContainsFunc(media(s), scatters) }
+
+// MediaPathTraced reports whether some medium of s that scatters light is path traced.
+func MediaPathTraced(s *pb.Scene) bool {
+	return slices.ContainsFunc(media(s), func(m *pb.Medium) bool { return scatters(m) && PathTraced(m) })
+}
+
+// VolumeMapNeeded reports whether some medium of s scatters light and is not path traced,
+// which decides whether s gets a volume map.
+func VolumeMapNeeded(s *pb.Scene) bool {
+	return slices.ContainsFunc(media(s), func(m *pb.Medium) bool { return scatters(m) && !PathTraced(m) })
+}

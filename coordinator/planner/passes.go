@@ -81,13 +81,16 @@ func Passes(s *pb.Scene) *pb.Plan {
 	case media == "":
 		add(PassMedia, false, "no medium in the scene (medium and every shape's interior_medium unset): rays travel through vacuum, nothing is marched")
 		add(PassVolumeMap, false, "no medium in the scene: no volume photons")
-	case volume == nil:
+	case !scene.MediaScatter(s):
 		add(PassMedia, true, "%s: %s", media, marching(s))
 		add(PassVolumeMap, false, "no medium scatters light (every sigma_s is 0, or every albedo or density is): the media only absorb, no volume photons")
+	case volume == nil: // (volume_photons cannot be 0: it selects a default)
+		add(PassMedia, true, "%s: %s; %s", media, marching(s), multipleScattering(s))
+		add(PassVolumeMap, false, "every medium that scatters light has |g| >= %s: its multiple scattering is path traced, no volume photons", pathTracedAbsG())
 	default:
-		add(PassMedia, true, "%s: %s; multiple scattering from the volume photon map", media, marching(s))
-		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)",
-			count(volume.Photons), shards(volume.Photons), volumeNeighbours(s), volumeRadius(s))
+		add(PassMedia, true, "%s: %s; %s", media, marching(s), multipleScattering(s))
+		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media of |g| < %s after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)",
+			count(volume.Photons), shards(volume.Photons), pathTracedAbsG(), volumeNeighbours(s), volumeRadius(s))
 	}
 
 	names := dispersiveMaterials(s)
@@ -144,7 +147,31 @@ func roundsReason(s *pb.Scene) string {
 
 // marching says what the renderer does in any medium.
 func marching(s *pb.Scene) string {
-	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated", scene.LightSamples(s))
+	samples := fmt.Sprintf("%d light samples and as many phase-function samples per segment, weighed by multiple importance sampling", scene.LightSamples(s))
+	if !scene.HittableLights(s) {
+		samples = fmt.Sprintf("%d light samples per segment: no phase-function sample can reach a point, spot or sun light without a disc", scene.LightSamples(s))
+	}
+	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%s), shadow rays attenuated", samples)
+}
+
+// multipleScattering says how light scattered more than once is found in s's scattering
+// media: from the volume photon map, or (|g| at or above the contract's
+// path_traced_media_min_abs_g) by volumetric path tracing, or each in its own media.
+func multipleScattering(s *pb.Scene) string {
+	const paths = "by volumetric path tracing (camera paths go on by the phase function, with light samples weighed by MIS)"
+	switch mapped, traced := scene.VolumeMapNeeded(s), scene.MediaPathTraced(s); {
+	case mapped && traced:
+		return fmt.Sprintf("multiple scattering from the volume photon map, and %s in media of |g| >= %s", paths, pathTracedAbsG())
+	case traced:
+		return fmt.Sprintf("multiple scattering %s: |g| >= %s", paths, pathTracedAbsG())
+	default:
+		return "multiple scattering from the volume photon map"
+	}
+}
+
+// pathTracedAbsG is the contract's path_traced_media_min_abs_g as people write it.
+func pathTracedAbsG() string {
+	return strconv.FormatFloat(rules.Scene.GetPathTracedMediaMinAbsG(), 'g', -1, 64)
 }
 
 // volumeNeighbours and volumeRadius are the volume estimate's k and search radius; their
