@@ -22,11 +22,15 @@ func media(s *pb.Scene) []*pb.Medium {
 }
 
 // scatters reports whether light can scatter in m: sigma_s positive in some channel, or an
-// albedo positive in some channel with a positive density. A medium that only absorbs
+// albedo positive in some channel with a positive density (a grid's density scale is
+// positive; its file's densities are not looked at). A medium that only absorbs
 // attenuates rays but stores no volume photon.
 func scatters(m *pb.Medium) bool {
 	if a := m.GetAlbedo(); a != nil {
 		return a.GetDensity() > 0 && positive(a.GetAlbedo())
+	}
+	if g := m.GetGrid(); g != nil {
+		return positive(g.GetAlbedo())
 	}
 	return positive(m.GetSigma().GetSigmaS())
 }

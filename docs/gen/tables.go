@@ -106,6 +106,8 @@ func sceneLimits() string {
 		"max_snapshot_photons":          "photons stored in one round's photon snapshot, every map together, and so in one emission shard (a path stores a photon at each diffuse bounce, so `photons.*_photons` alone do not bound it): the worker fails an emission shard that stores more, the builder a snapshot, as bad input naming the setting to lower; the largest snapshot is then 768 MB (24 bytes a global photon with irradiance), the largest shard 896 MB (28 bytes a photon), both under `max_blob_bytes`",
 		"max_texture_pixels":            "most pixels (width times height) of one texture, read from its header without decoding it",
 		"principled_specular_roughness": "a principled material whose roughness factor is below this counts as specular: its lobe is only sampled, never lit by light samples or photons, and the scene gets a caustic map",
+		"max_grid_cells":                "most cells (`nx * ny * nz`) of one farm grid file (docs/grid-format.md): a worker holds 4 bytes a cell, plus a majorant for every 8 x 8 x 8 brick, for the job's life (256 MiB at the limit)",
+		"max_grid_axis_cells":           "most cells along each axis of a farm grid file, checked before the counts are multiplied",
 		"spectral_wavelengths_per_path": "wavelengths a photon or camera path carries with `sampling.spectral` ALWAYS (a hero and its companions, docs/spectral.md); the workers check theirs against it",
 	})
 }

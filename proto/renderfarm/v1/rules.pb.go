@@ -412,8 +412,14 @@ type SceneLimits struct {
 	// ALWAYS): a hero and its companions. The workers' value (worker/spectral/wavelengths.h)
 	// is checked against this one; the planner states it.
 	SpectralWavelengthsPerPath uint32 `protobuf:"varint,12,opt,name=spectral_wavelengths_per_path,json=spectralWavelengthsPerPath,proto3" json:"spectral_wavelengths_per_path,omitempty"`
-	unknownFields              protoimpl.UnknownFields
-	sizeCache                  protoimpl.SizeCache
+	// Cells of one density grid file (MediumGrid, docs/grid-format.md): a worker holds 4
+	// bytes a cell, and its majorants, for the job's life.
+	MaxGridCells uint64 `protobuf:"varint,13,opt,name=max_grid_cells,json=maxGridCells,proto3" json:"max_grid_cells,omitempty"`
+	// Cells along each axis of a density grid file: with max_grid_cells, refuses absurd
+	// headers before any size is multiplied out.
+	MaxGridAxisCells uint32 `protobuf:"varint,14,opt,name=max_grid_axis_cells,json=maxGridAxisCells,proto3" json:"max_grid_axis_cells,omitempty"`
+	unknownFields    protoimpl.UnknownFields
+	sizeCache        protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -526,6 +532,20 @@ func (x *SceneLimits) GetPrincipledSpecularRoughness() float64 {
 func (x *SceneLimits) GetSpectralWavelengthsPerPath() uint32 {
 	if x != nil {
 		return x.SpectralWavelengthsPerPath
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxGridCells() uint64 {
+	if x != nil {
+		return x.MaxGridCells
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxGridAxisCells() uint32 {
+	if x != nil {
+		return x.MaxGridAxisCells
 	}
 	return 0
 }
@@ -946,7 +966,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xce\x04\n" +
+	"_max_bytes\"\xa3\x05\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -960,7 +980,9 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x12max_texture_pixels\x18\n" +
 	" \x01(\x04R\x10maxTexturePixels\x12B\n" +
 	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\x12A\n" +
-	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\"\xc2\x01\n" +
+	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\x12$\n" +
+	"\x0emax_grid_cells\x18\r \x01(\x04R\fmaxGridCells\x12-\n" +
+	"\x13max_grid_axis_cells\x18\x0e \x01(\rR\x10maxGridAxisCells\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +
