@@ -77,17 +77,24 @@ func Passes(s *pb.Scene) *pb.Plan {
 	}
 
 	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightTargets(s), scene.LightSamples(s))
+	dark := darkMedia(s)
 	switch media := mediaOf(s); {
 	case media == "":
 		add(PassMedia, false, "no medium in the scene (medium and every shape's interior_medium unset): rays travel through vacuum, nothing is marched")
 		add(PassVolumeMap, false, "no medium in the scene: no volume photons")
+	case volume == nil && dark != "":
+		add(PassMedia, true, "%s: %s", media, marching(s))
+		add(PassVolumeMap, false, "no medium that light reaches scatters it, no volume photons: %s", dark)
 	case volume == nil:
 		add(PassMedia, true, "%s: %s", media, marching(s))
 		add(PassVolumeMap, false, "no medium scatters light (every sigma_s is 0, or every albedo or density is): the media only absorb, no volume photons")
 	default:
 		add(PassMedia, true, "%s: %s; multiple scattering from the volume photon map", media, marching(s))
-		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)",
-			count(volume.Photons), shards(volume.Photons), volumeNeighbours(s), volumeRadius(s))
+		if dark != "" {
+			dark = "; none for " + dark
+		}
+		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)%s",
+			count(volume.Photons), shards(volume.Photons), volumeNeighbours(s), volumeRadius(s), dark)
 	}
 
 	names := dispersiveMaterials(s)
@@ -162,6 +169,18 @@ func volumeRadius(s *pb.Scene) string {
 		return strconv.FormatFloat(r, 'g', -1, 64)
 	}
 	return "1/20 of the scene's diagonal"
+}
+
+// darkMedia names the scattering media no light reaches, each with why (scene.Media), ""
+// for none: the volume map stores nothing in them (and no camera path sees them).
+func darkMedia(s *pb.Scene) string {
+	var parts []string
+	for _, m := range scene.Media(s) {
+		if m.Dark != "" && m.Scatters() {
+			parts = append(parts, m.Label+": "+m.Dark)
+		}
+	}
+	return strings.Join(parts, "; ")
 }
 
 // mediaOf names the media a scene holds ("fog filling the scene", "2 shapes' interior

@@ -35,6 +35,15 @@ func scatteringFog(s *pb.Scene) {
 	s.Medium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{SigmaA: &pb.Color{R: 0.1}, SigmaS: &pb.Color{B: 0.05}}}}
 }
 
+// smokeIn makes the ball (shapes[0]) of the material named kind ("white", "mirror",
+// "glass"), filled with a scattering medium.
+func smokeIn(kind string) func(*pb.Scene) {
+	return func(s *pb.Scene) {
+		shapes(kind, "white")(s)
+		s.Shapes[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 2}}}
+	}
+}
+
 func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 	flatFloor := func(s *pb.Scene) { s.Shapes = s.Shapes[1:] } // floor and lamp only
 	sky := &pb.Texture{Name: "sky", Path: "sky.hdr", Digest: "sha256:" + strings.Repeat("0", 64)}
@@ -94,6 +103,18 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Photons.VolumePhotons, s.Photons.PhotonsPerShard = 25000, 10000
 			s.Photons.VolumeEstimate = &pb.RadianceEstimate{Neighbours: 80, MaxRadius: 0.25}
 		}, planner.PassVolumeMap, true, "25,000 volume photon paths per round in 3 shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k 80, radius 0.25)"},
+		{"smoke in a closed diffuse ball, the light outside: no volume map", smokeIn("white"), planner.PassVolumeMap, false,
+			`no medium that light reaches scatters it, no volume photons: shapes[0] ("ball")'s interior medium: no light reaches it: its surface transmits none`},
+		{"smoke in a mirror ball is dark too", smokeIn("mirror"), planner.PassVolumeMap, false, `shapes[0] ("ball")'s interior medium: no light reaches it`},
+		{"smoke in a glass ball is lit", smokeIn("glass"), planner.PassVolumeMap, true, "200,000 volume photon paths per round in 2 shards"},
+		{"smoke in a diffuse ball with a light inside is lit", func(s *pb.Scene) {
+			smokeIn("white")(s)
+			s.Lights = append(s.Lights, &pb.Light{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 1, 0.5), Intensity: &pb.Color{R: 1, G: 1, B: 1}}}})
+		}, planner.PassVolumeMap, true, "200,000 volume photon paths per round"},
+		{"smoke in a diffuse ball beside scattering fog: the fog's photons, none for the ball", func(s *pb.Scene) {
+			smokeIn("white")(s)
+			scatteringFog(s)
+		}, planner.PassVolumeMap, true, `(k 50, radius 1/20 of the scene's diagonal); none for shapes[0] ("ball")'s interior medium: no light reaches it`},
 		{"scattering fog: multiple scattering", scatteringFog, planner.PassMedia, true, "fog filling the scene: camera paths attenuated and single scattering from every light along them (16 samples per segment), shadow rays attenuated; multiple scattering from the volume photon map"},
 		{"no dispersion", shapes("glass", "white"), planner.PassDispersion, false, "no dispersive material"},
 		{"a dispersive glass and a gem", func(s *pb.Scene) {
