@@ -2,13 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace farm {
 namespace {
 
-// The part of [0, t_max] of the ray inside the box (slabs), or nothing.
-std::optional<std::pair<float, float>> Clip(const Bounds3& box, const Ray& ray, float t_max) {
-  float t0 = 0, t1 = t_max;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+}  // namespace
+
+std::optional<std::pair<float, float>> ClipToBox(const Bounds3& box, const Ray& ray, float t_min, float t_max) {
+  float t0 = t_min, t1 = t_max;
   const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
   const float d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
   const float lo[3] = {box.min.x, box.min.y, box.min.z}, hi[3] = {box.max.x, box.max.y, box.max.z};
@@ -26,21 +30,10 @@ std::optional<std::pair<float, float>> Clip(const Bounds3& box, const Ray& ray, 
   return std::pair{t0, t1};
 }
 
-// Tentative collisions against the majorant over the box's part of the ray: calls
-// `collide(t, sigma / majorant)` at each, stopping when it returns false. Returns whether
-// the flight got past the end.
-template <typename Collide>
-bool Track(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_max, const UniformSource& u,
-           Collide collide) {
-  const float majorant = grid.max_density() * sigma_scale;
-  const std::optional<std::pair<float, float>> span = Clip(grid.box(), ray, t_max);
-  if (!span || !(majorant > 0)) return true;
-  for (float t = span->first;;) {
-    t -= std::log1p(-std::min(u(), 0x1.fffffep-1f)) / majorant;
-    if (t >= span->second) return true;
-    if (!collide(t, grid.Density(ray.At(t)) * sigma_scale / majorant)) return false;
-  }
-}
+namespace {
+
+// -log(1 - u) without losing u near 0 (log1p) and finite for u < 1.
+float Exponential(float u) { return -std::log1p(-std::min(u, 0x1.fffffep-1f)); }
 
 }  // namespace
 
@@ -55,6 +48,35 @@ DenseGrid::DenseGrid(int nx, int ny, int nz, std::vector<float> values, const Bo
     if (!(v >= 0) || !std::isfinite(v)) throw std::invalid_argument("dense grid: a density that is not finite and >= 0");
     max_ = std::max(max_, v);
   }
+  // Each brick's bounds: the largest and smallest value its interpolation reads (the cells
+  // from one before its first to one past its last: Density's neighbours; a trilinear
+  // value lies between them), widened by one more cell each way so that a point rounded
+  // across a brick's face stays within them.
+  const int n[3] = {nx, ny, nz};
+  for (int a = 0; a < 3; ++a) bricks_[a] = (n[a] + kBrick - 1) / kBrick;
+  brick_max_.assign(std::size_t(bricks_[0]) * bricks_[1] * bricks_[2], 0.0f);
+  brick_min_.assign(brick_max_.size(), 0.0f);
+  const auto range = [&](int a, int b, int& lo, int& hi) {
+    lo = std::max(0, b * kBrick - 2);
+    hi = std::min(n[a] - 1, b * kBrick + kBrick + 1);
+  };
+  for (int bz = 0; bz < bricks_[2]; ++bz)
+    for (int by = 0; by < bricks_[1]; ++by)
+      for (int bx = 0; bx < bricks_[0]; ++bx) {
+        int x0, x1, y0, y1, z0, z1;
+        range(0, bx, x0, x1);
+        range(1, by, y0, y1);
+        range(2, bz, z0, z1);
+        float lo = At(x0, y0, z0), hi = lo;
+        for (int z = z0; z <= z1; ++z)
+          for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) {
+              lo = std::min(lo, At(x, y, z));
+              hi = std::max(hi, At(x, y, z));
+            }
+        brick_min_[Brick(bx, by, bz)] = lo;
+        brick_max_[Brick(bx, by, bz)] = hi;
+      }
 }
 
 float DenseGrid::Density(const Vec3& p) const {
@@ -79,26 +101,114 @@ float DenseGrid::Density(const Vec3& p) const {
   return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
 }
 
-std::optional<float> DeltaTrack(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_max,
-                                const UniformSource& u) {
-  float hit = 0;
-  const bool passed = Track(grid, sigma_scale, ray, t_max, u, [&](float t, float ratio) {
-    if (u() >= ratio) return true;  // a null collision: fly on
-    hit = t;
-    return false;
-  });
-  if (passed) return std::nullopt;
-  return hit;
+DenseGrid::Walk::Walk(const DenseGrid& grid, const Ray& ray, float t_min, float t_max) : grid_(grid) {
+  const std::optional<std::pair<float, float>> span = ClipToBox(grid.box_, ray, t_min, t_max);
+  if (!span) return;
+  t_ = span->first;
+  t_end_ = span->second;
+  done_ = false;
+  const Vec3 entry = ray.At(t_);
+  const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+  const float d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+  const float p[3] = {entry.x, entry.y, entry.z};
+  const float lo[3] = {grid.box_.min.x, grid.box_.min.y, grid.box_.min.z};
+  const float hi[3] = {grid.box_.max.x, grid.box_.max.y, grid.box_.max.z};
+  const int n[3] = {grid.nx_, grid.ny_, grid.nz_};
+  for (int a = 0; a < 3; ++a) {
+    const float extent = (hi[a] - lo[a]) * float(kBrick) / float(n[a]);  // of a brick
+    index_[a] = std::clamp(int(std::floor((p[a] - lo[a]) / extent)), 0, grid.bricks_[a] - 1);
+    if (d[a] > 0) {
+      step_[a] = 1;
+      next_[a] = (lo[a] + float(index_[a] + 1) * extent - o[a]) / d[a];
+      delta_[a] = extent / d[a];
+    } else if (d[a] < 0) {
+      step_[a] = -1;
+      next_[a] = (lo[a] + float(index_[a]) * extent - o[a]) / d[a];
+      delta_[a] = -extent / d[a];
+    } else {
+      next_[a] = kInf;
+    }
+  }
 }
 
-float RatioTrackTransmittance(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_max,
+bool DenseGrid::Walk::Next(Span& span) {
+  if (done_) return false;
+  const int a = next_[0] < next_[1] ? (next_[0] < next_[2] ? 0 : 2) : (next_[1] < next_[2] ? 1 : 2);
+  const float exit = std::max(t_, std::min(next_[a], t_end_));
+  const std::size_t brick = grid_.Brick(index_[0], index_[1], index_[2]);
+  span = {t_, exit, grid_.brick_min_[brick], grid_.brick_max_[brick]};
+  t_ = exit;
+  index_[a] += step_[a];
+  next_[a] += delta_[a];
+  done_ = !(exit < t_end_) || index_[a] < 0 || index_[a] >= grid_.bricks_[a];
+  return true;
+}
+
+std::optional<float> DeltaTrack(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_min, float t_max,
+                                const UniformSource& u) {
+  if (!(sigma_scale > 0)) return std::nullopt;
+  DenseGrid::Walk walk(grid, ray, t_min, t_max);
+  for (DenseGrid::Span span; walk.Next(span);) {
+    const float majorant = span.majorant * sigma_scale;
+    if (!(majorant > 0)) continue;  // an empty brick: nothing to meet
+    // Exponential steps are memoryless: each brick starts afresh at its entry.
+    for (float t = span.t0;;) {
+      t += Exponential(u()) / majorant;
+      if (!(t < span.t1)) break;
+      // A real collision with probability sigma / majorant, else a null one: fly on.
+      if (u() < grid.Density(ray.At(t)) * sigma_scale / majorant) return t;
+    }
+  }
+  return std::nullopt;
+}
+
+float RatioTrackTransmittance(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_min, float t_max,
                               const UniformSource& u) {
-  float transmittance = 1;
-  Track(grid, sigma_scale, ray, t_max, u, [&](float, float ratio) {
-    transmittance *= 1 - ratio;
-    return transmittance > 0;
-  });
-  return transmittance;
+  if (!(sigma_scale > 0)) return 1;
+  double transmittance = 1;
+  DenseGrid::Walk walk(grid, ray, t_min, t_max);
+  for (DenseGrid::Span span; walk.Next(span);) {
+    const float minorant = span.minorant * sigma_scale;
+    transmittance *= std::exp(-double(minorant) * (span.t1 - span.t0));
+    const float residual = span.majorant * sigma_scale - minorant;
+    if (!(residual > 0)) continue;  // a uniform brick: its closed form is all
+    for (float t = span.t0;;) {
+      t += Exponential(u()) / residual;
+      if (!(t < span.t1)) break;
+      const float ratio = std::clamp((grid.Density(ray.At(t)) * sigma_scale - minorant) / residual, 0.0f, 1.0f);
+      transmittance *= 1 - ratio;
+      if (transmittance == 0) return 0;
+    }
+  }
+  return float(transmittance);
+}
+
+std::optional<DistanceSample> SampleMajorantDistance(const DenseGrid& grid, float sigma_scale, const Ray& ray,
+                                                     float t_min, float t_max, float u) {
+  if (!(sigma_scale > 0)) return std::nullopt;
+  double depth = 0;  // the majorants' optical depth over the stretch
+  DenseGrid::Walk all(grid, ray, t_min, t_max);
+  for (DenseGrid::Span span; all.Next(span);) depth += double(span.majorant) * sigma_scale * (span.t1 - span.t0);
+  if (!(depth > 0)) return std::nullopt;
+  const double mass = -std::expm1(-depth);
+  const double target = -std::log1p(-double(u) * mass);  // the optical depth to land at
+  double reached = 0;
+  DenseGrid::Walk walk(grid, ray, t_min, t_max);
+  DenseGrid::Span last;
+  for (DenseGrid::Span span; walk.Next(span);) {
+    const double m = double(span.majorant) * sigma_scale;
+    const double here = m * (span.t1 - span.t0);
+    if (m > 0) last = span;
+    if (m > 0 && reached + here >= target) {
+      const float t = std::min(span.t1, float(span.t0 + (target - reached) / m));
+      return DistanceSample{t, float(m * std::exp(-target) / mass)};
+    }
+    reached += here;
+  }
+  // Rounding left the target a hair past the sum: the end of the last brick that holds
+  // anything.
+  const double m = double(last.majorant) * sigma_scale;
+  return DistanceSample{last.t1, float(m * std::exp(-depth) / mass)};
 }
 
 }  // namespace farm

@@ -35,9 +35,9 @@ struct PhotonMappingIntegrator::Shading {
   Vec3 ns;
   float cone_width = 0;
   // The medium around the point (null: vacuum), which attenuates its shadow rays.
-  const HomogeneousMedium* medium = nullptr;
+  const Medium* medium = nullptr;
 
-  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone, const HomogeneousMedium* around = nullptr)
+  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone, const Medium* around = nullptr)
       : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(ShadingNormalOf(m, h.ns)), cone_width(cone),
         medium(around) {
     if (Dot(h.n, n) < 0) ns = -ns;
@@ -194,7 +194,7 @@ struct PhotonMappingIntegrator::PathBranch {
   Rgb throughput;
   float share = 1;
   uint64_t key = 0;
-  const HomogeneousMedium* medium = nullptr;  // the one the ray travels in; null: vacuum
+  const Medium* medium = nullptr;  // the one the ray travels in; null: vacuum
   // Set in spectral mode from the start, and once the branch crossed a dispersive surface:
   // the light it carries at a few wavelengths (throughput is its RGB, spectral->ToRgb()),
   // which sees an RGB quantity as its uplift at each.
@@ -544,7 +544,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
 }
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
-                                       const HomogeneousMedium* medium, std::vector<PhotonNeighbour>& scratch,
+                                       const Medium* medium, std::vector<PhotonNeighbour>& scratch,
                                        bool& escaped) const {
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);

@@ -205,7 +205,7 @@ class PhotonMappingIntegrator {
   // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const HomogeneousMedium* medium,
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const Medium* medium,
                 std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;

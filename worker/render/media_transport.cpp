@@ -34,14 +34,12 @@ std::optional<Vec3> PointOf(const Light& light, Vec2 u) {
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
               const InScatterDimensions& u, const ShadowTransmittance& shadow) {
   if (segment.empty() || !(pick_pmf > 0)) return {};
-  const HomogeneousMedium& m = *segment.medium;
-  if (m.sigma_s.IsBlack()) return {};
-  const float length = segment.t1 - segment.t0;
+  if (!segment.medium->Scatters()) return {};
   std::optional<DistanceSample> d;
   if (const std::optional<Vec3> p = PointOf(light, u.light)) {
     d = SampleEquiangular(ray.origin, ray.direction, segment.t0, segment.t1, *p, u.distance);
-  } else if (std::optional<DistanceSample> s = SampleTruncatedFlight(m, length, u.channel, u.distance)) {
-    d = DistanceSample{segment.t0 + s->t, s->pdf};
+  } else {
+    d = segment.SampleDistance(u.channel, u.distance);
   }
   if (!d) return {};
   const Vec3 x = ray.At(d->t);
@@ -49,10 +47,10 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   if (!ls || !(ls->pdf > 0)) return {};
   const Rgb arriving = shadow(x, *ls);
   if (arriving.IsBlack()) return {};
-  const float phase = HenyeyGreenstein(-ray.direction, ls->wi, m.g);
+  const float phase = HenyeyGreenstein(-ray.direction, ls->wi, segment.medium->g());
   const float pdf = pick_pmf * d->pdf * ls->pdf;
   if (!(pdf > 0) || !std::isfinite(pdf)) return {};
-  return segment.TransmittanceTo(d->t) * m.sigma_s * arriving * (phase / pdf);
+  return segment.TransmittanceTo(d->t) * segment.ScatteringAt(d->t) * arriving * (phase / pdf);
 }
 
 SeenBall SeenBall::Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u) {
@@ -87,11 +85,10 @@ Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const 
                     const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
                     std::vector<PhotonNeighbour>& scratch) {
   if (segment.empty() || volume.size() == 0) return {};
-  const HomogeneousMedium& m = *segment.medium;
-  if (m.sigma_s.IsBlack()) return {};
-  const std::optional<DistanceSample> d = SampleTruncatedFlight(m, segment.t1 - segment.t0, u_channel, u_distance);
+  if (!segment.medium->Scatters()) return {};
+  const std::optional<DistanceSample> d = segment.SampleDistance(u_channel, u_distance);
   if (!d || !(d->pdf > 0)) return {};
-  const float t = segment.t0 + d->t;
+  const float t = d->t;
   const Vec3 x = ray.At(t);
   volume.NearestK(x, estimate.neighbours, estimate.max_radius, scratch);
   if (scratch.empty()) return {};
@@ -111,7 +108,7 @@ Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const 
     if (i == farthest) continue;
     const DecodedPhoton p = volume.photon(scratch[i].index);
     if (seen.fraction < 1 && !seen.Sees(p.position - x)) continue;
-    sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, m.g);
+    sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, segment.medium->g());
   }
   const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
   if (!(volume_of_sphere > 0)) return {};

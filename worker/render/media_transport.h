@@ -1,9 +1,9 @@
 #pragma once
 
-// Light transport through homogeneous media along camera paths (docs/media.md): where a
-// ray travels in a medium, what it reaches is attenuated by the medium's closed-form
-// transmittance, and light from every light scattered once towards the ray along the way
-// (single scattering) is added:
+// Light transport through media along camera paths (docs/media.md): where a ray travels
+// in a medium, what it reaches is attenuated by the medium's transmittance (closed-form,
+// or ratio-tracked through a grid), and light from every light scattered once towards the
+// ray along the way (single scattering) is added:
 //
 //   L_ss = integral over t of T(t0, t) sigma_s p(wo, wi) L_light(x(t), wi) T_shadow dt,
 //
@@ -11,7 +11,8 @@
 // equiangularly towards point and spot lights and towards the point drawn on a quad or mesh
 // light (media/equiangular.h: it cancels their 1 / d^2, which is what makes halos clean and
 // keeps rays that pass close to an emitter from blowing up), by the truncated free-flight
-// density for spheres and distant lights. Shadow rays from media and from surfaces are attenuated by the transmittance
+// density for spheres and distant lights (a grid's: its majorants', MediumSegment::
+// SampleDistance). Shadow rays from media and from surfaces are attenuated by the transmittance
 // of the medium they cross.
 
 #include <array>
@@ -22,10 +23,8 @@
 #include "math/bounds.h"
 #include "math/ray.h"
 #include "math/rgb.h"
-#include "media/homogeneous_medium.h"
 #include "photonmap/photon_map.h"
 #include "photonmap/radiance_estimate.h"
-#include "scene/media_segments.h"
 #include "scene/media_segments.h"
 #include "scene/lights.h"
 

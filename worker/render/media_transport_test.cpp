@@ -28,7 +28,8 @@ double E1(double x) { return -std::expint(-x); }
 // The mean of n single-scattering samples along `ray` through an infinite medium (no
 // geometry: the light always reaches the scattering point, through the medium).
 Rgb MeanInScatter(const HomogeneousMedium& m, const Ray& ray, const Light& light, int n) {
-  const MediumSegment segment{&m, 0, kInf};
+  const Medium medium{m};
+  const MediumSegment segment{&medium, ray, 0, kInf};
   const ShadowTransmittance shadow = [&](const Vec3& x, const LightSample& ls) {
     return ls.radiance * m.Transmittance(Distance(x, ls.p));
   };
@@ -91,7 +92,8 @@ TEST(SingleScattering, OffTheLineAndFromTheSunMatchQuadrature) {
   // integrator clips to the medium's ball; here the infinite medium makes it the same
   // for every point), so L = E e^(-sigma_t 3) sigma_s p / sigma_t.
   const Light sun = SunLight::Make({0, 0, -1}, Rgb(2), 0, BoundingSphere{{0, 0, 0}, 1});
-  const MediumSegment segment{&m, 0, kInf};
+  const Medium medium{m};
+  const MediumSegment segment{&medium, ray, 0, kInf};
   const ShadowTransmittance fixed = [&](const Vec3&, const LightSample& ls) { return ls.radiance * m.Transmittance(3); };
   Rgb sum;
   const int n = 1 << 14;
