@@ -144,6 +144,52 @@ bool DenseGrid::Walk::Next(Span& span) {
   return true;
 }
 
+void DenseGrid::Pieces(const Ray& ray, const Span& span, const PieceVisit& visit) const {
+  // Where the ray crosses a plane of cell centres (c_a integer, c_a = (p_a - lo_a) / cell_a
+  // - 0.5) the interpolation's piece changes; between two crossings the density along the
+  // ray is a polynomial of degree at most 3 in t, which Simpson's rule integrates exactly.
+  // A uniform brick is one piece.
+  if (span.minorant == span.majorant) {
+    visit(span.t0, span.t1, double(span.majorant) * (span.t1 - span.t0));
+    return;
+  }
+  const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+  const float d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+  const float lo[3] = {box_.min.x, box_.min.y, box_.min.z}, hi[3] = {box_.max.x, box_.max.y, box_.max.z};
+  const int n[3] = {nx_, ny_, nz_};
+  float next[3], delta[3];
+  for (int a = 0; a < 3; ++a) {
+    const float cell = (hi[a] - lo[a]) / float(n[a]);
+    if (d[a] == 0) {
+      next[a] = delta[a] = kInf;
+      continue;
+    }
+    const float c = (o[a] + span.t0 * d[a] - lo[a]) / cell - 0.5f;  // at the span's start
+    const float k = d[a] > 0 ? std::floor(c) + 1 : std::ceil(c) - 1;  // the next centre plane
+    next[a] = ((k + 0.5f) * cell + lo[a] - o[a]) / d[a];
+    delta[a] = cell / std::abs(d[a]);
+    if (!(next[a] > span.t0)) next[a] += delta[a];  // rounding put it behind
+  }
+  float t = span.t0;
+  float at_t = Density(ray.At(t));
+  while (t < span.t1) {
+    const int a = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+    const float end = std::min(next[a], span.t1);
+    if (end > t) {
+      const float at_end = Density(ray.At(end));
+      const double depth = (double(end) - t) / 6 * (double(at_t) + 4.0 * Density(ray.At(0.5f * (t + end))) + at_end);
+      if (!visit(t, end, depth)) return;
+      t = end;
+      at_t = at_end;
+    }
+    next[a] += delta[a];
+  }
+}
+
+double DenseGrid::DepthBetween(const Ray& ray, float a, float b) const {
+  return (double(b) - a) / 6 * (double(Density(ray.At(a))) + 4.0 * Density(ray.At(0.5f * (a + b))) + Density(ray.At(b)));
+}
+
 std::optional<float> DeltaTrack(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_min, float t_max,
                                 const UniformSource& u) {
   if (!(sigma_scale > 0)) return std::nullopt;
@@ -162,53 +208,62 @@ std::optional<float> DeltaTrack(const DenseGrid& grid, float sigma_scale, const 
   return std::nullopt;
 }
 
-float RatioTrackTransmittance(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_min, float t_max,
-                              const UniformSource& u) {
-  if (!(sigma_scale > 0)) return 1;
-  double transmittance = 1;
+double OpticalDepth(const DenseGrid& grid, const Ray& ray, float t_min, float t_max) {
+  double depth = 0;
   DenseGrid::Walk walk(grid, ray, t_min, t_max);
   for (DenseGrid::Span span; walk.Next(span);) {
-    const float minorant = span.minorant * sigma_scale;
-    transmittance *= std::exp(-double(minorant) * (span.t1 - span.t0));
-    const float residual = span.majorant * sigma_scale - minorant;
-    if (!(residual > 0)) continue;  // a uniform brick: its closed form is all
-    for (float t = span.t0;;) {
-      t += Exponential(u()) / residual;
-      if (!(t < span.t1)) break;
-      const float ratio = std::clamp((grid.Density(ray.At(t)) * sigma_scale - minorant) / residual, 0.0f, 1.0f);
-      transmittance *= 1 - ratio;
-      if (transmittance == 0) return 0;
-    }
+    if (!(span.majorant > 0)) continue;  // an empty brick
+    grid.Pieces(ray, span, [&](float, float, double piece) {
+      depth += piece;
+      return true;
+    });
   }
-  return float(transmittance);
+  return depth;
 }
 
-std::optional<DistanceSample> SampleMajorantDistance(const DenseGrid& grid, float sigma_scale, const Ray& ray,
-                                                     float t_min, float t_max, float u) {
-  if (!(sigma_scale > 0)) return std::nullopt;
-  double depth = 0;  // the majorants' optical depth over the stretch
-  DenseGrid::Walk all(grid, ray, t_min, t_max);
-  for (DenseGrid::Span span; all.Next(span);) depth += double(span.majorant) * sigma_scale * (span.t1 - span.t0);
-  if (!(depth > 0)) return std::nullopt;
-  const double mass = -std::expm1(-depth);
-  const double target = -std::log1p(-double(u) * mass);  // the optical depth to land at
+std::optional<DistanceSample> SampleTruncatedFlight(const DenseGrid& grid, float sigma_scale, const Ray& ray,
+                                                    float t_min, float t_max, float u) {
+  const double total = OpticalDepth(grid, ray, t_min, t_max);
+  if (!(sigma_scale > 0) || !(total > 0)) return std::nullopt;
+  const double mass = -std::expm1(-sigma_scale * total);
+  if (!(mass > 0)) return std::nullopt;
+  // The depth (in the grid's units) at which the flight lands: the exponential's inverse
+  // CDF over [0, total], then the piece that holds it, and the point in the piece by
+  // Newton's method on its (exactly integrated) depth, kept inside by bisection.
+  const double target = std::min(total, -std::log1p(-double(u) * mass) / sigma_scale);
   double reached = 0;
+  float end = t_min;  // of the last piece that holds anything
+  std::optional<DistanceSample> landed;
   DenseGrid::Walk walk(grid, ray, t_min, t_max);
-  DenseGrid::Span last;
-  for (DenseGrid::Span span; walk.Next(span);) {
-    const double m = double(span.majorant) * sigma_scale;
-    const double here = m * (span.t1 - span.t0);
-    if (m > 0) last = span;
-    if (m > 0 && reached + here >= target) {
-      const float t = std::min(span.t1, float(span.t0 + (target - reached) / m));
-      return DistanceSample{t, float(m * std::exp(-target) / mass)};
-    }
-    reached += here;
+  for (DenseGrid::Span span; !landed && walk.Next(span);) {
+    if (!(span.majorant > 0)) continue;
+    grid.Pieces(ray, span, [&](float a, float b, double piece) {
+      if (piece > 0) end = b;
+      if (reached + piece < target) {
+        reached += piece;
+        return true;
+      }
+      const double need = std::clamp(target - reached, 0.0, piece);
+      float lo = a, hi = b, t = piece > 0 ? float(a + (b - a) * (need / piece)) : a;
+      for (int i = 0; i < 24 && hi > lo; ++i) {
+        const double excess = grid.DepthBetween(ray, a, t) - need;
+        if (excess > 0) hi = t;
+        else lo = t;
+        const float density = grid.Density(ray.At(t));
+        const float newton = density > 0 ? float(t - excess / density) : -1;
+        t = newton > lo && newton < hi ? newton : 0.5f * (lo + hi);
+      }
+      const double pdf = sigma_scale * grid.Density(ray.At(t)) * std::exp(-sigma_scale * (reached + need)) / mass;
+      if (pdf > 0) landed = DistanceSample{t, float(pdf)};
+      return false;
+    });
   }
-  // Rounding left the target a hair past the sum: the end of the last brick that holds
-  // anything.
-  const double m = double(last.majorant) * sigma_scale;
-  return DistanceSample{last.t1, float(m * std::exp(-depth) / mass)};
+  if (!landed) {
+    // Rounding left the target a hair past the pieces' sum: the end of the last one.
+    const double pdf = sigma_scale * grid.Density(ray.At(end)) * std::exp(-sigma_scale * total) / mass;
+    if (pdf > 0) landed = DistanceSample{end, float(pdf)};
+  }
+  return landed;
 }
 
 }  // namespace farm

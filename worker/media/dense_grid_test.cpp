@@ -51,22 +51,19 @@ TEST(DeltaTracking, ConstantDensityMatchesBeerLambertWithinOnePercent) {
 
 // Along a density that grows linearly between the first and the last cell centres in x
 // (trilinear interpolation is exact for it), from centre to centre: the optical depth is
-// the length times the mean of the end values.
-TEST(RatioTracking, LinearRampMatchesTheClosedFormWithinOnePercent) {
+// the length times the mean of the end values; through the clamped half cells at the faces
+// the density is the end values'. Integrated exactly, to rounding.
+TEST(OpticalDepth, LinearRampMatchesTheClosedForm) {
   std::vector<float> values(4 * 2 * 2);
   for (int z = 0; z < 2; ++z)
     for (int y = 0; y < 2; ++y)
       for (int x = 0; x < 4; ++x) values[(z * 2 + y) * 4 + x] = 0.2f + 0.6f * float(x);  // 0.2 .. 2
   const DenseGrid grid(4, 2, 2, values, kBox);
   const float first = 0.25f, last = 1.75f;  // cell centres in x
-  const Ray ray{{first, 1, 1}, {1, 0, 0}};
-  const double depth = 3.0 * (last - first) * (0.2 + 2.0) / 2;  // sigma_scale 3
-  std::mt19937 rng(16);
-  const UniformSource u = Uniforms(rng);
-  const int n = 200000;
-  double sum = 0;
-  for (int i = 0; i < n; ++i) sum += RatioTrackTransmittance(grid, 3, ray, 0, last - first, u);
-  EXPECT_NEAR(sum / n / std::exp(-depth), 1.0, 0.01);
+  EXPECT_NEAR(OpticalDepth(grid, Ray{{first, 1, 1}, {1, 0, 0}}, 0, last - first), (last - first) * (0.2 + 2.0) / 2,
+              1e-6);
+  // The whole box from outside: 0.25 of 0.2, the ramp, 0.25 of 2.
+  EXPECT_NEAR(OpticalDepth(grid, Ray{{-1, 1, 1}, {1, 0, 0}}, 0, 10), 0.25 * 0.2 + 1.5 * 1.1 + 0.25 * 2, 1e-6);
 }
 
 TEST(DenseGrid, OutsideTheBoxIsEmptyAndBadGridsAreRefused) {
@@ -126,55 +123,53 @@ TEST(DenseGridWalk, SpansTileTheRayInOrderUnderTheirMajorants) {
   EXPECT_GT(empty, spans / 2) << "most bricks of sparse smoke are empty";
 }
 
-// Through the blob and the wisp at once: delta tracking's pass fraction and ratio
-// tracking's mean against the optical depth integrated by the midpoint rule on 200,000
-// steps (the density is piecewise trilinear: the rule's error is far below 1e-4).
-TEST(DenseGridWalk, TrackingThroughSparseSmokeMatchesTheIntegratedDepth) {
+// Through the blob and the wisp at once, along a slanted ray (every kind of piece and
+// clamp): the exact optical depth against the midpoint rule on 200,000 steps (relative
+// error far below 1e-4 for a piecewise cubic), and delta tracking's pass fraction against
+// its exponential.
+TEST(DenseGridWalk, DepthAndFlightsThroughSparseSmokeMatchQuadrature) {
   const DenseGrid grid = Sparse();
   const Ray ray{{-3, 0.1f, 0.1f}, Normalize(Vec3(5, 0.52f, 0.1f))};
   const float t_max = 8;
-  double depth = 0;
+  double quadrature = 0;
   const int steps = 200000;
-  for (int i = 0; i < steps; ++i) depth += grid.Density(ray.At((float(i) + 0.5f) * t_max / steps));
-  depth *= 0.7 * t_max / steps;  // sigma_scale 0.7
-  const double want = std::exp(-depth);
+  for (int i = 0; i < steps; ++i) quadrature += grid.Density(ray.At((float(i) + 0.5f) * t_max / steps));
+  quadrature *= t_max / steps;
+  const double depth = OpticalDepth(grid, ray, 0, t_max);
+  EXPECT_NEAR(depth / quadrature, 1.0, 1e-4);
+  const double want = std::exp(-0.7 * depth);  // sigma_scale 0.7
   ASSERT_GT(want, 0.2);
   ASSERT_LT(want, 0.8);
   std::mt19937 rng(19);
   const UniformSource u = Uniforms(rng);
   const int n = 400000;
   int passed = 0;
-  double ratio = 0;
-  for (int i = 0; i < n; ++i) {
-    passed += !DeltaTrack(grid, 0.7f, ray, 0, t_max, u);
-    ratio += RatioTrackTransmittance(grid, 0.7f, ray, 0, t_max, u);
-  }
+  for (int i = 0; i < n; ++i) passed += !DeltaTrack(grid, 0.7f, ray, 0, t_max, u);
   // Binomial: the relative standard deviation sqrt((1 - T) / (T n)) is below 0.25% here.
   EXPECT_NEAR(double(passed) / n / want, 1.0, 0.01);
-  EXPECT_NEAR(ratio / n / want, 1.0, 0.01);
 }
 
-// The majorants' truncated free flight is a density over the stretch: its samples' 1/pdf
-// average to the stretch's length where some brick holds anything (importance sampling of
-// the constant 1 there), and each lands inside [t_min, t_max].
-TEST(DenseGridWalk, MajorantDistancesAreADensityOverTheStretch) {
+// The truncated free flight through sparse smoke inverts the exact optical depth: the
+// k-th of n stratified samples lands where the truncated CDF (1 - T(t)) / (1 - T(end)) is
+// (k + 1/2) / n, and its pdf is sigma_t(t) T(t) / (1 - T(end)), so that sigma_t T / pdf is
+// the same 1 - T(end) for every sample (no noise of its own), each inside the stretch.
+TEST(DenseGridWalk, TruncatedFlightsInvertTheExactDepth) {
   const DenseGrid grid = Sparse();
   const Ray ray{{-3, 0.1f, 0.1f}, Normalize(Vec3(5, 0.52f, 0.1f))};
-  double occupied = 0;
-  DenseGrid::Walk walk(grid, ray, 0.5f, 7);
-  for (DenseGrid::Span span; walk.Next(span);) occupied += span.majorant > 0 ? span.t1 - span.t0 : 0;
-  ASSERT_GT(occupied, 0.5);
-  const int n = 100000;
-  double sum = 0;
-  for (int i = 0; i < n; ++i) {
-    const std::optional<DistanceSample> d = SampleMajorantDistance(grid, 0.7f, ray, 0.5f, 7, (float(i) + 0.5f) / n);
-    ASSERT_TRUE(d);
-    ASSERT_GE(d->t, 0.5f);
-    ASSERT_LE(d->t, 7.0f);
-    sum += 1 / d->pdf;
+  const float t_min = 0.5f, t_max = 7, scale = 0.7f;
+  const double mass = -std::expm1(-scale * OpticalDepth(grid, ray, t_min, t_max));
+  const int n = 2000;
+  for (int k = 0; k < n; ++k) {
+    const float u = (float(k) + 0.5f) / n;
+    const std::optional<DistanceSample> d = SampleTruncatedFlight(grid, scale, ray, t_min, t_max, u);
+    ASSERT_TRUE(d) << u;
+    ASSERT_GE(d->t, t_min);
+    ASSERT_LE(d->t, t_max);
+    const double transmittance = std::exp(-scale * OpticalDepth(grid, ray, t_min, d->t));
+    ASSERT_NEAR((1 - transmittance) / mass, u, 1e-4) << "t " << d->t;
+    ASSERT_NEAR(scale * grid.Density(ray.At(d->t)) * transmittance / d->pdf / mass, 1.0, 1e-3) << "t " << d->t;
   }
-  EXPECT_NEAR(sum / n / occupied, 1.0, 0.01);
-  EXPECT_FALSE(SampleMajorantDistance(grid, 0.7f, Ray{{-3, 1.1f, 2.3f}, {1, 0, 0}}, 0, 1, 0.5f))
+  EXPECT_FALSE(SampleTruncatedFlight(grid, scale, Ray{{-3, 1.1f, 2.3f}, {1, 0, 0}}, 0, 1, 0.5f))
       << "outside the box: nothing to land on";
 }
 

@@ -1,6 +1,7 @@
 #include "media/medium.h"
 
 #include <algorithm>
+#include <cmath>
 #include <bit>
 #include <cstdint>
 #include <type_traits>
@@ -24,8 +25,8 @@ class HashedUniforms {
 
 uint64_t Bits(float x) { return std::bit_cast<uint32_t>(x); }
 
-// The key of a query along a ray: its origin, direction and stretch, and a salt (the
-// sample's own number, or which query it is).
+// The key of a flight along a ray: its origin, direction and stretch, and the sample's own
+// number.
 uint64_t QueryKey(const Ray& ray, float t0, float t1, uint64_t salt) {
   return Hash(Bits(ray.origin.x), Bits(ray.origin.y), Bits(ray.origin.z), Bits(ray.direction.x),
               Bits(ray.direction.y), Bits(ray.direction.z), Bits(t0), Bits(t1), salt);
@@ -65,9 +66,8 @@ Rgb Transmittance(const Medium& medium, const Ray& ray, float t0, float t1) {
   if (!(t1 > t0)) return Rgb(1);
   return std::visit(Overloaded{[&](const HomogeneousMedium& m) { return m.Transmittance(t1 - t0); },
                                [&](const GridMedium& m) {
-                                 HashedUniforms u(QueryKey(ray, t0, t1, 0));
-                                 return Rgb(RatioTrackTransmittance(*m.grid, m.density_scale, m.ToGrid(ray), t0, t1,
-                                                                    std::ref(u)));
+                                 return Rgb(float(std::exp(-double(m.density_scale) *
+                                                           OpticalDepth(*m.grid, m.ToGrid(ray), t0, t1))));
                                }},
                     medium.kind);
 }
@@ -88,7 +88,7 @@ std::optional<DistanceSample> SampleDistance(const Medium& medium, const Ray& ra
                    return DistanceSample{t0 + s->t, s->pdf};
                  },
                  [&](const GridMedium& m) {
-                   return SampleMajorantDistance(*m.grid, m.density_scale, m.ToGrid(ray), t0, t1, u);
+                   return SampleTruncatedFlight(*m.grid, m.density_scale, m.ToGrid(ray), t0, t1, u);
                  }},
       medium.kind);
 }

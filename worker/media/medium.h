@@ -7,9 +7,11 @@
 // distance) in a medium; camera paths and photon paths ask them through MediumSegment
 // (scene/media_segments.h).
 //
-// Tracking needs random numbers beyond the ones a sample hands over: they are hashed from
-// the query itself (the ray's origin and direction, the stretch, the sample's number), so
-// that an answer is a pure function of what was asked, the same on every worker.
+// A grid's transmittance is exact (its optical depth integrated piece by piece:
+// dense_grid.h); delta tracking a photon's flight needs random numbers beyond the two a
+// sample hands over: they are hashed from the query itself (the ray's origin and
+// direction, the stretch, the sample's number), so that an answer is a pure function of
+// what was asked, the same on every worker.
 
 #include <memory>
 #include <optional>
@@ -48,15 +50,16 @@ struct Medium {
   std::string ToString() const;
 };
 
-// The transmittance over [t0, t1] of the ray: closed-form, or a ratio-tracking estimate
-// (unbiased; its numbers hashed from the ray and the stretch). 1 for an empty stretch.
+// The transmittance over [t0, t1] of the ray, exactly: closed-form, or exp(-scale x the
+// grid's optical depth). 1 for an empty stretch.
 Rgb Transmittance(const Medium& medium, const Ray& ray, float t0, float t1);
 
 // sigma_s at p.
 Rgb ScatteringAt(const Medium& medium, const Vec3& p);
 
 // A distance in [t0, t1] with its density: the free flight truncated to the stretch,
-// channel-averaged (homogeneous), or the majorants' (a grid's, SampleMajorantDistance).
+// channel-averaged (homogeneous), or exactly sigma_t T over the stretch (a grid's,
+// dense_grid.h's SampleTruncatedFlight).
 // Nothing where no distance can be drawn (vacuum, an empty stretch, empty bricks only).
 std::optional<DistanceSample> SampleDistance(const Medium& medium, const Ray& ray, float t0, float t1, float u_channel,
                                              float u);

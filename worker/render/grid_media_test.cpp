@@ -61,10 +61,10 @@ BlobLoader ConstantGridBlob() {
 // Single scattering, the floor's direct light through the fog and the volume photon map's
 // multiple scattering, homogeneous against the constant grid: the same expectation, each
 // estimated with its own numbers (majorant-sampled distances, delta-tracked photons; the
-// transmittance through a uniform grid is exact: residual ratio tracking takes it in
-// closed form). Measured: direct 0.00%, volume +0.5% at this sampling; the bounds leave
-// room for the noise of both (plain ratio tracking, whose transmittance through a uniform
-// brick is 0 or 1, was off by +57% here: the point light's halo multiplies that noise).
+// grid's transmittance is exact). Measured: direct 0.00%, volume +0.6% at this sampling;
+// the bounds leave room for the noise of both (ratio-tracked transmittance, which answers
+// 0 or 1 through a uniform brick, was off by +57% here: the point light's halo multiplies
+// that noise).
 TEST(GridMedia, AConstantGridRendersAsTheHomogeneousMediumOfItsDensity) {
   SampleResult mean[2];
   for (const bool grid : {false, true}) {

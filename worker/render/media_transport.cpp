@@ -8,6 +8,7 @@
 #include "media/equiangular.h"
 #include "media/henyey_greenstein.h"
 #include "scene/scene_data.h"
+#include "util/overloaded.h"
 
 namespace farm {
 namespace {
@@ -81,6 +82,17 @@ bool SeenBall::Sees(const Vec3& offset) const {
   return LengthSquared(offset) <= depths[nearest] * depths[nearest];
 }
 
+double SeenBall::Integral(const Vec3& x, const std::function<float(const Vec3&)>& f) const {
+  // Gauss-Legendre on [0, d]: nodes d (1 -+ 1/sqrt(3)) / 2, weights d / 2.
+  constexpr float kNode = 0.21132487f;  // (1 - 1/sqrt(3)) / 2
+  double sum = 0;
+  for (int i = 0; i < kVolumeProbes; ++i) {
+    const float d = depths[i];
+    for (const float s : {d * kNode, d * (1 - kNode)}) sum += double(f(x + directions[i] * s)) * s * s * d / 2;
+  }
+  return sum * 4 * kPi / kVolumeProbes;
+}
+
 Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
                     const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
                     std::vector<PhotonNeighbour>& scratch) {
@@ -110,9 +122,18 @@ Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const 
     if (seen.fraction < 1 && !seen.Sees(p.position - x)) continue;
     sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, segment.medium->g());
   }
-  const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
-  if (!(volume_of_sphere > 0)) return {};
-  return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
+  return std::visit(Overloaded{[&](const HomogeneousMedium&) -> Rgb {
+                                 const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
+                                 if (!(volume_of_sphere > 0)) return {};
+                                 return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
+                               },
+                               [&](const GridMedium& grid) -> Rgb {
+                                 const double extinction = seen.Integral(x, [&](const Vec3& p) { return grid.SigmaT(p); });
+                                 if (!(extinction > 0)) return {};
+                                 return segment.TransmittanceTo(t) * sum *
+                                        float(grid.SigmaT(x) / (extinction * d->pdf));
+                               }},
+                    segment.medium->kind);
 }
 
 }  // namespace farm

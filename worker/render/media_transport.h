@@ -59,7 +59,11 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
 // is unbiased, as on surfaces: radiance_estimate.h); fewer than k within max_radius: all
 // counted, r = max_radius. The sphere's volume is that part of it the point sees, and its
 // photons those in that part (probe rays: SeenBall), so no light is lost where it hangs
-// over a wall nor borrowed from beyond one. The
+// over a wall nor borrowed from beyond one. In a grid, where sigma_s varies within the
+// sphere, the photons' density is that of sigma_s L_i: the sum is divided by the integral
+// of sigma_t over the seen part instead of its volume (an estimate of albedo x L_i) and
+// multiplied by sigma_t at the point, so that scattering is not smeared past the smoke's
+// edges (a halo where sigma_s is 0) nor averaged away in its wisps. The
 // settings' filter does not apply. ray.direction unit; u_probe turns the probes.
 Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
                     const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
@@ -80,6 +84,11 @@ struct SeenBall {
 
   static SeenBall Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u);
   bool Sees(const Vec3& offset) const;
+  // The integral of f over the seen part of the ball around x: along each probe, two
+  // Gauss-Legendre points over its depth (exact for f uniform: the s^2 of the volume
+  // element is integrated exactly), each probe standing for 4 pi / kVolumeProbes of the
+  // directions.
+  double Integral(const Vec3& x, const std::function<float(const Vec3&)>& f) const;
 };
 
 }  // namespace farm
