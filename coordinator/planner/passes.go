@@ -2,6 +2,7 @@ package planner
 
 import (
 	"fmt"
+	"slices"
 	"strconv"
 	"strings"
 
@@ -149,9 +150,13 @@ func roundsReason(s *pb.Scene) string {
 	return strings.Join(parts, ", ")
 }
 
-// marching says what the renderer does in any medium.
+// marching says what the renderer does in any medium, and in grids.
 func marching(s *pb.Scene) string {
-	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated", scene.LightSamples(s))
+	m := fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated", scene.LightSamples(s))
+	if slices.ContainsFunc(scene.Media(s), func(m scene.Medium) bool { return m.Medium.GetGrid() != nil }) {
+		m += "; through grids brick by brick (8^3 cells, empty ones skipped): optical depth integrated exactly, photons delta-tracked against each brick's majorant"
+	}
+	return m
 }
 
 // volumeNeighbours and volumeRadius are the volume estimate's k and search radius; their
@@ -187,7 +192,10 @@ func darkMedia(s *pb.Scene) string {
 // media", or both), "" for none.
 func mediaOf(s *pb.Scene) string {
 	var parts []string
-	if s.GetMedium() != nil {
+	switch m := s.GetMedium(); {
+	case m.GetGrid() != nil:
+		parts = append(parts, "smoke from a grid filling the scene")
+	case m != nil:
 		parts = append(parts, "fog filling the scene")
 	}
 	interiors := 0

@@ -115,6 +115,9 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			smokeIn("white")(s)
 			scatteringFog(s)
 		}, planner.PassVolumeMap, true, `(k 50, radius 1/20 of the scene's diagonal); none for shapes[0] ("ball")'s interior medium: no light reaches it`},
+		{"smoke from a grid", func(s *pb.Scene) {
+			s.Medium = &pb.Medium{Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{Digest: "sha256:" + strings.Repeat("0", 64), Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}}}}
+		}, planner.PassMedia, true, "smoke from a grid filling the scene: camera paths attenuated and single scattering from every light along them (16 samples per segment), shadow rays attenuated; through grids brick by brick (8^3 cells, empty ones skipped): optical depth integrated exactly, photons delta-tracked against each brick's majorant; multiple scattering from the volume photon map"},
 		{"scattering fog: multiple scattering", scatteringFog, planner.PassMedia, true, "fog filling the scene: camera paths attenuated and single scattering from every light along them (16 samples per segment), shadow rays attenuated; multiple scattering from the volume photon map"},
 		{"no dispersion", shapes("glass", "white"), planner.PassDispersion, false, "no dispersive material"},
 		{"a dispersive glass and a gem", func(s *pb.Scene) {
