@@ -62,3 +62,5 @@ echo "== adaptive against uniform sampling on the caustics scene at equal time, 
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/adaptive.py" "$build" "$tmp/adaptive"
 echo "== the fog Cornell box against Mitsuba 3's volumetric path tracer: relMSE of the converged images (target 0.01; issue 15)"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/fog.py" "$build" "$tmp/fog"
+echo "== the god-rays room, error against time: the farm and Mitsuba 3's volpath, time to relMSE 0.01 against a long Mitsuba reference (issue 15)"
+"${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/god_rays.py" "$build" "$tmp/god-rays"

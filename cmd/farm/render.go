@@ -21,7 +21,7 @@ import (
 
 var renderVerb = &verb{
 	name:    "render",
-	args:    "SCENE|MODEL -o OUTDIR [--name NAME] [--exposure STOPS] [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard]",
+	args:    "SCENE|MODEL -o OUTDIR [--name NAME] [--exposure STOPS] [--width N] [--height N] [--workers N] [--worker-bin PATH] [--asset-root DIR] [--dashboard-listen ADDR | --no-dashboard] [--report]",
 	summary: "render a scene on a local all-in-one farm",
 	run:     runRender,
 }
@@ -47,6 +47,7 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	dashListen := fs.String("dashboard-listen", "127.0.0.1:0", "serve the web dashboard of the local farm on this HTTP `address` (port 0 picks a free one)")
 	noDash := fs.Bool("no-dashboard", false, "do not serve the web dashboard")
 	exposure := exposureFlag(fs)
+	report := fs.Bool("report", false, "when the job ends, print its error against run time, round by round (as farm report does)")
 	pos, err := parse(fs, args, 1, 1)
 	if err != nil {
 		return err
@@ -147,6 +148,14 @@ func runRender(ctx context.Context, e *env, args []string) (err error) {
 	}
 	for _, p := range paths {
 		fmt.Fprintln(e.stdout, p)
+	}
+	if *report {
+		// The local farm ends with this command, so its job's report is printed now or never.
+		done, err := c.GetJob(jobCtx, job.GetId())
+		if err != nil {
+			return cause(err)
+		}
+		printReport(e.stdout, done)
 	}
 	return nil
 }

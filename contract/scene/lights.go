@@ -2,6 +2,7 @@ package scene
 
 import (
 	"fmt"
+	"slices"
 
 	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -58,6 +59,26 @@ func EnvironmentLights(s *pb.Scene) bool {
 		return env.GetMap() != nil
 	}
 	return positive(env.GetRadiance())
+}
+
+// HittableLights reports whether some light of s can be met by a ray (single scattering's
+// phase-function samples find it): an emissive shape or mesh part, an environment that is
+// not black, or a sun with a disc. Point and spot lights and suns without a disc cannot.
+func HittableLights(s *pb.Scene) bool {
+	if EnvironmentLights(s) {
+		return true
+	}
+	for _, l := range s.GetLights() {
+		if l.GetSun().GetAngularDiameterDegrees() > 0 {
+			return true
+		}
+	}
+	for _, materials := range ShapeMaterials(s) {
+		if slices.ContainsFunc(materials, Emits) {
+			return true
+		}
+	}
+	return false
 }
 
 // checkLightShapes: a sun or spot light shines from somewhere (lights[i].sun.direction,

@@ -2,8 +2,10 @@ package scene
 
 import (
 	"fmt"
+	"math"
 	"slices"
 
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
@@ -96,8 +98,30 @@ func scatters(m *pb.Medium) bool {
 // somewhere).
 func (m Medium) Scatters() bool { return scatters(m.Medium) }
 
-// MediaScatter reports whether some medium of s that light can reach scatters it, which
-// decides whether s gets a volume map.
+// PathTraced reports whether m's multiple scattering is path traced rather than read from
+// the volume photon map: its Henyey-Greenstein |g| is at least the contract's
+// path_traced_media_min_abs_g (rules.Scene), a lobe too narrow for k photons to weigh.
+func PathTraced(m *pb.Medium) bool {
+	return math.Abs(m.GetG()) >= rules.Scene.GetPathTracedMediaMinAbsG()
+}
+
+// litScattering reports whether some medium of s that light can reach scatters it and
+// satisfies also.
+func litScattering(s *pb.Scene, also func(*pb.Medium) bool) bool {
+	return slices.ContainsFunc(Media(s), func(m Medium) bool { return m.Dark == "" && m.Scatters() && also(m.Medium) })
+}
+
+// MediaScatter reports whether some medium of s that light can reach scatters it.
 func MediaScatter(s *pb.Scene) bool {
-	return slices.ContainsFunc(Media(s), func(m Medium) bool { return m.Dark == "" && m.Scatters() })
+	return litScattering(s, func(*pb.Medium) bool { return true })
+}
+
+// MediaPathTraced reports whether some medium of s that light reaches and that scatters
+// it is path traced.
+func MediaPathTraced(s *pb.Scene) bool { return litScattering(s, PathTraced) }
+
+// VolumeMapNeeded reports whether some medium of s that light reaches scatters it and is
+// not path traced, which decides whether s gets a volume map.
+func VolumeMapNeeded(s *pb.Scene) bool {
+	return litScattering(s, func(m *pb.Medium) bool { return !PathTraced(m) })
 }

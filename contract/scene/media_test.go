@@ -1,10 +1,12 @@
 package scene_test
 
 import (
+	"math"
 	"slices"
 	"strings"
 	"testing"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -17,6 +19,20 @@ func sigmaMedium(sigmaA, sigmaS *pb.Color) *pb.Medium {
 func albedoMedium(albedo *pb.Color, density float64) *pb.Medium {
 	return &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: albedo, Density: density}}}
 }
+
+// withG sets m's Henyey-Greenstein asymmetry.
+func withG(m *pb.Medium, g float64) *pb.Medium {
+	m.G = g
+	return m
+}
+
+// gridMedium is smoke from a grid file (not looked at here) of albedo 0.9 and asymmetry g.
+func gridMedium(g float64) *pb.Medium {
+	return &pb.Medium{G: g, Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{Digest: "sha256:" + strings.Repeat("0", 64), Albedo: rgb(0.9, 0.9, 0.9)}}}
+}
+
+// pathTracedG is the contract's path_traced_media_min_abs_g.
+var pathTracedG = rules.Scene.GetPathTracedMediaMinAbsG()
 
 // TestPhotonMapsGetAVolumeMapWhereAMediumScatters: the volume map comes after the global and
 // caustic maps, and only when the scene's medium or a shape's interior medium scatters
@@ -50,6 +66,25 @@ func TestPhotonMapsGetAVolumeMapWhereAMediumScatters(t *testing.T) {
 			s.Shapes[0].InteriorMedium = albedoMedium(rgb(0.9, 0.9, 0.9), 0)
 			s.Shapes[1].InteriorMedium = sigmaMedium(rgb(0, 0, 0), rgb(0.2, 0, 0)) // the floor, a quad, has a lamp above it
 		}, []pb.PhotonMapKind{global, volume}},
+		// At |g| >= path_traced_media_min_abs_g a medium's multiple scattering is path
+		// traced: it needs no volume map, and gets one only beside a medium that does.
+		{"forward-scattering fog at the threshold", fog(withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), pathTracedG)), []pb.PhotonMapKind{global}},
+		{"backward-scattering fog", fog(withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), -0.999)), []pb.PhotonMapKind{global}},
+		{"fog just below the threshold", fog(withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), math.Nextafter(pathTracedG, 0))), []pb.PhotonMapKind{global, volume}},
+		{"forward-scattering fog around an isotropic murky glass ball", func(s *pb.Scene) {
+			s.Medium = withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), 0.999)
+			addMaterial(dielectric(1.5, nil))(s)
+			s.Shapes[0].Material = "glass"
+			s.Shapes[0].InteriorMedium = albedoMedium(rgb(0, 0.5, 0), 2)
+		}, []pb.PhotonMapKind{global, caustic, volume}},
+		// A medium no light reaches needs no volume map, whatever its g.
+		{"forward-scattering fog around isotropic smoke in a closed diffuse ball", func(s *pb.Scene) {
+			s.Medium = withG(albedoMedium(rgb(0.9, 0.9, 0.9), 2), 0.999)
+			s.Shapes[0].InteriorMedium = albedoMedium(rgb(0, 0.5, 0), 2)
+		}, []pb.PhotonMapKind{global}},
+		// Grids by their albedo and g alike.
+		{"grid smoke", fog(gridMedium(0)), []pb.PhotonMapKind{global, volume}},
+		{"forward-scattering grid smoke", fog(gridMedium(0.95)), []pb.PhotonMapKind{global}},
 		{"plan order: global, caustic, volume", func(s *pb.Scene) {
 			addMaterial(mirror(rgb(1, 1, 1)))(s)
 			s.Shapes[0].Material = "mirror"
@@ -128,8 +163,43 @@ func TestMediaInsideOpaqueShapesAreDarkOnlyWhenThePlannerCanTell(t *testing.T) {
 			if got := media[0].Dark != ""; got != tt.dark {
 				t.Errorf("dark %v (%q), want %v", got, media[0].Dark, tt.dark)
 			}
-			if scene.MediaScatter(s) == tt.dark {
-				t.Errorf("MediaScatter %v for a medium dark %v", !tt.dark, tt.dark)
+			if scene.MediaScatter(s) == tt.dark || scene.VolumeMapNeeded(s) == tt.dark {
+				t.Errorf("MediaScatter %v, VolumeMapNeeded %v for a medium dark %v", scene.MediaScatter(s), scene.VolumeMapNeeded(s), tt.dark)
+			}
+		})
+	}
+}
+
+// TestHittableLightsAreThoseARayCanMeet: single scattering takes phase-function samples
+// only where some light has a surface or a solid angle a ray can meet.
+func TestHittableLightsAreThoseARayCanMeet(t *testing.T) {
+	withoutLamp := func(s *pb.Scene) { s.Shapes = s.Shapes[:len(s.Shapes)-1] }
+	light := func(l *pb.Light) func(*pb.Scene) {
+		return func(s *pb.Scene) {
+			withoutLamp(s)
+			s.Lights = []*pb.Light{l}
+		}
+	}
+	sun := func(degrees float64) *pb.Light {
+		return &pb.Light{Kind: &pb.Light_Sun{Sun: &pb.SunLight{Direction: scenetest.V(0, -1, 0), Irradiance: rgb(1, 1, 1), AngularDiameterDegrees: degrees}}}
+	}
+	for _, tt := range []struct {
+		name   string
+		mutate func(*pb.Scene)
+		want   bool
+	}{
+		{"an emissive quad", func(*pb.Scene) {}, true},
+		{"a point light", light(&pb.Light{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 2, 0), Intensity: rgb(1, 1, 1)}}}), false},
+		{"a sun without a disc", light(sun(0)), false},
+		{"a sun with a disc", light(sun(0.5)), true},
+		{"a constant sky", func(s *pb.Scene) {
+			light(sun(0))(s)
+			s.Environment = &pb.Environment{Radiance: rgb(0.1, 0.2, 0.3)}
+		}, true},
+	} {
+		t.Run(tt.name, func(t *testing.T) {
+			if got := scene.HittableLights(validated(t, tt.mutate)); got != tt.want {
+				t.Errorf("HittableLights = %v, want %v", got, tt.want)
 			}
 		})
 	}

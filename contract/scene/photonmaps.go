@@ -20,7 +20,8 @@ func (m PhotonMap) Name() string {
 
 // PhotonMaps returns the photon maps s gets, in plan order: a global map if its diffuse
 // surfaces can light one another (InterreflectionOf), a caustic map if a shape is specular
-// (SurfacesOf), a volume map if a medium scatters light (MediaScatter), each only if it is
+// (SurfacesOf), a volume map if a medium that is not path traced scatters light
+// (VolumeMapNeeded), each only if it is
 // given photons. Every valid scene has a light (checkSomeLight), so none is asked for here.
 func PhotonMaps(s *pb.Scene) []PhotonMap {
 	var maps []PhotonMap
@@ -30,7 +31,7 @@ func PhotonMaps(s *pb.Scene) []PhotonMap {
 	if n := CausticPhotons(s); n > 0 && SurfacesOf(s).Specular {
 		maps = append(maps, PhotonMap{Kind: pb.PhotonMapKind_PHOTON_MAP_KIND_CAUSTIC, Photons: n})
 	}
-	if n := VolumePhotons(s); n > 0 && MediaScatter(s) {
+	if n := VolumePhotons(s); n > 0 && VolumeMapNeeded(s) {
 		maps = append(maps, PhotonMap{Kind: pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME, Photons: n})
 	}
 	return maps

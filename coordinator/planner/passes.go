@@ -83,19 +83,19 @@ func Passes(s *pb.Scene) *pb.Plan {
 	case media == "":
 		add(PassMedia, false, "no medium in the scene (medium and every shape's interior_medium unset): rays travel through vacuum, nothing is marched")
 		add(PassVolumeMap, false, "no medium in the scene: no volume photons")
-	case volume == nil && dark != "":
+	case !scene.MediaScatter(s) && dark != "":
 		add(PassMedia, true, "%s: %s", media, marching(s))
 		add(PassVolumeMap, false, "no medium that light reaches scatters it, no volume photons: %s", dark)
-	case volume == nil:
+	case !scene.MediaScatter(s):
 		add(PassMedia, true, "%s: %s", media, marching(s))
 		add(PassVolumeMap, false, "no medium scatters light (every sigma_s is 0, or every albedo or density is): the media only absorb, no volume photons")
+	case volume == nil: // (volume_photons cannot be 0: it selects a default)
+		add(PassMedia, true, "%s: %s; %s", media, marching(s), multipleScattering(s))
+		add(PassVolumeMap, false, "every medium light reaches that scatters it has |g| >= %s: its multiple scattering is path traced, no volume photons%s", pathTracedAbsG(), noneFor(dark))
 	default:
-		add(PassMedia, true, "%s: %s; multiple scattering from the volume photon map", media, marching(s))
-		if dark != "" {
-			dark = "; none for " + dark
-		}
-		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)%s",
-			count(volume.Photons), shards(volume.Photons), volumeNeighbours(s), volumeRadius(s), dark)
+		add(PassMedia, true, "%s: %s; %s", media, marching(s), multipleScattering(s))
+		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media of |g| < %s after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)%s",
+			count(volume.Photons), shards(volume.Photons), pathTracedAbsG(), volumeNeighbours(s), volumeRadius(s), noneFor(dark))
 	}
 
 	names := dispersiveMaterials(s)
@@ -152,11 +152,35 @@ func roundsReason(s *pb.Scene) string {
 
 // marching says what the renderer does in any medium, and in grids.
 func marching(s *pb.Scene) string {
-	m := fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%d samples per segment), shadow rays attenuated", scene.LightSamples(s))
+	samples := fmt.Sprintf("%d light samples and as many phase-function samples per segment, weighed by multiple importance sampling", scene.LightSamples(s))
+	if !scene.HittableLights(s) {
+		samples = fmt.Sprintf("%d light samples per segment: no phase-function sample can reach a point, spot or sun light without a disc", scene.LightSamples(s))
+	}
+	m := fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%s), shadow rays attenuated", samples)
 	if slices.ContainsFunc(scene.Media(s), func(m scene.Medium) bool { return m.Medium.GetGrid() != nil }) {
-		m += "; through grids brick by brick (8^3 cells, empty ones skipped): optical depth integrated exactly, photons delta-tracked against each brick's majorant"
+		m += "; through grids brick by brick (8^3 cells, empty ones skipped): optical depth integrated exactly, distances drawn by inverting it, free flights (photons, volumetric paths) delta-tracked against each brick's majorant"
 	}
 	return m
+}
+
+// multipleScattering says how light scattered more than once is found in s's scattering
+// media: from the volume photon map, or (|g| at or above the contract's
+// path_traced_media_min_abs_g) by volumetric path tracing, or each in its own media.
+func multipleScattering(s *pb.Scene) string {
+	const paths = "by volumetric path tracing (camera paths go on by the phase function, with light samples weighed by MIS)"
+	switch mapped, traced := scene.VolumeMapNeeded(s), scene.MediaPathTraced(s); {
+	case mapped && traced:
+		return fmt.Sprintf("multiple scattering from the volume photon map, and %s in media of |g| >= %s", paths, pathTracedAbsG())
+	case traced:
+		return fmt.Sprintf("multiple scattering %s: |g| >= %s", paths, pathTracedAbsG())
+	default:
+		return "multiple scattering from the volume photon map"
+	}
+}
+
+// pathTracedAbsG is the contract's path_traced_media_min_abs_g as people write it.
+func pathTracedAbsG() string {
+	return strconv.FormatFloat(rules.Scene.GetPathTracedMediaMinAbsG(), 'g', -1, 64)
 }
 
 // volumeNeighbours and volumeRadius are the volume estimate's k and search radius; their
@@ -186,6 +210,14 @@ func darkMedia(s *pb.Scene) string {
 		}
 	}
 	return strings.Join(parts, "; ")
+}
+
+// noneFor is what a pass that stores volume photons adds about dark, darkMedia's answer.
+func noneFor(dark string) string {
+	if dark == "" {
+		return ""
+	}
+	return "; none for " + dark
 }
 
 // mediaOf names the media a scene holds ("fog filling the scene", "2 shapes' interior

@@ -264,6 +264,51 @@ func TestFarmRenderWritesEXRAndPNG(t *testing.T) {
 	}
 }
 
+// TestFarmRenderReportMeasuresEveryRoundAgainstTheReference: `farm render --report` prints
+// the job's rounds when it ends. A two-round job rendered a second time with the first
+// job's image as its reference: the same seed gives the same rounds, so the second job's
+// round 2 is the reference exactly (RMSE 0) and its round 1, a round short, is not.
+func TestFarmRenderReportMeasuresEveryRoundAgainstTheReference(t *testing.T) {
+	dir := t.TempDir()
+	m := smallSceneJSON(t)
+	m["progressive"] = map[string]any{"maxRounds": 2}
+	render := func(name string) string {
+		t.Helper()
+		text, _ := json.Marshal(m)
+		scenePath := filepath.Join(dir, name+".json")
+		if err := os.WriteFile(scenePath, text, 0o644); err != nil {
+			t.Fatal(err)
+		}
+		cmd, stdout, stderr, _ := farmRender(t, scenePath, "-o", dir, "--name", name, "--workers", "2",
+			"--no-dashboard", "--report", "--asset-root", "/")
+		if code := waitTimeout(t, cmd, 120*time.Second); code != 0 {
+			t.Fatalf("farm render %s: exit status %d\nstdout: %s\nstderr: %s", name, code, stdout, stderr)
+		}
+		return stdout.String()
+	}
+	first := render("first")
+	if !strings.Contains(first, "succeeded, 2 rounds") || !strings.Contains(first, "estimated error") {
+		t.Errorf("farm render --report without a reference printed %q; want the job's two rounds", first)
+	}
+	m["progressive"].(map[string]any)["reference"] = map[string]any{"path": filepath.Join(dir, "first.exr")}
+	second := render("second")
+	rows := map[string][]string{}
+	for _, line := range strings.Split(second, "\n") {
+		if f := strings.Fields(line); len(f) >= 6 && (f[0] == "1" || f[0] == "2") {
+			rows[f[0]] = f
+		}
+	}
+	if len(rows) != 2 {
+		t.Fatalf("farm render --report printed %q; want a row for each of rounds 1 and 2", second)
+	}
+	if got := rows["2"][5]; got != "0" && got != "0.0000" {
+		t.Errorf("round 2's reference RMSE = %s, want 0: the same seed renders the reference again (%q)", got, second)
+	}
+	if got := rows["1"][5]; got == "-" || got == "0" || got == "0.0000" {
+		t.Errorf("round 1's reference RMSE = %s, want above 0: one round short of the reference (%q)", got, second)
+	}
+}
+
 func TestFarmRenderInterruptedStopsTheFarm(t *testing.T) {
 	out := filepath.Join(t.TempDir(), "out")
 	// A scene too slow to finish before the interrupt.

@@ -23,6 +23,8 @@ import (
 var (
 	stitchScene = sceneSize{width: 192, height: 128, tile: 16, spp: 4} // 96 tiles, tens of ms each (64 gather rays a sample)
 	leaseScene  = sceneSize{width: 96, height: 64, tile: 32, spp: 24}  // 6 tiles, a few hundred ms each
+	// The lease scene in fog (foggy): its media make a sample several times dearer.
+	foggyLeaseScene = sceneSize{width: 96, height: 64, tile: 32, spp: 6}
 )
 
 type sceneSize struct{ width, height, tile, spp uint32 }
@@ -120,10 +122,13 @@ func TestFoggySceneTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
 	checkTwoWorkersStitchAsOne(t, func(f *farmtest.Farm) *pb.Scene { return foggy(t, f, sizedScene(t, f, stitchScene)) })
 }
 
-// foggy fills s with a thin forward-scattering fog, turns its first sphere into murky
-// glass (a dielectric with a denser, coloured medium inside) and its second into a glass
-// jar of smoke: a grid medium (a farm grid file, uploaded to f) whose density grows along
-// x and falls off from the jar's centre.
+// foggy fills s with a thin forward-scattering fog (its multiple scattering from the
+// volume photon map), turns its first sphere into murky glass (a dielectric with a denser,
+// coloured medium inside, scattering forwards sharply enough, g 0.95, at least the
+// contract's path_traced_media_min_abs_g, that its multiple scattering is path traced)
+// and its second into a glass jar of smoke: a grid medium (a farm grid file, uploaded to
+// f) whose density grows along x and falls off from the jar's centre. Both ways of
+// multiple scattering, single scattering's two strategies and grid tracking in one render.
 func foggy(t *testing.T, f *farmtest.Farm, s *pb.Scene) *pb.Scene {
 	t.Helper()
 	s.Materials = append(s.Materials, &pb.Material{Name: "murky-glass", Kind: &pb.Material_Dielectric{Dielectric: &pb.Dielectric{Ior: 1.5}}})
@@ -139,7 +144,7 @@ func foggy(t *testing.T, f *farmtest.Farm, s *pb.Scene) *pb.Scene {
 	if len(spheres) < 2 {
 		t.Fatalf("the test scene has %d spheres, want 2", len(spheres))
 	}
-	spheres[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{
+	spheres[0].InteriorMedium = &pb.Medium{G: 0.95, Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{
 		SigmaA: &pb.Color{R: 0.2, G: 0.6, B: 1.2}, SigmaS: &pb.Color{R: 0.5, G: 0.5, B: 0.5}}}}
 	const n = 10
 	grid := &assets.GridData{Nx: n, Ny: n, Nz: n, Max: [3]float32{1, 1, 1}}
@@ -161,6 +166,41 @@ func foggy(t *testing.T, f *farmtest.Farm, s *pb.Scene) *pb.Scene {
 		Transform: &pb.Transform{Scale: &pb.Vec3{X: 2 * r, Y: 2 * r, Z: 2 * r},
 			Translation: &pb.Vec3{X: c.GetX() - r, Y: c.GetY() - r, Z: c.GetZ() - r}}}}}
 	return s
+}
+
+// The foggy scene at the lease scene's size (volume photon map on: 200,000 paths in 4
+// shards of a few hundred milliseconds) on one worker, SIGKILLed while it holds a volume emission shard; a second
+// worker, which takes the shard over, SIGKILLed while it holds a render tile; a third
+// finishes the job. Each lost task took two attempts and was finished by the next worker,
+// and the EXR has the bytes of an
+// undisturbed render: volume photons, single scattering and volumetric paths draw nothing
+// from which worker or which attempt runs a task (issue 15, acceptance 2).
+func TestFoggySceneBitIdenticalAfterWorkerKillsInEmissionAndRender(t *testing.T) {
+	f := farmtest.StartFarm(t, nil)
+	first := f.StartWorker(t)
+	first.WorkerID(t, 15*time.Second)
+	sc := foggy(t, f, sizedScene(t, f, foggyLeaseScene))
+	sc.Photons.PhotonsPerShard = 50000
+	job := f.Submit(t, sc)
+	if !planRuns(job, "volume photon map") {
+		t.Fatalf("the plan does not run the volume photon map: %v", job.GetPlan())
+	}
+
+	emitVictim := killWhileLeasingOne(t, f, first, job.GetId(), "volume emission shard", func(task *pb.Task) bool {
+		return task.GetEmitPhotons().GetMap() == pb.PhotonMapKind_PHOTON_MAP_KIND_VOLUME
+	})
+	second := f.StartWorker(t)
+	secondID := second.WorkerID(t, 15*time.Second)
+	renderVictim := killWhileLeasing(t, f, second, job.GetId(), pb.Phase_PHASE_RENDER)
+	third := f.StartWorker(t)
+	thirdID := third.WorkerID(t, 15*time.Second)
+
+	done := f.Wait(t, job.GetId(), 180*time.Second)
+	exrAfterKills := checkOutputs(t, f, done, foggyLeaseScene)
+	tasks := f.Tasks(t, job.GetId())
+	checkTakenOver(t, tasks, emitVictim, secondID)
+	checkTakenOver(t, tasks, renderVictim, thirdID)
+	checkSameAsUndisturbed(t, f, sc, exrAfterKills, 180*time.Second)
 }
 
 // checkTwoWorkersStitchAsOne renders the scene makeScene makes on a farm of two workers,

@@ -15,16 +15,23 @@ import (
 // SIGKILLs it mid-task, and returns that task as it stood.
 func killWhileLeasing(t *testing.T, f *farmtest.Farm, w *farmtest.Proc, jobID string, phase pb.Phase) *pb.Task {
 	t.Helper()
+	return killWhileLeasingOne(t, f, w, jobID, phase.String()+" task", func(task *pb.Task) bool { return task.GetPhase() == phase })
+}
+
+// killWhileLeasingOne waits until worker w holds a lease on a task that which accepts (what
+// names such tasks), SIGKILLs it mid-task, and returns that task as it stood.
+func killWhileLeasingOne(t *testing.T, f *farmtest.Farm, w *farmtest.Proc, jobID, what string, which func(*pb.Task) bool) *pb.Task {
+	t.Helper()
 	var victim *pb.Task
 	for deadline := time.Now().Add(30 * time.Second); victim == nil; time.Sleep(5 * time.Millisecond) {
 		if time.Now().After(deadline) {
-			t.Fatalf("the worker leased no %v task within 30s: %v", phase, f.Tasks(t, jobID))
+			t.Fatalf("the worker leased no %s within 30s: %v", what, f.Tasks(t, jobID))
 		}
 		if w.Exited() {
 			t.Fatalf("the worker exited on its own: %v", w.Err())
 		}
-		for _, task := range farmtest.TasksOf(f.Tasks(t, jobID), phase) {
-			if task.GetState() == pb.TaskState_TASK_STATE_LEASED && task.GetWorkerId() != "" {
+		for _, task := range f.Tasks(t, jobID) {
+			if which(task) && task.GetState() == pb.TaskState_TASK_STATE_LEASED && task.GetWorkerId() != "" {
 				victim = task
 				break
 			}

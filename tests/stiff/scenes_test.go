@@ -263,6 +263,11 @@ func glowingCube(s float64, m *pb.Medium) *pb.Scene {
 	return sc
 }
 
+// withSamples gives a scene n camera samples per pixel.
+func withSamples(n uint32) func(sc *pb.Scene) {
+	return func(sc *pb.Scene) { sc.Sampling.SamplesPerPixel = n }
+}
+
 // withLamp hangs a sphere light of the walls' radiance (radius 0.1, in view in front of
 // the far wall) in the unit glowing cube sc: a light inside the medium.
 func withLamp(sc *pb.Scene) {

@@ -266,4 +266,23 @@ std::optional<DistanceSample> SampleTruncatedFlight(const DenseGrid& grid, float
   return landed;
 }
 
+float TruncatedFlightPdf(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_min, float t_max,
+                         float t) {
+  if (!(sigma_scale > 0) || !(t >= t_min && t <= t_max)) return 0;
+  double total = 0, to_t = 0;
+  DenseGrid::Walk walk(grid, ray, t_min, t_max);
+  for (DenseGrid::Span span; walk.Next(span);) {
+    if (!(span.majorant > 0)) continue;
+    grid.Pieces(ray, span, [&](float a, float b, double piece) {
+      total += piece;
+      if (b <= t) to_t += piece;
+      else if (a < t) to_t += grid.DepthBetween(ray, a, t);  // the piece that holds t
+      return true;
+    });
+  }
+  const double mass = -std::expm1(-sigma_scale * total);
+  if (!(mass > 0)) return 0;
+  return float(sigma_scale * grid.Density(ray.At(t)) * std::exp(-sigma_scale * to_t) / mass);
+}
+
 }  // namespace farm

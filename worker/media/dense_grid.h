@@ -113,4 +113,10 @@ double OpticalDepth(const DenseGrid& grid, const Ray& ray, float t_min, float t_
 std::optional<DistanceSample> SampleTruncatedFlight(const DenseGrid& grid, float sigma_scale, const Ray& ray,
                                                     float t_min, float t_max, float u);
 
+// The density with which SampleTruncatedFlight draws t: sigma_t(t) T(t) / (1 - T(t_max)),
+// T from t_min, the depth to t and over the whole stretch integrated exactly in one walk;
+// 0 outside [t_min, t_max] or where the stretch holds no density. What multiple importance
+// sampling weighs another strategy's distance against (render/media_transport.h).
+float TruncatedFlightPdf(const DenseGrid& grid, float sigma_scale, const Ray& ray, float t_min, float t_max, float t);
+
 }  // namespace farm

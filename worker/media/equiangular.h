@@ -21,4 +21,8 @@ namespace farm {
 std::optional<DistanceSample> SampleEquiangular(const Vec3& origin, const Vec3& direction, float t_min, float t_max,
                                                 const Vec3& p, float u);
 
+// The density SampleEquiangular gives t (0 off the segment, or where it returns nothing):
+// what multiple importance sampling weighs a distance drawn some other way against.
+float EquiangularPdf(const Vec3& origin, const Vec3& direction, float t_min, float t_max, const Vec3& p, float t);
+
 }  // namespace farm

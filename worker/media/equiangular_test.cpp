@@ -44,5 +44,22 @@ TEST(Equiangular, LightOnTheLineUsesTheLimit) {
   EXPECT_FALSE(SampleEquiangular(Vec3(0, 0, 0), Vec3(0, 0, 1), 3, 3, light, 0.5f)) << "empty segment";
 }
 
+// EquiangularPdf gives the density the sampler reported at each sample, off and on the
+// line, and 0 off the segment: it is what MIS weighs other strategies' distances against.
+TEST(Equiangular, PdfAgreesWithTheSampler) {
+  const Vec3 origin(0, 0, 0), dir = Normalize(Vec3(1, 0.2f, 0));
+  for (const Vec3& light : {Vec3(2, 1.5f, -0.5f), origin - dir * 2.0f}) {  // off the line, on it
+    for (const float t1 : {6.0f, kInf}) {
+      for (const float u : {0.01f, 0.3f, 0.7f, 0.99f}) {
+        const std::optional<DistanceSample> s = SampleEquiangular(origin, dir, 0.1f, t1, light, u);
+        ASSERT_TRUE(s);
+        EXPECT_NEAR(EquiangularPdf(origin, dir, 0.1f, t1, light, s->t) / s->pdf, 1.0, 1e-4) << "u=" << u;
+      }
+      EXPECT_EQ(EquiangularPdf(origin, dir, 0.1f, t1, light, 0.05f), 0.0f) << "before the segment";
+    }
+  }
+  EXPECT_EQ(EquiangularPdf(origin, dir, 0.1f, 6, Vec3(2, 1.5f, -0.5f), 7), 0.0f) << "beyond the segment";
+}
+
 }  // namespace
 }  // namespace farm

@@ -93,6 +93,16 @@ std::optional<DistanceSample> SampleDistance(const Medium& medium, const Ray& ra
       medium.kind);
 }
 
+float DistancePdf(const Medium& medium, const Ray& ray, float t0, float t1, float t) {
+  if (!(t1 > t0)) return 0;
+  return std::visit(
+      Overloaded{[&](const HomogeneousMedium& m) { return TruncatedFlightPdf(m, t1 - t0, t - t0); },
+                 [&](const GridMedium& m) {
+                   return TruncatedFlightPdf(*m.grid, m.density_scale, m.ToGrid(ray), t0, t1, t);
+                 }},
+      medium.kind);
+}
+
 FreeFlight SampleFlight(const Medium& medium, const Ray& ray, float t0, float t1, float u_channel, float u) {
   return std::visit(
       Overloaded{[&](const HomogeneousMedium& m) {

@@ -4,11 +4,11 @@
 // transport is closed-form (homogeneous_medium.h), or a density grid placed in the scene,
 // whose transport is tracked against majorants (dense_grid.h). The operations below are
 // what light transport asks of the stretch [t0, t1] of a ray (unit direction, t a
-// distance) in a medium; camera paths and photon paths ask them through MediumSegment
-// (scene/media_segments.h).
+// distance) in a medium; camera paths, volumetric paths and photon paths ask them through
+// MediumSegment (scene/media_segments.h).
 //
 // A grid's transmittance is exact (its optical depth integrated piece by piece:
-// dense_grid.h); delta tracking a photon's flight needs random numbers beyond the two a
+// dense_grid.h); delta tracking a free flight needs random numbers beyond the two a
 // sample hands over: they are hashed from the query itself (the ray's origin and
 // direction, the stretch, the sample's number), so that an answer is a pure function of
 // what was asked, the same on every worker.
@@ -63,6 +63,10 @@ Rgb ScatteringAt(const Medium& medium, const Vec3& p);
 // Nothing where no distance can be drawn (vacuum, an empty stretch, empty bricks only).
 std::optional<DistanceSample> SampleDistance(const Medium& medium, const Ray& ray, float t0, float t1, float u_channel,
                                              float u);
+
+// The density with which SampleDistance draws t (its channel average for a homogeneous
+// medium), 0 outside [t0, t1]: what another strategy's sample of t is weighed against.
+float DistancePdf(const Medium& medium, const Ray& ray, float t0, float t1, float t);
 
 // A free flight from t0 (what a photon does): either a collision at t, where the photon
 // scatters carrying weight (sigma_s T / pdf: the albedo in a grid, where delta tracking

@@ -16,6 +16,7 @@
 #include "photon/trace_photons.h"
 #include "media/henyey_greenstein.h"
 #include "scene/media_segments.h"
+#include "scene/multiple_scattering.h"
 #include "scene/scene_data.h"
 #include "scene/surface_shading.h"
 #include "spectral/spectral_light.h"
@@ -124,13 +125,15 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
       if (flight.t) {
         // Taken by the medium: a caustic path ends (what it scatters is the volume and
         // global maps' light); a volume path stores a photon unless the light came straight
-        // from a light (single scattering is sampled from the lights: media_transport.h).
+        // from a light (single scattering is sampled from the lights: media_transport.h)
+        // or the medium's multiple scattering is path traced (multiple_scattering.h).
         if (kind == PhotonMapKind::kCaustic) return;
         // The photon carries what it scatters there (sigma_s T / pdf of the light it
         // brings: the albedo, one channel): the density of scatterings, not of collisions.
         const Vec3 x = ray.At(*flight.t);
         const Rgb scattered = flight.weight;
-        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0))
+        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0) &&
+            !PathTracesMultipleScattering(*segment.medium))
           out.push_back({x, spectral ? spectral->Times(scattered).ToRgb() : power * scattered, -ray.direction,
                          Vec3(0, 0, 1)});
         if (!survive_with(scattered, u_survive)) return;
@@ -224,7 +227,7 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
   const float power_scale = static_cast<float>(1.0 / static_cast<double>(request.total_photons));
   const uint64_t chunks = (request.photon_count + kChunkPaths - 1) / kChunkPaths;
   const uint64_t max_photons =
-      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_snapshot_photons();
+      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_shard_photons();
   std::vector<std::vector<ShardPhoton>> per_chunk(chunks);
   std::atomic<uint64_t> stored{0};
   // Each chunk fills its own vector; concatenating them in chunk order gives path-index
@@ -245,11 +248,10 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
                     });
   if (stored.load() > max_photons) {
     const char* map = PhotonMapName(request.map);
-    throw BadInputError(std::string("photons.") + map + "_photons: the " + map + " map's paths " +
+    throw BadInputError(std::string("photons.photons_per_shard: the ") + map + " map's paths " +
                         std::to_string(request.first_photon) + "+" + std::to_string(request.photon_count) +
                         " store more than the " + std::to_string(max_photons) +
-                        " photons a snapshot may hold (scene_limits.max_snapshot_photons); lower photons." +
-                        map + "_photons");
+                        " photons a shard may hold (scene_limits.max_shard_photons); lower photons.photons_per_shard");
   }
   std::size_t total = 0;
   for (const auto& c : per_chunk) total += c.size();

@@ -14,6 +14,7 @@
 #include "sampling/hash.h"
 #include "sampling/sobol.h"
 #include "sampling/warps.h"
+#include "scene/multiple_scattering.h"
 #include "scene/surface_shading.h"
 #include "spectral/spectral_light.h"
 #include "texture/footprint.h"
@@ -77,11 +78,29 @@ enum Stream : uint32_t {
   kVolumeDistance,
   kVolumeProbe,
   kGatherScatterPick,
+  // Single scattering's phase strategy along a segment, and the volumetric paths that go
+  // on from its rays (one seed a path, one a vertex: kPath*).
+  kMediumPhaseChannel,
+  kMediumPhaseDistance,
+  kMediumPhaseDirection,
+  kVolumePath,
+  kPathChannel,
+  kPathDistance,
+  kPathLightPick,
+  kPathLightPoint,
+  kPathDirection,
+  kPathLobe,
+  kPathSurvive,
 };
 
 // Volume photon estimates per camera-path segment: the estimate is smooth (k photons, the
 // probes of the ball's seen part), so the segment's light samples would mostly repeat it.
 constexpr uint32_t kVolumeEstimatesPerSegment = 2;
+// Vertices (scatterings and specular bounces) after which a volumetric path is cut (an
+// albedo-1 medium keeps all its light, as photon paths' kMaxScatterings); Russian roulette
+// on the path's throughput starts after kVolumeRouletteVertices of them.
+constexpr int kMaxVolumePathVertices = 256;
+constexpr int kVolumeRouletteVertices = 4;
 // Of a shading point's gather rays in a medium, about this many gather the light scattered
 // along their first segment (every stride-th, from a random offset, weighted by the
 // stride: each ray is chosen with probability 1 / stride, so the sum stays unbiased); the
@@ -270,6 +289,8 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
                   maps_.global->has_irradiance();
   // A lone point or sun light gives every shadow ray the same answer: one is enough.
   single_delta_light_ = scene.lights.size() == 1 && IsDeltaLight(scene.lights.front());
+  hittable_lights_ = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                 [](const Light& light) { return !IsDeltaLight(light); });
 }
 
 SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sampler,
@@ -551,14 +572,22 @@ Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32
   if (!d) return {};
   const Shading at(d->hit, d->wo, d->material, d->cone_width, medium);
   const uint32_t count = scene_.indirect.gather_rays;
-  Rgb e = DirectIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint));
+  return d->throughput * Albedo(at.material) * kInvPi *
+         LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint),
+                           scratch);
+}
+
+Rgb PhotonMappingIntegrator::LandingIrradiance(const Shading& at, float u_light, Vec2 u_point,
+                                               std::vector<PhotonNeighbour>& scratch) const {
+  Rgb e = DirectIrradiance(at, u_light, u_point);
+  if (!final_gather_) return e;
   const auto visible = [&](const DecodedPhoton& photon) {
     return scene_.FrontsSeeEachOther(at.hit.p, at.n, photon.position, photon.normal);
   };
   if (const std::optional<Rgb> irradiance =
           NearestIrradiance(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch))
     e += *irradiance;
-  return d->throughput * Albedo(at.material) * kInvPi * e;
+  return e;
 }
 
 Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const {
@@ -606,14 +635,18 @@ Rgb PhotonMappingIntegrator::Arriving(const Shading& at, const LightSample& ls) 
   return ls.radiance * TransmittanceBetween(scene_, at.medium, at.hit.p, ls.p);
 }
 
+ShadowTransmittance PhotonMappingIntegrator::ShadowIn(const Medium* medium) const {
+  return [this, medium](const Vec3& x, const LightSample& ls) {
+    if (!scene_.Visible(x, Vec3(), ls.p, ls.n)) return Rgb();
+    return ls.radiance * TransmittanceBetween(scene_, medium, x, ls.p);
+  };
+}
+
 PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const MediumSegment& segment, const Ray& ray,
                                                                          uint32_t seed, uint32_t count,
                                                                          std::vector<PhotonNeighbour>& scratch) const {
   if (segment.empty() || scene_.light_power.empty() || count == 0) return {};
-  const ShadowTransmittance shadow = [&](const Vec3& x, const LightSample& ls) {
-    if (!scene_.Visible(x, Vec3(), ls.p, ls.n)) return Rgb();
-    return ls.radiance * TransmittanceBetween(scene_, segment.medium, x, ls.p);
-  };
+  const ShadowTransmittance shadow = ShadowIn(segment.medium);
   Rgb single, multiple;
   for (uint32_t j = 0; j < count; ++j) {
     const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kMediumLightPick));
@@ -621,12 +654,106 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
                                 Point1(j, count, seed, kMediumDistance)};
     single += InScatter(segment, ray, scene_.lights[pick.index], pick.pmf, u, shadow);
   }
+  // The phase strategy: it finds the lights that rays can hit (InScatter weighs its samples
+  // of those against it), and its rays are where volumetric paths go on.
+  const bool path_traced = PathTracesMultipleScattering(*segment.medium);
+  if (hittable_lights_ || path_traced) {
+    for (uint32_t j = 0; j < count; ++j) {
+      const std::optional<ScatteredRay> s =
+          PhaseInScatter(scene_, segment, ray, Point1(j, count, seed, kMediumPhaseChannel),
+                         Point1(j, count, seed, kMediumPhaseDistance), Point2(j, count, seed, kMediumPhaseDirection));
+      if (!s) continue;
+      single += s->single;
+      if (path_traced) {
+        const uint32_t path_seed = uint32_t(Hash(seed, uint32_t(kVolumePath), j));
+        multiple += s->weight * VolumePath(s->ray, s->hit, segment.medium, path_seed, scratch);
+      }
+    }
+  }
+  if (path_traced) return {single / float(count), multiple / float(count)};
   const uint32_t estimates = maps_.volume ? std::min(count, kVolumeEstimatesPerSegment) : 0;
   for (uint32_t j = 0; j < estimates; ++j)
     multiple += VolumeInScatter(scene_, segment, ray, *maps_.volume, maps_.volume_estimate,
                                 Point1(j, estimates, seed, kVolumeChannel), Point1(j, estimates, seed, kVolumeDistance),
                                 Point2(j, estimates, seed, kVolumeProbe), scratch);
   return {single / float(count), estimates ? multiple / float(estimates) : Rgb()};
+}
+
+Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium,
+                                        uint32_t seed, std::vector<PhotonNeighbour>& scratch) const {
+  Rgb light, throughput(1);
+  bool after_specular = false;  // the ray left a specular surface, not a scattering point
+  for (int vertex = 0; vertex < kMaxVolumePathVertices; ++vertex) {
+    const uint32_t v = uint32_t(Hash(seed, uint32_t(vertex)));
+    if (vertex >= kVolumeRouletteVertices) {
+      const float survive = std::min(1.0f, MaxComponent(throughput));
+      if (!(survive > 0) || Point1(0, 1, v, kPathSurvive) >= survive) break;
+      throughput = throughput / survive;
+    }
+    const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
+    const MediumSegment segment = SegmentIn(scene_, medium, ray, t_end);
+    std::optional<Material> material;  // of the hit, read once
+    if (after_specular) {
+      // What the ray meets that emits: only this path finds light past a specular bounce
+      // (shadow rays stop at glass), so all of it, seen through the medium on the way.
+      Rgb emitted;
+      if (hit) {
+        material = MaterialAt(scene_, *hit, ray.direction, TextureRead{0, TextureFilter::kIsotropic});
+        emitted = Emitted(*material, hit->n, -ray.direction);
+      } else {
+        LightsAlong(scene_, ray, hit, [&](int, const LightSample& ls) { emitted += ls.radiance; });
+      }
+      light += throughput * segment.TransmittanceTo(t_end) * emitted;
+    }
+    // The ray's free flight: it scatters at x, where single scattering is taken and the
+    // path goes on by the phase function, or gets through to what it meets.
+    if (!segment.empty()) {
+      // Closed-form in a homogeneous medium, delta-tracked in a grid: the weight is
+      // sigma_s T / pdf where it scatters, T / the probability of getting through where
+      // it does not (media/medium.h).
+      const FreeFlight flight = segment.SampleFlight(Point1(0, 1, v, kPathChannel), Point1(0, 1, v, kPathDistance));
+      throughput = throughput * flight.weight;
+      if (flight.t) {
+        const ScatteredRay s = ScatterAt(scene_, segment.medium, ray.At(*flight.t), -ray.direction,
+                                         Point1(0, 1, v, kPathLightPick), Point2(0, 1, v, kPathLightPoint),
+                                         Point2(0, 1, v, kPathDirection), ShadowIn(segment.medium));
+        light += throughput * s.single;
+        ray = s.ray;
+        hit = s.hit;
+        after_specular = false;
+        continue;
+      }
+    }
+    // Through to the surface (an escaped ray's lights were the last vertex's to find).
+    if (!hit) break;
+    const Vec3 wo = -ray.direction;
+    if (!material) material = MaterialAt(scene_, *hit, ray.direction, TextureRead{0, TextureFilter::kIsotropic, false});
+    const MaterialCapabilities& can = scene_.capabilities_of(*hit);
+    if (can.reflects) {
+      // Where a gather ray would land: its reflected light, not its emission (which the
+      // lights gave single scattering) nor its caustics.
+      const Shading at(*hit, wo, *material, 0, medium);
+      light += throughput * Albedo(*material) * kInvPi *
+               LandingIrradiance(at, Point1(0, 1, v, kPathLightPick), Point2(0, 1, v, kPathLightPoint), scratch);
+      if (!final_gather_ && maps_.global) {
+        const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
+        light += throughput * EstimateOnSurface(scene_, *maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf,
+                                                scratch, SubSeed(v, kCoverageSeed));
+      }
+      break;
+    }
+    if (!can.specular) break;
+    const std::optional<BsdfSample> b = SampleBsdf(*material, hit->ns, wo, Point1(0, 1, v, kPathLobe),
+                                                   Point2(0, 1, v, kPathDirection), TransportMode::kRadiance);
+    if (!b) break;
+    throughput = throughput * b->weight;
+    if (!throughput.IsFinite() || throughput.IsBlack()) break;
+    medium = MediumBeyond(scene_, *hit, wo, b->wi, medium);
+    ray = Ray{OffsetRayOrigin(hit->p, hit->n, b->wi, scene_.ray_epsilon), b->wi};
+    hit = scene_.Intersect(ray);
+    after_specular = true;
+  }
+  return light;
 }
 
 std::string PhotonMappingIntegrator::ToString() const {

@@ -55,13 +55,15 @@
 // Participating media (docs/media.md, media_transport.h): each branch of a camera path
 // travels in a medium (the scene's, a shape's interior one it refracted into, or none); a
 // segment in one attenuates what it reaches and adds the light scattered along it towards
-// the camera (the volume layer): once, from light samples, and more than once, read from
-// the volume photon map; the shadow rays of the points it shades are attenuated. Photons travel through media
-// too (photon_tracer.h), so the global and caustic maps hold light as media let it through.
-// A gather ray in a medium is attenuated up to its first hit, and eight of a point's gather
-// rays (chosen at random, weighted to stay unbiased) gather the light scattered along that
-// first segment likewise; past a specular bounce it sees vacuum. A segment reads the
-// volume photon map twice, whatever its light samples. A
+// the camera (the volume layer): once, from light samples and phase-function samples
+// weighed by MIS, and more than once, read from the volume photon map or, in a medium of
+// |g| at or above the contract's path_traced_media_min_abs_g, by a volumetric path from
+// each phase sample (VolumePath); the shadow rays of the points it shades are attenuated.
+// Photons travel through media too (photon_tracer.h), so the global and caustic maps hold
+// light as media let it through. A gather ray in a medium is attenuated up to its first
+// hit, and eight of a point's gather rays (chosen at random, weighted to stay unbiased)
+// gather the light scattered along that first segment likewise; past a specular bounce it
+// sees vacuum. A segment reads the volume photon map twice, whatever its light samples. A
 // scene without media draws exactly the numbers it drew before media existed.
 //
 // Light leaking at walls and corners: the remedy is that no direct light is ever read from
@@ -209,6 +211,10 @@ class PhotonMappingIntegrator {
                 std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
+  // The irradiance at a diffuse surface where a gather ray (or a volumetric path) lands:
+  // one light sample's, and that precomputed at the nearest photon facing the same way and
+  // visible from it when final gathering.
+  Rgb LandingIrradiance(const Shading& at, float u_light, Vec2 u_point, std::vector<PhotonNeighbour>& scratch) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
   // full with secondary gathering (indirect), or the environment it escapes to (direct).
   LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
@@ -217,16 +223,34 @@ class PhotonMappingIntegrator {
   // A light sample's light where it reaches a shading point: attenuated by the medium
   // around the point on the way.
   Rgb Arriving(const Shading& at, const LightSample& ls) const;
-  // The average of `count` samples of the light scattered towards the ray's
-  // origin along the segment (media_transport.h): single scattering from the lights
-  // (direct) and multiple scattering from the volume map (indirect).
+  // The average of `count` samples of the light scattered towards the ray's origin along
+  // the segment (media_transport.h): single scattering from the lights (direct: count
+  // light samples and count phase samples, weighed by MIS) and multiple scattering
+  // (indirect) from the volume map, or by a volumetric path from each phase sample where
+  // the medium's is path traced (scene/multiple_scattering.h).
   LightSplit InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed, uint32_t count,
                          std::vector<PhotonNeighbour>& scratch) const;
+  // The light arriving at ray.origin along -ray.direction that is not the lights' own
+  // emission seen straight along the ray (single scattering took that): a volumetric path
+  // tracer from a scattering point in `medium`, ray's first hit given. Each scattering on
+  // the way takes single scattering by MIS (ScatterAt) and goes on by the phase function;
+  // a specular surface is followed by one sampled direction and what the ray beyond it
+  // meets emitting is counted; a diffuse surface ends the path with the light it reflects,
+  // as where a gather ray lands (LandingIrradiance). Russian roulette on the throughput,
+  // at most kMaxVolumePathVertices vertices; seed draws every number.
+  Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium, uint32_t seed,
+                 std::vector<PhotonNeighbour>& scratch) const;
+  // The light a sample reaches a point in `medium` with: blocked by any surface,
+  // attenuated by the medium (the scene's clipped to its ball).
+  ShadowTransmittance ShadowIn(const Medium* medium) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;
   bool final_gather_ = false;
   bool single_delta_light_ = false;
+  // Whether some light is not a delta light: a ray can meet it, so single scattering takes
+  // phase samples beside its light samples.
+  bool hittable_lights_ = false;
   float lookup_radius_ = 0;
 };
 

@@ -30,10 +30,32 @@ std::optional<Vec3> PointOf(const Light& light, Vec2 u) {
   return std::nullopt;
 }
 
+// The density with which InScatter draws the distance t for `light` whose sample lies at
+// `at` (PointOf's choice: equiangular towards a quad's or mesh's point, else the segment's
+// truncated free flight, a grid's by its exact optical depth).
+float LightDistancePdf(const MediumSegment& segment, const Ray& ray, const Light& light, const Vec3& at, float t) {
+  if (std::holds_alternative<QuadLight>(light) || std::holds_alternative<TriangleMeshLight>(light))
+    return EquiangularPdf(ray.origin, ray.direction, segment.t0, segment.t1, at, t);
+  return segment.DistancePdf(t);
+}
+
+// The weight of one strategy's sample: the power heuristic, or 1 alone.
+float WeightOf(Weighting weighting, float mine, float other) {
+  return weighting == Weighting::kAlone ? 1.0f : PowerHeuristic(mine, other);
+}
+
 }  // namespace
 
+float PowerHeuristic(float mine, float other) {
+  if (!(mine > 0)) return 0;
+  // As a ratio, in double: densities of narrow lobes and tiny lights square past float.
+  const double r = double(other) / double(mine);
+  const double w = 1 / (1 + r * r);
+  return std::isfinite(w) ? float(w) : 0.0f;
+}
+
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
-              const InScatterDimensions& u, const ShadowTransmittance& shadow) {
+              const InScatterDimensions& u, const ShadowTransmittance& shadow, Weighting weighting) {
   if (segment.empty() || !(pick_pmf > 0)) return {};
   if (!segment.medium->Scatters()) return {};
   std::optional<DistanceSample> d;
@@ -43,6 +65,10 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
     d = segment.SampleDistance(u.channel, u.distance);
   }
   if (!d) return {};
+  // Nothing scatters where a grid is empty (an equiangular distance may land there): no
+  // shadow ray.
+  const Rgb sigma_s = segment.ScatteringAt(d->t);
+  if (sigma_s.IsBlack()) return {};
   const Vec3 x = ray.At(d->t);
   const std::optional<LightSample> ls = SampleLi(light, x, u.light);
   if (!ls || !(ls->pdf > 0)) return {};
@@ -51,7 +77,78 @@ Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, 
   const float phase = HenyeyGreenstein(-ray.direction, ls->wi, segment.medium->g());
   const float pdf = pick_pmf * d->pdf * ls->pdf;
   if (!(pdf > 0) || !std::isfinite(pdf)) return {};
-  return segment.TransmittanceTo(d->t) * segment.ScatteringAt(d->t) * arriving * (phase / pdf);
+  // The phase strategy cannot draw a delta light's one direction.
+  const float weight = ls->delta ? 1.0f : WeightOf(weighting, pdf, segment.DistancePdf(d->t) * phase);
+  return segment.TransmittanceTo(d->t) * sigma_s * arriving * (phase * weight / pdf);
+}
+
+void LightsAlong(const SceneData& scene, const Ray& ray, const std::optional<SurfaceHit>& hit,
+                 const std::function<void(int light, const LightSample& sample)>& fn) {
+  if (hit) {
+    const int light = scene.AreaLightOf(*hit);
+    if (light < 0) return;
+    if (const std::optional<LightSample> ls = LightSampleAlong(scene.lights[light], ray.origin, ray.direction,
+                                                               hit->p, hit->n))
+      fn(light, *ls);
+    return;
+  }
+  // Escaped: every light from infinitely far away (the sun's disc, the environment), which
+  // come after the area lights.
+  for (std::size_t i = scene.area_light_surfaces.size(); i < scene.lights.size(); ++i) {
+    const std::optional<LightSample> ls = LightSampleAlong(scene.lights[i], ray.origin, ray.direction, Vec3(), Vec3());
+    if (ls) fn(int(i), *ls);
+  }
+}
+
+std::optional<ScatteredRay> PhaseInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray,
+                                           float u_channel, float u_distance, Vec2 u_direction, Weighting weighting) {
+  if (segment.empty() || !segment.medium->Scatters()) return std::nullopt;
+  const std::optional<DistanceSample> d = segment.SampleDistance(u_channel, u_distance);
+  if (!d || !(d->pdf > 0)) return std::nullopt;
+  const float t = d->t;
+  const Vec3 x = ray.At(t);
+  const PhaseSample phase = SampleHenyeyGreenstein(-ray.direction, segment.medium->g(), u_direction);
+  ScatteredRay out;
+  out.ray = Ray{x, phase.wi};
+  out.hit = scene.Intersect(out.ray);
+  out.weight = segment.TransmittanceTo(t) * segment.ScatteringAt(t) / d->pdf;
+  // The phase function over its density is 1; the light strategy's density for the same
+  // (t, wi) is the light's pick times its distance's density times SampleLi's.
+  LightsAlong(scene, out.ray, out.hit, [&](int light, const LightSample& ls) {
+    const float light_pdf = scene.light_power.Pmf(light) *
+                            LightDistancePdf(segment, ray, scene.lights[light], ls.p, t) * ls.pdf;
+    const float weight = WeightOf(weighting, d->pdf * phase.pdf, light_pdf);
+    out.single += ls.radiance * TransmittanceBetween(scene, segment.medium, x, ls.p) * weight;
+  });
+  out.single = out.weight * out.single;
+  return out;
+}
+
+ScatteredRay ScatterAt(const SceneData& scene, const Medium* medium, const Vec3& x, const Vec3& wo,
+                       float u_pick, Vec2 u_light, Vec2 u_direction, const ShadowTransmittance& shadow) {
+  ScatteredRay out;
+  out.weight = Rgb(1);
+  if (!scene.light_power.empty()) {
+    const auto pick = scene.light_power.Sample(u_pick);
+    const std::optional<LightSample> ls = pick.pmf > 0 ? SampleLi(scene.lights[pick.index], x, u_light) : std::nullopt;
+    if (ls && ls->pdf > 0) {
+      const float light_pdf = pick.pmf * ls->pdf;
+      const float phase = HenyeyGreenstein(wo, ls->wi, medium->g());
+      const float weight = ls->delta ? 1.0f : PowerHeuristic(light_pdf, phase);
+      if (weight > 0 && std::isfinite(light_pdf)) {
+        const Rgb arriving = shadow(x, *ls);
+        if (!arriving.IsBlack()) out.single += arriving * (phase * weight / light_pdf);
+      }
+    }
+  }
+  const PhaseSample phase = SampleHenyeyGreenstein(wo, medium->g(), u_direction);
+  out.ray = Ray{x, phase.wi};
+  out.hit = scene.Intersect(out.ray);
+  LightsAlong(scene, out.ray, out.hit, [&](int light, const LightSample& ls) {
+    const float weight = PowerHeuristic(phase.pdf, scene.light_power.Pmf(light) * ls.pdf);
+    out.single += ls.radiance * TransmittanceBetween(scene, medium, x, ls.p) * weight;
+  });
+  return out;
 }
 
 SeenBall SeenBall::Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u) {

@@ -2,18 +2,40 @@
 
 // Light transport through media along camera paths (docs/media.md): where a ray travels
 // in a medium, what it reaches is attenuated by the medium's transmittance (closed-form,
-// or ratio-tracked through a grid), and light from every light scattered once towards the
+// or the exact optical depth through a grid), and light from every light scattered once towards the
 // ray along the way (single scattering) is added:
 //
-//   L_ss = integral over t of T(t0, t) sigma_s p(wo, wi) L_light(x(t), wi) T_shadow dt,
+//   L_ss = integral over t and wi of T(t0, t) sigma_s p(wo, wi) L_light(x(t), wi) T_shadow,
 //
-// estimated by picking a light in proportion to power and a distance along the segment:
-// equiangularly towards point and spot lights and towards the point drawn on a quad or mesh
-// light (media/equiangular.h: it cancels their 1 / d^2, which is what makes halos clean and
-// keeps rays that pass close to an emitter from blowing up), by the truncated free-flight
-// density for spheres and distant lights (a grid's: its majorants', MediumSegment::
-// SampleDistance). Shadow rays from media and from surfaces are attenuated by the transmittance
-// of the medium they cross.
+// by two strategies over (t, wi), each sample weighed against the other by the power
+// heuristic (multiple importance sampling, Veach 1997):
+//
+//   light   pick a light in proportion to power and a point on it, then a distance along
+//           the segment: equiangularly towards point and spot lights and towards the point
+//           drawn on a quad or mesh light (media/equiangular.h: it cancels their 1 / d^2,
+//           which makes halos clean), by the segment's truncated free-flight density for
+//           spheres and distant lights (InScatter);
+//   phase   a distance from the truncated free flight, a direction from the phase
+//           function, and whatever light the ray along it meets: an area light it hits, or
+//           the sun's disc and the environment if it escapes (PhaseInScatter).
+//
+// The truncated free flight is the medium's (MediumSegment::SampleDistance): closed-form
+// in a homogeneous medium, by inverting the exact optical depth in a grid, where sigma_s
+// varies along the ray; either way both strategies weigh a sample by the density that
+// drew it and the density the other would have drawn it with (MediumSegment::
+// DistancePdf), so the power heuristic compares what the samplers really do.
+//
+// Light sampling alone has infinite variance where a ray grazes an emitter (the estimate
+// goes as 1 / h, h the distance from the ray to the point drawn on the light) and misses
+// the lobe of a phase function of |g| near 1, which is (1 - |g|)^2 wide; phase sampling
+// alone cannot reach point lights and is noisy for small lights. Delta lights are light
+// sampled only (weight 1). Shadow rays from media and from surfaces are attenuated by the
+// transmittance of the medium they cross.
+//
+// The phase strategy's ray is also where a volumetric path goes on (multiple scattering
+// by path tracing in media of |g| at or above the contract's path_traced_media_min_abs_g,
+// homogeneous or grid: scene/multiple_scattering.h); ScatterAt is single scattering at a
+// fixed point of such a path, the same two strategies over directions alone.
 
 #include <array>
 #include <functional>
@@ -25,8 +47,9 @@
 #include "math/rgb.h"
 #include "photonmap/photon_map.h"
 #include "photonmap/radiance_estimate.h"
-#include "scene/media_segments.h"
 #include "scene/lights.h"
+#include "scene/media_segments.h"
+#include "scene/scene_data.h"
 
 namespace farm {
 
@@ -35,6 +58,15 @@ namespace farm {
 // something blocks it.
 using ShadowTransmittance = std::function<Rgb(const Vec3& x, const LightSample& sample)>;
 
+// How a strategy's samples of single scattering are weighed: against the other strategy
+// by the power heuristic (the renderer always takes both), or alone (each is an unbiased
+// estimate on its own, which tests compare).
+enum class Weighting { kMis, kAlone };
+
+// The power heuristic (exponent 2): the weight of a sample that one strategy drew with
+// density `mine` where the other's density is `other`; 0 if mine is not positive.
+float PowerHeuristic(float mine, float other);
+
 // The random numbers of one single-scattering sample.
 struct InScatterDimensions {
   Vec2 light;  // the point on the light (SampleLi)
@@ -42,10 +74,46 @@ struct InScatterDimensions {
   float distance = 0;
 };
 
-// One sample of the single-scattered radiance arriving at the ray's origin from `light`
-// (picked with probability pick_pmf) along the segment; ray.direction unit.
+// One sample of the light strategy: the single-scattered radiance arriving at the ray's
+// origin from `light` (picked with probability pick_pmf) along the segment; ray.direction
+// unit.
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
-              const InScatterDimensions& u, const ShadowTransmittance& shadow);
+              const InScatterDimensions& u, const ShadowTransmittance& shadow, Weighting weighting = Weighting::kMis);
+
+// A ray a scattering point sends on, drawn by its phase function, with what it found.
+struct ScatteredRay {
+  Ray ray;  // from the scattering point along the sampled direction
+  std::optional<SurfaceHit> hit;  // the ray's first hit
+  // What light arriving at the scattering point along -ray.direction is worth where the
+  // caller is (PhaseInScatter: T sigma_s / pdf of the distance, the phase function and
+  // its density cancelling; ScatterAt: 1, the caller's throughput holds sigma_s).
+  Rgb weight;
+  // Light from the lights' own emission scattered once towards the caller, weighed
+  // against the light strategy (ScatterAt: and its light sample's share).
+  Rgb single;
+};
+
+// One sample of the phase strategy along the segment: a distance from the truncated free
+// flight (u_channel, u_distance), a direction from the phase function (u_direction), the
+// ray along it traced, and the light it meets (LightsAlong), weighed against InScatter's
+// density for the same distance and direction. Nothing where the medium does not scatter.
+std::optional<ScatteredRay> PhaseInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray,
+                                           float u_channel, float u_distance, Vec2 u_direction,
+                                           Weighting weighting = Weighting::kMis);
+
+// Single scattering at the point x of a volumetric path in `medium` (not null; the scene's
+// is told apart from a shape's by its address, as SegmentIn does) towards wo (unit): one
+// light sample (u_pick, u_light) and one phase sample (u_direction), each weighed against
+// the other over directions (the point is fixed); single is per unit of sigma_s. The phase
+// sample's ray is where the path goes on.
+ScatteredRay ScatterAt(const SceneData& scene, const Medium* medium, const Vec3& x, const Vec3& wo,
+                       float u_pick, Vec2 u_light, Vec2 u_direction, const ShadowTransmittance& shadow);
+
+// The lights a ray meets first (its hit, nothing, or all distant lights if it escapes):
+// for each, fn(index in scene.lights, the LightSample that SampleLi would give for the
+// ray's direction from its origin), radiance not yet attenuated.
+void LightsAlong(const SceneData& scene, const Ray& ray, const std::optional<SurfaceHit>& hit,
+                 const std::function<void(int light, const LightSample& sample)>& fn);
 
 // One sample of the radiance scattered towards the ray's origin along the segment by light
 // that bounced or scattered before (multiple scattering), from the volume photon map

@@ -6,14 +6,18 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "media/henyey_greenstein.h"
 #include "media/test_quadrature.h"
 #include "render/test_images.h"
 #include "render/tile_renderer.h"
+#include "sampling/pixel_sampler.h"
 #include "sampling/sobol.h"
 #include "scene/test_scenes.h"
 
@@ -179,6 +183,213 @@ TEST(MediaTransport, FoggyTilesEqualTheWholeImageBitForBit) {
     const Image part = RenderTile(scene, nullptr, tile);
     testing::ExpectSamePixels(whole, part);
   }
+}
+
+// Scenes for single scattering by MIS: a black floor (it reflects nothing; it makes the
+// scene's ball, which the fog fills, wide enough to hold the rays) and `light`, in fog of
+// sigma_a 0.1, sigma_s 0.4 and asymmetry g.
+Scene FogOverAFloor(float g, const std::function<void(renderfarm::v1::Scene&)>& light) {
+  namespace pb = renderfarm::v1;
+  pb::Scene s = testing::MakeScene(1, 1, {0, 1, 4}, {0, 1, 0}, {0, 1, 0}, 40, 1, 1);
+  testing::AddLambert(s, "black", Rgb(0));
+  testing::AddEmissive(s, "lamp", Rgb(2));
+  testing::AddQuad(s, "black", {-4, 0, 4}, {8, 0, 0}, {0, 0, -8});  // front +y
+  light(s);
+  pb::MediumCoefficients* c = s.mutable_medium()->mutable_sigma();
+  testing::Set(c->mutable_sigma_a(), Rgb(0.1f));
+  testing::Set(c->mutable_sigma_s(), Rgb(0.4f));
+  s.mutable_medium()->set_g(g);
+  return Scene::Build(s, testing::NoBlobs());
+}
+
+// A 2 x 2 quad light at height 2 facing down.
+void QuadLamp(renderfarm::v1::Scene& s) { testing::AddQuad(s, "lamp", {-1, 2, -1}, {2, 0, 0}, {0, 0, 2}); }
+
+// The light of QuadLamp (radiance 2) scattered once at x towards wo per unit sigma_s, through
+// FogOverAFloor's fog (sigma_t 0.5): the integral over the quad of p(wo, wi) Le
+// exp(-sigma_t d) cos / d^2, by quadrature in double (intervals along each side).
+double QuadLampAt(const Vec3& x, const Vec3& wo, float g, int intervals) {
+  return testing::Simpson(
+      [&](double px) {
+        return testing::Simpson(
+            [&](double pz) {
+              const Vec3 y(float(px), 2, float(pz));
+              const double dist = Distance(x, y);
+              const Vec3 wi = (y - x) / float(dist);  // the quad's front faces down: cos = wi.y
+              return HenyeyGreenstein(wo, wi, g) * 2 * std::exp(-0.5 * dist) * wi.y / (dist * dist);
+            },
+            -1, 1, intervals);
+      },
+      -1, 1, intervals);
+}
+
+// The light strategy alone, the phase strategy alone, and both weighed by MIS: three
+// unbiased estimates of the same single scattering along `ray` (its segment in the fog),
+// each the mean of n samples (green channel) with its standard error.
+struct Estimate {
+  double mean = 0, error = 0;
+};
+struct ThreeWays {
+  Estimate light, phase, mis;
+};
+ThreeWays SingleScatteringThreeWays(const SceneData& d, const Ray& ray, int n) {
+  const std::optional<SurfaceHit> hit = d.Intersect(ray);
+  const MediumSegment segment = SegmentIn(d, &*d.medium, ray, hit ? hit->t : kInf);
+  const ShadowTransmittance shadow = [&](const Vec3& x, const LightSample& ls) {
+    return d.Visible(x, Vec3(), ls.p, ls.n) ? ls.radiance * TransmittanceBetween(d, segment.medium, x, ls.p) : Rgb();
+  };
+  double sum[3] = {}, squares[3] = {};
+  const auto add = [&](int k, double x) {
+    sum[k] += x;
+    squares[k] += x * x;
+  };
+  PixelSampler sampler(n, 21);
+  for (int i = 0; i < n; ++i) {
+    sampler.StartPixelSample(0, i);
+    const auto pick = d.light_power.Sample(sampler.Get1D());
+    const InScatterDimensions u{sampler.Get2D(), sampler.Get1D(), sampler.Get1D()};
+    const Light& light = d.lights[pick.index];
+    const float u_channel = sampler.Get1D(), u_distance = sampler.Get1D();
+    const Vec2 u_direction = sampler.Get2D();
+    const auto phase = [&](Weighting w) {
+      const auto s = PhaseInScatter(d, segment, ray, u_channel, u_distance, u_direction, w);
+      return s ? s->single.g : 0.0f;
+    };
+    add(0, InScatter(segment, ray, light, pick.pmf, u, shadow, Weighting::kAlone).g);
+    add(1, phase(Weighting::kAlone));
+    add(2, InScatter(segment, ray, light, pick.pmf, u, shadow).g + phase(Weighting::kMis));
+  }
+  Estimate e[3];
+  for (int k = 0; k < 3; ++k) {
+    e[k].mean = sum[k] / n;
+    e[k].error = std::sqrt(std::max(0.0, squares[k] / n - e[k].mean * e[k].mean) / n);
+  }
+  return {e[0], e[1], e[2]};
+}
+
+// got within four standard errors of want, give or take `slack` of want (the quadrature's
+// own error).
+void ExpectWithin(const Estimate& got, double want, double slack, const char* what) {
+  EXPECT_NEAR(got.mean, want, 4 * got.error + slack * want) << what << ": standard error " << got.error;
+}
+
+// Single scattering from a quad light (distances equiangular towards its points) against
+// the integral over the segment and the quad by quadrature in double; each strategy alone
+// and both by MIS agree with it. With the MIS weights wrong (not summing to 1 for the
+// same distance and direction: a strategy's density computed unlike the other's sampler)
+// the MIS estimate would not.
+TEST(SingleScatteringMis, QuadLightMatchesQuadratureByEachStrategyAndByBoth) {
+  for (const float g : {0.0f, 0.7f, -0.9f}) {
+    SCOPED_TRACE("g = " + std::to_string(g));
+    const Scene scene = FogOverAFloor(g, QuadLamp);
+    const SceneData& d = scene.data();
+    const Ray ray{{-3, 0.5f, 0.3f}, Normalize(Vec3(1, 0.1f, -0.05f))};
+    const MediumSegment segment = SegmentIn(d, &*d.medium, ray, kInf);
+    ASSERT_FALSE(segment.empty());
+    // Along the segment: its transmittance from t0 times sigma_s (0.4) times the light at t.
+    const double want = testing::Simpson(
+        [&](double t) {
+          return std::exp(-0.5 * (t - segment.t0)) * 0.4 * QuadLampAt(ray.At(float(t)), -ray.direction, g, 60);
+        },
+        segment.t0, segment.t1, 400);
+    const ThreeWays got = SingleScatteringThreeWays(d, ray, 1 << 17);
+    ExpectWithin(got.light, want, 0.002, "light sampling alone");
+    ExpectWithin(got.phase, want, 0.002, "phase sampling alone");
+    ExpectWithin(got.mis, want, 0.002, "both, by MIS");
+    EXPECT_LT(got.mis.error, 0.005 * want) << "so that the check above bites";
+  }
+}
+
+// A sphere light (its cone sampled, distances by the free flight) and a sun with a 20
+// degree disc in the forward lobe (found by rays that escape): the three estimates agree.
+TEST(SingleScatteringMis, SphereLightAndSunDiscAgreeByEachStrategyAndByBoth) {
+  const auto sphere = [](renderfarm::v1::Scene& s) { testing::AddSphere(s, "lamp", {0.5, 2, 0}, 0.5); };
+  const auto sun = [](renderfarm::v1::Scene& s) {
+    renderfarm::v1::SunLight* sun = s.add_lights()->mutable_sun();
+    testing::Set(sun->mutable_direction(), Vec3d(-1, -0.5, 0));
+    testing::Set(sun->mutable_irradiance(), Rgb(3));
+    sun->set_angular_diameter_degrees(20);
+  };
+  for (const auto& [name, light] : {std::pair{"sphere", std::function(sphere)}, std::pair{"sun", std::function(sun)}}) {
+    SCOPED_TRACE(name);
+    const Scene scene = FogOverAFloor(0.6f, light);
+    const ThreeWays got = SingleScatteringThreeWays(scene.data(), Ray{{-3, 0.5f, 0.3f}, Vec3(1, 0, 0)}, 1 << 18);
+    EXPECT_LT(got.mis.error, 0.005 * got.mis.mean);
+    // Independent estimates of the same integral: their difference within four standard
+    // errors of it.
+    for (const auto& [alone, what] :
+         {std::pair{got.light, "light sampling alone"}, {got.phase, "phase sampling alone"}})
+      EXPECT_NEAR(alone.mean, got.mis.mean, 4 * std::hypot(alone.error, got.mis.error)) << what;
+  }
+}
+
+// A camera ray grazing an emitter (here 1e-4 under the quad light): light sampling alone
+// draws distances towards a point on the light and its samples go as 1 / h, h the
+// distance from the ray to that point (infinite variance: a pixel of the glowing cube's
+// edge spikes). Under MIS no sample exceeds what a phase sample can bring, Le albedo (1 -
+// T) over the segment (the phase function over its density is 1, T sigma_s over the
+// truncated flight's density at most albedo (1 - T)), and a light sample's weighted value
+// is at most half of the phase sample's for the same point: the energy bound holds for
+// every sample, not just on average.
+TEST(SingleScatteringMis, AGrazingRayStaysBelowTheLightsRadiance) {
+  const Scene scene = FogOverAFloor(0, QuadLamp);
+  const SceneData& d = scene.data();
+  const Ray ray{{-3, 2 - 1e-4f, 0.3f}, Vec3(1, 0, 0)};
+  const MediumSegment segment = SegmentIn(d, &*d.medium, ray, kInf);
+  const ShadowTransmittance shadow = [&](const Vec3& x, const LightSample& ls) {
+    return d.Visible(x, Vec3(), ls.p, ls.n) ? ls.radiance * TransmittanceBetween(d, segment.medium, x, ls.p) : Rgb();
+  };
+  const double bound = 2 * 0.8 * (1 - std::exp(-0.5 * (segment.t1 - segment.t0)));
+  float worst_alone = 0, worst_light = 0, worst_phase = 0;
+  const int n = 1 << 14;
+  PixelSampler sampler(n, 32);
+  for (int i = 0; i < n; ++i) {
+    sampler.StartPixelSample(0, i);
+    const InScatterDimensions u{sampler.Get2D(), sampler.Get1D(), sampler.Get1D()};
+    worst_alone = std::max(worst_alone, InScatter(segment, ray, d.lights[0], 1, u, shadow, Weighting::kAlone).g);
+    worst_light = std::max(worst_light, InScatter(segment, ray, d.lights[0], 1, u, shadow).g);
+    const float u_channel = sampler.Get1D(), u_distance = sampler.Get1D();
+    if (const auto s = PhaseInScatter(d, segment, ray, u_channel, u_distance, sampler.Get2D()))
+      worst_phase = std::max(worst_phase, s->single.g);
+  }
+  EXPECT_GT(worst_alone, 10 * bound) << "light sampling alone spikes (what MIS is for)";
+  EXPECT_LE(worst_light, 0.5 * bound * (1 + 1e-4));
+  EXPECT_LE(worst_phase, bound * (1 + 1e-4));
+  EXPECT_GT(worst_phase, 0.1 * bound);
+}
+
+// Single scattering at a fixed point of a volumetric path (ScatterAt: a light sample and a
+// phase sample over directions, weighed by MIS) against the integral over the quad light.
+TEST(SingleScatteringMis, AtAPointMatchesQuadrature) {
+  for (const float g : {0.0f, 0.8f, -0.99f}) {
+    SCOPED_TRACE("g = " + std::to_string(g));
+    const Scene scene = FogOverAFloor(g, QuadLamp);
+    const SceneData& d = scene.data();
+    const Vec3 x(-1.5f, 1.2f, 0.4f), wo = Normalize(Vec3(-1, 0.3f, 0.2f));
+    const double want = QuadLampAt(x, wo, g, 200);
+    const ShadowTransmittance shadow = [&](const Vec3& p, const LightSample& ls) {
+      return d.Visible(p, Vec3(), ls.p, ls.n) ? ls.radiance * TransmittanceBetween(d, &*d.medium, p, ls.p) : Rgb();
+    };
+    const int n = 1 << 17;
+    PixelSampler sampler(n, 41);
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      sampler.StartPixelSample(0, i);
+      const Vec2 u_light = sampler.Get2D();
+      sum += ScatterAt(d, &*d.medium, x, wo, 0.5f, u_light, sampler.Get2D(), shadow).single.g;
+    }
+    EXPECT_NEAR(sum / n, want, 0.02 * want);
+  }
+}
+
+TEST(SingleScatteringMis, PowerHeuristicWeightsSumToOneAndSurviveHugeDensities) {
+  for (const auto& [a, b] : {std::pair{1.0f, 1.0f}, {0.3f, 7.0f}, {1e30f, 3e29f}, {1e-30f, 2e-31f}}) {
+    EXPECT_NEAR(PowerHeuristic(a, b) + PowerHeuristic(b, a), 1, 1e-6) << a << " " << b;
+  }
+  EXPECT_EQ(PowerHeuristic(2, 0), 1);
+  EXPECT_EQ(PowerHeuristic(0, 2), 0);
+  EXPECT_EQ(PowerHeuristic(1, std::numeric_limits<float>::infinity()), 0);
+  EXPECT_NEAR(PowerHeuristic(1, 3), 0.1f, 1e-7);
 }
 
 }  // namespace

@@ -236,6 +236,38 @@ std::optional<LightSample> SampleLi(const Light& light, const Vec3& ref, Vec2 u)
   return std::visit(Visitor{ref, u}, light);
 }
 
+std::optional<LightSample> LightSampleAlong(const Light& light, const Vec3& ref, const Vec3& wi, const Vec3& p,
+                                            const Vec3& n) {
+  // As SampleLi places a distant light's point: beyond all geometry along wi.
+  const auto distant = [&](const DistantDisc& disc, const Rgb& radiance, float pdf) -> std::optional<LightSample> {
+    if (radiance.IsBlack() || !(pdf > 0) || !std::isfinite(pdf)) return std::nullopt;
+    const float far = disc.Beyond();
+    return LightSample{radiance, wi, ref + wi * far, Vec3(), far, pdf, false};
+  };
+  return std::visit(
+      Overloaded{
+          [&](const SphereLight& l) -> std::optional<LightSample> {
+            if (!(Dot(n, wi) < 0)) return std::nullopt;  // from inside, the front faces away
+            const float pdf = SphereFromPointPdf(l.sphere.center, l.sphere.radius, ref, wi);
+            if (!(pdf > 0) || !std::isfinite(pdf)) return std::nullopt;
+            return LightSample{l.radiance, wi, p, n, Distance(ref, p), pdf, false};
+          },
+          [&](const QuadLight& l) { return FromAreaSample({p, n}, l.quad.Area(), l.radiance, ref); },
+          [&](const TriangleMeshLight& l) { return FromAreaSample({p, n}, l.area, l.radiance, ref); },
+          [](const OneOf<PointLight, SpotLight> auto&) -> std::optional<LightSample> { return std::nullopt; },
+          [&](const SunLight& l) -> std::optional<LightSample> {
+            if (l.one_minus_cos == 0) return std::nullopt;
+            // 1 - cos of the angle to the disc's centre as |a - b|^2 / 2: no cancellation.
+            if (!(LengthSquared(wi + l.direction) / 2 <= l.one_minus_cos)) return std::nullopt;
+            return distant(l.disc, l.radiance, 1 / (2 * kPi * l.one_minus_cos));
+          },
+          [&](const EnvironmentLight& l) {
+            return distant(l.disc, l.environment->Radiance(wi), l.environment->Pdf(wi));
+          },
+      },
+      light);
+}
+
 std::optional<LightOrigin> SampleLightOrigin(const Light& light, Vec2 u) {
   struct Visitor {
     Vec2 u;

@@ -165,6 +165,14 @@ struct LightSample {
 // (the back of the light faces ref, or the density is degenerate).
 std::optional<LightSample> SampleLi(const Light& light, const Vec3& ref, Vec2 u);
 
+// What SampleLi gives for the direction wi (unit) from ref, found some other way (a ray
+// traced from ref along wi meets the light at p, where its front normal is n; p and n are
+// not read for distant lights): the radiance and SampleLi's density of wi, for multiple
+// importance sampling against that other way. Nothing where SampleLi never draws wi: a
+// delta light, the back of an area light, outside the sun's disc.
+std::optional<LightSample> LightSampleAlong(const Light& light, const Vec3& ref, const Vec3& wi, const Vec3& p,
+                                            const Vec3& n);
+
 // A photon leaving a light: origin, direction and the power it carries, Le cos / (pdf of
 // origin * pdf of direction), before dividing by the probability of picking the light and
 // the number of photons.

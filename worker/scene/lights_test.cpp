@@ -148,6 +148,51 @@ TEST(Lights, SunComesFromOneDirectionAndItsDiscCoversTheScene) {
   }
 }
 
+// LightSampleAlong inverts SampleLi: for each direction SampleLi draws (a ray from ref
+// along it meets the light where SampleLi put the point), it gives the same radiance and
+// density, which is what MIS weighs a ray traced some other way against. Delta lights and
+// directions SampleLi never draws give nothing.
+TEST(Lights, LightSampleAlongInvertsSampleLi) {
+  auto mesh = std::make_shared<TriangleMesh>();
+  mesh->positions = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
+  mesh->indices = {0, 1, 2, 3, 4, 5};
+  EnvironmentImage sky{4, 2, {Rgb(1), Rgb(2), Rgb(3), Rgb(4), Rgb(0.5f), Rgb(6), Rgb(7), Rgb(0.1f)}};
+  const BoundingSphere scene{{0, 0, 0}, 10};
+  const Light lights[] = {
+      SphereLight{{{3, 1, 8}, 2}, Rgb(3)},
+      SphereLight{{{0, 0, 0}, 0.01f}, Rgb(3)},  // tiny: a narrow cone
+      QuadLight{QuadShape::Make({0, 0, 4}, {0, 3, 0}, {2, 0, 0}), Rgb(1)},  // its front faces -z
+      TriangleMeshLight::Make(mesh, Rgb(2)),
+      SunLight::Make(Normalize(Vec3(0.3f, -1, 0.2f)), Rgb(4), 0.53, scene),
+      EnvironmentLight{std::make_shared<Environment>(Environment::Map(sky, Rgb(1), 30)), DistantDisc::Around(scene)},
+  };
+  const Vec3 ref(0.5f, -3, 1);
+  for (const Light& light : lights) {
+    SCOPED_TRACE(ToString(light));
+    int found = 0;
+    for (int i = 0; i < 256; ++i) {
+      const std::optional<LightSample> s = SampleLi(light, ref, {SobolSample(i, 0, 5), SobolSample(i, 1, 6)});
+      if (!s) continue;
+      ++found;
+      const std::optional<LightSample> back = LightSampleAlong(light, ref, s->wi, s->p, s->n);
+      ASSERT_TRUE(back) << "wi " << s->wi;
+      EXPECT_NEAR(back->pdf / s->pdf, 1, 1e-3) << "wi " << s->wi;
+      EXPECT_NEAR(back->radiance.g / s->radiance.g, 1, 1e-3) << "wi " << s->wi;
+      EXPECT_NEAR(back->distance / s->distance, 1, 1e-3);
+    }
+    EXPECT_GT(found, 128);
+  }
+  // The back of a quad, beside the sun's disc, and delta lights: never drawn.
+  const Light quad = QuadLight{QuadShape::Make({0, 0, 4}, {0, 3, 0}, {2, 0, 0}), Rgb(1)};
+  EXPECT_TRUE(LightSampleAlong(quad, Vec3(1, 1, 2), Vec3(0, 0, 1), Vec3(1, 1, 4), Vec3(0, 0, -1)));
+  EXPECT_FALSE(LightSampleAlong(quad, Vec3(1, 1, 6), Vec3(0, 0, -1), Vec3(1, 1, 4), Vec3(0, 0, -1)));
+  const Light sun = SunLight::Make(Vec3(0, -1, 0), Rgb(4), 0.53, scene);
+  EXPECT_TRUE(LightSampleAlong(sun, ref, Vec3(0, 1, 0), Vec3(), Vec3()));
+  EXPECT_FALSE(LightSampleAlong(sun, ref, Normalize(Vec3(0.01f, 1, 0)), Vec3(), Vec3())) << "0.57 degrees off";
+  EXPECT_FALSE(LightSampleAlong(SunLight::Make(Vec3(0, -1, 0), Rgb(4), 0, scene), ref, Vec3(0, 1, 0), Vec3(), Vec3()));
+  EXPECT_FALSE(LightSampleAlong(PointLight{{1, 1, 1}, Rgb(5)}, ref, Vec3(0, 1, 0), Vec3(1, 1, 1), Vec3()));
+}
+
 TEST(Lights, EveryPhotonOfALightCarriesItsPower) {
   auto mesh = std::make_shared<TriangleMesh>();
   mesh->positions = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};

@@ -47,6 +47,11 @@ std::optional<DistanceSample> MediumSegment::SampleDistance(float u_channel, flo
   return farm::SampleDistance(*medium, ray, t0, t1, u_channel, u);
 }
 
+float MediumSegment::DistancePdf(float t) const {
+  if (empty()) return 0;
+  return farm::DistancePdf(*medium, ray, t0, t1, t);
+}
+
 FreeFlight MediumSegment::SampleFlight(float u_channel, float u) const {
   return farm::SampleFlight(*medium, ray, t0, t1, u_channel, u);
 }

@@ -26,8 +26,10 @@ struct MediumSegment {
   Rgb TransmittanceTo(float t) const;
   // sigma_s at the ray's point t.
   Rgb ScatteringAt(float t) const;
-  // A distance in [t0, t1] (SampleDistance) and a photon's free flight (SampleFlight).
+  // A distance in [t0, t1] (SampleDistance), the density it draws t with (DistancePdf),
+  // and a free flight (SampleFlight: photons, volumetric paths).
   std::optional<DistanceSample> SampleDistance(float u_channel, float u) const;
+  float DistancePdf(float t) const;
   FreeFlight SampleFlight(float u_channel, float u) const;
 };
 

@@ -198,30 +198,37 @@ ShapeGeometry GeometryFromProto(const pb::Shape& shape, const std::string& field
   throw std::logic_error("GeometryFromProto: a shape without geometry (CheckRules refuses it)");
 }
 
-// The area lights of a shape: itself if its material emits; for an instance, each part of
-// its mesh whose material emits, over the part's triangles placed. Each is sampled with its
-// material's AreaLightRadiance (a textured emission by the texture's mean).
-void AddLights(const ShapeGeometry& geometry, int material, SceneData& d) {
+// The area lights of shape `shape`: itself if its material emits; for an instance, each
+// part of its mesh whose material emits, over the part's triangles placed. Each is sampled
+// with its material's AreaLightRadiance (a textured emission by the texture's mean), and
+// its surface recorded in area_light_surfaces.
+void AddLights(int shape, const ShapeGeometry& geometry, int material, SceneData& d) {
   struct Visitor {
+    const int shape;
     const Rgb radiance;  // of the shape's material (unused for instances)
-    const SceneData& d;
-    std::vector<Light>& lights;
+    SceneData& d;
+    void Add(Light light, uint32_t part = 0) const {
+      d.lights.push_back(std::move(light));
+      d.area_light_surfaces.push_back({shape, part});
+    }
     void operator()(const SphereShape& s) const {
-      if (!radiance.IsBlack()) lights.push_back(SphereLight{s, radiance});
+      if (!radiance.IsBlack()) Add(SphereLight{s, radiance});
     }
     void operator()(const QuadShape& q) const {
-      if (!radiance.IsBlack()) lights.push_back(QuadLight{q, radiance});
+      if (!radiance.IsBlack()) Add(QuadLight{q, radiance});
     }
     void operator()(const std::shared_ptr<const TriangleMesh>& m) const {
-      if (!radiance.IsBlack()) lights.push_back(TriangleMeshLight::Make(m, radiance));
+      if (!radiance.IsBlack()) Add(TriangleMeshLight::Make(m, radiance));
     }
     void operator()(const InstanceShape& instance) const {
-      for (const SceneMesh::Part& part : instance.mesh->parts)
+      for (std::size_t p = 0; p < instance.mesh->parts.size(); ++p) {
+        const SceneMesh::Part& part = instance.mesh->parts[p];
         if (const Rgb r = AreaLightRadiance(d, d.materials[part.material]); !r.IsBlack())
-          lights.push_back(TriangleMeshLight::Make(part.triangles, r, instance.placement));
+          Add(TriangleMeshLight::Make(part.triangles, r, instance.placement), static_cast<uint32_t>(p));
+      }
     }
   };
-  std::visit(Visitor{AreaLightRadiance(d, d.materials[material]), d, d.lights}, geometry);
+  std::visit(Visitor{shape, AreaLightRadiance(d, d.materials[material]), d}, geometry);
 }
 
 // Spheres around a shape's specular surfaces (caustic photons are aimed at them): the
@@ -426,7 +433,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
       if (shape.name().empty()) throw;
       throw SceneError(std::string(e.what()) + " (shape \"" + shape.name() + "\")");
     }
-    AddLights(record.geometry, record.material, d);
+    AddLights(static_cast<int>(d.shapes.size()), record.geometry, record.material, d);
     geometries.push_back(record.geometry);
     d.shapes.push_back(std::move(record));
   }

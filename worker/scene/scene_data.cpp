@@ -100,6 +100,15 @@ bool SceneData::FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p
                       OffsetRayOrigin(p1, n1, n1, ray_epsilon) + n1 * lift);
 }
 
+int SceneData::AreaLightOf(const SurfaceHit& hit) const {
+  const TargetSurface surface{hit.shape, hit.part};
+  const auto before = [](const TargetSurface& a, const TargetSurface& b) {
+    return a.shape != b.shape ? a.shape < b.shape : a.part < b.part;
+  };
+  const auto it = std::lower_bound(area_light_surfaces.begin(), area_light_surfaces.end(), surface, before);
+  return it != area_light_surfaces.end() && *it == surface ? static_cast<int>(it - area_light_surfaces.begin()) : -1;
+}
+
 bool SceneData::SegmentClear(const Vec3& o0, const Vec3& o1) const {
   const Vec3 segment = o1 - o0;
   const float length = Length(segment);

@@ -142,6 +142,9 @@ struct SceneData {
     bool operator==(const TargetSurface&) const = default;
   };
   std::vector<TargetSurface> specular_target_surfaces;
+  // The surface each area light is, by its index in lights (the first ones): a shape, and
+  // for an instance the part. In (shape, part) order.
+  std::vector<TargetSurface> area_light_surfaces;
   // By light: the targets by the solid angle each subtends from one point of the light
   // (TargetSpheres::TableFrom), so that a caustic photon's pick is one table read; empty for
   // a sun or the environment and once the tables would hold more than
@@ -174,6 +177,9 @@ struct SceneData {
   bool FrontsSeeEachOther(const Vec3& p0, const Vec3& n0, const Vec3& p1, const Vec3& n1) const;
   // Whether nothing lies on the segment between two ray origins already off their surfaces.
   bool SegmentClear(const Vec3& o0, const Vec3& o1) const;
+  // The index in lights of the area light a hit lies on, -1 if it lies on none: how a ray
+  // that meets an emitter finds the light that light sampling would have drawn it from.
+  int AreaLightOf(const SurfaceHit& hit) const;
 
   // The material of a hit as the scene declares it (MaterialAt, surface_shading.h, applies
   // its textures at the hit).

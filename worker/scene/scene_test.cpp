@@ -186,6 +186,35 @@ TEST(Scene, EmissiveShapesBecomeLightsPickedByPower) {
   EXPECT_NEAR(Power(d.lights[1]).g, 3 * std::numbers::pi, 1e-5);
 }
 
+// A ray that meets an emitter finds the light that light sampling draws it from: emissive
+// shapes and the emissive parts of instances (each part its own light), and nothing on a
+// shape or part that does not emit.
+TEST(Scene, AHitFindsTheAreaLightItLiesOn) {
+  pb::Scene s = BaseScene();
+  AddQuad(s, "lamp", {-1, -1, 0}, {2, 0, 0}, {0, 2, 0});  // light 0
+  AddSphere(s, "grey", {0, 0, 5}, 1);                      // none
+  AddSphere(s, "lamp", {0, 0, 10}, 1);                     // light 1
+  // A grey square 1 above an emissive one (light 2), lifted to z = 20.
+  const std::string raised = "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 2 3\nf 1 3 4\n";
+  AddMesh(s, "lantern", {{FakeDigest("raised"), "grey"}, {FakeDigest("square"), "lamp"}});
+  const double lift[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 20};
+  AddInstance(s, "lantern", lift);
+  const Scene scene =
+      Scene::Build(s, MapLoader({{FakeDigest("square"), std::string(kSquareObj)}, {FakeDigest("raised"), raised}}));
+  const SceneData& d = scene.data();
+  SCOPED_TRACE(d.ToString());
+  ASSERT_EQ(d.lights.size(), 4u);  // three area lights, then the point light
+  const auto light_from = [&](float z, float dz) {
+    const std::optional<SurfaceHit> hit = d.Intersect(Ray{{0.2f, 0.1f, z}, {0, 0, dz}});
+    return hit ? d.AreaLightOf(*hit) : -2;
+  };
+  EXPECT_EQ(light_from(-5, 1), 0);
+  EXPECT_EQ(light_from(2, 1), -1);
+  EXPECT_EQ(light_from(7, 1), 1);
+  EXPECT_EQ(light_from(15, 1), 2);
+  EXPECT_EQ(light_from(30, -1), -1) << "the instance's grey part";
+}
+
 TEST(Scene, IsMovable) {
   pb::Scene s = BaseScene();
   AddSphere(s, "grey", {0, 0, 10}, 2);
