@@ -197,9 +197,10 @@ func smokeGrid() [][]byte {
 	return [][]byte{assetstest.EncodedGrid(g)}
 }
 
-// gridSmoke is the medium of albedo 1 whose densities are smokeGrid's.
-func gridSmoke() *pb.Medium {
-	return &pb.Medium{Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{
+// gridSmoke is the medium of albedo 1 and Henyey-Greenstein asymmetry g whose densities
+// are smokeGrid's.
+func gridSmoke(g float64) *pb.Medium {
+	return &pb.Medium{G: g, Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{
 		Path: "smoke.farmgrid", Digest: rules.DigestOf(smokeGrid()[0]), Albedo: grey(1), DensityScale: 1}}}
 }
 

@@ -328,7 +328,11 @@ var cases = []stiffCase{
 	// exactly through the grid's bricks (camera paths, shadow rays), distances drawn by
 	// inverting it (single scattering's two strategies, weighed by MIS with those very
 	// densities), photons' free flights delta-tracked.
-	withBlobs(glowingFurnaceCase("media-albedo-1-grid-smoke-keeps-wall-radiance", 1, gridSmoke(), nil), smokeGrid),
+	withBlobs(glowingFurnaceCase("media-albedo-1-grid-smoke-keeps-wall-radiance", 1, gridSmoke(0), nil), smokeGrid),
+	// The same smoke scattering forwards (g 0.95, at least path_traced_media_min_abs_g):
+	// its multiple scattering path traced, the paths' free flights delta-tracked through
+	// the grid.
+	withBlobs(glowingFurnaceCase("media-albedo-1-forward-g-0.95-grid-smoke-keeps-wall-radiance", 1, gridSmoke(0.95), withSamples(16)), smokeGrid),
 	// Henyey-Greenstein lobes of g = +-0.999, (1 - g)^2 = 1e-6 wide: the same Le. Single
 	// scattering finds the walls in the lobe by phase-function samples (weighed against
 	// light samples by MIS), and light scattered more than once is path traced

@@ -152,7 +152,8 @@ TEST(DenseGridWalk, DepthAndFlightsThroughSparseSmokeMatchQuadrature) {
 // The truncated free flight through sparse smoke inverts the exact optical depth: the
 // k-th of n stratified samples lands where the truncated CDF (1 - T(t)) / (1 - T(end)) is
 // (k + 1/2) / n, and its pdf is sigma_t(t) T(t) / (1 - T(end)), so that sigma_t T / pdf is
-// the same 1 - T(end) for every sample (no noise of its own), each inside the stretch.
+// the same 1 - T(end) for every sample (no noise of its own), each inside the stretch; its
+// density at any t (TruncatedFlightPdf) is that pdf.
 TEST(DenseGridWalk, TruncatedFlightsInvertTheExactDepth) {
   const DenseGrid grid = Sparse();
   const Ray ray{{-3, 0.1f, 0.1f}, Normalize(Vec3(5, 0.52f, 0.1f))};
@@ -168,7 +169,17 @@ TEST(DenseGridWalk, TruncatedFlightsInvertTheExactDepth) {
     const double transmittance = std::exp(-scale * OpticalDepth(grid, ray, t_min, d->t));
     ASSERT_NEAR((1 - transmittance) / mass, u, 1e-4) << "t " << d->t;
     ASSERT_NEAR(scale * grid.Density(ray.At(d->t)) * transmittance / d->pdf / mass, 1.0, 1e-3) << "t " << d->t;
+    // The density MIS weighs other strategies' distances against is the sampler's.
+    ASSERT_NEAR(TruncatedFlightPdf(grid, scale, ray, t_min, t_max, d->t) / d->pdf, 1.0, 1e-4) << "t " << d->t;
   }
+  // A density over the stretch: it integrates to 1 (midpoint rule), and is 0 outside.
+  double integral = 0;
+  const int steps = 20000;
+  for (int i = 0; i < steps; ++i)
+    integral += TruncatedFlightPdf(grid, scale, ray, t_min, t_max, t_min + (float(i) + 0.5f) * (t_max - t_min) / steps);
+  EXPECT_NEAR(integral * (t_max - t_min) / steps, 1.0, 1e-3);
+  EXPECT_EQ(TruncatedFlightPdf(grid, scale, ray, t_min, t_max, t_min - 0.01f), 0);
+  EXPECT_EQ(TruncatedFlightPdf(grid, scale, ray, t_min, t_max, t_max + 0.01f), 0);
   EXPECT_FALSE(SampleTruncatedFlight(grid, scale, Ray{{-3, 1.1f, 2.3f}, {1, 0, 0}}, 0, 1, 0.5f))
       << "outside the box: nothing to land on";
 }

@@ -63,7 +63,7 @@ TEST(GridMedium, FreeFlightsCollideWithProbabilityOneMinusTransmittance) {
 // The single-scattering integral over the chord of a grid and of the homogeneous medium of
 // the same density, estimated by SampleDistance and weighed by the tracked transmittance
 // and sigma_s, as media_transport.h does: both integral T(t) sigma_s dt = albedo (1 -
-// exp(-sigma_t L)) in closed form.
+// exp(-sigma_t L)) in closed form. DistancePdf gives each sample's density.
 TEST(GridMedium, DistanceSamplesEstimateTheSameIntegralAsTheHomogeneousMedium) {
   const Rgb albedo(0.8f, 0.6f, 0.4f);
   const Medium grid{ConstantGrid(0.75f, albedo)};
@@ -77,6 +77,7 @@ TEST(GridMedium, DistanceSamplesEstimateTheSameIntegralAsTheHomogeneousMedium) {
     for (int i = 0; i < n; ++i) {
       const std::optional<DistanceSample> d = SampleDistance(*m, c.ray, c.t0, c.t1, 0.3f, (float(i) + 0.5f) / n);
       ASSERT_TRUE(d);
+      ASSERT_NEAR(DistancePdf(*m, c.ray, c.t0, c.t1, d->t) / d->pdf, 1.0, 1e-4) << "the sampler's density at t";
       sum += Transmittance(*m, c.ray, c.t0, d->t) * ScatteringAt(*m, c.ray.At(d->t)) / d->pdf;
     }
     EXPECT_NEAR(sum.r / n / want.r, 1.0, 0.01);
