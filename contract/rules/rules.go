@@ -39,7 +39,8 @@ func sceneLimits() *pb.SceneLimits {
 		l.GetMaxAssetBytes() == 0 || l.GetMaxMeshVertices() == 0 || l.GetMaxMeshTriangles() == 0 ||
 		l.GetMaxMeshLineBytes() == 0 || l.GetMaxSnapshotPhotons() == 0 || l.GetMaxShardPhotons() == 0 || l.GetMaxFilmPixels() == 0 ||
 		l.GetMaxTexturePixels() == 0 || l.GetPrincipledSpecularRoughness() <= 0 ||
-		!(l.GetPathTracedMediaMinAbsG() > 0 && l.GetPathTracedMediaMinAbsG() < 1) {
+		!(l.GetPathTracedMediaMinAbsG() > 0 && l.GetPathTracedMediaMinAbsG() < 1) ||
+		l.GetMaxGridCells() == 0 || l.GetMaxGridAxisCells() == 0 {
 		panic("rules: scene.proto declares no complete scene_limits option on Scene")
 	}
 	return l

@@ -207,7 +207,7 @@ class PhotonMappingIntegrator {
   // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const HomogeneousMedium* medium,
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const Medium* medium,
                 std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
@@ -238,11 +238,11 @@ class PhotonMappingIntegrator {
   // meets emitting is counted; a diffuse surface ends the path with the light it reflects,
   // as where a gather ray lands (LandingIrradiance). Russian roulette on the throughput,
   // at most kMaxVolumePathVertices vertices; seed draws every number.
-  Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const HomogeneousMedium* medium, uint32_t seed,
+  Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium, uint32_t seed,
                  std::vector<PhotonNeighbour>& scratch) const;
   // The light a sample reaches a point in `medium` with: blocked by any surface,
   // attenuated by the medium (the scene's clipped to its ball).
-  ShadowTransmittance ShadowIn(const HomogeneousMedium* medium) const;
+  ShadowTransmittance ShadowIn(const Medium* medium) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;

@@ -424,8 +424,14 @@ type SceneLimits struct {
 	// Checked by the worker as it stores photons; the job fails as bad input saying to lower
 	// photons_per_shard.
 	MaxShardPhotons uint64 `protobuf:"varint,14,opt,name=max_shard_photons,json=maxShardPhotons,proto3" json:"max_shard_photons,omitempty"`
-	unknownFields   protoimpl.UnknownFields
-	sizeCache       protoimpl.SizeCache
+	// Cells of one density grid file (MediumGrid, docs/grid-format.md): a worker holds 4
+	// bytes a cell, and its majorants, for the job's life.
+	MaxGridCells uint64 `protobuf:"varint,15,opt,name=max_grid_cells,json=maxGridCells,proto3" json:"max_grid_cells,omitempty"`
+	// Cells along each axis of a density grid file: with max_grid_cells, refuses absurd
+	// headers before any size is multiplied out.
+	MaxGridAxisCells uint32 `protobuf:"varint,16,opt,name=max_grid_axis_cells,json=maxGridAxisCells,proto3" json:"max_grid_axis_cells,omitempty"`
+	unknownFields    protoimpl.UnknownFields
+	sizeCache        protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -552,6 +558,20 @@ func (x *SceneLimits) GetPathTracedMediaMinAbsG() float64 {
 func (x *SceneLimits) GetMaxShardPhotons() uint64 {
 	if x != nil {
 		return x.MaxShardPhotons
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxGridCells() uint64 {
+	if x != nil {
+		return x.MaxGridCells
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxGridAxisCells() uint32 {
+	if x != nil {
+		return x.MaxGridAxisCells
 	}
 	return 0
 }
@@ -972,7 +992,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\xb7\x05\n" +
+	"_max_bytes\"\x8c\x06\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -988,7 +1008,9 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\x12A\n" +
 	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\x12;\n" +
 	"\x1bpath_traced_media_min_abs_g\x18\r \x01(\x01R\x16pathTracedMediaMinAbsG\x12*\n" +
-	"\x11max_shard_photons\x18\x0e \x01(\x04R\x0fmaxShardPhotons\"\xc2\x01\n" +
+	"\x11max_shard_photons\x18\x0e \x01(\x04R\x0fmaxShardPhotons\x12$\n" +
+	"\x0emax_grid_cells\x18\x0f \x01(\x04R\fmaxGridCells\x12-\n" +
+	"\x13max_grid_axis_cells\x18\x10 \x01(\rR\x10maxGridAxisCells\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +
