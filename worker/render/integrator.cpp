@@ -221,6 +221,12 @@ struct PhotonMappingIntegrator::PathBranch {
 
   // What light x (RGB) reaching the branch adds to the film.
   Rgb Carried(const Rgb& x) const { return spectral ? spectral->Times(x).ToRgb() : throughput * x; }
+  // What the film gains when light x reaching the branch becomes x + dx (dx may be
+  // negative, x + dx not): an RGB's uplift to a spectrum is not linear, so in spectral mode
+  // the difference of the two carried lights.
+  Rgb CarriedChange(const Rgb& x, const Rgb& dx) const {
+    return spectral ? Carried(x + dx) - Carried(x) : throughput * dx;
+  }
 
   // The branch with its throughput times weight (RGB: a surface's or a medium's), over
   // survive.
@@ -276,12 +282,15 @@ RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& s) {
 }
 
 PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
-                                                 double radius_scale)
-    : scene_(scene), maps_(maps) {
+                                                 double radius_scale, bool bias_layer)
+    : scene_(scene), maps_(maps), bias_layer_(bias_layer) {
   const float scale = std::isfinite(radius_scale) && radius_scale > 0 ? float(radius_scale) : 1.0f;
   maps_.global_estimate = ForRound(maps_.global_estimate, scale);
   maps_.caustic_estimate = ForRound(maps_.caustic_estimate, scale);
   maps_.volume_estimate = ForRound(maps_.volume_estimate, scale);
+  global_companion_ = Companion(maps_.global_estimate);
+  caustic_companion_ = Companion(maps_.caustic_estimate);
+  volume_companion_ = Companion(maps_.volume_estimate);
   lookup_radius_ = maps_.global_estimate.max_radius;
   // Without precomputed irradiance (a job planned before the precompute phase existed, or
   // a map too small to need one) the global map is seen directly rather than not at all.
@@ -326,6 +335,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   result.caustic = Finite(result.caustic);
   result.indirect = Finite(result.indirect);
   result.volume = Finite(result.volume);
+  result.bias = Finite(result.bias);
   result.albedo = Finite(result.albedo);
   result.direct_irradiance = Finite(result.direct_irradiance);
   if (!std::isfinite(result.depth)) result.depth = 0;
@@ -350,6 +360,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
     const LightSplit scattered = InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), scratch);
     result.volume += path.Carried(scattered.direct + scattered.indirect);
+    result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
     path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
@@ -389,22 +400,24 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const MaterialCapabilities& can = scene_.capabilities_of(*hit);
   if (can.reflects) {
     result.shaded = true;
-    Rgb direct, caustic, indirect;
+    Rgb direct, caustic, indirect, bias;
     const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
     Rgb irradiance;
-    Shade(at, strategies, seed, scratch, direct, caustic, indirect, branch.key == 0 ? &irradiance : nullptr);
+    Shade(at, strategies, seed, scratch, direct, caustic, indirect, bias, branch.key == 0 ? &irradiance : nullptr);
     result.direct_irradiance += path.Carried(irradiance);
     if (final_gather_) {
       const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
       const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
       direct += glossy.direct;
       indirect += glossy.indirect;
+      bias += glossy.bias;
     }
     // Added, not set: a smooth principled surface is shaded for its diffuse base here and
     // followed through its specular lobe below, and what lies beyond adds its own.
     result.direct += path.Carried(direct);
     result.caustic += path.Carried(caustic);
     result.indirect += path.Carried(indirect);
+    result.bias += path.CarriedChange(direct + caustic + indirect, bias);
   }
   if (!can.specular) return;
 
@@ -446,24 +459,35 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
 void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
                                     std::vector<PhotonNeighbour>& scratch, Rgb& direct,
-                                    Rgb& caustic, Rgb& indirect, Rgb* irradiance) const {
+                                    Rgb& caustic, Rgb& indirect, Rgb& bias, Rgb* irradiance) const {
   direct = DirectLight(at, strategies, SubSeed(seed, kDirectSeed), irradiance);
-  const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
+  bias = {};
   // Both photon estimates are over the surface their disc covers (surface_estimate.h).
   const uint32_t coverage_seed = SubSeed(seed, kCoverageSeed);
-  caustic = maps_.caustic ? EstimateOnSurface(scene_, *maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
-                                              bsdf, scratch, coverage_seed)
+  caustic = maps_.caustic ? EstimateWithCompanion(*maps_.caustic, at, maps_.caustic_estimate, caustic_companion_,
+                                                  coverage_seed, scratch, bias)
                           : Rgb();
   if (strategies.gather_rays > 0) {
     const LightSplit gathered = Gather(at, strategies.gather_rays, SubSeed(seed, kGatherSeed), scratch);
     direct += gathered.direct;
     indirect = gathered.indirect;
+    bias += gathered.bias;
   } else if (maps_.global) {
-    indirect = EstimateOnSurface(scene_, *maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf, scratch,
-                                 coverage_seed);
+    indirect = EstimateWithCompanion(*maps_.global, at, maps_.global_estimate, global_companion_, coverage_seed,
+                                     scratch, bias);
   } else {
     indirect = {};
   }
+}
+
+Rgb PhotonMappingIntegrator::EstimateWithCompanion(const PhotonMap& map, const Shading& at,
+                                                   const RadianceEstimateSettings& estimate,
+                                                   const RadianceEstimateSettings& companion, uint32_t seed,
+                                                   std::vector<PhotonNeighbour>& scratch, Rgb& bias) const {
+  const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
+  const Rgb e = EstimateOnSurface(scene_, map, at.hit.p, at.n, estimate, bsdf, scratch, seed);
+  if (bias_layer_) bias += EstimateOnSurface(scene_, map, at.hit.p, at.n, companion, bsdf, scratch, seed) - e;
+  return e;
 }
 
 uint32_t PhotonMappingIntegrator::LightSampleCount() const {
@@ -526,7 +550,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
   const uint32_t scatter_offset =
       std::min(scatter_stride - 1, uint32_t(Point1(0, 1, seed, kGatherScatterPick) * float(scatter_stride)));
-  Rgb indirect, escaped;
+  Rgb indirect, escaped, bias;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
     const Vec3 w = frame.FromLocal(local);
@@ -547,6 +571,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
         const LightSplit scattered =
             InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, scratch);
         indirect += kd * (scattered.direct + scattered.indirect) * float(scatter_stride);
+        bias += kd * scattered.bias * float(scatter_stride);
       }
       through = segment.TransmittanceTo(t_end);
     }
@@ -561,7 +586,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
                  BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
     }
   }
-  return {escaped / float(count), indirect / float(count)};
+  return {escaped / float(count), indirect / float(count), bias / float(count)};
 }
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
@@ -619,15 +644,16 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   if (escaped && scene_.environment_light >= 0) {
     // Direct light from the environment, shared with light sampling (DirectLight).
     const float share = BalanceWeight(lobe->pdf, float(LightSampleCount()) * EnvironmentLightPdf(wi));
-    return {weight * scene_.environment->Radiance(wi) * share, Rgb()};
+    return {weight * scene_.environment->Radiance(wi) * share, Rgb(), Rgb()};
   }
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
   const Shading next(d->hit, d->wo, d->material, d->cone_width, at.medium);
-  Rgb direct, caustic, indirect;
-  Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect);
-  return {Rgb(), weight * d->throughput * (direct + caustic + indirect)};
+  Rgb direct, caustic, indirect, bias;
+  Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect,
+        bias);
+  return {Rgb(), weight * d->throughput * (direct + caustic + indirect), weight * d->throughput * bias};
 }
 
 Rgb PhotonMappingIntegrator::Arriving(const Shading& at, const LightSample& ls) const {
@@ -647,7 +673,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
                                                                          std::vector<PhotonNeighbour>& scratch) const {
   if (segment.empty() || scene_.light_power.empty() || count == 0) return {};
   const ShadowTransmittance shadow = ShadowIn(segment.medium);
-  Rgb single, multiple;
+  Rgb single, multiple, bias;
   for (uint32_t j = 0; j < count; ++j) {
     const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kMediumLightPick));
     const InScatterDimensions u{Point2(j, count, seed, kMediumLightPoint), Point1(j, count, seed, kMediumChannel),
@@ -666,21 +692,31 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
       single += s->single;
       if (path_traced) {
         const uint32_t path_seed = uint32_t(Hash(seed, uint32_t(kVolumePath), j));
-        multiple += s->weight * VolumePath(s->ray, s->hit, segment.medium, path_seed, scratch);
+        Rgb path_bias;
+        multiple += s->weight * VolumePath(s->ray, s->hit, segment.medium, path_seed, scratch, path_bias);
+        bias += s->weight * path_bias;
       }
     }
   }
-  if (path_traced) return {single / float(count), multiple / float(count)};
+  if (path_traced) return {single / float(count), multiple / float(count), bias / float(count)};
   const uint32_t estimates = maps_.volume ? std::min(count, kVolumeEstimatesPerSegment) : 0;
-  for (uint32_t j = 0; j < estimates; ++j)
-    multiple += VolumeInScatter(scene_, segment, ray, *maps_.volume, maps_.volume_estimate,
-                                Point1(j, estimates, seed, kVolumeChannel), Point1(j, estimates, seed, kVolumeDistance),
-                                Point2(j, estimates, seed, kVolumeProbe), scratch);
-  return {single / float(count), estimates ? multiple / float(estimates) : Rgb()};
+  for (uint32_t j = 0; j < estimates; ++j) {
+    // The companion at the same distance, with the same probes of the seen part.
+    const auto estimate = [&](const RadianceEstimateSettings& settings) {
+      return VolumeInScatter(scene_, segment, ray, *maps_.volume, settings, Point1(j, estimates, seed, kVolumeChannel),
+                             Point1(j, estimates, seed, kVolumeDistance), Point2(j, estimates, seed, kVolumeProbe),
+                             scratch);
+    };
+    const Rgb e = estimate(maps_.volume_estimate);
+    multiple += e;
+    if (bias_layer_) bias += estimate(volume_companion_) - e;
+  }
+  if (!estimates) return {single / float(count), Rgb(), Rgb()};
+  return {single / float(count), multiple / float(estimates), bias / float(estimates)};
 }
 
 Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, const HomogeneousMedium* medium,
-                                        uint32_t seed, std::vector<PhotonNeighbour>& scratch) const {
+                                        uint32_t seed, std::vector<PhotonNeighbour>& scratch, Rgb& bias) const {
   Rgb light, throughput(1);
   bool after_specular = false;  // the ray left a specular surface, not a scattering point
   for (int vertex = 0; vertex < kMaxVolumePathVertices; ++vertex) {
@@ -736,9 +772,10 @@ Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, 
       light += throughput * Albedo(*material) * kInvPi *
                LandingIrradiance(at, Point1(0, 1, v, kPathLightPick), Point2(0, 1, v, kPathLightPoint), scratch);
       if (!final_gather_ && maps_.global) {
-        const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
-        light += throughput * EstimateOnSurface(scene_, *maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf,
-                                                scratch, SubSeed(v, kCoverageSeed));
+        Rgb companion;
+        light += throughput * EstimateWithCompanion(*maps_.global, at, maps_.global_estimate, global_companion_,
+                                                    SubSeed(v, kCoverageSeed), scratch, companion);
+        bias += throughput * companion;
       }
       break;
     }

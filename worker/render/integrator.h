@@ -99,6 +99,10 @@ struct SampleResult {
   // Light that media scattered towards the camera path's segments, once (from the lights)
   // or more (from the volume photon map): the volume layer, graded apart from surfaces.
   Rgb volume;
+  // The bias layer (image/error_estimate.h): what radiance would gain if every photon
+  // estimate on the path took its companion (Companion in radiance_estimate.h: twice the
+  // neighbours, twice the area, the same photons) instead, everything else the same.
+  Rgb bias;
   // 1 if the camera ray hit geometry or sees an environment visible to the camera, 0 if
   // it escaped into black.
   float alpha = 0;
@@ -142,9 +146,11 @@ RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
 class PhotonMappingIntegrator {
  public:
   // radius_scale shrinks every photon estimate's radius and k (progressive rounds:
-  // RoundSettings::radius_scale, ForRound in radiance_estimate.h).
+  // RoundSettings::radius_scale, ForRound in radiance_estimate.h). bias_layer: whether each
+  // photon estimate also takes its companion for SampleResult::bias (which stays 0
+  // otherwise): a second k-nearest search and coverage of twice the area.
   PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
-                          double radius_scale = 1.0);
+                          double radius_scale = 1.0, bool bias_layer = false);
 
   // Consumes sampler dimensions after the camera's: seven per specular bounce, drawn
   // before any early exit, so a bounce's dimensions do not depend on what earlier bounces
@@ -173,21 +179,29 @@ class PhotonMappingIntegrator {
     uint32_t gather_rays = 0;
     bool glossy_bounce = false;
   };
-  // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect.
+  // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect,
+  // and the bias layer's share of it (SampleResult::bias).
   struct LightSplit {
-    Rgb direct, indirect;
+    Rgb direct, indirect, bias;
   };
 
   // One bounce of one branch of a camera path: adds what its hit emits and reflects to
   // result, and the branches that go on from it to next (two where glass splits it).
   void Bounce(const PathBranch& branch, int depth, const BounceDimensions& u, std::vector<PhotonNeighbour>& scratch,
               SampleResult& result, Branches& next) const;
-  // Direct + caustic + indirect leaving a non-specular hit along wo; no gather rays means
-  // the global map's estimate instead of gathering. seed scrambles the stratified points.
-  // irradiance, if not null, receives the direct irradiance (DirectLight's).
+  // Direct + caustic + indirect leaving a non-specular hit along wo, and their bias layer
+  // (SampleResult::bias); no gather rays means the global map's estimate instead of
+  // gathering. seed scrambles the stratified points. irradiance, if not null, receives the
+  // direct irradiance (DirectLight's).
   void Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
-             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect,
+             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect, Rgb& bias,
              Rgb* irradiance = nullptr) const;
+  // A photon estimate of map at a shading point over the surface its disc covers
+  // (surface_estimate.h), reflected by its BSDF; adds its companion's difference from it
+  // (Companion, the same coverage probes) to bias.
+  Rgb EstimateWithCompanion(const PhotonMap& map, const Shading& at, const RadianceEstimateSettings& estimate,
+                            const RadianceEstimateSettings& companion, uint32_t seed,
+                            std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
   // Light samples a shading point takes.
   uint32_t LightSampleCount() const;
   // The average of LightSampleCount() light samples of the reflected direct radiance along
@@ -237,15 +251,19 @@ class PhotonMappingIntegrator {
   // a specular surface is followed by one sampled direction and what the ray beyond it
   // meets emitting is counted; a diffuse surface ends the path with the light it reflects,
   // as where a gather ray lands (LandingIrradiance). Russian roulette on the throughput,
-  // at most kMaxVolumePathVertices vertices; seed draws every number.
+  // at most kMaxVolumePathVertices vertices; seed draws every number. Adds the bias
+  // layer's share to bias.
   Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const HomogeneousMedium* medium, uint32_t seed,
-                 std::vector<PhotonNeighbour>& scratch) const;
+                 std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
   // The light a sample reaches a point in `medium` with: blocked by any surface,
   // attenuated by the medium (the scene's clipped to its ball).
   ShadowTransmittance ShadowIn(const HomogeneousMedium* medium) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;
+  // The companions of maps_' estimates (the bias layer), if it is rendered.
+  bool bias_layer_ = false;
+  RadianceEstimateSettings global_companion_, caustic_companion_, volume_companion_;
   bool final_gather_ = false;
   bool single_delta_light_ = false;
   // Whether some light is not a delta light: a ray can meet it, so single scattering takes
