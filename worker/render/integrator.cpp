@@ -358,7 +358,8 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     // scattering), then what it reaches seen through the medium (media_transport.h).
     const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
-    const LightSplit scattered = InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), scratch);
+    const LightSplit scattered =
+        InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), /*camera_path=*/true, scratch);
     result.volume += path.Carried(scattered.direct + scattered.indirect);
     result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
     path = path.Continued(segment.TransmittanceTo(t_end));
@@ -569,7 +570,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
       const MediumSegment segment = SegmentIn(scene_, at.medium, ray, t_end);
       if (i % scatter_stride == scatter_offset) {
         const LightSplit scattered =
-            InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, scratch);
+            InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, /*camera_path=*/false, scratch);
         indirect += kd * (scattered.direct + scattered.indirect) * float(scatter_stride);
         bias += kd * scattered.bias * float(scatter_stride);
       }
@@ -669,7 +670,7 @@ ShadowTransmittance PhotonMappingIntegrator::ShadowIn(const HomogeneousMedium* m
 }
 
 PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const MediumSegment& segment, const Ray& ray,
-                                                                         uint32_t seed, uint32_t count,
+                                                                         uint32_t seed, uint32_t count, bool camera_path,
                                                                          std::vector<PhotonNeighbour>& scratch) const {
   if (segment.empty() || scene_.light_power.empty() || count == 0) return {};
   const ShadowTransmittance shadow = ShadowIn(segment.medium);
@@ -709,10 +710,12 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
     };
     const Rgb e = estimate(maps_.volume_estimate);
     multiple += e;
-    if (bias_layer_) bias += estimate(volume_companion_) - e;
+    // One companion, the first estimate's, for the segment: the estimates differ only in
+    // where they fall along it, and a second companion search would cost as much again.
+    if (bias_layer_ && camera_path && j == 0) bias = estimate(volume_companion_) - e;
   }
   if (!estimates) return {single / float(count), Rgb(), Rgb()};
-  return {single / float(count), multiple / float(estimates), bias / float(estimates)};
+  return {single / float(count), multiple / float(estimates), bias};
 }
 
 Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, const HomogeneousMedium* medium,

@@ -241,9 +241,12 @@ class PhotonMappingIntegrator {
   // the segment (media_transport.h): single scattering from the lights (direct: count
   // light samples and count phase samples, weighed by MIS) and multiple scattering
   // (indirect) from the volume map, or by a volumetric path from each phase sample where
-  // the medium's is path traced (scene/multiple_scattering.h).
+  // the medium's is path traced (scene/multiple_scattering.h). With the bias layer and
+  // along a camera path (camera_path), the first volume estimate's companion stands for
+  // all of the segment's (the bias layer's share); a gather ray's segment, whose light is
+  // one of many a shading point averages, takes none (docs/error-estimate.md).
   LightSplit InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed, uint32_t count,
-                         std::vector<PhotonNeighbour>& scratch) const;
+                         bool camera_path, std::vector<PhotonNeighbour>& scratch) const;
   // The light arriving at ray.origin along -ray.direction that is not the lights' own
   // emission seen straight along the ray (single scattering took that): a volumetric path
   // tracer from a scattering point in `medium`, ray's first hit given. Each scattering on
