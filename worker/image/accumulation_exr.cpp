@@ -56,13 +56,12 @@ void CheckValues(const Image& image, const std::string& prefix, bool non_negativ
 }  // namespace
 
 std::vector<std::string> SquaredChannels(const std::vector<std::string>& image_channels) {
-  std::vector<std::string> names = {"R", "G", "B"};
   const std::vector<std::string> bias = BiasChannels();
   const bool has_bias = std::all_of(bias.begin(), bias.end(), [&](const std::string& c) {
     return std::find(image_channels.begin(), image_channels.end(), c) != image_channels.end();
   });
-  if (has_bias) names.insert(names.end(), bias.begin(), bias.end());
-  return names;
+  if (has_bias) return {"R", "G", "B", kBiasSquares};
+  return {"R", "G", "B"};
 }
 
 std::vector<std::string> AccumulationChannels(const std::vector<std::string>& image_channels) {

@@ -8,9 +8,10 @@
 //   sum.<C>       for every channel C of the rendered image (sum.R, sum.direct.R, ...,
 //                 sum.edge.Y): the sum over rounds of the round's value;
 //   sumsq.R/G/B   the sum over rounds of the square of the round's beauty;
-//   sumsq.bias.R/G/B  likewise of the bias companion's difference, when the image has the
-//                 bias layer (image.h's BiasChannels): the error estimate weighs the spread of
-//                 its estimate of the bias (image/error_estimate.h);
+//   sumsq.bias    the sum over rounds of the bias layer's squares summed over R, G, B, when
+//                 the image has the layer (image.h's BiasChannels): what the error estimate
+//                 needs of the spread of its estimate of the bias (image/error_estimate.h),
+//                 in one channel rather than three (4 bytes a pixel, not 12);
 //   weight        the sum of the rounds' weights (> 0);
 //   photonfarm.rounds  an int header attribute: how many rounds the sums hold (>= 1);
 //   photonfarm.deviations, photonfarm.deviationSquares  double header attributes: the sum
@@ -52,8 +53,11 @@ struct Accumulation {
   double deviations = 0, deviation_squares = 0;
 };
 
+// The squares channel of the bias layer: its three channels' squares summed.
+inline constexpr char kBiasSquares[] = "bias";
+
 // The channels whose squares an accumulation sums, for an image with these channels: R, G,
-// B, then bias.R, bias.G, bias.B if the image has them.
+// B, then kBiasSquares if the image has the bias layer.
 std::vector<std::string> SquaredChannels(const std::vector<std::string>& image_channels);
 
 // The channel names of the file for an image with these channels: sum.<C>..., sumsq.<C>

@@ -36,7 +36,7 @@ double LogChiSquareVariance(double nu) { return Trigamma(nu / 2); }
 
 // Where the bias layer's channels are among the sums', or empty without one.
 std::vector<std::size_t> BiasSums(const Accumulation& a) {
-  if (a.squares.channels().size() != 6) return {};
+  if (a.squares.channels().size() != 4) return {};
   std::vector<std::size_t> at;
   const std::vector<std::string>& names = a.sums.channels();
   for (const std::string& name : BiasChannels())
@@ -77,12 +77,13 @@ ErrorEstimate EstimateError(const Accumulation& a) {
       const std::size_t p = std::size_t(y) * std::size_t(whole.width) + std::size_t(x);
       const double w = weights[p];
       double pixel_noise = 0, pixel_bias = 0;
-      for (std::size_t c = 0; c < 3; ++c) {  // the beauty is channels 0..2 of sums and squares
+      for (std::size_t c = 0; c < 3; ++c)  // the beauty is channels 0..2 of sums and squares
         pixel_noise += RoundSpread(sums[p * channels + c], squares[p * squared + c], w, a.rounds) / w;
-        if (bias_at.empty()) continue;
-        const double d = sums[p * channels + bias_at[c]];
-        const double b = d / w;
-        pixel_bias += b * b - RoundSpread(d, squares[p * squared + 3 + c], w, a.rounds) / w;
+      if (!bias_at.empty()) {
+        // B^2 less B's variance, summed over R, G, B: the squares are summed over them too.
+        double d2 = 0;
+        for (std::size_t c : bias_at) d2 += double(sums[p * channels + c]) * sums[p * channels + c];
+        pixel_bias = d2 / (w * w) - std::max(0.0, (squares[p * squared + 3] - d2 / w) / (a.rounds - 1)) / w;
       }
       noise += pixel_noise;
       bias += pixel_bias;

@@ -52,12 +52,12 @@ class SyntheticAccumulation {
     if (bias_layer_) channels.insert(channels.end(), {"bias.R", "bias.G", "bias.B"});
     Accumulation a{rounds_, Image(whole, channels), Image(whole, SquaredChannels(channels)), Image(whole, {"W"}),
                    deviations_, deviation_squares_};
-    const std::size_t n = channels.size();
+    const std::size_t n = channels.size(), squared = a.squares.channels().size();
     for (std::size_t p = 0; p < std::size_t(width_ * height_); ++p) {
-      for (std::size_t c = 0; c < n; ++c) {
-        a.sums.data()[p * n + c] = float(sums_[p * 6 + c]);
-        a.squares.data()[p * n + c] = float(squares_[p * 6 + c]);
-      }
+      for (std::size_t c = 0; c < n; ++c) a.sums.data()[p * n + c] = float(sums_[p * 6 + c]);
+      for (std::size_t c = 0; c < 3; ++c) a.squares.data()[p * squared + c] = float(squares_[p * 6 + c]);
+      if (bias_layer_)  // the bias layer's squares, summed over R, G, B
+        a.squares.data()[p * squared + 3] = float(squares_[p * 6 + 3] + squares_[p * 6 + 4] + squares_[p * 6 + 5]);
       a.weights.data()[p] = float(rounds_);
     }
     return a;

@@ -71,10 +71,11 @@ Accumulation Fold(std::optional<Accumulation> previous, const Image& round, std:
                                            Image(whole, {"W"}), 0, 0};
   ++a.rounds;
   const int samples = SamplesChannel(round.channels());
-  std::vector<std::size_t> squared_at;  // where each squared channel is in the round's
-  for (const std::string& name : squared)
-    squared_at.push_back(std::size_t(std::find(round.channels().begin(), round.channels().end(), name) -
-                                     round.channels().begin()));
+  std::vector<std::size_t> bias_at;  // where the bias layer is in the round's channels
+  if (squared.size() > 3)
+    for (const std::string& name : BiasChannels())
+      bias_at.push_back(std::size_t(std::find(round.channels().begin(), round.channels().end(), name) -
+                                    round.channels().begin()));
   const std::span<const float> x = round.data();
   const std::span<float> sums = a.sums.data();
   const std::span<float> squares = a.squares.data();
@@ -95,10 +96,16 @@ Accumulation Fold(std::optional<Accumulation> previous, const Image& round, std:
       float& sum = sums[p * channels + c];
       sum = float(double(sum) + (int(c) == samples ? v : w * v));
     }
-    for (std::size_t c = 0; c < nsquared; ++c) {
-      const double v = x[p * channels + squared_at[c]];
+    for (std::size_t c = 0; c < 3; ++c) {  // the beauty is channels 0..2 (CompositeChannels)
+      const double v = x[p * channels + c];
       float& square = squares[p * nsquared + c];
       square = float(double(square) + w * v * v);
+    }
+    if (!bias_at.empty()) {
+      double d2 = 0;
+      for (std::size_t c : bias_at) d2 += double(x[p * channels + c]) * x[p * channels + c];
+      float& square = squares[p * nsquared + 3];
+      square = float(double(square) + w * d2);
     }
     total[p] = float(double(total[p]) + w);
   }

@@ -91,6 +91,8 @@ enum Stream : uint32_t {
   kPathDirection,
   kPathLobe,
   kPathSurvive,
+  // Which shading point's gather ray recomputes its photon's irradiance for the bias layer.
+  kGatherCompanion,
 };
 
 // Volume photon estimates per camera-path segment: the estimate is smooth (k photons, the
@@ -107,6 +109,12 @@ constexpr int kVolumeRouletteVertices = 4;
 // rest only see the medium's transmittance. Each such estimate costs a kNN search and
 // the seen-volume probes.
 constexpr uint32_t kGatherScatterSamples = 8;
+// With the bias layer, one shading point in this many (chosen at random) recomputes, at
+// one of its gather rays (likewise), the irradiance of the photon that ray reads with the
+// precompute's companion estimates; weighted by this times the gather rays, so the bias
+// layer's share stays unbiased. Each costs a k-nearest search of twice the neighbours of
+// each map and the coverage probes of its disc (docs/error-estimate.md).
+constexpr uint32_t kGatherCompanionStride = 4;
 
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
 
@@ -291,6 +299,7 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
   global_companion_ = Companion(maps_.global_estimate);
   caustic_companion_ = Companion(maps_.caustic_estimate);
   volume_companion_ = Companion(maps_.volume_estimate);
+  precompute_companion_ = Companion(PrecomputeEstimatesOf(scene, scale));
   lookup_radius_ = maps_.global_estimate.max_radius;
   // Without precomputed irradiance (a job planned before the precompute phase existed, or
   // a map too small to need one) the global map is seen directly rather than not at all.
@@ -551,6 +560,10 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
   const uint32_t scatter_offset =
       std::min(scatter_stride - 1, uint32_t(Point1(0, 1, seed, kGatherScatterPick) * float(scatter_stride)));
+  // The bias layer's share of the precomputed irradiance (kGatherCompanionStride).
+  const uint64_t pick = Hash(seed, uint32_t(kGatherCompanion));
+  const bool companion = bias_layer_ && final_gather_ && pick % kGatherCompanionStride == 0;
+  const uint32_t companion_ray = uint32_t((pick >> 32) % count);
   Rgb indirect, escaped, bias;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
@@ -577,9 +590,11 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
       through = segment.TransmittanceTo(t_end);
     }
     bool escaped_directly = false;
+    Rgb change;
     indirect += kd * through *
                 GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed,
-                          at.medium, scratch, escaped_directly);
+                          at.medium, scratch, escaped_directly, companion && i == companion_ray ? &change : nullptr);
+    bias += kd * through * change * float(count * kGatherCompanionStride);
     if (escaped_directly && scene_.environment_light >= 0) {
       // The environment seen by a gather ray is direct light, shared with light sampling.
       const float gather = float(count) * CosineHemispherePdf(local.z);
@@ -592,27 +607,36 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
                                        const HomogeneousMedium* medium, std::vector<PhotonNeighbour>& scratch,
-                                       bool& escaped) const {
+                                       bool& escaped, Rgb* companion) const {
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
   if (!d) return {};
   const Shading at(d->hit, d->wo, d->material, d->cone_width, medium);
   const uint32_t count = scene_.indirect.gather_rays;
-  return d->throughput * Albedo(at.material) * kInvPi *
-         LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint),
-                           scratch);
+  const Rgb reflect = d->throughput * Albedo(at.material) * kInvPi;
+  const Rgb e = LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick),
+                                  Point2(i, count, seed, kGatherLightPoint), scratch, companion);
+  if (companion) *companion = reflect * *companion;
+  return reflect * e;
 }
 
 Rgb PhotonMappingIntegrator::LandingIrradiance(const Shading& at, float u_light, Vec2 u_point,
-                                               std::vector<PhotonNeighbour>& scratch) const {
+                                               std::vector<PhotonNeighbour>& scratch, Rgb* companion) const {
   Rgb e = DirectIrradiance(at, u_light, u_point);
   if (!final_gather_) return e;
   const auto visible = [&](const DecodedPhoton& photon) {
     return scene_.FrontsSeeEachOther(at.hit.p, at.n, photon.position, photon.normal);
   };
-  if (const std::optional<Rgb> irradiance =
-          NearestIrradiance(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch))
-    e += *irradiance;
+  const std::optional<std::uint32_t> photon =
+      NearestIrradiancePhoton(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch);
+  if (!photon) return e;
+  const Rgb precomputed = maps_.global->irradiance(*photon);
+  e += precomputed;
+  // Against the stored value: its rounding (RGB9E5, to nearest) adds noise to the
+  // difference, not bias.
+  if (companion)
+    *companion = PhotonIrradiance(scene_, *maps_.global, maps_.caustic, *photon, precompute_companion_, scratch) -
+                 precomputed;
   return e;
 }
 

@@ -79,6 +79,7 @@
 
 #include "math/ray.h"
 #include "math/rgb.h"
+#include "photon/photon_irradiance.h"
 #include "photonmap/photon_map.h"
 #include "photonmap/radiance_estimate.h"
 #include "render/media_transport.h"
@@ -221,14 +222,19 @@ class PhotonMappingIntegrator {
   // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
+  // companion, if not null, receives what the ray's radiance would gain if the precomputed
+  // irradiance it reads were its companion's (LandingIrradiance).
   Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const HomogeneousMedium* medium,
-                std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
+                std::vector<PhotonNeighbour>& scratch, bool& escaped, Rgb* companion = nullptr) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The irradiance at a diffuse surface where a gather ray (or a volumetric path) lands:
   // one light sample's, and that precomputed at the nearest photon facing the same way and
-  // visible from it when final gathering.
-  Rgb LandingIrradiance(const Shading& at, float u_light, Vec2 u_point, std::vector<PhotonNeighbour>& scratch) const;
+  // visible from it when final gathering. companion, if not null, receives the companion's
+  // irradiance at that photon (PhotonIrradiance with the companion estimates, computed
+  // here) less the precomputed value it read.
+  Rgb LandingIrradiance(const Shading& at, float u_light, Vec2 u_point, std::vector<PhotonNeighbour>& scratch,
+                        Rgb* companion = nullptr) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
   // full with secondary gathering (indirect), or the environment it escapes to (direct).
   LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
@@ -264,9 +270,11 @@ class PhotonMappingIntegrator {
 
   const SceneData& scene_;
   PhotonMaps maps_;
-  // The companions of maps_' estimates (the bias layer), if it is rendered.
+  // The companions of maps_' estimates and of the round's precompute (the bias layer), if
+  // it is rendered.
   bool bias_layer_ = false;
   RadianceEstimateSettings global_companion_, caustic_companion_, volume_companion_;
+  PrecomputeEstimates precompute_companion_;
   bool final_gather_ = false;
   bool single_delta_light_ = false;
   // Whether some light is not a delta light: a ray can meet it, so single scattering takes
