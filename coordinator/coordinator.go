@@ -47,7 +47,9 @@ const (
 
 // Config configures a Coordinator.
 type Config struct {
-	// DataDir holds the blob store (DataDir/blobs) unless BlobURL names another. Required.
+	// DataDir holds the blob store (DataDir/blobs) unless BlobURL names another, and the
+	// builder's snapshot files while they are built (DataDir/scratch: as large as the
+	// largest snapshot, docs/limits.md). Required.
 	DataDir string
 	// BlobURL, if set, names the blob store instead (blobstore.Open): file:///folder, or
 	// s3://bucket?endpoint=...&region=... for an S3-compatible object store that several
@@ -182,6 +184,7 @@ func New(cfg Config) (*Coordinator, error) {
 	b := builder.New(builder.Config{
 		Tasks:             svc,
 		Blobs:             blobs,
+		ScratchDir:        filepath.Join(cfg.DataDir, "scratch"),
 		HeartbeatInterval: cfg.HeartbeatInterval,
 		Logger:            cfg.Logger,
 	})

@@ -105,7 +105,7 @@ func CheckFarmMesh(ctx context.Context, open Opener, lim Limits) (Mesh, error) {
 		return Mesh{}, err
 	}
 	defer f.Close()
-	r := &offsetReader{r: bufio.NewReader(&limitedReader{ctx: ctx, r: f, left: lim.MaxBytes})}
+	r := &offsetReader{r: bufio.NewReader(&limitedReader{ctx: ctx, r: f, left: lim.MaxBytes}), refuse: refuseMesh}
 	var head [farmMeshHeader]byte
 	if err := r.full(head[:]); err != nil {
 		return Mesh{}, r.fail(err, "the file ends inside its 32-byte header")
@@ -234,10 +234,16 @@ func (c *farmMeshChecker) extend(i uint64, x float32) {
 	c.mesh.Max[k] = math.Max(c.mesh.Max[k], float64(x))
 }
 
-// offsetReader counts the bytes read.
+func refuseMesh(offset int64, reason string) error {
+	return &FarmMeshError{Offset: offset, Reason: reason}
+}
+
+// offsetReader counts the bytes read; refuse makes the refusal of the file's format (a
+// *FarmMeshError, a *FarmGridError) at an offset.
 type offsetReader struct {
-	r *bufio.Reader
-	n int64
+	r      *bufio.Reader
+	n      int64
+	refuse func(offset int64, reason string) error
 }
 
 func (o *offsetReader) full(p []byte) error {
@@ -252,9 +258,9 @@ func (o *offsetReader) full(p []byte) error {
 func (o *offsetReader) fail(err error, reason string) error {
 	switch {
 	case err == io.EOF || err == io.ErrUnexpectedEOF:
-		return &FarmMeshError{Offset: o.n, Reason: reason}
+		return o.refuse(o.n, reason)
 	case err == errTooLarge:
-		return &FarmMeshError{Offset: o.n, Reason: "the file is larger than the limit of one asset"}
+		return o.refuse(o.n, "the file is larger than the limit of one asset")
 	}
 	return err
 }

@@ -9,8 +9,8 @@ import (
 )
 
 // CheckFile checks a file that scene s names as f (scene.Files): a mesh file (OBJ or farm
-// mesh), a texture (an image within max_texture_pixels), or the reference image (an
-// OpenEXR image of the film's size). It returns nil, a Refusal saying what is wrong, the
+// mesh), a texture (an image within max_texture_pixels), the reference image (an
+// OpenEXR image of the film's size), or a medium's farm grid file. It returns nil, a Refusal saying what is wrong, the
 // error of reading the file, or ctx's error. The client runs it before uploading and the
 // coordinator again on submit.
 func CheckFile(ctx context.Context, open Opener, f scene.File, s *pb.Scene) error {
@@ -18,6 +18,9 @@ func CheckFile(ctx context.Context, open Opener, f scene.File, s *pb.Scene) erro
 	switch f.Kind {
 	case scene.MeshFile:
 		_, err := CheckMesh(ctx, open, lim)
+		return err
+	case scene.GridFile:
+		_, err := CheckFarmGrid(ctx, open, SceneGridLimits())
 		return err
 	case scene.TextureFile:
 		_, err := CheckTexture(ctx, open, lim.MaxBytes, MaxTexturePixels())

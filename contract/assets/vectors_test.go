@@ -4,6 +4,7 @@ import (
 	"bufio"
 	"context"
 	"errors"
+	"fmt"
 	"io"
 	"os"
 	"path/filepath"
@@ -27,9 +28,43 @@ var verdict = regexp.MustCompile(`^# vector: (?:(accept)|refuse line (\d+): (.+)
 var farmVerdict = regexp.MustCompile(`^# vector: (?:(accept)|refuse byte (\d+): (.+))\n$`)
 
 func TestFarmMeshVectors(t *testing.T) {
-	files, err := filepath.Glob(filepath.Join(vectorDir, "*.farmmesh"))
+	sidecarVectors(t, filepath.Join(vectorDir, "*.farmmesh"), func(file string) (int64, string, error) {
+		mesh, err := assets.CheckFarmMesh(context.Background(), openFile(file), assets.SceneLimits())
+		var e *assets.FarmMeshError
+		if errors.As(err, &e) {
+			return e.Offset, e.Reason, err
+		}
+		if err == nil && (mesh.Vertices == 0 || mesh.Triangles == 0) {
+			err = fmt.Errorf("accepted as %+v, without vertices or triangles", mesh)
+		}
+		return -1, "", err
+	})
+}
+
+// The farm grid vectors (tests/vectors/grids) are shared with the worker's reader the same
+// way: NAME.farmgrid beside its NAME.farmgrid.vector.
+func TestFarmGridVectors(t *testing.T) {
+	sidecarVectors(t, "../../tests/vectors/grids/*.farmgrid", func(file string) (int64, string, error) {
+		grid, err := assets.CheckFarmGrid(context.Background(), openFile(file), assets.SceneGridLimits())
+		var e *assets.FarmGridError
+		if errors.As(err, &e) {
+			return e.Offset, e.Reason, err
+		}
+		if err == nil && !(grid.MaxDensity > 0) {
+			err = fmt.Errorf("accepted as %+v, without a positive density", grid)
+		}
+		return -1, "", err
+	})
+}
+
+// sidecarVectors runs check on every file glob matches and holds it to the verdict of the
+// file's sidecar (FILE.vector): accepted (check returns no error), or refused with an
+// assets.Refusal at the byte offset and with the reason the sidecar says (check returns
+// the refusal's offset and reason, and the error).
+func sidecarVectors(t *testing.T, glob string, check func(file string) (offset int64, reason string, err error)) {
+	files, err := filepath.Glob(glob)
 	if err != nil || len(files) == 0 {
-		t.Fatalf("no farm mesh vectors in %s: %v", vectorDir, err)
+		t.Fatalf("no vectors match %s: %v", glob, err)
 	}
 	for _, file := range files {
 		t.Run(filepath.Base(file), func(t *testing.T) {
@@ -41,17 +76,16 @@ func TestFarmMeshVectors(t *testing.T) {
 			if m == nil {
 				t.Fatalf("%s.vector: %q is not \"# vector: accept\" or \"# vector: refuse byte N: REASON\"", file, sidecar)
 			}
-			mesh, err := assets.CheckFarmMesh(context.Background(), openFile(file), assets.SceneLimits())
+			offset, reason, err := check(file)
 			if m[1] != "" {
-				if err != nil || mesh.Vertices == 0 || mesh.Triangles == 0 {
-					t.Fatalf("got %+v, %v; want it accepted", mesh, err)
+				if err != nil {
+					t.Fatalf("got %v; want it accepted", err)
 				}
 				return
 			}
-			offset, _ := strconv.ParseInt(m[2], 10, 64)
-			var e *assets.FarmMeshError
-			if !errors.As(err, &e) || e.Offset != offset || !strings.Contains(e.Reason, m[3]) {
-				t.Errorf("got %v, want a refusal at byte %d with %q", err, offset, m[3])
+			want, _ := strconv.ParseInt(m[2], 10, 64)
+			if offset != want || !strings.Contains(reason, m[3]) {
+				t.Errorf("got %v, want a refusal at byte %d with %q", err, want, m[3])
 			}
 			var refusal assets.Refusal
 			if !errors.As(err, &refusal) {

@@ -47,8 +47,8 @@ func TestCheckEachKindAndBound(t *testing.T) {
 		{"uint32 below gte", &pb.Film{Width: 0, Height: 1}, "width: must be in [1, 16384], got 0"},
 		{"uint32 default and bounds", &pb.Film{Width: 1, Height: 1, TileSize: 7}, "tile_size: must be in [8, 256] (0 selects 32), got 7"},
 		{"uint32 default: 0 passes", &pb.Film{Width: 16384, Height: 16384, TileSize: 0}, ""},
-		{"uint64 lte", &pb.PhotonMapping{GlobalPhotons: 50000001}, "global_photons: must be <= 50000000 (0 selects 200000), got 50000001"},
-		{"uint64 far past lte", &pb.PhotonMapping{CausticPhotons: math.MaxUint64}, "caustic_photons: must be <= 50000000 (0 selects 200000), got 18446744073709551615"},
+		{"uint64 lte", &pb.PhotonMapping{GlobalPhotons: 200000001}, "global_photons: must be <= 200000000 (0 selects 200000), got 200000001"},
+		{"uint64 far past lte", &pb.PhotonMapping{CausticPhotons: math.MaxUint64}, "caustic_photons: must be <= 200000000 (0 selects 200000), got 18446744073709551615"},
 		// Colour and vector components inherit the bounds of the field that holds them.
 		{"component above inherited lte", &pb.Lambert{Reflectance: rgb(0.5, 1.5, 0)}, "reflectance.g: must be in [0, 1], got 1.5"},
 		{"component below inherited gte", &pb.Emissive{Radiance: rgb(1, 1, -1)}, "radiance.b: must be >= 0, got -1"},

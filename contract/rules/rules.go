@@ -37,9 +37,10 @@ func sceneLimits() *pb.SceneLimits {
 	l := proto.GetExtension(opts, pb.E_SceneLimits).(*pb.SceneLimits)
 	if l.GetMaxMagnitude() <= 0 || l.GetMaxTilesPerRound() == 0 || l.GetMaxShardsPerMap() == 0 ||
 		l.GetMaxAssetBytes() == 0 || l.GetMaxMeshVertices() == 0 || l.GetMaxMeshTriangles() == 0 ||
-		l.GetMaxMeshLineBytes() == 0 || l.GetMaxSnapshotPhotons() == 0 || l.GetMaxFilmPixels() == 0 ||
+		l.GetMaxMeshLineBytes() == 0 || l.GetMaxSnapshotPhotons() == 0 || l.GetMaxShardPhotons() == 0 || l.GetMaxFilmPixels() == 0 ||
 		l.GetMaxTexturePixels() == 0 || l.GetPrincipledSpecularRoughness() <= 0 ||
-		!(l.GetPathTracedMediaMinAbsG() > 0 && l.GetPathTracedMediaMinAbsG() < 1) {
+		!(l.GetPathTracedMediaMinAbsG() > 0 && l.GetPathTracedMediaMinAbsG() < 1) ||
+		l.GetMaxGridCells() == 0 || l.GetMaxGridAxisCells() == 0 {
 		panic("rules: scene.proto declares no complete scene_limits option on Scene")
 	}
 	return l

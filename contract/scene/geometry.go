@@ -27,7 +27,8 @@ func checkView(s *pb.Scene) *FieldError {
 
 // checkShapes checks each shape's geometry beyond its bounds: quads that span an area,
 // triangle lists that name their corners, mesh and instance transforms that can be
-// inverted.
+// inverted, and so can the transform of its interior medium's grid; then the scene
+// medium's grid transform.
 func checkShapes(s *pb.Scene) *FieldError {
 	for i, sh := range s.GetShapes() {
 		p := index("shapes", i)
@@ -46,9 +47,20 @@ func checkShapes(s *pb.Scene) *FieldError {
 		default:
 			panic(fmt.Sprintf("scene: checkShapes does not know geometry %T", g))
 		}
+		if err == nil {
+			err = checkGridTransform(p+".interior_medium", sh.GetInteriorMedium())
+		}
 		if err != nil {
 			return err
 		}
+	}
+	return checkGridTransform("medium", s.GetMedium())
+}
+
+// checkGridTransform checks the transform of m's grid, if m is a grid medium at p.
+func checkGridTransform(p string, m *pb.Medium) *FieldError {
+	if g := m.GetGrid(); g != nil {
+		return checkTransform(p+".grid.transform", g.GetTransform())
 	}
 	return nil
 }

@@ -57,7 +57,7 @@ func InterreflectionOf(s *pb.Scene) Interreflection {
 		return Interreflection{Why: "no diffuse surface (Lambert, glossy or principled)"}
 	case surf.Specular:
 		return Interreflection{Possible: true, Why: "diffuse surfaces can light each other, directly or through specular ones"}
-	case others == 0 && spheres == 1 && len(planes) == 0 && !anyLightInside(s, materials, sphere):
+	case others == 0 && spheres == 1 && len(planes) == 0 && !anyLightInside(s, materials, toVec(sphere.GetCenter()), sphere.GetRadius()):
 		return Interreflection{Why: "the only diffuse surface is one sphere lit from outside, which cannot light itself"}
 	case others == 0 && spheres == 0 && coplanar(planes):
 		return Interreflection{Why: "every diffuse surface lies in one plane, so none can light another"}
@@ -104,11 +104,11 @@ func coplanar(ps []plane) bool {
 }
 
 // anyLightInside says whether a point or spot light or an emissive shape may reach inside the
-// sphere, where its concave inside lights itself (a furnace). It errs towards yes (a shape
-// counts when its bounding ball meets the sphere), since wrongly skipping the global map
-// loses light while wrongly keeping it only costs time. Suns are outside.
-func anyLightInside(s *pb.Scene, materials [][]*pb.Material, sp *pb.Sphere) bool {
-	c, r := toVec(sp.GetCenter()), sp.GetRadius()
+// ball (c, r), the bounding ball of a shape whose inside may light itself (a furnace) or
+// hold a medium. It errs towards yes (a shape counts when its bounding ball meets the
+// ball, and a mesh file's always, its vertices not being known here), since wrongly
+// skipping a map loses light while wrongly keeping it only costs time. Suns are outside.
+func anyLightInside(s *pb.Scene, materials [][]*pb.Material, c vec, r float64) bool {
 	meets := func(centre vec, radius float64) bool { return centre.sub(c).length() < r+radius }
 	for _, l := range s.GetLights() {
 		if pl := l.GetPoint(); pl != nil && meets(toVec(pl.GetPosition()), 0) {
@@ -122,28 +122,31 @@ func anyLightInside(s *pb.Scene, materials [][]*pb.Material, sp *pb.Sphere) bool
 		if !anyMaterial(materials[i], Emits) {
 			continue
 		}
-		switch g := sh.GetGeometry().(type) {
-		case *pb.Shape_Sphere:
-			if meets(toVec(g.Sphere.GetCenter()), g.Sphere.GetRadius()) {
-				return true
-			}
-		case *pb.Shape_Quad:
-			o, u, v := toVec(g.Quad.GetOrigin()), toVec(g.Quad.GetEdgeU()), toVec(g.Quad.GetEdgeV())
-			centre := o.add(u.scale(0.5)).add(v.scale(0.5))
-			if meets(centre, math.Max(u.add(v).length(), u.sub(v).length())/2) {
-				return true
-			}
-		case *pb.Shape_Triangles:
-			if meets(boundingBall(g.Triangles.GetPositions())) {
-				return true
-			}
-		case *pb.Shape_Mesh, *pb.Shape_Instance:
-			return true // a mesh file's vertices are not known here: assume it may be inside
-		default:
-			panic(fmt.Sprintf("scene: anyLightInside does not know geometry %T", g))
+		centre, radius, known := shapeBall(sh)
+		if !known || meets(centre, radius) {
+			return true
 		}
 	}
 	return false
+}
+
+// shapeBall is a ball around the shape's geometry, known unless the geometry is a mesh
+// file or an instance (whose vertices are in the blob store, not in the scene).
+func shapeBall(sh *pb.Shape) (centre vec, radius float64, known bool) {
+	switch g := sh.GetGeometry().(type) {
+	case *pb.Shape_Sphere:
+		return toVec(g.Sphere.GetCenter()), g.Sphere.GetRadius(), true
+	case *pb.Shape_Quad:
+		o, u, v := toVec(g.Quad.GetOrigin()), toVec(g.Quad.GetEdgeU()), toVec(g.Quad.GetEdgeV())
+		return o.add(u.scale(0.5)).add(v.scale(0.5)), math.Max(u.add(v).length(), u.sub(v).length()) / 2, true
+	case *pb.Shape_Triangles:
+		centre, radius := boundingBall(g.Triangles.GetPositions())
+		return centre, radius, true
+	case *pb.Shape_Mesh, *pb.Shape_Instance:
+		return vec{}, 0, false
+	default:
+		panic(fmt.Sprintf("scene: shapeBall does not know geometry %T", g))
+	}
 }
 
 // boundingBall is a ball around points: their centroid and the largest distance from it.

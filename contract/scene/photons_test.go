@@ -119,10 +119,10 @@ func TestValidateRefusesBadMaterialsLightsAndPhotonSettings(t *testing.T) {
 			withoutLamp(s)
 			s.Lights = []*pb.Light{point(scenetest.V(0, 1, 0), rgb(0, 0, 0)), sun(scenetest.V(0, -1, 0), rgb(0, 0, 0))}
 		}, "lights", "needs a light"},
-		{"global photons too many", photons(&pb.PhotonMapping{GlobalPhotons: maxPhotons + 1}), "photons.global_photons", "<= 50000000"},
-		{"caustic photons too many", photons(&pb.PhotonMapping{CausticPhotons: 1 << 40}), "photons.caustic_photons", "<= 50000000"},
-		{"volume photons too many", photons(&pb.PhotonMapping{VolumePhotons: maxPhotons + 1}), "photons.volume_photons", "<= 50000000"},
-		{"volume photons in too many shards", photons(&pb.PhotonMapping{VolumePhotons: maxPhotons, PhotonsPerShard: 1000}), "photons.photons_per_shard", "of the volume map's 50000000 photons (photons.volume_photons)"},
+		{"global photons too many", photons(&pb.PhotonMapping{GlobalPhotons: maxPhotons + 1}), "photons.global_photons", "<= 200000000"},
+		{"caustic photons too many", photons(&pb.PhotonMapping{CausticPhotons: 1 << 40}), "photons.caustic_photons", "<= 200000000"},
+		{"volume photons too many", photons(&pb.PhotonMapping{VolumePhotons: maxPhotons + 1}), "photons.volume_photons", "<= 200000000"},
+		{"volume photons in too many shards", photons(&pb.PhotonMapping{VolumePhotons: maxPhotons, PhotonsPerShard: 1000}), "photons.photons_per_shard", "of the volume map's 200000000 photons (photons.volume_photons)"},
 		{"shard too small", photons(&pb.PhotonMapping{PhotonsPerShard: 999}), "photons.photons_per_shard", "[1000, 10000000] (0 selects 100000), got 999"},
 		{"shard too big", photons(&pb.PhotonMapping{PhotonsPerShard: 10000001}), "photons.photons_per_shard", "got 10000001"},
 		{"too many neighbours", photons(&pb.PhotonMapping{GlobalEstimate: &pb.RadianceEstimate{Neighbours: 10001}}), "photons.global_estimate.neighbours", "<= 10000"},

@@ -5,16 +5,16 @@ import (
 	pb "photonfarm/proto/renderfarm/v1"
 )
 
-// A scene file names its mesh files and reference image by path; the client uploads each
+// A scene file names its mesh files, grid files and reference image by path; the client uploads each
 // and sets its digest, keeping the path to name the file in messages. A submitted scene
 // with a path but no digest is one the client has not finished: the error says so.
 const notUploaded = "missing; clients upload the file named by path and set its digest"
 
 // explainUpload returns err, a refusal of rules.Check, saying whose job the digest is when
-// it refuses a missing mesh digest beside a path (shapes[i].mesh.digest).
+// it refuses a missing digest beside a path (shapes[i].mesh.digest, medium.grid.digest).
 func explainUpload(s *pb.Scene, err *FieldError) *FieldError {
-	for i, sh := range s.GetShapes() {
-		if m := sh.GetMesh(); m != nil && m.GetPath() != "" && m.GetDigest() == "" && err.Field == index("shapes", i)+".mesh.digest" {
+	for _, f := range Files(s) {
+		if f.Path != "" && f.Digest == "" && err.Field == f.Field+".digest" {
 			err.Message = notUploaded
 		}
 	}

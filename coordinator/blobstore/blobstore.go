@@ -22,6 +22,7 @@ import (
 	"fmt"
 	"hash"
 	"io"
+	"strings"
 	"time"
 
 	"photonfarm/contract/rules"
@@ -44,9 +45,10 @@ type Info struct {
 type backend interface {
 	// size is the stored size of a valid digest's blob, or errs.NotFound.
 	size(ctx context.Context, digest string) (int64, error)
-	// open reads a blob that size found of size bytes; the reader's errors are
-	// *errs.Error (a file that shrank is damage; a body cut short, a failed connection).
-	open(ctx context.Context, digest string, size int64) (io.ReadCloser, error)
+	// open reads the length bytes from offset of a blob that size found at least
+	// offset+length bytes long; the reader's errors are *errs.Error (a file that shrank is
+	// damage; a body cut short, a failed connection).
+	open(ctx context.Context, digest string, offset, length int64) (io.ReadCloser, error)
 	// create starts a blob whose digest is known (declared, checked before commit) or
 	// not ("").
 	create(ctx context.Context, declared string) (sink, error)
@@ -131,11 +133,39 @@ func (s *Store) Open(ctx context.Context, digest string) (io.ReadCloser, Info, e
 	if err != nil {
 		return nil, Info{}, err
 	}
-	r, err := s.b.open(ctx, digest, info.Size)
+	r, err := s.b.open(ctx, digest, 0, info.Size)
 	if err != nil {
 		return nil, Info{}, err
 	}
 	return &checkedReader{r: r, h: rules.NewDigestHash(), digest: digest}, info, nil
+}
+
+// OpenRange opens the bytes [offset, offset+length) of a blob for reading; length 0, or
+// one past the end, reads to the end. Unlike Open's, the reader cannot check the content
+// (that takes the whole blob): a caller that assembles a blob from ranges checks the whole
+// against the digest itself, and Verify tells damage in the store from a fault on the way.
+// An offset past the end is errs.OutOfRange; a blob that turns out shorter than the range
+// while read is errs.DataLoss.
+func (s *Store) OpenRange(ctx context.Context, digest string, offset, length int64) (io.ReadCloser, Info, error) {
+	info, err := s.Stat(ctx, digest)
+	if err != nil {
+		return nil, Info{}, err
+	}
+	if offset < 0 || offset > info.Size {
+		return nil, Info{}, &errs.Error{Kind: errs.OutOfRange, Field: "offset",
+			Message: fmt.Sprintf("%d is past the end of blob %s of %d bytes", offset, digest, info.Size)}
+	}
+	if length <= 0 || length > info.Size-offset {
+		length = info.Size - offset
+	}
+	if length == 0 {
+		return io.NopCloser(strings.NewReader("")), info, nil
+	}
+	r, err := s.b.open(ctx, digest, offset, length)
+	if err != nil {
+		return nil, Info{}, err
+	}
+	return r, info, nil
 }
 
 // Verify reads the blob whole and checks it against its digest: errs.NotFound if it is

@@ -139,21 +139,25 @@ type bucketReader struct {
 	r       *blob.Reader
 	key     string
 	n       int64 // bytes read so far
-	size    int64 // the object's, from the stat before
+	size    int64 // of the range read, within the object's size from the stat before
 }
 
-func (b *bucketBackend) open(ctx context.Context, digest string, size int64) (io.ReadCloser, error) {
+func (b *bucketBackend) open(ctx context.Context, digest string, offset, length int64) (io.ReadCloser, error) {
 	key := ObjectKey(digest)
 	gctx, g := newStallGuard(ctx, b.stall)
 	g.begin()
-	r, err := b.b.NewReader(gctx, key, nil)
+	ask := length
+	if ask == 0 {
+		ask = -1 // an empty blob read whole: S3 refuses an empty range, not the rest of an object
+	}
+	r, err := b.b.NewRangeReader(gctx, key, offset, ask, nil)
 	g.end()
 	if err != nil {
 		err = b.fail(ctx, gctx, "read", key, err)
 		g.release()
 		return nil, err
 	}
-	return &bucketReader{b: b, caller: ctx, guarded: gctx, g: g, r: r, key: key, size: size}, nil
+	return &bucketReader{b: b, caller: ctx, guarded: gctx, g: g, r: r, key: key, size: length}, nil
 }
 
 // Read reads on; a body that ends before the object's size is a connection that

@@ -53,7 +53,7 @@ func (b *fileBackend) size(ctx context.Context, digest string) (int64, error) {
 	return fi.Size(), nil
 }
 
-func (b *fileBackend) open(ctx context.Context, digest string, _ int64) (io.ReadCloser, error) {
+func (b *fileBackend) open(ctx context.Context, digest string, offset, length int64) (io.ReadCloser, error) {
 	f, err := os.Open(b.path(digest))
 	if errors.Is(err, fs.ErrNotExist) {
 		return nil, notFound(digest)
@@ -61,8 +61,31 @@ func (b *fileBackend) open(ctx context.Context, digest string, _ int64) (io.Read
 	if err != nil {
 		return nil, errs.Wrap(errs.Internal, err, "blobstore")
 	}
-	return f, nil
+	return &fileRange{f: f, r: io.NewSectionReader(f, offset, length), digest: digest, left: length}, nil
 }
+
+// fileRange reads a range of a blob's file: a file that ends before the range does has
+// shrunk since it was stored, which is damage.
+type fileRange struct {
+	f      *os.File
+	r      io.Reader
+	digest string
+	left   int64
+}
+
+func (r *fileRange) Read(p []byte) (int, error) {
+	n, err := r.r.Read(p)
+	r.left -= int64(n)
+	switch {
+	case errors.Is(err, io.EOF) && r.left > 0:
+		err = errs.E(errs.DataLoss, "blob %s is damaged in the coordinator's blob store: its file ends %d bytes early", r.digest, r.left)
+	case err != nil && !errors.Is(err, io.EOF):
+		err = errs.Wrap(errs.Internal, err, "blobstore")
+	}
+	return n, err
+}
+
+func (r *fileRange) Close() error { return r.f.Close() }
 
 // fileSink is a blob being written to a temporary file.
 type fileSink struct {

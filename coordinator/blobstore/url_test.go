@@ -14,6 +14,7 @@ import (
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/blobstore/s3test"
 	"photonfarm/coordinator/errs"
+	"photonfarm/tests/tcpproxy"
 )
 
 func TestOpenRefusesBadURLs(t *testing.T) {
@@ -79,7 +80,7 @@ func TestOpenFileURLIsTheFolderStore(t *testing.T) {
 // saying it got no answer, and works again once the store answers.
 func TestAStoreThatStopsAnsweringFailsWithinTheStallTimeout(t *testing.T) {
 	srv := s3test.Shared(t)
-	proxy := s3test.NewProxy(t, srv.Host())
+	proxy := tcpproxy.New(t, srv.Host())
 	const stall = 2 * time.Second
 	s, err := blobstore.Open(context.Background(), s3test.URL("http://"+proxy.Addr, "stall/")+"&stall_timeout="+stall.String(), 0)
 	if err != nil {
@@ -139,7 +140,7 @@ func TestAStoreThatStopsAnsweringFailsWithinTheStallTimeout(t *testing.T) {
 // says end of file: a reader of a shard would take that for a truncated file, bad input.
 func TestAConnectionCutMidReadIsUnavailableNotTheEndOfTheBlob(t *testing.T) {
 	srv := s3test.Shared(t)
-	proxy := s3test.NewProxy(t, srv.Host())
+	proxy := tcpproxy.New(t, srv.Host())
 	s, err := blobstore.Open(context.Background(), s3test.URL("http://"+proxy.Addr, "cut/"), 0)
 	if err != nil {
 		t.Fatal(err)

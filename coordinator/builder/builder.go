@@ -1,13 +1,15 @@
 // Package builder is the coordinator's own worker for the build and merge phases: it
 // leases BUILD and MERGE tasks through the same task service as the farm's workers (so
 // leases, epochs and expiry protect it like any worker). A build reads the emission
-// shards the lease names and merges them with photonmap.BuildFrom into a kd-tree
-// snapshot; a merge reads the round's snapshot and irradiance shards and adds the
-// irradiance with photonmap.MergeIrradianceFrom. Either stores the result in the blob store
-// and completes the task with it as "photons.snapshot".
+// shards the lease names and merges them with photonmap.BuildTo into a kd-tree snapshot
+// written to a file in the scratch folder, then streamed from it into the blob store; a
+// merge reads the round's snapshot and irradiance shards and streams the snapshot with
+// irradiance (photonmap.MergeIrradianceTo) straight into the blob store. Either completes
+// the task with the result as "photons.snapshot".
 //
-// Inputs are read through the blob store's checked reader, record by record (never held
-// whole: the builder's memory is its output and working records, docs/photon-snapshot.md).
+// Inputs are read through the blob store's checked reader, record by record, and outputs
+// are never held whole: a build's memory is its working records (24 bytes a photon of the
+// largest map), a merge's a few buffers (docs/photon-snapshot.md).
 // How a failure is reported:
 //   - an input missing from the blob store or damaged there: lost input, naming the blob
 //     and what it holds ("the global photon shard of paths 0+100000 of round 1");
@@ -19,12 +21,13 @@
 package builder
 
 import (
-	"bytes"
 	"context"
 	"errors"
 	"fmt"
 	"io"
 	"log/slog"
+	"os"
+	"runtime/debug"
 	"time"
 
 	"photonfarm/contract/rules"
@@ -67,12 +70,16 @@ const (
 type Config struct {
 	Tasks Tasks
 	Blobs Blobs
-	// Build merges shards into a snapshot; by default photonmap.BuildFrom with the
-	// contract's max_snapshot_photons.
-	Build func(shards []photonmap.Source) ([]byte, error)
-	// Merge adds irradiance shards to a snapshot of snapshotSize bytes;
-	// photonmap.MergeIrradianceFrom by default.
-	Merge func(snapshot photonmap.Source, snapshotSize int64, shards []photonmap.Source) ([]byte, error)
+	// Build merges shards into a snapshot written to out and returns its size; by default
+	// photonmap.BuildTo with the contract's max_snapshot_photons.
+	Build func(out photonmap.Output, shards []photonmap.Source) (int64, error)
+	// Merge writes a snapshot of snapshotSize bytes with the irradiance shards added to w;
+	// photonmap.MergeIrradianceTo by default.
+	Merge func(w io.Writer, snapshot photonmap.Source, snapshotSize int64, shards []photonmap.Source) (int64, error)
+	// ScratchDir is the folder a build writes its snapshot file in before storing it (as
+	// large as the snapshot; removed once stored), made when a build first needs it (a
+	// coordinator on a read-only data folder still starts): os.TempDir() by default.
+	ScratchDir string
 	// WorkerID is the name the builder's leases go under (DefaultWorkerID by default).
 	WorkerID string
 	// HeartbeatInterval is how often a held lease is extended (1s by default); it must be
@@ -93,12 +100,12 @@ type Builder struct {
 // New returns a Builder with cfg's defaults filled in.
 func New(cfg Config) *Builder {
 	if cfg.Build == nil {
-		cfg.Build = func(shards []photonmap.Source) ([]byte, error) {
-			return photonmap.BuildFrom(shards, MaxSnapshotPhotons)
+		cfg.Build = func(out photonmap.Output, shards []photonmap.Source) (int64, error) {
+			return photonmap.BuildTo(out, shards, MaxSnapshotPhotons)
 		}
 	}
 	if cfg.Merge == nil {
-		cfg.Merge = photonmap.MergeIrradianceFrom
+		cfg.Merge = photonmap.MergeIrradianceTo
 	}
 	if cfg.WorkerID == "" {
 		cfg.WorkerID = DefaultWorkerID
@@ -224,9 +231,27 @@ func (b *Builder) heartbeat(ctx context.Context, ref store.LeaseRef, cancel cont
 	}
 }
 
-// build reads the shards, merges them and stores the snapshot.
+// build reads the shards, merges them into a snapshot file in the scratch folder and
+// stores it from there.
 func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec, inputs []tasks.Input) (*pb.Artifact, error) {
-	snap, err := b.cfg.Build(b.sources(ctx, inputs))
+	if b.cfg.ScratchDir != "" {
+		if err := os.MkdirAll(b.cfg.ScratchDir, 0o755); err != nil {
+			return nil, fmt.Errorf("build photon map: %w", err)
+		}
+	}
+	f, err := os.CreateTemp(b.cfg.ScratchDir, "snapshot-*")
+	if err != nil {
+		return nil, fmt.Errorf("build photon map: %w", err)
+	}
+	// Unlinked at once: the file lives as long as it is open, so a coordinator killed
+	// mid-build leaves no snapshot-sized file behind.
+	os.Remove(f.Name())
+	defer f.Close()
+	size, err := b.cfg.Build(f, b.sources(ctx, inputs))
+	// The working records are garbage now: give them back to the system at once rather
+	// than after minutes, so the store, the merge and a container's memory limit do not
+	// count them.
+	debug.FreeOSMemory()
 	var many *photonmap.TooManyPhotons
 	if errors.As(err, &many) {
 		return nil, tooManyPhotons(many, spec.GetShards()[many.Shard].GetSpec(), inputs[many.Shard])
@@ -234,7 +259,7 @@ func (b *Builder) build(ctx context.Context, spec *pb.BuildPhotonMapSpec, inputs
 	if err != nil {
 		return nil, named(inputs, "shards", 0, fmt.Errorf("build photon map: %w", err))
 	}
-	return b.store(ctx, snap)
+	return b.store(ctx, io.NewSectionReader(f, 0, size), size)
 }
 
 // tooManyPhotons says, for people, that a build stopped at shard (emitted as spec) because
@@ -248,19 +273,31 @@ func tooManyPhotons(e *photonmap.TooManyPhotons, spec *pb.EmitPhotonsSpec, shard
 		e.Limit, tasks.MapName(spec.GetMap()), shard.What, e.MapPhotons, e.MapPaths, float64(e.MapPhotons)/float64(max(e.MapPaths, 1)), setting)}
 }
 
-// merge reads the snapshot and the irradiance shards, merges them and stores the snapshot
-// with irradiance. The first input is the snapshot (tasks.Inputs), the others the shards.
+// merge reads the snapshot and the irradiance shards and streams the snapshot with
+// irradiance into the blob store as it is made. The first input is the snapshot
+// (tasks.Inputs), the others the shards.
 func (b *Builder) merge(ctx context.Context, inputs []tasks.Input) (*pb.Artifact, error) {
 	if len(inputs) == 0 || inputs[0].Artifact.GetName() != tasks.ArtifactName(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SNAPSHOT) {
 		return nil, errs.E(errs.InvalidArgument, "merge_irradiance names no photon_snapshot")
 	}
 	sources := b.sources(ctx, inputs)
-	merged, err := b.cfg.Merge(sources[0], inputs[0].Artifact.GetSizeBytes(), sources[1:])
-	if err != nil {
-		return nil, named(inputs, "irradiance_shards", 1, fmt.Errorf("merge irradiance: %w", err))
+	r, w := io.Pipe()
+	merged := make(chan error, 1)
+	go func() {
+		_, err := b.cfg.Merge(w, sources[0], inputs[0].Artifact.GetSizeBytes(), sources[1:])
+		w.CloseWithError(err) // nil: the end of the snapshot
+		merged <- err
+	}()
+	out, err := b.store(ctx, r, -1)
+	r.CloseWithError(errStoreStopped) // a merge still writing stops
+	if merr := <-merged; merr != nil && !errors.Is(merr, errStoreStopped) {
+		return nil, named(inputs, "irradiance_shards", 1, fmt.Errorf("merge irradiance: %w", merr))
 	}
-	return b.store(ctx, merged)
+	return out, err
 }
+
+// errStoreStopped ends a merge whose output the blob store stopped reading (it failed).
+var errStoreStopped = errors.New("the blob store stopped reading the merged snapshot")
 
 // named puts what the input holds before a malformed-input error that names it as
 // list[i] (inputs[first+i]).
@@ -275,12 +312,13 @@ func named(inputs []tasks.Input, list string, first int, err error) error {
 	return err
 }
 
-// store puts a snapshot in the blob store as the task's "photons.snapshot".
-func (b *Builder) store(ctx context.Context, snap []byte) (*pb.Artifact, error) {
+// store streams a snapshot of size bytes (-1: not known in advance) into the blob store
+// as the task's "photons.snapshot".
+func (b *Builder) store(ctx context.Context, snap io.Reader, size int64) (*pb.Artifact, error) {
 	if err := ctx.Err(); err != nil {
 		return nil, err
 	}
-	info, err := b.cfg.Blobs.Put(ctx, bytes.NewReader(snap), int64(len(snap)), "")
+	info, err := b.cfg.Blobs.Put(ctx, snap, size, "")
 	if err != nil {
 		return nil, fmt.Errorf("store photon snapshot: %w", err)
 	}

@@ -14,6 +14,7 @@ import (
 	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/scene/scenetest"
+	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/builder"
 	"photonfarm/coordinator/clock"
@@ -29,15 +30,16 @@ import (
 // fixture is a task service over an in-memory store and a real blob store, with a
 // builder running against it.
 type fixture struct {
-	t     *testing.T
-	ctx   context.Context
-	st    store.Store
-	svc   *service.Service
-	blobs *blobstore.Store
-	dir   string // the blob store's
+	t       *testing.T
+	ctx     context.Context
+	st      store.Store
+	svc     *service.Service
+	blobs   *blobstore.Store
+	dir     string // the blob store's
+	scratch string // the builder's
 }
 
-func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *fixture {
+func newFixture(t *testing.T, build func(photonmap.Output, []photonmap.Source) (int64, error)) *fixture {
 	t.Helper()
 	dir := t.TempDir()
 	bs, err := blobstore.New(dir, 0)
@@ -47,7 +49,8 @@ func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *f
 	st := memstore.New(store.Options{Clock: clock.Real{}, LeaseDuration: 5 * time.Second})
 	svc := service.New(service.Config{Store: st, Blobs: bs, Events: events.NewBroker(0)})
 	ctx, cancel := context.WithTimeout(context.Background(), 30*time.Second)
-	b := builder.New(builder.Config{Tasks: svc, Blobs: bs, Build: build, HeartbeatInterval: 50 * time.Millisecond})
+	scratch := t.TempDir()
+	b := builder.New(builder.Config{Tasks: svc, Blobs: bs, Build: build, ScratchDir: scratch, HeartbeatInterval: 50 * time.Millisecond})
 	done := make(chan error, 1)
 	go func() { done <- b.Run(ctx) }()
 	t.Cleanup(func() {
@@ -57,16 +60,22 @@ func newFixture(t *testing.T, build func([]photonmap.Source) ([]byte, error)) *f
 			t.Errorf("Run: %v", err)
 		}
 	})
-	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs, dir: dir}
+	return &fixture{t: t, ctx: ctx, st: st, svc: svc, blobs: bs, dir: dir, scratch: scratch}
 }
 
-// createJob plans a Valid scene with `shards` global-map shards of 1000 photons.
+// createJob plans a Valid scene with `shards` global-map shards of 1000 photons, without
+// final gathering: the build is followed by the tiles directly.
 func (f *fixture) createJob(shards int) *pb.Job {
+	return f.createJobIn(shards, pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP)
+}
+
+// createJobIn is createJob in the given indirect mode (final gathering adds a precompute
+// task per shard and a merge).
+func (f *fixture) createJobIn(shards int, mode pb.IndirectMode) *pb.Job {
 	f.t.Helper()
 	sc := scenetest.Valid(8, 8)
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: uint64(1000 * shards), PhotonsPerShard: 1000}
-	// Without final gathering the build is followed by the tiles directly.
-	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
+	sc.Indirect = &pb.Indirect{Mode: mode}
 	sc = scene.Defaults(sc)
 	// Workers' leases need the scene in the blob store, as SubmitJob leaves it.
 	data, err := proto.Marshal(sc)
@@ -88,27 +97,41 @@ func (f *fixture) createJob(shards int) *pb.Job {
 // emit completes every emit shard of the job as a worker would, with data(i) as shard i.
 func (f *fixture) emit(data func(i int, spec *pb.EmitPhotonsSpec) []byte) [][]byte {
 	f.t.Helper()
+	return f.completeEach(pb.ArtifactKind_ARTIFACT_KIND_PHOTON_SHARD, func(i int, t *pb.Task) []byte {
+		if spec := t.GetEmitPhotons(); spec != nil {
+			return data(i, spec)
+		}
+		return nil
+	})
+}
+
+// completeEach leases the workers' tasks one at a time and completes each as a worker
+// would, with data(i, task) stored as its artifact of the given kind, until data returns
+// nil (a task of another kind: it must not have been leased) or there is nothing to
+// lease. It returns what it stored.
+func (f *fixture) completeEach(kind pb.ArtifactKind, data func(i int, t *pb.Task) []byte) [][]byte {
+	f.t.Helper()
 	var out [][]byte
 	for i := 0; ; i++ {
 		l, err := f.svc.Lease(f.ctx, "w1", store.WorkerPhases, 0)
 		if err != nil {
 			f.t.Fatal(err)
 		}
-		spec := l.GetTask().GetEmitPhotons()
-		if spec == nil {
-			if l.GetLease() != nil {
-				f.t.Fatalf("leased %v, want an emit shard or nothing", l.Task)
-			}
+		if l.GetLease() == nil {
 			return out
 		}
-		b := data(i, spec)
+		b := data(i, l.GetTask())
+		if b == nil {
+			f.t.Fatalf("leased %v, want a task of the phase before the builder's or nothing", l.Task)
+		}
 		info, err := f.blobs.Put(f.ctx, bytes.NewReader(b), int64(len(b)), "")
 		if err != nil {
 			f.t.Fatal(err)
 		}
 		out = append(out, b)
 		ref := store.LeaseRef{WorkerID: "w1", TaskID: l.Lease.TaskId, Epoch: l.Lease.Epoch}
-		if err := f.svc.Complete(f.ctx, ref, []*pb.Artifact{{Name: "photons.shard", Digest: info.Digest, SizeBytes: info.Size}}); err != nil {
+		art := &pb.Artifact{Name: tasks.ArtifactName(kind), Digest: info.Digest, SizeBytes: info.Size}
+		if err := f.svc.Complete(f.ctx, ref, []*pb.Artifact{art}); err != nil {
 			f.t.Fatal(err)
 		}
 	}
@@ -202,10 +225,11 @@ func TestBuilderFailsTheJobAtOnceOnMalformedShards(t *testing.T) {
 func TestBuilderAbandonsABuildWhoseLeaseIsLost(t *testing.T) {
 	release := make(chan struct{})
 	started := make(chan struct{}, 1)
-	f := newFixture(t, func([]photonmap.Source) ([]byte, error) {
+	f := newFixture(t, func(out photonmap.Output, _ []photonmap.Source) (int64, error) {
 		started <- struct{}{}
 		<-release
-		return []byte("late snapshot"), nil
+		n, err := out.WriteAt([]byte("late snapshot"), 0)
+		return int64(n), err
 	})
 	j := f.createJob(1)
 	f.emit(validShard)
@@ -255,7 +279,7 @@ func TestBuilderFailsTheJobWhenAShardIsDamagedOnDisk(t *testing.T) {
 
 func TestBuilderRefusesMorePhotonsThanASnapshotMayHoldSayingWhatToLower(t *testing.T) {
 	const limit = 12 // each shard stores 5 photons: the third goes over
-	f := newFixture(t, func(s []photonmap.Source) ([]byte, error) { return photonmap.BuildFrom(s, limit) })
+	f := newFixture(t, func(o photonmap.Output, s []photonmap.Source) (int64, error) { return photonmap.BuildTo(o, s, limit) })
 	j := f.createJob(3)
 	f.emit(validShard)
 	build, job := f.waitFor(j.Id, func(_ *pb.Task, job *pb.Job) bool { return store.Ended(job.State) })

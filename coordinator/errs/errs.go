@@ -33,6 +33,9 @@ const (
 	// DataLoss: stored data is damaged (a blob whose content no longer matches its
 	// digest).
 	DataLoss
+	// OutOfRange: a position past the end of the resource (a blob range that starts past
+	// the blob's end).
+	OutOfRange
 )
 
 func (k Kind) String() string {
@@ -53,6 +56,8 @@ func (k Kind) String() string {
 		return "permission denied"
 	case DataLoss:
 		return "data loss"
+	case OutOfRange:
+		return "out of range"
 	default:
 		return "internal"
 	}

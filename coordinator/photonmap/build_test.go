@@ -326,10 +326,10 @@ func TestBuildAndMergeReturnTheirSourcesErrorsUnchanged(t *testing.T) {
 	}
 	snap := snapshotOf(t, 10)
 	irr := EncodeIrradianceShard(0, make([][3]float32, 10))
-	if _, err := MergeIrradianceFrom(failingAtEnd(snap, damaged), int64(len(snap)), []Source{BytesSource(irr)}); err != damaged {
-		t.Errorf("MergeIrradianceFrom, damaged snapshot = %v, want %v", err, damaged)
+	if _, err := MergeIrradianceTo(io.Discard, failingAtEnd(snap, damaged), int64(len(snap)), []Source{BytesSource(irr)}); err != damaged {
+		t.Errorf("MergeIrradianceTo, damaged snapshot = %v, want %v", err, damaged)
 	}
-	if _, err := MergeIrradianceFrom(BytesSource(snap), int64(len(snap)), []Source{failingAtEnd(irr, damaged)}); err != damaged {
-		t.Errorf("MergeIrradianceFrom, damaged shard = %v, want %v", err, damaged)
+	if _, err := MergeIrradianceTo(io.Discard, BytesSource(snap), int64(len(snap)), []Source{failingAtEnd(irr, damaged)}); err != damaged {
+		t.Errorf("MergeIrradianceTo, damaged shard = %v, want %v", err, damaged)
 	}
 }

@@ -187,18 +187,19 @@ func readHead(r io.Reader, size int64) ([]byte, snapshotLayout, error) {
 	return head, l, err
 }
 
-// readRest reads the rest of a snapshot after its head into rest, then its end: a
-// snapshot shorter or longer than its size, or one its source finds damaged, is an error.
-func readRest(r io.Reader, rest []byte) error {
-	if _, err := io.ReadFull(r, rest); err != nil {
+// copyRest copies the rest of a snapshot after its head, n bytes, from r to w, then reads
+// its end: a snapshot shorter or longer than its size, or one its source finds damaged, is
+// an error.
+func copyRest(w io.Writer, r io.Reader, n int64) error {
+	if _, err := io.CopyN(w, r, n); err != nil {
 		if isShort(err) {
 			return errs.Field("photon_snapshot", "shorter than its file_size")
 		}
 		return err
 	}
 	var b [1]byte
-	n, err := r.Read(b[:])
-	if n > 0 {
+	k, err := r.Read(b[:])
+	if k > 0 {
 		return errs.Field("photon_snapshot", "longer than its file_size")
 	}
 	if errors.Is(err, io.EOF) {

@@ -1,6 +1,8 @@
 package photonmap
 
 import (
+	"bufio"
+	"bytes"
 	"errors"
 	"fmt"
 	"io"
@@ -66,86 +68,109 @@ func nextIrradiance(i int, s *scanner, h irradianceHeader) ([3]float32, error) {
 	return v, nil
 }
 
-// MergeIrradiance is MergeIrradianceFrom on inputs held in memory.
+// MergeIrradiance is MergeIrradianceTo on inputs held in memory.
 func MergeIrradiance(snapshot []byte, shards [][]byte) ([]byte, error) {
 	sources := make([]Source, len(shards))
 	for i, d := range shards {
 		sources[i] = BytesSource(d)
 	}
-	return MergeIrradianceFrom(BytesSource(snapshot), int64(len(snapshot)), sources)
+	var out bytes.Buffer
+	if _, err := MergeIrradianceTo(&out, BytesSource(snapshot), int64(len(snapshot)), sources); err != nil {
+		return nil, err
+	}
+	return out.Bytes(), nil
 }
 
-// MergeIrradianceFrom adds the precomputed irradiance to a snapshot of snapshotSize bytes
-// (docs/photon-snapshot.md, "Irradiance section"): shards, in plan order, must tile the
-// global map's photons [0, N) exactly, without gaps or overlaps. The result stores one
-// RGB9E5 record per global photon relative to the largest component of all shards,
-// re-encoded in binary64 so that the same inputs always give the same bytes. Shards are
-// untrusted: a malformed one gives an InvalidArgument error naming it
-// ("irradiance_shards[2]: ..."); a snapshot that is malformed, has no global map or
-// already has irradiance gives InvalidArgument too (naming photon_snapshot).
+// MergedSize is the size of a snapshot of snapshotSize bytes with an irradiance section
+// for its global map of globalPhotons photons.
+func MergedSize(snapshotSize int64, globalPhotons uint64) int64 {
+	return int64(alignUp(int(snapshotSize), mapAlignment)) + int64(globalPhotons)*irrRecordSize
+}
+
+// MergeIrradianceTo writes to w a snapshot of snapshotSize bytes with the precomputed
+// irradiance added (docs/photon-snapshot.md, "Irradiance section") and returns the bytes
+// written: shards, in plan order, must tile the global map's photons [0, N) exactly,
+// without gaps or overlaps. The result stores one RGB9E5 record per global photon relative
+// to the largest component of all shards, re-encoded in binary64 so that the same inputs
+// always give the same bytes. Shards are untrusted: a malformed one gives an
+// InvalidArgument error naming it ("irradiance_shards[2]: ..."); a snapshot that is
+// malformed, has no global map or already has irradiance gives InvalidArgument too (naming
+// photon_snapshot). Errors of w are returned unchanged. When it fails, w may have received
+// part of a snapshot.
 //
 // The shards are read twice (to check them and find the scale, then to encode), the
-// snapshot once, straight into the output: the merge holds the output alone.
-func MergeIrradianceFrom(snapshot Source, snapshotSize int64, shards []Source) ([]byte, error) {
+// snapshot once, and everything is streamed to w: the merge holds a few buffers, whatever
+// the size of the snapshot.
+func MergeIrradianceTo(w io.Writer, snapshot Source, snapshotSize int64, shards []Source) (int64, error) {
 	rc, err := snapshot()
 	if err != nil {
-		return nil, err
+		return 0, err
 	}
 	defer rc.Close()
 	head, l, err := readHead(rc, snapshotSize)
 	if err != nil {
-		return nil, errs.Field("photon_snapshot", "%v", err)
+		return 0, errs.Field("photon_snapshot", "%v", err)
 	}
 	if l.irrOffset != 0 {
-		return nil, errs.Field("photon_snapshot", "already has an irradiance section")
+		return 0, errs.Field("photon_snapshot", "already has an irradiance section")
 	}
 	if len(l.maps) == 0 || l.maps[0].kind != Global {
-		return nil, errs.Field("photon_snapshot", "has no global photon map to add irradiance to")
+		return 0, errs.Field("photon_snapshot", "has no global photon map to add irradiance to")
 	}
 	n := l.maps[0].count
 	scale, err := irradianceScale(shards, n)
 	if err != nil {
-		return nil, err
+		return 0, err
 	}
 
-	offset := alignUp(int(l.photonsEnd), mapAlignment)
-	out := make([]byte, offset+int(n)*irrRecordSize)
-	copy(out, head)
-	if err := readRest(rc, out[len(head):snapshotSize]); err != nil {
-		return nil, err
+	size := MergedSize(snapshotSize, n)
+	offset := size - int64(n)*irrRecordSize
+	out := bufio.NewWriterSize(w, 1<<16)
+	le.PutUint64(head[24:], uint64(size))
+	le.PutUint64(head[irrOffsetAt:], uint64(offset))
+	le.PutUint32(head[irrCountAt:], uint32(n))
+	le.PutUint32(head[irrScaleAt:], math.Float32bits(scale))
+	if _, err := out.Write(head); err != nil {
+		return 0, err
 	}
-	le.PutUint64(out[24:], uint64(len(out)))
-	le.PutUint64(out[irrOffsetAt:], uint64(offset))
-	le.PutUint32(out[irrCountAt:], uint32(n))
-	le.PutUint32(out[irrScaleAt:], math.Float32bits(scale))
-	at := offset
+	if err := copyRest(out, rc, snapshotSize-int64(len(head))); err != nil {
+		return 0, err
+	}
+	if _, err := out.Write(make([]byte, offset-snapshotSize)); err != nil {
+		return 0, err
+	}
+	var rec [irrRecordSize]byte
+	left := n
 	for i, src := range shards {
 		s, h, err := openIrradianceShard(i, src)
 		if err != nil {
-			return nil, err
+			return 0, err
 		}
 		for {
 			v, err := nextIrradiance(i, s, h)
 			if errors.Is(err, io.EOF) {
 				break
 			}
-			if err == nil && at == len(out) {
+			if err == nil && left == 0 {
 				err = errs.E(errs.Internal, "irradiance_shards[%d] changed between the two reads of the merge", i)
+			}
+			if err == nil {
+				rel := [3]float64{float64(v[0]) / float64(scale), float64(v[1]) / float64(scale), float64(v[2]) / float64(scale)}
+				le.PutUint32(rec[:], EncodeRGB9E5(rel))
+				_, err = out.Write(rec[:])
+				left--
 			}
 			if err != nil {
 				s.Close()
-				return nil, err
+				return 0, err
 			}
-			rel := [3]float64{float64(v[0]) / float64(scale), float64(v[1]) / float64(scale), float64(v[2]) / float64(scale)}
-			le.PutUint32(out[at:], EncodeRGB9E5(rel))
-			at += irrRecordSize
 		}
 		s.Close()
 	}
-	if at != len(out) {
-		return nil, errs.E(errs.Internal, "the irradiance shards changed between the two reads of the merge")
+	if left != 0 {
+		return 0, errs.E(errs.Internal, "the irradiance shards changed between the two reads of the merge")
 	}
-	return out, nil
+	return size, out.Flush()
 }
 
 // irradianceScale reads the irradiance shards once, checking each whole and that they tile

@@ -2,6 +2,7 @@ package photonmap
 
 import (
 	"cmp"
+	"io"
 	"math"
 	"math/bits"
 	"slices"
@@ -33,39 +34,116 @@ const (
 	parallelDepth   = 3
 )
 
-// buildTree reorders items into a left-balanced kd-tree and writes it into out
-// (recordSize bytes per photon, node i at offset recordSize*i).
-func buildTree(items []item, out []byte) {
-	if len(items) == 0 {
-		return
-	}
-	var wg sync.WaitGroup
-	buildSubtree(items, 0, out, 0, &wg)
-	wg.Wait()
+// treeWriter writes one map's nodes into out, node i at base + recordSize*i. A subtree of
+// at most block photons is built in a buffer of its own and written a level at a time:
+// each level of a subtree of the implicit tree is one contiguous run of the array, so a
+// block of b photons costs about log2(b) positioned writes, and the output can be a file
+// (the build never holds it) without a system call per node. Nodes above the blocks are
+// written one by one: about 2N/block of them.
+type treeWriter struct {
+	out   io.WriterAt
+	base  int64
+	block int
+	bufs  sync.Pool // *[]byte of recordSize*block
+	mu    sync.Mutex
+	err   error // the first write's error; the build stops writing after it
 }
 
-func buildSubtree(s []item, node int, out []byte, depth int, wg *sync.WaitGroup) {
-	for len(s) > 0 {
-		if len(s) == 1 {
-			writeNode(out, node, &s[0], axisLeaf)
+func (w *treeWriter) failed() bool {
+	w.mu.Lock()
+	defer w.mu.Unlock()
+	return w.err != nil
+}
+
+func (w *treeWriter) write(p []byte, node int) {
+	if _, err := w.out.WriteAt(p, w.base+int64(recordSize)*int64(node)); err != nil {
+		w.mu.Lock()
+		if w.err == nil {
+			w.err = err
+		}
+		w.mu.Unlock()
+	}
+}
+
+// buildTree reorders items into a left-balanced kd-tree and writes it through w.
+func buildTree(items []item, w *treeWriter) error {
+	if len(items) == 0 {
+		return nil
+	}
+	var wg sync.WaitGroup
+	buildSubtree(items, 0, w, 0, &wg)
+	wg.Wait()
+	return w.err
+}
+
+func buildSubtree(s []item, node int, w *treeWriter, depth int, wg *sync.WaitGroup) {
+	for len(s) > 0 && !w.failed() {
+		if len(s) <= w.block {
+			w.writeBlock(s, node)
 			return
 		}
-		axis := widestAxis(s)
-		left := leftSubtreeSize(len(s))
-		selectRank(s, left, axis)
-		writeNode(out, node, &s[left], axis)
+		axis, left := splitNode(s)
+		var rec [recordSize]byte
+		encodeNode(rec[:], &s[left], axis)
+		w.write(rec[:], node)
 		l, r := s[:left], s[left+1:]
 		if depth < parallelDepth && len(s) >= parallelMinSize {
 			wg.Add(1)
 			go func(node, depth int) {
 				defer wg.Done()
-				buildSubtree(l, node, out, depth, wg)
+				buildSubtree(l, node, w, depth, wg)
 			}(2*node+1, depth+1)
 		} else {
-			buildSubtree(l, 2*node+1, out, depth+1, wg)
+			buildSubtree(l, 2*node+1, w, depth+1, wg)
 		}
 		// The right subtree continues in this loop rather than recursing.
 		s, node, depth = r, 2*node+2, depth+1
+	}
+}
+
+// splitNode chooses the axis of a subtree of at least 2 photons and moves its node, the
+// photon of rank L on that axis, to s[L]: smaller ones before it, larger after.
+func splitNode(s []item) (axis, left int) {
+	axis = widestAxis(s)
+	left = leftSubtreeSize(len(s))
+	selectRank(s, left, axis)
+	return axis, left
+}
+
+// writeBlock builds the subtree of s rooted at node in a buffer, numbered as a tree of its
+// own (local node j has children 2j+1 and 2j+2, as in the whole), and writes it a level at a
+// time: local level l, nodes [2^l - 1, 2^(l+1) - 1), is the run of global nodes starting at
+// (node+1)*2^l - 1.
+func (w *treeWriter) writeBlock(s []item, node int) {
+	p, _ := w.bufs.Get().(*[]byte)
+	if p == nil {
+		b := make([]byte, recordSize*w.block)
+		p = &b
+	}
+	defer w.bufs.Put(p)
+	buf := *p
+	buildLocal(s, 0, buf)
+	for level := 0; ; level++ {
+		first := 1<<level - 1
+		if first >= len(s) {
+			return
+		}
+		count := min(1<<level, len(s)-first)
+		w.write(buf[recordSize*first:recordSize*(first+count)], (node+1)<<level-1)
+	}
+}
+
+// buildLocal builds the subtree of s rooted at local node `node` into buf.
+func buildLocal(s []item, node int, buf []byte) {
+	for len(s) > 0 {
+		if len(s) == 1 {
+			encodeNode(buf[recordSize*node:], &s[0], axisLeaf)
+			return
+		}
+		axis, left := splitNode(s)
+		encodeNode(buf[recordSize*node:], &s[left], axis)
+		buildLocal(s[:left], 2*node+1, buf)
+		s, node = s[left+1:], 2*node+2
 	}
 }
 
@@ -170,8 +248,8 @@ func insertionSort(s []item, axis int) {
 	}
 }
 
-func writeNode(out []byte, node int, it *item, axis int) {
-	rec := out[recordSize*node : recordSize*node+recordSize]
+// encodeNode writes it as a snapshot record with the given split axis into rec.
+func encodeNode(rec []byte, it *item, axis int) {
 	for c := 0; c < 3; c++ {
 		le.PutUint32(rec[4*c:], math.Float32bits(it.pos[c]))
 	}

@@ -65,17 +65,27 @@ func TestVectors(t *testing.T) {
 				}
 				irr = append(irr, data)
 			}
-			got, err := Build(shards)
-			if err != nil {
-				t.Fatal(err)
-			}
-			if len(irr) > 0 {
-				if got, err = MergeIrradiance(got, irr); err != nil {
+			// In memory a node at a time, and into a file in blocks of 5 photons, as the
+			// coordinator builds (blocks of 65,536 there: these maps would fit in one).
+			for _, built := range []struct {
+				how  string
+				snap func() ([]byte, error)
+			}{
+				{"Build", func() ([]byte, error) { return Build(shards) }},
+				{"BuildTo a file", func() ([]byte, error) { return buildToFile(t, shards, 5), nil }},
+			} {
+				got, err := built.snap()
+				if err != nil {
 					t.Fatal(err)
 				}
-			}
-			if !bytes.Equal(got, want) {
-				t.Fatalf("Build of %d shards differs from snapshot.bin (%d vs %d bytes)", len(shards), len(got), len(want))
+				if len(irr) > 0 {
+					if got, err = MergeIrradiance(got, irr); err != nil {
+						t.Fatal(err)
+					}
+				}
+				if !bytes.Equal(got, want) {
+					t.Fatalf("%s of %d shards differs from snapshot.bin (%d vs %d bytes)", built.how, len(shards), len(got), len(want))
+				}
 			}
 		})
 	}

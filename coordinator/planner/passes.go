@@ -2,6 +2,7 @@ package planner
 
 import (
 	"fmt"
+	"slices"
 	"strconv"
 	"strings"
 
@@ -77,20 +78,24 @@ func Passes(s *pb.Scene) *pb.Plan {
 	}
 
 	add(PassDirect, true, "shadow rays to %s (%d samples per area light)", lightTargets(s), scene.LightSamples(s))
+	dark := darkMedia(s)
 	switch media := mediaOf(s); {
 	case media == "":
 		add(PassMedia, false, "no medium in the scene (medium and every shape's interior_medium unset): rays travel through vacuum, nothing is marched")
 		add(PassVolumeMap, false, "no medium in the scene: no volume photons")
+	case !scene.MediaScatter(s) && dark != "":
+		add(PassMedia, true, "%s: %s", media, marching(s))
+		add(PassVolumeMap, false, "no medium that light reaches scatters it, no volume photons: %s", dark)
 	case !scene.MediaScatter(s):
 		add(PassMedia, true, "%s: %s", media, marching(s))
 		add(PassVolumeMap, false, "no medium scatters light (every sigma_s is 0, or every albedo or density is): the media only absorb, no volume photons")
 	case volume == nil: // (volume_photons cannot be 0: it selects a default)
 		add(PassMedia, true, "%s: %s; %s", media, marching(s), multipleScattering(s))
-		add(PassVolumeMap, false, "every medium that scatters light has |g| >= %s: its multiple scattering is path traced, no volume photons", pathTracedAbsG())
+		add(PassVolumeMap, false, "every medium light reaches that scatters it has |g| >= %s: its multiple scattering is path traced, no volume photons%s", pathTracedAbsG(), noneFor(dark))
 	default:
 		add(PassMedia, true, "%s: %s; %s", media, marching(s), multipleScattering(s))
-		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media of |g| < %s after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)",
-			count(volume.Photons), shards(volume.Photons), pathTracedAbsG(), volumeNeighbours(s), volumeRadius(s))
+		add(PassVolumeMap, true, "%s volume photon paths per round in %d shards: photons stored where paths scatter in media of |g| < %s after their first bounce or scattering, gathered along camera and gather rays (k %d, radius %s)%s",
+			count(volume.Photons), shards(volume.Photons), pathTracedAbsG(), volumeNeighbours(s), volumeRadius(s), noneFor(dark))
 	}
 
 	names := dispersiveMaterials(s)
@@ -145,13 +150,17 @@ func roundsReason(s *pb.Scene) string {
 	return strings.Join(parts, ", ")
 }
 
-// marching says what the renderer does in any medium.
+// marching says what the renderer does in any medium, and in grids.
 func marching(s *pb.Scene) string {
 	samples := fmt.Sprintf("%d light samples and as many phase-function samples per segment, weighed by multiple importance sampling", scene.LightSamples(s))
 	if !scene.HittableLights(s) {
 		samples = fmt.Sprintf("%d light samples per segment: no phase-function sample can reach a point, spot or sun light without a disc", scene.LightSamples(s))
 	}
-	return fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%s), shadow rays attenuated", samples)
+	m := fmt.Sprintf("camera paths attenuated and single scattering from every light along them (%s), shadow rays attenuated", samples)
+	if slices.ContainsFunc(scene.Media(s), func(m scene.Medium) bool { return m.Medium.GetGrid() != nil }) {
+		m += "; through grids brick by brick (8^3 cells, empty ones skipped): optical depth integrated exactly, distances drawn by inverting it, free flights (photons, volumetric paths) delta-tracked against each brick's majorant"
+	}
+	return m
 }
 
 // multipleScattering says how light scattered more than once is found in s's scattering
@@ -191,11 +200,34 @@ func volumeRadius(s *pb.Scene) string {
 	return "1/20 of the scene's diagonal"
 }
 
+// darkMedia names the scattering media no light reaches, each with why (scene.Media), ""
+// for none: the volume map stores nothing in them (and no camera path sees them).
+func darkMedia(s *pb.Scene) string {
+	var parts []string
+	for _, m := range scene.Media(s) {
+		if m.Dark != "" && m.Scatters() {
+			parts = append(parts, m.Label+": "+m.Dark)
+		}
+	}
+	return strings.Join(parts, "; ")
+}
+
+// noneFor is what a pass that stores volume photons adds about dark, darkMedia's answer.
+func noneFor(dark string) string {
+	if dark == "" {
+		return ""
+	}
+	return "; none for " + dark
+}
+
 // mediaOf names the media a scene holds ("fog filling the scene", "2 shapes' interior
 // media", or both), "" for none.
 func mediaOf(s *pb.Scene) string {
 	var parts []string
-	if s.GetMedium() != nil {
+	switch m := s.GetMedium(); {
+	case m.GetGrid() != nil:
+		parts = append(parts, "smoke from a grid filling the scene")
+	case m != nil:
 		parts = append(parts, "fog filling the scene")
 	}
 	interiors := 0

@@ -50,6 +50,15 @@ func peakedFog(g float64) func(*pb.Scene) {
 	}
 }
 
+// smokeIn makes the ball (shapes[0]) of the material named kind ("white", "mirror",
+// "glass"), filled with a scattering medium.
+func smokeIn(kind string) func(*pb.Scene) {
+	return func(s *pb.Scene) {
+		shapes(kind, "white")(s)
+		s.Shapes[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 2}}}
+	}
+}
+
 func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 	flatFloor := func(s *pb.Scene) { s.Shapes = s.Shapes[1:] } // floor and lamp only
 	sky := &pb.Texture{Name: "sky", Path: "sky.hdr", Digest: "sha256:" + strings.Repeat("0", 64)}
@@ -114,17 +123,17 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 		// phase function's lobe: such media are path traced, and a scene of only such media
 		// gets no volume map.
 		{"forward-scattering fog: no volume map", peakedFog(pathTracedG), planner.PassVolumeMap, false,
-			"every medium that scatters light has |g| >= " + absG + ": its multiple scattering is path traced, no volume photons"},
+			"every medium light reaches that scatters it has |g| >= " + absG + ": its multiple scattering is path traced, no volume photons"},
 		{"backward-scattering fog: path traced", peakedFog(-0.999), planner.PassMedia, true,
 			"; multiple scattering by volumetric path tracing (camera paths go on by the phase function, with light samples weighed by MIS): |g| >= " + absG},
 		{"fog just below the threshold: volume map", peakedFog(math.Nextafter(pathTracedG, 0)), planner.PassVolumeMap, true, "200,000 volume photon paths per round"},
-		{"forward-scattering fog and an isotropic murky ball: both", func(s *pb.Scene) {
+		{"forward-scattering fog and an isotropic murky glass ball: both", func(s *pb.Scene) {
+			smokeIn("glass")(s)
 			peakedFog(0.95)(s)
-			s.Shapes[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 0.1}}}
 		}, planner.PassMedia, true, "; multiple scattering from the volume photon map, and by volumetric path tracing (camera paths go on by the phase function, with light samples weighed by MIS) in media of |g| >= " + absG},
-		{"forward-scattering fog and an isotropic murky ball: volume map", func(s *pb.Scene) {
+		{"forward-scattering fog and an isotropic murky glass ball: volume map", func(s *pb.Scene) {
+			smokeIn("glass")(s)
 			peakedFog(0.95)(s)
-			s.Shapes[0].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 0.1}}}
 		}, planner.PassVolumeMap, true, "200,000 volume photon paths per round"},
 		{"fog lit by a point light alone: light samples only", func(s *pb.Scene) {
 			scatteringFog(s)
@@ -132,6 +141,28 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Lights = []*pb.Light{{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 2, 0), Intensity: &pb.Color{R: 1, G: 1, B: 1}}}}}
 		}, planner.PassMedia, true, "(16 light samples per segment: no phase-function sample can reach a point, spot or sun light without a disc)"},
 		{"absorbing forward-scattering fog: it only absorbs", func(s *pb.Scene) { absorbingFog(s); s.Medium.G = 0.95 }, planner.PassVolumeMap, false, "the media only absorb"},
+		{"smoke in a closed diffuse ball, the light outside: no volume map", smokeIn("white"), planner.PassVolumeMap, false,
+			`no medium that light reaches scatters it, no volume photons: shapes[0] ("ball")'s interior medium: no light reaches it: its surface transmits none`},
+		{"smoke in a mirror ball is dark too", smokeIn("mirror"), planner.PassVolumeMap, false, `shapes[0] ("ball")'s interior medium: no light reaches it`},
+		{"smoke in a glass ball is lit", smokeIn("glass"), planner.PassVolumeMap, true, "200,000 volume photon paths per round in 2 shards"},
+		{"smoke in a diffuse ball with a light inside is lit", func(s *pb.Scene) {
+			smokeIn("white")(s)
+			s.Lights = append(s.Lights, &pb.Light{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 1, 0.5), Intensity: &pb.Color{R: 1, G: 1, B: 1}}}})
+		}, planner.PassVolumeMap, true, "200,000 volume photon paths per round"},
+		{"smoke in a diffuse ball beside scattering fog: the fog's photons, none for the ball", func(s *pb.Scene) {
+			smokeIn("white")(s)
+			scatteringFog(s)
+		}, planner.PassVolumeMap, true, `(k 50, radius 1/20 of the scene's diagonal); none for shapes[0] ("ball")'s interior medium: no light reaches it`},
+		{"smoke from a grid", func(s *pb.Scene) {
+			s.Medium = &pb.Medium{Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{Digest: "sha256:" + strings.Repeat("0", 64), Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}}}}
+		}, planner.PassMedia, true, "smoke from a grid filling the scene: camera paths attenuated and single scattering from every light along them (16 light samples and as many phase-function samples per segment, weighed by multiple importance sampling), shadow rays attenuated; through grids brick by brick (8^3 cells, empty ones skipped): optical depth integrated exactly, distances drawn by inverting it, free flights (photons, volumetric paths) delta-tracked against each brick's majorant; multiple scattering from the volume photon map"},
+		{"forward-scattering smoke from a grid: path traced", func(s *pb.Scene) {
+			s.Medium = &pb.Medium{G: 0.95, Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{Digest: "sha256:" + strings.Repeat("0", 64), Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}}}}
+		}, planner.PassVolumeMap, false, "every medium light reaches that scatters it has |g| >= " + absG + ": its multiple scattering is path traced, no volume photons"},
+		{"forward-scattering fog beside smoke in a closed diffuse ball: no volume map", func(s *pb.Scene) {
+			smokeIn("white")(s)
+			peakedFog(0.95)(s)
+		}, planner.PassVolumeMap, false, `its multiple scattering is path traced, no volume photons; none for shapes[0] ("ball")'s interior medium: no light reaches it`},
 		{"no dispersion", shapes("glass", "white"), planner.PassDispersion, false, "no dispersive material"},
 		{"a dispersive glass and a gem", func(s *pb.Scene) {
 			prism, gem := material("prism", "glass"), material("gem", "glass")

@@ -2,6 +2,8 @@ package service_test
 
 import (
 	"bytes"
+	"encoding/binary"
+	"math"
 	"os"
 	"strings"
 	"testing"
@@ -10,6 +12,7 @@ import (
 	"google.golang.org/grpc/status"
 
 	"photonfarm/contract/assets"
+	"photonfarm/contract/assets/assetstest"
 	"photonfarm/contract/scene/scenetest"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -65,9 +68,29 @@ func TestPlanSceneNeedsNoUploadedMesh(t *testing.T) {
 }
 
 // TestSubmitRefusesBadTexturesMeshPartsAndReferences: every file a scene names is checked
-// on submit by what it holds, naming its field and the file.
+// on submit by what it holds, naming its field and the file: textures, mesh parts,
+// references, and grid media's grid files (hostile ones: cut short, NaN, negative or
+// absurdly many cells).
 func TestSubmitRefusesBadTexturesMeshPartsAndReferences(t *testing.T) {
 	f := newFarm(t)
+	grid := func(change func(g *assets.GridData)) string {
+		g := assetstest.RampGrid()
+		change(g)
+		return f.upload(assetstest.EncodedGrid(g)).Digest
+	}
+	nanGrid := grid(func(g *assets.GridData) { g.Densities[3] = float32(math.NaN()) })
+	negativeGrid := grid(func(g *assets.GridData) { g.Densities[0] = -2 })
+	cutGrid := f.upload(assetstest.EncodedGrid(assetstest.RampGrid())[:60]).Digest
+	hugeGrid := f.upload(func() []byte {
+		b := assetstest.EncodedGrid(assetstest.RampGrid())
+		binary.LittleEndian.PutUint32(b[12:], 4096)
+		binary.LittleEndian.PutUint32(b[16:], 4096)
+		binary.LittleEndian.PutUint32(b[20:], 4096)
+		return b
+	}()).Digest
+	smoke := func(digest string) *pb.Medium {
+		return &pb.Medium{Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{Path: "fx/smoke.farmgrid", Digest: digest, Albedo: &pb.Color{R: 1, G: 1, B: 1}}}}
+	}
 	notImage := f.upload([]byte("this is not a picture"))
 	var farmMesh bytes.Buffer
 	assets.EncodeFarmMesh(&farmMesh, &assets.MeshData{Positions: []float32{0, 0, 0, 1, 0, 0, 0, 1, 0}, Indices: []uint32{0, 1, 2}})
@@ -81,6 +104,18 @@ func TestSubmitRefusesBadTexturesMeshPartsAndReferences(t *testing.T) {
 		}},
 		{"a cut farm mesh part", "meshes[0].parts[0]", "meshes[0].parts[0]: m.fmesh: byte 40: the file ends inside its positions", func(sc *pb.Scene) {
 			sc.Meshes = []*pb.Mesh{{Name: "m", Parts: []*pb.MeshPart{{Path: "m.fmesh", Digest: badMesh.Digest, Material: "white"}}}}
+		}},
+		{"a grid with a NaN density", "medium.grid", "medium.grid: fx/smoke.farmgrid: byte 60: the density of cell (0, 1, 0) is not finite", func(sc *pb.Scene) {
+			sc.Medium = smoke(nanGrid)
+		}},
+		{"a grid with a negative density in a shape", "shapes[0].interior_medium.grid", "shapes[0].interior_medium.grid: fx/smoke.farmgrid: byte 48: the density of cell (0, 0, 0) is negative: -2", func(sc *pb.Scene) {
+			sc.Shapes[0].InteriorMedium = smoke(negativeGrid)
+		}},
+		{"a grid cut short", "medium.grid", "medium.grid: fx/smoke.farmgrid: byte 60: the file ends inside its densities", func(sc *pb.Scene) {
+			sc.Medium = smoke(cutGrid)
+		}},
+		{"a grid of 4096^3 cells", "medium.grid", "medium.grid: fx/smoke.farmgrid: byte 12: 4096 x 4096 x 4096 = 68719476736 cells, more than the 67108864 of one grid", func(sc *pb.Scene) {
+			sc.Medium = smoke(hugeGrid)
 		}},
 		{"a reference that is not an OpenEXR", "progressive.reference", "progressive.reference: " + notImage.Digest + ": not an image", func(sc *pb.Scene) {
 			sc.Progressive = &pb.Progressive{Reference: &pb.ReferenceImage{Digest: notImage.Digest}}

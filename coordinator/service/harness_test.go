@@ -177,19 +177,30 @@ func (f *farm) uploadChunks(h *pb.BlobHeader, cs ...[]byte) (*pb.UploadBlobRespo
 }
 
 func (f *farm) download(digest string) ([]byte, []int, error) {
-	stream, err := f.blobs.DownloadBlob(f.ctx, &pb.DownloadBlobRequest{Digest: digest})
+	got, sizes, _, err := f.downloadRange(&pb.DownloadBlobRequest{Digest: digest})
+	return got, sizes, err
+}
+
+// downloadRange downloads what req asks for: the bytes, each chunk's size, and the blob's
+// size the first message announces.
+func (f *farm) downloadRange(req *pb.DownloadBlobRequest) ([]byte, []int, int64, error) {
+	stream, err := f.blobs.DownloadBlob(f.ctx, req)
 	if err != nil {
-		return nil, nil, err
+		return nil, nil, 0, err
 	}
 	var buf bytes.Buffer
 	var sizes []int
+	var size int64
 	for {
 		msg, err := stream.Recv()
 		if errors.Is(err, io.EOF) {
-			return buf.Bytes(), sizes, nil
+			return buf.Bytes(), sizes, size, nil
 		}
 		if err != nil {
-			return nil, nil, err
+			return nil, nil, 0, err
+		}
+		if sizes == nil {
+			size = msg.GetSizeBytes()
 		}
 		buf.Write(msg.Chunk)
 		sizes = append(sizes, len(msg.Chunk))

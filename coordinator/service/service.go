@@ -36,6 +36,7 @@ type Blobs interface {
 	// Touch is Stat that also marks the blob in use now (blobstore's collection protocol).
 	Touch(ctx context.Context, digest string) (blobstore.Info, error)
 	Open(ctx context.Context, digest string) (io.ReadCloser, blobstore.Info, error)
+	OpenRange(ctx context.Context, digest string, offset, length int64) (io.ReadCloser, blobstore.Info, error)
 	Verify(ctx context.Context, digest string) (blobstore.Info, error)
 	Put(ctx context.Context, r io.Reader, size int64, digest string) (blobstore.Info, error)
 	Create(ctx context.Context, size int64, digest string) (*blobstore.Writer, error)

@@ -26,6 +26,7 @@ var codeOf = map[errs.Kind]codes.Code{
 	errs.Unavailable:        codes.Unavailable,
 	errs.PermissionDenied:   codes.PermissionDenied,
 	errs.DataLoss:           codes.DataLoss,
+	errs.OutOfRange:         codes.OutOfRange,
 }
 
 // toStatus converts a handler's error to a gRPC status error. A field error carries an

@@ -103,10 +103,13 @@ func sceneLimits() string {
 		"max_mesh_triangles":            "most triangles in one mesh file, after splitting polygons: the largest mesh takes a worker about 2.6 GB to parse and put in Embree's BVH (measured: about 260 bytes a triangle, see Worker memory below)",
 		"max_mesh_line_bytes":           "longest line of a mesh file, its line break included",
 		"max_film_pixels":               "pixels of the film, `film.width * film.height` (refused as `film.height`): the composite holds the film's tiles and images (measured: about 340 bytes a pixel on the worker), and the image and accumulation EXRs (84 and 96 bytes a pixel uncompressed: 705 and 805 MB at the limit) must stay under `max_blob_bytes`; 8,388,608 holds 3840x2160",
-		"max_snapshot_photons":          "photons stored in one round's photon snapshot, every map together, and so in one emission shard (a path stores a photon at each diffuse bounce, so `photons.*_photons` alone do not bound it): the worker fails an emission shard that stores more, the builder a snapshot, as bad input naming the setting to lower; the largest snapshot is then 768 MB (24 bytes a global photon with irradiance), the largest shard 896 MB (28 bytes a photon), both under `max_blob_bytes`",
+		"max_snapshot_photons":          fmt.Sprintf("photons stored in one round's photon snapshot, every map together (a path stores a photon at each diffuse bounce, so `photons.*_photons` alone do not bound it): the coordinator's builder fails a snapshot that stores more as bad input naming the setting to lower. The largest snapshot, every photon global with irradiance (24 bytes each), is then %s, under `max_blob_bytes`; building it takes the coordinator 24 bytes a photon of the largest map and a scratch file of the snapshot's size in `--data-dir` (Memory, measured, below), and each worker maps it whole", gibibytes(largestSnapshot())),
+		"max_shard_photons":             fmt.Sprintf("photons stored by one emission shard (whatever the scene stores a path): the worker stops tracing a shard that stores more and fails it as bad input saying to lower `photons.photons_per_shard`; the largest shard, which the worker holds while it traces and uploads it, is then %s (28 bytes a photon)", gibibytes(40+28*rules.Scene.GetMaxShardPhotons())),
 		"max_texture_pixels":            "most pixels (width times height) of one texture, read from its header without decoding it",
 		"principled_specular_roughness": "a principled material whose roughness factor is below this counts as specular: its lobe is only sampled, never lit by light samples or photons, and the scene gets a caustic map",
-		"path_traced_media_min_abs_g":   "a medium whose Henyey-Greenstein g is at least this in absolute value scatters light more than once by volumetric path tracing (phase-function sampling with light samples weighed by MIS) rather than from the volume photon map, whose k photons cannot weigh so narrow a lobe; the planner leaves the volume map out when no scattering medium is below it (docs/media.md)",
+		"max_grid_cells":                "most cells (`nx * ny * nz`) of one farm grid file (docs/grid-format.md): a worker holds 4 bytes a cell, plus a majorant for every 8 x 8 x 8 brick, for the job's life (256 MiB at the limit)",
+		"max_grid_axis_cells":           "most cells along each axis of a farm grid file, checked before the counts are multiplied",
+		"path_traced_media_min_abs_g":   "a medium whose Henyey-Greenstein g is at least this in absolute value scatters light more than once by volumetric path tracing (phase-function sampling with light samples weighed by MIS) rather than from the volume photon map, whose k photons cannot weigh so narrow a lobe; the planner leaves the volume map out when no scattering medium that light reaches is below it; homogeneous and grid media alike (docs/media.md)",
 		"spectral_wavelengths_per_path": "wavelengths a photon or camera path carries with `sampling.spectral` ALWAYS (a hero and its companions, docs/spectral.md); the workers check theirs against it",
 	})
 }
@@ -145,6 +148,25 @@ func optionTable(m protoreflect.Message, meanings map[string]string) string {
 		fmt.Fprintf(&b, "| `%s` | %s | %s |\n", fd.Name(), value, meaning)
 	}
 	return b.String()
+}
+
+// largestSnapshot is the size of the largest snapshot: max_snapshot_photons global photons
+// with irradiance (docs/photon-snapshot.md: a header and one directory entry of 64 bytes,
+// 20 bytes a photon, 4 of irradiance).
+func largestSnapshot() uint64 { return 64 + 64 + 24*rules.Scene.GetMaxSnapshotPhotons() }
+
+// gibibytes writes a size in bytes and GiB.
+func gibibytes(n uint64) string {
+	return fmt.Sprintf("%s bytes (%.2f GiB)", commas(n), float64(n)/(1<<30))
+}
+
+// commas writes n with thousands separators.
+func commas(n uint64) string {
+	s := fmt.Sprint(n)
+	for i := len(s) - 3; i > 0; i -= 3 {
+		s = s[:i] + "," + s[i:]
+	}
+	return s
 }
 
 // amount writes n, in MiB or GiB when it is bytes and a whole number of them.

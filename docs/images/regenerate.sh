@@ -6,7 +6,8 @@
 # docs/images/prism.png and docs/images/crystal-sphere.png, scenes/prism.json and
 # scenes/crystal-sphere.json as `farm render` renders them (about 3 and 2 minutes on two
 # cores: ten and eight million caustic photon paths); docs/images/god-rays.png,
-# scenes/god-rays.json likewise (about 7 minutes). docs/images/cornell-fog-compare.png is
+# scenes/god-rays.json likewise (about 7 minutes); docs/images/smoke.png, the grid-medium
+# scene scenes/smoke generates (its plume computed, not committed). docs/images/cornell-fog-compare.png is
 # bench/crosscheck/fog.py's (make bench).
 #   docs/images/regenerate.sh BUILD_DIR
 set -eu
@@ -30,3 +31,7 @@ echo "wrote docs/images/crystal-sphere.png"
 "$build/bin/farm" render scenes/god-rays.json --workers 2 --no-dashboard -o "$tmp/god-rays"
 cp "$tmp/god-rays/god-rays.png" docs/images/god-rays.png
 echo "wrote docs/images/god-rays.png"
+go run ./scenes/smoke/gen -o "$tmp/smoke"
+"$build/bin/farm" render "$tmp/smoke/smoke.json" --workers 2 --no-dashboard -o "$tmp/smoke/out"
+cp "$tmp/smoke/out/smoke.png" docs/images/smoke.png
+echo "wrote docs/images/smoke.png"

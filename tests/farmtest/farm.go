@@ -128,10 +128,17 @@ func (f *Farm) StartWorker(t testing.TB, extra ...string) *Proc {
 // flags. Workers are named worker-1, worker-2, ... in the order they start.
 func (f *Farm) StartWorkerWithCache(t testing.TB, cache string, extra ...string) *Proc {
 	t.Helper()
+	return f.StartWorkerVia(t, f.Addr, cache, extra...)
+}
+
+// StartWorkerVia is StartWorkerWithCache with the worker told another address for the
+// coordinator: a proxy in front of it (Proxy).
+func (f *Farm) StartWorkerVia(t testing.TB, coordinator, cache string, extra ...string) *Proc {
+	t.Helper()
 	f.workers++
 	name := fmt.Sprintf("worker-%d", f.workers)
 	return Start(t, name, filepath.Join(f.Bin, "farm-worker"), append([]string{
-		"--coordinator", f.Addr,
+		"--coordinator", coordinator,
 		"--cache-dir", cache,
 		"--threads", "1",
 		"--name", name,

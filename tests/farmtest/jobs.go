@@ -63,9 +63,15 @@ func (f *Farm) Submit(t testing.TB, sc *pb.Scene) *pb.Job {
 // Wait waits up to timeout for the job to end and fails the test unless it succeeded.
 func (f *Farm) Wait(t testing.TB, jobID string, timeout time.Duration) *pb.Job {
 	t.Helper()
+	return f.WaitWatching(t, jobID, timeout, nil)
+}
+
+// WaitWatching is Wait that also hands each of the job's events to fn (if not nil).
+func (f *Farm) WaitWatching(t testing.TB, jobID string, timeout time.Duration, fn func(*pb.WatchJobResponse)) *pb.Job {
+	t.Helper()
 	ctx, cancel := context.WithTimeout(context.Background(), timeout)
 	defer cancel()
-	job, err := f.Client.Watch(ctx, jobID, nil)
+	job, err := f.Client.Watch(ctx, jobID, fn)
 	if err != nil {
 		last, _ := f.Client.GetJob(context.Background(), jobID)
 		t.Fatalf("job %s: %v (last seen: %v)", jobID, err, last)

@@ -211,15 +211,25 @@ func blobCases(f *farm) []hostileCase {
 	}
 	hello := []byte("hello")
 	helloDigest := "sha256:2cf24dba5fb0a30e26e83b2ac5b9e29e1b161e5c1fa7425e73043362938b9824"
-	download := func(digest string) func(context.Context) error {
+	downloadRange := func(req *pb.DownloadBlobRequest) func(context.Context) error {
 		return func(ctx context.Context) error {
-			stream, err := f.blobs.DownloadBlob(ctx, &pb.DownloadBlobRequest{Digest: digest})
+			stream, err := f.blobs.DownloadBlob(ctx, req)
 			if err != nil {
 				return err
 			}
 			_, err = stream.Recv()
 			return err
 		}
+	}
+	download := func(digest string) func(context.Context) error {
+		return downloadRange(&pb.DownloadBlobRequest{Digest: digest})
+	}
+	// helloPastItsEnd stores hello, then asks for it from past its end.
+	helloPastItsEnd := func(ctx context.Context) error {
+		if err := upload(header(helloDigest, 5), chunk(hello))(ctx); err != nil {
+			return err
+		}
+		return downloadRange(&pb.DownloadBlobRequest{Digest: helloDigest, Offset: 6})(ctx)
 	}
 	return []hostileCase{
 		{"upload: no header", upload(chunk(hello)), codes.InvalidArgument, "header"},
@@ -236,6 +246,9 @@ func blobCases(f *farm) []hostileCase {
 		{"download: unknown", download(unknownDigest), codes.NotFound, "sha256:0000"},
 		{"download: malformed", download("../../etc/passwd"), codes.InvalidArgument, "digest"},
 		{"download: empty", download(""), codes.InvalidArgument, "digest"},
+		{"download: negative offset", downloadRange(&pb.DownloadBlobRequest{Digest: unknownDigest, Offset: -1}), codes.InvalidArgument, "offset"},
+		{"download: negative length", downloadRange(&pb.DownloadBlobRequest{Digest: unknownDigest, Length: -1 << 62}), codes.InvalidArgument, "length"},
+		{"download: offset past the end", helloPastItsEnd, codes.OutOfRange, "offset"},
 		{"info: unknown", coordinatortest.Call(f.blobs.GetBlobInfo, &pb.GetBlobInfoRequest{Digest: unknownDigest}), codes.NotFound, "sha256:0000"},
 		{"info: traversal", coordinatortest.Call(f.blobs.GetBlobInfo, &pb.GetBlobInfoRequest{Digest: "sha256:../../../../etc/shadow"}), codes.InvalidArgument, "digest"},
 	}

@@ -3,10 +3,13 @@ package integration
 import (
 	"bytes"
 	"context"
+	"math"
 	"testing"
 	"time"
 
 	"photonfarm/client/importer/importertest"
+	"photonfarm/contract/assets"
+	"photonfarm/contract/assets/assetstest"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/scenes/atrium"
@@ -112,30 +115,56 @@ func TestTwoWorkersStitchBitIdenticalToOneWorker(t *testing.T) {
 	})
 }
 
-// The scene in fog with a murky sphere (docs/media.md): single scattering's random numbers
-// come from each sample's own dimensions too.
+// The scene in fog with a murky sphere and a sphere of smoke (docs/media.md): single
+// scattering's random numbers come from each sample's own dimensions too, and tracking's
+// through the smoke's grid from the query itself.
 func TestFoggySceneTwoWorkersBitIdenticalToOneWorker(t *testing.T) {
-	checkTwoWorkersStitchAsOne(t, func(f *farmtest.Farm) *pb.Scene { return foggy(sizedScene(t, f, stitchScene)) })
+	checkTwoWorkersStitchAsOne(t, func(f *farmtest.Farm) *pb.Scene { return foggy(t, f, sizedScene(t, f, stitchScene)) })
 }
 
 // foggy fills s with a thin forward-scattering fog (its multiple scattering from the
-// volume photon map) and turns its first sphere into murky glass: a dielectric with a
-// denser, coloured medium inside, scattering forwards sharply enough (g 0.95, at least
-// the contract's path_traced_media_min_abs_g) that its multiple scattering is path
-// traced. Both ways of multiple scattering, and single scattering's two strategies, in
-// one render.
-func foggy(s *pb.Scene) *pb.Scene {
+// volume photon map), turns its first sphere into murky glass (a dielectric with a denser,
+// coloured medium inside, scattering forwards sharply enough, g 0.95, at least the
+// contract's path_traced_media_min_abs_g, that its multiple scattering is path traced)
+// and its second into a glass jar of smoke: a grid medium (a farm grid file, uploaded to
+// f) whose density grows along x and falls off from the jar's centre. Both ways of
+// multiple scattering, single scattering's two strategies and grid tracking in one render.
+func foggy(t *testing.T, f *farmtest.Farm, s *pb.Scene) *pb.Scene {
+	t.Helper()
 	s.Materials = append(s.Materials, &pb.Material{Name: "murky-glass", Kind: &pb.Material_Dielectric{Dielectric: &pb.Dielectric{Ior: 1.5}}})
 	s.Medium = &pb.Medium{G: 0.4, Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{
 		Albedo: &pb.Color{R: 0.9, G: 0.9, B: 0.9}, Density: 0.3}}}
+	var spheres []*pb.Shape
 	for _, sh := range s.Shapes {
 		if sh.GetSphere() != nil {
 			sh.Material = "murky-glass"
-			sh.InteriorMedium = &pb.Medium{G: 0.95, Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{
-				SigmaA: &pb.Color{R: 0.2, G: 0.6, B: 1.2}, SigmaS: &pb.Color{R: 0.5, G: 0.5, B: 0.5}}}}
-			break
+			spheres = append(spheres, sh)
 		}
 	}
+	if len(spheres) < 2 {
+		t.Fatalf("the test scene has %d spheres, want 2", len(spheres))
+	}
+	spheres[0].InteriorMedium = &pb.Medium{G: 0.95, Coefficients: &pb.Medium_Sigma{Sigma: &pb.MediumCoefficients{
+		SigmaA: &pb.Color{R: 0.2, G: 0.6, B: 1.2}, SigmaS: &pb.Color{R: 0.5, G: 0.5, B: 0.5}}}}
+	const n = 10
+	grid := &assets.GridData{Nx: n, Ny: n, Nz: n, Max: [3]float32{1, 1, 1}}
+	for z := range n {
+		for y := range n {
+			for x := range n {
+				r := math.Hypot(math.Hypot(float64(x)-4.5, float64(y)-4.5), float64(z)-4.5) / 5
+				grid.Densities = append(grid.Densities, float32(math.Max(0, 1-r)*(0.5+float64(x)/n)))
+			}
+		}
+	}
+	digest, err := f.Client.UploadBytes(context.Background(), assetstest.EncodedGrid(grid))
+	if err != nil {
+		t.Fatal(err)
+	}
+	c, r := spheres[1].GetSphere().GetCenter(), spheres[1].GetSphere().GetRadius()
+	spheres[1].InteriorMedium = &pb.Medium{G: 0.2, Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{
+		Digest: digest, Albedo: &pb.Color{R: 0.95, G: 0.85, B: 0.7}, DensityScale: 3 / r,
+		Transform: &pb.Transform{Scale: &pb.Vec3{X: 2 * r, Y: 2 * r, Z: 2 * r},
+			Translation: &pb.Vec3{X: c.GetX() - r, Y: c.GetY() - r, Z: c.GetZ() - r}}}}}
 	return s
 }
 
@@ -150,7 +179,7 @@ func TestFoggySceneBitIdenticalAfterWorkerKillsInEmissionAndRender(t *testing.T)
 	f := farmtest.StartFarm(t, nil)
 	first := f.StartWorker(t)
 	first.WorkerID(t, 15*time.Second)
-	sc := foggy(sizedScene(t, f, foggyLeaseScene))
+	sc := foggy(t, f, sizedScene(t, f, foggyLeaseScene))
 	sc.Photons.PhotonsPerShard = 50000
 	job := f.Submit(t, sc)
 	if !planRuns(job, "volume photon map") {

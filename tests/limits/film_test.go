@@ -36,7 +36,7 @@ func TestLargestFilmCompletes(t *testing.T) {
 	sc.Indirect = &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_PHOTON_MAP}
 	job := r.render(sc, time.Hour)
 	pixels := float64(width) * float64(height)
-	t.Logf("film %dx%d: worker peak %.0f bytes a pixel", width, height, float64(r.worker.PeakRSS(t))/pixels)
+	t.Logf("film %dx%d: worker peak %.0f bytes a pixel", width, height, float64(r.worker().PeakRSS(t))/pixels)
 	for _, task := range farmtest.TasksOf(r.f.Tasks(t, job.GetId()), pb.Phase_PHASE_COMPOSITE) {
 		for _, a := range task.GetOutputs() {
 			t.Logf("  %-18s %s (%.1f bytes a pixel)", a.GetName(), mb(uint64(a.GetSizeBytes())), float64(a.GetSizeBytes())/pixels)

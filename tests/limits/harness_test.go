@@ -7,6 +7,7 @@ import (
 	"os"
 	"regexp"
 	"strconv"
+	"strings"
 	"testing"
 	"time"
 
@@ -24,27 +25,58 @@ func size[T any](fullValue, reduced T) T {
 	return reduced
 }
 
-// run is one job on a farm of its own: a coordinator and one worker of two threads.
+// run is one job on a farm of its own: a coordinator and its workers.
 type run struct {
-	t      *testing.T
-	f      *farmtest.Farm
-	worker *farmtest.Proc
-	start  time.Time
+	t       *testing.T
+	f       *farmtest.Farm
+	workers []*farmtest.Proc
+	start   time.Time
 }
 
-func newRun(t *testing.T) *run {
+// newRun starts a farm with one worker of two threads.
+func newRun(t *testing.T) *run { return newRunOf(t, []string{"--threads", "2"}) }
+
+// newRunOf starts a farm with a worker for each list of flags, each with a cache of its
+// own.
+func newRunOf(t *testing.T, workers ...[]string) *run {
 	t.Helper()
-	f := farmtest.StartFarm(t, []string{"--lease-duration", "30s"})
-	return &run{t: t, f: f, worker: f.StartWorker(t, "--threads", "2")}
+	r := &run{t: t, f: farmtest.StartFarm(t, []string{"--lease-duration", "30s"})}
+	for _, flags := range workers {
+		r.workers = append(r.workers, r.f.StartWorker(t, flags...))
+	}
+	return r
 }
 
-// render submits sc, waits up to timeout for it to succeed and logs the figures.
+// worker is the run's first worker.
+func (r *run) worker() *farmtest.Proc { return r.workers[0] }
+
+// render submits sc, waits up to timeout for it to succeed and logs the figures: the job's
+// time and each phase's (from the job's events: a phase ends when its last task
+// succeeds), and the peak resident memory of every process.
 func (r *run) render(sc *pb.Scene, timeout time.Duration) *pb.Job {
 	r.t.Helper()
 	r.start = time.Now()
-	job := r.f.Render(r.t, sc, timeout)
-	r.t.Logf("job %s: %.1f s; peak RSS: coordinator %s, worker %s", job.GetId(), time.Since(r.start).Seconds(),
-		mb(r.f.Coordinator().PeakRSS(r.t)), mb(r.worker.PeakRSS(r.t)))
+	submitted := r.f.Submit(r.t, sc)
+	ended := map[pb.Phase]time.Time{}
+	var order []pb.Phase
+	job := r.f.WaitWatching(r.t, submitted.GetId(), timeout, func(ev *pb.WatchJobResponse) {
+		for _, p := range ev.GetJob().GetPhases() {
+			if _, seen := ended[p.GetPhase()]; !seen && p.GetTasksTotal() > 0 && p.GetTasksSucceeded() == p.GetTasksTotal() {
+				ended[p.GetPhase()] = time.Now()
+				order = append(order, p.GetPhase())
+			}
+		}
+	})
+	r.t.Logf("job %s: %.1f s", job.GetId(), time.Since(r.start).Seconds())
+	last := r.start
+	for _, p := range order {
+		r.t.Logf("  phase %-18s %7.1f s (done at %.1f s)", strings.TrimPrefix(p.String(), "PHASE_"), ended[p].Sub(last).Seconds(), ended[p].Sub(r.start).Seconds())
+		last = ended[p]
+	}
+	r.t.Logf("  peak RSS: coordinator %s", mb(r.f.Coordinator().PeakRSS(r.t)))
+	for _, w := range r.workers {
+		r.t.Logf("  peak RSS: %s %s", w.Name, mb(w.PeakRSS(r.t)))
+	}
 	return job
 }
 
@@ -72,10 +104,15 @@ func (r *run) taskTimes() {
 	}
 	worker := regexp.MustCompile(`msg="task done" .*spec="(\w+) .* seconds=([0-9.]+)`)
 	builder := regexp.MustCompile(`msg="photon map built" .*phase=(\w+) .* took=(\S+)`)
-	for _, log := range []struct {
+	type log struct {
 		path string
 		re   *regexp.Regexp
-	}{{r.worker.LogPath, worker}, {r.f.Coordinator().LogPath, builder}} {
+	}
+	logs := []log{{r.f.Coordinator().LogPath, builder}}
+	for _, w := range r.workers {
+		logs = append(logs, log{w.LogPath, worker})
+	}
+	for _, log := range logs {
 		data, err := os.ReadFile(log.path)
 		if err != nil {
 			r.t.Fatal(err)

@@ -89,7 +89,7 @@ func TestMeshAtTheTriangleCapRenders(t *testing.T) {
 		Geometry: &pb.Shape_Mesh{Mesh: &pb.MeshFile{Path: "grid.obj", Digest: digest}}})
 	sc.Photons = &pb.PhotonMapping{GlobalPhotons: 1000, PhotonsPerShard: 1000}
 	r.render(sc, 30*time.Minute)
-	peak := r.worker.PeakRSS(t)
+	peak := r.worker().PeakRSS(t)
 	t.Logf("worker: %.0f bytes of peak RSS a triangle", float64(peak)/float64(faces))
 	r.taskTimes()
 }

@@ -14,6 +14,9 @@ import (
 	"google.golang.org/protobuf/proto"
 
 	"photonfarm/client"
+	"photonfarm/contract/assets"
+	"photonfarm/contract/assets/assetstest"
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 	"photonfarm/tests/farmtest"
 )
@@ -177,6 +180,34 @@ func insideCornell(t *testing.T) *pb.Scene {
 // density (sigma_t) `density` per scene unit and Henyey-Greenstein asymmetry g.
 func fog(albedo, density, g float64) *pb.Medium {
 	return &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: &pb.MediumAlbedo{Albedo: grey(albedo), Density: density}}, G: g}
+}
+
+// smokeGrid is a farm grid file of 12^3 cells over the unit cube, densities 0.2 + 1.6
+// (x / 11) sin(pi (y + 0.5) / 12) by cell (from 0.2 to 1.8 across x, peaking mid-height).
+func smokeGrid() [][]byte {
+	const n = 12
+	g := &assets.GridData{Nx: n, Ny: n, Nz: n, Max: [3]float32{1, 1, 1}}
+	for range n {
+		for y := range n {
+			for x := range n {
+				g.Densities = append(g.Densities, float32(0.2+1.6*float64(x)/(n-1)*math.Sin(math.Pi*(float64(y)+0.5)/n)))
+			}
+		}
+	}
+	return [][]byte{assetstest.EncodedGrid(g)}
+}
+
+// gridSmoke is the medium of albedo 1 and Henyey-Greenstein asymmetry g whose densities
+// are smokeGrid's.
+func gridSmoke(g float64) *pb.Medium {
+	return &pb.Medium{G: g, Coefficients: &pb.Medium_Grid{Grid: &pb.MediumGrid{
+		Path: "smoke.farmgrid", Digest: rules.DigestOf(smokeGrid()[0]), Albedo: grey(1), DensityScale: 1}}}
+}
+
+// withBlobs is c with the blobs its scene names.
+func withBlobs(c stiffCase, blobs func() [][]byte) stiffCase {
+	c.blobs = blobs
+	return c
 }
 
 // absorbing is a medium that absorbs sigmaA per channel and per scene unit and scatters

@@ -29,6 +29,9 @@ type stiffCase struct {
 	// with why saying where it comes from.
 	bound func(sc *pb.Scene) ([3]float64, string)
 	check func(t *testing.T, f *farm, name string, sc *pb.Scene, r *rendered)
+	// blobs, if not nil, are the files the scene names by digest (a grid medium's),
+	// uploaded before it is submitted.
+	blobs func() [][]byte
 }
 
 // cornellRef is the Cornell box (millimetres) as cornellMM gives it, rendered once.
@@ -319,6 +322,17 @@ var cases = []stiffCase{
 	// point drawn on the wall); weighed against phase-function samples by MIS, no sample
 	// exceeds the wall's radiance (docs/media.md), so every pixel is held to 20%.
 	glowingFurnaceCase("media-albedo-1-fog-around-the-camera-keeps-wall-radiance", 1, fog(1, 1, 0), nil),
+	// Heterogeneous: the unit cube filled with smoke from a farm grid file whose density
+	// varies from 0.2 to 1.8 per unit (smokeGrid), albedo 1: L = Le still, whatever the
+	// density's shape (the argument above holds point by point). Optical depth is integrated
+	// exactly through the grid's bricks (camera paths, shadow rays), distances drawn by
+	// inverting it (single scattering's two strategies, weighed by MIS with those very
+	// densities), photons' free flights delta-tracked.
+	withBlobs(glowingFurnaceCase("media-albedo-1-grid-smoke-keeps-wall-radiance", 1, gridSmoke(0), nil), smokeGrid),
+	// The same smoke scattering forwards (g 0.95, at least path_traced_media_min_abs_g):
+	// its multiple scattering path traced, the paths' free flights delta-tracked through
+	// the grid.
+	withBlobs(glowingFurnaceCase("media-albedo-1-forward-g-0.95-grid-smoke-keeps-wall-radiance", 1, gridSmoke(0.95), withSamples(16)), smokeGrid),
 	// Henyey-Greenstein lobes of g = +-0.999, (1 - g)^2 = 1e-6 wide: the same Le. Single
 	// scattering finds the walls in the lobe by phase-function samples (weighed against
 	// light samples by MIS), and light scattered more than once is path traced
@@ -394,6 +408,13 @@ func TestStiffAndExtremeCases(t *testing.T) {
 			timeout := c.timeout
 			if timeout == 0 {
 				timeout = 60 * time.Second
+			}
+			if c.blobs != nil {
+				for _, b := range c.blobs() {
+					if _, err := f.Client.UploadBytes(context.Background(), b); err != nil {
+						t.Fatalf("case %s: upload: %v", c.name, err)
+					}
+				}
 			}
 			r := f.render(t, c.name, sc, timeout)
 			checkFinite(t, c.name, r.img)

@@ -285,7 +285,8 @@ const pb::SceneLimits& SceneLimits() {
     const pb::SceneLimits& l = pb::Scene::descriptor()->options().GetExtension(pb::scene_limits);
     if (!(l.max_magnitude() > 0) || l.max_tiles_per_round() == 0 || l.max_shards_per_map() == 0 ||
         l.max_asset_bytes() == 0 || l.max_mesh_vertices() == 0 || l.max_mesh_triangles() == 0 ||
-        l.max_mesh_line_bytes() == 0 || l.max_snapshot_photons() == 0 || l.max_film_pixels() == 0)
+        l.max_mesh_line_bytes() == 0 || l.max_snapshot_photons() == 0 || l.max_shard_photons() == 0 ||
+        l.max_film_pixels() == 0)
       throw std::logic_error("contract: scene.proto declares no complete scene_limits option on Scene");
     return l;
   }();

@@ -156,9 +156,10 @@ TEST(Accessors, ReadTheSceneAndRpcLimits) {
   EXPECT_EQ(SceneLimits().max_shards_per_map(), 10000u);
   EXPECT_EQ(SceneLimits().max_mesh_vertices(), 10'000'000u);
   EXPECT_EQ(SceneLimits().max_film_pixels(), 8'388'608u);
-  EXPECT_EQ(SceneLimits().max_snapshot_photons(), 32'000'000u);
+  EXPECT_EQ(SceneLimits().max_snapshot_photons(), 105'000'000u);
+  EXPECT_EQ(SceneLimits().max_shard_photons(), 32'000'000u);
   EXPECT_EQ(RpcLimits().max_message_bytes(), 64u << 20);
-  EXPECT_EQ(RpcLimits().max_blob_bytes(), 1u << 30);
+  EXPECT_EQ(RpcLimits().max_blob_bytes(), std::uint64_t{4} << 30);
   EXPECT_EQ(RpcLimits().max_upload_chunk_bytes(), 4u << 20);
   EXPECT_EQ(RpcLimits().max_error_bytes(), 4096u);
 }

@@ -71,6 +71,19 @@ std::system_error NoSpace(const std::string& what) {
   return std::system_error(std::make_error_code(std::errc::no_space_on_device), what);
 }
 
+// A download in progress writes its temporary file every few milliseconds; one untouched
+// for this long was left by a worker that died mid-download (a snapshot's can be
+// gigabytes), and is deleted the next time room is made.
+constexpr auto kStaleTemporary = std::chrono::hours(1);
+
+void RemoveIfStale(const std::filesystem::path& temporary) {
+  std::error_code ec;
+  const auto written = std::filesystem::last_write_time(temporary, ec);
+  if (!ec && std::filesystem::file_time_type::clock::now() - written > kStaleTemporary) {
+    std::filesystem::remove(temporary, ec);
+  }
+}
+
 struct Entry {
   std::filesystem::path path;
   std::uint64_t size;
@@ -124,7 +137,10 @@ std::optional<std::string> BlobCache::Get(std::string_view digest) const {
 
 std::optional<BlobCache::Pinned> BlobCache::Pin(std::string_view digest) const {
   if (!contract::IsDigest(digest)) return std::nullopt;
-  auto path = PathOf(digest);
+  return PinAt(PathOf(digest), digest);
+}
+
+std::optional<BlobCache::Pinned> BlobCache::PinAt(std::filesystem::path path, std::string_view digest) {
   Fd file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
   if (file.fd < 0) return std::nullopt;
   // Locked first, then checked to be still the entry: an eviction between the open and the
@@ -152,7 +168,10 @@ void BlobCache::MakeRoom(std::string_view digest, std::uint64_t needed) const {
   std::uint64_t total = 0;
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(dir_ / "sha256", ec)) {
-    if (e.path().filename().string().find('.') != std::string::npos) continue;  // temporary
+    if (e.path().filename().string().find('.') != std::string::npos) {
+      RemoveIfStale(e.path());
+      continue;  // A download in progress, here or in another worker.
+    }
     struct stat st {};
     if (::stat(e.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
     const auto used = std::chrono::seconds(st.st_mtim.tv_sec) + std::chrono::nanoseconds(st.st_mtim.tv_nsec);
@@ -190,41 +209,87 @@ void BlobCache::Put(std::string_view digest, std::string_view bytes) const {
   if (!contract::IsDigest(digest)) {
     throw std::invalid_argument("malformed blob digest \"" + std::string(digest) + "\"");
   }
-  if (Sha256Digest(bytes) != digest) {
+  if (std::filesystem::exists(PathOf(digest))) return;  // Checked whenever it is read.
+  Incoming incoming = Receive(digest, bytes.size());
+  incoming.Append(bytes);
+  if (!incoming.Commit()) {
     throw std::invalid_argument("blob content does not match digest " + std::string(digest));
   }
-  const auto final_path = PathOf(digest);
-  if (std::filesystem::exists(final_path)) return;  // Checked whenever it is read.
-  MakeRoom(digest, bytes.size());
-  // A name unique to this process and call, linked into place once complete.
+}
+
+BlobCache::Incoming BlobCache::Receive(std::string_view digest, std::uint64_t size) const {
+  if (!contract::IsDigest(digest)) {
+    throw std::invalid_argument("malformed blob digest \"" + std::string(digest) + "\"");
+  }
+  MakeRoom(digest, size);
+  // A name unique to this process and call, linked into place once complete; a name with a
+  // dot is never taken for an entry.
   static std::atomic<unsigned> counter{0};
-  auto temp = final_path;
+  auto temp = PathOf(digest);
   temp += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-  Fd file(::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
-  const auto fail = [&temp](const char* what) {
-    const std::error_code error(errno, std::generic_category());
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw std::system_error(error, what + temp.string());
-  };
-  if (file.fd < 0) fail("cannot create cache file ");
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw std::system_error(errno, std::generic_category(), "cannot create cache file " + temp.string());
+  }
+  return Incoming(std::string(digest), PathOf(digest), std::move(temp), fd);
+}
+
+BlobCache::Incoming::Incoming(Incoming&& other) noexcept
+    : digest_(std::move(other.digest_)),
+      path_(std::move(other.path_)),
+      temp_(std::move(other.temp_)),
+      fd_(std::exchange(other.fd_, -1)),
+      hash_(std::move(other.hash_)),
+      written_(other.written_) {}
+
+BlobCache::Incoming::~Incoming() {
+  if (fd_ < 0) return;  // Moved from, or committed.
+  ::close(fd_);
+  std::error_code ignored;
+  std::filesystem::remove(temp_, ignored);
+}
+
+void BlobCache::Incoming::Append(std::string_view bytes) {
   for (std::size_t at = 0; at < bytes.size();) {
-    const ssize_t n = ::write(file.fd, bytes.data() + at, bytes.size() - at);
+    const ssize_t n = ::write(fd_, bytes.data() + at, bytes.size() - at);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) fail("cannot write cache file ");
+    if (n < 0) throw std::system_error(errno, std::generic_category(), "cannot write cache file " + temp_.string());
     at += static_cast<std::size_t>(n);
   }
+  hash_.Update(bytes);
+  written_ += bytes.size();
+}
+
+std::optional<BlobCache::Pinned> BlobCache::Incoming::Commit() {
+  Fd file(std::exchange(fd_, -1));
+  std::error_code ignored;
+  if (hash_.Finish() != digest_) {
+    std::filesystem::remove(temp_, ignored);
+    return std::nullopt;
+  }
   Touch(file.fd);
-  if (::close(file.release()) != 0) fail("cannot write cache file ");  // close reports late write errors (NFS)
+  // Pinned before it is visible: the lock belongs to the file, whichever name opens it, so
+  // no worker can evict the entry between its link and the caller's use. The lock lives on
+  // in a duplicate, so that closing the writer still reports late write errors (NFS).
+  while (::flock(file.fd, LOCK_SH) != 0) {
+    if (errno != EINTR) break;  // Unpinned, then: a rare eviction costs a download.
+  }
+  Fd pin(::dup(file.fd));
+  if (::close(file.release()) != 0 || pin.fd < 0) {
+    const std::error_code error(errno, std::generic_category());
+    std::filesystem::remove(temp_, ignored);
+    throw std::system_error(error, "cannot write cache file " + temp_.string());
+  }
   // A link, unlike a rename, never replaces an entry another worker stored meanwhile (which
   // it may have pinned); the content is the same.
-  const int linked = ::link(temp.c_str(), final_path.c_str());
+  const int linked = ::link(temp_.c_str(), path_.c_str());
   const std::error_code error(errno, std::generic_category());
-  std::error_code ignored;
-  std::filesystem::remove(temp, ignored);
-  if (linked != 0 && error != std::errc::file_exists) {
-    throw std::system_error(error, "cannot store cache file " + final_path.string());
+  std::filesystem::remove(temp_, ignored);
+  if (linked == 0) return Pinned(path_, pin.release());
+  if (error != std::errc::file_exists) {
+    throw std::system_error(error, "cannot store cache file " + path_.string());
   }
+  return PinAt(path_, digest_);
 }
 
 }  // namespace farm

@@ -18,6 +18,8 @@
 #include <string>
 #include <string_view>
 
+#include "daemon/sha256.h"
+
 namespace farm {
 
 class BlobCache {
@@ -36,6 +38,42 @@ class BlobCache {
    private:
     std::filesystem::path path_;
     int fd_ = -1;  // holds the shared lock
+  };
+
+  // A blob being written into the cache as it arrives, never held in memory: a temporary
+  // file in the cache folder, hashed as it grows, linked into place by Commit once whole.
+  // Dropped (its file removed) if destroyed uncommitted; the file of a worker killed
+  // mid-download is deleted once it has not been written for an hour, when room is next
+  // made.
+  class Incoming {
+   public:
+    Incoming(Incoming&& other) noexcept;
+    Incoming& operator=(Incoming&&) = delete;
+    Incoming(const Incoming&) = delete;
+    Incoming& operator=(const Incoming&) = delete;
+    ~Incoming();
+
+    // Bytes received so far: where a cut download resumes.
+    std::uint64_t size() const { return written_; }
+    // Writes `bytes` at the end. Throws std::system_error with the failing call's error
+    // code (ENOSPC for a full disk).
+    void Append(std::string_view bytes);
+    // If the bytes received match the digest, links the file into place (an entry another
+    // worker stored meanwhile is kept instead) and returns it pinned, without reading it
+    // again; else drops the file and returns nothing. Call once.
+    std::optional<Pinned> Commit();
+
+   private:
+    friend class BlobCache;
+    Incoming(std::string digest, std::filesystem::path path, std::filesystem::path temp, int fd)
+        : digest_(std::move(digest)), path_(std::move(path)), temp_(std::move(temp)), fd_(fd) {}
+
+    std::string digest_;
+    std::filesystem::path path_;  // The entry's, once committed.
+    std::filesystem::path temp_;
+    int fd_ = -1;
+    Sha256 hash_;
+    std::uint64_t written_ = 0;
   };
 
   // Creates `dir` if needed; throws std::runtime_error if it cannot. The entries take at
@@ -60,11 +98,17 @@ class BlobCache {
   // (or at all), and with the failing call's error code on I/O errors.
   void Put(std::string_view digest, std::string_view bytes) const;
 
+  // Starts receiving the blob `digest` of `size` bytes, as it arrives (Incoming), first
+  // deleting the least recently used unpinned entries until it fits. Throws as Put does.
+  Incoming Receive(std::string_view digest, std::uint64_t size) const;
+
   const std::filesystem::path& dir() const { return dir_; }
   std::uint64_t max_bytes() const { return max_bytes_; }
 
  private:
   std::filesystem::path PathOf(std::string_view digest) const;
+  // Pin of the entry at `path`.
+  static std::optional<Pinned> PinAt(std::filesystem::path path, std::string_view digest);
   // Deletes least recently used unpinned entries until `needed` more bytes fit.
   void MakeRoom(std::string_view digest, std::uint64_t needed) const;
 

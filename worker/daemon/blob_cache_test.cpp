@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <unistd.h>
 
 #include <fstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 using namespace std::string_literals;
 
@@ -163,6 +165,101 @@ TEST_F(BlobCacheTest, RefusesABlobLargerThanTheWholeCache) {
     EXPECT_EQ(e.code(), std::errc::no_space_on_device) << e.what();
   }
   EXPECT_FALSE(cache.Get(Sha256Digest(big)));
+}
+
+// The files in the cache folder whose names mark them temporary (a download in progress).
+std::vector<std::filesystem::path> Temporaries(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> out;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "sha256")) {
+    if (e.path().filename().string().find('.') != std::string::npos) out.push_back(e.path());
+  }
+  return out;
+}
+
+// A download goes into the cache as it arrives, in pieces, never held whole: once the
+// pieces match the digest it is an entry, returned pinned (another worker cannot evict it).
+TEST_F(BlobCacheTest, ReceivesABlobInPiecesAndCommitsItPinned) {
+  BlobCache cache(dir_, 4000);
+  std::string bytes(3000, '\0');
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 7 % 253);
+  const std::string digest = Sha256Digest(bytes);
+  auto incoming = cache.Receive(digest, bytes.size());
+  for (std::size_t at = 0; at < bytes.size(); at += 1024) {
+    incoming.Append(std::string_view(bytes).substr(at, 1024));
+    EXPECT_EQ(incoming.size(), std::min(at + 1024, bytes.size()));
+  }
+  EXPECT_FALSE(cache.Get(digest)) << "visible before it was whole";
+  const auto pinned = incoming.Commit();
+  ASSERT_TRUE(pinned);
+  EXPECT_EQ(pinned->path(), dir_ / "sha256" / digest.substr(7));
+  EXPECT_EQ(cache.Get(digest), bytes);
+  EXPECT_TRUE(Temporaries(dir_).empty());
+  const std::string other = Blob('o', 2000);
+  EXPECT_THROW(BlobCache(dir_, 4000).Put(Sha256Digest(other), other), std::system_error)
+      << "evicted the pinned entry it just committed";
+}
+
+// Bytes that do not match the digest, or a download given up on, leave nothing behind.
+TEST_F(BlobCacheTest, DropsAReceivedBlobThatDoesNotMatchOrIsAbandoned) {
+  BlobCache cache(dir_, kRoomy);
+  const std::string digest = Sha256Digest("the snapshot");
+  auto wrong = cache.Receive(digest, 12);
+  wrong.Append("the snapshoT");
+  EXPECT_FALSE(wrong.Commit());
+  EXPECT_FALSE(cache.Get(digest));
+  {
+    auto abandoned = cache.Receive(digest, 12);
+    abandoned.Append("the snap");
+    EXPECT_EQ(Temporaries(dir_).size(), 1u);
+  }
+  EXPECT_TRUE(Temporaries(dir_).empty());
+  EXPECT_FALSE(cache.Get(digest));
+}
+
+// Room is made before the first byte: a blob larger than the cache is refused at once, as
+// a full disk.
+TEST_F(BlobCacheTest, ReceiveRefusesABlobLargerThanTheCacheBeforeAnyByte) {
+  BlobCache cache(dir_, 100);
+  try {
+    cache.Receive(Sha256Digest(Blob('b', 101)), 101);
+    FAIL() << "receiving";
+  } catch (const std::system_error& e) {
+    EXPECT_EQ(e.code(), std::errc::no_space_on_device) << e.what();
+  }
+  EXPECT_TRUE(Temporaries(dir_).empty());
+}
+
+// Two workers sharing the folder download the same blob: the second to commit keeps the
+// first one's entry, pinned.
+TEST_F(BlobCacheTest, ACommitAfterAnotherWorkersKeepsTheirEntry) {
+  BlobCache cache(dir_, kRoomy);
+  const std::string bytes = Blob('s', 5000), digest = Sha256Digest(bytes);
+  auto first = cache.Receive(digest, bytes.size());
+  auto second = BlobCache(dir_, kRoomy).Receive(digest, bytes.size());
+  first.Append(bytes);
+  second.Append(bytes);
+  const auto a = first.Commit();
+  const auto b = second.Commit();
+  ASSERT_TRUE(a);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(a->path(), b->path());
+  EXPECT_EQ(cache.Get(digest), bytes);
+  EXPECT_TRUE(Temporaries(dir_).empty());
+}
+
+// A worker killed mid-download leaves its temporary file: once it has not been written for
+// an hour it is deleted when room is next made; a fresh one (a download in progress) is
+// left alone.
+TEST_F(BlobCacheTest, MakingRoomDeletesTheTemporaryFilesOfDeadDownloads) {
+  BlobCache cache(dir_, kRoomy);
+  const auto stale = dir_ / "sha256" / "abc.tmp.99999.0";
+  const auto fresh = dir_ / "sha256" / "def.tmp.99999.1";
+  std::ofstream(stale) << "half a snapshot";
+  std::ofstream(fresh) << "a download in progress";
+  std::filesystem::last_write_time(stale, std::filesystem::file_time_type::clock::now() - std::chrono::hours(2));
+  cache.Put(Sha256Digest("x"), "x");
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_TRUE(std::filesystem::exists(fresh));
 }
 
 }  // namespace

@@ -3,11 +3,14 @@
 #include <grpcpp/client_context.h>
 
 #include <algorithm>
+#include <exception>
 #include <stop_token>
+#include <system_error>
 
-#include "daemon/retry.h"
 #include "contract/digest.h"
 #include "contract/rules.h"
+#include "daemon/log.h"
+#include "daemon/retry.h"
 #include "daemon/sha256.h"
 
 namespace farm {
@@ -27,10 +30,35 @@ void PrepareContext(grpc::ClientContext& ctx) {
   ctx.set_deadline(std::chrono::system_clock::now() + kTransferDeadline);
 }
 
+// The largest blob the contract allows: a declared size past it is refused before anything
+// is allocated or written.
+std::int64_t MaxBlobBytes() { return static_cast<std::int64_t>(contract::RpcLimits().max_blob_bytes()); }
+
+// Throws for a failed call about blob `digest`: a blob the store has not got, or holds
+// damaged, as lost input.
+void ThrowIfFailed(const grpc::Status& status, const std::string& digest) {
+  if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
+    throw LostBlobError("blob " + digest + " is not in the coordinator's blob store");
+  }
+  if (status.error_code() == grpc::StatusCode::DATA_LOSS) throw LostBlobError(status.error_message());
+  if (!status.ok()) {
+    throw BlobError("cannot download blob " + digest + ": " + status.error_message());
+  }
+}
+
+// The cache's errors keep their code (a full disk or cache is another kind of failure than a
+// lost blob), named for the blob.
+[[noreturn]] void ThrowCannotCache(const std::system_error& e, const std::string& digest) {
+  throw std::system_error(e.code(), "cannot cache blob " + digest + ": " + e.what());
+}
+
 }  // namespace
 
-BlobClient::BlobClient(std::shared_ptr<grpc::Channel> channel, const BlobCache* cache)
-    : stub_(pb::BlobService::NewStub(std::move(channel))), cache_(cache) {}
+BlobClient::BlobClient(std::shared_ptr<grpc::Channel> channel, const BlobCache* cache,
+                       std::uint64_t range_bytes)
+    : stub_(pb::BlobService::NewStub(std::move(channel))),
+      cache_(cache),
+      range_bytes_(static_cast<std::int64_t>(std::clamp<std::uint64_t>(range_bytes, 1, std::uint64_t{1} << 62))) {}
 
 std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop,
                               Progress progress) {
@@ -48,82 +76,164 @@ std::string BlobClient::Fetch(const std::string& digest, std::stop_token stop,
   return bytes;
 }
 
+grpc::Status BlobClient::ReadCall(const pb::DownloadBlobRequest& request, std::stop_token stop,
+                                  const Receiver& receiver, std::string& problem) {
+  grpc::ClientContext ctx;
+  PrepareContext(ctx);
+  std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
+  auto reader = stub_->DownloadBlob(&ctx, request);
+  pb::DownloadBlobResponse chunk;
+  bool first = true;
+  std::exception_ptr failed;  // The receiver's: rethrown once the call is over.
+  while (problem.empty() && !failed && reader->Read(&chunk)) {
+    try {
+      if (first) problem = receiver.size(chunk.size_bytes());
+      first = false;
+      if (problem.empty()) problem = receiver.chunk(chunk.chunk());
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  }
+  if (!problem.empty() || failed) ctx.TryCancel();
+  grpc::Status status = reader->Finish();
+  if (failed) std::rethrow_exception(failed);
+  // An empty blob may come as no message at all.
+  if (status.ok() && problem.empty() && first) problem = receiver.size(0);
+  return status;
+}
+
 BlobCache::Pinned BlobClient::FetchFile(const std::string& digest, std::stop_token stop,
                                         Progress progress) {
   if (!cache_) throw BlobError("no cache folder to keep blob " + digest + " in");
+  if (!contract::IsDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
   if (auto pinned = cache_->Pin(digest)) return std::move(*pinned);
-  {
-    const std::string bytes = Download(digest, stop, progress);
-    try {
-      cache_->Put(digest, bytes);  // Atomic: a temporary file linked into place.
-    } catch (const std::system_error& e) {
-      // Keeps the error's code: a full disk or cache is another kind of failure than a
-      // lost blob.
-      throw std::system_error(e.code(), "cannot cache blob " + digest + ": " + e.what());
-    }
-  }  // The bytes are freed before the file is mapped.
-  if (auto pinned = cache_->Pin(digest)) return std::move(*pinned);
-  throw BlobError("blob " + digest + " vanished from the cache right after it was stored");
+  std::optional<BlobCache::Incoming> incoming;  // Made once the first message says the size.
+  std::int64_t size = -1;
+  do {
+    const auto from = incoming ? static_cast<std::int64_t>(incoming->size()) : 0;
+    FetchRange(digest, size < 0 ? range_bytes_ : std::min(size, from + range_bytes_), size, incoming, stop, progress);
+  } while (static_cast<std::int64_t>(incoming->size()) < size);
+  std::optional<BlobCache::Pinned> pinned;
+  try {
+    pinned = incoming->Commit();
+  } catch (const std::system_error& e) {
+    ThrowCannotCache(e, digest);
+  }
+  if (!pinned) ThrowMismatch(digest);
+  return std::move(*pinned);
+}
+
+void BlobClient::FetchRange(const std::string& digest, std::int64_t end, std::int64_t& size,
+                            std::optional<BlobCache::Incoming>& incoming, std::stop_token stop,
+                            Progress progress) {
+  std::string problem;  // Set when the bytes that came were wrong.
+  const auto received = [&incoming] { return incoming ? static_cast<std::int64_t>(incoming->size()) : 0; };
+  const Receiver receiver{
+      [&](std::int64_t announced) -> std::string {
+        if (size >= 0) {
+          return announced == size ? "" : "its size changed from " + std::to_string(size) + " to " + std::to_string(announced) + " bytes";
+        }
+        if (announced < 0 || announced > MaxBlobBytes()) return "declared size " + std::to_string(announced) + " is out of range";
+        size = announced;
+        end = std::min(end, size);
+        try {
+          incoming.emplace(cache_->Receive(digest, static_cast<std::uint64_t>(size)));
+        } catch (const std::system_error& e) {
+          ThrowCannotCache(e, digest);
+        }
+        return {};
+      },
+      [&](std::string_view chunk) -> std::string {
+        if (received() + static_cast<std::int64_t>(chunk.size()) > end) {
+          return "more bytes than the range up to byte " + std::to_string(end) + " asked for";
+        }
+        try {
+          incoming->Append(chunk);
+        } catch (const std::system_error& e) {
+          ThrowCannotCache(e, digest);
+        }
+        progress.Advance(chunk.size());
+        return {};
+      }};
+  const grpc::Status status = RetryTransient(
+      "download " + digest, stop, kGiveUpAfter,
+      [&] {
+        const std::int64_t from = received();
+        if (incoming && from >= end) return grpc::Status::OK;  // The cut came after the last byte.
+        pb::DownloadBlobRequest request;
+        request.set_digest(digest);
+        request.set_offset(from);
+        request.set_length(end - from);
+        const grpc::Status s = ReadCall(request, stop, receiver, problem);
+        if (!problem.empty() || !s.ok()) return problem.empty() ? s : grpc::Status::OK;  // Bad bytes: not retried.
+        if (received() < end) {
+          problem = "the range ended at byte " + std::to_string(received()) + ", before byte " + std::to_string(end);
+        }
+        return grpc::Status::OK;
+      },
+      [&](const grpc::Status& s, Millis delay) {
+        // The next call asks for the rest of the range, from the first byte not received.
+        Log(LogLevel::kWarn, "download cut; resuming",
+            {{"blob", digest}, {"at", received()}, {"of", size}, {"err", s.error_message()},
+             {"code", static_cast<int>(s.error_code())}, {"retry_ms", delay.count()}});
+      });
+  ThrowIfFailed(status, digest);
+  if (!problem.empty()) throw BlobError("blob " + digest + " from the store is corrupt: " + problem);
+}
+
+void BlobClient::ThrowMismatch(const std::string& digest) {
+  // The whole was assembled from ranges the store sent unchecked: the store checks its copy.
+  grpc::ClientContext ctx;
+  PrepareContext(ctx);
+  pb::GetBlobInfoRequest request;
+  request.set_digest(digest);
+  pb::GetBlobInfoResponse response;
+  ThrowIfFailed(stub_->GetBlobInfo(&ctx, request, &response), digest);
+  throw BlobError("blob " + digest + " from the store is corrupt: content does not match its digest");
 }
 
 std::string BlobClient::Download(const std::string& digest, std::stop_token stop,
                                  Progress progress) {
   if (!contract::IsDigest(digest)) throw BlobError("malformed blob digest \"" + digest + "\"");
   std::string bytes;
+  std::int64_t expected = 0;
+  std::optional<Sha256> hash;
   std::string problem;  // Set when the bytes arrived but were wrong.
+  const Receiver receiver{
+      [&](std::int64_t size) -> std::string {
+        // Blobs larger than the contract allows are refused before anything is allocated.
+        if (size < 0 || size > MaxBlobBytes()) return "declared size " + std::to_string(size) + " is out of range";
+        expected = size;
+        // Reserve what is declared, up to a point: the rest grows as bytes really arrive.
+        bytes.reserve(static_cast<std::size_t>(std::min(expected, kMostReservedUpFront)));
+        return {};
+      },
+      [&](std::string_view chunk) -> std::string {
+        if (static_cast<std::int64_t>(bytes.size() + chunk.size()) > expected) {
+          return "more bytes than the declared " + std::to_string(expected);
+        }
+        hash->Update(chunk);
+        bytes += chunk;
+        progress.Advance(chunk.size());
+        return {};
+      }};
   const grpc::Status status = RetryTransient("download " + digest, stop, kGiveUpAfter, [&] {
     bytes.clear();
     problem.clear();
-    grpc::ClientContext ctx;
-    PrepareContext(ctx);
-    std::stop_callback cancel(stop, [&ctx] { ctx.TryCancel(); });
+    hash.emplace();
+    expected = 0;
     pb::DownloadBlobRequest request;
     request.set_digest(digest);
-    auto reader = stub_->DownloadBlob(&ctx, request);
-    pb::DownloadBlobResponse chunk;
-    std::int64_t expected = -1;
-    // Blobs larger than the contract allows are refused before anything is allocated.
-    const auto max_blob = static_cast<std::int64_t>(contract::RpcLimits().max_blob_bytes());
-    Sha256 hash;
-    while (reader->Read(&chunk)) {
-      if (expected < 0) {
-        expected = chunk.size_bytes();
-        if (expected < 0 || expected > max_blob) {
-          problem = "declared size " + std::to_string(expected) + " is out of range";
-          ctx.TryCancel();
-          break;
-        }
-        // Reserve what is declared, up to a point: the rest grows as bytes really arrive.
-        bytes.reserve(static_cast<std::size_t>(std::min(expected, kMostReservedUpFront)));
-      }
-      if (static_cast<std::int64_t>(bytes.size() + chunk.chunk().size()) > expected) {
-        problem = "more bytes than the declared " + std::to_string(expected);
-        ctx.TryCancel();
-        break;
-      }
-      hash.Update(chunk.chunk());
-      bytes += chunk.chunk();
-      progress.Advance(chunk.chunk().size());
-    }
-    grpc::Status s = reader->Finish();
-    if (!problem.empty()) return grpc::Status::OK;  // Not retried: the store sent bad bytes.
-    if (!s.ok()) return s;
-    if (expected < 0) expected = 0;  // An empty blob may come as no message at all.
+    const grpc::Status s = ReadCall(request, stop, receiver, problem);
+    if (!problem.empty() || !s.ok()) return problem.empty() ? s : grpc::Status::OK;  // Bad bytes: not retried.
     if (static_cast<std::int64_t>(bytes.size()) != expected) {
-      problem = "got " + std::to_string(bytes.size()) + " bytes of the declared " +
-                std::to_string(expected);
-    } else if (hash.Finish() != digest) {
+      problem = "got " + std::to_string(bytes.size()) + " bytes of the declared " + std::to_string(expected);
+    } else if (hash->Finish() != digest) {
       problem = "content does not match its digest";
     }
     return grpc::Status::OK;
   });
-  if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
-    throw LostBlobError("blob " + digest + " is not in the coordinator's blob store");
-  }
-  if (status.error_code() == grpc::StatusCode::DATA_LOSS) throw LostBlobError(status.error_message());
-  if (!status.ok()) {
-    throw BlobError("cannot download blob " + digest + ": " + status.error_message());
-  }
+  ThrowIfFailed(status, digest);
   if (!problem.empty()) throw BlobError("blob " + digest + " from the store is corrupt: " + problem);
   return bytes;
 }

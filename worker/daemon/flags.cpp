@@ -11,8 +11,8 @@ namespace farm {
 
 const char kWorkerUsage[] =
     "usage: farm-worker --coordinator HOST:PORT[,...] [--cache-dir DIR] [--cache-max-bytes N]\n"
-    "                   [--threads N] [--name NAME] [--token TOKEN] [--tls-ca FILE] [--insecure]\n"
-    "                   [--texture-cache-mib N]\n"
+    "                   [--download-range-bytes N] [--threads N] [--name NAME] [--token TOKEN]\n"
+    "                   [--tls-ca FILE] [--insecure] [--texture-cache-mib N]\n"
     "\n"
     "Leases photon emission, render and composite tasks from a photonfarm coordinator until\n"
     "stopped.\n"
@@ -31,6 +31,9 @@ const char kWorkerUsage[] =
     "  --cache-max-bytes N      the most the cache folder may hold: the least recently used\n"
     "                           entries are deleted to make room, never a photon snapshot a\n"
     "                           task is using; suffix K, M, G or T for KiB to TiB (default 8G)\n"
+    "  --download-range-bytes N how much of a photon snapshot one download call asks for: a\n"
+    "                           cut connection resumes where the bytes stopped, and calls\n"
+    "                           spread over the replicas (default 64M)\n"
     "  --threads N              render threads (default: all cores)\n"
     "  --name NAME              the name the farm shows for this worker (default: hostname)\n"
     "  --token TOKEN            worker token the coordinator was given, sent on every call\n"
@@ -110,8 +113,8 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       value = std::string(arg.substr(eq + 1));
     }
     if (name != "--coordinator" && name != "--cache-dir" && name != "--cache-max-bytes" &&
-        name != "--threads" && name != "--name" && name != "--token" && name != "--tls-ca" &&
-        name != "--texture-cache-mib") {
+        name != "--download-range-bytes" && name != "--threads" && name != "--name" &&
+        name != "--token" && name != "--tls-ca" && name != "--texture-cache-mib") {
       return fail("unknown flag " + std::string(name));
     }
     if (!value) {
@@ -127,12 +130,13 @@ ParsedFlags ParseWorkerFlags(const std::vector<std::string>& args,
       if (value->empty()) return fail("--cache-dir is empty");
       out.options.cache_dir = *value;
       have_cache_dir = true;
-    } else if (name == "--cache-max-bytes") {
+    } else if (name == "--cache-max-bytes" || name == "--download-range-bytes") {
       const auto n = ParseBytes(*value);
+      const bool cache = name == "--cache-max-bytes";
       if (!n || *n == 0) {
-        return fail("--cache-max-bytes \"" + *value + "\" is not a positive byte count (e.g. 8G)");
+        return fail(std::string(name) + " \"" + *value + "\" is not a positive byte count (e.g. " + (cache ? "8G" : "64M") + ")");
       }
-      out.options.cache_max_bytes = *n;
+      (cache ? out.options.cache_max_bytes : out.options.download_range_bytes) = *n;
     } else if (name == "--threads" || name == "--texture-cache-mib") {
       const bool threads = name == "--threads";
       const int max = threads ? kMaxThreads : kMaxTextureCacheMib;

@@ -47,14 +47,18 @@ TEST(WorkerFlags, Defaults) {
   EXPECT_NE(f.error.find("--cache-dir"), std::string::npos) << f.error;
 }
 
-TEST(WorkerFlags, CacheMaxBytesTakesBinarySuffixes) {
+TEST(WorkerFlags, ByteCountsTakeBinarySuffixes) {
   for (const auto& [value, want] : std::vector<std::pair<std::string, std::uint64_t>>{
            {"1", 1}, {"4096", 4096}, {"3K", 3 << 10}, {"64M", 64 << 20}, {"8G", std::uint64_t{8} << 30},
            {"2T", std::uint64_t{2} << 40}}) {
-    const ParsedFlags f = Parse({"--coordinator=h:1", "--cache-max-bytes", value});
+    ParsedFlags f = Parse({"--coordinator=h:1", "--cache-max-bytes", value});
     EXPECT_EQ(f.error, "") << value;
     EXPECT_EQ(f.options.cache_max_bytes, want) << value;
+    f = Parse({"--coordinator=h:1", "--download-range-bytes=" + value});
+    EXPECT_EQ(f.error, "") << value;
+    EXPECT_EQ(f.options.download_range_bytes, want) << value;
   }
+  EXPECT_EQ(Parse({"--coordinator=h:1"}).options.download_range_bytes, kDefaultDownloadRangeBytes);
 }
 
 TEST(WorkerFlags, Help) {
@@ -89,6 +93,7 @@ TEST(WorkerFlags, ClearErrors) {
       {{"--coordinator=h:1", "--cache-max-bytes=8GB"}, "--cache-max-bytes \"8GB\""},
       {{"--coordinator=h:1", "--cache-max-bytes=G"}, "--cache-max-bytes \"G\""},
       {{"--coordinator=h:1", "--cache-max-bytes=99999999T"}, "--cache-max-bytes \"99999999T\""},
+      {{"--coordinator=h:1", "--download-range-bytes=0"}, "--download-range-bytes \"0\" is not a positive byte count (e.g. 64M)"},
       {{"--coordinator=h:1", "--verbose"}, "unknown flag --verbose"},
       {{"--coordinator=h:1", "stray"}, "unexpected argument \"stray\""},
       {{"--coordinator=h:1", "--token="}, "--token is empty"},

@@ -104,7 +104,7 @@ class Worker::Impl {
         cache_(options.cache_dir, options.cache_max_bytes),
         channel_(MakeCoordinatorChannel(options)),
         stub_(pb::WorkerService::NewStub(channel_)),
-        blobs_(channel_, &cache_),
+        blobs_(channel_, &cache_, options.download_range_bytes),
         executor_(blobs_, TextureSystemOptions{static_cast<std::size_t>(options.texture_cache_mib),
                                                options.cache_dir / "textures"}) {}
 

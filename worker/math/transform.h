@@ -29,6 +29,28 @@ struct Affine3d {
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
   }
 
+  // The inverse map (the adjugate over the determinant); the caller makes sure the
+  // determinant is not 0 (a scene's transforms are checked for it).
+  Affine3d Inverse() const {
+    Affine3d inv;
+    const double det = Determinant();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+        inv.m[i][j] = (m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1]) / det;
+      }
+    inv.t = -Vec3d(inv.m[0][0] * t.x + inv.m[0][1] * t.y + inv.m[0][2] * t.z,
+                   inv.m[1][0] * t.x + inv.m[1][1] * t.y + inv.m[1][2] * t.z,
+                   inv.m[2][0] * t.x + inv.m[2][1] * t.y + inv.m[2][2] * t.z);
+    return inv;
+  }
+
+  // The linear part applied to a direction.
+  Vec3d ApplyLinear(const Vec3d& v) const {
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+  }
+
   // Scale per axis, then rotate by `degrees` about `axis` (through the origin, right-hand
   // rule), then translate: the order of renderfarm.v1.Transform. `axis` need not be unit
   // length but must not be zero when degrees is not.

@@ -65,5 +65,22 @@ TEST(Placement, AMirrorKeepsTheFrontTheNormalNames) {
   EXPECT_FALSE(Placement(Affine3d::ScaleRotateTranslate({1, 2, 3}, {1, 1, 0}, 40, {})).mirrors);
 }
 
+// The inverse undoes the map (points, and directions by the linear part), for a rotation
+// with uneven scales and translation and for a general matrix with a negative determinant.
+TEST(Affine3d, TheInverseUndoesTheMap) {
+  const double rows[12] = {0.5, 2, -1, 3, 0, 1, 4, -2, 1, 0, -3, 0.25};
+  for (const Affine3d& a : {Affine3d::ScaleRotateTranslate({3, 0.5, 2}, {1, 2, -1}, 70, {5, -1, 2}), Affine3d::FromRows(rows)}) {
+    const Affine3d inv = a.Inverse();
+    for (const Vec3d p : {Vec3d(0, 0, 0), Vec3d(1, -2, 3), Vec3d(-7, 0.5, 11)}) {
+      const Vec3d back = inv.Apply(a.Apply(p)), dir = inv.ApplyLinear(a.ApplyLinear(p));
+      EXPECT_NEAR(back.x, p.x, 1e-12);
+      EXPECT_NEAR(back.y, p.y, 1e-12);
+      EXPECT_NEAR(back.z, p.z, 1e-12);
+      EXPECT_NEAR(dir.x, p.x, 1e-12);
+      EXPECT_NEAR(dir.z, p.z, 1e-12);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace farm

@@ -82,7 +82,7 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
   }
 
   // The medium the path travels in: lights sit in the scene's (docs/media.md).
-  const HomogeneousMedium* medium = scene.medium ? &*scene.medium : nullptr;
+  const Medium* medium = scene.medium ? &*scene.medium : nullptr;
   // Russian roulette: survive with the ratio of the new to the old power (its largest
   // channel), and divide by it, so that surviving photons keep roughly constant power.
   // False if the path ends.
@@ -121,9 +121,8 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
     if (const MediumSegment segment =
             SegmentIn(scene, medium, ray, hit ? hit->t : std::numeric_limits<float>::infinity());
         !segment.empty()) {
-      const HomogeneousMedium& m = *segment.medium;
-      const float length = segment.t1 - segment.t0;
-      if (const std::optional<DistanceSample> flight = SampleFreeFlight(m, length, u_channel, u_distance)) {
+      const FreeFlight flight = segment.SampleFlight(u_channel, u_distance);
+      if (flight.t) {
         // Taken by the medium: a caustic path ends (what it scatters is the volume and
         // global maps' light); a volume path stores a photon unless the light came straight
         // from a light (single scattering is sampled from the lights: media_transport.h)
@@ -131,20 +130,21 @@ void ContinuePhotonPath(const SceneData& scene, PhotonMapKind kind, const Photon
         if (kind == PhotonMapKind::kCaustic) return;
         // The photon carries what it scatters there (sigma_s T / pdf of the light it
         // brings: the albedo, one channel): the density of scatterings, not of collisions.
-        const Vec3 x = ray.At(segment.t0 + flight->t);
-        const Rgb scattered = m.Transmittance(flight->t) * m.sigma_s / flight->pdf;
-        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0) && !PathTracesMultipleScattering(m))
+        const Vec3 x = ray.At(*flight.t);
+        const Rgb scattered = flight.weight;
+        if (kind == PhotonMapKind::kVolume && (bounce > 0 || scatterings > 0) &&
+            !PathTracesMultipleScattering(*segment.medium))
           out.push_back({x, spectral ? spectral->Times(scattered).ToRgb() : power * scattered, -ray.direction,
                          Vec3(0, 0, 1)});
         if (!survive_with(scattered, u_survive)) return;
         // Scattered light is indirect: the global map stores it where it lands.
         ++diffuse_bounces;
         ++scatterings;
-        ray = Ray{x, SampleHenyeyGreenstein(-ray.direction, m.g, u_phase).wi};
+        ray = Ray{x, SampleHenyeyGreenstein(-ray.direction, segment.medium->g(), u_phase).wi};
         continue;
       }
       // Through: the transmittance over the probability of getting through.
-      const Rgb through = m.Transmittance(length) / FreeFlightPassProbability(m, length);
+      const Rgb through = flight.weight;
       power = power * through;
       if (spectral) {
         spectral = spectral->Times(through);
@@ -227,7 +227,7 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
   const float power_scale = static_cast<float>(1.0 / static_cast<double>(request.total_photons));
   const uint64_t chunks = (request.photon_count + kChunkPaths - 1) / kChunkPaths;
   const uint64_t max_photons =
-      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_snapshot_photons();
+      options.max_photons != 0 ? options.max_photons : contract::SceneLimits().max_shard_photons();
   std::vector<std::vector<ShardPhoton>> per_chunk(chunks);
   std::atomic<uint64_t> stored{0};
   // Each chunk fills its own vector; concatenating them in chunk order gives path-index
@@ -248,11 +248,10 @@ std::vector<ShardPhoton> TracePhotons(const Scene& scene, const PhotonShardReque
                     });
   if (stored.load() > max_photons) {
     const char* map = PhotonMapName(request.map);
-    throw BadInputError(std::string("photons.") + map + "_photons: the " + map + " map's paths " +
+    throw BadInputError(std::string("photons.photons_per_shard: the ") + map + " map's paths " +
                         std::to_string(request.first_photon) + "+" + std::to_string(request.photon_count) +
                         " store more than the " + std::to_string(max_photons) +
-                        " photons a snapshot may hold (scene_limits.max_snapshot_photons); lower photons." +
-                        map + "_photons");
+                        " photons a shard may hold (scene_limits.max_shard_photons); lower photons.photons_per_shard");
   }
   std::size_t total = 0;
   for (const auto& c : per_chunk) total += c.size();

@@ -422,10 +422,10 @@ TEST(PhotonTracer, CausticMapIsEmptyWithoutSpecularSurfacesAndBadRequestsThrow) 
                std::invalid_argument);
 }
 
-// A shard that stores more photons than a snapshot may hold could never be built: tracing
-// stops and says which setting to lower. The closed box of MixedScene stores several
-// photons a path.
-TEST(PhotonTracer, AShardStoringMoreThanASnapshotMayHoldIsBadInput) {
+// A shard that stores more photons than a shard may hold would hold the worker's memory:
+// tracing stops and says which setting to lower. The closed box of MixedScene stores
+// several photons a path.
+TEST(PhotonTracer, AShardStoringMoreThanAShardMayHoldIsBadInput) {
   const Scene scene = Scene::Build(MixedScene(), NoBlobs());
   PhotonTraceOptions options;
   options.max_photons = 1000;
@@ -436,8 +436,8 @@ TEST(PhotonTracer, AShardStoringMoreThanASnapshotMayHoldIsBadInput) {
     FAIL() << "traced a shard over the limit";
   } catch (const BadInputError& e) {
     EXPECT_STREQ(e.what(),
-                 "photons.global_photons: the global map's paths 0+100000 store more than the 1000 photons a "
-                 "snapshot may hold (scene_limits.max_snapshot_photons); lower photons.global_photons");
+                 "photons.photons_per_shard: the global map's paths 0+100000 store more than the 1000 photons a "
+                 "shard may hold (scene_limits.max_shard_photons); lower photons.photons_per_shard");
   }
 }
 

@@ -21,9 +21,9 @@ struct PhotonTraceOptions {
   // rays. Tests use it to check emitted flux against closed forms of direct irradiance.
   bool store_direct = false;
   // The most photons the request's paths may store; 0 selects the contract's
-  // scene_limits.max_snapshot_photons. A shard that stores more could never be built into
-  // a snapshot (nor, past about 38M photons, uploaded as one blob), and would hold the
-  // worker's memory meanwhile: tracing stops and throws BadInputError.
+  // scene_limits.max_shard_photons. A shard that stores more would hold the worker's memory
+  // (28 bytes a photon in the shard, about as much again while it is traced): tracing
+  // stops and throws BadInputError saying to lower photons_per_shard.
   std::uint64_t max_photons = 0;
   // The wavelength, nm, of every photon a dispersive surface makes monochromatic in RGB
   // mode (in spectral mode the photon keeps its hero); 0 draws it (the farm). Tests fix it

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "image/reference_exr.h"
+#include "sampling/film_sampler.h"
 #include "sampling/pixel_sampler.h"
 #include "render/integrator.h"
 #include "render/thin_bars_scene.h"
@@ -63,19 +64,20 @@ struct BaseSample {
 };
 
 // The base pass alone, drawn here as the tile renderer draws it: the bars take 1 sample a
-// pixel, sample 0 of the sampler whose permutation domain is the 12 samples of an edge
-// pixel, keyed by the scene seed in round 1.
+// pixel, sample 0 of the film sampler and of the pixel sampler whose permutation domain is
+// the 12 samples of an edge pixel, keyed by the scene seed in round 1.
 std::vector<BaseSample> BasePass() {
   const Scene scene = Bars(pb::ANTIALIASING_MODE_EDGES);
   const SceneData& data = scene.data();
   const PhotonMappingIntegrator integrator(data, PhotonMaps{});
+  const FilmSampler film(kW, kH);
   PixelSampler sampler(12, data.seed);
   std::vector<PhotonNeighbour> scratch;
   std::vector<BaseSample> base;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       sampler.StartPixelSample(uint64_t(y) * kW + x, 0);
-      const Vec2 u = sampler.Get2D();
+      const Vec2 u = film.Sample(x, y, 0, data.seed);
       const Ray ray = data.camera.GenerateRay({x + u.x, y + u.y});
       base.push_back({ray, integrator.Li(ray, sampler, scratch)});
     }

@@ -36,9 +36,9 @@ struct PhotonMappingIntegrator::Shading {
   Vec3 ns;
   float cone_width = 0;
   // The medium around the point (null: vacuum), which attenuates its shadow rays.
-  const HomogeneousMedium* medium = nullptr;
+  const Medium* medium = nullptr;
 
-  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone, const HomogeneousMedium* around = nullptr)
+  Shading(const SurfaceHit& h, const Vec3& w, const Material& m, float cone, const Medium* around = nullptr)
       : hit(h), wo(w), material(m), n(FaceForward(h.n, w)), ns(ShadingNormalOf(m, h.ns)), cone_width(cone),
         medium(around) {
     if (Dot(h.n, n) < 0) ns = -ns;
@@ -221,7 +221,7 @@ struct PhotonMappingIntegrator::PathBranch {
   Rgb throughput;
   float share = 1;
   uint64_t key = 0;
-  const HomogeneousMedium* medium = nullptr;  // the one the ray travels in; null: vacuum
+  const Medium* medium = nullptr;  // the one the ray travels in; null: vacuum
   // Set in spectral mode from the start, and once the branch crossed a dispersive surface:
   // the light it carries at a few wavelengths (throughput is its RGB, spectral->ToRgb()),
   // which sees an RGB quantity as its uplift at each.
@@ -606,7 +606,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
 }
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
-                                       const HomogeneousMedium* medium, std::vector<PhotonNeighbour>& scratch,
+                                       const Medium* medium, std::vector<PhotonNeighbour>& scratch,
                                        bool& escaped, Rgb* companion) const {
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
@@ -686,7 +686,7 @@ Rgb PhotonMappingIntegrator::Arriving(const Shading& at, const LightSample& ls) 
   return ls.radiance * TransmittanceBetween(scene_, at.medium, at.hit.p, ls.p);
 }
 
-ShadowTransmittance PhotonMappingIntegrator::ShadowIn(const HomogeneousMedium* medium) const {
+ShadowTransmittance PhotonMappingIntegrator::ShadowIn(const Medium* medium) const {
   return [this, medium](const Vec3& x, const LightSample& ls) {
     if (!scene_.Visible(x, Vec3(), ls.p, ls.n)) return Rgb();
     return ls.radiance * TransmittanceBetween(scene_, medium, x, ls.p);
@@ -742,7 +742,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
   return {single / float(count), multiple / float(estimates), bias};
 }
 
-Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, const HomogeneousMedium* medium,
+Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium,
                                         uint32_t seed, std::vector<PhotonNeighbour>& scratch, Rgb& bias) const {
   Rgb light, throughput(1);
   bool after_specular = false;  // the ray left a specular surface, not a scattering point
@@ -771,12 +771,13 @@ Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, 
     // The ray's free flight: it scatters at x, where single scattering is taken and the
     // path goes on by the phase function, or gets through to what it meets.
     if (!segment.empty()) {
-      const HomogeneousMedium& m = *segment.medium;
-      const float length = segment.t1 - segment.t0;
-      if (const std::optional<DistanceSample> flight =
-              SampleFreeFlight(m, length, Point1(0, 1, v, kPathChannel), Point1(0, 1, v, kPathDistance))) {
-        throughput = throughput * m.Transmittance(flight->t) * m.sigma_s / flight->pdf;
-        const ScatteredRay s = ScatterAt(scene_, segment.medium, ray.At(segment.t0 + flight->t), -ray.direction,
+      // Closed-form in a homogeneous medium, delta-tracked in a grid: the weight is
+      // sigma_s T / pdf where it scatters, T / the probability of getting through where
+      // it does not (media/medium.h).
+      const FreeFlight flight = segment.SampleFlight(Point1(0, 1, v, kPathChannel), Point1(0, 1, v, kPathDistance));
+      throughput = throughput * flight.weight;
+      if (flight.t) {
+        const ScatteredRay s = ScatterAt(scene_, segment.medium, ray.At(*flight.t), -ray.direction,
                                          Point1(0, 1, v, kPathLightPick), Point2(0, 1, v, kPathLightPoint),
                                          Point2(0, 1, v, kPathDirection), ShadowIn(segment.medium));
         light += throughput * s.single;
@@ -785,7 +786,6 @@ Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, 
         after_specular = false;
         continue;
       }
-      throughput = throughput * m.Transmittance(length) / FreeFlightPassProbability(m, length);
     }
     // Through to the surface (an escaped ray's lights were the last vertex's to find).
     if (!hit) break;

@@ -224,7 +224,7 @@ class PhotonMappingIntegrator {
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
   // companion, if not null, receives what the ray's radiance would gain if the precomputed
   // irradiance it reads were its companion's (LandingIrradiance).
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const HomogeneousMedium* medium,
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const Medium* medium,
                 std::vector<PhotonNeighbour>& scratch, bool& escaped, Rgb* companion = nullptr) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
@@ -262,11 +262,11 @@ class PhotonMappingIntegrator {
   // as where a gather ray lands (LandingIrradiance). Russian roulette on the throughput,
   // at most kMaxVolumePathVertices vertices; seed draws every number. Adds the bias
   // layer's share to bias.
-  Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const HomogeneousMedium* medium, uint32_t seed,
+  Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium, uint32_t seed,
                  std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
   // The light a sample reaches a point in `medium` with: blocked by any surface,
   // attenuated by the medium (the scene's clipped to its ball).
-  ShadowTransmittance ShadowIn(const HomogeneousMedium* medium) const;
+  ShadowTransmittance ShadowIn(const Medium* medium) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;

@@ -8,6 +8,7 @@
 #include "media/equiangular.h"
 #include "media/henyey_greenstein.h"
 #include "scene/scene_data.h"
+#include "util/overloaded.h"
 
 namespace farm {
 namespace {
@@ -30,12 +31,12 @@ std::optional<Vec3> PointOf(const Light& light, Vec2 u) {
 }
 
 // The density with which InScatter draws the distance t for `light` whose sample lies at
-// `at` (PointOf's choice: equiangular towards a quad's or mesh's point, else the truncated
-// free flight).
+// `at` (PointOf's choice: equiangular towards a quad's or mesh's point, else the segment's
+// truncated free flight, a grid's by its exact optical depth).
 float LightDistancePdf(const MediumSegment& segment, const Ray& ray, const Light& light, const Vec3& at, float t) {
   if (std::holds_alternative<QuadLight>(light) || std::holds_alternative<TriangleMeshLight>(light))
     return EquiangularPdf(ray.origin, ray.direction, segment.t0, segment.t1, at, t);
-  return TruncatedFlightPdf(*segment.medium, segment.t1 - segment.t0, t - segment.t0);
+  return segment.DistancePdf(t);
 }
 
 // The weight of one strategy's sample: the power heuristic, or 1 alone.
@@ -56,28 +57,29 @@ float PowerHeuristic(float mine, float other) {
 Rgb InScatter(const MediumSegment& segment, const Ray& ray, const Light& light, float pick_pmf,
               const InScatterDimensions& u, const ShadowTransmittance& shadow, Weighting weighting) {
   if (segment.empty() || !(pick_pmf > 0)) return {};
-  const HomogeneousMedium& m = *segment.medium;
-  if (m.sigma_s.IsBlack()) return {};
-  const float length = segment.t1 - segment.t0;
+  if (!segment.medium->Scatters()) return {};
   std::optional<DistanceSample> d;
   if (const std::optional<Vec3> p = PointOf(light, u.light)) {
     d = SampleEquiangular(ray.origin, ray.direction, segment.t0, segment.t1, *p, u.distance);
-  } else if (std::optional<DistanceSample> s = SampleTruncatedFlight(m, length, u.channel, u.distance)) {
-    d = DistanceSample{segment.t0 + s->t, s->pdf};
+  } else {
+    d = segment.SampleDistance(u.channel, u.distance);
   }
   if (!d) return {};
+  // Nothing scatters where a grid is empty (an equiangular distance may land there): no
+  // shadow ray.
+  const Rgb sigma_s = segment.ScatteringAt(d->t);
+  if (sigma_s.IsBlack()) return {};
   const Vec3 x = ray.At(d->t);
   const std::optional<LightSample> ls = SampleLi(light, x, u.light);
   if (!ls || !(ls->pdf > 0)) return {};
   const Rgb arriving = shadow(x, *ls);
   if (arriving.IsBlack()) return {};
-  const float phase = HenyeyGreenstein(-ray.direction, ls->wi, m.g);
+  const float phase = HenyeyGreenstein(-ray.direction, ls->wi, segment.medium->g());
   const float pdf = pick_pmf * d->pdf * ls->pdf;
   if (!(pdf > 0) || !std::isfinite(pdf)) return {};
   // The phase strategy cannot draw a delta light's one direction.
-  const float weight =
-      ls->delta ? 1.0f : WeightOf(weighting, pdf, TruncatedFlightPdf(m, length, d->t - segment.t0) * phase);
-  return segment.TransmittanceTo(d->t) * m.sigma_s * arriving * (phase * weight / pdf);
+  const float weight = ls->delta ? 1.0f : WeightOf(weighting, pdf, segment.DistancePdf(d->t) * phase);
+  return segment.TransmittanceTo(d->t) * sigma_s * arriving * (phase * weight / pdf);
 }
 
 void LightsAlong(const SceneData& scene, const Ray& ray, const std::optional<SurfaceHit>& hit,
@@ -100,18 +102,16 @@ void LightsAlong(const SceneData& scene, const Ray& ray, const std::optional<Sur
 
 std::optional<ScatteredRay> PhaseInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray,
                                            float u_channel, float u_distance, Vec2 u_direction, Weighting weighting) {
-  if (segment.empty()) return std::nullopt;
-  const HomogeneousMedium& m = *segment.medium;
-  if (m.sigma_s.IsBlack()) return std::nullopt;
-  const std::optional<DistanceSample> d = SampleTruncatedFlight(m, segment.t1 - segment.t0, u_channel, u_distance);
+  if (segment.empty() || !segment.medium->Scatters()) return std::nullopt;
+  const std::optional<DistanceSample> d = segment.SampleDistance(u_channel, u_distance);
   if (!d || !(d->pdf > 0)) return std::nullopt;
-  const float t = segment.t0 + d->t;
+  const float t = d->t;
   const Vec3 x = ray.At(t);
-  const PhaseSample phase = SampleHenyeyGreenstein(-ray.direction, m.g, u_direction);
+  const PhaseSample phase = SampleHenyeyGreenstein(-ray.direction, segment.medium->g(), u_direction);
   ScatteredRay out;
   out.ray = Ray{x, phase.wi};
   out.hit = scene.Intersect(out.ray);
-  out.weight = segment.TransmittanceTo(t) * m.sigma_s / d->pdf;
+  out.weight = segment.TransmittanceTo(t) * segment.ScatteringAt(t) / d->pdf;
   // The phase function over its density is 1; the light strategy's density for the same
   // (t, wi) is the light's pick times its distance's density times SampleLi's.
   LightsAlong(scene, out.ray, out.hit, [&](int light, const LightSample& ls) {
@@ -124,7 +124,7 @@ std::optional<ScatteredRay> PhaseInScatter(const SceneData& scene, const MediumS
   return out;
 }
 
-ScatteredRay ScatterAt(const SceneData& scene, const HomogeneousMedium* medium, const Vec3& x, const Vec3& wo,
+ScatteredRay ScatterAt(const SceneData& scene, const Medium* medium, const Vec3& x, const Vec3& wo,
                        float u_pick, Vec2 u_light, Vec2 u_direction, const ShadowTransmittance& shadow) {
   ScatteredRay out;
   out.weight = Rgb(1);
@@ -133,7 +133,7 @@ ScatteredRay ScatterAt(const SceneData& scene, const HomogeneousMedium* medium, 
     const std::optional<LightSample> ls = pick.pmf > 0 ? SampleLi(scene.lights[pick.index], x, u_light) : std::nullopt;
     if (ls && ls->pdf > 0) {
       const float light_pdf = pick.pmf * ls->pdf;
-      const float phase = HenyeyGreenstein(wo, ls->wi, medium->g);
+      const float phase = HenyeyGreenstein(wo, ls->wi, medium->g());
       const float weight = ls->delta ? 1.0f : PowerHeuristic(light_pdf, phase);
       if (weight > 0 && std::isfinite(light_pdf)) {
         const Rgb arriving = shadow(x, *ls);
@@ -141,7 +141,7 @@ ScatteredRay ScatterAt(const SceneData& scene, const HomogeneousMedium* medium, 
       }
     }
   }
-  const PhaseSample phase = SampleHenyeyGreenstein(wo, medium->g, u_direction);
+  const PhaseSample phase = SampleHenyeyGreenstein(wo, medium->g(), u_direction);
   out.ray = Ray{x, phase.wi};
   out.hit = scene.Intersect(out.ray);
   LightsAlong(scene, out.ray, out.hit, [&](int light, const LightSample& ls) {
@@ -179,15 +179,25 @@ bool SeenBall::Sees(const Vec3& offset) const {
   return LengthSquared(offset) <= depths[nearest] * depths[nearest];
 }
 
+double SeenBall::Integral(const Vec3& x, const std::function<float(const Vec3&)>& f) const {
+  // Gauss-Legendre on [0, d]: nodes d (1 -+ 1/sqrt(3)) / 2, weights d / 2.
+  constexpr float kNode = 0.21132487f;  // (1 - 1/sqrt(3)) / 2
+  double sum = 0;
+  for (int i = 0; i < kVolumeProbes; ++i) {
+    const float d = depths[i];
+    for (const float s : {d * kNode, d * (1 - kNode)}) sum += double(f(x + directions[i] * s)) * s * s * d / 2;
+  }
+  return sum * 4 * kPi / kVolumeProbes;
+}
+
 Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
                     const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
                     std::vector<PhotonNeighbour>& scratch) {
   if (segment.empty() || volume.size() == 0) return {};
-  const HomogeneousMedium& m = *segment.medium;
-  if (m.sigma_s.IsBlack()) return {};
-  const std::optional<DistanceSample> d = SampleTruncatedFlight(m, segment.t1 - segment.t0, u_channel, u_distance);
+  if (!segment.medium->Scatters()) return {};
+  const std::optional<DistanceSample> d = segment.SampleDistance(u_channel, u_distance);
   if (!d || !(d->pdf > 0)) return {};
-  const float t = segment.t0 + d->t;
+  const float t = d->t;
   const Vec3 x = ray.At(t);
   volume.NearestK(x, estimate.neighbours, estimate.max_radius, scratch);
   if (scratch.empty()) return {};
@@ -207,11 +217,20 @@ Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const 
     if (i == farthest) continue;
     const DecodedPhoton p = volume.photon(scratch[i].index);
     if (seen.fraction < 1 && !seen.Sees(p.position - x)) continue;
-    sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, m.g);
+    sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, segment.medium->g());
   }
-  const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
-  if (!(volume_of_sphere > 0)) return {};
-  return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
+  return std::visit(Overloaded{[&](const HomogeneousMedium&) -> Rgb {
+                                 const float volume_of_sphere = 4.0f / 3.0f * kPi * r2 * r * seen.fraction;
+                                 if (!(volume_of_sphere > 0)) return {};
+                                 return segment.TransmittanceTo(t) * sum / (volume_of_sphere * d->pdf);
+                               },
+                               [&](const GridMedium& grid) -> Rgb {
+                                 const double extinction = seen.Integral(x, [&](const Vec3& p) { return grid.SigmaT(p); });
+                                 if (!(extinction > 0)) return {};
+                                 return segment.TransmittanceTo(t) * sum *
+                                        float(grid.SigmaT(x) / (extinction * d->pdf));
+                               }},
+                    segment.medium->kind);
 }
 
 }  // namespace farm

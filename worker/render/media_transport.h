@@ -1,9 +1,9 @@
 #pragma once
 
-// Light transport through homogeneous media along camera paths (docs/media.md): where a
-// ray travels in a medium, what it reaches is attenuated by the medium's closed-form
-// transmittance, and light from every light scattered once towards the ray along the way
-// (single scattering) is added:
+// Light transport through media along camera paths (docs/media.md): where a ray travels
+// in a medium, what it reaches is attenuated by the medium's transmittance (closed-form,
+// or the exact optical depth through a grid), and light from every light scattered once towards the
+// ray along the way (single scattering) is added:
 //
 //   L_ss = integral over t and wi of T(t0, t) sigma_s p(wo, wi) L_light(x(t), wi) T_shadow,
 //
@@ -13,11 +13,17 @@
 //   light   pick a light in proportion to power and a point on it, then a distance along
 //           the segment: equiangularly towards point and spot lights and towards the point
 //           drawn on a quad or mesh light (media/equiangular.h: it cancels their 1 / d^2,
-//           which makes halos clean), by the truncated free-flight density for spheres
-//           and distant lights (InScatter);
+//           which makes halos clean), by the segment's truncated free-flight density for
+//           spheres and distant lights (InScatter);
 //   phase   a distance from the truncated free flight, a direction from the phase
 //           function, and whatever light the ray along it meets: an area light it hits, or
 //           the sun's disc and the environment if it escapes (PhaseInScatter).
+//
+// The truncated free flight is the medium's (MediumSegment::SampleDistance): closed-form
+// in a homogeneous medium, by inverting the exact optical depth in a grid, where sigma_s
+// varies along the ray; either way both strategies weigh a sample by the density that
+// drew it and the density the other would have drawn it with (MediumSegment::
+// DistancePdf), so the power heuristic compares what the samplers really do.
 //
 // Light sampling alone has infinite variance where a ray grazes an emitter (the estimate
 // goes as 1 / h, h the distance from the ray to the point drawn on the light) and misses
@@ -27,9 +33,9 @@
 // transmittance of the medium they cross.
 //
 // The phase strategy's ray is also where a volumetric path goes on (multiple scattering
-// by path tracing in media of |g| at or above the contract's path_traced_media_min_abs_g:
-// scene/multiple_scattering.h); ScatterAt is single scattering at a fixed point of such a
-// path, the same two strategies over directions alone.
+// by path tracing in media of |g| at or above the contract's path_traced_media_min_abs_g,
+// homogeneous or grid: scene/multiple_scattering.h); ScatterAt is single scattering at a
+// fixed point of such a path, the same two strategies over directions alone.
 
 #include <array>
 #include <functional>
@@ -39,7 +45,6 @@
 #include "math/bounds.h"
 #include "math/ray.h"
 #include "math/rgb.h"
-#include "media/homogeneous_medium.h"
 #include "photonmap/photon_map.h"
 #include "photonmap/radiance_estimate.h"
 #include "scene/lights.h"
@@ -101,7 +106,7 @@ std::optional<ScatteredRay> PhaseInScatter(const SceneData& scene, const MediumS
 // light sample (u_pick, u_light) and one phase sample (u_direction), each weighed against
 // the other over directions (the point is fixed); single is per unit of sigma_s. The phase
 // sample's ray is where the path goes on.
-ScatteredRay ScatterAt(const SceneData& scene, const HomogeneousMedium* medium, const Vec3& x, const Vec3& wo,
+ScatteredRay ScatterAt(const SceneData& scene, const Medium* medium, const Vec3& x, const Vec3& wo,
                        float u_pick, Vec2 u_light, Vec2 u_direction, const ShadowTransmittance& shadow);
 
 // The lights a ray meets first (its hit, nothing, or all distant lights if it escapes):
@@ -122,7 +127,11 @@ void LightsAlong(const SceneData& scene, const Ray& ray, const std::optional<Sur
 // is unbiased, as on surfaces: radiance_estimate.h); fewer than k within max_radius: all
 // counted, r = max_radius. The sphere's volume is that part of it the point sees, and its
 // photons those in that part (probe rays: SeenBall), so no light is lost where it hangs
-// over a wall nor borrowed from beyond one. The
+// over a wall nor borrowed from beyond one. In a grid, where sigma_s varies within the
+// sphere, the photons' density is that of sigma_s L_i: the sum is divided by the integral
+// of sigma_t over the seen part instead of its volume (an estimate of albedo x L_i) and
+// multiplied by sigma_t at the point, so that scattering is not smeared past the smoke's
+// edges (a halo where sigma_s is 0) nor averaged away in its wisps. The
 // settings' filter does not apply. ray.direction unit; u_probe turns the probes.
 Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const Ray& ray, const PhotonMap& volume,
                     const RadianceEstimateSettings& estimate, float u_channel, float u_distance, Vec2 u_probe,
@@ -143,6 +152,11 @@ struct SeenBall {
 
   static SeenBall Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u);
   bool Sees(const Vec3& offset) const;
+  // The integral of f over the seen part of the ball around x: along each probe, two
+  // Gauss-Legendre points over its depth (exact for f uniform: the s^2 of the volume
+  // element is integrated exactly), each probe standing for 4 pi / kVolumeProbes of the
+  // directions.
+  double Integral(const Vec3& x, const std::function<float(const Vec3&)>& f) const;
 };
 
 }  // namespace farm

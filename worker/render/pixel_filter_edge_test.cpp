@@ -107,17 +107,25 @@ TEST(PixelFilterEdge, AMitchellFilteredEdgeRingsAsItsProfileSays) {
 // At equal samples the Gaussian's image of an edge is closer to the step convolved with it
 // than the box's is to the step box-filtered: each pixel weighs the samples of its
 // neighbours too. RMSE over the 8 columns about edges at four sub-pixel offsets, 64 rows
-// each, against the closed forms, with 4 and 12 samples a pixel and with edge
+// each, against the closed forms, with 4, 12 and 128 samples a pixel and with edge
 // anti-aliasing's 1 and 12 at edges (where the pixels it judged smooth count by their mean,
 // render/filter_splats.h: weighed by their lone sample's position, the ratio was 1.09).
-// Near 1.6 in each: about the square root of the Gaussian's effective area in pixels.
+// Near 1.6, under the bound of independently placed samples, 1 / integral of f^2 = 1.77
+// (docs/pixel-filters.md). At 128 samples it is 1.65 because the film sampler stratifies
+// samples across pixels: the box's error at this axis-aligned edge falls about as 1/n
+// (each pixel's samples are stratified in x), and the filter's as fast only if the samples
+// of the pixels it spans are stratified together (drawn per pixel, the ratio was 1.54 at
+// 128 samples and 1.46 at 256).
 TEST(PixelFilterEdge, AtEqualSamplesTheGaussianIsCloserToItsStepThanTheBoxToItsOwn) {
   struct Sampling {
     uint32_t spp;
     pb::AntialiasingMode mode;
+    double least;  // the smallest ratio box / Gaussian accepted
   };
-  for (const Sampling sampling : {Sampling{4, pb::ANTIALIASING_MODE_NONE}, Sampling{12, pb::ANTIALIASING_MODE_NONE},
-                                  Sampling{1, pb::ANTIALIASING_MODE_EDGES}}) {
+  for (const Sampling sampling : {Sampling{4, pb::ANTIALIASING_MODE_NONE, 1.4},
+                                  Sampling{12, pb::ANTIALIASING_MODE_NONE, 1.4},
+                                  Sampling{128, pb::ANTIALIASING_MODE_NONE, 1.6},
+                                  Sampling{1, pb::ANTIALIASING_MODE_EDGES, 1.4}}) {
     double box2 = 0, gaussian2 = 0;
     for (const double edge : {13.3, 13.55, 13.8, 14.05}) {
       const int height = 64;
@@ -136,7 +144,7 @@ TEST(PixelFilterEdge, AtEqualSamplesTheGaussianIsCloserToItsStepThanTheBoxToItsO
     const double ratio = std::sqrt(box2 / gaussian2);
     std::printf("%u samples a pixel, antialiasing mode %d: RMSE box / Gaussian %.2f\n", sampling.spp, sampling.mode,
                 ratio);
-    EXPECT_GT(ratio, 1.4) << sampling.spp << " mode " << sampling.mode;
+    EXPECT_GT(ratio, sampling.least) << sampling.spp << " mode " << sampling.mode;
   }
 }
 

@@ -15,6 +15,7 @@
 #include "render/edge_detect.h"
 #include "render/filter_splats.h"
 #include "render/integrator.h"
+#include "sampling/film_sampler.h"
 #include "sampling/hash.h"
 #include "sampling/pixel_sampler.h"
 #include "scene/scene_data.h"
@@ -27,10 +28,13 @@
 // mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in all. FULL mode gives
 // every pixel that many; NONE gives none more.
 //
-// Sample j of a pixel in a round is a pure function of (seed, round key, pixel, j): the
-// sampler's permutation domain is the most samples a pixel can take in the round (a scene
-// constant, never a per-pixel choice), so an edge pixel's first samples are exactly the
-// base samples it was judged by and the extra ones continue that stratified set. A round
+// Sample j of a pixel in a round is a pure function of (seed, round key, pixel, j). Its
+// film position is the film sampler's sample j of the pixel (sampling/film_sampler.h: one
+// sequence over the image, so that neighbouring pixels' samples are stratified together),
+// its other dimensions the pixel sampler's, whose permutation domain is the most samples a
+// pixel can take in the round (a scene constant, never a per-pixel choice). An edge pixel's
+// first samples are therefore exactly the base samples it was judged by and the extra ones
+// continue that stratified set. A round
 // is keyed by RoundSettings::first_sample: round 1 (first_sample 0) uses the scene seed,
 // later rounds a seed hashed from (seed, first_sample), so any value distinct per round
 // draws a fresh, independent set (the image's rounds then have independent errors, which
@@ -156,7 +160,12 @@ class PixelRenderer {
  public:
   PixelRenderer(const SceneData& data, const PhotonMappingIntegrator& integrator,
                 const SamplePlan& plan, SampleTally& tally)
-      : data_(data), integrator_(integrator), sampler_(plan.supersampled, plan.seed), tally_(tally) {}
+      : data_(data),
+        integrator_(integrator),
+        film_(data.width, data.height),
+        seed_(plan.seed),
+        sampler_(plan.supersampled, plan.seed),
+        tally_(tally) {}
   ~PixelRenderer() {
     tally_.samples += counts_.samples;
     tally_.nonfinite += counts_.nonfinite;
@@ -174,7 +183,7 @@ class PixelRenderer {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
-      const Vec2 u = sampler_.Get2D();  // uniform over the pixel; a filter weighs it
+      const Vec2 u = film_.Sample(x, y, s, seed_);  // uniform over the pixel; a filter weighs it
       // A pinhole draws no lens sample, so that its images keep their dimensions.
       const Vec2 lens = data_.camera.has_lens() ? sampler_.Get2D() : Vec2{};
       const Vec2 film{x + u.x, y + u.y};
@@ -212,6 +221,8 @@ class PixelRenderer {
 
   const SceneData& data_;
   const PhotonMappingIntegrator& integrator_;
+  FilmSampler film_;
+  uint64_t seed_;
   PixelSampler sampler_;
   std::vector<PhotonNeighbour> scratch_;
   SampleTally& tally_;

@@ -8,7 +8,9 @@
 // scramble seed and its own shuffle of the sample indices, both hashed from (seed, pixel,
 // dimension). Within one pixel the samples of one dimension pair therefore form a
 // stratified (0,2)-net when samples_per_pixel is a power of two, while different pairs are
-// decorrelated. Cheap to copy: one per thread, restarted for each pixel sample.
+// decorrelated. Cheap to copy: one per thread, restarted for each pixel sample. The tile
+// renderer takes a sample's position on the film from film_sampler.h instead, which
+// stratifies it across pixels too, and the rest of the camera path from here.
 
 #include <cstdint>
 #include <string>

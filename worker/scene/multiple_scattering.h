@@ -8,10 +8,10 @@
 // function. The coordinator's planner reads the same value (no volume map when no medium
 // needs one); photon paths store no volume photon in a path-traced medium.
 
-#include "media/homogeneous_medium.h"
+#include "media/medium.h"
 
 namespace farm {
 
-bool PathTracesMultipleScattering(const HomogeneousMedium& medium);
+bool PathTracesMultipleScattering(const Medium& medium);
 
 }  // namespace farm

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -11,6 +12,7 @@
 #include "math/transform.h"
 #include "renderfarm/v1/scene.pb.h"
 #include "scene/environment_image.h"
+#include "scene/farm_grid.h"
 #include "scene/farm_mesh.h"
 #include "scene/mesh_file.h"
 #include "scene/obj_mesh.h"
@@ -26,12 +28,6 @@ namespace {
 namespace pb = renderfarm::v1;
 
 Vec3 PointOf(const pb::Vec3& v) { return Vec3(Vec3dOf(v)); }
-
-HomogeneousMedium MediumFromProto(const pb::Medium& m) {
-  const float g = float(m.g());
-  if (m.has_albedo()) return HomogeneousMedium::FromAlbedo(RgbOf(m.albedo().albedo()), float(m.albedo().density()), g);
-  return HomogeneousMedium::FromCoefficients(RgbOf(m.sigma().sigma_a()), RgbOf(m.sigma().sigma_s()), g);
-}
 
 std::string ShapeLabel(int index, const pb::Shape& shape) {
   std::string label = "shapes[" + std::to_string(index) + "]";
@@ -57,15 +53,23 @@ Affine3d TransformFromProto(const pb::Transform& t) {
                                         Vec3dOf(t.translation()));
 }
 
-// The mesh files a scene names (shapes' mesh files, mesh parts), each blob fetched and read
-// once however many fields name it.
-class MeshFiles {
+// The files of one kind a scene names by digest (mesh files and mesh parts; media's grid
+// files), each blob fetched and read once however many fields name it. `what` names the
+// kind in messages ("mesh", "grid"); parse reads the bytes, throwing SceneError.
+template <typename T>
+class BlobFiles {
  public:
-  explicit MeshFiles(const BlobLoader& load_blob) : load_blob_(load_blob) {}
+  // Reads the bytes of the file `name` (its path in the scene file, or its digest) that
+  // `field` names.
+  using Parse = std::function<T(const std::string& bytes, const std::string& field, const std::string& name)>;
 
-  // The file's mesh as stored (object space). `field` names the message that holds the
-  // file ("shapes[3].mesh", "meshes[0].parts[1]"), `path` its path in the scene file.
-  std::shared_ptr<const TriangleMesh> Read(const std::string& digest, const std::string& path, const std::string& field) {
+  BlobFiles(const BlobLoader& load_blob, std::string what, Parse parse)
+      : load_blob_(load_blob), what_(std::move(what)), parse_(std::move(parse)) {}
+
+  // The file's contents as stored (object or grid space). `field` names the message that
+  // holds the file ("shapes[3].mesh", "meshes[0].parts[1]", "medium.grid"), `path` its
+  // path in the scene file.
+  std::shared_ptr<const T> Read(const std::string& digest, const std::string& path, const std::string& field) {
     if (const auto it = read_.find(digest); it != read_.end()) return it->second;
     const std::string name = contract::GoQuote(path.empty() ? digest : path);
     std::string bytes;
@@ -73,24 +77,64 @@ class MeshFiles {
       bytes = load_blob_(digest);
     } catch (const std::exception& e) {
       // Of the kind the loader's error is (the blob store being away is not the scene's fault).
-      throw TaskError(FailureKindOf(e), field + ".digest: cannot load mesh " + name + ": " + e.what());
+      throw TaskError(FailureKindOf(e), field + ".digest: cannot load " + what_ + " " + name + ": " + e.what());
     }
-    std::shared_ptr<const TriangleMesh> mesh;
+    auto read = std::make_shared<const T>(parse_(bytes, field, name));
+    read_.emplace(digest, read);
+    return read;
+  }
+
+ private:
+  const BlobLoader& load_blob_;
+  std::string what_;
+  Parse parse_;
+  std::unordered_map<std::string, std::shared_ptr<const T>> read_;
+};
+
+using MeshFiles = BlobFiles<TriangleMesh>;
+using GridFiles = BlobFiles<DenseGrid>;
+
+MeshFiles MeshFilesOf(const BlobLoader& load_blob) {
+  return MeshFiles(load_blob, "mesh", [](const std::string& bytes, const std::string& field, const std::string& name) {
     try {
-      mesh = std::make_shared<const TriangleMesh>(ReadMeshFile(bytes));
+      return ReadMeshFile(bytes);
     } catch (const ObjError& e) {
       throw SceneError(field + ": OBJ file " + name + " " + e.what());
     } catch (const FarmMeshError& e) {
       throw SceneError(field + ": farm mesh file " + name + " " + e.what());
     }
-    read_.emplace(digest, mesh);
-    return mesh;
-  }
+  });
+}
 
- private:
-  const BlobLoader& load_blob_;
-  std::unordered_map<std::string, std::shared_ptr<const TriangleMesh>> read_;
-};
+GridFiles GridFilesOf(const BlobLoader& load_blob) {
+  return GridFiles(load_blob, "grid", [](const std::string& bytes, const std::string& field, const std::string& name) {
+    try {
+      return ReadFarmGrid(bytes);
+    } catch (const FarmGridError& e) {
+      throw SceneError(field + ": farm grid file " + name + " " + e.what());
+    }
+  });
+}
+
+// A scene's or a shape's medium (`field`: "medium", "shapes[2].interior_medium").
+Medium MediumFromProto(const pb::Medium& m, const std::string& field, GridFiles& grids) {
+  const float g = float(m.g());
+  switch (m.coefficients_case()) {
+    case pb::Medium::kAlbedo:
+      return {HomogeneousMedium::FromAlbedo(RgbOf(m.albedo().albedo()), float(m.albedo().density()), g)};
+    case pb::Medium::kSigma:
+      return {HomogeneousMedium::FromCoefficients(RgbOf(m.sigma().sigma_a()), RgbOf(m.sigma().sigma_s()), g)};
+    case pb::Medium::kGrid: {
+      const pb::MediumGrid& grid = m.grid();
+      const Affine3d placement = grid.has_transform() ? TransformFromProto(grid.transform()) : Affine3d{};
+      return {GridMedium{grids.Read(grid.digest(), grid.path(), field + ".grid"), placement.Inverse(),
+                         float(contract::OrDefault<pb::MediumGrid>(grid.density_scale(), "density_scale")),
+                         RgbOf(grid.albedo()), g}};
+    }
+    case pb::Medium::COEFFICIENTS_NOT_SET: break;
+  }
+  throw SceneError(field + ": no coefficients");  // CheckScene refuses it first
+}
 
 // A shape's mesh file placed in the world; the file's own mesh, shared, when the shape
 // does not move it.
@@ -362,7 +406,8 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     d.cutouts.push_back(options.cutout_of ? options.cutout_of(m, i) : CutoutOf(d, i));
   }
 
-  MeshFiles files(load_blob);
+  MeshFiles files = MeshFilesOf(load_blob);
+  GridFiles grids = GridFilesOf(load_blob);
   std::unordered_map<std::string, int> mesh_index;
   for (int i = 0; i < description.meshes_size(); ++i) {
     mesh_index.emplace(description.meshes(i).name(), i);
@@ -378,7 +423,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
     record.label = ShapeLabel(i, shape);
     if (!shape.has_instance()) record.material = material_index.at(shape.material());
     if (shape.has_interior_medium()) {
-      record.interior_medium = MediumFromProto(shape.interior_medium());
+      record.interior_medium = MediumFromProto(shape.interior_medium(), field + ".interior_medium", grids);
       d.has_media = true;
     }
     try {
@@ -405,7 +450,7 @@ Scene Scene::Build(const pb::Scene& description, const BlobLoader& load_blob, co
   for (int i = 0; i < description.lights_size(); ++i)
     d.lights.push_back(LightFromProto(description.lights(i), scene_sphere));
   if (description.has_medium()) {
-    d.medium = MediumFromProto(description.medium());
+    d.medium = MediumFromProto(description.medium(), "medium", grids);
     const DistantDisc disc = DistantDisc::Around(scene_sphere);
     d.medium_ball = {disc.center, disc.radius};
     d.has_media = true;

@@ -14,7 +14,7 @@
 #include "math/bounds.h"
 #include "math/ray.h"
 #include "math/vec3.h"
-#include "media/homogeneous_medium.h"
+#include "media/medium.h"
 #include "sampling/distribution.h"
 #include "sampling/target_spheres.h"
 #include "scene/accelerator.h"
@@ -37,7 +37,7 @@ struct ShapeRecord {
   ShapeGeometry geometry;
   int material = 0;  // index into SceneData::materials; an instance's parts name their own
   // Shape.interior_medium: entered by crossing the surface from its front to its back.
-  std::optional<HomogeneousMedium> interior_medium;
+  std::optional<Medium> interior_medium;
 };
 
 // A ray's closest hit, refined: p lies on the surface (projected back onto it, which is
@@ -126,7 +126,7 @@ struct SceneData {
   Bounds3 bounds;  // of all geometry
   // Scene.medium, filling medium_ball (where light from infinitely far away enters: the
   // distant lights' disc's sphere) outside the shapes' interior media; none: vacuum.
-  std::optional<HomogeneousMedium> medium;
+  std::optional<Medium> medium;
   BoundingSphere medium_ball;
   // Whether the scene or any shape holds a medium: photon paths draw their media's random
   // numbers only then, so a scene without media traces what it traced before they existed.

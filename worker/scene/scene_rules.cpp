@@ -240,7 +240,10 @@ void CheckShapes(const pb::Scene& s) {
       case pb::Shape::kSphere:  // CheckRules has bounded its radius; a centre may be anywhere
       case pb::Shape::GEOMETRY_NOT_SET: break;
     }
+    if (shape.interior_medium().has_grid())
+      CheckTransform(p + ".interior_medium.grid.transform", shape.interior_medium().grid().transform());
   }
+  if (s.medium().has_grid()) CheckTransform("medium.grid.transform", s.medium().grid().transform());
 }
 
 void CheckLightShapes(const pb::Scene& s) {

@@ -8,7 +8,9 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "math/bounds.h"
 #include "math/rgb.h"
 #include "math/vec3.h"
 #include "renderfarm/v1/scene.pb.h"
@@ -137,6 +139,30 @@ inline std::string FarmMeshBytes(const TriangleMesh& m) {
   put(m.tangents.data(), m.tangents.size() * sizeof(Tangent));
   put(m.indices.data(), m.indices.size() * sizeof(uint32_t));
   return out;
+}
+
+// The farm grid file (docs/grid-format.md) of nx x ny x nz densities (x fastest) over box.
+inline std::string FarmGridBytes(uint32_t nx, uint32_t ny, uint32_t nz, const Bounds3& box,
+                                 const std::vector<float>& densities) {
+  std::string out = "FARMGRID";
+  const auto put = [&out](const void* data, std::size_t bytes) { out.append(static_cast<const char*>(data), bytes); };
+  const uint32_t header[4] = {1, nx, ny, nz};
+  put(header, sizeof header);
+  put(&box.min, sizeof(Vec3));
+  put(&box.max, sizeof(Vec3));
+  put(densities.data(), densities.size() * sizeof(float));
+  return out;
+}
+
+// Makes `medium` a grid medium of the blob `digest` with albedo and density scale.
+inline pb::MediumGrid* SetGridMedium(pb::Medium* medium, const std::string& digest, const Rgb& albedo,
+                                     float density_scale, float g) {
+  pb::MediumGrid* grid = medium->mutable_grid();
+  grid->set_digest(digest);
+  Set(grid->mutable_albedo(), albedo);
+  grid->set_density_scale(density_scale);
+  medium->set_g(g);
+  return grid;
 }
 
 // A shape placing mesh `mesh` of the scene (Scene.meshes) by a 12-value matrix (row-major).

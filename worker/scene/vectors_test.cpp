@@ -17,6 +17,8 @@
 //       whose line is "# vector: accept" or "# vector: refuse byte N: REASON": ReadFarmMesh
 //       must accept the first kind and refuse the second with a FarmMeshError at byte N
 //       whose reason contains REASON (the reader words its refusals as Go does).
+//   tests/vectors/grids/*.farmgrid   farm grid files, each beside its sidecar likewise:
+//       ReadFarmGrid must accept or refuse them with a FarmGridError at byte N.
 //
 // Neither test skips: a folder without vectors fails it.
 
@@ -35,6 +37,7 @@
 
 #include "daemon/sha256.h"
 #include "renderfarm/v1/vectors.pb.h"
+#include "scene/farm_grid.h"
 #include "scene/farm_mesh.h"
 #include "scene/obj_mesh.h"
 #include "scene/scene.h"
@@ -221,9 +224,13 @@ TEST(MeshVectors, TheObjLoaderAcceptsAndRefusesWhatEachFileSays) {
   EXPECT_GT(refused, 0) << "no mesh vector is refused";
 }
 
-TEST(MeshVectors, TheFarmMeshReaderAcceptsAndRefusesWhatEachSidecarSays) {
-  const std::vector<fs::path> vectors = Vectors(MESH_VECTORS, ".farmmesh");
-  ASSERT_FALSE(vectors.empty()) << "no mesh vectors (*.farmmesh) in " << MESH_VECTORS;
+// Runs `read` on each file of `dir` ending in `extension` and holds it to the verdict of
+// the file's sidecar (FILE.vector): accepted, or refused with an Error at byte N whose
+// reason contains REASON.
+template <typename Error, typename Read>
+void CheckSidecarVectors(const fs::path& dir, const std::string& extension, Read read) {
+  const std::vector<fs::path> vectors = Vectors(dir, extension);
+  ASSERT_FALSE(vectors.empty()) << "no vectors (*" << extension << ") in " << dir;
   int accepted = 0, refused = 0;
   for (const fs::path& file : vectors) {
     SCOPED_TRACE(file.string());
@@ -234,10 +241,10 @@ TEST(MeshVectors, TheFarmMeshReaderAcceptsAndRefusesWhatEachSidecarSays) {
     const bool accept = verdict == "# vector: accept";
     ASSERT_TRUE(accept || verdict.starts_with(kRefuse)) << verdict;
     try {
-      const TriangleMesh mesh = ReadFarmMesh(ReadFile(file));
-      EXPECT_TRUE(accept) << "accepted (" << mesh.triangle_count() << " triangles), must be refused: " << verdict;
+      const std::string what = read(ReadFile(file));
+      EXPECT_TRUE(accept) << "accepted (" << what << "), must be refused: " << verdict;
       accepted += accept;
-    } catch (const FarmMeshError& e) {
+    } catch (const Error& e) {
       ASSERT_FALSE(accept) << "refused, must be accepted: " << e.what();
       const std::size_t colon = verdict.find(": ", kRefuse.size());
       EXPECT_EQ(e.offset(), std::stoull(verdict.substr(kRefuse.size()))) << e.what();
@@ -245,8 +252,21 @@ TEST(MeshVectors, TheFarmMeshReaderAcceptsAndRefusesWhatEachSidecarSays) {
       refused += 1;
     }
   }
-  EXPECT_GT(accepted, 0) << "no farm mesh vector is accepted";
-  EXPECT_GT(refused, 0) << "no farm mesh vector is refused";
+  EXPECT_GT(accepted, 0) << "no " << extension << " vector is accepted";
+  EXPECT_GT(refused, 0) << "no " << extension << " vector is refused";
+}
+
+TEST(MeshVectors, TheFarmMeshReaderAcceptsAndRefusesWhatEachSidecarSays) {
+  CheckSidecarVectors<FarmMeshError>(MESH_VECTORS, ".farmmesh", [](const std::string& bytes) {
+    return std::to_string(ReadFarmMesh(bytes).triangle_count()) + " triangles";
+  });
+}
+
+TEST(GridVectors, TheFarmGridReaderAcceptsAndRefusesWhatEachSidecarSays) {
+  CheckSidecarVectors<FarmGridError>(GRID_VECTORS, ".farmgrid", [](const std::string& bytes) {
+    const DenseGrid grid = ReadFarmGrid(bytes);
+    return std::to_string(grid.nx()) + " x " + std::to_string(grid.ny()) + " x " + std::to_string(grid.nz()) + " cells";
+  });
 }
 
 }  // namespace

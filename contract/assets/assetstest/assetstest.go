@@ -36,3 +36,22 @@ func PNGHeader(w, h uint32) []byte {
 	binary.Write(&b, binary.BigEndian, crc32.ChecksumIEEE(ihdr))
 	return b.Bytes()
 }
+
+// RampGrid is a farm grid file of 3 x 2 x 2 cells over [-1, 2] x [0, 1] x [0, 0.5],
+// densities 0, 0.25, ... 2.75 in file order (the first cell empty).
+func RampGrid() *assets.GridData {
+	g := &assets.GridData{Nx: 3, Ny: 2, Nz: 2, Min: [3]float32{-1, 0, 0}, Max: [3]float32{2, 1, 0.5}}
+	for i := range 12 {
+		g.Densities = append(g.Densities, 0.25*float32(i))
+	}
+	return g
+}
+
+// EncodedGrid is g as a farm grid file.
+func EncodedGrid(g *assets.GridData) []byte {
+	var b bytes.Buffer
+	if err := assets.EncodeFarmGrid(&b, g); err != nil {
+		panic(err) // the tests' grids are well formed
+	}
+	return b.Bytes()
+}

@@ -210,8 +210,14 @@ func (x *UploadBlobResponse) GetSizeBytes() int64 {
 }
 
 type DownloadBlobRequest struct {
-	state         protoimpl.MessageState `protogen:"open.v1"`
-	Digest        string                 `protobuf:"bytes,1,opt,name=digest,proto3" json:"digest,omitempty"`
+	state  protoimpl.MessageState `protogen:"open.v1"`
+	Digest string                 `protobuf:"bytes,1,opt,name=digest,proto3" json:"digest,omitempty"`
+	// First byte to send; 0 (the start) by default. At most the blob's size.
+	Offset int64 `protobuf:"varint,2,opt,name=offset,proto3" json:"offset,omitempty"`
+	// Most bytes to send from offset; 0 sends the rest of the blob. A range that runs past the
+	// end stops there. A request for the whole blob (offset and length 0, or a length that
+	// reaches its end from 0) is checked whole first; any other range is not (above).
+	Length        int64 `protobuf:"varint,3,opt,name=length,proto3" json:"length,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -253,10 +259,24 @@ func (x *DownloadBlobRequest) GetDigest() string {
 	return ""
 }
 
+func (x *DownloadBlobRequest) GetOffset() int64 {
+	if x != nil {
+		return x.Offset
+	}
+	return 0
+}
+
+func (x *DownloadBlobRequest) GetLength() int64 {
+	if x != nil {
+		return x.Length
+	}
+	return 0
+}
+
 type DownloadBlobResponse struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Chunk []byte                 `protobuf:"bytes,1,opt,name=chunk,proto3" json:"chunk,omitempty"`
-	// Set on the first message.
+	// Set on the first message: the size of the whole blob, whatever the range.
 	SizeBytes     int64 `protobuf:"varint,2,opt,name=size_bytes,json=sizeBytes,proto3" json:"size_bytes,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
@@ -419,9 +439,11 @@ const file_renderfarm_v1_blob_proto_rawDesc = "" +
 	"\x12UploadBlobResponse\x12\x16\n" +
 	"\x06digest\x18\x01 \x01(\tR\x06digest\x12\x1d\n" +
 	"\n" +
-	"size_bytes\x18\x02 \x01(\x03R\tsizeBytes\"-\n" +
+	"size_bytes\x18\x02 \x01(\x03R\tsizeBytes\"{\n" +
 	"\x13DownloadBlobRequest\x12\x16\n" +
-	"\x06digest\x18\x01 \x01(\tR\x06digest\"K\n" +
+	"\x06digest\x18\x01 \x01(\tR\x06digest\x12%\n" +
+	"\x06offset\x18\x02 \x01(\x03B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\x06offset\x12%\n" +
+	"\x06length\x18\x03 \x01(\x03B\r\x8a\xb5\x18\t\t\x00\x00\x00\x00\x00\x00\x00\x00R\x06length\"K\n" +
 	"\x14DownloadBlobResponse\x12\x14\n" +
 	"\x05chunk\x18\x01 \x01(\fR\x05chunk\x12\x1d\n" +
 	"\n" +
@@ -436,7 +458,7 @@ const file_renderfarm_v1_blob_proto_rawDesc = "" +
 	"\n" +
 	"UploadBlob\x12 .renderfarm.v1.UploadBlobRequest\x1a!.renderfarm.v1.UploadBlobResponse(\x01\x12Y\n" +
 	"\fDownloadBlob\x12\".renderfarm.v1.DownloadBlobRequest\x1a#.renderfarm.v1.DownloadBlobResponse0\x01\x12T\n" +
-	"\vGetBlobInfo\x12!.renderfarm.v1.GetBlobInfoRequest\x1a\".renderfarm.v1.GetBlobInfoResponseBL\xb2\xb5\x18\x1b\b\x80\x80\x80 \x10\x80\x80\x80\x02\x18\x80\x80@ \x80\x80\x80\x80\x04(\x80 0\x80\x80\x04Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
+	"\vGetBlobInfo\x12!.renderfarm.v1.GetBlobInfoRequest\x1a\".renderfarm.v1.GetBlobInfoResponseBL\xb2\xb5\x18\x1b\b\x80\x80\x80 \x10\x80\x80\x80\x02\x18\x80\x80@ \x80\x80\x80\x80\x10(\x80 0\x80\x80\x04Z+photonfarm/proto/renderfarm/v1;renderfarmv1b\x06proto3"
 
 var (
 	file_renderfarm_v1_blob_proto_rawDescOnce sync.Once

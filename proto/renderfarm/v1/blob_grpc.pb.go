@@ -39,9 +39,15 @@ type BlobServiceClient interface {
 	// RESOURCE_EXHAUSTED past the size limit. Uploading a blob that exists already succeeds,
 	// and replaces a stored copy that was damaged.
 	UploadBlob(ctx context.Context, opts ...grpc.CallOption) (grpc.ClientStreamingClient[UploadBlobRequest, UploadBlobResponse], error)
-	// Streams a blob in chunks. Returns NOT_FOUND if it does not exist, and DATA_LOSS if its
-	// stored content no longer matches its digest: the blob is checked whole before the first
-	// chunk is sent, so a damaged blob gives an error and no bytes.
+	// Streams a blob, or a range of it, in chunks. Returns NOT_FOUND if it does not exist,
+	// OUT_OF_RANGE if the range starts past its end, and DATA_LOSS if its stored content no
+	// longer matches its digest. A whole blob is checked whole before the first chunk is sent,
+	// so a damaged blob gives an error and no bytes. A range is sent as stored, unchecked
+	// (checking it would mean reading the whole blob for every range): the client hashes the
+	// ranges it assembles and, if the whole does not match the digest, asks GetBlobInfo, which
+	// answers DATA_LOSS when the stored blob is damaged. Clients fetch big blobs (photon
+	// snapshots) in ranges so that a cut connection costs only what was in flight: the next
+	// request starts where the bytes stopped.
 	DownloadBlob(ctx context.Context, in *DownloadBlobRequest, opts ...grpc.CallOption) (grpc.ServerStreamingClient[DownloadBlobResponse], error)
 	// Checks the stored content against the digest (reading it whole): NOT_FOUND if the blob
 	// does not exist, DATA_LOSS if it is damaged (upload it again to repair it).
@@ -113,9 +119,15 @@ type BlobServiceServer interface {
 	// RESOURCE_EXHAUSTED past the size limit. Uploading a blob that exists already succeeds,
 	// and replaces a stored copy that was damaged.
 	UploadBlob(grpc.ClientStreamingServer[UploadBlobRequest, UploadBlobResponse]) error
-	// Streams a blob in chunks. Returns NOT_FOUND if it does not exist, and DATA_LOSS if its
-	// stored content no longer matches its digest: the blob is checked whole before the first
-	// chunk is sent, so a damaged blob gives an error and no bytes.
+	// Streams a blob, or a range of it, in chunks. Returns NOT_FOUND if it does not exist,
+	// OUT_OF_RANGE if the range starts past its end, and DATA_LOSS if its stored content no
+	// longer matches its digest. A whole blob is checked whole before the first chunk is sent,
+	// so a damaged blob gives an error and no bytes. A range is sent as stored, unchecked
+	// (checking it would mean reading the whole blob for every range): the client hashes the
+	// ranges it assembles and, if the whole does not match the digest, asks GetBlobInfo, which
+	// answers DATA_LOSS when the stored blob is damaged. Clients fetch big blobs (photon
+	// snapshots) in ranges so that a cut connection costs only what was in flight: the next
+	// request starts where the bytes stopped.
 	DownloadBlob(*DownloadBlobRequest, grpc.ServerStreamingServer[DownloadBlobResponse]) error
 	// Checks the stored content against the digest (reading it whole): NOT_FOUND if the blob
 	// does not exist, DATA_LOSS if it is damaged (upload it again to repair it).

@@ -390,11 +390,11 @@ type SceneLimits struct {
 	MaxMeshTriangles uint64 `protobuf:"varint,6,opt,name=max_mesh_triangles,json=maxMeshTriangles,proto3" json:"max_mesh_triangles,omitempty"`
 	// Longest line of a mesh file in bytes, its line break included.
 	MaxMeshLineBytes uint64 `protobuf:"varint,7,opt,name=max_mesh_line_bytes,json=maxMeshLineBytes,proto3" json:"max_mesh_line_bytes,omitempty"`
-	// Photons stored in one round's snapshot, every map together (so also in one emission
-	// shard): a path may store a photon at each diffuse bounce, so the paths a scene asks
-	// for do not bound it. Keeps the snapshot (24 bytes a global photon with irradiance, 20
-	// a caustic one) and the largest shard (28 bytes a photon) under RpcLimits.max_blob_bytes,
-	// and bounds the builder's memory. Checked by the worker as it stores photons and by the
+	// Photons stored in one round's snapshot, every map together: a path may store a photon
+	// at each diffuse bounce, so the paths a scene asks for do not bound it. Keeps the
+	// snapshot (24 bytes a global photon with irradiance, 20 a caustic one) under
+	// RpcLimits.max_blob_bytes, and bounds the builder's memory (24 bytes a photon of the
+	// largest map), its scratch file and the workers' mapped snapshot. Checked by the
 	// coordinator's builder; the job fails as bad input saying which setting to lower.
 	MaxSnapshotPhotons uint64 `protobuf:"varint,8,opt,name=max_snapshot_photons,json=maxSnapshotPhotons,proto3" json:"max_snapshot_photons,omitempty"`
 	// Pixels of the film (width times height): bounds the composite's memory on the worker
@@ -419,8 +419,19 @@ type SceneLimits struct {
 	// and so misses it. The planner leaves the volume map out when no scattering medium is
 	// below it; the workers store no volume photon in a medium at or above it.
 	PathTracedMediaMinAbsG float64 `protobuf:"fixed64,13,opt,name=path_traced_media_min_abs_g,json=pathTracedMediaMinAbsG,proto3" json:"path_traced_media_min_abs_g,omitempty"`
-	unknownFields          protoimpl.UnknownFields
-	sizeCache              protoimpl.SizeCache
+	// Photons stored by one emission shard (28 bytes a photon in the shard the worker holds
+	// and uploads): bounds the worker's memory for a shard whatever the scene stores a path.
+	// Checked by the worker as it stores photons; the job fails as bad input saying to lower
+	// photons_per_shard.
+	MaxShardPhotons uint64 `protobuf:"varint,14,opt,name=max_shard_photons,json=maxShardPhotons,proto3" json:"max_shard_photons,omitempty"`
+	// Cells of one density grid file (MediumGrid, docs/grid-format.md): a worker holds 4
+	// bytes a cell, and its majorants, for the job's life.
+	MaxGridCells uint64 `protobuf:"varint,15,opt,name=max_grid_cells,json=maxGridCells,proto3" json:"max_grid_cells,omitempty"`
+	// Cells along each axis of a density grid file: with max_grid_cells, refuses absurd
+	// headers before any size is multiplied out.
+	MaxGridAxisCells uint32 `protobuf:"varint,16,opt,name=max_grid_axis_cells,json=maxGridAxisCells,proto3" json:"max_grid_axis_cells,omitempty"`
+	unknownFields    protoimpl.UnknownFields
+	sizeCache        protoimpl.SizeCache
 }
 
 func (x *SceneLimits) Reset() {
@@ -540,6 +551,27 @@ func (x *SceneLimits) GetSpectralWavelengthsPerPath() uint32 {
 func (x *SceneLimits) GetPathTracedMediaMinAbsG() float64 {
 	if x != nil {
 		return x.PathTracedMediaMinAbsG
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxShardPhotons() uint64 {
+	if x != nil {
+		return x.MaxShardPhotons
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxGridCells() uint64 {
+	if x != nil {
+		return x.MaxGridCells
+	}
+	return 0
+}
+
+func (x *SceneLimits) GetMaxGridAxisCells() uint32 {
+	if x != nil {
+		return x.MaxGridAxisCells
 	}
 	return 0
 }
@@ -960,7 +992,7 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
 	"_max_itemsB\f\n" +
 	"\n" +
-	"_max_bytes\"\x8b\x05\n" +
+	"_max_bytes\"\x8c\x06\n" +
 	"\vSceneLimits\x12#\n" +
 	"\rmax_magnitude\x18\x01 \x01(\x01R\fmaxMagnitude\x12-\n" +
 	"\x13max_tiles_per_round\x18\x02 \x01(\x04R\x10maxTilesPerRound\x12+\n" +
@@ -975,7 +1007,10 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	" \x01(\x04R\x10maxTexturePixels\x12B\n" +
 	"\x1dprincipled_specular_roughness\x18\v \x01(\x01R\x1bprincipledSpecularRoughness\x12A\n" +
 	"\x1dspectral_wavelengths_per_path\x18\f \x01(\rR\x1aspectralWavelengthsPerPath\x12;\n" +
-	"\x1bpath_traced_media_min_abs_g\x18\r \x01(\x01R\x16pathTracedMediaMinAbsG\"\xc2\x01\n" +
+	"\x1bpath_traced_media_min_abs_g\x18\r \x01(\x01R\x16pathTracedMediaMinAbsG\x12*\n" +
+	"\x11max_shard_photons\x18\x0e \x01(\x04R\x0fmaxShardPhotons\x12$\n" +
+	"\x0emax_grid_cells\x18\x0f \x01(\x04R\fmaxGridCells\x12-\n" +
+	"\x13max_grid_axis_cells\x18\x10 \x01(\rR\x10maxGridAxisCells\"\xc2\x01\n" +
 	"\tPhaseInfo\x12\x14\n" +
 	"\x05label\x18\x01 \x01(\tR\x05label\x123\n" +
 	"\bexecutor\x18\x02 \x01(\x0e2\x17.renderfarm.v1.ExecutorR\bexecutor\x123\n" +

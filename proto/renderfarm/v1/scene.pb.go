@@ -3053,15 +3053,18 @@ func (*Shape_Mesh) isShape_Geometry() {}
 
 func (*Shape_Instance) isShape_Geometry() {}
 
-// A homogeneous participating medium (docs/media.md): light that travels a distance d
-// through it keeps exp(-sigma_t d) of itself in each channel, sigma_t = sigma_a + sigma_s,
-// and what it scatters leaves by the Henyey-Greenstein phase function of asymmetry g.
+// A participating medium (docs/media.md): light that travels a distance d through it
+// keeps exp(-sigma_t d) of itself in each channel (exp of minus the integral of sigma_t
+// along the way, in a grid), sigma_t = sigma_a + sigma_s, and what it scatters leaves by
+// the Henyey-Greenstein phase function of asymmetry g. Homogeneous (sigma or albedo) or
+// heterogeneous (grid).
 type Medium struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	// Types that are valid to be assigned to Coefficients:
 	//
 	//	*Medium_Sigma
 	//	*Medium_Albedo
+	//	*Medium_Grid
 	Coefficients isMedium_Coefficients `protobuf_oneof:"coefficients"`
 	// Henyey-Greenstein asymmetry, the mean cosine of the scattering angle: 0 scatters
 	// alike in all directions, towards 1 forwards, towards -1 backwards.
@@ -3125,6 +3128,15 @@ func (x *Medium) GetAlbedo() *MediumAlbedo {
 	return nil
 }
 
+func (x *Medium) GetGrid() *MediumGrid {
+	if x != nil {
+		if x, ok := x.Coefficients.(*Medium_Grid); ok {
+			return x.Grid
+		}
+	}
+	return nil
+}
+
 func (x *Medium) GetG() float64 {
 	if x != nil {
 		return x.G
@@ -3144,9 +3156,103 @@ type Medium_Albedo struct {
 	Albedo *MediumAlbedo `protobuf:"bytes,2,opt,name=albedo,proto3,oneof"`
 }
 
+type Medium_Grid struct {
+	Grid *MediumGrid `protobuf:"bytes,4,opt,name=grid,proto3,oneof"`
+}
+
 func (*Medium_Sigma) isMedium_Coefficients() {}
 
 func (*Medium_Albedo) isMedium_Coefficients() {}
+
+func (*Medium_Grid) isMedium_Coefficients() {}
+
+// A heterogeneous medium: densities on a voxel grid read from a farm grid file
+// (docs/grid-format.md), placed in the scene by a transform. At a point p, sigma_t =
+// density_scale x the grid's density at p (trilinear between cell centres; 0 outside the
+// grid's box), the same in every channel; sigma_s = albedo x sigma_t. As with mesh files,
+// path is relative to the scene file: the client uploads the file and submits its digest,
+// and the coordinator checks the file on submit, refusing one that breaks the format
+// (naming the file, the byte and what is wrong; limits: Scene's max_grid_cells,
+// max_grid_axis_cells, max_asset_bytes).
+type MediumGrid struct {
+	state protoimpl.MessageState `protogen:"open.v1"`
+	Path  string                 `protobuf:"bytes,1,opt,name=path,proto3" json:"path,omitempty"`
+	// "sha256:" followed by 64 lowercase hex digits.
+	Digest string `protobuf:"bytes,2,opt,name=digest,proto3" json:"digest,omitempty"`
+	// Places the grid's own space (the box its header names) in the scene; unset: as is.
+	Transform *Transform `protobuf:"bytes,3,opt,name=transform,proto3" json:"transform,omitempty"`
+	// The single-scattering albedo sigma_s / sigma_t per channel.
+	Albedo *Color `protobuf:"bytes,4,opt,name=albedo,proto3" json:"albedo,omitempty"`
+	// sigma_t per unit of the file's density, per scene unit of length.
+	DensityScale  float64 `protobuf:"fixed64,5,opt,name=density_scale,json=densityScale,proto3" json:"density_scale,omitempty"`
+	unknownFields protoimpl.UnknownFields
+	sizeCache     protoimpl.SizeCache
+}
+
+func (x *MediumGrid) Reset() {
+	*x = MediumGrid{}
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+	ms.StoreMessageInfo(mi)
+}
+
+func (x *MediumGrid) String() string {
+	return protoimpl.X.MessageStringOf(x)
+}
+
+func (*MediumGrid) ProtoMessage() {}
+
+func (x *MediumGrid) ProtoReflect() protoreflect.Message {
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	if x != nil {
+		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
+		if ms.LoadMessageInfo() == nil {
+			ms.StoreMessageInfo(mi)
+		}
+		return ms
+	}
+	return mi.MessageOf(x)
+}
+
+// Deprecated: Use MediumGrid.ProtoReflect.Descriptor instead.
+func (*MediumGrid) Descriptor() ([]byte, []int) {
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
+}
+
+func (x *MediumGrid) GetPath() string {
+	if x != nil {
+		return x.Path
+	}
+	return ""
+}
+
+func (x *MediumGrid) GetDigest() string {
+	if x != nil {
+		return x.Digest
+	}
+	return ""
+}
+
+func (x *MediumGrid) GetTransform() *Transform {
+	if x != nil {
+		return x.Transform
+	}
+	return nil
+}
+
+func (x *MediumGrid) GetAlbedo() *Color {
+	if x != nil {
+		return x.Albedo
+	}
+	return nil
+}
+
+func (x *MediumGrid) GetDensityScale() float64 {
+	if x != nil {
+		return x.DensityScale
+	}
+	return 0
+}
 
 // Absorption and scattering coefficients per channel, per scene unit.
 type MediumCoefficients struct {
@@ -3159,7 +3265,7 @@ type MediumCoefficients struct {
 
 func (x *MediumCoefficients) Reset() {
 	*x = MediumCoefficients{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3171,7 +3277,7 @@ func (x *MediumCoefficients) String() string {
 func (*MediumCoefficients) ProtoMessage() {}
 
 func (x *MediumCoefficients) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[32]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3184,7 +3290,7 @@ func (x *MediumCoefficients) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MediumCoefficients.ProtoReflect.Descriptor instead.
 func (*MediumCoefficients) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{32}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
 }
 
 func (x *MediumCoefficients) GetSigmaA() *Color {
@@ -3214,7 +3320,7 @@ type MediumAlbedo struct {
 
 func (x *MediumAlbedo) Reset() {
 	*x = MediumAlbedo{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3226,7 +3332,7 @@ func (x *MediumAlbedo) String() string {
 func (*MediumAlbedo) ProtoMessage() {}
 
 func (x *MediumAlbedo) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[33]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3239,7 +3345,7 @@ func (x *MediumAlbedo) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MediumAlbedo.ProtoReflect.Descriptor instead.
 func (*MediumAlbedo) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{33}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{34}
 }
 
 func (x *MediumAlbedo) GetAlbedo() *Color {
@@ -3267,7 +3373,7 @@ type Sphere struct {
 
 func (x *Sphere) Reset() {
 	*x = Sphere{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3279,7 +3385,7 @@ func (x *Sphere) String() string {
 func (*Sphere) ProtoMessage() {}
 
 func (x *Sphere) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[34]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3292,7 +3398,7 @@ func (x *Sphere) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Sphere.ProtoReflect.Descriptor instead.
 func (*Sphere) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{34}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{35}
 }
 
 func (x *Sphere) GetCenter() *Vec3 {
@@ -3322,7 +3428,7 @@ type Quad struct {
 
 func (x *Quad) Reset() {
 	*x = Quad{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3334,7 +3440,7 @@ func (x *Quad) String() string {
 func (*Quad) ProtoMessage() {}
 
 func (x *Quad) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[35]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3347,7 +3453,7 @@ func (x *Quad) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use Quad.ProtoReflect.Descriptor instead.
 func (*Quad) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{35}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{36}
 }
 
 func (x *Quad) GetOrigin() *Vec3 {
@@ -3383,7 +3489,7 @@ type TriangleMesh struct {
 
 func (x *TriangleMesh) Reset() {
 	*x = TriangleMesh{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[37]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3395,7 +3501,7 @@ func (x *TriangleMesh) String() string {
 func (*TriangleMesh) ProtoMessage() {}
 
 func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[36]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[37]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3408,7 +3514,7 @@ func (x *TriangleMesh) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use TriangleMesh.ProtoReflect.Descriptor instead.
 func (*TriangleMesh) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{36}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{37}
 }
 
 func (x *TriangleMesh) GetPositions() []*Vec3 {
@@ -3443,7 +3549,7 @@ type MeshFile struct {
 
 func (x *MeshFile) Reset() {
 	*x = MeshFile{}
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[37]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[38]
 	ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 	ms.StoreMessageInfo(mi)
 }
@@ -3455,7 +3561,7 @@ func (x *MeshFile) String() string {
 func (*MeshFile) ProtoMessage() {}
 
 func (x *MeshFile) ProtoReflect() protoreflect.Message {
-	mi := &file_renderfarm_v1_scene_proto_msgTypes[37]
+	mi := &file_renderfarm_v1_scene_proto_msgTypes[38]
 	if x != nil {
 		ms := protoimpl.X.MessageStateOf(protoimpl.Pointer(x))
 		if ms.LoadMessageInfo() == nil {
@@ -3468,7 +3574,7 @@ func (x *MeshFile) ProtoReflect() protoreflect.Message {
 
 // Deprecated: Use MeshFile.ProtoReflect.Descriptor instead.
 func (*MeshFile) Descriptor() ([]byte, []int) {
-	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{37}
+	return file_renderfarm_v1_scene_proto_rawDescGZIP(), []int{38}
 }
 
 func (x *MeshFile) GetPath() string {
@@ -3496,7 +3602,7 @@ var File_renderfarm_v1_scene_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\xa4\t\n" +
+	"\x19renderfarm/v1/scene.proto\x12\rrenderfarm.v1\x1a\x1arenderfarm/v1/assets.proto\x1a\x19renderfarm/v1/rules.proto\x1a\x19renderfarm/v1/types.proto\"\xb2\t\n" +
 	"\x05Scene\x12\x1b\n" +
 	"\x04name\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80\x02R\x04name\x125\n" +
 	"\x06camera\x18\x02 \x01(\v2\x15.renderfarm.v1.CameraB\x06\x8a\xb5\x18\x020\x01R\x06camera\x12/\n" +
@@ -3514,7 +3620,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\btextures\x18\r \x03(\v2\x16.renderfarm.v1.TextureB\a\x8a\xb5\x18\x03@\x80 R\btextures\x12<\n" +
 	"\venvironment\x18\x0e \x01(\v2\x1a.renderfarm.v1.EnvironmentR\venvironment\x12-\n" +
 	"\x06output\x18\x0f \x01(\v2\x15.renderfarm.v1.OutputR\x06output\x12-\n" +
-	"\x06medium\x18\x10 \x01(\v2\x15.renderfarm.v1.MediumR\x06medium:L\x92\xb5\x18H\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x02(\x80\xad\xe2\x040\x80\xad\xe2\x048\x80\x80\x04@\x80\x90\xa1\x0fH\x80\x80\x80\x04P\x80\x80\x80\x80\x01Y\x9a\x99\x99\x99\x99\x99\xb9?`\bi\xcd\xcc\xcc\xcc\xcc\xcc\xec?\"\xa1\x03\n" +
+	"\x06medium\x18\x10 \x01(\v2\x15.renderfarm.v1.MediumR\x06medium:Z\x92\xb5\x18V\t\x00\x00\x00\xa2\x94\x1amB\x10\x80\x80\x04\x18\x90N \x80\x80\x80\x80\x02(\x80\xad\xe2\x040\x80\xad\xe2\x048\x80\x80\x04@\xc0؈2H\x80\x80\x80\x04P\x80\x80\x80\x80\x01Y\x9a\x99\x99\x99\x99\x99\xb9?`\bi\xcd\xcc\xcc\xcc\xcc\xcc\xec?p\x80\x90\xa1\x0fx\x80\x80\x80 \x80\x01\x80 \"\xa1\x03\n" +
 	"\x06Camera\x127\n" +
 	"\bposition\x18\x01 \x01(\v2\x13.renderfarm.v1.Vec3B\x06\x8a\xb5\x18\x020\x01R\bposition\x12K\n" +
 	"\alook_at\x18\x02 \x01(\v2\x13.renderfarm.v1.Vec3B\x1d\x8a\xb5\x18\x190\x01Z\x15differs from positionR\x06lookAt\x12Y\n" +
@@ -3658,12 +3764,12 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x0eexposure_stops\x18\x01 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x004\xc0\x19\x00\x00\x00\x00\x00\x004@R\rexposureStops\x121\n" +
 	"\btone_map\x18\x02 \x01(\x0e2\x16.renderfarm.v1.ToneMapR\atoneMap\"\xc8\x05\n" +
 	"\rPhotonMapping\x12=\n" +
-	"\x0eglobal_photons\x18\x01 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\rglobalPhotons\x12?\n" +
-	"\x0fcaustic_photons\x18\x02 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\x0ecausticPhotons\x12\x97\x02\n" +
+	"\x0eglobal_photons\x18\x01 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84קA)\x00\x00\x00\x00\x00j\bAR\rglobalPhotons\x12?\n" +
+	"\x0fcaustic_photons\x18\x02 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84קA)\x00\x00\x00\x00\x00j\bAR\x0ecausticPhotons\x12\x97\x02\n" +
 	"\x11photons_per_shard\x18\x03 \x01(\x04B\xea\x01\x8a\xb5\x18\xe5\x01\t\x00\x00\x00\x00\x00@\x8f@\x19\x00\x00\x00\x00\xd0\x12cA)\x00\x00\x00\x00\x00j\xf8@Z\xc7\x01ceil(photons / photons_per_shard) emission shards per round for each of global_photons, caustic_photons and volume_photons (whether or not the scene gets that map), at most Scene's max_shards_per_mapR\x0fphotonsPerShard\x12H\n" +
 	"\x0fglobal_estimate\x18\x04 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0eglobalEstimate\x12J\n" +
 	"\x10caustic_estimate\x18\x05 \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0fcausticEstimate\x12=\n" +
-	"\x0evolume_photons\x18\x06 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84ׇA)\x00\x00\x00\x00\x00j\bAR\rvolumePhotons\x12H\n" +
+	"\x0evolume_photons\x18\x06 \x01(\x04B\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x84קA)\x00\x00\x00\x00\x00j\bAR\rvolumePhotons\x12H\n" +
 	"\x0fvolume_estimate\x18\a \x01(\v2\x1f.renderfarm.v1.RadianceEstimateR\x0evolumeEstimate\"\xd6\x01\n" +
 	"\x10RadianceEstimate\x12-\n" +
 	"\n" +
@@ -3682,12 +3788,20 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\x04mesh\x18\x06 \x01(\v2\x17.renderfarm.v1.MeshFileH\x00R\x04mesh\x129\n" +
 	"\binstance\x18\a \x01(\v2\x1b.renderfarm.v1.MeshInstanceH\x00R\binstance\x12>\n" +
 	"\x0finterior_medium\x18\b \x01(\v2\x15.renderfarm.v1.MediumR\x0einteriorMediumB\x10\n" +
-	"\bgeometry\x12\x04\xb8\xb5\x18\x01\"\xb6\x01\n" +
+	"\bgeometry\x12\x04\xb8\xb5\x18\x01\"\xe7\x01\n" +
 	"\x06Medium\x129\n" +
 	"\x05sigma\x18\x01 \x01(\v2!.renderfarm.v1.MediumCoefficientsH\x00R\x05sigma\x125\n" +
-	"\x06albedo\x18\x02 \x01(\v2\x1b.renderfarm.v1.MediumAlbedoH\x00R\x06albedo\x12$\n" +
+	"\x06albedo\x18\x02 \x01(\v2\x1b.renderfarm.v1.MediumAlbedoH\x00R\x06albedo\x12/\n" +
+	"\x04grid\x18\x04 \x01(\v2\x19.renderfarm.v1.MediumGridH\x00R\x04grid\x12$\n" +
 	"\x01g\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\xf0\xbf!\x00\x00\x00\x00\x00\x00\xf0?R\x01gB\x14\n" +
-	"\fcoefficients\x12\x04\xb8\xb5\x18\x01\"\x94\x01\n" +
+	"\fcoefficients\x12\x04\xb8\xb5\x18\x01\"\xd2\x02\n" +
+	"\n" +
+	"MediumGrid\x12\x1b\n" +
+	"\x04path\x18\x01 \x01(\tB\a\x8a\xb5\x18\x03H\x80 R\x04path\x12j\n" +
+	"\x06digest\x18\x02 \x01(\tBR\x8a\xb5\x18N0\x01P\x01ZHthe blob is uploaded first and is a farm grid file (docs/grid-format.md)R\x06digest\x126\n" +
+	"\ttransform\x18\x03 \x01(\v2\x18.renderfarm.v1.TransformR\ttransform\x12F\n" +
+	"\x06albedo\x18\x04 \x01(\v2\x14.renderfarm.v1.ColorB\x18\x8a\xb5\x18\x14\t\x00\x00\x00\x00\x00\x00\x00\x00\x19\x00\x00\x00\x00\x00\x00\xf0?0\x01R\x06albedo\x12;\n" +
+	"\rdensity_scale\x18\x05 \x01(\x01B\x16\x8a\xb5\x18\x12\x11\x00\x00\x00\x00\x00\x00\x00\x00)\x00\x00\x00\x00\x00\x00\xf0?R\fdensityScale\"\x94\x01\n" +
 	"\x12MediumCoefficients\x12>\n" +
 	"\asigma_a\x18\x01 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\x06sigmaA\x12>\n" +
 	"\asigma_s\x18\x02 \x01(\v2\x14.renderfarm.v1.ColorB\x0f\x8a\xb5\x18\v\t\x00\x00\x00\x00\x00\x00\x00\x000\x01R\x06sigmaS\"\x7f\n" +
@@ -3765,7 +3879,7 @@ func file_renderfarm_v1_scene_proto_rawDescGZIP() []byte {
 }
 
 var file_renderfarm_v1_scene_proto_enumTypes = make([]protoimpl.EnumInfo, 9)
-var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 38)
+var file_renderfarm_v1_scene_proto_msgTypes = make([]protoimpl.MessageInfo, 39)
 var file_renderfarm_v1_scene_proto_goTypes = []any{
 	(SpectralSampling)(0),      // 0: renderfarm.v1.SpectralSampling
 	(AdaptiveSampling)(0),      // 1: renderfarm.v1.AdaptiveSampling
@@ -3808,19 +3922,20 @@ var file_renderfarm_v1_scene_proto_goTypes = []any{
 	(*RadianceEstimate)(nil),   // 38: renderfarm.v1.RadianceEstimate
 	(*Shape)(nil),              // 39: renderfarm.v1.Shape
 	(*Medium)(nil),             // 40: renderfarm.v1.Medium
-	(*MediumCoefficients)(nil), // 41: renderfarm.v1.MediumCoefficients
-	(*MediumAlbedo)(nil),       // 42: renderfarm.v1.MediumAlbedo
-	(*Sphere)(nil),             // 43: renderfarm.v1.Sphere
-	(*Quad)(nil),               // 44: renderfarm.v1.Quad
-	(*TriangleMesh)(nil),       // 45: renderfarm.v1.TriangleMesh
-	(*MeshFile)(nil),           // 46: renderfarm.v1.MeshFile
-	(*Mesh)(nil),               // 47: renderfarm.v1.Mesh
-	(*Texture)(nil),            // 48: renderfarm.v1.Texture
-	(*Vec3)(nil),               // 49: renderfarm.v1.Vec3
-	(*Color)(nil),              // 50: renderfarm.v1.Color
-	(*TextureRef)(nil),         // 51: renderfarm.v1.TextureRef
-	(*MeshInstance)(nil),       // 52: renderfarm.v1.MeshInstance
-	(*Transform)(nil),          // 53: renderfarm.v1.Transform
+	(*MediumGrid)(nil),         // 41: renderfarm.v1.MediumGrid
+	(*MediumCoefficients)(nil), // 42: renderfarm.v1.MediumCoefficients
+	(*MediumAlbedo)(nil),       // 43: renderfarm.v1.MediumAlbedo
+	(*Sphere)(nil),             // 44: renderfarm.v1.Sphere
+	(*Quad)(nil),               // 45: renderfarm.v1.Quad
+	(*TriangleMesh)(nil),       // 46: renderfarm.v1.TriangleMesh
+	(*MeshFile)(nil),           // 47: renderfarm.v1.MeshFile
+	(*Mesh)(nil),               // 48: renderfarm.v1.Mesh
+	(*Texture)(nil),            // 49: renderfarm.v1.Texture
+	(*Vec3)(nil),               // 50: renderfarm.v1.Vec3
+	(*Color)(nil),              // 51: renderfarm.v1.Color
+	(*TextureRef)(nil),         // 52: renderfarm.v1.TextureRef
+	(*MeshInstance)(nil),       // 53: renderfarm.v1.MeshInstance
+	(*Transform)(nil),          // 54: renderfarm.v1.Transform
 }
 var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	10, // 0: renderfarm.v1.Scene.camera:type_name -> renderfarm.v1.Camera
@@ -3833,14 +3948,14 @@ var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	18, // 7: renderfarm.v1.Scene.antialiasing:type_name -> renderfarm.v1.Antialiasing
 	19, // 8: renderfarm.v1.Scene.indirect:type_name -> renderfarm.v1.Indirect
 	20, // 9: renderfarm.v1.Scene.progressive:type_name -> renderfarm.v1.Progressive
-	47, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
-	48, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
+	48, // 10: renderfarm.v1.Scene.meshes:type_name -> renderfarm.v1.Mesh
+	49, // 11: renderfarm.v1.Scene.textures:type_name -> renderfarm.v1.Texture
 	35, // 12: renderfarm.v1.Scene.environment:type_name -> renderfarm.v1.Environment
 	36, // 13: renderfarm.v1.Scene.output:type_name -> renderfarm.v1.Output
 	40, // 14: renderfarm.v1.Scene.medium:type_name -> renderfarm.v1.Medium
-	49, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
-	49, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
-	49, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
+	50, // 15: renderfarm.v1.Camera.position:type_name -> renderfarm.v1.Vec3
+	50, // 16: renderfarm.v1.Camera.look_at:type_name -> renderfarm.v1.Vec3
+	50, // 17: renderfarm.v1.Camera.up:type_name -> renderfarm.v1.Vec3
 	12, // 18: renderfarm.v1.Film.filter:type_name -> renderfarm.v1.PixelFilter
 	13, // 19: renderfarm.v1.PixelFilter.box:type_name -> renderfarm.v1.BoxFilter
 	14, // 20: renderfarm.v1.PixelFilter.tent:type_name -> renderfarm.v1.TentFilter
@@ -3859,63 +3974,66 @@ var file_renderfarm_v1_scene_proto_depIdxs = []int32{
 	27, // 33: renderfarm.v1.Material.dielectric:type_name -> renderfarm.v1.Dielectric
 	29, // 34: renderfarm.v1.Material.conductor:type_name -> renderfarm.v1.Conductor
 	30, // 35: renderfarm.v1.Material.principled:type_name -> renderfarm.v1.Principled
-	50, // 36: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
-	50, // 37: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
-	50, // 38: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
-	50, // 39: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
-	50, // 40: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
-	50, // 41: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
-	50, // 42: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
+	51, // 36: renderfarm.v1.Lambert.reflectance:type_name -> renderfarm.v1.Color
+	51, // 37: renderfarm.v1.Emissive.radiance:type_name -> renderfarm.v1.Color
+	51, // 38: renderfarm.v1.Emissive.reflectance:type_name -> renderfarm.v1.Color
+	51, // 39: renderfarm.v1.Glossy.diffuse:type_name -> renderfarm.v1.Color
+	51, // 40: renderfarm.v1.Glossy.specular:type_name -> renderfarm.v1.Color
+	51, // 41: renderfarm.v1.Mirror.reflectance:type_name -> renderfarm.v1.Color
+	51, // 42: renderfarm.v1.Dielectric.transmittance:type_name -> renderfarm.v1.Color
 	28, // 43: renderfarm.v1.Dielectric.dispersion:type_name -> renderfarm.v1.Dispersion
 	5,  // 44: renderfarm.v1.Dispersion.glass:type_name -> renderfarm.v1.Glass
-	50, // 45: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
-	50, // 46: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
-	50, // 47: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
-	51, // 48: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
-	51, // 49: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
-	51, // 50: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
-	50, // 51: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
-	51, // 52: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
+	51, // 45: renderfarm.v1.Conductor.eta:type_name -> renderfarm.v1.Color
+	51, // 46: renderfarm.v1.Conductor.k:type_name -> renderfarm.v1.Color
+	51, // 47: renderfarm.v1.Principled.base_color:type_name -> renderfarm.v1.Color
+	52, // 48: renderfarm.v1.Principled.base_color_texture:type_name -> renderfarm.v1.TextureRef
+	52, // 49: renderfarm.v1.Principled.metallic_roughness_texture:type_name -> renderfarm.v1.TextureRef
+	52, // 50: renderfarm.v1.Principled.normal_texture:type_name -> renderfarm.v1.TextureRef
+	51, // 51: renderfarm.v1.Principled.emission:type_name -> renderfarm.v1.Color
+	52, // 52: renderfarm.v1.Principled.emission_texture:type_name -> renderfarm.v1.TextureRef
 	6,  // 53: renderfarm.v1.Principled.alpha_mode:type_name -> renderfarm.v1.AlphaMode
 	32, // 54: renderfarm.v1.Light.point:type_name -> renderfarm.v1.PointLight
 	33, // 55: renderfarm.v1.Light.sun:type_name -> renderfarm.v1.SunLight
 	34, // 56: renderfarm.v1.Light.spot:type_name -> renderfarm.v1.SpotLight
-	49, // 57: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
-	50, // 58: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
-	49, // 59: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
-	50, // 60: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
-	49, // 61: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
-	49, // 62: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
-	50, // 63: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
-	50, // 64: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
-	51, // 65: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
+	50, // 57: renderfarm.v1.PointLight.position:type_name -> renderfarm.v1.Vec3
+	51, // 58: renderfarm.v1.PointLight.intensity:type_name -> renderfarm.v1.Color
+	50, // 59: renderfarm.v1.SunLight.direction:type_name -> renderfarm.v1.Vec3
+	51, // 60: renderfarm.v1.SunLight.irradiance:type_name -> renderfarm.v1.Color
+	50, // 61: renderfarm.v1.SpotLight.position:type_name -> renderfarm.v1.Vec3
+	50, // 62: renderfarm.v1.SpotLight.direction:type_name -> renderfarm.v1.Vec3
+	51, // 63: renderfarm.v1.SpotLight.intensity:type_name -> renderfarm.v1.Color
+	51, // 64: renderfarm.v1.Environment.radiance:type_name -> renderfarm.v1.Color
+	52, // 65: renderfarm.v1.Environment.map:type_name -> renderfarm.v1.TextureRef
 	7,  // 66: renderfarm.v1.Output.tone_map:type_name -> renderfarm.v1.ToneMap
 	38, // 67: renderfarm.v1.PhotonMapping.global_estimate:type_name -> renderfarm.v1.RadianceEstimate
 	38, // 68: renderfarm.v1.PhotonMapping.caustic_estimate:type_name -> renderfarm.v1.RadianceEstimate
 	38, // 69: renderfarm.v1.PhotonMapping.volume_estimate:type_name -> renderfarm.v1.RadianceEstimate
 	8,  // 70: renderfarm.v1.RadianceEstimate.filter:type_name -> renderfarm.v1.Filter
-	43, // 71: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
-	44, // 72: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
-	45, // 73: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
-	46, // 74: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
-	52, // 75: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
+	44, // 71: renderfarm.v1.Shape.sphere:type_name -> renderfarm.v1.Sphere
+	45, // 72: renderfarm.v1.Shape.quad:type_name -> renderfarm.v1.Quad
+	46, // 73: renderfarm.v1.Shape.triangles:type_name -> renderfarm.v1.TriangleMesh
+	47, // 74: renderfarm.v1.Shape.mesh:type_name -> renderfarm.v1.MeshFile
+	53, // 75: renderfarm.v1.Shape.instance:type_name -> renderfarm.v1.MeshInstance
 	40, // 76: renderfarm.v1.Shape.interior_medium:type_name -> renderfarm.v1.Medium
-	41, // 77: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
-	42, // 78: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
-	50, // 79: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
-	50, // 80: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
-	50, // 81: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
-	49, // 82: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
-	49, // 83: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
-	49, // 84: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
-	49, // 85: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
-	49, // 86: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
-	53, // 87: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
-	88, // [88:88] is the sub-list for method output_type
-	88, // [88:88] is the sub-list for method input_type
-	88, // [88:88] is the sub-list for extension type_name
-	88, // [88:88] is the sub-list for extension extendee
-	0,  // [0:88] is the sub-list for field type_name
+	42, // 77: renderfarm.v1.Medium.sigma:type_name -> renderfarm.v1.MediumCoefficients
+	43, // 78: renderfarm.v1.Medium.albedo:type_name -> renderfarm.v1.MediumAlbedo
+	41, // 79: renderfarm.v1.Medium.grid:type_name -> renderfarm.v1.MediumGrid
+	54, // 80: renderfarm.v1.MediumGrid.transform:type_name -> renderfarm.v1.Transform
+	51, // 81: renderfarm.v1.MediumGrid.albedo:type_name -> renderfarm.v1.Color
+	51, // 82: renderfarm.v1.MediumCoefficients.sigma_a:type_name -> renderfarm.v1.Color
+	51, // 83: renderfarm.v1.MediumCoefficients.sigma_s:type_name -> renderfarm.v1.Color
+	51, // 84: renderfarm.v1.MediumAlbedo.albedo:type_name -> renderfarm.v1.Color
+	50, // 85: renderfarm.v1.Sphere.center:type_name -> renderfarm.v1.Vec3
+	50, // 86: renderfarm.v1.Quad.origin:type_name -> renderfarm.v1.Vec3
+	50, // 87: renderfarm.v1.Quad.edge_u:type_name -> renderfarm.v1.Vec3
+	50, // 88: renderfarm.v1.Quad.edge_v:type_name -> renderfarm.v1.Vec3
+	50, // 89: renderfarm.v1.TriangleMesh.positions:type_name -> renderfarm.v1.Vec3
+	54, // 90: renderfarm.v1.MeshFile.transform:type_name -> renderfarm.v1.Transform
+	91, // [91:91] is the sub-list for method output_type
+	91, // [91:91] is the sub-list for method input_type
+	91, // [91:91] is the sub-list for extension type_name
+	91, // [91:91] is the sub-list for extension extendee
+	0,  // [0:91] is the sub-list for field type_name
 }
 
 func init() { file_renderfarm_v1_scene_proto_init() }
@@ -3960,6 +4078,7 @@ func file_renderfarm_v1_scene_proto_init() {
 	file_renderfarm_v1_scene_proto_msgTypes[31].OneofWrappers = []any{
 		(*Medium_Sigma)(nil),
 		(*Medium_Albedo)(nil),
+		(*Medium_Grid)(nil),
 	}
 	type x struct{}
 	out := protoimpl.TypeBuilder{
@@ -3967,7 +4086,7 @@ func file_renderfarm_v1_scene_proto_init() {
 			GoPackagePath: reflect.TypeOf(x{}).PkgPath(),
 			RawDescriptor: unsafe.Slice(unsafe.StringData(file_renderfarm_v1_scene_proto_rawDesc), len(file_renderfarm_v1_scene_proto_rawDesc)),
 			NumEnums:      9,
-			NumMessages:   38,
+			NumMessages:   39,
 			NumExtensions: 0,
 			NumServices:   0,
 		},

@@ -6,8 +6,10 @@ package vectorfiles
 
 import (
 	"bytes"
+	"encoding/binary"
 	"flag"
 	"fmt"
+	"math"
 	"os"
 	"path/filepath"
 	"testing"
@@ -93,3 +95,29 @@ func strays(root string, files map[string][]byte, owned []string) ([]string, err
 	}
 	return out, nil
 }
+
+// CheckDistinct fails t for two cases of the same name, or, by accident, the same file.
+func CheckDistinct(t testing.TB, names []string, files [][]byte) {
+	t.Helper()
+	seen, byFile := map[string]bool{}, map[string]string{}
+	for i, name := range names {
+		if seen[name] {
+			t.Errorf("two cases are called %s", name)
+		}
+		seen[name] = true
+		if other, dup := byFile[string(files[i])]; dup {
+			t.Errorf("%s and %s are the same file", name, other)
+		}
+		byFile[string(files[i])] = name
+	}
+}
+
+// Put32 is a copy of b with the little-endian uint32 at `at` set to v.
+func Put32(b []byte, at int, v uint32) []byte {
+	b = bytes.Clone(b)
+	binary.LittleEndian.PutUint32(b[at:], v)
+	return b
+}
+
+// Float32 is a copy of b with the little-endian float32 at `at` set to x.
+func Float32(b []byte, at int, x float32) []byte { return Put32(b, at, math.Float32bits(x)) }

@@ -9,6 +9,7 @@ import (
 	"photonfarm/contract/assets"
 	"photonfarm/contract/assets/assetstest"
 	"photonfarm/contract/rules"
+	"photonfarm/tests/vectors/vectorfiles"
 )
 
 // farmCase is one farm mesh vector: a file and what every reader must make of it, "" to
@@ -36,19 +37,11 @@ const (
 	indices   = tangents + 64
 )
 
-func put32(b []byte, at int, v uint32) []byte {
-	b = bytes.Clone(b)
-	binary.LittleEndian.PutUint32(b[at:], v)
-	return b
-}
-
 func put64(b []byte, at int, v uint64) []byte {
 	b = bytes.Clone(b)
 	binary.LittleEndian.PutUint64(b[at:], v)
 	return b
 }
-
-func float(b []byte, at int, x float32) []byte { return put32(b, at, math.Float32bits(x)) }
 
 // cases lists the farm mesh vectors.
 func cases() []farmCase {
@@ -79,24 +72,24 @@ func cases() []farmCase {
 		{"accept-tangents-with-w-minus-1", encode(mirrored), 0, ""},
 		{"accept-normals-of-any-length-and-a-zero-normal", encode(unnormalised), 0, ""},
 		{"accept-degenerate-triangle", encode(degenerate), 0, ""},
-		{"accept-positions-at-max-magnitude", float(float(bare, 32, 1e12), 40, -1e12), 0, ""},
+		{"accept-positions-at-max-magnitude", vectorfiles.Float32(vectorfiles.Float32(bare, 32, 1e12), 40, -1e12), 0, ""},
 
 		{"refuse-short-header", good[:20], 20, "the file ends inside its 32-byte header"},
 		{"refuse-no-magic", append([]byte("FARMMASH"), good[8:]...), 0, `not a farm mesh file (no "FARMMESH" magic)`},
-		{"refuse-version-2", put32(good, 8, 2), 8, "version 2, but this farm reads version 1"},
-		{"refuse-unknown-flag", put32(good, 12, 0x17), 12, "unknown flags 0x10"},
+		{"refuse-version-2", vectorfiles.Put32(good, 8, 2), 8, "version 2, but this farm reads version 1"},
+		{"refuse-unknown-flag", vectorfiles.Put32(good, 12, 0x17), 12, "unknown flags 0x10"},
 		{"refuse-no-vertices", put64(good, 16, 0), 16, "the mesh has no vertices"},
 		{"refuse-too-many-vertices", put64(bare, 16, maxV+1), 16, fmt.Sprintf("%d vertices, more than the %d of one mesh", maxV+1, maxV)},
 		{"refuse-no-triangles", put64(good, 24, 0), 24, "the mesh has no triangles"},
 		{"refuse-too-many-triangles", put64(bare, 24, maxT+1), 24, fmt.Sprintf("%d triangles, more than the %d of one mesh", maxT+1, maxT)},
 		{"refuse-header-implying-more-than-an-asset", put64(put64(good, 16, maxV), 24, maxT), 16, fmt.Sprintf("the header implies %d bytes, more than the %d of one asset", implied, rules.Scene.GetMaxAssetBytes())},
-		{"refuse-nan-position", float(good, 36, nan), 36, "position 1 is not finite"},
-		{"refuse-position-out-of-range", float(good, 32, 2e12), 32, "position 0's coordinate 1.999999991808e+12 is out of range: numbers are at most ±1e+12"},
-		{"refuse-infinite-normal", float(good, normals+8, inf), normals + 8, "normal 2 is not finite"},
-		{"refuse-nan-texture-coordinate", float(good, texcoords+4, nan), texcoords + 4, "texture coordinate 1 is not finite"},
-		{"refuse-tangent-w-of-0.5", float(good, tangents+12, 0.5), tangents + 12, "tangent 0's w is 0.5, not 1 or -1"},
-		{"refuse-tangent-w-of-0", float(good, tangents+28, 0), tangents + 28, "tangent 1's w is 0, not 1 or -1"},
-		{"refuse-index-past-the-vertices", put32(good, indices+8, 4), indices + 8, "triangle 0 refers to vertex 4 but the mesh has 4 vertices"},
+		{"refuse-nan-position", vectorfiles.Float32(good, 36, nan), 36, "position 1 is not finite"},
+		{"refuse-position-out-of-range", vectorfiles.Float32(good, 32, 2e12), 32, "position 0's coordinate 1.999999991808e+12 is out of range: numbers are at most ±1e+12"},
+		{"refuse-infinite-normal", vectorfiles.Float32(good, normals+8, inf), normals + 8, "normal 2 is not finite"},
+		{"refuse-nan-texture-coordinate", vectorfiles.Float32(good, texcoords+4, nan), texcoords + 4, "texture coordinate 1 is not finite"},
+		{"refuse-tangent-w-of-0.5", vectorfiles.Float32(good, tangents+12, 0.5), tangents + 12, "tangent 0's w is 0.5, not 1 or -1"},
+		{"refuse-tangent-w-of-0", vectorfiles.Float32(good, tangents+28, 0), tangents + 28, "tangent 1's w is 0, not 1 or -1"},
+		{"refuse-index-past-the-vertices", vectorfiles.Put32(good, indices+8, 4), indices + 8, "triangle 0 refers to vertex 4 but the mesh has 4 vertices"},
 		{"refuse-file-cut-in-its-positions", good[:40], 40, "the file ends inside its positions"},
 		{"refuse-file-cut-in-its-tangents", good[:tangents+2], tangents + 2, "the file ends inside its tangents"},
 		{"refuse-file-cut-in-its-last-triangle", good[:len(good)-2], int64(len(good) - 2), "the file ends before its last triangle"},

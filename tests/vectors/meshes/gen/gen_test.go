@@ -16,15 +16,10 @@ func TestCommittedVectorsAreCurrent(t *testing.T) {
 
 // TestCasesAreDistinct: no two cases share a name or, by accident, a file.
 func TestCasesAreDistinct(t *testing.T) {
-	names, files := map[string]bool{}, map[string]string{}
+	var names []string
+	var files [][]byte
 	for _, c := range cases() {
-		if names[c.name] {
-			t.Errorf("two cases are called %s", c.name)
-		}
-		names[c.name] = true
-		if other, dup := files[string(c.file)]; dup {
-			t.Errorf("%s and %s are the same file", c.name, other)
-		}
-		files[string(c.file)] = c.name
+		names, files = append(names, c.name), append(files, c.file)
 	}
+	vectorfiles.CheckDistinct(t, names, files)
 }

@@ -170,8 +170,8 @@ var accepted = slices.Concat(acceptedFilters, acceptedMedia, acceptedDispersion,
 	accept("accept-exposure-20-stops", "Output.exposure_stops:lte=", func(s *pb.Scene) { s.Output.ExposureStops = 20 }),
 
 	// Photon mapping.
-	accept("accept-50000000-photons-per-map-in-shards-of-10000000", "PhotonMapping.global_photons:lte= PhotonMapping.caustic_photons:lte= PhotonMapping.photons_per_shard:lte=", func(s *pb.Scene) {
-		s.Photons.GlobalPhotons, s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 50000000, 50000000, 10000000
+	accept("accept-200000000-photons-per-map-in-shards-of-10000000", "PhotonMapping.global_photons:lte= PhotonMapping.caustic_photons:lte= PhotonMapping.photons_per_shard:lte=", func(s *pb.Scene) {
+		s.Photons.GlobalPhotons, s.Photons.CausticPhotons, s.Photons.PhotonsPerShard = 200000000, 200000000, 10000000
 	}),
 	accept("accept-photons-per-shard-1000", "PhotonMapping.photons_per_shard:gte=", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 1000 }),
 	accept("accept-10000-shards-per-map", "Scene:max_shards_per_map=", func(s *pb.Scene) {
@@ -179,9 +179,9 @@ var accepted = slices.Concat(acceptedFilters, acceptedMedia, acceptedDispersion,
 	}),
 	accept("accept-global-photons-0", "PhotonMapping.global_photons:default", func(s *pb.Scene) { s.Photons.GlobalPhotons = 0 }),
 	accept("accept-caustic-photons-0", "PhotonMapping.caustic_photons:default", func(s *pb.Scene) { s.Photons.CausticPhotons = 0 }),
-	accept("accept-volume-photons-50000000-in-10000-shards", "PhotonMapping.volume_photons:lte=", func(s *pb.Scene) {
+	accept("accept-volume-photons-200000000-in-10000-shards", "PhotonMapping.volume_photons:lte=", func(s *pb.Scene) {
 		fog(s)
-		s.Photons.VolumePhotons = 50000000 // base's 5000 photons per shard: max_shards_per_map exactly
+		s.Photons.VolumePhotons, s.Photons.PhotonsPerShard = 200000000, 20000 // max_shards_per_map exactly
 	}),
 	accept("accept-volume-photons-0", "PhotonMapping.volume_photons:default", func(s *pb.Scene) { fog(s); s.Photons.VolumePhotons = 0 }),
 	accept("accept-photons-per-shard-0", "PhotonMapping.photons_per_shard:default", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 0 }),

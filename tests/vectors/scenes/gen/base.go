@@ -144,6 +144,7 @@ type asset struct {
 var assetFiles = []asset{
 	{"tests/vectors/meshes/accept-cube.obj", "../meshes/accept-cube.obj", cubeOBJ},
 	{"tests/vectors/scenes/sky.hdr", "sky.hdr", skyHDR},
+	{"tests/vectors/scenes/ramp.farmgrid", "ramp.farmgrid", rampGrid},
 }
 
 // withInstance appends a shape (shapes[7] of base) placing the crate, and returns its

@@ -3,8 +3,14 @@ package main
 import (
 	"slices"
 
+	"photonfarm/contract/assets/assetstest"
+	"photonfarm/contract/rules"
 	pb "photonfarm/proto/renderfarm/v1"
 )
+
+// rampGrid is the farm grid file of the cases that need one (assetstest.RampGrid); the
+// generator writes it to tests/vectors/scenes/ramp.farmgrid.
+var rampGrid = string(assetstest.EncodedGrid(assetstest.RampGrid()))
 
 // fog gives the scene a medium given by its coefficients and returns them.
 func fog(s *pb.Scene) *pb.MediumCoefficients {
@@ -19,6 +25,22 @@ func murk(s *pb.Scene) *pb.MediumAlbedo {
 	a := &pb.MediumAlbedo{Albedo: rgb(0.9, 0.7, 0.5), Density: 2}
 	s.Shapes[5].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Albedo{Albedo: a}, G: -0.2}
 	return a
+}
+
+// smoke gives the scene a grid medium (the ramp grid, uploaded) and returns it.
+func smoke(s *pb.Scene) *pb.MediumGrid {
+	g := &pb.MediumGrid{Path: "ramp.farmgrid", Digest: rules.DigestOf([]byte(rampGrid)), Albedo: rgb(0.9, 0.9, 0.8), DensityScale: 0.5}
+	s.Medium = &pb.Medium{Coefficients: &pb.Medium_Grid{Grid: g}, G: 0.4}
+	return g
+}
+
+// smokyGlass gives the glass ball (shapes[5]) the ramp grid as its interior medium, placed
+// inside the ball, and returns it.
+func smokyGlass(s *pb.Scene) *pb.MediumGrid {
+	g := &pb.MediumGrid{Path: "ramp.farmgrid", Digest: rules.DigestOf([]byte(rampGrid)), Albedo: rgb(0.5, 0.6, 0.7),
+		Transform: &pb.Transform{Translation: v(-1, 0.4, 2), Scale: v(0.2, 0.2, 0.2)}}
+	s.Shapes[5].InteriorMedium = &pb.Medium{Coefficients: &pb.Medium_Grid{Grid: g}}
+	return g
 }
 
 func fogG(s *pb.Scene, g float64) { fog(s); s.Medium.G = g }
@@ -49,7 +71,24 @@ var refusedMedia = slices.Concat([]vectorCase{
 	refuse("refuse-interior-medium-density-negative", "shapes[5].interior_medium.albedo.density", "MediumAlbedo.density:gte", func(s *pb.Scene) {
 		murkDensity(s, -2)
 	}),
+	refuse("refuse-medium-grid-path-of-4097-bytes", "medium.grid.path", "MediumGrid.path:max_bytes", func(s *pb.Scene) { smoke(s).Path = long(4097) }),
+	refuse("refuse-medium-grid-without-digest", "medium.grid.digest", "MediumGrid.digest:required", func(s *pb.Scene) { smoke(s).Digest = "" }),
+	refuse("refuse-medium-grid-digest-malformed", "medium.grid.digest", "MediumGrid.digest:digest", func(s *pb.Scene) { smoke(s).Digest = badDigest }),
+	refuse("refuse-medium-grid-of-no-uploaded-file", "medium.grid.digest", "MediumGrid.digest:note", func(s *pb.Scene) { smoke(s).Digest = absentDigest }),
+	refuse("refuse-interior-medium-grid-of-no-uploaded-file", "shapes[5].interior_medium.grid.digest", "MediumGrid.digest:note", func(s *pb.Scene) {
+		smokyGlass(s).Digest = absentDigest
+	}),
+	refuse("refuse-medium-grid-without-albedo", "medium.grid.albedo", "MediumGrid.albedo:required", func(s *pb.Scene) { smoke(s).Albedo = nil }),
+	refuse("refuse-medium-grid-albedo-negative", "medium.grid.albedo.g", "MediumGrid.albedo:gte", func(s *pb.Scene) { smoke(s).Albedo.G = -0.1 }),
+	refuse("refuse-interior-medium-grid-albedo-above-1", "shapes[5].interior_medium.grid.albedo.r", "MediumGrid.albedo:lte", func(s *pb.Scene) {
+		smokyGlass(s).Albedo.R = 1.01
+	}),
+	refuse("refuse-medium-grid-density-scale-negative", "medium.grid.density_scale", "MediumGrid.density_scale:gt", func(s *pb.Scene) { smoke(s).DensityScale = -1 }),
+	refuse("refuse-medium-grid-scale-x-0", "medium.grid.transform.scale.x", "Transform.scale:note", func(s *pb.Scene) {
+		smoke(s).Transform = &pb.Transform{Scale: v(0, 1, 1)}
+	}),
 }, nonFinite("refuse-medium-g", "medium.g", "Medium.g", fogG),
+	nonFinite("refuse-medium-grid-density-scale", "medium.grid.density_scale", "MediumGrid.density_scale", func(s *pb.Scene, x float64) { smoke(s).DensityScale = x }),
 	nonFinite("refuse-interior-medium-density", "shapes[5].interior_medium.albedo.density", "MediumAlbedo.density", murkDensity))
 
 var acceptedMedia = []vectorCase{
@@ -62,6 +101,15 @@ var acceptedMedia = []vectorCase{
 		a.Albedo, a.Density = rgb(0, 1, 0.5), 0
 	}),
 	accept("accept-fog-and-murky-glass", "", func(s *pb.Scene) { fog(s); murk(s) }),
+	accept("accept-smoke-grid-filling-the-scene", "", func(s *pb.Scene) { smoke(s) }),
+	accept("accept-smoke-grid-in-glass-density-scale-unset", "MediumGrid.density_scale:default", func(s *pb.Scene) { smokyGlass(s) }),
+	accept("accept-medium-grid-albedo-0-and-1-path-of-4096-bytes", "MediumGrid.albedo:gte= MediumGrid.albedo:lte= MediumGrid.path:max_bytes=", func(s *pb.Scene) {
+		g := smoke(s)
+		g.Albedo, g.Path = rgb(0, 1, 1), long(4096)
+	}),
+	accept("accept-medium-grid-placed-by-a-matrix", "", func(s *pb.Scene) {
+		smoke(s).Transform = &pb.Transform{Matrix: []float64{0, 0, 2, 1, 0, 2, 0, 0, -2, 0, 0, 0}}
+	}),
 	accept("accept-fog-with-volume-photons-and-estimate", "", func(s *pb.Scene) {
 		fog(s)
 		s.Photons.VolumePhotons = 30000

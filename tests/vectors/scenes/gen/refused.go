@@ -196,9 +196,9 @@ var refused = slices.Concat(refusedAssets, refusedLooks, refusedFilters, refused
 	refuse("refuse-sun-irradiance-below-0", "lights[1].sun.irradiance.r", "SunLight.irradiance:gte", func(s *pb.Scene) { sun(s).Irradiance.R = -0.5 }),
 
 	// Photon mapping.
-	refuse("refuse-global-photons-50000001", "photons.global_photons", "PhotonMapping.global_photons:lte", func(s *pb.Scene) { s.Photons.GlobalPhotons = 50000001 }),
-	refuse("refuse-caustic-photons-50000001", "photons.caustic_photons", "PhotonMapping.caustic_photons:lte", func(s *pb.Scene) { s.Photons.CausticPhotons = 50000001 }),
-	refuse("refuse-volume-photons-50000001", "photons.volume_photons", "PhotonMapping.volume_photons:lte", func(s *pb.Scene) { s.Photons.VolumePhotons = 50000001 }),
+	refuse("refuse-global-photons-200000001", "photons.global_photons", "PhotonMapping.global_photons:lte", func(s *pb.Scene) { s.Photons.GlobalPhotons = 200000001 }),
+	refuse("refuse-caustic-photons-200000001", "photons.caustic_photons", "PhotonMapping.caustic_photons:lte", func(s *pb.Scene) { s.Photons.CausticPhotons = 200000001 }),
+	refuse("refuse-volume-photons-200000001", "photons.volume_photons", "PhotonMapping.volume_photons:lte", func(s *pb.Scene) { s.Photons.VolumePhotons = 200000001 }),
 	refuse("refuse-photons-per-shard-999", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:gte", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 999 }),
 	refuse("refuse-photons-per-shard-10000001", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:lte", func(s *pb.Scene) { s.Photons.PhotonsPerShard = 10000001 }),
 	refuse("refuse-global-map-of-20000-shards", "photons.photons_per_shard", "PhotonMapping.photons_per_shard:note", func(s *pb.Scene) {
