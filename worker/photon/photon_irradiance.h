@@ -24,7 +24,9 @@ struct PrecomputeEstimates {
   RadianceEstimateSettings global, caustic;
 };
 
-inline RadianceEstimateSettings EstimateOf(const EstimateSettings& s) {
+// A scene's estimate settings as the photon-map search takes them (the precompute's and
+// the integrator's).
+inline RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& s) {
   RadianceEstimateSettings r;
   r.neighbours = s.neighbours;
   r.max_radius = s.max_radius;
@@ -38,9 +40,9 @@ inline RadianceEstimateSettings EstimateOf(const EstimateSettings& s) {
 }
 
 inline PrecomputeEstimates PrecomputeEstimatesOf(const SceneData& scene, double radius_scale) {
-  RadianceEstimateSettings global = EstimateOf(scene.photons.global_estimate);
+  RadianceEstimateSettings global = ToRadianceEstimate(scene.photons.global_estimate);
   global.filter = PhotonFilter::kBox;
-  return {ForRound(global, radius_scale), ForRound(EstimateOf(scene.photons.caustic_estimate), radius_scale)};
+  return {ForRound(global, radius_scale), ForRound(ToRadianceEstimate(scene.photons.caustic_estimate), radius_scale)};
 }
 
 inline PrecomputeEstimates Companion(const PrecomputeEstimates& e) {

@@ -32,6 +32,18 @@ std::unique_ptr<MemoryPhotonMap> GlobalMapWithIrradiance(const Scene& scene, uin
   return map;
 }
 
+// The closed box [0, 2] x [0, 1] x [0, 1] as six quads of `material`: a room twice as long
+// as it is wide.
+void AddLongRoom(pb::Scene& s, const std::string& material) {
+  const Vec3d x{2, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  AddQuad(s, material, {0, 0, 0}, x, z);  // floor
+  AddQuad(s, material, {0, 1, 0}, x, z);  // ceiling
+  AddQuad(s, material, {0, 0, 0}, x, y);  // front
+  AddQuad(s, material, {0, 0, 1}, x, y);  // back
+  AddQuad(s, material, {0, 0, 0}, y, z);  // left end
+  AddQuad(s, material, {2, 0, 0}, y, z);  // right end
+}
+
 // The mean of one camera sample per pixel of the image's central 8 x 8 pixels, final
 // gathering with `paths` global photon paths.
 SampleResult FinalGatherOverCentre(const pb::Scene& s, uint64_t paths, int pixels = 8, uint32_t samples = 1) {
@@ -111,13 +123,8 @@ TEST(FinalGather, FurnaceCubeOfGlowingWallsGivesLeOverOneMinusRho) {
 TEST(FinalGather, NoLightLeaksUnderAThinWallIntoADarkRoom) {
   pb::Scene s = MakeScene(16, 16, {1.7, 0.5, 0.5}, {1.01, 0.03, 0.5}, {0, 1, 0}, 20, 1, 3);
   AddLambert(s, "white", Rgb(0.8f));
-  const Vec3d x{2, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-  AddQuad(s, "white", {0, 0, 0}, x, z);  // floor
-  AddQuad(s, "white", {0, 1, 0}, x, z);  // ceiling
-  AddQuad(s, "white", {0, 0, 0}, x, y);  // front
-  AddQuad(s, "white", {0, 0, 1}, x, y);  // back
-  AddQuad(s, "white", {0, 0, 0}, y, z);  // left end
-  AddQuad(s, "white", {2, 0, 0}, y, z);  // right end
+  AddLongRoom(s, "white");
+  const Vec3d y{0, 1, 0}, z{0, 0, 1};
   AddQuad(s, "white", {0.99, 0, 0}, y, z);  // the wall's lit face
   AddQuad(s, "white", {1.01, 0, 0}, y, z);  // its dark face
   pb::Light* light = s.add_lights();
@@ -168,13 +175,7 @@ TEST(FinalGather, TheBiasLayerIsWhatTheCompanionPrecomputeAddsToTheIndirectLight
   const auto room = [](uint32_t neighbours, double max_radius) {
     pb::Scene s = MakeScene(32, 32, {1.0, 0.5, 0.5}, {0.0, 0.4, 0.5}, {0, 1, 0}, 50, 16, 4);
     AddLambert(s, "white", Rgb(0.7f));
-    const Vec3d x{2, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-    AddQuad(s, "white", {0, 0, 0}, x, z);  // floor
-    AddQuad(s, "white", {0, 1, 0}, x, z);  // ceiling
-    AddQuad(s, "white", {0, 0, 0}, x, y);  // front
-    AddQuad(s, "white", {0, 0, 1}, x, y);  // back
-    AddQuad(s, "white", {0, 0, 0}, y, z);  // left end, which the camera looks at
-    AddQuad(s, "white", {2, 0, 0}, y, z);  // right end
+    AddLongRoom(s, "white");  // the camera looks at its left end
     AddPointLight(s, {0.15, 0.5, 0.5}, Rgb(1));
     s.mutable_photons()->mutable_global_estimate()->set_neighbours(neighbours);
     s.mutable_photons()->mutable_global_estimate()->set_max_radius(max_radius);

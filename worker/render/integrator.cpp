@@ -276,19 +276,6 @@ struct PhotonMappingIntegrator::Branches {
   void Push(const PathBranch& branch) { at[count++] = branch; }
 };
 
-RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& s) {
-  RadianceEstimateSettings r;
-  r.neighbours = s.neighbours;
-  r.max_radius = s.max_radius;
-  r.cone_k = s.cone_k;
-  switch (s.filter) {
-    case EstimateFilter::kBox: r.filter = PhotonFilter::kBox; break;
-    case EstimateFilter::kCone: r.filter = PhotonFilter::kCone; break;
-    case EstimateFilter::kGaussian: r.filter = PhotonFilter::kGaussian; break;
-  }
-  return r;
-}
-
 PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
                                                  double radius_scale, bool bias_layer)
     : scene_(scene), maps_(maps), bias_layer_(bias_layer) {

@@ -142,8 +142,6 @@ struct PhotonMaps {
   RadianceEstimateSettings volume_estimate;
 };
 
-RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
-
 class PhotonMappingIntegrator {
  public:
   // radius_scale shrinks every photon estimate's radius and k (progressive rounds:
