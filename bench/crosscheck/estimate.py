@@ -60,6 +60,15 @@ def number(s):
     return None if s == "-" else float(s)
 
 
+def actual_error(rmse, noise):
+    """The image's own error: its RMSE against the reference less the reference's noise."""
+    return float(np.sqrt(max(rmse * rmse - noise * noise, 0.0)))
+
+
+def within(estimate, actual):
+    return actual > 0 and abs(estimate / actual - 1) <= TOLERANCE
+
+
 def rounds_of(report):
     """{round: (estimate, (low, high), bias, reference RMSE)} from `farm render --report`."""
     rows = {}
@@ -120,9 +129,9 @@ def main():
                 est, interval, bias, rmse = rows[r]
                 if est is None or rmse is None:
                     continue
-                actual = float(np.sqrt(max(rmse * rmse - noise * noise, 0.0)))
+                actual = actual_error(rmse, noise)
                 ratio = est / actual if actual > 0 else float("inf")
-                verdict = ("PASS" if abs(ratio - 1) <= TOLERANCE else "MISSED") if r >= FIRST_JUDGED else "(not judged)"
+                verdict = ("PASS" if within(est, actual) else "MISSED") if r >= FIRST_JUDGED else "(not judged)"
                 held = "holds" if interval and interval[0] <= actual <= interval[1] else "misses"
                 span = f"{interval[0]:.5f}-{interval[1]:.5f}" if interval else "-"
                 print(f"          {r:5d}  {est:.5f}  {span}  {bias or 0:.5f}  {actual:.5f}  {ratio:5.2f}  {verdict}, "
@@ -139,13 +148,13 @@ def summarize(runs, noise):
         for r, (est, interval, _, rmse) in rows.items():
             if est is None or rmse is None:
                 continue
-            actual = float(np.sqrt(max(rmse * rmse - noise * noise, 0.0)))
+            actual = actual_error(rmse, noise)
             by_round.setdefault(r, []).append((est, actual))
             measured += 1
             covered += bool(interval and interval[0] <= actual <= interval[1])
             if r >= FIRST_JUDGED:
                 judged += 1
-                passed += abs(est / actual - 1) <= TOLERANCE if actual > 0 else 0
+                passed += within(est, actual)
     print(f"  within {100 * TOLERANCE:.0f}% from round {FIRST_JUDGED}: {passed} of {judged} rounds"
           f"{'' if passed == judged else '  MISSED'}; the 95% interval held the actual error in "
           f"{covered} of {measured}")
@@ -157,10 +166,9 @@ def summarize(runs, noise):
         means.append(est)
         verdict = ""
         if r >= FIRST_JUDGED:
-            within = abs(est / actual - 1) <= TOLERANCE
             expected_judged += 1
-            expected_passed += within
-            verdict = "PASS" if within else "MISSED"
+            expected_passed += within(est, actual)
+            verdict = "PASS" if within(est, actual) else "MISSED"
         print(f"                 {r:5d}  {est:.5f}        {actual:.5f}     {est / actual:.2f}  {verdict}")
     print(f"  over the seeds, within {100 * TOLERANCE:.0f}% from round {FIRST_JUDGED}: {expected_passed} of "
           f"{expected_judged} rounds{'' if expected_passed == expected_judged else '  MISSED'}")
