@@ -1,7 +1,7 @@
 #!/bin/sh
 # Runs every benchmark and prints the figures (`make bench`).
 #   bench/run.sh BUILD_DIR [SIZES]     e.g. bench/run.sh build "1000000 10000000"
-# Needs farm_bench_photons, farm_bench_caustic_emission, farm_bench_knn, farm_bench_specular, farm_bench_spectral and farm_bench_edge_aa built in BUILD_DIR, and
+# Needs farm_bench_photons, farm_bench_caustic_emission, farm_bench_knn, farm_bench_specular, farm_bench_spectral, farm_bench_bias_layer and farm_bench_edge_aa built in BUILD_DIR, and
 # $BENCH_PYTHON (default python3) a Python with mitsuba and numpy (make bench makes one:
 # scripts/install-deps.sh --bench; without them the Mitsuba comparisons are skipped with a
 # message). Snapshots and renders go to a temporary folder, removed at exit; Mitsuba
@@ -33,6 +33,8 @@ echo "   (target 1.5x in every row, MISSED when below: not an error; exits 1 onl
 "$build/bin/farm_bench_knn" $snaps
 echo "== glass at one sample per pixel: camera paths split at glass vs one Fresnel choice (C++, in-process, scenes/cornell-caustics.json)"
 "$build/bin/farm_bench_specular"
+echo "== what the error estimate's bias layer costs a round: each photon estimate's companion (C++, in-process, 64x64; issue 14, acceptance 5; target a round at most 1.30x)"
+"$build/bin/farm_bench_bias_layer"
 echo "== spectral mode (eight wavelengths a path) against RGB on scenes without dispersion: converged relMSE (target 0.005) and time to equal error (C++, in-process; issue 18)"
 "$build/bin/farm_bench_spectral" scenes/cornell-box.json
 "$build/bin/farm_bench_spectral" scenes/cornell-caustics.json
@@ -60,6 +62,8 @@ echo "== the farm against a long Mitsuba reference on the Cornell scenes: region
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/converge.py" "$build" "$tmp/converge"
 echo "== adaptive against uniform sampling on the caustics scene at equal time, against the same reference (issue 14)"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/adaptive.py" "$build" "$tmp/adaptive"
+echo "== the error estimate against the error measured against the same references, round by round over three seeds, on the Cornell box, the caustics box and the fog box (issue 14, acceptance 5; target within 25% from round 3, the mean estimate falling)"
+"${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/estimate.py" "$build" "$tmp/estimate"
 echo "== the fog Cornell box against Mitsuba 3's volumetric path tracer: relMSE of the converged images (target 0.01; issue 15)"
 "${BENCH_PYTHON:-python3}" "$root/bench/crosscheck/fog.py" "$build" "$tmp/fog"
 echo "== the god-rays room, error against time: the farm and Mitsuba 3's volpath, time to relMSE 0.01 against a long Mitsuba reference (issue 15)"

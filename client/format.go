@@ -26,3 +26,12 @@ func FormatMetric(v *float64) string {
 	}
 	return strconv.FormatFloat(*v, 'g', 4, 64)
 }
+
+// FormatInterval formats an interval as "low-high" with FormatMetric's digits, or "-" if
+// either end is unset.
+func FormatInterval(low, high *float64) string {
+	if low == nil || high == nil {
+		return "-"
+	}
+	return FormatMetric(low) + "-" + FormatMetric(high)
+}

@@ -41,8 +41,10 @@ func runReport(ctx context.Context, e *env, args []string) error {
 	})
 }
 
-// printReport writes the job's rounds as a table, with a reference RMSE column for each
-// light layer any round measured.
+// printReport writes the job's rounds as a table: the estimated error with its 95%
+// interval and the part of it that is the photon estimates' bias (docs/error-estimate.md),
+// then the RMSE against the reference with a column for each light layer any round
+// measured.
 func printReport(w io.Writer, job *pb.Job) {
 	name := job.GetDisplayName()
 	if name == "" {
@@ -59,14 +61,15 @@ func printReport(w io.Writer, job *pb.Job) {
 		}
 	}
 	tw := tabwriter.NewWriter(w, 0, 4, 2, ' ', tabwriter.AlignRight)
-	fmt.Fprint(tw, "round\tseconds\tphotons\tsamples/px\testimated error\treference RMSE\t")
+	fmt.Fprint(tw, "round\tseconds\tphotons\tsamples/px\testimated error\t95% interval\tof it bias\treference RMSE\t")
 	for _, l := range layers {
 		fmt.Fprintf(tw, "%s RMSE\t", l)
 	}
 	fmt.Fprintln(tw)
 	for _, r := range job.GetRounds() {
-		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t", r.GetRound(), r.GetElapsedSeconds(), client.FormatCount(r.GetPhotons()),
-			r.GetSamplesPerPixel(), client.FormatMetric(r.ErrorEstimate), client.FormatMetric(r.ReferenceRmse))
+		fmt.Fprintf(tw, "%d\t%.2f\t%s\t%d\t%s\t%s\t%s\t%s\t", r.GetRound(), r.GetElapsedSeconds(), client.FormatCount(r.GetPhotons()),
+			r.GetSamplesPerPixel(), client.FormatMetric(r.ErrorEstimate), client.FormatInterval(r.ErrorEstimateLow, r.ErrorEstimateHigh),
+			client.FormatMetric(r.ErrorEstimateBias), client.FormatMetric(r.ReferenceRmse))
 		for _, l := range layers {
 			v, ok := r.GetLayerReferenceRmse()[l]
 			if !ok {

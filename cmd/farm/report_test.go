@@ -114,17 +114,29 @@ func itoa(n uint32) string { return strconv.FormatUint(uint64(n), 10) }
 func TestReportTable(t *testing.T) {
 	job := &pb.Job{Id: "j-1", DisplayName: "cornell", State: pb.JobState_JOB_STATE_SUCCEEDED, Rounds: rounds(3, false, false)}
 	job.Rounds[1].ErrorEstimate = proto.Float64(0.0125)
+	job.Rounds[1].ErrorEstimateBias = proto.Float64(0.002)
+	job.Rounds[1].ErrorEstimateLow = proto.Float64(0.0101)
+	job.Rounds[1].ErrorEstimateHigh = proto.Float64(0.0163)
 	var b strings.Builder
 	printReport(&b, job)
 	lines := strings.Split(strings.TrimSpace(b.String()), "\n")
 	if len(lines) != 5 {
 		t.Fatalf("report = %q, want a title, a header and 3 rounds", b.String())
 	}
-	if !strings.Contains(lines[0], "succeeded, 3 rounds") || !strings.Contains(lines[1], "estimated error") {
-		t.Errorf("head = %q", lines[:2])
+	if !strings.Contains(lines[0], "succeeded, 3 rounds") {
+		t.Errorf("title = %q", lines[0])
 	}
-	if f := strings.Fields(lines[3]); len(f) != 6 || f[0] != "2" || f[1] != "5.00" || f[2] != "800,000" || f[4] != "0.0125" || f[5] != "-" {
+	for _, column := range []string{"estimated error", "95% interval", "of it bias", "reference RMSE"} {
+		if !strings.Contains(lines[1], column) {
+			t.Errorf("header %q lacks %q", lines[1], column)
+		}
+	}
+	if f := strings.Fields(lines[3]); len(f) != 8 || f[0] != "2" || f[1] != "5.00" || f[2] != "800,000" || f[4] != "0.0125" ||
+		f[5] != "0.0101-0.0163" || f[6] != "0.002" || f[7] != "-" {
 		t.Errorf("round 2 = %q", lines[3])
+	}
+	if f := strings.Fields(lines[2]); len(f) != 8 || f[4] != "-" || f[5] != "-" || f[6] != "-" {
+		t.Errorf("round 1 = %q, want no estimate", lines[2])
 	}
 }
 
@@ -150,10 +162,10 @@ func TestReportTableHasAColumnPerMeasuredLayer(t *testing.T) {
 	if len(lines) != 4 || !strings.HasSuffix(strings.TrimSpace(lines[1]), "reference RMSE  direct RMSE  indirect RMSE") {
 		t.Fatalf("report = %q, want direct and indirect columns, in that order", b.String())
 	}
-	if f := strings.Fields(lines[2]); len(f) != 8 || f[6] != "-" || f[7] != "-" {
+	if f := strings.Fields(lines[2]); len(f) != 10 || f[8] != "-" || f[9] != "-" {
 		t.Errorf("round 1 = %q, want no layer errors", lines[2])
 	}
-	if f := strings.Fields(lines[3]); len(f) != 8 || f[6] != "0.0005" || f[7] != "0.002" {
+	if f := strings.Fields(lines[3]); len(f) != 10 || f[8] != "0.0005" || f[9] != "0.002" {
 		t.Errorf("round 2 = %q", lines[3])
 	}
 }

@@ -195,8 +195,9 @@ func (s *Service) scene(ctx context.Context, digest string) (*pb.Scene, error) {
 	return sc, nil
 }
 
-// checkMetrics refuses metrics that are not finite and >= 0, and layer errors of layers
-// a render does not have.
+// checkMetrics refuses metrics that are not finite and >= 0, layer errors of layers a
+// render does not have, and an error estimate's parts out of order (its bias above it, or
+// it outside its interval).
 func checkMetrics(m *pb.RoundMetrics) error {
 	type value struct {
 		field string
@@ -206,6 +207,9 @@ func checkMetrics(m *pb.RoundMetrics) error {
 	values := []value{
 		{"metrics.error_estimate", m.ErrorEstimate != nil, m.GetErrorEstimate()},
 		{"metrics.reference_rmse", m.ReferenceRmse != nil, m.GetReferenceRmse()},
+		{"metrics.error_estimate_bias", m.ErrorEstimateBias != nil, m.GetErrorEstimateBias()},
+		{"metrics.error_estimate_low", m.ErrorEstimateLow != nil, m.GetErrorEstimateLow()},
+		{"metrics.error_estimate_high", m.ErrorEstimateHigh != nil, m.GetErrorEstimateHigh()},
 	}
 	for layer, v := range m.GetLayerReferenceRmse() {
 		field := fmt.Sprintf("metrics.layer_reference_rmse[%q]", layer)
@@ -222,7 +226,27 @@ func checkMetrics(m *pb.RoundMetrics) error {
 			return errs.Field(v.field, "must be a finite number >= 0, got %v", v.v)
 		}
 	}
+	if err := checkEstimateParts(m); err != nil {
+		return err
+	}
 	return checkSpread(m.GetSamples())
+}
+
+// checkEstimateParts refuses an error estimate's bias, low or high without the estimate,
+// a bias above it, or an interval that does not hold it.
+func checkEstimateParts(m *pb.RoundMetrics) error {
+	parts := m.ErrorEstimateBias != nil || m.ErrorEstimateLow != nil || m.ErrorEstimateHigh != nil
+	switch e := m.GetErrorEstimate(); {
+	case parts && m.ErrorEstimate == nil:
+		return errs.Field("metrics.error_estimate", "must be set with its bias and interval")
+	case m.ErrorEstimateBias != nil && m.GetErrorEstimateBias() > e:
+		return errs.Field("metrics.error_estimate_bias", "must be at most error_estimate %v, got %v", e, m.GetErrorEstimateBias())
+	case m.ErrorEstimateLow != nil && m.GetErrorEstimateLow() > e:
+		return errs.Field("metrics.error_estimate_low", "must be at most error_estimate %v, got %v", e, m.GetErrorEstimateLow())
+	case m.ErrorEstimateHigh != nil && m.GetErrorEstimateHigh() < e:
+		return errs.Field("metrics.error_estimate_high", "must be at least error_estimate %v, got %v", e, m.GetErrorEstimateHigh())
+	}
+	return nil
 }
 
 // checkSpread refuses a sample spread that cannot be: no layer name, min > mean > max, or
@@ -259,6 +283,9 @@ func (s *Service) roundEnd(ctx context.Context, task *pb.Task, outputs []*pb.Art
 		Photons:            uint64(round) * planner.PhotonsPerRound(sc),
 		SamplesPerPixel:    uint64(round) * uint64(scene.SamplesPerPixel(sc)),
 		ErrorEstimate:      m.ErrorEstimate,
+		ErrorEstimateBias:  m.ErrorEstimateBias,
+		ErrorEstimateLow:   m.ErrorEstimateLow,
+		ErrorEstimateHigh:  m.ErrorEstimateHigh,
 		ReferenceRmse:      m.ReferenceRmse,
 		LayerReferenceRmse: m.GetLayerReferenceRmse(),
 		Samples:            m.GetSamples(),

@@ -173,6 +173,9 @@ func (s *Service) CompleteWithMetrics(ctx context.Context, ref store.LeaseRef, o
 			if r.ErrorEstimate != nil {
 				attrs = append(attrs, "error_estimate", r.GetErrorEstimate())
 			}
+			if r.ErrorEstimateLow != nil && r.ErrorEstimateHigh != nil {
+				attrs = append(attrs, "error_estimate_low", r.GetErrorEstimateLow(), "error_estimate_high", r.GetErrorEstimateHigh())
+			}
 			if r.ReferenceRmse != nil {
 				attrs = append(attrs, "reference_rmse", r.GetReferenceRmse())
 			}

@@ -180,6 +180,9 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 		return coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1,
 			Metrics: &pb.RoundMetrics{Samples: sp}})
 	}
+	completeWithEstimate := func(m *pb.RoundMetrics) func(context.Context) error {
+		return coordinatortest.Call(f.workers.CompleteTask, &pb.CompleteTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1, Metrics: m})
+	}
 	cases := []struct {
 		name  string
 		call  func(context.Context) error
@@ -207,6 +210,16 @@ func TestWorkerRPCsValidateFields(t *testing.T) {
 			codes.InvalidArgument, "metrics.samples.top_error_decile_share"},
 		{"complete samples NaN mean", completeWithSamples(&pb.SampleSpread{Layer: "samples.Y", Min: 1, Mean: math.NaN(), Max: 4}),
 			codes.InvalidArgument, "metrics.samples.mean"},
+		{"complete interval without an estimate", completeWithEstimate(&pb.RoundMetrics{ErrorEstimateLow: proto.Float64(0.1), ErrorEstimateHigh: proto.Float64(0.2)}),
+			codes.InvalidArgument, "metrics.error_estimate"},
+		{"complete bias above the estimate", completeWithEstimate(&pb.RoundMetrics{ErrorEstimate: proto.Float64(0.1), ErrorEstimateBias: proto.Float64(0.2)}),
+			codes.InvalidArgument, "metrics.error_estimate_bias"},
+		{"complete interval above the estimate", completeWithEstimate(&pb.RoundMetrics{ErrorEstimate: proto.Float64(0.1), ErrorEstimateLow: proto.Float64(0.15), ErrorEstimateHigh: proto.Float64(0.2)}),
+			codes.InvalidArgument, "metrics.error_estimate_low"},
+		{"complete interval below the estimate", completeWithEstimate(&pb.RoundMetrics{ErrorEstimate: proto.Float64(0.1), ErrorEstimateLow: proto.Float64(0.05), ErrorEstimateHigh: proto.Float64(0.08)}),
+			codes.InvalidArgument, "metrics.error_estimate_high"},
+		{"complete NaN interval", completeWithEstimate(&pb.RoundMetrics{ErrorEstimate: proto.Float64(0.1), ErrorEstimateHigh: proto.Float64(math.NaN())}),
+			codes.InvalidArgument, "metrics.error_estimate_high"},
 		{"fail no worker", coordinatortest.Call(f.workers.FailTask, &pb.FailTaskRequest{TaskId: "j.0", Epoch: 1, Error: "x"}), codes.InvalidArgument, "worker_id"},
 		{"fail no message", coordinatortest.Call(f.workers.FailTask, &pb.FailTaskRequest{WorkerId: w, TaskId: "j.0", Epoch: 1}), codes.InvalidArgument, "error"},
 		{"release no epoch", coordinatortest.Call(f.workers.ReleaseTask, &pb.ReleaseTaskRequest{WorkerId: w, TaskId: "j.0"}), codes.InvalidArgument, "epoch"},

@@ -405,7 +405,10 @@ func SameOutputs(a, b []*pb.Artifact) bool {
 // Metrics is the part of a round's report the composite's worker measured
 // (CompleteTaskRequest.metrics); the rest is the coordinator's (elapsed time, counts).
 func Metrics(r *pb.RoundReport) *pb.RoundMetrics {
-	return &pb.RoundMetrics{ErrorEstimate: r.ErrorEstimate, ReferenceRmse: r.ReferenceRmse, LayerReferenceRmse: r.GetLayerReferenceRmse()}
+	return &pb.RoundMetrics{
+		ErrorEstimate: r.ErrorEstimate, ReferenceRmse: r.ReferenceRmse, LayerReferenceRmse: r.GetLayerReferenceRmse(),
+		ErrorEstimateBias: r.ErrorEstimateBias, ErrorEstimateLow: r.ErrorEstimateLow, ErrorEstimateHigh: r.ErrorEstimateHigh,
+	}
 }
 
 // SameMetrics reports whether two round reports carry the same metrics.

@@ -25,7 +25,7 @@ func storeSteps() string {
 		{"expired leases requeued by one script", fmt.Sprintf("%d (`redisstore.ExpireBatch`); the sweep repeats until none is left", redisstore.ExpireBatch)},
 		{"an answer lost after Redis ran the call", fmt.Sprintf("every Redis call runs as an operation whose answer is kept %s (`redisstore.OpTTL`): a repeat of the call (go-redis's own retries, or the store's, for up to %s: `RetryWindow`) gets the first run's answer, so a submit makes one job and a report is not refused as a lost lease; past that the store says the outcome is unknown (`UNAVAILABLE`) and a retry with the same `request_id` is safe",
 			span(redisstore.OpTTL), span(redisstore.RetryWindow))},
-		{"a repeated task report", "`CompleteTask` again under the same lease succeeds only with the same outputs (and, for a round's composite, the same error estimate, reference RMSE and layer RMSEs); otherwise `FAILED_PRECONDITION`: `lease epoch E was already completed with other outputs` (or `metrics`)"},
+		{"a repeated task report", "`CompleteTask` again under the same lease succeeds only with the same outputs (and, for a round's composite, the same error estimate with its bias part and interval, reference RMSE and layer RMSEs); otherwise `FAILED_PRECONDITION`: `lease epoch E was already completed with other outputs` (or `metrics`)"},
 		{"the tasks a lease reads to fill a spec", fmt.Sprintf("only those it needs: the stage before it (tiles, shards, irradiance shards) or one task (a snapshot, the previous round's composite), %d a read (`service.ReadPage`); a round costs the same however many rounds came before it (`TestARoundCostsTheSameHoweverManyCameBefore`: 18 tasks read in round 2 and in round 300)", service.ReadPage)},
 	})
 }

@@ -294,17 +294,17 @@ func TestFarmRenderReportMeasuresEveryRoundAgainstTheReference(t *testing.T) {
 	second := render("second")
 	rows := map[string][]string{}
 	for _, line := range strings.Split(second, "\n") {
-		if f := strings.Fields(line); len(f) >= 6 && (f[0] == "1" || f[0] == "2") {
+		if f := strings.Fields(line); len(f) >= reportColumns && (f[0] == "1" || f[0] == "2") {
 			rows[f[0]] = f
 		}
 	}
 	if len(rows) != 2 {
 		t.Fatalf("farm render --report printed %q; want a row for each of rounds 1 and 2", second)
 	}
-	if got := rows["2"][5]; got != "0" && got != "0.0000" {
+	if got := rows["2"][reportReferenceColumn]; got != "0" && got != "0.0000" {
 		t.Errorf("round 2's reference RMSE = %s, want 0: the same seed renders the reference again (%q)", got, second)
 	}
-	if got := rows["1"][5]; got == "-" || got == "0" || got == "0.0000" {
+	if got := rows["1"][reportReferenceColumn]; got == "-" || got == "0" || got == "0.0000" {
 		t.Errorf("round 1's reference RMSE = %s, want above 0: one round short of the reference (%q)", got, second)
 	}
 }

@@ -28,12 +28,31 @@ func progressiveCaustics(t *testing.T, f *farmtest.Farm, maxRounds uint32, targe
 	return sc
 }
 
+// The fields a round's row of `farm report`'s table splits into: round, seconds, photons,
+// samples/px, estimated error, 95% interval, of it bias, reference RMSE (then a column
+// for each measured layer).
+const (
+	reportColumns         = 8
+	reportReferenceColumn = 7
+)
+
+// errorEstimate is round r's estimated error, which must be positive and come with its
+// bias part (at most the estimate) and a 95% interval that holds it.
 func errorEstimate(t *testing.T, r *pb.RoundReport) float64 {
 	t.Helper()
 	if r.ErrorEstimate == nil || math.IsNaN(r.GetErrorEstimate()) || r.GetErrorEstimate() <= 0 {
 		t.Fatalf("round %d has no positive error estimate: %v", r.GetRound(), r)
 	}
-	return r.GetErrorEstimate()
+	e := r.GetErrorEstimate()
+	if r.ErrorEstimateBias == nil || !(r.GetErrorEstimateBias() >= 0 && r.GetErrorEstimateBias() <= e) {
+		t.Errorf("round %d: estimated error %.5g with bias part %v, want one within [0, the estimate]", r.GetRound(), e, r.ErrorEstimateBias)
+	}
+	if r.ErrorEstimateLow == nil || r.ErrorEstimateHigh == nil ||
+		!(r.GetErrorEstimateLow() > 0 && r.GetErrorEstimateLow() <= e && e <= r.GetErrorEstimateHigh()) {
+		t.Errorf("round %d: estimated error %.5g with 95%% interval %v-%v, want a positive one that holds it",
+			r.GetRound(), e, r.ErrorEstimateLow, r.ErrorEstimateHigh)
+	}
+	return e
 }
 
 // TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob runs a 4-round job (error
@@ -87,7 +106,7 @@ func TestProgressiveRoundsReportFallingErrorAndTargetStopsTheJob(t *testing.T) {
 	var rows int
 	for _, line := range strings.Split(stdout, "\n") {
 		fields := strings.Fields(line)
-		if len(fields) == 6 {
+		if len(fields) == reportColumns {
 			if n, err := strconv.Atoi(fields[0]); err == nil && n == rows+1 {
 				rows++
 			}

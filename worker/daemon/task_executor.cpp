@@ -350,6 +350,8 @@ TaskResult TaskExecutor::RenderTile(const pb::LeaseTaskResponse& leased, std::st
   }
   ThrowIfStopped(stop);
   RoundSettings round{RadiusScaleOf(spec.radius_scale()), spec.first_sample()};
+  // A job of one round has no error estimate to give the bias layer to.
+  round.bias_layer = description.progressive().max_rounds() > 1;
   if (allocated) {
     round.samples = allocated->counts;
     round.max_samples = MaxSamplesOf(description);
@@ -430,7 +432,12 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
                                           out.sample_map->size()));
   }
   pb::RoundMetrics metrics;
-  if (out.error_estimate) metrics.set_error_estimate(*out.error_estimate);
+  if (out.error_estimate) {
+    metrics.set_error_estimate(out.error_estimate->rmse);
+    metrics.set_error_estimate_bias(out.error_estimate->bias);
+    metrics.set_error_estimate_low(out.error_estimate->low);
+    metrics.set_error_estimate_high(out.error_estimate->high);
+  }
   if (out.reference_rmse) metrics.set_reference_rmse(*out.reference_rmse);
   for (const auto& [layer, rmse] : out.layer_reference_rmse) (*metrics.mutable_layer_reference_rmse())[layer] = rmse;
   if (out.samples) {

@@ -4,8 +4,10 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfIntAttribute.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 
@@ -15,11 +17,6 @@
 
 namespace farm {
 namespace {
-
-const std::vector<std::string>& SquaredChannels() {
-  static const std::vector<std::string> rgb = {"R", "G", "B"};
-  return rgb;
-}
 
 const std::vector<std::string>& WeightChannels() {
   static const std::vector<std::string> w = {"W"};
@@ -58,10 +55,19 @@ void CheckValues(const Image& image, const std::string& prefix, bool non_negativ
 
 }  // namespace
 
+std::vector<std::string> SquaredChannels(const std::vector<std::string>& image_channels) {
+  const std::vector<std::string> bias = BiasChannels();
+  const bool has_bias = std::all_of(bias.begin(), bias.end(), [&](const std::string& c) {
+    return std::find(image_channels.begin(), image_channels.end(), c) != image_channels.end();
+  });
+  if (has_bias) return {"R", "G", "B", kBiasSquares};
+  return {"R", "G", "B"};
+}
+
 std::vector<std::string> AccumulationChannels(const std::vector<std::string>& image_channels) {
   std::vector<std::string> names;
   for (const auto& c : image_channels) names.push_back("sum." + c);
-  for (const auto& c : SquaredChannels()) names.push_back("sumsq." + c);
+  for (const auto& c : SquaredChannels(image_channels)) names.push_back("sumsq." + c);
   names.emplace_back(kWeightChannel);
   return names;
 }
@@ -72,8 +78,8 @@ std::string EncodeAccumulationExr(const Accumulation& a) {
       a.squares.rect() != whole || a.weights.rect() != whole) {
     throw ImageError("accumulation images must both cover the same whole image");
   }
-  if (a.squares.channels() != SquaredChannels()) {
-    throw ImageError("accumulation squares must be channels R, G, B");
+  if (a.squares.channels() != SquaredChannels(a.sums.channels())) {
+    throw ImageError("accumulation squares must be channels " + JoinNames(SquaredChannels(a.sums.channels())));
   }
   if (a.weights.channels() != WeightChannels()) throw ImageError("accumulation weights must be channel W");
   if (a.rounds < 1) throw ImageError("accumulation must hold at least one round");
@@ -83,14 +89,16 @@ std::string EncodeAccumulationExr(const Accumulation& a) {
     header.channels().insert(name, Imf::Channel(Imf::FLOAT));
   }
   header.insert(kRoundsAttribute, Imf::IntAttribute(a.rounds));
+  header.insert(kDeviationsAttribute, Imf::DoubleAttribute(a.deviations));
+  header.insert(kDeviationSquaresAttribute, Imf::DoubleAttribute(a.deviation_squares));
   return EncodeExr(header, SlicesOver(a), "the accumulation EXR");
 }
 
 Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
                                    const std::vector<std::string>& image_channels, int rounds) {
   const PixelRect whole{0, 0, size.width, size.height};
-  Accumulation a{rounds, Image(whole, image_channels), Image(whole, SquaredChannels()),
-                 Image(whole, WeightChannels())};
+  Accumulation a{rounds, Image(whole, image_channels), Image(whole, SquaredChannels(image_channels)),
+                 Image(whole, WeightChannels()), 0, 0};
   try {
     ExrMemoryIStream stream(bytes);
     Imf::InputFile file(stream);
@@ -101,6 +109,15 @@ Accumulation DecodeAccumulationExr(std::string_view bytes, ImageSize size,
     if (count->value() != rounds) {
       throw ImageError("accumulation holds " + std::to_string(count->value()) +
                        " rounds, expected " + std::to_string(rounds));
+    }
+    for (const auto& [name, value] : {std::pair{kDeviationsAttribute, &a.deviations},
+                                      std::pair{kDeviationSquaresAttribute, &a.deviation_squares}}) {
+      const auto* v = header.findTypedAttribute<Imf::DoubleAttribute>(name);
+      if (!v) throw ImageError(std::string("accumulation has no double attribute ") + name);
+      if (!std::isfinite(v->value()) || v->value() < 0)
+        throw ImageError(std::string("accumulation attribute ") + name + " is " + std::to_string(v->value()) +
+                         ", not finite and >= 0");
+      *value = v->value();
     }
     const std::vector<std::string> found = FloatChannels(header, "accumulation");
     const std::vector<std::string> wanted = AccumulationChannels(image_channels);

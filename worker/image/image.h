@@ -66,6 +66,11 @@ struct ImageSize {
 // averaged, over rounds).
 inline constexpr char kSamplesChannel[] = "samples.Y";
 
+// The layer of a rendered image that holds, per pixel, the difference between a companion
+// of the beauty whose photon estimates all take twice the neighbours and the beauty itself:
+// an estimate of the beauty's kernel bias (render/integrator.h, image/error_estimate.h).
+inline std::vector<std::string> BiasChannels() { return {"bias.R", "bias.G", "bias.B"}; }
+
 // The channels of a beauty image.
 inline std::vector<std::string> RgbaChannels() { return {"R", "G", "B", "A"}; }
 

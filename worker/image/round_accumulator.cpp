@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "image/accumulation_exr.h"
+#include "image/error_estimate.h"
 #include "image/image_error.h"
 #include "image/reference_exr.h"
 #include "image/sample_allocation.h"
@@ -24,12 +25,10 @@
 // the one of least variance when a round's variance is that of its camera samples. The
 // samples layer is summed, not averaged: samples per pixel over all rounds.
 //
-// The error estimate is the RMSE the mean is expected to have: for each pixel and channel
-// R, G, B, the weighted sample variance s^2 = (sum(w x^2) - sum(w x)^2 / W) / (R - 1)
-// estimates the variance of a round of weight 1 (W = sum(w); the unbiased s^2 when every
-// w is 1), so s^2 / W estimates the mean's; their average over pixels and channels is the
-// expected squared error (if rounds are unbiased; the photon maps' kernel bias is not seen
-// by it), and its square root the RMSE.
+// The error estimate (image/error_estimate.h) is the RMSE the mean is expected to have:
+// the spread between rounds for its noise and the bias layer for its bias; the weighted
+// spread (sum(w x^2) - sum(w x)^2 / W) / (R - 1) estimates the variance of a round of
+// weight 1 (W = sum(w); the unbiased s^2 when every w is 1), and that over W the mean's.
 
 namespace farm {
 namespace {
@@ -66,18 +65,32 @@ std::vector<double> RoundWeights(const std::optional<SampleMap>& map, std::uint3
 
 Accumulation Fold(std::optional<Accumulation> previous, const Image& round, std::span<const double> weights) {
   const PixelRect& whole = round.rect();
+  const std::vector<std::string> squared = SquaredChannels(round.channels());
   Accumulation a = previous ? std::move(*previous)
-                            : Accumulation{0, Image(whole, round.channels()), Image(whole, {"R", "G", "B"}),
-                                           Image(whole, {"W"})};
+                            : Accumulation{0, Image(whole, round.channels()), Image(whole, squared),
+                                           Image(whole, {"W"}), 0, 0};
   ++a.rounds;
   const int samples = SamplesChannel(round.channels());
+  std::vector<std::size_t> bias_at;  // where the bias layer is in the round's channels
+  if (squared.size() > 3)
+    for (const std::string& name : BiasChannels())
+      bias_at.push_back(std::size_t(std::find(round.channels().begin(), round.channels().end(), name) -
+                                    round.channels().begin()));
   const std::span<const float> x = round.data();
   const std::span<float> sums = a.sums.data();
   const std::span<float> squares = a.squares.data();
   const std::span<float> total = a.weights.data();
-  const std::size_t channels = round.channels().size();
+  const std::size_t channels = round.channels().size(), nsquared = squared.size();
+  double deviation = 0;  // D_r (Accumulation::deviations), from the sums before this round's
   for (std::size_t p = 0; p < total.size(); ++p) {
     const double w = weights.empty() ? 1.0 : weights[p];
+    if (a.rounds > 1) {
+      const double before = total[p];
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double d = x[p * channels + c] - double(sums[p * channels + c]) / before;
+        deviation += d * d * w * before / (before + w);
+      }
+    }
     for (std::size_t c = 0; c < channels; ++c) {
       const double v = x[p * channels + c];
       float& sum = sums[p * channels + c];
@@ -85,10 +98,19 @@ Accumulation Fold(std::optional<Accumulation> previous, const Image& round, std:
     }
     for (std::size_t c = 0; c < 3; ++c) {  // the beauty is channels 0..2 (CompositeChannels)
       const double v = x[p * channels + c];
-      squares[p * 3 + c] = float(double(squares[p * 3 + c]) + w * v * v);
+      float& square = squares[p * nsquared + c];
+      square = float(double(square) + w * v * v);
+    }
+    if (!bias_at.empty()) {
+      double d2 = 0;
+      for (std::size_t c : bias_at) d2 += double(x[p * channels + c]) * x[p * channels + c];
+      float& square = squares[p * nsquared + 3];
+      square = float(double(square) + w * d2);
     }
     total[p] = float(double(total[p]) + w);
   }
+  a.deviations += deviation;
+  a.deviation_squares += deviation * deviation;
   return a;
 }
 
@@ -109,14 +131,13 @@ Image MeanOf(const Accumulation& a) {
 // The spread between rounds of pixel p's beauty channel c: the variance of a round of
 // weight 1 (samples_per_pixel samples). Needs two rounds.
 double RoundVariance(const Accumulation& a, std::size_t p, std::size_t c) {
-  const double r = a.rounds, w = a.weights.data()[p];
-  const double sum = a.sums.data()[p * a.sums.channels().size() + c];
-  // Rounding in the float sums can make a tiny spread come out negative.
-  return std::max(0.0, (double(a.squares.data()[p * 3 + c]) - sum * sum / w) / (r - 1));
+  return RoundSpread(a.sums.data()[p * a.sums.channels().size() + c],
+                     a.squares.data()[p * a.squares.channels().size() + c], a.weights.data()[p], a.rounds);
 }
 
-// The squared error each pixel's mean is expected to have: its rounds' variance over its
-// weight, averaged over R, G, B.
+// The squared error from noise each pixel's mean is expected to have: its rounds' variance
+// over its weight, averaged over R, G, B (what more samples reduce, and so what adaptive
+// sampling ranks pixels by).
 std::vector<double> SquaredErrors(const Accumulation& a) {
   std::vector<double> e(a.weights.data().size());
   for (std::size_t p = 0; p < e.size(); ++p) {
@@ -125,15 +146,6 @@ std::vector<double> SquaredErrors(const Accumulation& a) {
     e[p] = v / 3.0 / double(a.weights.data()[p]);
   }
   return e;
-}
-
-double ErrorEstimate(const Accumulation& a) {
-  const std::size_t pixels = a.weights.data().size();
-  double total = 0;
-  for (std::size_t p = 0; p < pixels; ++p) {
-    for (std::size_t c = 0; c < 3; ++c) total += RoundVariance(a, p, c) / double(a.weights.data()[p]);
-  }
-  return std::sqrt(total / (3.0 * double(pixels)));
 }
 
 // The next round's samples (image/sample_allocation.h): the variance of one sample of
@@ -242,7 +254,7 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs, Progress progress) {
   progress.Advance();  // Accumulation encoded.
   std::vector<double> squared_errors;
   if (accumulation.rounds > 1) {
-    out.error_estimate = ErrorEstimate(accumulation);
+    out.error_estimate = EstimateError(accumulation);
     if (counted) squared_errors = SquaredErrors(accumulation);
     if (inputs.adaptive_max_samples) {
       out.sample_map = EncodeSampleMap(

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "image/composite.h"
+#include "image/error_estimate.h"
 #include "image/image.h"
 #include "util/progress.h"
 
@@ -51,9 +52,9 @@ struct RoundOutputs {
   std::string preview_png;
   // What the next round needs to extend the mean and the error estimate.
   std::string accumulation_exr;
-  // RMSE of the mean's beauty (R, G, B) estimated from the spread between rounds; absent in
-  // round 1.
-  std::optional<double> error_estimate;
+  // The estimated RMSE of the mean's beauty (R, G, B), its noise and bias parts and an
+  // interval (image/error_estimate.h); absent in round 1.
+  std::optional<ErrorEstimate> error_estimate;
   // RMSE of the mean's beauty against reference_exr, when one was given.
   std::optional<double> reference_rmse;
   // RMSE of each kMeasuredLayers layer (by name) that both the mean and reference_exr have.

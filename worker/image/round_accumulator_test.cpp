@@ -119,7 +119,7 @@ TEST(RoundAccumulator, ErrorEstimateIsTheFormulaOnAHandComputedCase) {
   const double expected = std::sqrt((24.0 / 3) / (3.0 * kSize.width * kSize.height));
   const RoundOutputs out = RunRounds(3, round_value);
   ASSERT_TRUE(out.error_estimate.has_value());
-  EXPECT_NEAR(*out.error_estimate, expected, 1e-12);
+  EXPECT_NEAR(out.error_estimate->rmse, expected, 1e-12);
 }
 
 TEST(RoundAccumulator, EstimateTracksTheNoiseOfIndependentRoundsAndFallsAsTheyAdd) {
@@ -143,9 +143,9 @@ TEST(RoundAccumulator, EstimateTracksTheNoiseOfIndependentRoundsAndFallsAsTheyAd
     if (r == 1) return;
     const double expected = kSigma / std::sqrt(double(r));
     ASSERT_TRUE(out.error_estimate && out.reference_rmse);
-    EXPECT_NEAR(*out.error_estimate, expected, 0.10 * expected) << "round " << r;
+    EXPECT_NEAR(out.error_estimate->rmse, expected, 0.10 * expected) << "round " << r;
     EXPECT_NEAR(*out.reference_rmse, expected, 0.10 * expected) << "round " << r;
-    estimates.push_back(*out.error_estimate);
+    estimates.push_back(out.error_estimate->rmse);
   });
   // Rounds 2, 4, 8, 16: each doubling cuts the error by about 1/sqrt(2).
   EXPECT_LT(estimates[2], estimates[0]);
@@ -218,9 +218,9 @@ void ExpectRefused(const RoundInputs& in, const std::string& needle, bool refere
 const PixelFn kFlat = [](int, int, int c) { return 0.5f + c; };
 
 std::string AccumulationOf(int rounds, const std::vector<std::string>& channels = kChannels,
-                           ImageSize size = kSize, float poison = 0, int poison_at = -1) {
+                           ImageSize size = kSize, float poison = 0, int poison_at = -1, double deviations = 0) {
   const PixelRect whole{0, 0, size.width, size.height};
-  Accumulation a{rounds, Image(whole, channels), Image(whole, {"R", "G", "B"}), Image(whole, {"W"})};
+  Accumulation a{rounds, Image(whole, channels), Image(whole, {"R", "G", "B"}), Image(whole, {"W"}), deviations, 0};
   std::fill(a.weights.data().begin(), a.weights.data().end(), float(rounds));
   std::fill(a.sums.data().begin(), a.sums.data().end(), 1.0f);
   std::fill(a.squares.data().begin(), a.squares.data().end(), 1.0f);
@@ -241,6 +241,7 @@ TEST(RoundAccumulator, RefusesMalformedAccumulationsNamingWhatIsWrong) {
   ExpectRefused(round2(AccumulationOf(1).substr(0, 300)), "accumulation is not a readable");
   ExpectRefused(round2(AccumulationOf(1, kChannels, kSize, NAN, 0)), "is nan, not finite");
   ExpectRefused(round2(AccumulationOf(1, kChannels, kSize, -1, 1)), "sumsq.");
+  ExpectRefused(round2(AccumulationOf(1, kChannels, kSize, 0, -1, -2)), "photonfarm.deviations is -2");
   // A tile EXR is not an accumulation: no round count.
   ExpectRefused(round2(tiles[0].exr), "accumulation");
   ExpectRefused(round2(EncodeTileExr(WholeImage(kFlat, AccumulationChannels(kChannels)), kSize)),

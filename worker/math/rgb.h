@@ -20,6 +20,8 @@ struct Rgb {
   constexpr explicit Rgb(float v) : r(v), g(v), b(v) {}
 
   constexpr Rgb operator+(const Rgb& o) const { return {r + o.r, g + o.g, b + o.b}; }
+  // Light is never negative, but a difference of two estimates of it (the bias layer) is.
+  constexpr Rgb operator-(const Rgb& o) const { return {r - o.r, g - o.g, b - o.b}; }
   constexpr Rgb operator*(const Rgb& o) const { return {r * o.r, g * o.g, b * o.b}; }
   constexpr Rgb operator*(float s) const { return {r * s, g * s, b * s}; }
   constexpr Rgb operator/(float s) const { return {r / s, g / s, b / s}; }

@@ -23,14 +23,15 @@ inline constexpr float kIrradianceMinNormalCosine = 0.5f;
 // always usable; the others cover a photon across a thin wall or around a corner.
 inline constexpr int kIrradianceCandidates = 8;
 
-// The irradiance of the photon nearest to p, within max_radius, whose normal faces the same
-// way as n and that `visible(photon)` accepts (the caller checks that no wall stands between
-// p and the photon: light leaks through thin walls otherwise). Nothing if no candidate
-// qualifies or the map has no irradiance. scratch is reused between calls.
+// The photon nearest to p, within max_radius, whose normal faces the same way as n and that
+// `visible(photon)` accepts (the caller checks that no wall stands between p and the
+// photon: light leaks through thin walls otherwise): the one whose precomputed irradiance
+// final gathering reads. Nothing if no candidate qualifies or the map has no irradiance.
+// scratch is reused between calls.
 template <typename VisibleFn>
-std::optional<Rgb> NearestIrradiance(const PhotonMap& map, const Vec3& p, const Vec3& n,
-                                     float max_radius, const VisibleFn& visible,
-                                     std::vector<PhotonNeighbour>& scratch) {
+std::optional<std::uint32_t> NearestIrradiancePhoton(const PhotonMap& map, const Vec3& p, const Vec3& n,
+                                                     float max_radius, const VisibleFn& visible,
+                                                     std::vector<PhotonNeighbour>& scratch) {
   if (!map.has_irradiance()) return std::nullopt;
   const auto usable = [&](std::uint32_t index) {
     const DecodedPhoton photon = map.photon(index);
@@ -41,7 +42,7 @@ std::optional<Rgb> NearestIrradiance(const PhotonMap& map, const Vec3& p, const 
   map.NearestK(p, 1, max_radius, scratch);
   if (scratch.empty()) return std::nullopt;
   const std::uint32_t nearest = scratch.front().index;
-  if (usable(nearest)) return map.irradiance(nearest);
+  if (usable(nearest)) return nearest;
   map.NearestK(p, kIrradianceCandidates, max_radius, scratch);
   // Nearest first; equal distances by index, so the choice is deterministic.
   std::sort(scratch.begin(), scratch.end(), [](const PhotonNeighbour& a, const PhotonNeighbour& b) {
@@ -49,8 +50,17 @@ std::optional<Rgb> NearestIrradiance(const PhotonMap& map, const Vec3& p, const 
                                                     : a.index < b.index;
   });
   for (const PhotonNeighbour& nb : scratch)
-    if (nb.index != nearest && usable(nb.index)) return map.irradiance(nb.index);
+    if (nb.index != nearest && usable(nb.index)) return nb.index;
   return std::nullopt;
+}
+
+// The irradiance of NearestIrradiancePhoton.
+template <typename VisibleFn>
+std::optional<Rgb> NearestIrradiance(const PhotonMap& map, const Vec3& p, const Vec3& n, float max_radius,
+                                     const VisibleFn& visible, std::vector<PhotonNeighbour>& scratch) {
+  const std::optional<std::uint32_t> photon = NearestIrradiancePhoton(map, p, n, max_radius, visible, scratch);
+  if (!photon) return std::nullopt;
+  return map.irradiance(*photon);
 }
 
 }  // namespace farm

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "photonmap/filter_kernel.h"
 
@@ -17,6 +18,12 @@ RadianceEstimateSettings ForRound(RadianceEstimateSettings s, double radius_scal
   s.max_radius = static_cast<float>(s.max_radius * radius_scale);
   const double k = std::round(s.neighbours * radius_scale * radius_scale);
   s.neighbours = std::min(s.neighbours, std::max(kMinRoundNeighbours, static_cast<int>(k)));
+  return s;
+}
+
+RadianceEstimateSettings Companion(RadianceEstimateSettings s) {
+  s.max_radius = static_cast<float>(s.max_radius * std::numbers::sqrt2);
+  s.neighbours *= 2;
   return s;
 }
 

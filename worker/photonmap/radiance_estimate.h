@@ -34,6 +34,14 @@ inline constexpr int kMinRoundNeighbours = 8;
 // (0, 1].
 RadianceEstimateSettings ForRound(RadianceEstimateSettings settings, double radius_scale);
 
+// The companion of an estimate, whose difference from it is the error estimate's measure of
+// its bias (the bias layer, image/error_estimate.h): twice the neighbours and a bound
+// sqrt(2) times the radius, so that the disc's area doubles whether k or the bound sets it.
+// A kernel estimate's leading bias grows with the kernel's area (a disc of radius r blurs
+// the irradiance by (r^2 / 8) times its Laplacian), so the companion's bias is twice the
+// estimate's and their difference the estimate's own, from the same photons.
+RadianceEstimateSettings Companion(RadianceEstimateSettings settings);
+
 // Reflected radiance at p (surface normal n) from the k nearest photons: sum over photons of
 // bsdf(wi) * power * filter weight, over the disc area, normalised so that a uniform photon
 // density gives the exact irradiance whatever the filter. Photons on surfaces facing away

@@ -35,8 +35,8 @@ namespace farm {
 class FilterSplats {
  public:
   // Filtered channels per sample: the tile renderer's light channels (beauty, alpha,
-  // direct, indirect, caustic, volume, albedo).
-  static constexpr int kChannels = 19;
+  // direct, indirect, caustic, volume, bias, albedo).
+  static constexpr int kChannels = 22;
   // Where a pixel's summed weight falls below this share of its expected weight (Mitchell's
   // negative lobes can bring it near 0 when its samples sit far from its centre), the
   // expected weight times this share divides instead, so that no pixel's noise is

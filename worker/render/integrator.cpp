@@ -91,6 +91,8 @@ enum Stream : uint32_t {
   kPathDirection,
   kPathLobe,
   kPathSurvive,
+  // Which shading point's gather ray recomputes its photon's irradiance for the bias layer.
+  kGatherCompanion,
 };
 
 // Volume photon estimates per camera-path segment: the estimate is smooth (k photons, the
@@ -107,6 +109,12 @@ constexpr int kVolumeRouletteVertices = 4;
 // rest only see the medium's transmittance. Each such estimate costs a kNN search and
 // the seen-volume probes.
 constexpr uint32_t kGatherScatterSamples = 8;
+// With the bias layer, one shading point in this many (chosen at random) recomputes, at
+// one of its gather rays (likewise), the irradiance of the photon that ray reads with the
+// precompute's companion estimates; weighted by this times the gather rays, so the bias
+// layer's share stays unbiased. Each costs a k-nearest search of twice the neighbours of
+// each map and the coverage probes of its disc (docs/error-estimate.md).
+constexpr uint32_t kGatherCompanionStride = 4;
 
 Rgb Finite(const Rgb& c) { return c.IsFinite() ? c : Rgb(); }
 
@@ -221,6 +229,12 @@ struct PhotonMappingIntegrator::PathBranch {
 
   // What light x (RGB) reaching the branch adds to the film.
   Rgb Carried(const Rgb& x) const { return spectral ? spectral->Times(x).ToRgb() : throughput * x; }
+  // What the film gains when light x reaching the branch becomes x + dx (dx may be
+  // negative, x + dx not): an RGB's uplift to a spectrum is not linear, so in spectral mode
+  // the difference of the two carried lights.
+  Rgb CarriedChange(const Rgb& x, const Rgb& dx) const {
+    return spectral ? Carried(x + dx) - Carried(x) : throughput * dx;
+  }
 
   // The branch with its throughput times weight (RGB: a surface's or a medium's), over
   // survive.
@@ -262,26 +276,17 @@ struct PhotonMappingIntegrator::Branches {
   void Push(const PathBranch& branch) { at[count++] = branch; }
 };
 
-RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& s) {
-  RadianceEstimateSettings r;
-  r.neighbours = s.neighbours;
-  r.max_radius = s.max_radius;
-  r.cone_k = s.cone_k;
-  switch (s.filter) {
-    case EstimateFilter::kBox: r.filter = PhotonFilter::kBox; break;
-    case EstimateFilter::kCone: r.filter = PhotonFilter::kCone; break;
-    case EstimateFilter::kGaussian: r.filter = PhotonFilter::kGaussian; break;
-  }
-  return r;
-}
-
 PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
-                                                 double radius_scale)
-    : scene_(scene), maps_(maps) {
+                                                 double radius_scale, bool bias_layer)
+    : scene_(scene), maps_(maps), bias_layer_(bias_layer) {
   const float scale = std::isfinite(radius_scale) && radius_scale > 0 ? float(radius_scale) : 1.0f;
   maps_.global_estimate = ForRound(maps_.global_estimate, scale);
   maps_.caustic_estimate = ForRound(maps_.caustic_estimate, scale);
   maps_.volume_estimate = ForRound(maps_.volume_estimate, scale);
+  global_companion_ = Companion(maps_.global_estimate);
+  caustic_companion_ = Companion(maps_.caustic_estimate);
+  volume_companion_ = Companion(maps_.volume_estimate);
+  precompute_companion_ = Companion(PrecomputeEstimatesOf(scene, scale));
   lookup_radius_ = maps_.global_estimate.max_radius;
   // Without precomputed irradiance (a job planned before the precompute phase existed, or
   // a map too small to need one) the global map is seen directly rather than not at all.
@@ -326,6 +331,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
   result.caustic = Finite(result.caustic);
   result.indirect = Finite(result.indirect);
   result.volume = Finite(result.volume);
+  result.bias = Finite(result.bias);
   result.albedo = Finite(result.albedo);
   result.direct_irradiance = Finite(result.direct_irradiance);
   if (!std::isfinite(result.depth)) result.depth = 0;
@@ -348,8 +354,10 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     // scattering), then what it reaches seen through the medium (media_transport.h).
     const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
-    const LightSplit scattered = InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), scratch);
+    const LightSplit scattered =
+        InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), /*camera_path=*/true, scratch);
     result.volume += path.Carried(scattered.direct + scattered.indirect);
+    result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
     path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
@@ -389,22 +397,24 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   const MaterialCapabilities& can = scene_.capabilities_of(*hit);
   if (can.reflects) {
     result.shaded = true;
-    Rgb direct, caustic, indirect;
+    Rgb direct, caustic, indirect, bias;
     const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
     Rgb irradiance;
-    Shade(at, strategies, seed, scratch, direct, caustic, indirect, branch.key == 0 ? &irradiance : nullptr);
+    Shade(at, strategies, seed, scratch, direct, caustic, indirect, bias, branch.key == 0 ? &irradiance : nullptr);
     result.direct_irradiance += path.Carried(irradiance);
     if (final_gather_) {
       const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
       const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
       direct += glossy.direct;
       indirect += glossy.indirect;
+      bias += glossy.bias;
     }
     // Added, not set: a smooth principled surface is shaded for its diffuse base here and
     // followed through its specular lobe below, and what lies beyond adds its own.
     result.direct += path.Carried(direct);
     result.caustic += path.Carried(caustic);
     result.indirect += path.Carried(indirect);
+    result.bias += path.CarriedChange(direct + caustic + indirect, bias);
   }
   if (!can.specular) return;
 
@@ -446,24 +456,35 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
 void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
                                     std::vector<PhotonNeighbour>& scratch, Rgb& direct,
-                                    Rgb& caustic, Rgb& indirect, Rgb* irradiance) const {
+                                    Rgb& caustic, Rgb& indirect, Rgb& bias, Rgb* irradiance) const {
   direct = DirectLight(at, strategies, SubSeed(seed, kDirectSeed), irradiance);
-  const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
+  bias = {};
   // Both photon estimates are over the surface their disc covers (surface_estimate.h).
   const uint32_t coverage_seed = SubSeed(seed, kCoverageSeed);
-  caustic = maps_.caustic ? EstimateOnSurface(scene_, *maps_.caustic, at.hit.p, at.n, maps_.caustic_estimate,
-                                              bsdf, scratch, coverage_seed)
+  caustic = maps_.caustic ? EstimateWithCompanion(*maps_.caustic, at, maps_.caustic_estimate, caustic_companion_,
+                                                  coverage_seed, scratch, bias)
                           : Rgb();
   if (strategies.gather_rays > 0) {
     const LightSplit gathered = Gather(at, strategies.gather_rays, SubSeed(seed, kGatherSeed), scratch);
     direct += gathered.direct;
     indirect = gathered.indirect;
+    bias += gathered.bias;
   } else if (maps_.global) {
-    indirect = EstimateOnSurface(scene_, *maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf, scratch,
-                                 coverage_seed);
+    indirect = EstimateWithCompanion(*maps_.global, at, maps_.global_estimate, global_companion_, coverage_seed,
+                                     scratch, bias);
   } else {
     indirect = {};
   }
+}
+
+Rgb PhotonMappingIntegrator::EstimateWithCompanion(const PhotonMap& map, const Shading& at,
+                                                   const RadianceEstimateSettings& estimate,
+                                                   const RadianceEstimateSettings& companion, uint32_t seed,
+                                                   std::vector<PhotonNeighbour>& scratch, Rgb& bias) const {
+  const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
+  const Rgb e = EstimateOnSurface(scene_, map, at.hit.p, at.n, estimate, bsdf, scratch, seed);
+  if (bias_layer_) bias += EstimateOnSurface(scene_, map, at.hit.p, at.n, companion, bsdf, scratch, seed) - e;
+  return e;
 }
 
 uint32_t PhotonMappingIntegrator::LightSampleCount() const {
@@ -526,7 +547,11 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
   const uint32_t scatter_offset =
       std::min(scatter_stride - 1, uint32_t(Point1(0, 1, seed, kGatherScatterPick) * float(scatter_stride)));
-  Rgb indirect, escaped;
+  // The bias layer's share of the precomputed irradiance (kGatherCompanionStride).
+  const uint64_t pick = Hash(seed, uint32_t(kGatherCompanion));
+  const bool companion = bias_layer_ && final_gather_ && pick % kGatherCompanionStride == 0;
+  const uint32_t companion_ray = uint32_t((pick >> 32) % count);
+  Rgb indirect, escaped, bias;
   for (uint32_t i = 0; i < count; ++i) {
     const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
     const Vec3 w = frame.FromLocal(local);
@@ -545,15 +570,18 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
       const MediumSegment segment = SegmentIn(scene_, at.medium, ray, t_end);
       if (i % scatter_stride == scatter_offset) {
         const LightSplit scattered =
-            InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, scratch);
+            InScattered(segment, ray, uint32_t(Hash(seed, uint32_t(kGatherMedium), i)), 1, /*camera_path=*/false, scratch);
         indirect += kd * (scattered.direct + scattered.indirect) * float(scatter_stride);
+        bias += kd * scattered.bias * float(scatter_stride);
       }
       through = segment.TransmittanceTo(t_end);
     }
     bool escaped_directly = false;
+    Rgb change;
     indirect += kd * through *
                 GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed,
-                          at.medium, scratch, escaped_directly);
+                          at.medium, scratch, escaped_directly, companion && i == companion_ray ? &change : nullptr);
+    bias += kd * through * change * float(count * kGatherCompanionStride);
     if (escaped_directly && scene_.environment_light >= 0) {
       // The environment seen by a gather ray is direct light, shared with light sampling.
       const float gather = float(count) * CosineHemispherePdf(local.z);
@@ -561,32 +589,41 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
                  BalanceWeight(gather, light_samples * EnvironmentLightPdf(w));
     }
   }
-  return {escaped / float(count), indirect / float(count)};
+  return {escaped / float(count), indirect / float(count), bias / float(count)};
 }
 
 Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
                                        const Medium* medium, std::vector<PhotonNeighbour>& scratch,
-                                       bool& escaped) const {
+                                       bool& escaped, Rgb* companion) const {
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
   if (!d) return {};
   const Shading at(d->hit, d->wo, d->material, d->cone_width, medium);
   const uint32_t count = scene_.indirect.gather_rays;
-  return d->throughput * Albedo(at.material) * kInvPi *
-         LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick), Point2(i, count, seed, kGatherLightPoint),
-                           scratch);
+  const Rgb reflect = d->throughput * Albedo(at.material) * kInvPi;
+  const Rgb e = LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick),
+                                  Point2(i, count, seed, kGatherLightPoint), scratch, companion);
+  if (companion) *companion = reflect * *companion;
+  return reflect * e;
 }
 
 Rgb PhotonMappingIntegrator::LandingIrradiance(const Shading& at, float u_light, Vec2 u_point,
-                                               std::vector<PhotonNeighbour>& scratch) const {
+                                               std::vector<PhotonNeighbour>& scratch, Rgb* companion) const {
   Rgb e = DirectIrradiance(at, u_light, u_point);
   if (!final_gather_) return e;
   const auto visible = [&](const DecodedPhoton& photon) {
     return scene_.FrontsSeeEachOther(at.hit.p, at.n, photon.position, photon.normal);
   };
-  if (const std::optional<Rgb> irradiance =
-          NearestIrradiance(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch))
-    e += *irradiance;
+  const std::optional<std::uint32_t> photon =
+      NearestIrradiancePhoton(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch);
+  if (!photon) return e;
+  const Rgb precomputed = maps_.global->irradiance(*photon);
+  e += precomputed;
+  // Against the stored value: its rounding (RGB9E5, to nearest) adds noise to the
+  // difference, not bias.
+  if (companion)
+    *companion = PhotonIrradiance(scene_, *maps_.global, maps_.caustic, *photon, precompute_companion_, scratch) -
+                 precomputed;
   return e;
 }
 
@@ -619,15 +656,16 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   if (escaped && scene_.environment_light >= 0) {
     // Direct light from the environment, shared with light sampling (DirectLight).
     const float share = BalanceWeight(lobe->pdf, float(LightSampleCount()) * EnvironmentLightPdf(wi));
-    return {weight * scene_.environment->Radiance(wi) * share, Rgb()};
+    return {weight * scene_.environment->Radiance(wi) * share, Rgb(), Rgb()};
   }
   if (!d) return {};
   // Seen through a (possibly sharp) glossy reflection, a nearest-photon read would show:
   // the landing point is shaded in full, with the cheaper secondary gather.
   const Shading next(d->hit, d->wo, d->material, d->cone_width, at.medium);
-  Rgb direct, caustic, indirect;
-  Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect);
-  return {Rgb(), weight * d->throughput * (direct + caustic + indirect)};
+  Rgb direct, caustic, indirect, bias;
+  Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect,
+        bias);
+  return {Rgb(), weight * d->throughput * (direct + caustic + indirect), weight * d->throughput * bias};
 }
 
 Rgb PhotonMappingIntegrator::Arriving(const Shading& at, const LightSample& ls) const {
@@ -643,11 +681,11 @@ ShadowTransmittance PhotonMappingIntegrator::ShadowIn(const Medium* medium) cons
 }
 
 PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const MediumSegment& segment, const Ray& ray,
-                                                                         uint32_t seed, uint32_t count,
+                                                                         uint32_t seed, uint32_t count, bool camera_path,
                                                                          std::vector<PhotonNeighbour>& scratch) const {
   if (segment.empty() || scene_.light_power.empty() || count == 0) return {};
   const ShadowTransmittance shadow = ShadowIn(segment.medium);
-  Rgb single, multiple;
+  Rgb single, multiple, bias;
   for (uint32_t j = 0; j < count; ++j) {
     const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kMediumLightPick));
     const InScatterDimensions u{Point2(j, count, seed, kMediumLightPoint), Point1(j, count, seed, kMediumChannel),
@@ -666,21 +704,33 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::InScattered(const M
       single += s->single;
       if (path_traced) {
         const uint32_t path_seed = uint32_t(Hash(seed, uint32_t(kVolumePath), j));
-        multiple += s->weight * VolumePath(s->ray, s->hit, segment.medium, path_seed, scratch);
+        Rgb path_bias;
+        multiple += s->weight * VolumePath(s->ray, s->hit, segment.medium, path_seed, scratch, path_bias);
+        bias += s->weight * path_bias;
       }
     }
   }
-  if (path_traced) return {single / float(count), multiple / float(count)};
+  if (path_traced) return {single / float(count), multiple / float(count), bias / float(count)};
   const uint32_t estimates = maps_.volume ? std::min(count, kVolumeEstimatesPerSegment) : 0;
-  for (uint32_t j = 0; j < estimates; ++j)
-    multiple += VolumeInScatter(scene_, segment, ray, *maps_.volume, maps_.volume_estimate,
-                                Point1(j, estimates, seed, kVolumeChannel), Point1(j, estimates, seed, kVolumeDistance),
-                                Point2(j, estimates, seed, kVolumeProbe), scratch);
-  return {single / float(count), estimates ? multiple / float(estimates) : Rgb()};
+  for (uint32_t j = 0; j < estimates; ++j) {
+    // The companion at the same distance, with the same probes of the seen part.
+    const auto estimate = [&](const RadianceEstimateSettings& settings) {
+      return VolumeInScatter(scene_, segment, ray, *maps_.volume, settings, Point1(j, estimates, seed, kVolumeChannel),
+                             Point1(j, estimates, seed, kVolumeDistance), Point2(j, estimates, seed, kVolumeProbe),
+                             scratch);
+    };
+    const Rgb e = estimate(maps_.volume_estimate);
+    multiple += e;
+    // One companion, the first estimate's, for the segment: the estimates differ only in
+    // where they fall along it, and a second companion search would cost as much again.
+    if (bias_layer_ && camera_path && j == 0) bias = estimate(volume_companion_) - e;
+  }
+  if (!estimates) return {single / float(count), Rgb(), Rgb()};
+  return {single / float(count), multiple / float(estimates), bias};
 }
 
 Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium,
-                                        uint32_t seed, std::vector<PhotonNeighbour>& scratch) const {
+                                        uint32_t seed, std::vector<PhotonNeighbour>& scratch, Rgb& bias) const {
   Rgb light, throughput(1);
   bool after_specular = false;  // the ray left a specular surface, not a scattering point
   for (int vertex = 0; vertex < kMaxVolumePathVertices; ++vertex) {
@@ -736,9 +786,10 @@ Rgb PhotonMappingIntegrator::VolumePath(Ray ray, std::optional<SurfaceHit> hit, 
       light += throughput * Albedo(*material) * kInvPi *
                LandingIrradiance(at, Point1(0, 1, v, kPathLightPick), Point2(0, 1, v, kPathLightPoint), scratch);
       if (!final_gather_ && maps_.global) {
-        const auto bsdf = [&at](const Vec3& wi) { return at.Reflected(wi); };
-        light += throughput * EstimateOnSurface(scene_, *maps_.global, at.hit.p, at.n, maps_.global_estimate, bsdf,
-                                                scratch, SubSeed(v, kCoverageSeed));
+        Rgb companion;
+        light += throughput * EstimateWithCompanion(*maps_.global, at, maps_.global_estimate, global_companion_,
+                                                    SubSeed(v, kCoverageSeed), scratch, companion);
+        bias += throughput * companion;
       }
       break;
     }

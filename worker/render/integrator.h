@@ -79,6 +79,7 @@
 
 #include "math/ray.h"
 #include "math/rgb.h"
+#include "photon/photon_irradiance.h"
 #include "photonmap/photon_map.h"
 #include "photonmap/radiance_estimate.h"
 #include "render/media_transport.h"
@@ -99,6 +100,10 @@ struct SampleResult {
   // Light that media scattered towards the camera path's segments, once (from the lights)
   // or more (from the volume photon map): the volume layer, graded apart from surfaces.
   Rgb volume;
+  // The bias layer (image/error_estimate.h): what radiance would gain if every photon
+  // estimate on the path took its companion (Companion in radiance_estimate.h: twice the
+  // neighbours, twice the area, the same photons) instead, everything else the same.
+  Rgb bias;
   // 1 if the camera ray hit geometry or sees an environment visible to the camera, 0 if
   // it escaped into black.
   float alpha = 0;
@@ -137,14 +142,14 @@ struct PhotonMaps {
   RadianceEstimateSettings volume_estimate;
 };
 
-RadianceEstimateSettings ToRadianceEstimate(const EstimateSettings& settings);
-
 class PhotonMappingIntegrator {
  public:
   // radius_scale shrinks every photon estimate's radius and k (progressive rounds:
-  // RoundSettings::radius_scale, ForRound in radiance_estimate.h).
+  // RoundSettings::radius_scale, ForRound in radiance_estimate.h). bias_layer: whether each
+  // photon estimate also takes its companion for SampleResult::bias (which stays 0
+  // otherwise): a second k-nearest search and coverage of twice the area.
   PhotonMappingIntegrator(const SceneData& scene, const PhotonMaps& maps,
-                          double radius_scale = 1.0);
+                          double radius_scale = 1.0, bool bias_layer = false);
 
   // Consumes sampler dimensions after the camera's: seven per specular bounce, drawn
   // before any early exit, so a bounce's dimensions do not depend on what earlier bounces
@@ -173,21 +178,29 @@ class PhotonMappingIntegrator {
     uint32_t gather_rays = 0;
     bool glossy_bounce = false;
   };
-  // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect.
+  // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect,
+  // and the bias layer's share of it (SampleResult::bias).
   struct LightSplit {
-    Rgb direct, indirect;
+    Rgb direct, indirect, bias;
   };
 
   // One bounce of one branch of a camera path: adds what its hit emits and reflects to
   // result, and the branches that go on from it to next (two where glass splits it).
   void Bounce(const PathBranch& branch, int depth, const BounceDimensions& u, std::vector<PhotonNeighbour>& scratch,
               SampleResult& result, Branches& next) const;
-  // Direct + caustic + indirect leaving a non-specular hit along wo; no gather rays means
-  // the global map's estimate instead of gathering. seed scrambles the stratified points.
-  // irradiance, if not null, receives the direct irradiance (DirectLight's).
+  // Direct + caustic + indirect leaving a non-specular hit along wo, and their bias layer
+  // (SampleResult::bias); no gather rays means the global map's estimate instead of
+  // gathering. seed scrambles the stratified points. irradiance, if not null, receives the
+  // direct irradiance (DirectLight's).
   void Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
-             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect,
+             std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect, Rgb& bias,
              Rgb* irradiance = nullptr) const;
+  // A photon estimate of map at a shading point over the surface its disc covers
+  // (surface_estimate.h), reflected by its BSDF; adds its companion's difference from it
+  // (Companion, the same coverage probes) to bias.
+  Rgb EstimateWithCompanion(const PhotonMap& map, const Shading& at, const RadianceEstimateSettings& estimate,
+                            const RadianceEstimateSettings& companion, uint32_t seed,
+                            std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
   // Light samples a shading point takes.
   uint32_t LightSampleCount() const;
   // The average of LightSampleCount() light samples of the reflected direct radiance along
@@ -207,14 +220,19 @@ class PhotonMappingIntegrator {
   // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
+  // companion, if not null, receives what the ray's radiance would gain if the precomputed
+  // irradiance it reads were its companion's (LandingIrradiance).
   Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const Medium* medium,
-                std::vector<PhotonNeighbour>& scratch, bool& escaped) const;
+                std::vector<PhotonNeighbour>& scratch, bool& escaped, Rgb* companion = nullptr) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
   // The irradiance at a diffuse surface where a gather ray (or a volumetric path) lands:
   // one light sample's, and that precomputed at the nearest photon facing the same way and
-  // visible from it when final gathering.
-  Rgb LandingIrradiance(const Shading& at, float u_light, Vec2 u_point, std::vector<PhotonNeighbour>& scratch) const;
+  // visible from it when final gathering. companion, if not null, receives the companion's
+  // irradiance at that photon (PhotonIrradiance with the companion estimates, computed
+  // here) less the precomputed value it read.
+  Rgb LandingIrradiance(const Shading& at, float u_light, Vec2 u_point, std::vector<PhotonNeighbour>& scratch,
+                        Rgb* companion = nullptr) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
   // full with secondary gathering (indirect), or the environment it escapes to (direct).
   LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
@@ -227,9 +245,12 @@ class PhotonMappingIntegrator {
   // the segment (media_transport.h): single scattering from the lights (direct: count
   // light samples and count phase samples, weighed by MIS) and multiple scattering
   // (indirect) from the volume map, or by a volumetric path from each phase sample where
-  // the medium's is path traced (scene/multiple_scattering.h).
+  // the medium's is path traced (scene/multiple_scattering.h). With the bias layer and
+  // along a camera path (camera_path), the first volume estimate's companion stands for
+  // all of the segment's (the bias layer's share); a gather ray's segment, whose light is
+  // one of many a shading point averages, takes none (docs/error-estimate.md).
   LightSplit InScattered(const MediumSegment& segment, const Ray& ray, uint32_t seed, uint32_t count,
-                         std::vector<PhotonNeighbour>& scratch) const;
+                         bool camera_path, std::vector<PhotonNeighbour>& scratch) const;
   // The light arriving at ray.origin along -ray.direction that is not the lights' own
   // emission seen straight along the ray (single scattering took that): a volumetric path
   // tracer from a scattering point in `medium`, ray's first hit given. Each scattering on
@@ -237,15 +258,21 @@ class PhotonMappingIntegrator {
   // a specular surface is followed by one sampled direction and what the ray beyond it
   // meets emitting is counted; a diffuse surface ends the path with the light it reflects,
   // as where a gather ray lands (LandingIrradiance). Russian roulette on the throughput,
-  // at most kMaxVolumePathVertices vertices; seed draws every number.
+  // at most kMaxVolumePathVertices vertices; seed draws every number. Adds the bias
+  // layer's share to bias.
   Rgb VolumePath(Ray ray, std::optional<SurfaceHit> hit, const Medium* medium, uint32_t seed,
-                 std::vector<PhotonNeighbour>& scratch) const;
+                 std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
   // The light a sample reaches a point in `medium` with: blocked by any surface,
   // attenuated by the medium (the scene's clipped to its ball).
   ShadowTransmittance ShadowIn(const Medium* medium) const;
 
   const SceneData& scene_;
   PhotonMaps maps_;
+  // The companions of maps_' estimates and of the round's precompute (the bias layer), if
+  // it is rendered.
+  bool bias_layer_ = false;
+  RadianceEstimateSettings global_companion_, caustic_companion_, volume_companion_;
+  PrecomputeEstimates precompute_companion_;
   bool final_gather_ = false;
   bool single_delta_light_ = false;
   // Whether some light is not a delta light: a ray can meet it, so single scattering takes

@@ -22,7 +22,7 @@ inline PhotonMaps MapsOf(const SceneData& data, const PhotonMap* global) {
 }
 
 // The mean of `samples` camera samples of each pixel of a pixels x pixels block at the image
-// centre (radiance, emitted, direct, indirect, caustic, volume and alpha).
+// centre (radiance, emitted, direct, indirect, caustic, volume, bias and alpha).
 inline SampleResult MeanOverCentre(const SceneData& data, const PhotonMappingIntegrator& integrator, int pixels,
                                    uint32_t samples) {
   PixelSampler sampler(samples, data.seed);
@@ -41,10 +41,12 @@ inline SampleResult MeanOverCentre(const SceneData& data, const PhotonMappingInt
         mean.indirect += r.indirect;
         mean.caustic += r.caustic;
         mean.volume += r.volume;
+        mean.bias += r.bias;
         mean.alpha += r.alpha;
         ++n;
       }
-  for (Rgb* term : {&mean.radiance, &mean.emitted, &mean.direct, &mean.indirect, &mean.caustic, &mean.volume})
+  for (Rgb* term : {&mean.radiance, &mean.emitted, &mean.direct, &mean.indirect, &mean.caustic, &mean.volume,
+                    &mean.bias})
     *term = *term / float(n);
   mean.alpha /= float(n);
   return mean;

@@ -67,13 +67,14 @@ enum Channel : int {
   kIndirect = 7,
   kCaustic = 10,
   kVolume = 13,
-  kAlbedo = 16,
-  kNormal = 19,
-  kDepth = 22,
-  kEdge = 23,
-  kSamples = 24,
-  kSummed = 23,  // channels summed over samples: all but the edge mask and the count
-  kChannelCount = 25,
+  kBias = 16,
+  kAlbedo = 19,
+  kNormal = 22,
+  kDepth = 25,
+  kEdge = 26,
+  kSamples = 27,
+  kSummed = 26,  // channels summed over samples: all but the edge mask and the count
+  kChannelCount = 28,
   kHits = kSummed,  // in Sums after the channels: samples that hit geometry
 };
 
@@ -106,6 +107,7 @@ void AddLight(const SampleResult& r, double* sum) {
   Add(sum, kIndirect, r.indirect);
   Add(sum, kCaustic, r.caustic);
   Add(sum, kVolume, r.volume);
+  Add(sum, kBias, r.bias);
   Add(sum, kAlbedo, r.albedo);
 }
 static_assert(kNormal == FilterSplats::kChannels, "the filtered channels are the light channels");
@@ -280,11 +282,11 @@ void CheckArguments(const SceneData& data, const PixelRect& rect, const RoundSet
 }  // namespace
 
 std::vector<std::string> RenderChannels() {
-  return {"R",          "G",          "B",         "A",          "direct.R",  "direct.G",
+  return {"R",          "G",          "B",          "A",          "direct.R",  "direct.G",
           "direct.B",   "indirect.R", "indirect.G", "indirect.B", "caustic.R", "caustic.G",
-          "caustic.B",  "volume.R",   "volume.G",   "volume.B",   "albedo.R",  "albedo.G",
-          "albedo.B",   "normal.X",   "normal.Y",   "normal.Z",   "depth.Z",   "edge.Y",
-          kSamplesChannel};
+          "caustic.B",  "volume.R",   "volume.G",   "volume.B",   "bias.R",    "bias.G",
+          "bias.B",     "albedo.R",   "albedo.G",   "albedo.B",   "normal.X",  "normal.Y",
+          "normal.Z",   "depth.Z",    "edge.Y",     kSamplesChannel};
 }
 
 int RenderChannelIndex(std::string_view name) {
@@ -304,7 +306,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   CheckArguments(data, rect, round);
   Image image(rect, RenderChannels());
   if (rect.width == 0 || rect.height == 0) return image;
-  const PhotonMappingIntegrator integrator(data, MapsOf(data, photons), round.radius_scale);
+  const PhotonMappingIntegrator integrator(data, MapsOf(data, photons), round.radius_scale, round.bias_layer);
   const SamplePlan plan = SamplePlan::Of(data, round);
   const ImageSize size{data.width, data.height};
   SampleTally tally;

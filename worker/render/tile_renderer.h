@@ -16,7 +16,10 @@ namespace farm {
 
 // The channels RenderTile produces: the beauty (R, G, B, A), then the AOV layers
 // direct.{R,G,B}, indirect.{R,G,B}, caustic.{R,G,B}, volume.{R,G,B} (light scattered by
-// media towards the camera; 0 without media), albedo.{R,G,B}, normal.{X,Y,Z},
+// media towards the camera; 0 without media), bias.{R,G,B} (the bias layer: the kernel
+// bias of the photon estimates, estimated by their companions, image/error_estimate.h;
+// 0 unless RoundSettings::bias_layer),
+// albedo.{R,G,B}, normal.{X,Y,Z},
 // depth.Z, edge.Y (1 on pixels edge anti-aliasing supersampled) and samples.Y (the camera
 // samples the pixel drew), so that passes can be recombined after the render.
 std::vector<std::string> RenderChannels();
@@ -40,6 +43,9 @@ struct RoundSettings {
   // With samples: the most a pixel may draw in a round (AdaptiveMaxSamples), the domain of
   // the round's sample set, so that a pixel's samples never depend on its neighbours'.
   std::uint32_t max_samples = 0;
+  // Whether the bias layer is rendered (a job of more than one round, whose error is
+  // estimated: image/error_estimate.h); else it stays 0, at no cost.
+  bool bias_layer = false;
 };
 
 // The most camera samples a pixel may draw in a round under adaptive sampling: 64 times

@@ -20,6 +20,7 @@ using namespace farm::testing;
 // Where the layers sit among RenderChannels().
 const int kDirect = RenderChannelIndex("direct.R"), kIndirect = RenderChannelIndex("indirect.R"),
           kCaustic = RenderChannelIndex("caustic.R"), kVolume = RenderChannelIndex("volume.R"),
+          kBias = RenderChannelIndex("bias.R"),
           kAlbedo = RenderChannelIndex("albedo.R"), kNormal = RenderChannelIndex("normal.X"),
           kDepth = RenderChannelIndex("depth.Z"), kEdge = RenderChannelIndex("edge.Y"),
           kSamples = RenderChannelIndex("samples.Y");
@@ -215,18 +216,21 @@ TEST(RenderTile, PassesAddUpToTheBeautyAndGeometryLayersAreFilled) {
   const Image image = RenderTile(BuildBox(3), nullptr, {0, 0, 24, 16});
   const std::vector<std::string> channels = RenderChannels();
   ASSERT_EQ(image.channels(), channels);
-  ASSERT_EQ(channels.size(), 25u);
+  ASSERT_EQ(channels.size(), 28u);
   EXPECT_EQ(channels[kDepth], "depth.Z");
   EXPECT_EQ(channels[kEdge], "edge.Y");
   EXPECT_EQ(channels[kSamples], "samples.Y");
   EXPECT_EQ(channels[kVolume], "volume.R");
+  EXPECT_EQ(channels[kBias], "bias.R");
   int edges = 0;
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 24; ++x) {
       const float* p = image.pixel(x, y);
-      // No photon maps and no media: no indirect, caustic or volume light; emitted light
-      // (the lamp) is the difference between beauty and direct.
+      // No photon maps and no media: no indirect, caustic or volume light, and no photon
+      // estimate to be biased; emitted light (the lamp) is the difference between beauty
+      // and direct.
       for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(p[kBias + c], 0.0f);
         EXPECT_EQ(p[kIndirect + c], 0.0f);
         EXPECT_EQ(p[kCaustic + c], 0.0f);
         EXPECT_EQ(p[kVolume + c], 0.0f);

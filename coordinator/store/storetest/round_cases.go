@@ -173,7 +173,10 @@ func testRepeatedReportsMustBeTheSame(f *fixture) {
 
 	comp := f.lease("w1")
 	outs := []*pb.Artifact{artifact("image.exr", "i1"), artifact("accumulation.exr", "a1")}
-	report := &pb.RoundReport{Round: 1, ElapsedSeconds: 1, ErrorEstimate: proto.Float64(0.5), LayerReferenceRmse: map[string]float64{"direct": 0.1}}
+	report := &pb.RoundReport{Round: 1, ElapsedSeconds: 1, ErrorEstimate: proto.Float64(0.5), ErrorEstimateBias: proto.Float64(0.1),
+		ErrorEstimateLow: proto.Float64(0.4), ErrorEstimateHigh: proto.Float64(0.6), LayerReferenceRmse: map[string]float64{"direct": 0.1}}
+	otherInterval := proto.Clone(report).(*pb.RoundReport)
+	otherInterval.ErrorEstimateHigh = proto.Float64(0.7)
 	end := store.RoundEnd{Outputs: outs, Report: report, Next: roundTasks(2, 1)}
 	if _, err := f.s.CompleteRound(f.ctx, ref("w1", comp), end); err != nil {
 		f.t.Fatalf("CompleteRound: %v", err)
@@ -184,10 +187,15 @@ func testRepeatedReportsMustBeTheSame(f *fixture) {
 	if c, err := f.s.CompleteRound(f.ctx, ref("w1", comp), store.RoundEnd{Outputs: outs, Report: later, Next: roundTasks(2, 1)}); err != nil || c.Job != nil {
 		f.t.Errorf("the same outputs and metrics again = %+v, %v; want no change", c, err)
 	}
-	for what, end := range map[string]store.RoundEnd{
-		"outputs": {Outputs: outs[:1], Report: report, Next: roundTasks(2, 1)},
-		"metrics": {Outputs: outs, Report: &pb.RoundReport{Round: 1, ErrorEstimate: proto.Float64(0.25)}, Next: roundTasks(2, 1)},
+	for _, c := range []struct {
+		what string
+		end  store.RoundEnd
+	}{
+		{"outputs", store.RoundEnd{Outputs: outs[:1], Report: report, Next: roundTasks(2, 1)}},
+		{"metrics", store.RoundEnd{Outputs: outs, Report: &pb.RoundReport{Round: 1, ErrorEstimate: proto.Float64(0.25)}, Next: roundTasks(2, 1)}},
+		{"metrics", store.RoundEnd{Outputs: outs, Report: otherInterval, Next: roundTasks(2, 1)}},
 	} {
+		what, end := c.what, c.end
 		_, err := f.s.CompleteRound(f.ctx, ref("w1", comp), end)
 		wantKind(f.t, "a repeat with other "+what, err, errs.FailedPrecondition)
 		if err != nil && !strings.Contains(err.Error(), "other "+what) {

@@ -764,7 +764,8 @@ type RoundReport struct {
 	Photons uint64 `protobuf:"varint,3,opt,name=photons,proto3" json:"photons,omitempty"`
 	// Camera samples per ordinary pixel so far.
 	SamplesPerPixel uint64 `protobuf:"varint,4,opt,name=samples_per_pixel,json=samplesPerPixel,proto3" json:"samples_per_pixel,omitempty"`
-	// RMSE estimated from the spread between rounds; unset after the first round.
+	// RMSE estimated without a reference (noise from the spread between rounds, bias from the
+	// bias layer: docs/error-estimate.md); unset after the first round.
 	ErrorEstimate *float64 `protobuf:"fixed64,5,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the scene's reference image, if it names one.
 	ReferenceRmse *float64 `protobuf:"fixed64,6,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
@@ -773,9 +774,14 @@ type RoundReport struct {
 	// edges) and hide how far another has converged.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,7,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
 	// Where the camera samples went (the composite's RoundMetrics.samples).
-	Samples       *SampleSpread `protobuf:"bytes,8,opt,name=samples,proto3" json:"samples,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	Samples *SampleSpread `protobuf:"bytes,8,opt,name=samples,proto3" json:"samples,omitempty"`
+	// With error_estimate: its bias part and its 95% interval (RoundMetrics'
+	// error_estimate_bias, error_estimate_low and error_estimate_high).
+	ErrorEstimateBias *float64 `protobuf:"fixed64,9,opt,name=error_estimate_bias,json=errorEstimateBias,proto3,oneof" json:"error_estimate_bias,omitempty"`
+	ErrorEstimateLow  *float64 `protobuf:"fixed64,10,opt,name=error_estimate_low,json=errorEstimateLow,proto3,oneof" json:"error_estimate_low,omitempty"`
+	ErrorEstimateHigh *float64 `protobuf:"fixed64,11,opt,name=error_estimate_high,json=errorEstimateHigh,proto3,oneof" json:"error_estimate_high,omitempty"`
+	unknownFields     protoimpl.UnknownFields
+	sizeCache         protoimpl.SizeCache
 }
 
 func (x *RoundReport) Reset() {
@@ -862,6 +868,27 @@ func (x *RoundReport) GetSamples() *SampleSpread {
 		return x.Samples
 	}
 	return nil
+}
+
+func (x *RoundReport) GetErrorEstimateBias() float64 {
+	if x != nil && x.ErrorEstimateBias != nil {
+		return *x.ErrorEstimateBias
+	}
+	return 0
+}
+
+func (x *RoundReport) GetErrorEstimateLow() float64 {
+	if x != nil && x.ErrorEstimateLow != nil {
+		return *x.ErrorEstimateLow
+	}
+	return 0
+}
+
+func (x *RoundReport) GetErrorEstimateHigh() float64 {
+	if x != nil && x.ErrorEstimateHigh != nil {
+		return *x.ErrorEstimateHigh
+	}
+	return 0
 }
 
 // How a job's camera samples so far spread over the image's pixels.
@@ -3384,7 +3411,7 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\vPlannedPass\x12\x12\n" +
 	"\x04name\x18\x01 \x01(\tR\x04name\x12\x18\n" +
 	"\aenabled\x18\x02 \x01(\bR\aenabled\x12\x16\n" +
-	"\x06reason\x18\x03 \x01(\tR\x06reason\"\xf4\x03\n" +
+	"\x06reason\x18\x03 \x01(\tR\x06reason\"\xd8\x05\n" +
 	"\vRoundReport\x12\x14\n" +
 	"\x05round\x18\x01 \x01(\rR\x05round\x12'\n" +
 	"\x0felapsed_seconds\x18\x02 \x01(\x01R\x0eelapsedSeconds\x12\x18\n" +
@@ -3393,12 +3420,19 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\x0eerror_estimate\x18\x05 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
 	"\x0ereference_rmse\x18\x06 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12d\n" +
 	"\x14layer_reference_rmse\x18\a \x03(\v22.renderfarm.v1.RoundReport.LayerReferenceRmseEntryR\x12layerReferenceRmse\x125\n" +
-	"\asamples\x18\b \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x1aE\n" +
+	"\asamples\x18\b \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x123\n" +
+	"\x13error_estimate_bias\x18\t \x01(\x01H\x02R\x11errorEstimateBias\x88\x01\x01\x121\n" +
+	"\x12error_estimate_low\x18\n" +
+	" \x01(\x01H\x03R\x10errorEstimateLow\x88\x01\x01\x123\n" +
+	"\x13error_estimate_high\x18\v \x01(\x01H\x04R\x11errorEstimateHigh\x88\x01\x01\x1aE\n" +
 	"\x17LayerReferenceRmseEntry\x12\x10\n" +
 	"\x03key\x18\x01 \x01(\tR\x03key\x12\x14\n" +
 	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
-	"\x0f_reference_rmse\"\xb1\x01\n" +
+	"\x0f_reference_rmseB\x16\n" +
+	"\x14_error_estimate_biasB\x15\n" +
+	"\x13_error_estimate_lowB\x16\n" +
+	"\x14_error_estimate_high\"\xb1\x01\n" +
 	"\fSampleSpread\x12\x14\n" +
 	"\x05layer\x18\x01 \x01(\tR\x05layer\x12\x10\n" +
 	"\x03min\x18\x02 \x01(\x04R\x03min\x12\x12\n" +

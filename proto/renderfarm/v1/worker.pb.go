@@ -660,7 +660,8 @@ func (x *TileSamples) GetZero() uint64 {
 
 type RoundMetrics struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
-	// RMSE of the mean image estimated from the spread between rounds (needs two rounds).
+	// RMSE of the mean image estimated without a reference (needs two rounds): its noise from
+	// the spread between rounds and its bias from the bias layer (docs/error-estimate.md).
 	ErrorEstimate *float64 `protobuf:"fixed64,1,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the reference image, if the composite was given one.
 	ReferenceRmse *float64 `protobuf:"fixed64,2,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
@@ -669,9 +670,15 @@ type RoundMetrics struct {
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,3,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
 	// Where the camera samples went (absent from a composite whose tiles have no samples
 	// layer).
-	Samples       *SampleSpread `protobuf:"bytes,4,opt,name=samples,proto3" json:"samples,omitempty"`
-	unknownFields protoimpl.UnknownFields
-	sizeCache     protoimpl.SizeCache
+	Samples *SampleSpread `protobuf:"bytes,4,opt,name=samples,proto3" json:"samples,omitempty"`
+	// With error_estimate: its part from the photon estimates' kernel bias (0 without a bias
+	// layer), and a 95% interval for the image's RMSE, error_estimate_low <= error_estimate
+	// <= error_estimate_high.
+	ErrorEstimateBias *float64 `protobuf:"fixed64,5,opt,name=error_estimate_bias,json=errorEstimateBias,proto3,oneof" json:"error_estimate_bias,omitempty"`
+	ErrorEstimateLow  *float64 `protobuf:"fixed64,6,opt,name=error_estimate_low,json=errorEstimateLow,proto3,oneof" json:"error_estimate_low,omitempty"`
+	ErrorEstimateHigh *float64 `protobuf:"fixed64,7,opt,name=error_estimate_high,json=errorEstimateHigh,proto3,oneof" json:"error_estimate_high,omitempty"`
+	unknownFields     protoimpl.UnknownFields
+	sizeCache         protoimpl.SizeCache
 }
 
 func (x *RoundMetrics) Reset() {
@@ -730,6 +737,27 @@ func (x *RoundMetrics) GetSamples() *SampleSpread {
 		return x.Samples
 	}
 	return nil
+}
+
+func (x *RoundMetrics) GetErrorEstimateBias() float64 {
+	if x != nil && x.ErrorEstimateBias != nil {
+		return *x.ErrorEstimateBias
+	}
+	return 0
+}
+
+func (x *RoundMetrics) GetErrorEstimateLow() float64 {
+	if x != nil && x.ErrorEstimateLow != nil {
+		return *x.ErrorEstimateLow
+	}
+	return 0
+}
+
+func (x *RoundMetrics) GetErrorEstimateHigh() float64 {
+	if x != nil && x.ErrorEstimateHigh != nil {
+		return *x.ErrorEstimateHigh
+	}
+	return 0
 }
 
 type CompleteTaskResponse struct {
@@ -1113,17 +1141,23 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\vTileSamples\x12\x18\n" +
 	"\asamples\x18\x01 \x01(\x04R\asamples\x12\x1c\n" +
 	"\tnonfinite\x18\x02 \x01(\x04R\tnonfinite\x12\x12\n" +
-	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xf1\x02\n" +
+	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xd5\x04\n" +
 	"\fRoundMetrics\x12*\n" +
 	"\x0eerror_estimate\x18\x01 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
 	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12e\n" +
 	"\x14layer_reference_rmse\x18\x03 \x03(\v23.renderfarm.v1.RoundMetrics.LayerReferenceRmseEntryR\x12layerReferenceRmse\x125\n" +
-	"\asamples\x18\x04 \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x1aE\n" +
+	"\asamples\x18\x04 \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x123\n" +
+	"\x13error_estimate_bias\x18\x05 \x01(\x01H\x02R\x11errorEstimateBias\x88\x01\x01\x121\n" +
+	"\x12error_estimate_low\x18\x06 \x01(\x01H\x03R\x10errorEstimateLow\x88\x01\x01\x123\n" +
+	"\x13error_estimate_high\x18\a \x01(\x01H\x04R\x11errorEstimateHigh\x88\x01\x01\x1aE\n" +
 	"\x17LayerReferenceRmseEntry\x12\x10\n" +
 	"\x03key\x18\x01 \x01(\tR\x03key\x12\x14\n" +
 	"\x05value\x18\x02 \x01(\x01R\x05value:\x028\x01B\x11\n" +
 	"\x0f_error_estimateB\x11\n" +
-	"\x0f_reference_rmse\"\x16\n" +
+	"\x0f_reference_rmseB\x16\n" +
+	"\x14_error_estimate_biasB\x15\n" +
+	"\x13_error_estimate_lowB\x16\n" +
+	"\x14_error_estimate_high\"\x16\n" +
 	"\x14CompleteTaskResponse\"\xce\x01\n" +
 	"\x0fFailTaskRequest\x12\x1b\n" +
 	"\tworker_id\x18\x01 \x01(\tR\bworkerId\x12\x17\n" +

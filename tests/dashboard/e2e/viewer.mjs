@@ -5,8 +5,9 @@
 const tid = (id) => `[data-testid="${id}"]`;
 
 // The AOVs a render worker writes (worker/render/tile_renderer.cpp) beside R, G, B, A, and
-// samples (samples.Y: camera samples a pixel, summed over rounds).
-export const WORKER_LAYERS = ['beauty', 'albedo', 'caustic', 'depth', 'direct', 'edge', 'indirect', 'normal', 'samples', 'volume'];
+// samples (samples.Y: camera samples a pixel, summed over rounds). bias is the photon
+// estimates' estimated bias (docs/error-estimate.md), shown by its magnitude.
+export const WORKER_LAYERS = ['beauty', 'albedo', 'bias', 'caustic', 'depth', 'direct', 'edge', 'indirect', 'normal', 'samples', 'volume'];
 
 // 8-bit sRGB to linear, and the linear interval an 8-bit value stands for.
 const toLinear = (s) => (s <= 0.04045 ? s / 12.92 : ((s + 0.055) / 1.055) ** 2.4);

@@ -52,7 +52,8 @@ class JobEvent:
 
 @dataclasses.dataclass(frozen=True)
 class Round:
-    """One progressive round's figures (job.proto's RoundReport). error_estimate and
+    """One progressive round's figures (job.proto's RoundReport). error_estimate (with its
+    bias part and 95% interval, error_estimate_low to error_estimate_high) and
     reference_rmse are None when the round did not measure them."""
 
     round: int
@@ -62,6 +63,9 @@ class Round:
     error_estimate: Optional[float]
     reference_rmse: Optional[float]
     layer_reference_rmse: dict[str, float]
+    error_estimate_bias: Optional[float] = None
+    error_estimate_low: Optional[float] = None
+    error_estimate_high: Optional[float] = None
 
     @classmethod
     def from_pb(cls, r: job_pb2.RoundReport) -> "Round":
@@ -69,7 +73,9 @@ class Round:
                    samples_per_pixel=r.samples_per_pixel,
                    error_estimate=r.error_estimate if r.HasField("error_estimate") else None,
                    reference_rmse=r.reference_rmse if r.HasField("reference_rmse") else None,
-                   layer_reference_rmse=dict(r.layer_reference_rmse))
+                   layer_reference_rmse=dict(r.layer_reference_rmse),
+                   **{f: getattr(r, f) if r.HasField(f) else None
+                      for f in ("error_estimate_bias", "error_estimate_low", "error_estimate_high")})
 
 
 @dataclasses.dataclass(frozen=True)

@@ -59,6 +59,14 @@ export function formatError(v) {
         return v.toExponential(2);
     return v.toPrecision(3);
 }
+/** An estimated error with its 95% interval: "0.0123 (95%: 0.0101–0.0163)"; the estimate
+ * alone when the round reported no interval. */
+export function formatEstimate(v, low, high) {
+    const e = formatError(v);
+    if (v === undefined || low === undefined || high === undefined)
+        return e;
+    return `${e} (95%: ${formatError(low)}–${formatError(high)})`;
+}
 /** "just now", "12 s ago", "3 min ago", "2 h ago", "4 d ago". */
 export function formatRelative(ms, now) {
     if (ms === undefined)

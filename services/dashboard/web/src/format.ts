@@ -56,6 +56,14 @@ export function formatError(v: number | undefined): string {
   return v.toPrecision(3);
 }
 
+/** An estimated error with its 95% interval: "0.0123 (95%: 0.0101–0.0163)"; the estimate
+ * alone when the round reported no interval. */
+export function formatEstimate(v: number | undefined, low: number | undefined, high: number | undefined): string {
+  const e = formatError(v);
+  if (v === undefined || low === undefined || high === undefined) return e;
+  return `${e} (95%: ${formatError(low)}–${formatError(high)})`;
+}
+
 /** "just now", "12 s ago", "3 min ago", "2 h ago", "4 d ago". */
 export function formatRelative(ms: number | undefined, now: number): string {
   if (ms === undefined) return "never";

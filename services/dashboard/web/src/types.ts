@@ -60,6 +60,9 @@ export interface RoundReport {
   photons?: string;
   samplesPerPixel?: string;
   errorEstimate?: number;
+  errorEstimateBias?: number;
+  errorEstimateLow?: number;
+  errorEstimateHigh?: number;
   referenceRmse?: number;
   layerReferenceRmse?: Record<string, number>;
 }

@@ -1,18 +1,24 @@
 // The error-against-time chart: an inline SVG with a logarithmic y axis, one line for the
-// estimated error (an estimate made without a reference) and one for the RMSE against the scene's
-// reference image, each point a finished round.
+// estimated error (an estimate made without a reference, each point with a bar over its 95%
+// interval) and one for the RMSE against the scene's reference image, each point a finished
+// round.
 import { h, svg } from "../dom.js";
-import { formatDuration, formatError } from "../format.js";
+import { formatDuration, formatEstimate } from "../format.js";
 const W = 640;
 const H = 260;
 const M = { left: 64, right: 20, top: 16, bottom: 46 };
-function series(rounds, name, className, pick) {
+function series(rounds, name, className, pick, interval) {
     const points = [];
+    const positive = (v) => v !== undefined && Number.isFinite(v) && v > 0;
     for (const r of rounds) {
         const v = pick(r);
-        if (v !== undefined && Number.isFinite(v) && v > 0) {
-            points.push({ t: r.elapsedSeconds ?? 0, v, round: r.round ?? points.length + 1 });
-        }
+        if (!positive(v))
+            continue;
+        const p = { t: r.elapsedSeconds ?? 0, v, round: r.round ?? points.length + 1 };
+        const [low, high] = interval?.(r) ?? [undefined, undefined];
+        if (positive(low) && positive(high))
+            Object.assign(p, { low, high });
+        points.push(p);
     }
     return { name, className, points };
 }
@@ -57,12 +63,12 @@ export class ErrorChart {
     }
     update(job) {
         const rounds = job.rounds ?? [];
-        const sig = JSON.stringify(rounds.map((r) => [r.round, r.elapsedSeconds, r.errorEstimate, r.referenceRmse]));
+        const sig = JSON.stringify(rounds.map((r) => [r.round, r.elapsedSeconds, r.errorEstimate, r.errorEstimateLow, r.errorEstimateHigh, r.referenceRmse]));
         if (sig === this.sig)
             return;
         this.sig = sig;
         const all = [
-            series(rounds, "Estimated error", "chart__line--estimate", (r) => r.errorEstimate),
+            series(rounds, "Estimated error", "chart__line--estimate", (r) => r.errorEstimate, (r) => [r.errorEstimateLow, r.errorEstimateHigh]),
             series(rounds, "Error against reference", "chart__line--reference", (r) => r.referenceRmse),
         ].filter((s) => s.points.length > 0);
         if (rounds.length < 2 || all.length === 0) {
@@ -81,8 +87,8 @@ export class ErrorChart {
     draw(all) {
         const points = all.flatMap((s) => s.points);
         const tMax = Math.max(...points.map((p) => p.t), 1e-3);
-        let lo = Math.log10(Math.min(...points.map((p) => p.v)));
-        let hi = Math.log10(Math.max(...points.map((p) => p.v)));
+        let lo = Math.log10(Math.min(...points.map((p) => p.low ?? p.v)));
+        let hi = Math.log10(Math.max(...points.map((p) => p.high ?? p.v)));
         // Round out to whole decades, at least one decade tall.
         lo = Math.floor(lo + 1e-9);
         hi = Math.ceil(hi - 1e-9);
@@ -122,7 +128,11 @@ export class ErrorChart {
                 g.append(svg("path", { class: "chart__path", d }));
             }
             for (const p of s.points) {
-                g.append(svg("circle", { class: "chart__point", cx: x(p.t).toFixed(1), cy: y(p.v).toFixed(1), r: 3.5 }, svg("title", null, `${s.name}, round ${p.round}: ${formatError(p.v)} at ${formatDuration(p.t)}`)));
+                if (p.low !== undefined && p.high !== undefined) {
+                    const xx = x(p.t).toFixed(1);
+                    g.append(svg("line", { class: "chart__interval", x1: xx, x2: xx, y1: y(p.low).toFixed(1), y2: y(p.high).toFixed(1) }));
+                }
+                g.append(svg("circle", { class: "chart__point", cx: x(p.t).toFixed(1), cy: y(p.v).toFixed(1), r: 3.5 }, svg("title", null, `${s.name}, round ${p.round}: ${formatEstimate(p.v, p.low, p.high)} at ${formatDuration(p.t)}`)));
             }
             root.append(g);
         }

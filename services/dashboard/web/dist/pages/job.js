@@ -16,7 +16,7 @@ import { DataTable } from "../components/table.js";
 import { badge, badgeCell, progressBar, timeElement, updateBadge, updateProgressBar } from "../components/widgets.js";
 import { ARTIFACT } from "../contract.gen.js";
 import { frameScheduler, h, setAttr, setText } from "../dom.js";
-import { enumKey, formatCompact, formatDuration, formatError, formatEta, formatRelative, failureLabel, jobStateLabel, phaseShort, taskStateLabel, } from "../format.js";
+import { enumKey, formatCompact, formatDuration, formatError, formatEstimate, formatEta, formatRelative, failureLabel, jobStateLabel, phaseShort, taskStateLabel, } from "../format.js";
 import { jobElapsed, jobEta, jobProgress } from "../progress.js";
 import { artifact, jobEnded } from "../types.js";
 import { progressLabel } from "./jobs.js";
@@ -381,7 +381,7 @@ export function jobPage(id) {
         const last = j.rounds?.[j.rounds.length - 1];
         setText(sPhotons.value, last ? formatCompact(last.photons) : "—");
         setText(sSpp.value, last ? formatCompact(last.samplesPerPixel) : "—");
-        setText(sError.value, formatError(last?.errorEstimate));
+        setText(sError.value, formatEstimate(last?.errorEstimate, last?.errorEstimateLow, last?.errorEstimateHigh));
         setText(sRef.value, formatError(last?.referenceRmse));
         sRef.element.hidden = !(j.rounds ?? []).some((r) => r.referenceRmse !== undefined);
         phases.update(j);

@@ -1,9 +1,10 @@
 // The error-against-time chart: an inline SVG with a logarithmic y axis, one line for the
-// estimated error (an estimate made without a reference) and one for the RMSE against the scene's
-// reference image, each point a finished round.
+// estimated error (an estimate made without a reference, each point with a bar over its 95%
+// interval) and one for the RMSE against the scene's reference image, each point a finished
+// round.
 
 import { h, svg } from "../dom.js";
-import { formatDuration, formatError } from "../format.js";
+import { formatDuration, formatEstimate } from "../format.js";
 import type { Job, RoundReport } from "../types.js";
 
 const W = 640;
@@ -14,6 +15,9 @@ interface Point {
   t: number;
   v: number;
   round: number;
+  // The 95% interval about v, for an estimate that has one.
+  low?: number;
+  high?: number;
 }
 
 interface Series {
@@ -22,13 +26,22 @@ interface Series {
   points: Point[];
 }
 
-function series(rounds: readonly RoundReport[], name: string, className: string, pick: (r: RoundReport) => number | undefined): Series {
+function series(
+  rounds: readonly RoundReport[],
+  name: string,
+  className: string,
+  pick: (r: RoundReport) => number | undefined,
+  interval?: (r: RoundReport) => [number | undefined, number | undefined],
+): Series {
   const points: Point[] = [];
+  const positive = (v: number | undefined): v is number => v !== undefined && Number.isFinite(v) && v > 0;
   for (const r of rounds) {
     const v = pick(r);
-    if (v !== undefined && Number.isFinite(v) && v > 0) {
-      points.push({ t: r.elapsedSeconds ?? 0, v, round: r.round ?? points.length + 1 });
-    }
+    if (!positive(v)) continue;
+    const p: Point = { t: r.elapsedSeconds ?? 0, v, round: r.round ?? points.length + 1 };
+    const [low, high] = interval?.(r) ?? [undefined, undefined];
+    if (positive(low) && positive(high)) Object.assign(p, { low, high });
+    points.push(p);
   }
   return { name, className, points };
 }
@@ -77,12 +90,14 @@ export class ErrorChart {
 
   update(job: Job): void {
     const rounds = job.rounds ?? [];
-    const sig = JSON.stringify(rounds.map((r) => [r.round, r.elapsedSeconds, r.errorEstimate, r.referenceRmse]));
+    const sig = JSON.stringify(
+      rounds.map((r) => [r.round, r.elapsedSeconds, r.errorEstimate, r.errorEstimateLow, r.errorEstimateHigh, r.referenceRmse]),
+    );
     if (sig === this.sig) return;
     this.sig = sig;
 
     const all = [
-      series(rounds, "Estimated error", "chart__line--estimate", (r) => r.errorEstimate),
+      series(rounds, "Estimated error", "chart__line--estimate", (r) => r.errorEstimate, (r) => [r.errorEstimateLow, r.errorEstimateHigh]),
       series(rounds, "Error against reference", "chart__line--reference", (r) => r.referenceRmse),
     ].filter((s) => s.points.length > 0);
 
@@ -114,8 +129,8 @@ export class ErrorChart {
   private draw(all: Series[]): SVGSVGElement {
     const points = all.flatMap((s) => s.points);
     const tMax = Math.max(...points.map((p) => p.t), 1e-3);
-    let lo = Math.log10(Math.min(...points.map((p) => p.v)));
-    let hi = Math.log10(Math.max(...points.map((p) => p.v)));
+    let lo = Math.log10(Math.min(...points.map((p) => p.low ?? p.v)));
+    let hi = Math.log10(Math.max(...points.map((p) => p.high ?? p.v)));
     // Round out to whole decades, at least one decade tall.
     lo = Math.floor(lo + 1e-9);
     hi = Math.ceil(hi - 1e-9);
@@ -167,11 +182,15 @@ export class ErrorChart {
         g.append(svg("path", { class: "chart__path", d }));
       }
       for (const p of s.points) {
+        if (p.low !== undefined && p.high !== undefined) {
+          const xx = x(p.t).toFixed(1);
+          g.append(svg("line", { class: "chart__interval", x1: xx, x2: xx, y1: y(p.low).toFixed(1), y2: y(p.high).toFixed(1) }));
+        }
         g.append(
           svg(
             "circle",
             { class: "chart__point", cx: x(p.t).toFixed(1), cy: y(p.v).toFixed(1), r: 3.5 },
-            svg("title", null, `${s.name}, round ${p.round}: ${formatError(p.v)} at ${formatDuration(p.t)}`),
+            svg("title", null, `${s.name}, round ${p.round}: ${formatEstimate(p.v, p.low, p.high)} at ${formatDuration(p.t)}`),
           ),
         );
       }

@@ -43,19 +43,28 @@ export function layersOf(img: ExrImage): Layer[] {
  * The layer's display values for each of R, G, B: colour layers and single channels are
  * radiance-like and scaled by 2^exposure; a vector layer (X, Y, Z: the normal) is shown
  * as (v + 1) / 2, and a lone Z (depth) and the samples layer (camera samples a pixel,
- * samples.Y) over the image's largest value, neither exposed: they are not light.
+ * samples.Y) over the image's largest value, neither exposed: they are not light. The
+ * bias layer (the photon estimates' estimated bias, signed: docs/error-estimate.md) is
+ * shown by its magnitude over the image's largest, not exposed either.
  */
 function displayChannels(layer: Layer, exposure: number): { rgb: Float32Array[]; scale: number; offset: number; srgb: boolean } {
   const c = layer.channels;
+  if (layer.name === "bias" && c.has("R") && c.has("G") && c.has("B")) {
+    const rgb = [c.get("R")!, c.get("G")!, c.get("B")!].map((ch) => ch.map(Math.abs));
+    return { rgb, scale: overLargest(rgb), offset: 0, srgb: false };
+  }
   if (c.has("R") && c.has("G") && c.has("B")) return { rgb: [c.get("R")!, c.get("G")!, c.get("B")!], scale: 2 ** exposure, offset: 0, srgb: true };
   if (c.has("X") && c.has("Y") && c.has("Z")) return { rgb: [c.get("X")!, c.get("Y")!, c.get("Z")!], scale: 0.5, offset: 0.5, srgb: false };
   const only = [...c.values()][0]!;
-  if (c.size === 1 && (c.has("Z") || layer.name === "samples")) {
-    let max = 0;
-    for (const v of only) if (Number.isFinite(v) && v > max) max = v;
-    return { rgb: [only, only, only], scale: max > 0 ? 1 / max : 0, offset: 0, srgb: false };
-  }
+  if (c.size === 1 && (c.has("Z") || layer.name === "samples")) return { rgb: [only, only, only], scale: overLargest([only]), offset: 0, srgb: false };
   return { rgb: [only, only, only], scale: 2 ** exposure, offset: 0, srgb: true };
+}
+
+/** The scale that brings the largest finite value of the channels to 1 (0 when none is positive). */
+function overLargest(channels: Float32Array[]): number {
+  let max = 0;
+  for (const ch of channels) for (const v of ch) if (Number.isFinite(v) && v > max) max = v;
+  return max > 0 ? 1 / max : 0;
 }
 
 export class ImageViewer {

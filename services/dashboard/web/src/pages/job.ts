@@ -22,6 +22,7 @@ import {
   formatCompact,
   formatDuration,
   formatError,
+  formatEstimate,
   formatEta,
   formatRelative,
   failureLabel,
@@ -481,7 +482,7 @@ export function jobPage(id: string): Page {
     const last = j.rounds?.[j.rounds.length - 1];
     setText(sPhotons.value, last ? formatCompact(last.photons) : "—");
     setText(sSpp.value, last ? formatCompact(last.samplesPerPixel) : "—");
-    setText(sError.value, formatError(last?.errorEstimate));
+    setText(sError.value, formatEstimate(last?.errorEstimate, last?.errorEstimateLow, last?.errorEstimateHigh));
     setText(sRef.value, formatError(last?.referenceRmse));
     sRef.element.hidden = !(j.rounds ?? []).some((r) => r.referenceRmse !== undefined);
 
