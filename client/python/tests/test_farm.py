@@ -66,6 +66,22 @@ def test_submit_watch_fetch_gives_the_indirect_layer_as_an_array_of_the_film(cli
     assert report.rounds[0].photons > 0 and report.rounds[0].elapsed_seconds > 0
 
 
+def test_report_of_a_two_round_job_carries_the_estimated_error_with_its_bias_and_interval(client):
+    scene = small(json.loads(SCENE.read_text()))
+    scene["progressive"] = {"maxRounds": 2}
+    job = client.submit(scene, asset_root=REPO / "scenes")
+    last = list(client.watch(job.id))[-1]
+    assert last.ended and last.job.state == job_pb2.JOB_STATE_SUCCEEDED, last.job.error
+
+    first, second = client.report(job.id).rounds
+    # One round has no spread between rounds to estimate from: nothing is said.
+    assert (first.error_estimate, first.error_estimate_bias, first.error_estimate_low,
+            first.error_estimate_high) == (None, None, None, None)
+    assert second.error_estimate is not None and second.error_estimate > 0
+    assert 0 <= second.error_estimate_bias <= second.error_estimate, "the bias is a part of the estimate"
+    assert second.error_estimate_low <= second.error_estimate <= second.error_estimate_high
+
+
 def test_cancel_requeue_and_delete_a_job_and_retry_refuses_a_task_that_did_not_fail(client):
     scene = small(json.loads(SCENE.read_text()))
     # A job of a second or more (several phases): the cancel, a few ms after the submit,
