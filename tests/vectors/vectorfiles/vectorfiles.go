@@ -1,5 +1,5 @@
 // Package vectorfiles writes and checks the files a vector generator makes
-// (tests/vectors/scenes/gen, tests/vectors/meshes/gen): the files, by path from the
+// (tests/vectors/scenes/gen, tests/vectors/meshes/gen, tests/vectors/grids/gen): the files, by path from the
 // repository's root, and the glob patterns of the files the generator owns, so that one it
 // no longer makes is removed, or reported.
 package vectorfiles

@@ -11,14 +11,8 @@ import (
 	"photonfarm/tests/vectors/vectorfiles"
 )
 
-// gridCase is one farm grid vector: a file and what every reader must make of it, "" to
-// accept it, else the byte offset and (part of) the reason of its refusal.
-type gridCase struct {
-	name   string
-	file   []byte
-	offset int64
-	reason string
-}
+// gridCase is one farm grid vector (the fields of vectorfiles.BinaryCase).
+type gridCase vectorfiles.BinaryCase
 
 // Offsets of the header's fields and of the densities.
 const (

@@ -8,12 +8,7 @@
 // makes.
 package main
 
-import (
-	"fmt"
-	"path"
-
-	"photonfarm/tests/vectors/vectorfiles"
-)
+import "photonfarm/tests/vectors/vectorfiles"
 
 // vectorDir is the folder of the grid vectors, from the repository's root; owned, the
 // files of it the generator makes.
@@ -28,20 +23,5 @@ func main() {
 
 // Vectors returns the files the generator makes, by path from the repository's root.
 func Vectors() map[string][]byte {
-	files := map[string][]byte{}
-	for _, c := range cases() {
-		file := path.Join(vectorDir, c.name+".farmgrid")
-		files[file] = c.file
-		files[file+".vector"] = []byte(verdict(c) + "\n")
-	}
-	return files
-}
-
-// verdict is the line of a case's sidecar: "# vector: accept" or "# vector: refuse byte N:
-// REASON", as a farm mesh vector's.
-func verdict(c gridCase) string {
-	if c.reason == "" {
-		return "# vector: accept"
-	}
-	return fmt.Sprintf("# vector: refuse byte %d: %s", c.offset, c.reason)
+	return vectorfiles.BinaryVectors(vectorDir, ".farmgrid", cases())
 }

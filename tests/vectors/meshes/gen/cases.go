@@ -12,14 +12,8 @@ import (
 	"photonfarm/tests/vectors/vectorfiles"
 )
 
-// farmCase is one farm mesh vector: a file and what every reader must make of it, "" to
-// accept it, else the byte offset and (part of) the reason of its refusal.
-type farmCase struct {
-	name   string
-	file   []byte
-	offset int64
-	reason string
-}
+// farmCase is one farm mesh vector (the fields of vectorfiles.BinaryCase).
+type farmCase vectorfiles.BinaryCase
 
 func encode(m *assets.MeshData) []byte {
 	var b bytes.Buffer

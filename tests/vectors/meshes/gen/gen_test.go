@@ -16,10 +16,5 @@ func TestCommittedVectorsAreCurrent(t *testing.T) {
 
 // TestCasesAreDistinct: no two cases share a name or, by accident, a file.
 func TestCasesAreDistinct(t *testing.T) {
-	var names []string
-	var files [][]byte
-	for _, c := range cases() {
-		names, files = append(names, c.name), append(files, c.file)
-	}
-	vectorfiles.CheckDistinct(t, names, files)
+	vectorfiles.CheckDistinctCases(t, cases())
 }
