@@ -1,18 +1,23 @@
 #include "render/edge_detect.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace farm {
 namespace {
 
-// Normals of two pixels that both hit something turn by more than the crease angle. The
-// sums are not unit: only the angle counts, and a pixel's samples may straddle a crease.
-bool Crease(const SurfaceCues& a, const SurfaceCues& b) {
-  if (a.inverse_depth == 0 || b.inverse_depth == 0) return false;
-  const double la = Length(a.normal), lb = Length(b.normal);
-  if (!(la > 0) || !(lb > 0)) return false;
-  return Dot(a.normal, b.normal) < kEdgeNormalCos * la * lb;
+// A pixel's normal as a unit vector, or none (zero) where it hit nothing. The cue is a sum,
+// not unit: only its direction counts, and a pixel's samples may straddle a crease.
+Vec3 Direction(const SurfaceCues& c) {
+  if (c.inverse_depth == 0) return {};
+  const double length = Length(c.normal);
+  return length > 0 ? c.normal / float(length) : Vec3{};
+}
+
+// Two directions turn by more than the crease angle; never where either is none.
+bool Crease(const Vec3& a, const Vec3& b) {
+  return a != Vec3{} && b != Vec3{} && Dot(a, b) < kEdgeNormalCos;
 }
 
 }  // namespace
@@ -33,22 +38,40 @@ double SobelGradient(const LogLuminanceGrid& f, int x, int y) {
 }
 
 bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y) {
-  const SurfaceCues& centre = grid.at(x, y);
-  if (centre.mixed) return true;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      const SurfaceCues& q = grid.at(x + dx, y + dy);
-      if (q.surface != centre.surface || Crease(centre, q)) return true;
-    }
-  if (centre.inverse_depth == 0) return false;
-  // The four lines through the pixel: a row, a column and the two diagonals.
-  constexpr int kLines[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
-  for (const auto& [dx, dy] : kLines) {
-    const double second = grid.at(x - dx, y - dy).inverse_depth + grid.at(x + dx, y + dy).inverse_depth -
-                          2 * centre.inverse_depth;
-    if (std::abs(second) > kEdgeDepthStep * centre.inverse_depth) return true;
+  // The eight neighbours, opposite ones kRing[i] and kRing[i + 4]: the row, the column and
+  // the two diagonals through the pixel.
+  constexpr int kRing[8][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}};
+  std::array<const SurfaceCues*, 8> ring;
+  for (int i = 0; i < 8; ++i) {
+    ring[i] = &grid.at(x + kRing[i][0], y + kRing[i][1]);
+    if (ring[i]->mixed || ring[i]->surface != ring[0]->surface) return true;
   }
-  return false;
+  std::array<Vec3, 8> normals;
+  for (int i = 0; i < 8; ++i) {
+    normals[i] = Direction(*ring[i]);
+    for (int j = 0; j < i; ++j)
+      if (Crease(normals[i], normals[j])) return true;
+  }
+  if (ring[0]->inverse_depth == 0) return false;  // no neighbour hit anything
+  // The lines whose ends both lie in the image (at its border the others' ends are mirror
+  // images, whose sums a slanted plane makes unequal). The grid holds every neighbour of a
+  // tile pixel that the image holds, so its area's border is the image's there.
+  const PixelRect& image = grid.area();
+  const auto inside = [&](int dx, int dy) {
+    return x + dx >= image.x && x + dx < image.x_end() && y + dy >= image.y && y + dy < image.y_end();
+  };
+  double low = 0, high = 0, sum = 0;
+  int lines = 0;
+  for (int i = 0; i < 4; ++i) {
+    if (!inside(kRing[i][0], kRing[i][1]) || !inside(kRing[i + 4][0], kRing[i + 4][1])) continue;
+    const double line = ring[i]->inverse_depth + ring[i + 4]->inverse_depth;
+    low = lines == 0 ? line : std::min(low, line);
+    high = lines == 0 ? line : std::max(high, line);
+    sum += line;
+    ++lines;
+  }
+  if (lines < 2) return false;
+  return high - low > kEdgeDepthStep * sum / (2 * lines);
 }
 
 std::vector<std::uint8_t> DetectEdges(const LogLuminanceGrid& grid, const PixelRect& tile,

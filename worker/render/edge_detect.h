@@ -6,25 +6,29 @@
 // silhouettes, creases, boundaries between materials, shadow edges. It does nothing for
 // texture detail (texture lookups already filter over the pixel's footprint) or for the
 // noise of the light estimates (more samples of a pixel are not what removes it), so the
-// test reads cues that neither moves (SurfaceCues, from the base pass):
+// test reads cues that neither moves (SurfaceCues, from the base pass), and reads them
+// on the pixel's eight neighbours, never on the pixel itself (see "Unbiased" below):
 //
 //   surface   an id of the surfaces the camera path's first branch met: the first hit
 //             and those seen from it through specular bounces (shape, mesh part and
-//             material; SampleResult::surface). A pixel is an edge
-//             where its base samples disagree on it or any of its 3x3 neighbours has
-//             another: silhouettes, and albedo edges between untextured shapes.
+//             material; SampleResult::surface). A pixel is an edge where two of its
+//             neighbours have different ids, or a neighbour's own base samples disagree
+//             on it: silhouettes, and albedo edges between untextured shapes.
 //   normal    the mean of the surfaces' own normals (SampleResult::surface_normal:
-//             interpolated, not normal-mapped): an edge where a neighbour's turns by more
-//             than acos(kEdgeNormalCos) (creases, facets).
-//   depth     1/depth, which is linear in screen space across a plane: an edge where its
-//             second difference along a row, column or diagonal through the pixel exceeds
-//             kEdgeDepthStep of the pixel's own (one surface occluding another part of
-//             itself).
+//             interpolated, not normal-mapped): an edge where two neighbours' turn by more
+//             than acos(kEdgeNormalCos) from each other (creases, facets).
+//   depth     1/depth, which is linear in screen space across a plane, so that the sums
+//             of opposite neighbours (along the row, the column and the two diagonals)
+//             are equal on a plane, each twice the pixel's: an edge where two of those sums
+//             differ by more than kEdgeDepthStep of half their mean, the pixel's 1/depth
+//             on a plane (one surface occluding another part of itself).
 //   light     the log-luminance of the direct irradiance on the surfaces the path shaded
 //             (SampleResult::direct_irradiance: shadowed, over the geometric normal, no
-//             BSDF, not the environment's soft and noisy share), so that texture patterns and normal maps leave it and shadow edges
-//             stay: an edge where its Sobel gradient exceeds the scene's edge_threshold.
-//             Indirect light, whose final-gathering noise is no edge, is not read.
+//             BSDF, not the environment's soft and noisy share), so that texture patterns
+//             and normal maps leave it and shadow edges stay: an edge where its Sobel
+//             gradient exceeds the scene's edge_threshold (the Sobel kernels weigh the
+//             pixel itself zero). Indirect light, whose final-gathering noise is no edge,
+//             is not read.
 //
 // Log-luminance makes the light test relative (a step from 0.1 to 0.2 counts as much as one
 // from 10 to 20, which is what the eye sees after tone mapping); a floor of 1/256 keeps
@@ -33,9 +37,19 @@
 // linear ramp of slope k reads k, and a sharp step of height h reads h/2 on the pixels
 // either side of it.
 //
-// The decision for a pixel depends only on the 3x3 neighbourhood of base-pass values around
-// it, clamped at the image border (never at a tile border), so it is the same whichever
-// tile the pixel is rendered in.
+// Unbiased: an edge pixel's value is the mean of all its samples, its base samples among
+// them. Were the decision to read the pixel's own base samples, the number of samples
+// would depend on what they saw, and the mean would be biased, round after round: a
+// light seen in a mirror over part of a pixel makes an edge when the base sample sees it
+// and often none when it misses, so the pixel kept a dark single sample in some rounds
+// and a supersampled mean in others, and converged 25% too dark. Read on the neighbours
+// only, the decision is independent of the pixel's own samples, and so is its estimate.
+// A pixel that alone differs from its eight neighbours is not supersampled (they are);
+// it keeps its base samples, which are unbiased.
+//
+// The decision for a pixel depends only on the eight base-pass neighbours around it,
+// mirrored at the image border (never at a tile border), so it is the same whichever tile
+// the pixel is rendered in.
 
 #include <algorithm>
 #include <cstdint>
@@ -67,15 +81,19 @@ class ApronGrid {
 
   const PixelRect& area() const { return area_; }
   void set(int x, int y, const T& value) { values_[Index(x, y)] = value; }
-  // Coordinates outside the area are clamped into it. For a pixel of the tile the area holds
-  // every neighbour inside the image, so this is clamping at the image border.
-  const T& at(int x, int y) const {
-    x = std::clamp(x, area_.x, area_.x_end() - 1);
-    y = std::clamp(y, area_.y, area_.y_end() - 1);
-    return values_[Index(x, y)];
-  }
+  // Coordinates outside the area are mirrored into it (x - 1 of the first column reads
+  // x + 1). For a pixel of the tile the area holds every neighbour inside the image, so
+  // this is mirroring at the image border: a border pixel's missing neighbours are
+  // stand-ins from the image, never the pixel itself (see "Unbiased" above). Only an
+  // image one pixel wide or tall has nothing to mirror, and clamps.
+  const T& at(int x, int y) const { return values_[Index(Mirror(x, area_.x, area_.x_end()), Mirror(y, area_.y, area_.y_end()))]; }
 
  private:
+  static int Mirror(int v, int begin, int end) {
+    if (v < begin) v = 2 * begin - v;
+    else if (v >= end) v = 2 * (end - 1) - v;
+    return std::clamp(v, begin, end - 1);
+  }
   std::size_t Index(int x, int y) const {
     return static_cast<std::size_t>(y - area_.y) * area_.width + (x - area_.x);
   }
@@ -98,7 +116,8 @@ using SurfaceCueGrid = ApronGrid<SurfaceCues>;
 // The Sobel gradient magnitude at (x, y), in log units per pixel (see above).
 double SobelGradient(const LogLuminanceGrid& grid, int x, int y);
 
-// Whether the surface, normal or depth cues make (x, y) an edge (see above).
+// Whether the surface, normal or depth cues of (x, y)'s eight neighbours make it an edge
+// (see above).
 bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y);
 
 // One byte per pixel of `tile` (row-major): 1 where SobelGradient exceeds threshold. The grid

@@ -40,16 +40,18 @@ TEST(EdgeDetect, AStepReadsHalfItsHeightOnEitherSideAndNothingFurther) {
   EXPECT_DOUBLE_EQ(SobelGradient(grid, 15, 22), 0.0);
 }
 
-TEST(EdgeDetect, TheBorderIsClampedSoAFlatImageHasNoEdgesAnywhere) {
+TEST(EdgeDetect, TheBorderIsMirroredSoAFlatImageHasNoEdgesAnywhere) {
   const PixelRect area{0, 0, 3, 3};
   const LogLuminanceGrid grid = Fill(area, [](int, int) { return -1.5; });
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 3; ++x) EXPECT_EQ(SobelGradient(grid, x, y), 0.0) << x << ", " << y;
-  // Clamped at the border, a ramp's slope along the border is still read in full there and
-  // half across it (one of the two differences is 0).
+  // Mirrored at the border (x - 1 of column 0 reads column 1), a ramp's slope along the
+  // border is still read in full there and nothing across it: the pixel's own value never
+  // enters its test, there as anywhere.
   const LogLuminanceGrid ramp = Fill({0, 0, 5, 5}, [](int x, int) { return 0.8 * x; });
-  EXPECT_NEAR(SobelGradient(ramp, 0, 0), 0.4, 1e-12);
+  EXPECT_NEAR(SobelGradient(ramp, 0, 0), 0.0, 1e-12);
   EXPECT_NEAR(SobelGradient(ramp, 2, 0), 0.8, 1e-12);
+  EXPECT_NEAR(SobelGradient(ramp, 4, 4), 0.0, 1e-12);
 }
 
 TEST(EdgeDetect, EdgesAreThePixelsStrictlyOverTheThreshold) {
@@ -77,51 +79,109 @@ std::vector<std::uint8_t> SurfaceEdges(const SurfaceCueGrid& grid) {
   return DetectEdges(grid, dark, grid.area(), 0.1);
 }
 
+// A per-column pattern repeated on each of `rows` rows.
+std::vector<std::uint8_t> Columns(const std::vector<std::uint8_t>& row, int rows) {
+  std::vector<std::uint8_t> all;
+  for (int y = 0; y < rows; ++y) all.insert(all.end(), row.begin(), row.end());
+  return all;
+}
+
 TEST(EdgeDetect, APlaneHasNoSurfaceEdgesUpToTheImageBorder) {
   const SurfaceCueGrid grid = FillCues({0, 0, 5, 4}, Plane);
   EXPECT_EQ(SurfaceEdges(grid), std::vector<std::uint8_t>(20, 0));
 }
 
 TEST(EdgeDetect, AnotherSurfaceInTheNeighbourhoodIsAnEdge) {
-  const SurfaceCueGrid grid = FillCues({0, 0, 6, 1}, [](int x, int y) {
+  const SurfaceCueGrid grid = FillCues({0, 0, 6, 3}, [](int x, int y) {
     SurfaceCues c = Plane(x, y);
     if (x >= 3) c.surface = 8;
     return c;
   });
-  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
+  EXPECT_EQ(SurfaceEdges(grid), Columns({0, 0, 1, 1, 0, 0}, 3));
 }
 
-TEST(EdgeDetect, BaseSamplesOnDifferentSurfacesMakeAnEdge) {
-  const SurfaceCueGrid grid = FillCues({0, 0, 5, 1}, [](int x, int y) {
+TEST(EdgeDetect, ANeighboursBaseSamplesOnDifferentSurfacesMakeAnEdge) {
+  // Pixel (2, 1)'s base samples met two surfaces: its eight neighbours are edges, and it
+  // is not (its own samples are not read).
+  const SurfaceCueGrid grid = FillCues({0, 0, 5, 3}, [](int x, int y) {
     SurfaceCues c = Plane(x, y);
-    c.mixed = x == 2;
+    c.mixed = x == 2 && y == 1;
     return c;
   });
-  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 1, 0, 0}));
+  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 1, 1, 1, 0,  //
+                                                          0, 1, 0, 1, 0,  //
+                                                          0, 1, 1, 1, 0}));
+}
+
+// The property that keeps the estimate unbiased: whatever a pixel's own base samples saw,
+// its decision is the same (edge_detect.h, "Unbiased").
+TEST(EdgeDetect, APixelsOwnCuesNeverChangeItsDecision) {
+  const PixelRect area{0, 0, 7, 6};
+  const std::vector<SurfaceCues> owns = {
+      {7, false, {0, 1, 0}, 0.5}, {8, false, {0, 1, 0}, 0.5},  {7, true, {0, 1, 0}, 0.5},
+      {7, false, {1, 0, 0}, 0.5}, {7, false, {0, 1, 0}, 0.9},  {0, false, {}, 0},
+  };
+  const std::vector<double> lights = {-5.0, 0.0, 3.0};
+  // Neighbourhoods of every kind: a plane, a silhouette, a crease, a depth step, a shadow.
+  const std::vector<SurfaceCueGrid> scenes = {
+      FillCues(area, Plane),
+      FillCues(area, [](int x, int y) { return x + y >= 6 ? SurfaceCues{} : Plane(x, y); }),
+      FillCues(area, [](int x, int y) {
+        SurfaceCues c = Plane(x, y);
+        if (y >= 3) c.normal = {0.6f, 0.8f, 0};
+        return c;
+      }),
+      FillCues(area, [](int x, int y) {
+        SurfaceCues c = Plane(x, y);
+        if (x >= 4) c.inverse_depth += 0.2;
+        return c;
+      }),
+  };
+  const LogLuminanceGrid shadow = Fill(area, [](int x, int) { return x < 3 ? -4.0 : 0.0; });
+  for (std::size_t s = 0; s < scenes.size(); ++s)
+    for (int y = 0; y < area.height; ++y)
+      for (int x = 0; x < area.width; ++x) {
+        const PixelRect one{x, y, 1, 1};
+        SurfaceCueGrid cues = scenes[s];
+        LogLuminanceGrid light = shadow;
+        const std::vector<std::uint8_t> first = DetectEdges(cues, light, one, 0.1);
+        for (const SurfaceCues& own : owns)
+          for (double l : lights) {
+            cues.set(x, y, own);
+            light.set(x, y, l);
+            ASSERT_EQ(DetectEdges(cues, light, one, 0.1), first)
+                << "scene " << s << ", pixel " << x << ", " << y << ", own surface " << own.surface;
+          }
+      }
 }
 
 TEST(EdgeDetect, ACreaseOverTheAngleIsAnEdgeAndAGentleBendIsNot) {
   // Normals turning by 30 degrees at x = 3 (cos 0.866 < 0.9), by 20 at x = 3 (0.940).
   for (const auto& [degrees, expected] :
        {std::pair{30.0, std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}}, std::pair{20.0, std::vector<std::uint8_t>(6, 0)}}) {
-    SurfaceCueGrid grid({0, 0, 6, 1});
+    SurfaceCueGrid grid({0, 0, 6, 3});
     const double a = degrees * std::acos(-1.0) / 180;
-    for (int x = 0; x < 6; ++x) {
-      SurfaceCues c = Plane(x, 0);
-      // Not unit, as a pixel's mean normal need not be: only the angle counts.
-      if (x >= 3) c.normal = {2 * float(std::sin(a)), 2 * float(std::cos(a)), 0};
-      grid.set(x, 0, c);
-    }
-    EXPECT_EQ(SurfaceEdges(grid), expected) << degrees << " degrees";
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 6; ++x) {
+        SurfaceCues c = Plane(x, y);
+        // Not unit, as a pixel's mean normal need not be: only the angle counts.
+        if (x >= 3) c.normal = {2 * float(std::sin(a)), 2 * float(std::cos(a)), 0};
+        grid.set(x, y, c);
+      }
+    EXPECT_EQ(SurfaceEdges(grid), Columns(expected, 3)) << degrees << " degrees";
   }
 }
 
 TEST(EdgeDetect, AStepInDepthOnOneSurfaceIsAnEdge) {
-  // 1/depth 0.5 then 0.6: second differences of 0.1 > 0.1 x 0.5 beside the step.
-  const SurfaceCueGrid grid = FillCues({0, 0, 6, 1}, [](int x, int) {
+  // 1/depth 0.5 then 0.6: beside the step the row's sum of opposite neighbours is 1.1 and
+  // the column's 1.0 (x = 2) or 1.2 (x = 3), a difference of 0.1 > 0.1 x 0.5.
+  const SurfaceCueGrid grid = FillCues({0, 0, 6, 3}, [](int x, int) {
     return SurfaceCues{7, false, {0, 1, 0}, x < 3 ? 0.5 : 0.6};
   });
-  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
+  // On the border rows only the row lies inside the image: one line, nothing to compare.
+  EXPECT_EQ(SurfaceEdges(grid), (std::vector<std::uint8_t>{0, 0, 0, 0, 0, 0,  //
+                                                          0, 0, 1, 1, 0, 0,  //
+                                                          0, 0, 0, 0, 0, 0}));
 }
 
 TEST(EdgeDetect, TheLightCueAddsItsEdges) {

@@ -33,8 +33,8 @@
 // sequence over the image, so that neighbouring pixels' samples are stratified together),
 // its other dimensions the pixel sampler's, whose permutation domain is the most samples a
 // pixel can take in the round (a scene constant, never a per-pixel choice). An edge pixel's
-// first samples are therefore exactly the base samples it was judged by and the extra ones
-// continue that stratified set. A round
+// first samples are therefore exactly its base samples, and the extra ones continue that
+// stratified set. A round
 // is keyed by RoundSettings::first_sample: round 1 (first_sample 0) uses the scene seed,
 // later rounds a seed hashed from (seed, first_sample), so any value distinct per round
 // draws a fresh, independent set (the image's rounds then have independent errors, which
@@ -45,7 +45,7 @@
 // detection runs: the allocation by error already gives an edge's noisy pixels more.
 //
 // Apron pixels are computed exactly as in their own tile and the edge decision reads only
-// the 3x3 base-pass neighbourhood clamped at the image border, so tiles stitch into the
+// the eight base-pass neighbours, mirrored at the image border, so tiles stitch into the
 // same bytes as one whole-image render.
 //
 // With a pixel filter wider than the box of radius 1/2 (scene/pixel_filter.h), the pixels
