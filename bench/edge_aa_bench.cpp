@@ -7,8 +7,9 @@
 //   full       FULL, 12 samples on every pixel
 //   1 spp      NONE
 // and prints each one's RMSE against the reference and its median time over interleaved
-// repetitions, then PASS/FAIL for: edge RMSE / full RMSE <= 1.10 and edge time / full
-// time < 1/3.
+// repetitions, then PASS/FAIL for edge RMSE / full RMSE <= 1.10 (deterministic: the same
+// samples every run, so FAIL is an error and the exit status 1) and PASS/MISSED for edge
+// time / full time < 1/3 (a figure of a shared machine, printed, never an error).
 //
 //   farm_bench_edge_aa [width height repetitions]     (default 320 240 9)
 
@@ -139,9 +140,9 @@ int main(int argc, char** argv) {
   std::printf("%s: edge RMSE within 10%% of full 12x supersampling (ratio %.3f <= 1.10)\n",
               rmse_ok ? "PASS" : "FAIL", rmse_ratio);
   std::printf("%s: edge time under a third of full 12x supersampling (ratio %.3f < 0.333)\n",
-              time_ok ? "PASS" : "FAIL", time_ratio);
+              time_ok ? "PASS" : "MISSED", time_ratio);
   // Not an acceptance figure: where edge detection on a 1-sample base pass stops working.
   Measure("for reference only, sub-pixel bars (0.6-1.8 pixels): missed edges dominate", 0.3,
           width, height, std::max(1, reps / 2));
-  return rmse_ok && time_ok ? 0 : 1;
+  return rmse_ok ? 0 : 1;
 }
