@@ -66,21 +66,23 @@ struct BaseSample {
 
 // The base pass alone, drawn here as the tile renderer draws it: the bars take 1 sample a
 // pixel, sample 0 of the film sampler and of the pixel sampler whose permutation domain is
-// the 12 samples of an edge pixel, keyed by the scene seed in round 1.
-std::vector<BaseSample> BasePass() {
+// the 12 samples of an edge pixel, keyed by the scene seed in round 1. With pilots, the
+// edge pilots instead: sample 0 of the set keyed by EdgePilotSeed (domain 1), their cues.
+std::vector<BaseSample> BasePass(bool pilots = false) {
   const Scene scene = Bars(pb::ANTIALIASING_MODE_EDGES);
   const SceneData& data = scene.data();
   const PhotonMappingIntegrator integrator(data, PhotonMaps{});
   const FilmSampler film(kW, kH);
-  PixelSampler sampler(12, data.seed);
+  const uint64_t seed = pilots ? EdgePilotSeed(data.seed) : data.seed;
+  PixelSampler sampler(pilots ? 1 : 12, seed);
   std::vector<PhotonNeighbour> scratch;
   std::vector<BaseSample> base;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       sampler.StartPixelSample(uint64_t(y) * kW + x, 0);
-      const Vec2 u = film.Sample(x, y, 0, data.seed);
+      const Vec2 u = film.Sample(x, y, 0, seed);
       const Ray ray = data.camera.GenerateRay({x + u.x, y + u.y});
-      base.push_back({ray, integrator.Li(ray, sampler, scratch)});
+      base.push_back({ray, pilots ? integrator.Cues(ray, sampler) : integrator.Li(ray, sampler, scratch)});
     }
   return base;
 }
@@ -193,8 +195,9 @@ TEST(EdgeAntialiasing, TheBasePassCuesAreTheAnalyticSurfacesAndIrradiance) {
 TEST(EdgeAntialiasing, EdgePixelsAreWhereTheQuadOrTheLightsIrradianceChanges) {
   const std::vector<BaseSample> base = BasePass();
   const std::vector<Quad> quads = BarsQuads();
-  std::vector<AnalyticCues> truth;
+  std::vector<AnalyticCues> truth, pilot;
   for (const BaseSample& b : base) truth.push_back(Analytic(quads, b.ray));
+  for (const BaseSample& b : BasePass(/*pilots=*/true)) pilot.push_back(Analytic(quads, b.ray));
   const Image aa = RenderTile(Bars(pb::ANTIALIASING_MODE_EDGES), nullptr, {0, 0, kW, kH});
   // Mirrored at the image border: column -1 reads column 1.
   const auto mirror = [](int v, int n) { return v < 0 ? -v : v >= n ? 2 * (n - 1) - v : v; };
@@ -206,13 +209,14 @@ TEST(EdgeAntialiasing, EdgePixelsAreWhereTheQuadOrTheLightsIrradianceChanges) {
   int edges = 0, mismatches = 0;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
-      // The eight neighbours decide, never the pixel itself.
-      bool close = false, quad_changes = false;
+      // The eight neighbours and the pixel's pilot decide, never its own base sample.
+      const AnalyticCues& own = pilot[std::size_t(y) * kW + x];
+      bool close = own.close, quad_changes = false;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0) continue;
-          close = close || at(x + dx, y + dy).close;
-          quad_changes = quad_changes || at(x + dx, y + dy).quad != at(x - 1, y).quad;
+          const AnalyticCues& q = dx == 0 && dy == 0 ? own : at(x + dx, y + dy);
+          close = close || q.close;
+          quad_changes = quad_changes || q.quad != at(x - 1, y).quad;
         }
       double gx = 0, gy = 0;
       for (int d = -1; d <= 1; ++d) {

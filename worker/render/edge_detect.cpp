@@ -37,7 +37,7 @@ double SobelGradient(const LogLuminanceGrid& f, int x, int y) {
   return std::sqrt(gx * gx + gy * gy) / 8;
 }
 
-bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y) {
+bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues* pilot) {
   // The eight neighbours, opposite ones kRing[i] and kRing[i + 4]: the row, the column and
   // the two diagonals through the pixel.
   constexpr int kRing[8][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}, {1, 1}, {0, 1}, {-1, 1}};
@@ -46,9 +46,12 @@ bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y) {
     ring[i] = &grid.at(x + kRing[i][0], y + kRing[i][1]);
     if (ring[i]->mixed || ring[i]->surface != ring[0]->surface) return true;
   }
+  if (pilot && pilot->surface != ring[0]->surface) return true;
+  const Vec3 own = pilot ? Direction(*pilot) : Vec3{};
   std::array<Vec3, 8> normals;
   for (int i = 0; i < 8; ++i) {
     normals[i] = Direction(*ring[i]);
+    if (Crease(own, normals[i])) return true;
     for (int j = 0; j < i; ++j)
       if (Crease(normals[i], normals[j])) return true;
   }
@@ -60,17 +63,21 @@ bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y) {
   const auto inside = [&](int dx, int dy) {
     return x + dx >= image.x && x + dx < image.x_end() && y + dy >= image.y && y + dy < image.y_end();
   };
+  const double centre = pilot ? pilot->inverse_depth : 0;
   double low = 0, high = 0, sum = 0;
   int lines = 0;
   for (int i = 0; i < 4; ++i) {
     if (!inside(kRing[i][0], kRing[i][1]) || !inside(kRing[i + 4][0], kRing[i + 4][1])) continue;
     const double line = ring[i]->inverse_depth + ring[i + 4]->inverse_depth;
+    // The pilot's second difference along the line, as a pixel's own depth would give it.
+    if (centre > 0 && std::abs(line - 2 * centre) > kEdgeDepthStep * centre) return true;
     low = lines == 0 ? line : std::min(low, line);
     high = lines == 0 ? line : std::max(high, line);
     sum += line;
     ++lines;
   }
   if (lines < 2) return false;
+  // Each sum is twice the pixel's 1/depth on a plane, so half their mean stands for it.
   return high - low > kEdgeDepthStep * sum / (2 * lines);
 }
 
@@ -85,12 +92,12 @@ std::vector<std::uint8_t> DetectEdges(const LogLuminanceGrid& grid, const PixelR
 }
 
 std::vector<std::uint8_t> DetectEdges(const SurfaceCueGrid& surfaces, const LogLuminanceGrid& light,
-                                      const PixelRect& tile, double threshold) {
+                                      const PixelRect& tile, double threshold, const SurfaceCueGrid* pilots) {
   std::vector<std::uint8_t> edges = DetectEdges(light, tile, threshold);
   for (int y = tile.y; y < tile.y_end(); ++y)
     for (int x = tile.x; x < tile.x_end(); ++x) {
       std::uint8_t& e = edges[static_cast<std::size_t>(y - tile.y) * tile.width + (x - tile.x)];
-      if (e == 0 && SurfaceEdge(surfaces, x, y)) e = 1;
+      if (e == 0 && SurfaceEdge(surfaces, x, y, pilots ? &pilots->at(x, y) : nullptr)) e = 1;
     }
   return edges;
 }

@@ -6,22 +6,27 @@
 // silhouettes, creases, boundaries between materials, shadow edges. It does nothing for
 // texture detail (texture lookups already filter over the pixel's footprint) or for the
 // noise of the light estimates (more samples of a pixel are not what removes it), so the
-// test reads cues that neither moves (SurfaceCues, from the base pass), and reads them
-// on the pixel's eight neighbours, never on the pixel itself (see "Unbiased" below):
+// test reads cues that neither moves (SurfaceCues): those of the pixel's eight neighbours'
+// base samples, and those of the pixel's own pilot, a camera ray drawn apart from the
+// samples it is estimated from and traced for its cues only (see "Unbiased" below); never
+// those of the pixel's own base samples:
 //
 //   surface   an id of the surfaces the camera path's first branch met: the first hit
 //             and those seen from it through specular bounces (shape, mesh part and
 //             material; SampleResult::surface). A pixel is an edge where two of its
-//             neighbours have different ids, or a neighbour's own base samples disagree
-//             on it: silhouettes, and albedo edges between untextured shapes.
+//             neighbours have different ids, or its pilot has another, or a neighbour's
+//             own base samples disagree on it: silhouettes, and albedo edges between
+//             untextured shapes.
 //   normal    the mean of the surfaces' own normals (SampleResult::surface_normal:
-//             interpolated, not normal-mapped): an edge where two neighbours' turn by more
-//             than acos(kEdgeNormalCos) from each other (creases, facets).
+//             interpolated, not normal-mapped): an edge where two neighbours', or the
+//             pilot's and a neighbour's, turn by more than acos(kEdgeNormalCos) from each
+//             other (creases, facets).
 //   depth     1/depth, which is linear in screen space across a plane, so that the sums
 //             of opposite neighbours (along the row, the column and the two diagonals)
 //             are equal on a plane, each twice the pixel's: an edge where two of those sums
 //             differ by more than kEdgeDepthStep of half their mean, the pixel's 1/depth
-//             on a plane (one surface occluding another part of itself).
+//             on a plane, or one differs from twice the pilot's by more than kEdgeDepthStep
+//             of the pilot's (one surface occluding another part of itself).
 //   light     the log-luminance of the direct irradiance on the surfaces the path shaded
 //             (SampleResult::direct_irradiance: shadowed, over the geometric normal, no
 //             BSDF, not the environment's soft and noisy share), so that texture patterns
@@ -42,14 +47,16 @@
 // would depend on what they saw, and the mean would be biased, round after round: a
 // light seen in a mirror over part of a pixel makes an edge when the base sample sees it
 // and often none when it misses, so the pixel kept a dark single sample in some rounds
-// and a supersampled mean in others, and converged 25% too dark. Read on the neighbours
-// only, the decision is independent of the pixel's own samples, and so is its estimate.
-// A pixel that alone differs from its eight neighbours is not supersampled (they are);
-// it keeps its base samples, which are unbiased.
+// and a supersampled mean in others, and converged 25% too dark. The neighbours' samples
+// and the pilot are independent of the pixel's own, so the decision is, and the pixel's
+// estimate is unbiased whatever it decides. The pilot restores what the pixel's own base
+// sample used to see: without it a feature smaller than a pixel that no neighbour saw
+// (a small highlight) kept one sample a round, unbiased and very noisy.
 //
 // The decision for a pixel depends only on the eight base-pass neighbours around it,
-// mirrored at the image border (never at a tile border), so it is the same whichever tile
-// the pixel is rendered in.
+// mirrored at the image border (never at a tile border), and on its pilot (a pure function
+// of the round's seed and the pixel), so it is the same whichever tile the pixel is
+// rendered in.
 
 #include <algorithm>
 #include <cstdint>
@@ -116,18 +123,20 @@ using SurfaceCueGrid = ApronGrid<SurfaceCues>;
 // The Sobel gradient magnitude at (x, y), in log units per pixel (see above).
 double SobelGradient(const LogLuminanceGrid& grid, int x, int y);
 
-// Whether the surface, normal or depth cues of (x, y)'s eight neighbours make it an edge
-// (see above).
-bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y);
+// Whether the surface, normal or depth cues of (x, y)'s eight neighbours, and of its pilot
+// if not null, make it an edge (see above).
+bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues* pilot = nullptr);
 
 // One byte per pixel of `tile` (row-major): 1 where SobelGradient exceeds threshold. The grid
 // must cover the tile with its apron clipped to the image (ApronArea).
 std::vector<std::uint8_t> DetectEdges(const LogLuminanceGrid& grid, const PixelRect& tile,
                                       double threshold);
 
-// As above, and also 1 where SurfaceEdge holds; both grids cover the same area.
+// As above, and also 1 where SurfaceEdge holds; both grids cover the same area. pilots, if
+// not null, holds each tile pixel's pilot.
 std::vector<std::uint8_t> DetectEdges(const SurfaceCueGrid& surfaces, const LogLuminanceGrid& light,
-                                      const PixelRect& tile, double threshold);
+                                      const PixelRect& tile, double threshold,
+                                      const SurfaceCueGrid* pilots = nullptr);
 
 // `tile` grown by one pixel on each side and clipped to the image.
 PixelRect ApronArea(const PixelRect& tile, ImageSize image);

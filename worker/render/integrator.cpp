@@ -300,6 +300,16 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
 
 SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sampler,
                                          std::vector<PhotonNeighbour>& scratch) const {
+  return Trace(camera_ray, sampler, scratch, /*light=*/true);
+}
+
+SampleResult PhotonMappingIntegrator::Cues(const Ray& camera_ray, PixelSampler& sampler) const {
+  std::vector<PhotonNeighbour> unused;  // no photon is looked up
+  return Trace(camera_ray, sampler, unused, /*light=*/false);
+}
+
+SampleResult PhotonMappingIntegrator::Trace(const Ray& camera_ray, PixelSampler& sampler,
+                                            std::vector<PhotonNeighbour>& scratch, bool light) const {
   SampleResult result;
   // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
   Branches branches;
@@ -319,7 +329,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
     u.survive = sampler.Get1D();
     u.glossy = sampler.Get2D();
     Branches next;
-    for (int b = 0; b < branches.count; ++b) Bounce(branches.at[b], depth, u, scratch, result, next);
+    for (int b = 0; b < branches.count; ++b) Bounce(branches.at[b], depth, u, scratch, light, result, next);
     branches = next;
   }
   // Never let NaN or infinity through: a bad term is dropped, not the whole sample, and
@@ -340,7 +350,7 @@ SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sa
 }
 
 void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const BounceDimensions& u,
-                                     std::vector<PhotonNeighbour>& scratch, SampleResult& result,
+                                     std::vector<PhotonNeighbour>& scratch, bool light, SampleResult& result,
                                      Branches& next) const {
   const Ray& ray = branch.ray;
   PathBranch path = branch;  // its throughput as the medium leaves it
@@ -354,13 +364,18 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     // scattering), then what it reaches seen through the medium (media_transport.h).
     const float t_end = hit ? hit->t : std::numeric_limits<float>::infinity();
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
-    const LightSplit scattered =
-        InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), /*camera_path=*/true, scratch);
-    result.volume += path.Carried(scattered.direct + scattered.indirect);
-    result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
+    if (light) {
+      const LightSplit scattered =
+          InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), /*camera_path=*/true, scratch);
+      result.volume += path.Carried(scattered.direct + scattered.indirect);
+      result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
+    }
+    // Cues too: Russian roulette below reads the throughput, and the cues follow the
+    // choices Li makes.
     path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
+    if (!light) return;
     // The environment, seen directly (unless hidden) or through specular bounces, which
     // only this path can reach (a delta BSDF): no other strategy shares it.
     if (scene_.environment && (depth > 0 || scene_.environment_visible)) {
@@ -392,10 +407,9 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     result.surface_normal = Dot(hit->n, at.n) < 0 ? -hit->ns : hit->ns;
     result.depth = hit->t;
   }
-  result.emitted += path.Carried(Emitted(material, hit->n, wo));
-
   const MaterialCapabilities& can = scene_.capabilities_of(*hit);
-  if (can.reflects) {
+  if (light) result.emitted += path.Carried(Emitted(material, hit->n, wo));
+  if (light && can.reflects) {
     result.shaded = true;
     Rgb direct, caustic, indirect, bias;
     const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
@@ -420,6 +434,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
   // The branch on along wi, its throughput times weight, then divided by survive.
   const auto go_on = [&](const Vec3& wi, const Rgb& weight, float share, uint64_t key, float survive = 1) {
+    if (!light && key != 0) return;  // the cues are the first branch's
     PathBranch on = path.Continued(weight, survive);
     if (!on.throughput.IsFinite() || on.throughput.IsBlack()) return;
     on.ray = Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi};

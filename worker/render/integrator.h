@@ -161,6 +161,12 @@ class PhotonMappingIntegrator {
   SampleResult Li(const Ray& camera_ray, PixelSampler& sampler,
                   std::vector<PhotonNeighbour>& scratch) const;
 
+  // Only what edge anti-aliasing reads of a camera ray's first branch (SampleResult's
+  // surface, hit, surface_normal and depth; render/edge_detect.h): the path walked as Li
+  // walks it, drawing the same dimensions and so making the same specular choices, with no
+  // light found along it. A small part of a sample's cost: a ray per specular bounce.
+  SampleResult Cues(const Ray& camera_ray, PixelSampler& sampler) const;
+
   // Whether indirect light comes from final gathering (FINAL_GATHER and a global map with
   // precomputed irradiance) rather than the global map seen directly.
   bool final_gathering() const { return final_gather_; }
@@ -186,8 +192,12 @@ class PhotonMappingIntegrator {
 
   // One bounce of one branch of a camera path: adds what its hit emits and reflects to
   // result, and the branches that go on from it to next (two where glass splits it).
+  // With light false, only the cues and the branches (Cues).
   void Bounce(const PathBranch& branch, int depth, const BounceDimensions& u, std::vector<PhotonNeighbour>& scratch,
-              SampleResult& result, Branches& next) const;
+              bool light, SampleResult& result, Branches& next) const;
+  // Li, or with light false Cues.
+  SampleResult Trace(const Ray& camera_ray, PixelSampler& sampler, std::vector<PhotonNeighbour>& scratch,
+                     bool light) const;
   // Direct + caustic + indirect leaving a non-specular hit along wo, and their bias layer
   // (SampleResult::bias); no gather rays means the global map's estimate instead of
   // gathering. seed scrambles the stratified points. irradiance, if not null, receives the

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <string>
 
+#include "render/integrator.h"
+#include "sampling/pixel_sampler.h"
 #include "render/test_images.h"
 #include "render/tile_renderer.h"
 #include "scene/fresnel.h"
@@ -113,6 +115,47 @@ TEST(SpecularPaths, GlassSphereInAWhiteFurnaceStaysWhiteEitherWay) {
     for (int y = 0; y < 16; ++y)
       for (int x = 0; x < 16; ++x) sum += image.pixel(x, y)[1];
     EXPECT_NEAR(sum / 256, 1.0, 2e-3) << pb::SpecularSampling_Name(specular);
+  }
+}
+
+// Edge anti-aliasing's pilots trace a camera ray for its cues alone (render/edge_detect.h):
+// they must be the cues Li finds on the same ray with the same dimensions, through mirrors
+// and glass, split or chosen.
+TEST(SpecularPaths, CuesAreWhatLiFindsOnTheSameRay) {
+  for (const pb::SpecularSampling specular : {pb::SPECULAR_SAMPLING_SPLIT, pb::SPECULAR_SAMPLING_CHOOSE}) {
+    pb::Scene s = MakeScene(24, 24, {0, 1, 6}, {0, 0.5, 0}, {0, 1, 0}, 40, 1, 5);
+    s.mutable_sampling()->set_specular(specular);
+    AddLambert(s, "white", Rgb(0.7f));
+    AddEmissive(s, "lamp", Rgb(5));
+    AddMaterial(s, "mirror", [](pb::Material* m) { Set(m->mutable_mirror()->mutable_reflectance(), Rgb(0.9f)); });
+    AddMaterial(s, "glass", [](pb::Material* m) { m->mutable_dielectric()->set_ior(1.5); });
+    AddQuad(s, "white", {-4, 0, -4}, {0, 0, 8}, {8, 0, 0});
+    AddQuad(s, "lamp", {-1, 3, -1}, {2, 0, 0}, {0, 0, 2});  // facing down
+    AddSphere(s, "mirror", {-0.8, 0.6, 0}, 0.6);
+    AddSphere(s, "glass", {0.8, 0.6, 0.5}, 0.6);
+    const Scene scene = Scene::Build(s, NoBlobs());
+    const SceneData& data = scene.data();
+    const PhotonMappingIntegrator integrator(data, PhotonMaps{});
+    PixelSampler li_sampler(4, 11), cue_sampler(4, 11);
+    std::vector<PhotonNeighbour> scratch;
+    int specular_hits = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x)
+        for (uint32_t j = 0; j < 4; ++j) {
+          const Ray ray = data.camera.GenerateRay({x + (j + 0.5f) / 4, y + 0.5f});
+          li_sampler.StartPixelSample(uint64_t(y) * 24 + x, j);
+          cue_sampler.StartPixelSample(uint64_t(y) * 24 + x, j);
+          const SampleResult li = integrator.Li(ray, li_sampler, scratch);
+          const SampleResult cues = integrator.Cues(ray, cue_sampler);
+          ASSERT_EQ(cues.surface, li.surface) << x << ", " << y << ", " << j;
+          ASSERT_EQ(cues.hit, li.hit) << x << ", " << y << ", " << j;
+          ASSERT_EQ(cues.surface_normal, li.surface_normal) << x << ", " << y << ", " << j;
+          ASSERT_EQ(cues.depth, li.depth) << x << ", " << y << ", " << j;
+          ASSERT_TRUE(cues.radiance.IsBlack()) << "cues find no light";
+          specular_hits += li.hit && li.surface != 0 && !li.shaded;
+        }
+    // Some samples saw a sphere and went on through it (a chain of surfaces, not one).
+    EXPECT_GT(specular_hits, 0) << pb::SpecularSampling_Name(specular);
   }
 }
 

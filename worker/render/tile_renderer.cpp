@@ -119,6 +119,7 @@ struct SamplePlan {
   bool detect_edges = false;  // EDGES mode with something to add
   bool supersample_all = false;
   uint64_t seed = 0;  // of this round's sample set
+  uint64_t pilot_seed = 0;  // of its edge pilots: another set
   std::span<const uint32_t> allocated;  // adaptive sampling's per-pixel samples, or empty
   int width = 0;
 
@@ -132,6 +133,7 @@ struct SamplePlan {
     SamplePlan p;
     p.base = data.samples_per_pixel;
     p.seed = round.first_sample == 0 ? data.seed : Hash(data.seed, round.first_sample);
+    p.pilot_seed = EdgePilotSeed(p.seed);
     p.width = data.width;
     if (!round.samples.empty()) {
       p.allocated = round.samples;
@@ -165,6 +167,8 @@ class PixelRenderer {
         film_(data.width, data.height),
         seed_(plan.seed),
         sampler_(plan.supersampled, plan.seed),
+        pilot_seed_(plan.pilot_seed),
+        pilot_sampler_(1, plan.pilot_seed),
         tally_(tally) {}
   ~PixelRenderer() {
     tally_.samples += counts_.samples;
@@ -173,6 +177,20 @@ class PixelRenderer {
   }
   PixelRenderer(const PixelRenderer&) = delete;
   PixelRenderer& operator=(const PixelRenderer&) = delete;
+
+  // Pixel (x, y)'s edge pilot (render/edge_detect.h): sample 0 of the round's pilot set,
+  // traced for its cues only.
+  SurfaceCues Pilot(int x, int y) {
+    pilot_sampler_.StartPixelSample(uint64_t(y) * uint64_t(data_.width) + uint64_t(x), 0);
+    const SampleResult r = integrator_.Cues(Camera(x, y, 0, pilot_seed_, pilot_sampler_).ray, pilot_sampler_);
+    SurfaceCues cues;
+    cues.surface = r.surface;
+    if (r.hit && r.depth > 0) {
+      cues.normal = r.surface_normal;
+      cues.inverse_depth = 1.0 / r.depth;
+    }
+    return cues;
+  }
 
   // Adds samples [from, to) of pixel (x, y) to sum, in sample order, and splats them if
   // splats is not null. If cues is not null, sets its surface and mixed from the samples,
@@ -183,11 +201,7 @@ class PixelRenderer {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
-      const Vec2 u = film_.Sample(x, y, s, seed_);  // uniform over the pixel; a filter weighs it
-      // A pinhole draws no lens sample, so that its images keep their dimensions.
-      const Vec2 lens = data_.camera.has_lens() ? sampler_.Get2D() : Vec2{};
-      const Vec2 film{x + u.x, y + u.y};
-      const Ray ray = data_.camera.GenerateRay(film, lens);
+      const auto [film, ray] = Camera(x, y, s, seed_, sampler_);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
       Count(r);
       if (cues) {
@@ -219,11 +233,27 @@ class PixelRenderer {
     if (r.shaded && r.radiance.IsBlack()) ++counts_.zero;
   }
 
+  // Sample s of pixel (x, y) in the set keyed by seed: its film position and camera ray,
+  // which draws its lens sample from sampler (started for it).
+  struct CameraSample {
+    Vec2 film;
+    Ray ray;
+  };
+  CameraSample Camera(int x, int y, uint32_t s, uint64_t seed, PixelSampler& sampler) const {
+    const Vec2 u = film_.Sample(x, y, s, seed);  // uniform over the pixel; a filter weighs it
+    // A pinhole draws no lens sample, so that its images keep their dimensions.
+    const Vec2 lens = data_.camera.has_lens() ? sampler.Get2D() : Vec2{};
+    const Vec2 film{x + u.x, y + u.y};
+    return {film, data_.camera.GenerateRay(film, lens)};
+  }
+
   const SceneData& data_;
   const PhotonMappingIntegrator& integrator_;
   FilmSampler film_;
   uint64_t seed_;
   PixelSampler sampler_;
+  uint64_t pilot_seed_;
+  PixelSampler pilot_sampler_;
   std::vector<PhotonNeighbour> scratch_;
   SampleTally& tally_;
   SampleCounts counts_;
@@ -296,6 +326,11 @@ int RenderChannelIndex(std::string_view name) {
   return int(at - channels.begin());
 }
 
+std::uint64_t EdgePilotSeed(std::uint64_t round_seed) {
+  constexpr std::uint64_t kPilotKey = 0x70696c6f74;  // "pilot"
+  return Hash(round_seed, kPilotKey);
+}
+
 std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples) {
   return std::min<std::uint32_t>(65536, std::max(64 * samples_per_pixel, edge_samples));
 }
@@ -329,10 +364,11 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     return sums[static_cast<std::size_t>(y - area.y) * area.width + (x - area.x)];
   };
   std::optional<LogLuminanceGrid> light;
-  std::optional<SurfaceCueGrid> surfaces;
+  std::optional<SurfaceCueGrid> surfaces, pilots;
   if (plan.detect_edges) {
     light.emplace(area);
     surfaces.emplace(area);
+    pilots.emplace(source);
   }
   ForEachPixel(area, data, integrator, plan, tally, stop, [&](PixelRenderer& renderer, int x, int y) {
     Sums& sum = sum_at(x, y);
@@ -346,6 +382,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
       // 1 / the mean depth of the samples that hit.
       cues.inverse_depth = sum[kHits] > 0 && sum[kDepth] > 0 ? sum[kHits] / sum[kDepth] : 0.0;
       surfaces->set(x, y, cues);
+      if (source.Contains({x, y, 1, 1})) pilots->set(x, y, renderer.Pilot(x, y));
     }
     // Per pixel, not per row: a row of a heavy scene can take long, and one relaxed add
     // per pixel costs nothing beside it.
@@ -364,7 +401,8 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   for (int y = source.y; y < source.y_end(); ++y)
     for (int x = source.x; x < source.x_end(); ++x) samples_at(x, y) = plan.first(x, y);
   if (plan.detect_edges) {
-    const std::vector<std::uint8_t> edges = DetectEdges(*surfaces, *light, source, data.antialiasing.edge_threshold);
+    const std::vector<std::uint8_t> edges =
+        DetectEdges(*surfaces, *light, source, data.antialiasing.edge_threshold, &*pilots);
     // Edge pixels continue where their base samples ended. They cluster along a few rows,
     // so the work is split by edge pixel, not by row, to keep both threads busy.
     std::vector<std::pair<int, int>> edge_pixels;

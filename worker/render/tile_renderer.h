@@ -48,6 +48,10 @@ struct RoundSettings {
   bool bias_layer = false;
 };
 
+// The seed of a round's edge pilots (render/edge_detect.h), from its samples' seed: a set
+// of its own, so that a pixel's pilot is independent of the samples it is estimated from.
+std::uint64_t EdgePilotSeed(std::uint64_t round_seed);
+
 // The most camera samples a pixel may draw in a round under adaptive sampling: 64 times
 // samples_per_pixel, and at least an edge pixel's, at most 65536.
 std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples);
