@@ -155,6 +155,29 @@ TEST(EdgeDetect, APixelsOwnCuesNeverChangeItsDecision) {
       }
 }
 
+// The pixel's pilot (a camera ray of its own, apart from its samples) sees what its own
+// base samples may not be read for: another surface, a crease or a step in depth among
+// neighbours that agree.
+TEST(EdgeDetect, APilotThatDiffersFromTheNeighboursMakesAnEdge) {
+  const SurfaceCueGrid grid = FillCues({0, 0, 5, 5}, Plane);
+  EXPECT_FALSE(SurfaceEdge(grid, 2, 2, nullptr));
+  const SurfaceCues same = Plane(2, 2);
+  EXPECT_FALSE(SurfaceEdge(grid, 2, 2, &same));
+  SurfaceCues other = same;
+  other.surface = 9;
+  EXPECT_TRUE(SurfaceEdge(grid, 2, 2, &other));
+  SurfaceCues missed;  // saw nothing
+  EXPECT_TRUE(SurfaceEdge(grid, 2, 2, &missed));
+  SurfaceCues turned = same;
+  turned.normal = {0.6f, 0.8f, 0};  // 37 degrees
+  EXPECT_TRUE(SurfaceEdge(grid, 2, 2, &turned));
+  SurfaceCues nearer = same;
+  nearer.inverse_depth *= 1.2;  // second differences of -0.4 d against 0.1 x 1.2 d
+  EXPECT_TRUE(SurfaceEdge(grid, 2, 2, &nearer));
+  nearer.inverse_depth = same.inverse_depth * 1.04;  // -0.08 d against 0.104 d
+  EXPECT_FALSE(SurfaceEdge(grid, 2, 2, &nearer));
+}
+
 TEST(EdgeDetect, ACreaseOverTheAngleIsAnEdgeAndAGentleBendIsNot) {
   // Normals turning by 30 degrees at x = 3 (cos 0.866 < 0.9), by 20 at x = 3 (0.940).
   for (const auto& [degrees, expected] :
