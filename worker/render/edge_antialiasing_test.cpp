@@ -67,23 +67,26 @@ struct BaseSample {
 // The base pass alone, drawn here as the tile renderer draws it: the bars take 1 sample a
 // pixel, sample 0 of the film sampler and of the pixel sampler whose permutation domain is
 // the 12 samples of an edge pixel, keyed by the scene seed in round 1. With pilots, the
-// edge pilots instead: sample 0 of the set keyed by EdgePilotSeed (domain 1), their cues.
+// edge pilots instead: samples 0 to kEdgePilots - 1 of the set keyed by EdgePilotSeed
+// (domain kEdgePilots), their cues, kEdgePilots a pixel.
 std::vector<BaseSample> BasePass(bool pilots = false) {
   const Scene scene = Bars(pb::ANTIALIASING_MODE_EDGES);
   const SceneData& data = scene.data();
   const PhotonMappingIntegrator integrator(data, PhotonMaps{});
   const FilmSampler film(kW, kH);
   const uint64_t seed = pilots ? EdgePilotSeed(data.seed) : data.seed;
-  PixelSampler sampler(pilots ? 1 : 12, seed);
+  const uint32_t per_pixel = pilots ? kEdgePilots : 1;
+  PixelSampler sampler(pilots ? kEdgePilots : 12, seed);
   std::vector<PhotonNeighbour> scratch;
   std::vector<BaseSample> base;
   for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      sampler.StartPixelSample(uint64_t(y) * kW + x, 0);
-      const Vec2 u = film.Sample(x, y, 0, seed);
-      const Ray ray = data.camera.GenerateRay({x + u.x, y + u.y});
-      base.push_back({ray, pilots ? integrator.Cues(ray, sampler) : integrator.Li(ray, sampler, scratch)});
-    }
+    for (int x = 0; x < kW; ++x)
+      for (uint32_t j = 0; j < per_pixel; ++j) {
+        sampler.StartPixelSample(uint64_t(y) * kW + x, j);
+        const Vec2 u = film.Sample(x, y, j, seed);
+        const Ray ray = data.camera.GenerateRay({x + u.x, y + u.y});
+        base.push_back({ray, pilots ? integrator.Cues(ray, sampler) : integrator.Li(ray, sampler, scratch)});
+      }
   return base;
 }
 
@@ -209,14 +212,18 @@ TEST(EdgeAntialiasing, EdgePixelsAreWhereTheQuadOrTheLightsIrradianceChanges) {
   int edges = 0, mismatches = 0;
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
-      // The eight neighbours and the pixel's pilot decide, never its own base sample.
-      const AnalyticCues& own = pilot[std::size_t(y) * kW + x];
-      bool close = own.close, quad_changes = false;
+      // The eight neighbours and the pixel's pilot rays decide, never its own base sample.
+      bool close = false, quad_changes = false;
+      for (uint32_t j = 0; j < kEdgePilots; ++j) {
+        const AnalyticCues& own = pilot[(std::size_t(y) * kW + x) * kEdgePilots + j];
+        close = close || own.close;
+        quad_changes = quad_changes || own.quad != at(x - 1, y).quad;
+      }
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const AnalyticCues& q = dx == 0 && dy == 0 ? own : at(x + dx, y + dy);
-          close = close || q.close;
-          quad_changes = quad_changes || q.quad != at(x - 1, y).quad;
+          if (dx == 0 && dy == 0) continue;
+          close = close || at(x + dx, y + dy).close;
+          quad_changes = quad_changes || at(x + dx, y + dy).quad != at(x - 1, y).quad;
         }
       double gx = 0, gy = 0;
       for (int d = -1; d <= 1; ++d) {

@@ -46,7 +46,7 @@ bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues* pi
     ring[i] = &grid.at(x + kRing[i][0], y + kRing[i][1]);
     if (ring[i]->mixed || ring[i]->surface != ring[0]->surface) return true;
   }
-  if (pilot && pilot->surface != ring[0]->surface) return true;
+  if (pilot && (pilot->mixed || pilot->surface != ring[0]->surface)) return true;
   const Vec3 own = pilot ? Direction(*pilot) : Vec3{};
   std::array<Vec3, 8> normals;
   for (int i = 0; i < 8; ++i) {

@@ -7,16 +7,16 @@
 // texture detail (texture lookups already filter over the pixel's footprint) or for the
 // noise of the light estimates (more samples of a pixel are not what removes it), so the
 // test reads cues that neither moves (SurfaceCues): those of the pixel's eight neighbours'
-// base samples, and those of the pixel's own pilot, a camera ray drawn apart from the
-// samples it is estimated from and traced for its cues only (see "Unbiased" below); never
-// those of the pixel's own base samples:
+// base samples, and those of the pixel's own pilot, a few camera rays (kEdgePilots) drawn
+// apart from the samples it is estimated from and traced for their cues only (see
+// "Unbiased" below); never those of the pixel's own base samples:
 //
 //   surface   an id of the surfaces the camera path's first branch met: the first hit
 //             and those seen from it through specular bounces (shape, mesh part and
 //             material; SampleResult::surface). A pixel is an edge where two of its
-//             neighbours have different ids, or its pilot has another, or a neighbour's
-//             own base samples disagree on it: silhouettes, and albedo edges between
-//             untextured shapes.
+//             neighbours have different ids, or its pilot's rays have another or
+//             disagree, or a neighbour's own base samples disagree on it: silhouettes,
+//             and albedo edges between untextured shapes.
 //   normal    the mean of the surfaces' own normals (SampleResult::surface_normal:
 //             interpolated, not normal-mapped): an edge where two neighbours', or the
 //             pilot's and a neighbour's, turn by more than acos(kEdgeNormalCos) from each
@@ -49,9 +49,9 @@
 // and often none when it misses, so the pixel kept a dark single sample in some rounds
 // and a supersampled mean in others, and converged 25% too dark. The neighbours' samples
 // and the pilot are independent of the pixel's own, so the decision is, and the pixel's
-// estimate is unbiased whatever it decides. The pilot restores what the pixel's own base
-// sample used to see: without it a feature smaller than a pixel that no neighbour saw
-// (a small highlight) kept one sample a round, unbiased and very noisy.
+// estimate is unbiased whatever it decides. The pilot restores, and betters, what the
+// pixel's own base sample used to see: without it a feature smaller than a pixel that no
+// neighbour saw (a small highlight) kept one sample a round, unbiased and very noisy.
 //
 // The decision for a pixel depends only on the eight base-pass neighbours around it,
 // mirrored at the image border (never at a tile border), and on its pilot (a pure function

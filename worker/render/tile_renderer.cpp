@@ -168,7 +168,7 @@ class PixelRenderer {
         seed_(plan.seed),
         sampler_(plan.supersampled, plan.seed),
         pilot_seed_(plan.pilot_seed),
-        pilot_sampler_(1, plan.pilot_seed),
+        pilot_sampler_(kEdgePilots, plan.pilot_seed),
         tally_(tally) {}
   ~PixelRenderer() {
     tally_.samples += counts_.samples;
@@ -178,17 +178,24 @@ class PixelRenderer {
   PixelRenderer(const PixelRenderer&) = delete;
   PixelRenderer& operator=(const PixelRenderer&) = delete;
 
-  // Pixel (x, y)'s edge pilot (render/edge_detect.h): sample 0 of the round's pilot set,
-  // traced for its cues only.
+  // Pixel (x, y)'s edge pilot (render/edge_detect.h): samples 0 to kEdgePilots - 1 of the
+  // round's pilot set, traced for their cues only, as one pixel's cues.
   SurfaceCues Pilot(int x, int y) {
-    pilot_sampler_.StartPixelSample(uint64_t(y) * uint64_t(data_.width) + uint64_t(x), 0);
-    const SampleResult r = integrator_.Cues(Camera(x, y, 0, pilot_seed_, pilot_sampler_).ray, pilot_sampler_);
     SurfaceCues cues;
-    cues.surface = r.surface;
-    if (r.hit && r.depth > 0) {
-      cues.normal = r.surface_normal;
-      cues.inverse_depth = 1.0 / r.depth;
+    int hits = 0;
+    double depth = 0;
+    for (uint32_t j = 0; j < kEdgePilots; ++j) {
+      pilot_sampler_.StartPixelSample(uint64_t(y) * uint64_t(data_.width) + uint64_t(x), j);
+      const SampleResult r = integrator_.Cues(Camera(x, y, j, pilot_seed_, pilot_sampler_).ray, pilot_sampler_);
+      if (j == 0) cues.surface = r.surface;
+      else if (r.surface != cues.surface) cues.mixed = true;
+      if (r.hit && r.depth > 0) {
+        cues.normal += r.surface_normal;
+        depth += r.depth;
+        ++hits;
+      }
     }
+    cues.inverse_depth = hits > 0 ? hits / depth : 0.0;
     return cues;
   }
 

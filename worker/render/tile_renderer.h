@@ -52,6 +52,11 @@ struct RoundSettings {
 // of its own, so that a pixel's pilot is independent of the samples it is estimated from.
 std::uint64_t EdgePilotSeed(std::uint64_t round_seed);
 
+// Camera rays in a pixel's pilot, stratified over the pixel (a (0,2)-net of 4 points): a
+// feature covering a quarter of a pixel in one piece is seen by one of them, where one ray
+// would see it one time in four. Each is a ray per specular bounce, no light.
+inline constexpr std::uint32_t kEdgePilots = 4;
+
 // The most camera samples a pixel may draw in a round under adaptive sampling: 64 times
 // samples_per_pixel, and at least an edge pixel's, at most 65536.
 std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples);
