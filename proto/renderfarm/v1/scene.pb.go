@@ -1263,10 +1263,11 @@ func (x *Sampling) GetSpectral() SpectralSampling {
 }
 
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, and only edge pixels get
-// supersampled: where the base samples of a pixel's eight neighbours differ in the surface
-// they hit, the normal or the depth, or the direct irradiance changes sharply (a shadow's
-// edge). A pixel's own base samples never decide, so that its estimate stays unbiased.
-// Texture detail is no edge: texture lookups filter over the pixel.
+// supersampled: where the base samples of a pixel's eight neighbours, or four pilot rays
+// of its own traced for the surfaces they meet, differ in the surface they hit, the
+// normal or the depth, or the direct irradiance changes sharply (a shadow's edge). A
+// pixel's own base samples never decide, so that its estimate stays unbiased. Texture
+// detail is no edge: texture lookups filter over the pixel.
 type Antialiasing struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
