@@ -45,8 +45,9 @@
 // detection runs: the allocation by error already gives an edge's noisy pixels more.
 //
 // Apron pixels are computed exactly as in their own tile and the edge decision reads only
-// the eight base-pass neighbours, mirrored at the image border, so tiles stitch into the
-// same bytes as one whole-image render.
+// the eight base-pass neighbours, mirrored at the image border, and the pixel's pilot rays
+// (drawn from their own set, EdgePilotSeed: a pure function of the round and the pixel),
+// so tiles stitch into the same bytes as one whole-image render.
 //
 // With a pixel filter wider than the box of radius 1/2 (scene/pixel_filter.h), the pixels
 // within the filter's margin of the tile are sampled too, each as in its own tile (edge
