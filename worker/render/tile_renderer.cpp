@@ -113,6 +113,14 @@ void AddLight(const SampleResult& r, double* sum) {
 }
 static_assert(kNormal == FilterSplats::kChannels, "the filtered channels are the light channels");
 
+// Adds a sample's surface cues to a pixel's (edge_detect.h): the first sample's surface
+// id, mixed when a later one's differs, and the surface normal of each that hit.
+void AddSurfaceCues(const SampleResult& r, bool first, SurfaceCues& cues) {
+  if (first) cues.surface = r.surface;
+  else if (r.surface != cues.surface) cues.mixed = true;
+  if (r.hit) cues.normal += r.surface_normal;
+}
+
 // The per-round sampling plan, the same for every pixel of the scene.
 struct SamplePlan {
   uint32_t base = 1;          // samples of an ordinary pixel
@@ -188,15 +196,13 @@ class PixelRenderer {
     for (uint32_t j = 0; j < kEdgePilots; ++j) {
       pilot_sampler_.StartPixelSample(uint64_t(y) * uint64_t(data_.width) + uint64_t(x), j);
       const SampleResult r = integrator_.Cues(Camera(x, y, j, pilot_seed_, pilot_sampler_).ray, pilot_sampler_);
-      if (j == 0) cues.surface = r.surface;
-      else if (r.surface != cues.surface) cues.mixed = true;
-      if (r.hit && r.depth > 0) {
-        cues.normal += r.surface_normal;
+      AddSurfaceCues(r, j == 0, cues);
+      if (r.hit) {
         depth += r.depth;
         ++hits;
       }
     }
-    cues.inverse_depth = hits > 0 ? hits / depth : 0.0;
+    cues.inverse_depth = hits > 0 && depth > 0 ? hits / depth : 0.0;
     return cues;
   }
 
@@ -213,9 +219,7 @@ class PixelRenderer {
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
       Count(r);
       if (cues) {
-        if (s == from) cues->surface = r.surface;
-        else if (r.surface != cues->surface) cues->mixed = true;
-        if (r.hit) cues->normal += r.surface_normal;
+        AddSurfaceCues(r, s == from, *cues);
         *irradiance += r.direct_irradiance;
       }
       AddLight(r, sum.data());
