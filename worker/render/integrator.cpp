@@ -133,6 +133,14 @@ Vec2 Point2(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
   return {SobolSample(index, 0, uint32_t(s)), SobolSample(index, 1, uint32_t(s >> 32))};
 }
 
+// count at an effort in (0, 1] (PhotonMappingIntegrator::Li), rounded, at least 1 (0 stays
+// 0): the light samples or gather rays a shading point takes. Any count gives an unbiased
+// estimate; fewer give a noisier one.
+uint32_t ShadingCount(uint32_t count, float effort) {
+  if (count == 0 || !(effort < 1)) return count;
+  return std::max(1u, uint32_t(std::lround(double(count) * double(effort))));
+}
+
 // The spread of a gather ray's cone: the side of the solid angle each of `count` rays
 // stands for (2 pi / count of the hemisphere).
 float GatherSpread(uint32_t count) { return std::sqrt(2 * kPi / float(std::max(count, 1u))); }
@@ -213,8 +221,9 @@ float BalanceWeight(float a, float b) { return a + b > 0 ? a / (a + b) : 0.0f; }
 }  // namespace
 
 // One branch of a camera path: its ray and cone, the throughput it carries, the product of
-// the split shares it took (1 on a path that never split), and the key that turns the
-// sample's dimensions into its own (0 for the path's first branch).
+// the split shares it took (1 on a path that never split), the key that turns the
+// sample's dimensions into its own (0 for the path's first branch), and the sample's
+// effort (Li).
 struct PhotonMappingIntegrator::PathBranch {
   Ray ray;
   RayCone cone;
@@ -222,6 +231,7 @@ struct PhotonMappingIntegrator::PathBranch {
   float share = 1;
   uint64_t key = 0;
   const Medium* medium = nullptr;  // the one the ray travels in; null: vacuum
+  float effort = 1;
   // Set in spectral mode from the start, and once the branch crossed a dispersive surface:
   // the light it carries at a few wavelengths (throughput is its RGB, spectral->ToRgb()),
   // which sees an RGB quantity as its uplift at each.
@@ -299,17 +309,18 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
 }
 
 SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sampler,
-                                         std::vector<PhotonNeighbour>& scratch) const {
-  return Trace(camera_ray, sampler, scratch, /*light=*/true);
+                                         std::vector<PhotonNeighbour>& scratch, float effort) const {
+  return Trace(camera_ray, sampler, scratch, /*light=*/true, std::isfinite(effort) && effort > 0 ? effort : 1.0f);
 }
 
 SampleResult PhotonMappingIntegrator::Cues(const Ray& camera_ray, PixelSampler& sampler) const {
   std::vector<PhotonNeighbour> unused;  // no photon is looked up
-  return Trace(camera_ray, sampler, unused, /*light=*/false);
+  return Trace(camera_ray, sampler, unused, /*light=*/false, 1);
 }
 
 SampleResult PhotonMappingIntegrator::Trace(const Ray& camera_ray, PixelSampler& sampler,
-                                            std::vector<PhotonNeighbour>& scratch, bool light) const {
+                                            std::vector<PhotonNeighbour>& scratch, bool light,
+                                            float effort) const {
   SampleResult result;
   // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
   Branches branches;
@@ -318,7 +329,7 @@ SampleResult PhotonMappingIntegrator::Trace(const Ray& camera_ray, PixelSampler&
   if (scene_.spectral_always) spectral = SpectralLight::Hero(Rgb(1), sampler.Get1D());
   // The camera is in the scene's medium (docs/media.md: not inside a shape's).
   branches.Push({camera_ray, RayCone{0, scene_.camera.PixelSpreadAngle()}, spectral ? spectral->ToRgb() : Rgb(1), 1,
-                 0, scene_.medium ? &*scene_.medium : nullptr, spectral});
+                 0, scene_.medium ? &*scene_.medium : nullptr, effort, spectral});
   for (int depth = 0; depth < kMaxSpecularDepth && branches.count > 0; ++depth) {
     // The same draws at every bounce, before any early exit, so that the dimensions a
     // bounce uses do not depend on what earlier bounces hit; the branches share them.
@@ -359,6 +370,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   // scrambles.
   const float u_seed = ForBranch(u.seed, branch.key, 0);
   const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
+  const Strategies strategies = CameraStrategies(branch.effort * branch.share);
   if (branch.medium) {
     // Light scattered towards the ray on its way (the volume layer: single and multiple
     // scattering), then what it reaches seen through the medium (media_transport.h).
@@ -366,7 +378,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
     if (light) {
       const LightSplit scattered =
-          InScattered(segment, ray, SubSeed(seed, kMediumSeed), LightSampleCount(), /*camera_path=*/true, scratch);
+          InScattered(segment, ray, SubSeed(seed, kMediumSeed), strategies.light_samples, /*camera_path=*/true, scratch);
       result.volume += path.Carried(scattered.direct + scattered.indirect);
       result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
     }
@@ -412,13 +424,12 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   if (light && can.reflects) {
     result.shaded = true;
     Rgb direct, caustic, indirect, bias;
-    const Strategies strategies{final_gather_ ? scene_.indirect.gather_rays : 0, final_gather_};
     Rgb irradiance;
     Shade(at, strategies, seed, scratch, direct, caustic, indirect, bias, branch.key == 0 ? &irradiance : nullptr);
     result.direct_irradiance += path.Carried(irradiance);
     if (final_gather_) {
       const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
-      const LightSplit glossy = GlossyBounce(at, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
+      const LightSplit glossy = GlossyBounce(at, strategies, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
       direct += glossy.direct;
       indirect += glossy.indirect;
       bias += glossy.bias;
@@ -480,7 +491,7 @@ void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strateg
                                                   coverage_seed, scratch, bias)
                           : Rgb();
   if (strategies.gather_rays > 0) {
-    const LightSplit gathered = Gather(at, strategies.gather_rays, SubSeed(seed, kGatherSeed), scratch);
+    const LightSplit gathered = Gather(at, strategies, SubSeed(seed, kGatherSeed), scratch);
     direct += gathered.direct;
     indirect = gathered.indirect;
     bias += gathered.bias;
@@ -506,6 +517,15 @@ uint32_t PhotonMappingIntegrator::LightSampleCount() const {
   return single_delta_light_ ? 1 : scene_.indirect.light_samples;
 }
 
+PhotonMappingIntegrator::Strategies PhotonMappingIntegrator::CameraStrategies(float effort) const {
+  Strategies s;
+  s.gather_rays = final_gather_ ? ShadingCount(scene_.indirect.gather_rays, effort) : 0;
+  s.glossy_bounce = final_gather_;
+  s.light_samples = ShadingCount(LightSampleCount(), effort);
+  s.secondary_gather_rays = ShadingCount(scene_.indirect.secondary_gather_rays, effort);
+  return s;
+}
+
 float PhotonMappingIntegrator::EnvironmentLightPdf(const Vec3& w) const {
   if (scene_.environment_light < 0) return 0;
   return scene_.light_power.Pmf(scene_.environment_light) * scene_.environment->Pdf(w);
@@ -518,7 +538,7 @@ float PhotonMappingIntegrator::GlossyBouncePdf(const Shading& at, const Vec3& wi
 
 Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed,
                                          Rgb* irradiance) const {
-  const uint32_t count = LightSampleCount();
+  const uint32_t count = strategies.light_samples;
   if (scene_.light_power.empty() || count == 0) return {};
   Rgb sum, incident;
   for (uint32_t j = 0; j < count; ++j) {
@@ -554,11 +574,13 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
   return sum / float(count);
 }
 
-PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shading& at, uint32_t count, uint32_t seed,
+PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shading& at, const Strategies& strategies,
+                                                                    uint32_t seed,
                                                                     std::vector<PhotonNeighbour>& scratch) const {
+  const uint32_t count = strategies.gather_rays;
   if (count == 0) return {};
   const Frame frame = Frame::FromZ(at.ns);
-  const float light_samples = float(LightSampleCount());
+  const float light_samples = float(strategies.light_samples);
   const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
   const uint32_t scatter_offset =
       std::min(scatter_stride - 1, uint32_t(Point1(0, 1, seed, kGatherScatterPick) * float(scatter_stride)));
@@ -594,7 +616,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
     bool escaped_directly = false;
     Rgb change;
     indirect += kd * through *
-                GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, seed,
+                GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, count, seed,
                           at.medium, scratch, escaped_directly, companion && i == companion_ray ? &change : nullptr);
     bias += kd * through * change * float(count * kGatherCompanionStride);
     if (escaped_directly && scene_.environment_light >= 0) {
@@ -607,14 +629,13 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   return {escaped / float(count), indirect / float(count), bias / float(count)};
 }
 
-Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed,
+Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t count, uint32_t seed,
                                        const Medium* medium, std::vector<PhotonNeighbour>& scratch,
                                        bool& escaped, Rgb* companion) const {
   const std::optional<DiffuseHit> d =
       TraceToDiffuse(scene_, ray, cone, Hash(seed, uint32_t(kGatherSpecular), i), escaped);
   if (!d) return {};
   const Shading at(d->hit, d->wo, d->material, d->cone_width, medium);
-  const uint32_t count = scene_.indirect.gather_rays;
   const Rgb reflect = d->throughput * Albedo(at.material) * kInvPi;
   const Rgb e = LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick),
                                   Point2(i, count, seed, kGatherLightPoint), scratch, companion);
@@ -655,7 +676,8 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, 
   return Arriving(at, *ls) * (cos_theta / pdf);
 }
 
-PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
+PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at, const Strategies& strategies,
+                                                                          Vec2 u, uint32_t seed,
                                                                           std::vector<PhotonNeighbour>& scratch) const {
   const std::optional<BsdfSample> lobe = SampleGlossyLobe(at.material, at.ns, at.wo, u);
   if (!lobe || lobe->weight.IsBlack()) return {};
@@ -670,7 +692,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
                      Hash(seed, uint32_t(kGatherSpecular)), escaped);
   if (escaped && scene_.environment_light >= 0) {
     // Direct light from the environment, shared with light sampling (DirectLight).
-    const float share = BalanceWeight(lobe->pdf, float(LightSampleCount()) * EnvironmentLightPdf(wi));
+    const float share = BalanceWeight(lobe->pdf, float(strategies.light_samples) * EnvironmentLightPdf(wi));
     return {weight * scene_.environment->Radiance(wi) * share, Rgb(), Rgb()};
   }
   if (!d) return {};
@@ -678,7 +700,8 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   // the landing point is shaded in full, with the cheaper secondary gather.
   const Shading next(d->hit, d->wo, d->material, d->cone_width, at.medium);
   Rgb direct, caustic, indirect, bias;
-  Shade(next, Strategies{scene_.indirect.secondary_gather_rays, false}, seed, scratch, direct, caustic, indirect,
+  Shade(next, Strategies{strategies.secondary_gather_rays, false, strategies.light_samples, 0}, seed, scratch, direct,
+        caustic, indirect,
         bias);
   return {Rgb(), weight * d->throughput * (direct + caustic + indirect), weight * d->throughput * bias};
 }

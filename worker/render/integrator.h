@@ -158,8 +158,15 @@ class PhotonMappingIntegrator {
   // scrambles come from those dimensions, so the result depends only on (seed, pixel,
   // sample index). scratch is reused between calls (one per thread). Never returns NaN or
   // infinity.
-  SampleResult Li(const Ray& camera_ray, PixelSampler& sampler,
-                  std::vector<PhotonNeighbour>& scratch) const;
+  // effort, in (0, 1], is the share of the scene's light samples and gather rays the
+  // sample's shading points take (ShadingCount): 1 for a pixel's own samples, less for the
+  // extra samples edge anti-aliasing or adaptive sampling adds to a pixel, which are there
+  // to resolve what the pixel covers (its edges, the highlights it sees in glass and
+  // mirrors) rather than the light at each point. A branch of a split path takes its
+  // share of the sample's effort too, so the faint reflection in glass takes few rays.
+  // Each count stays at least 1, so every estimate is unbiased whatever the effort.
+  SampleResult Li(const Ray& camera_ray, PixelSampler& sampler, std::vector<PhotonNeighbour>& scratch,
+                  float effort = 1) const;
 
   // Only what edge anti-aliasing reads of a camera ray's first branch (SampleResult's
   // surface, hit, surface_normal and depth; render/edge_detect.h): the path walked as Li
@@ -178,12 +185,18 @@ class PhotonMappingIntegrator {
   struct PathBranch;
   struct BounceDimensions;
   struct Branches;
-  // The BSDF-sampled rays a shading point takes besides its light samples: gather rays of
-  // the diffuse lobe (0 for none) and whether a glossy bounce follows.
+  // What a shading point samples: its light samples, and the BSDF-sampled rays it takes
+  // besides: gather rays of the diffuse lobe (0 for none), whether a glossy bounce
+  // follows, and the gather rays of the point that bounce lands on.
   struct Strategies {
     uint32_t gather_rays = 0;
     bool glossy_bounce = false;
+    uint32_t light_samples = 0;
+    uint32_t secondary_gather_rays = 0;
   };
+  // A camera path's shading points' strategies at an effort (Li's effort times a split
+  // branch's share).
+  Strategies CameraStrategies(float effort) const;
   // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect,
   // and the bias layer's share of it (SampleResult::bias).
   struct LightSplit {
@@ -197,7 +210,7 @@ class PhotonMappingIntegrator {
               bool light, SampleResult& result, Branches& next) const;
   // Li, or with light false Cues.
   SampleResult Trace(const Ray& camera_ray, PixelSampler& sampler, std::vector<PhotonNeighbour>& scratch,
-                     bool light) const;
+                     bool light, float effort) const;
   // Direct + caustic + indirect leaving a non-specular hit along wo, and their bias layer
   // (SampleResult::bias); no gather rays means the global map's estimate instead of
   // gathering. seed scrambles the stratified points. irradiance, if not null, receives the
@@ -211,9 +224,9 @@ class PhotonMappingIntegrator {
   Rgb EstimateWithCompanion(const PhotonMap& map, const Shading& at, const RadianceEstimateSettings& estimate,
                             const RadianceEstimateSettings& companion, uint32_t seed,
                             std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
-  // Light samples a shading point takes.
+  // Light samples a shading point takes at full effort.
   uint32_t LightSampleCount() const;
-  // The average of LightSampleCount() light samples of the reflected direct radiance along
+  // The average of strategies.light_samples light samples of the reflected direct radiance along
   // wo, the environment's weighted against `strategies`. irradiance, if not null, receives
   // the same samples' estimate of the irradiance over the geometric normal (no BSDF, no
   // weighting), shadows included, from every light but the environment.
@@ -222,17 +235,17 @@ class PhotonMappingIntegrator {
   float EnvironmentLightPdf(const Vec3& w) const;
   // The density with which GlossyBounce samples wi; 0 where it has no glossy lobe.
   float GlossyBouncePdf(const Shading& at, const Vec3& wi) const;
-  // Diffuse-lobe radiance along wo from `count` gather rays: indirect, plus the
-  // environment's share of direct light where a ray escapes.
-  LightSplit Gather(const Shading& at, uint32_t count, uint32_t seed,
+  // Diffuse-lobe radiance along wo from strategies.gather_rays gather rays: indirect, plus
+  // the environment's share of direct light where a ray escapes.
+  LightSplit Gather(const Shading& at, const Strategies& strategies, uint32_t seed,
                     std::vector<PhotonNeighbour>& scratch) const;
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
-  // points; cone is the ray's (footprint.h). escaped: the ray left the scene before any
+  // points, of count; cone is the ray's (footprint.h). escaped: the ray left the scene before any
   // bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
   // companion, if not null, receives what the ray's radiance would gain if the precomputed
   // irradiance it reads were its companion's (LandingIrradiance).
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t seed, const Medium* medium,
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t count, uint32_t seed, const Medium* medium,
                 std::vector<PhotonNeighbour>& scratch, bool& escaped, Rgb* companion = nullptr) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;
@@ -244,8 +257,9 @@ class PhotonMappingIntegrator {
   Rgb LandingIrradiance(const Shading& at, float u_light, Vec2 u_point, std::vector<PhotonNeighbour>& scratch,
                         Rgb* companion = nullptr) const;
   // The glossy lobe of a glossy first hit by one ray, its diffuse landing point shaded in
-  // full with secondary gathering (indirect), or the environment it escapes to (direct).
-  LightSplit GlossyBounce(const Shading& at, Vec2 u, uint32_t seed,
+  // full with strategies' secondary gathering and light samples (indirect), or the
+  // environment it escapes to (direct).
+  LightSplit GlossyBounce(const Shading& at, const Strategies& strategies, Vec2 u, uint32_t seed,
                           std::vector<PhotonNeighbour>& scratch) const;
 
   // A light sample's light where it reaches a shading point: attenuated by the medium

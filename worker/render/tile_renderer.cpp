@@ -44,6 +44,13 @@
 // gives it, samples 0.. of a set whose domain is the round's max_samples, and no edge
 // detection runs: the allocation by error already gives an edge's noisy pixels more.
 //
+// A pixel's first samples_per_pixel samples take the scene's light samples and gather rays
+// in full; the samples it draws beyond them (an edge's, or adaptive sampling's) share
+// samples_per_pixel samples' worth between them (SamplePlan::Effort). Those samples are
+// there to resolve what the pixel covers, a silhouette or a highlight seen in glass, which
+// wants camera rays; the light at each point is no noisier than a smooth pixel's, and an
+// edge pixel costs about two samples instead of edge_samples.
+//
 // Apron pixels are computed exactly as in their own tile and the edge decision reads only
 // the eight base-pass neighbours, mirrored at the image border, and the pixel's pilot rays
 // (drawn from their own set, EdgePilotSeed: a pure function of the round and the pixel),
@@ -132,6 +139,10 @@ struct SamplePlan {
   std::span<const uint32_t> allocated;  // adaptive sampling's per-pixel samples, or empty
   int width = 0;
 
+  // The effort (PhotonMappingIntegrator::Li) of sample s of a pixel that draws n samples in
+  // the round: a pure function of the two, as a sample must be.
+  float Effort(uint32_t s, uint32_t n) const { return s < base || n <= base ? 1.0f : float(base) / float(n); }
+
   // The samples pixel (x, y) draws in the base pass.
   uint32_t first(int x, int y) const {
     if (!allocated.empty()) return allocated[std::size_t(y) * std::size_t(width) + std::size_t(x)];
@@ -173,6 +184,7 @@ class PixelRenderer {
                 const SamplePlan& plan, SampleTally& tally)
       : data_(data),
         integrator_(integrator),
+        plan_(plan),
         film_(data.width, data.height),
         seed_(plan.seed),
         sampler_(plan.supersampled, plan.seed),
@@ -206,18 +218,19 @@ class PixelRenderer {
     return cues;
   }
 
-  // Adds samples [from, to) of pixel (x, y) to sum, in sample order, and splats them if
-  // splats is not null. If cues is not null, sets its surface and mixed from the samples,
+  // Adds samples [from, to) of pixel (x, y), which draws total samples in the round, to sum,
+  // in sample order, and splats them if splats is not null. If cues is not null, sets its surface and mixed from the samples,
   // adds the surface normals of those that hit to its normal, and adds their direct
   // irradiance to irradiance.
-  void AddSamples(int x, int y, uint32_t from, uint32_t to, Sums& sum, FilterSplats* splats,
+  void AddSamples(int x, int y, uint32_t from, uint32_t to, uint32_t total, Sums& sum, FilterSplats* splats,
                   SurfaceCues* cues = nullptr, Rgb* irradiance = nullptr) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
       const auto [film, ray] = Camera(x, y, s, seed_, sampler_);
-      const SampleResult r = integrator_.Li(ray, sampler_, scratch_);
-      Count(r);
+      const float effort = plan_.Effort(s, total);
+      const SampleResult r = integrator_.Li(ray, sampler_, scratch_, effort);
+      Count(r, effort);
       if (cues) {
         AddSurfaceCues(r, s == from, *cues);
         *irradiance += r.direct_irradiance;
@@ -239,10 +252,11 @@ class PixelRenderer {
   }
 
  private:
-  void Count(const SampleResult& r) {
+  void Count(const SampleResult& r, float effort) {
     ++counts_.samples;
     if (r.nonfinite) ++counts_.nonfinite;
-    if (r.shaded && r.radiance.IsBlack()) ++counts_.zero;
+    // At a lower effort one shadow ray and one gather ray may both find nothing.
+    if (r.shaded && r.radiance.IsBlack() && effort == 1) ++counts_.zero;
   }
 
   // Sample s of pixel (x, y) in the set keyed by seed: its film position and camera ray,
@@ -261,6 +275,7 @@ class PixelRenderer {
 
   const SceneData& data_;
   const PhotonMappingIntegrator& integrator_;
+  const SamplePlan& plan_;
   FilmSampler film_;
   uint64_t seed_;
   PixelSampler sampler_;
@@ -387,7 +402,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
     const uint32_t first = plan.first(x, y);
     SurfaceCues cues;
     Rgb irradiance;
-    renderer.AddSamples(x, y, 0, first, sum, splat, surfaces ? &cues : nullptr, &irradiance);
+    renderer.AddSamples(x, y, 0, first, first, sum, splat, surfaces ? &cues : nullptr, &irradiance);
     if (surfaces) {
       const Rgb e = irradiance / float(first);
       light->set(x, y, EdgeLogLuminance(e.r, e.g, e.b));
@@ -430,7 +445,8 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                         for (std::size_t i = range.begin(); i < range.end(); ++i) {
                           if (stop.stop_requested()) return;
                           const auto [x, y] = edge_pixels[i];
-                          renderer.AddSamples(x, y, plan.base, plan.supersampled, sum_at(x, y), splat);
+                          renderer.AddSamples(x, y, plan.base, plan.supersampled, plan.supersampled, sum_at(x, y),
+                                              splat);
                           progress.Advance(plan.supersampled - plan.base);
                         }
                       });

@@ -69,7 +69,9 @@ struct SampleCounts {
   // With a light term that came out NaN or infinite (dropped: SampleResult::nonfinite).
   std::uint64_t nonfinite = 0;
   // Exactly black although the path reached a non-specular surface and shaded it
-  // (SampleResult::shaded).
+  // (SampleResult::shaded), of the samples taken at full effort (a pixel's first
+  // samples_per_pixel; the extra ones take a share of the light samples and gather rays,
+  // and one shadow ray and one gather ray may both find nothing).
   std::uint64_t zero = 0;
 };
 

@@ -602,6 +602,9 @@ type TileSamples struct {
 	Nonfinite uint64 `protobuf:"varint,2,opt,name=nonfinite,proto3" json:"nonfinite,omitempty"`
 	// Samples whose camera path reached a non-specular surface (directly or through
 	// specular bounces) and came out exactly black: legitimate only where no light reaches.
+	// Counted over the samples taken at full effort (each pixel's first samples_per_pixel;
+	// the extra samples of edges and adaptive sampling take fewer light samples and gather
+	// rays, and may find none).
 	Zero          uint64 `protobuf:"varint,3,opt,name=zero,proto3" json:"zero,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
