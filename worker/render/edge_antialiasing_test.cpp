@@ -183,7 +183,7 @@ TEST(EdgeAntialiasing, TheBasePassCuesAreTheAnalyticSurfacesAndIrradiance) {
       EXPECT_EQ(quad_of.emplace(r.surface, t.quad).first->second, t.quad) << "sample " << i;
     }
     shadowed += t.quad >= 0 && t.irradiance == 0;
-    const double e = 0.2126 * r.direct_irradiance.r + 0.7152 * r.direct_irradiance.g + 0.0722 * r.direct_irradiance.b;
+    const double e = 0.2126 * r.light_irradiance.r + 0.7152 * r.light_irradiance.g + 0.0722 * r.light_irradiance.b;
     ASSERT_NEAR(e, t.irradiance, 1e-4 * t.irradiance + 1e-6) << "sample " << i;
   }
   EXPECT_EQ(id_of.size(), quads.size());  // the floor and every bar were seen

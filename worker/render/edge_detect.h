@@ -27,10 +27,11 @@
 //             differ by more than kEdgeDepthStep of half their mean, the pixel's 1/depth
 //             on a plane, or one differs from twice the pilot's by more than kEdgeDepthStep
 //             of the pilot's (one surface occluding another part of itself).
-//   light     the log-luminance of the direct irradiance on the surfaces the path shaded
-//             (SampleResult::direct_irradiance: shadowed, over the geometric normal, no
-//             BSDF, not the environment's soft and noisy share), so that texture patterns
-//             and normal maps leave it and shadow edges stay: an edge where its Sobel
+//   light     the log-luminance of the irradiance from the lights on the surfaces the path
+//             shaded, direct and through the caustic map (SampleResult::light_irradiance:
+//             shadowed, over the geometric normal, no BSDF, not the environment's soft and
+//             noisy share), so that texture patterns and normal maps leave it and the edges
+//             of shadows and caustics stay: an edge where its Sobel
 //             gradient exceeds the scene's edge_threshold (the Sobel kernels weigh the
 //             pixel itself zero). Indirect light, whose final-gathering noise is no edge,
 //             is not read.

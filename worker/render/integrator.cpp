@@ -208,6 +208,13 @@ std::optional<DiffuseHit> TraceToDiffuse(const SceneData& scene, Ray ray, RayCon
   return std::nullopt;
 }
 
+// The irradiance that a diffuse surface of this albedo reflects as `radiance` (pi L /
+// albedo per channel, 0 where the albedo is): a caustic estimate's, without the texture.
+Rgb IrradianceReflectedAs(const Rgb& radiance, const Rgb& albedo) {
+  const auto channel = [](float l, float a) { return a > 1e-3f ? kPi * l / a : 0.0f; };
+  return {channel(radiance.r, albedo.r), channel(radiance.g, albedo.g), channel(radiance.b, albedo.b)};
+}
+
 // a - b per channel, at least 0 (rounding may leave a diffuse material's f a hair below
 // its diffuse part).
 Rgb Excess(const Rgb& a, const Rgb& b) {
@@ -354,7 +361,7 @@ SampleResult PhotonMappingIntegrator::Trace(const Ray& camera_ray, PixelSampler&
   result.volume = Finite(result.volume);
   result.bias = Finite(result.bias);
   result.albedo = Finite(result.albedo);
-  result.direct_irradiance = Finite(result.direct_irradiance);
+  result.light_irradiance = Finite(result.light_irradiance);
   if (!std::isfinite(result.depth)) result.depth = 0;
   result.radiance = result.emitted + result.direct + result.indirect + result.caustic + result.volume;
   return result;
@@ -406,7 +413,10 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     material = AtWavelength(material, path.spectral->hero_nm());
   }
   const Shading at(*hit, wo, material, cone.width, branch.medium);
-  if (branch.key == 0) {
+  const MaterialCapabilities& can = scene_.capabilities_of(*hit);
+  // The first branch's surfaces, and an emitter any branch meets: a light reflected in
+  // glass is a small bright feature that the refracted first branch does not see.
+  if (branch.key == 0 || can.emits) {
     // Never 0, which stands for no hit.
     const uint64_t id = Hash(uint64_t(hit->shape), uint64_t(hit->part), uint64_t(hit->material));
     result.surface = uint32_t(Hash(uint64_t(result.surface), id)) | 1u;
@@ -419,14 +429,13 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     result.surface_normal = Dot(hit->n, at.n) < 0 ? -hit->ns : hit->ns;
     result.depth = hit->t;
   }
-  const MaterialCapabilities& can = scene_.capabilities_of(*hit);
   if (light) result.emitted += path.Carried(Emitted(material, hit->n, wo));
   if (light && can.reflects) {
     result.shaded = true;
     Rgb direct, caustic, indirect, bias;
     Rgb irradiance;
     Shade(at, strategies, seed, scratch, direct, caustic, indirect, bias, branch.key == 0 ? &irradiance : nullptr);
-    result.direct_irradiance += path.Carried(irradiance);
+    result.light_irradiance += path.Carried(irradiance);
     if (final_gather_) {
       const Vec2 u_glossy{ForBranch(u.glossy.x, branch.key, 1), ForBranch(u.glossy.y, branch.key, 2)};
       const LightSplit glossy = GlossyBounce(at, strategies, u_glossy, SubSeed(seed, kSecondarySeed), scratch);
@@ -445,7 +454,6 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
 
   // The branch on along wi, its throughput times weight, then divided by survive.
   const auto go_on = [&](const Vec3& wi, const Rgb& weight, float share, uint64_t key, float survive = 1) {
-    if (!light && key != 0) return;  // the cues are the first branch's
     PathBranch on = path.Continued(weight, survive);
     if (!on.throughput.IsFinite() || on.throughput.IsBlack()) return;
     on.ray = Ray{OffsetRayOrigin(hit->p, hit->n, wi, scene_.ray_epsilon), wi};
@@ -490,6 +498,7 @@ void PhotonMappingIntegrator::Shade(const Shading& at, const Strategies& strateg
   caustic = maps_.caustic ? EstimateWithCompanion(*maps_.caustic, at, maps_.caustic_estimate, caustic_companion_,
                                                   coverage_seed, scratch, bias)
                           : Rgb();
+  if (irradiance) *irradiance += IrradianceReflectedAs(caustic, Albedo(at.material));
   if (strategies.gather_rays > 0) {
     const LightSplit gathered = Gather(at, strategies, SubSeed(seed, kGatherSeed), scratch);
     direct += gathered.direct;

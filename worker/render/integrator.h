@@ -112,15 +112,18 @@ struct SampleResult {
   Rgb albedo;
   Vec3 normal;      // unit shading normal, on the side of the surface the camera sees
   float depth = 0;  // distance along the camera ray
-  // The direct irradiance on the surfaces the path's first branch shaded from the lights
-  // but the environment (shadowed, over their geometric normals, from the same light
-  // samples as direct), times its throughput: shadows change it, textures and normal maps
-  // do not, nor the noise of sampling the sky. Edge anti-aliasing reads it.
-  Rgb direct_irradiance;
+  // The irradiance from the lights but the environment on the surfaces the path's first
+  // branch shaded, times its throughput: direct (shadowed, over their geometric normals,
+  // from the same light samples as direct) and focused by specular surfaces (the caustic
+  // estimate's, its reflected radiance over the surface's diffuse albedo). Shadows and
+  // caustics change it, textures and normal maps do not, nor the noise of sampling the
+  // sky. Edge anti-aliasing reads it.
+  Rgb light_irradiance;
   // An id of the surfaces (shape, mesh part, material) the path's first branch hit, the
   // first one and those it saw through specular bounces (the refracted branch where glass
-  // splits); 0 if the camera ray hit nothing. Edge anti-aliasing compares it between
-  // samples and pixels (render/edge_detect.h).
+  // splits), and of the emitters any branch met (a light reflected in glass); 0 if the
+  // camera ray hit nothing. Edge anti-aliasing compares it between samples and pixels
+  // (render/edge_detect.h).
   uint32_t surface = 0;
   // The camera ray's hit's own normal (interpolated, not normal-mapped), on the side the
   // camera sees: edge anti-aliasing's crease cue, which a normal map's detail must not move.
@@ -168,10 +171,11 @@ class PhotonMappingIntegrator {
   SampleResult Li(const Ray& camera_ray, PixelSampler& sampler, std::vector<PhotonNeighbour>& scratch,
                   float effort = 1) const;
 
-  // Only what edge anti-aliasing reads of a camera ray's first branch (SampleResult's
-  // surface, hit, surface_normal and depth; render/edge_detect.h): the path walked as Li
-  // walks it, drawing the same dimensions and so making the same specular choices, with no
-  // light found along it. A small part of a sample's cost: a ray per specular bounce.
+  // Only what edge anti-aliasing reads of a camera ray (SampleResult's surface, hit,
+  // surface_normal and depth; render/edge_detect.h): the path walked as Li walks it, every
+  // branch of it, drawing the same dimensions and so making the same specular choices,
+  // with no light found along it. A small part of a sample's cost: a ray per specular
+  // bounce of each branch.
   SampleResult Cues(const Ray& camera_ray, PixelSampler& sampler) const;
 
   // Whether indirect light comes from final gathering (FINAL_GATHER and a global map with
@@ -214,7 +218,8 @@ class PhotonMappingIntegrator {
   // Direct + caustic + indirect leaving a non-specular hit along wo, and their bias layer
   // (SampleResult::bias); no gather rays means the global map's estimate instead of
   // gathering. seed scrambles the stratified points. irradiance, if not null, receives the
-  // direct irradiance (DirectLight's).
+  // irradiance from the lights, direct (DirectLight's) and caustic (SampleResult::
+  // light_irradiance).
   void Shade(const Shading& at, const Strategies& strategies, uint32_t seed,
              std::vector<PhotonNeighbour>& scratch, Rgb& direct, Rgb& caustic, Rgb& indirect, Rgb& bias,
              Rgb* irradiance = nullptr) const;

@@ -159,6 +159,47 @@ TEST(SpecularPaths, CuesAreWhatLiFindsOnTheSameRay) {
   }
 }
 
+// A light reflected in glass is part of the surface cue although the first branch refracts:
+// a glass sphere (centre (0, 0, 5), radius 1) before a white wall, seen from the origin, and
+// a small lamp behind the camera. The ray through the sphere's centre reflects straight back
+// into the lamp; one that meets the sphere half a radius off its axis reflects 66 degrees
+// aside and misses it. Both refract onto the wall.
+TEST(SpecularPaths, ALightReflectedInGlassIsPartOfTheSurfaceCue) {
+  pb::Scene s = MakeScene(8, 8, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 30, 1, 5);
+  AddLambert(s, "white", Rgb(0.7f));
+  AddEmissive(s, "lamp", Rgb(5));
+  AddMaterial(s, "glass", [](pb::Material* m) { m->mutable_dielectric()->set_ior(1.5); });
+  AddQuad(s, "white", {-20, -20, 12}, {40, 0, 0}, {0, 40, 0});
+  AddQuad(s, "lamp", {-0.5, -0.5, -3}, {1, 0, 0}, {0, 1, 0});
+  AddSphere(s, "glass", {0, 0, 5}, 1);
+  const Scene scene = Scene::Build(s, NoBlobs());
+  const SceneData& data = scene.data();
+  const PhotonMappingIntegrator integrator(data, PhotonMaps{});
+  PixelSampler sampler(1, 11);
+  const auto cues = [&](const Vec3& direction) {
+    sampler.StartPixelSample(0, 0);
+    return integrator.Cues(Ray{Vec3(0, 0, 0), Normalize(direction)}, sampler);
+  };
+  std::vector<PhotonNeighbour> scratch;
+  const SampleResult centre = cues({0, 0, 1});
+  const SampleResult aside = cues({0.1f, 0, 1});  // meets the sphere 0.5 off its axis
+  sampler.StartPixelSample(0, 0);
+  const SampleResult lit = integrator.Li(Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)}, sampler, scratch);
+  EXPECT_GT(lit.emitted.g, 0.1f) << "the centre's reflection shows the lamp (Fresnel 0.04 of 5)";
+  EXPECT_EQ(lit.surface, centre.surface);
+  EXPECT_NE(centre.surface, aside.surface) << "the lamp reflected at the centre is a cue";
+  // The same surfaces with a point light for the lamp: the glass and the wall behind it.
+  s.mutable_shapes()->DeleteSubrange(1, 1);
+  AddPointLight(s, {0, 0, -3}, Rgb(5));
+  const Scene dark = Scene::Build(s, NoBlobs());
+  const PhotonMappingIntegrator unlit(dark.data(), PhotonMaps{});
+  sampler.StartPixelSample(0, 0);
+  const uint32_t a = unlit.Cues(Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)}, sampler).surface;
+  sampler.StartPixelSample(0, 0);
+  const uint32_t b = unlit.Cues(Ray{Vec3(0, 0, 0), Normalize(Vec3(0.1f, 0, 1))}, sampler).surface;
+  EXPECT_EQ(a, b) << "without the lamp, both rays meet the glass and then the wall";
+}
+
 TEST(SpecularPaths, DispersiveGlassInAWhiteFurnaceStaysWhiteInEveryChannel) {
   // As above, but each path through the glass is traced at one wavelength: the clipped
   // matching functions add up to white over the spectrum (spectral/monochrome.h), so each

@@ -24,7 +24,7 @@
 //
 // Every pixel first gets samples_per_pixel camera samples (the base pass). With edge
 // anti-aliasing, the base pass also covers a one-pixel apron around the tile; the base
-// pass's surface ids, normals, depths and direct irradiance (render/edge_detect.h)
+// pass's surface ids, normals, depths and irradiance from the lights (render/edge_detect.h)
 // mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in all. FULL mode gives
 // every pixel that many; NONE gives none more.
 //
@@ -233,7 +233,7 @@ class PixelRenderer {
       Count(r, effort);
       if (cues) {
         AddSurfaceCues(r, s == from, *cues);
-        *irradiance += r.direct_irradiance;
+        *irradiance += r.light_irradiance;
       }
       AddLight(r, sum.data());
       if (splats) {

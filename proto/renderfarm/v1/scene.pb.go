@@ -1265,7 +1265,8 @@ func (x *Sampling) GetSpectral() SpectralSampling {
 // Edge anti-aliasing: each tile is rendered with a one-pixel apron, and only edge pixels get
 // supersampled: where the base samples of a pixel's eight neighbours, or four pilot rays
 // of its own traced for the surfaces they meet, differ in the surface they hit, the
-// normal or the depth, or the direct irradiance changes sharply (a shadow's edge). A
+// normal or the depth, or the irradiance from the lights, direct or focused by specular
+// surfaces, changes sharply (a shadow's or a caustic's edge). A
 // pixel's own base samples never decide, so that its estimate stays unbiased. Texture
 // detail is no edge: texture lookups filter over the pixel.
 type Antialiasing struct {
@@ -1273,8 +1274,8 @@ type Antialiasing struct {
 	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
 	// Camera rays for an edge pixel (or every pixel in FULL mode).
 	EdgeSamples uint32 `protobuf:"varint,2,opt,name=edge_samples,json=edgeSamples,proto3" json:"edge_samples,omitempty"`
-	// A pixel is a shadow's edge when the Sobel gradient of its direct irradiance's
-	// log-luminance exceeds this.
+	// A pixel is a shadow's or a caustic's edge when the Sobel gradient of the
+	// log-luminance of its irradiance from the lights (direct and caustic) exceeds this.
 	EdgeThreshold float64 `protobuf:"fixed64,3,opt,name=edge_threshold,json=edgeThreshold,proto3" json:"edge_threshold,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
