@@ -5,7 +5,7 @@ reference rendered with the matching filter.
     bench/filters/light_edge.py BUILD_DIR OUT_DIR [--mitsuba-spp N]
 
 scenes/cornell-box.json is rendered by `farm render` on a local two-worker farm three
-times, with the scene's sampling (1 camera sample a pixel, 12 on edge pixels, one round):
+times, with the scene's sampling (1 camera sample a pixel, edge_samples on edge pixels, one round):
 as it is (the box of radius 1/2, the default), with film.filter the Gaussian of radius 2
 and sigma 1/2, and with Mitchell's of radius 2 (B = C = 1/3). Mitsuba (variant scalar_rgb,
 path tracer, stratified sampler) renders the same scene, as bench/crosscheck/to_mitsuba.py

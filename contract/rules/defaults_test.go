@@ -26,7 +26,7 @@ func TestApplyDefaults(t *testing.T) {
 			Film:         &pb.Film{TileSize: 32},
 			Sampling:     &pb.Sampling{SamplesPerPixel: 1, LightSamples: 16, Specular: pb.SpecularSampling_SPECULAR_SAMPLING_SPLIT, Adaptive: pb.AdaptiveSampling_ADAPTIVE_SAMPLING_OFF, Spectral: pb.SpectralSampling_SPECTRAL_SAMPLING_AUTO},
 			Photons:      &pb.PhotonMapping{GlobalPhotons: 200000, CausticPhotons: 200000, PhotonsPerShard: 100000, GlobalEstimate: estimate, CausticEstimate: estimate, VolumePhotons: 200000, VolumeEstimate: estimate},
-			Antialiasing: &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_EDGES, EdgeSamples: 12, EdgeThreshold: 0.1},
+			Antialiasing: &pb.Antialiasing{Mode: pb.AntialiasingMode_ANTIALIASING_MODE_EDGES, EdgeSamples: 32, EdgeThreshold: 0.1},
 			Indirect:     &pb.Indirect{Mode: pb.IndirectMode_INDIRECT_MODE_FINAL_GATHER, GatherRays: 64, SecondaryGatherRays: 8},
 			Progressive:  &pb.Progressive{MaxRounds: 1, Alpha: 0.7},
 		}},

@@ -132,7 +132,7 @@ func TestDefaults(t *testing.T) {
 		d.GetIndirect().GetSecondaryGatherRays() != 8 {
 		t.Errorf("Defaults: indirect %v, want final gathering with 64 and 8 rays", d.GetIndirect())
 	}
-	if a := d.GetAntialiasing(); a.GetMode() != pb.AntialiasingMode_ANTIALIASING_MODE_EDGES || a.GetEdgeSamples() != 12 || a.GetEdgeThreshold() != 0.1 {
+	if a := d.GetAntialiasing(); a.GetMode() != pb.AntialiasingMode_ANTIALIASING_MODE_EDGES || a.GetEdgeSamples() != 32 || a.GetEdgeThreshold() != 0.1 {
 		t.Errorf("Defaults: antialiasing %v, want EDGES, 12 samples, threshold 0.1", a)
 	}
 	if p := d.GetProgressive(); p.GetMaxRounds() != 1 || p.GetAlpha() != 0.7 || p.GetReference() != nil {

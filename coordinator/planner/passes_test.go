@@ -181,7 +181,7 @@ func TestPassesSayWhatRunsAndWhy(t *testing.T) {
 			s.Shapes[0].Material = "prism"
 			s.Sampling = &pb.Sampling{Spectral: pb.SpectralSampling_SPECTRAL_SAMPLING_ALWAYS}
 		}, planner.PassDispersion, true, `material "prism" (BK7): past it only the hero wavelength goes on`},
-		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "12 samples on edge pixels"},
+		{"edges by default", func(*pb.Scene) {}, planner.PassEdgeAA, true, "32 samples on edge pixels"},
 		{"an environment is one more light", func(s *pb.Scene) {
 			s.Environment = &pb.Environment{Radiance: &pb.Color{R: 0.2, G: 0.3, B: 0.5}}
 		}, planner.PassDirect, true, "shadow rays to 1 light and the environment ("},

@@ -284,7 +284,8 @@ TEST(RenderTile, ProgressCountsEveryCameraSampleOfAOnePassTile) {
 // With edge anti-aliasing: the base pass over the tile and its one-pixel apron, then the
 // extra samples of each pixel the edge layer marks.
 TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSamples) {
-  const Scene scene = BuildBox(3);  // EDGES by default: 4 samples, 12 at edges.
+  const Scene scene = BuildBox(3);  // EDGES by default: 4 samples, edge_samples at edges.
+  const std::uint64_t edge_samples = scene.data().antialiasing.edge_samples;
   ProgressCounter counter{0};
   const PixelRect tile{4, 4, 8, 8};
   const Image image = RenderTile(scene, nullptr, tile, {}, {}, Progress(counter));
@@ -292,7 +293,7 @@ TEST(RenderTile, ProgressWithEdgesCountsTheApronBasePassAndEachEdgePixelsExtraSa
   for (int y = tile.y; y < tile.y_end(); ++y)
     for (int x = tile.x; x < tile.x_end(); ++x) edges += image.pixel(x, y)[kEdge] == 1.0f;
   EXPECT_GT(edges, 0u);
-  EXPECT_EQ(counter.load(), 10u * 10u * 4u + edges * (12u - 4u));
+  EXPECT_EQ(counter.load(), 10u * 10u * 4u + edges * (edge_samples - 4u));
 }
 
 // The counts agree with the image they describe: at one sample per pixel, every sample is

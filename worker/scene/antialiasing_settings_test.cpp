@@ -13,7 +13,7 @@ namespace pb = renderfarm::v1;
 TEST(AntialiasingSettings, UnsetFieldsTakeTheDocumentedDefaults) {
   const AntialiasingSettings s = AntialiasingSettings::FromProto(pb::Antialiasing());
   EXPECT_EQ(s.mode, AntialiasingMode::kEdges) << s.ToString();
-  EXPECT_EQ(s.edge_samples, 12u);
+  EXPECT_EQ(s.edge_samples, 32u);
   EXPECT_EQ(s.edge_threshold, 0.1);
 }
 

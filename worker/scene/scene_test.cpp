@@ -47,7 +47,7 @@ TEST(Scene, AppliesFilmAndSamplingDefaults) {
   EXPECT_EQ(scene.tile_size(), 32);
   EXPECT_EQ(scene.data().samples_per_pixel, 1u);  // edge pixels get more: antialiasing
   EXPECT_EQ(scene.data().antialiasing.mode, AntialiasingMode::kEdges);
-  EXPECT_EQ(scene.data().antialiasing.edge_samples, 12u);
+  EXPECT_EQ(scene.data().antialiasing.edge_samples, 32u);
 }
 
 TEST(Scene, RayHitsSphereAtTheAnalyticDistance) {

@@ -1272,7 +1272,10 @@ func (x *Sampling) GetSpectral() SpectralSampling {
 type Antialiasing struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
-	// Camera rays for an edge pixel (or every pixel in FULL mode).
+	// Camera rays for an edge pixel (or every pixel in FULL mode). Those past
+	// samples_per_pixel share samples_per_pixel samples' worth of light samples and gather
+	// rays between them (they resolve what the pixel covers, not the light at each point):
+	// under final gathering an edge pixel costs a few smooth pixels, not edge_samples.
 	EdgeSamples uint32 `protobuf:"varint,2,opt,name=edge_samples,json=edgeSamples,proto3" json:"edge_samples,omitempty"`
 	// A pixel is a shadow's or a caustic's edge when the Sobel gradient of the
 	// log-luminance of its irradiance from the lights (direct and caustic) exceeds this.
@@ -3661,7 +3664,7 @@ const file_renderfarm_v1_scene_proto_rawDesc = "" +
 	"\bspectral\x18\x06 \x01(\x0e2\x1f.renderfarm.v1.SpectralSamplingB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\bspectral\"\xcc\x01\n" +
 	"\fAntialiasing\x12B\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1f.renderfarm.v1.AntialiasingModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x129\n" +
-	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00(@R\vedgeSamples\x12=\n" +
+	"\fedge_samples\x18\x02 \x01(\rB\x16\x8a\xb5\x18\x12\x19\x00\x00\x00\x00\x00\x00\x90@)\x00\x00\x00\x00\x00\x00@@R\vedgeSamples\x12=\n" +
 	"\x0eedge_threshold\x18\x03 \x01(\x01B\x16\x8a\xb5\x18\x12\t\x00\x00\x00\x00\x00\x00\x00\x00)\x9a\x99\x99\x99\x99\x99\xb9?R\redgeThreshold\"\xcf\x01\n" +
 	"\bIndirect\x12>\n" +
 	"\x04mode\x18\x01 \x01(\x0e2\x1b.renderfarm.v1.IndirectModeB\r\x8a\xb5\x18\t)\x00\x00\x00\x00\x00\x00\xf0?R\x04mode\x127\n" +
