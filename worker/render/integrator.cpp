@@ -133,12 +133,12 @@ Vec2 Point2(uint32_t i, uint32_t n, uint32_t seed, uint32_t stream) {
   return {SobolSample(index, 0, uint32_t(s)), SobolSample(index, 1, uint32_t(s >> 32))};
 }
 
-// count at an effort in (0, 1] (PhotonMappingIntegrator::Li), rounded, at least 1 (0 stays
+// count at a share in (0, 1] (PhotonMappingIntegrator::Li), rounded, at least 1 (0 stays
 // 0): the light samples or gather rays a shading point takes. Any count gives an unbiased
 // estimate; fewer give a noisier one.
-uint32_t ShadingCount(uint32_t count, float effort) {
-  if (count == 0 || !(effort < 1)) return count;
-  return std::max(1u, uint32_t(std::lround(double(count) * double(effort))));
+uint32_t ShadingCount(uint32_t count, float share) {
+  if (count == 0 || !(share < 1)) return count;
+  return std::max(1u, uint32_t(std::lround(double(count) * double(share))));
 }
 
 // The spread of a gather ray's cone: the side of the solid angle each of `count` rays
@@ -238,7 +238,7 @@ struct PhotonMappingIntegrator::PathBranch {
   float share = 1;
   uint64_t key = 0;
   const Medium* medium = nullptr;  // the one the ray travels in; null: vacuum
-  float effort = 1;
+  SampleEffort effort;
   // Set in spectral mode from the start, and once the branch crossed a dispersive surface:
   // the light it carries at a few wavelengths (throughput is its RGB, spectral->ToRgb()),
   // which sees an RGB quantity as its uplift at each.
@@ -274,6 +274,21 @@ struct PhotonMappingIntegrator::PathBranch {
     on.throughput = on.spectral->ToRgb();
     return on;
   }
+};
+
+// The stratified points of one use of a shading point's (its light samples, its gather
+// rays): point i is point offset + i of the (0,2)-net of `total` points keyed by seed.
+struct PhotonMappingIntegrator::PointSet {
+  uint32_t seed = 0, offset = 0, total = 0;
+
+  // A point's `count` points keyed by own_seed, or, under shared strata, its run of the
+  // set its pixel's samples draw together, keyed by `key` (a stream of the shared seed).
+  static PointSet For(const SampleEffort& strata, uint32_t own_seed, uint32_t key, uint32_t count) {
+    if (strata.count == 0) return {own_seed, 0, count};
+    return {SubSeed(strata.seed, key), strata.index * count, strata.count * count};
+  }
+  float Get1(uint32_t i, uint32_t stream) const { return Point1(offset + i, total, seed, stream); }
+  Vec2 Get2(uint32_t i, uint32_t stream) const { return Point2(offset + i, total, seed, stream); }
 };
 
 // The sampler's dimensions of one bounce.
@@ -316,18 +331,20 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
 }
 
 SampleResult PhotonMappingIntegrator::Li(const Ray& camera_ray, PixelSampler& sampler,
-                                         std::vector<PhotonNeighbour>& scratch, float effort) const {
-  return Trace(camera_ray, sampler, scratch, /*light=*/true, std::isfinite(effort) && effort > 0 ? effort : 1.0f);
+                                         std::vector<PhotonNeighbour>& scratch, const SampleEffort& effort) const {
+  SampleEffort e = effort;
+  if (!(std::isfinite(e.share) && e.share > 0)) e.share = 1;
+  return Trace(camera_ray, sampler, scratch, /*light=*/true, e);
 }
 
 SampleResult PhotonMappingIntegrator::Cues(const Ray& camera_ray, PixelSampler& sampler) const {
   std::vector<PhotonNeighbour> unused;  // no photon is looked up
-  return Trace(camera_ray, sampler, unused, /*light=*/false, 1);
+  return Trace(camera_ray, sampler, unused, /*light=*/false, {});
 }
 
 SampleResult PhotonMappingIntegrator::Trace(const Ray& camera_ray, PixelSampler& sampler,
                                             std::vector<PhotonNeighbour>& scratch, bool light,
-                                            float effort) const {
+                                            const SampleEffort& effort) const {
   SampleResult result;
   // The camera ray, with the pixel's cone, which specular bounces pass on (footprint.h).
   Branches branches;
@@ -377,7 +394,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
   // scrambles.
   const float u_seed = ForBranch(u.seed, branch.key, 0);
   const uint32_t seed = uint32_t(Hash(uint64_t(double(u_seed) * 4294967296.0)));
-  const Strategies strategies = CameraStrategies(branch.effort * branch.share);
+  const Strategies strategies = CameraStrategies(branch);
   if (branch.medium) {
     // Light scattered towards the ray on its way (the volume layer: single and multiple
     // scattering), then what it reaches seen through the medium (media_transport.h).
@@ -526,12 +543,14 @@ uint32_t PhotonMappingIntegrator::LightSampleCount() const {
   return single_delta_light_ ? 1 : scene_.indirect.light_samples;
 }
 
-PhotonMappingIntegrator::Strategies PhotonMappingIntegrator::CameraStrategies(float effort) const {
+PhotonMappingIntegrator::Strategies PhotonMappingIntegrator::CameraStrategies(const PathBranch& branch) const {
+  const float share = branch.effort.share * branch.share;
   Strategies s;
-  s.gather_rays = final_gather_ ? ShadingCount(scene_.indirect.gather_rays, effort) : 0;
+  s.gather_rays = final_gather_ ? ShadingCount(scene_.indirect.gather_rays, share) : 0;
   s.glossy_bounce = final_gather_;
-  s.light_samples = ShadingCount(LightSampleCount(), effort);
-  s.secondary_gather_rays = ShadingCount(scene_.indirect.secondary_gather_rays, effort);
+  s.light_samples = ShadingCount(LightSampleCount(), share);
+  s.secondary_gather_rays = ShadingCount(scene_.indirect.secondary_gather_rays, share);
+  if (branch.key == 0) s.strata = branch.effort;
   return s;
 }
 
@@ -549,12 +568,12 @@ Rgb PhotonMappingIntegrator::DirectLight(const Shading& at, const Strategies& st
                                          Rgb* irradiance) const {
   const uint32_t count = strategies.light_samples;
   if (scene_.light_power.empty() || count == 0) return {};
+  const PointSet points = PointSet::For(strategies.strata, seed, kDirectSeed, count);
   Rgb sum, incident;
   for (uint32_t j = 0; j < count; ++j) {
-    const auto pick = scene_.light_power.Sample(Point1(j, count, seed, kLightPick));
+    const auto pick = scene_.light_power.Sample(points.Get1(j, kLightPick));
     if (!(pick.pmf > 0)) continue;
-    const std::optional<LightSample> ls =
-        SampleLi(scene_.lights[pick.index], at.hit.p, Point2(j, count, seed, kLightPoint));
+    const std::optional<LightSample> ls = SampleLi(scene_.lights[pick.index], at.hit.p, points.Get2(j, kLightPoint));
     if (!ls) continue;
     Rgb f = at.Reflected(ls->wi);
     const float pdf = pick.pmf * ls->pdf;
@@ -588,6 +607,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
                                                                     std::vector<PhotonNeighbour>& scratch) const {
   const uint32_t count = strategies.gather_rays;
   if (count == 0) return {};
+  const PointSet points = PointSet::For(strategies.strata, seed, kGatherSeed, count);
   const Frame frame = Frame::FromZ(at.ns);
   const float light_samples = float(strategies.light_samples);
   const uint32_t scatter_stride = std::max(1u, count / kGatherScatterSamples);
@@ -599,7 +619,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   const uint32_t companion_ray = uint32_t((pick >> 32) % count);
   Rgb indirect, escaped, bias;
   for (uint32_t i = 0; i < count; ++i) {
-    const Vec3 local = SampleCosineHemisphere(Point2(i, count, seed, kGatherDirection));
+    const Vec3 local = SampleCosineHemisphere(points.Get2(i, kGatherDirection));
     const Vec3 w = frame.FromLocal(local);
     if (Dot(w, at.n) < 0) continue;  // below the surface (only a shading normal tilts the frame so)
     // Cosine-weighted directions: f cos / pdf is the diffuse lobe's f times pi (kd, for
@@ -625,7 +645,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
     bool escaped_directly = false;
     Rgb change;
     indirect += kd * through *
-                GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, count, seed,
+                GatherRay(ray, RayCone{at.cone_width, GatherSpread(count), TextureFilter::kIsotropic}, i, points, seed,
                           at.medium, scratch, escaped_directly, companion && i == companion_ray ? &change : nullptr);
     bias += kd * through * change * float(count * kGatherCompanionStride);
     if (escaped_directly && scene_.environment_light >= 0) {
@@ -638,7 +658,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::Gather(const Shadin
   return {escaped / float(count), indirect / float(count), bias / float(count)};
 }
 
-Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t count, uint32_t seed,
+Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, const PointSet& points, uint32_t seed,
                                        const Medium* medium, std::vector<PhotonNeighbour>& scratch,
                                        bool& escaped, Rgb* companion) const {
   const std::optional<DiffuseHit> d =
@@ -646,8 +666,8 @@ Rgb PhotonMappingIntegrator::GatherRay(Ray ray, RayCone cone, uint32_t i, uint32
   if (!d) return {};
   const Shading at(d->hit, d->wo, d->material, d->cone_width, medium);
   const Rgb reflect = d->throughput * Albedo(at.material) * kInvPi;
-  const Rgb e = LandingIrradiance(at, Point1(i, count, seed, kGatherLightPick),
-                                  Point2(i, count, seed, kGatherLightPoint), scratch, companion);
+  const Rgb e =
+      LandingIrradiance(at, points.Get1(i, kGatherLightPick), points.Get2(i, kGatherLightPoint), scratch, companion);
   if (companion) *companion = reflect * *companion;
   return reflect * e;
 }
@@ -709,7 +729,7 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   // the landing point is shaded in full, with the cheaper secondary gather.
   const Shading next(d->hit, d->wo, d->material, d->cone_width, at.medium);
   Rgb direct, caustic, indirect, bias;
-  Shade(next, Strategies{strategies.secondary_gather_rays, false, strategies.light_samples, 0}, seed, scratch, direct,
+  Shade(next, Strategies{strategies.secondary_gather_rays, false, strategies.light_samples, 0, {}}, seed, scratch, direct,
         caustic, indirect,
         bias);
   return {Rgb(), weight * d->throughput * (direct + caustic + indirect), weight * d->throughput * bias};

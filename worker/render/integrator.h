@@ -135,6 +135,18 @@ struct SampleResult {
   bool nonfinite = false;
 };
 
+// How much a camera sample shades (PhotonMappingIntegrator::Li).
+struct SampleEffort {
+  // The share, in (0, 1], of the scene's light samples and gather rays its shading points
+  // take (at least one of each).
+  float share = 1;
+  // Sample `index` of `count` samples of a pixel that draw the light samples and gather rays
+  // of their first branch's shading points as one stratified set keyed by `seed`, each its
+  // own run of it (so that few rays a sample still stratify over the pixel); count 0: each
+  // shading point draws a set of its own.
+  uint32_t seed = 0, index = 0, count = 0;
+};
+
 // The job's photon maps (any may be null) with their estimate settings.
 struct PhotonMaps {
   const PhotonMap* global = nullptr;
@@ -161,15 +173,16 @@ class PhotonMappingIntegrator {
   // scrambles come from those dimensions, so the result depends only on (seed, pixel,
   // sample index). scratch is reused between calls (one per thread). Never returns NaN or
   // infinity.
-  // effort, in (0, 1], is the share of the scene's light samples and gather rays the
-  // sample's shading points take (ShadingCount): 1 for a pixel's own samples, less for the
-  // extra samples edge anti-aliasing or adaptive sampling adds to a pixel, which are there
-  // to resolve what the pixel covers (its edges, the highlights it sees in glass and
-  // mirrors) rather than the light at each point. A branch of a split path takes its
-  // share of the sample's effort too, so the faint reflection in glass takes few rays.
-  // Each count stays at least 1, so every estimate is unbiased whatever the effort.
+  // effort: the share of the scene's light samples and gather rays the sample's shading
+  // points take (ShadingCount), 1 for a pixel's own samples, less for the extra samples
+  // edge anti-aliasing or adaptive sampling adds to a pixel, which are there to resolve
+  // what the pixel covers (its edges, the highlights it sees in glass and mirrors) rather
+  // than the light at each point; those draw their rays as one stratified set over the
+  // pixel (SampleEffort). A branch of a split path takes its Fresnel share of the sample's
+  // share too, so the faint reflection in glass takes few rays. Each count stays at least
+  // 1, so every estimate is unbiased whatever the effort.
   SampleResult Li(const Ray& camera_ray, PixelSampler& sampler, std::vector<PhotonNeighbour>& scratch,
-                  float effort = 1) const;
+                  const SampleEffort& effort = {}) const;
 
   // Only what edge anti-aliasing reads of a camera ray (SampleResult's surface, hit,
   // surface_normal and depth; render/edge_detect.h): the path walked as Li walks it, every
@@ -189,6 +202,7 @@ class PhotonMappingIntegrator {
   struct PathBranch;
   struct BounceDimensions;
   struct Branches;
+  struct PointSet;
   // What a shading point samples: its light samples, and the BSDF-sampled rays it takes
   // besides: gather rays of the diffuse lobe (0 for none), whether a glossy bounce
   // follows, and the gather rays of the point that bounce lands on.
@@ -197,10 +211,13 @@ class PhotonMappingIntegrator {
     bool glossy_bounce = false;
     uint32_t light_samples = 0;
     uint32_t secondary_gather_rays = 0;
+    // The pixel's shared set of light samples and gather rays the point draws its run of,
+    // if any (SampleEffort's seed, index and count).
+    SampleEffort strata;
   };
-  // A camera path's shading points' strategies at an effort (Li's effort times a split
-  // branch's share).
-  Strategies CameraStrategies(float effort) const;
+  // A camera path's branch's shading points' strategies (Li's effort's share times the
+  // branch's split share; the pixel's shared set on the first branch).
+  Strategies CameraStrategies(const PathBranch& branch) const;
   // Light found by a BSDF-sampled ray: direct (the environment it escaped to) and indirect,
   // and the bias layer's share of it (SampleResult::bias).
   struct LightSplit {
@@ -214,7 +231,7 @@ class PhotonMappingIntegrator {
               bool light, SampleResult& result, Branches& next) const;
   // Li, or with light false Cues.
   SampleResult Trace(const Ray& camera_ray, PixelSampler& sampler, std::vector<PhotonNeighbour>& scratch,
-                     bool light, float effort) const;
+                     bool light, const SampleEffort& effort) const;
   // Direct + caustic + indirect leaving a non-specular hit along wo, and their bias layer
   // (SampleResult::bias); no gather rays means the global map's estimate instead of
   // gathering. seed scrambles the stratified points. irradiance, if not null, receives the
@@ -245,12 +262,12 @@ class PhotonMappingIntegrator {
   LightSplit Gather(const Shading& at, const Strategies& strategies, uint32_t seed,
                     std::vector<PhotonNeighbour>& scratch) const;
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
-  // points, of count; cone is the ray's (footprint.h). escaped: the ray left the scene before any
+  // points; cone is the ray's (footprint.h); seed its specular choices'. escaped: the ray left the scene before any
   // bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
   // companion, if not null, receives what the ray's radiance would gain if the precomputed
   // irradiance it reads were its companion's (LandingIrradiance).
-  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, uint32_t count, uint32_t seed, const Medium* medium,
+  Rgb GatherRay(Ray ray, RayCone cone, uint32_t i, const PointSet& points, uint32_t seed, const Medium* medium,
                 std::vector<PhotonNeighbour>& scratch, bool& escaped, Rgb* companion = nullptr) const;
   // One sample of the irradiance from the lights at a shading point, on its side.
   Rgb DirectIrradiance(const Shading& at, float u_light, Vec2 u_point) const;

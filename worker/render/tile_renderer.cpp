@@ -46,10 +46,12 @@
 //
 // A pixel's first samples_per_pixel samples take the scene's light samples and gather rays
 // in full; the samples it draws beyond them (an edge's, or adaptive sampling's) share
-// samples_per_pixel samples' worth between them (SamplePlan::Effort). Those samples are
-// there to resolve what the pixel covers, a silhouette or a highlight seen in glass, which
-// wants camera rays; the light at each point is no noisier than a smooth pixel's, and an
-// edge pixel costs about two samples instead of edge_samples.
+// samples_per_pixel samples' worth between them (SamplePlan::Effort), drawn as one
+// stratified set over the pixel's extra samples (a run of it each), so that a few rays a
+// sample stratify as well as a full sample's. Those samples are there to resolve what the
+// pixel covers, a silhouette or a highlight seen in glass, which wants camera rays; the
+// light at each point is no noisier than a smooth pixel's, and an edge pixel costs a few
+// samples instead of edge_samples.
 //
 // Apron pixels are computed exactly as in their own tile and the edge decision reads only
 // the eight base-pass neighbours, mirrored at the image border, and the pixel's pilot rays
@@ -139,9 +141,14 @@ struct SamplePlan {
   std::span<const uint32_t> allocated;  // adaptive sampling's per-pixel samples, or empty
   int width = 0;
 
-  // The effort (PhotonMappingIntegrator::Li) of sample s of a pixel that draws n samples in
-  // the round: a pure function of the two, as a sample must be.
-  float Effort(uint32_t s, uint32_t n) const { return s < base || n <= base ? 1.0f : float(base) / float(n); }
+  // The effort (PhotonMappingIntegrator::Li) of sample s of pixel `pixel` (its index in the
+  // image), which draws n samples in the round: a pure function of the three and the
+  // round, as a sample must be.
+  SampleEffort Effort(uint32_t s, uint32_t n, uint64_t pixel) const {
+    if (s < base || n <= base) return {};
+    constexpr uint64_t kStrataKey = 0x737472617461;  // "strata"
+    return {float(base) / float(n), uint32_t(Hash(seed, pixel, kStrataKey)), s - base, n - base};
+  }
 
   // The samples pixel (x, y) draws in the base pass.
   uint32_t first(int x, int y) const {
@@ -228,9 +235,9 @@ class PixelRenderer {
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
       const auto [film, ray] = Camera(x, y, s, seed_, sampler_);
-      const float effort = plan_.Effort(s, total);
+      const SampleEffort effort = plan_.Effort(s, total, pixel_index);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_, effort);
-      Count(r, effort);
+      Count(r, effort.share);
       if (cues) {
         AddSurfaceCues(r, s == from, *cues);
         *irradiance += r.light_irradiance;
