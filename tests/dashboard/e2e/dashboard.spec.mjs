@@ -506,12 +506,12 @@ try {
     const names = await jobPage.locator(`${tid('layer-select')} option`).evaluateAll((os) => os.map((o) => o.value));
     check(JSON.stringify(names) === JSON.stringify(WORKER_LAYERS), `layers ${names}, want ${WORKER_LAYERS}`);
     // The scene's materials are all Lambertian (no specular path: the caustic layer is 0),
-    // its edge pixels' samples (edge_samples, 12 by default) are no more than every
+    // it sets its edge pixels' samples (antialiasing.edge_samples) no higher than every
     // pixel's, so no pixel is supersampled (the edge mask is 0), and it has no medium (the
     // volume layer is 0); every other layer has light.
     const ZERO_LAYERS = ['caustic', 'edge', 'volume'];
     check(scene.materials.every((m) => m.lambert || m.emissive) &&
-      (scene.antialiasing?.edgeSamples ?? 12) <= scene.sampling.samplesPerPixel &&
+      scene.antialiasing?.edgeSamples > 0 && scene.antialiasing.edgeSamples <= scene.sampling.samplesPerPixel &&
       !scene.medium && scene.shapes.every((s) => !s.interiorMedium),
     'the scene now has specular materials, edge supersampling or media: update ZERO_LAYERS');
     const seen = new Map();
