@@ -402,7 +402,8 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     const MediumSegment segment = SegmentIn(scene_, branch.medium, ray, t_end);
     if (light) {
       const LightSplit scattered =
-          InScattered(segment, ray, SubSeed(seed, kMediumSeed), strategies.light_samples, /*camera_path=*/true, scratch);
+          InScattered(segment, ray, SubSeed(seed, kMediumSeed), strategies.light_samples, /*camera_path=*/true,
+                      scratch);
       result.volume += path.Carried(scattered.direct + scattered.indirect);
       result.bias += path.CarriedChange(scattered.direct + scattered.indirect, scattered.bias);
     }
@@ -705,8 +706,9 @@ Rgb PhotonMappingIntegrator::DirectIrradiance(const Shading& at, float u_light, 
   return Arriving(at, *ls) * (cos_theta / pdf);
 }
 
-PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at, const Strategies& strategies,
-                                                                          Vec2 u, uint32_t seed,
+PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const Shading& at,
+                                                                          const Strategies& strategies, Vec2 u,
+                                                                          uint32_t seed,
                                                                           std::vector<PhotonNeighbour>& scratch) const {
   const std::optional<BsdfSample> lobe = SampleGlossyLobe(at.material, at.ns, at.wo, u);
   if (!lobe || lobe->weight.IsBlack()) return {};
@@ -729,9 +731,8 @@ PhotonMappingIntegrator::LightSplit PhotonMappingIntegrator::GlossyBounce(const 
   // the landing point is shaded in full, with the cheaper secondary gather.
   const Shading next(d->hit, d->wo, d->material, d->cone_width, at.medium);
   Rgb direct, caustic, indirect, bias;
-  Shade(next, Strategies{strategies.secondary_gather_rays, false, strategies.light_samples, 0, {}}, seed, scratch, direct,
-        caustic, indirect,
-        bias);
+  const Strategies secondary{strategies.secondary_gather_rays, false, strategies.light_samples, 0, {}};
+  Shade(next, secondary, seed, scratch, direct, caustic, indirect, bias);
   return {Rgb(), weight * d->throughput * (direct + caustic + indirect), weight * d->throughput * bias};
 }
 

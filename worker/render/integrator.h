@@ -248,8 +248,8 @@ class PhotonMappingIntegrator {
                             std::vector<PhotonNeighbour>& scratch, Rgb& bias) const;
   // Light samples a shading point takes at full effort.
   uint32_t LightSampleCount() const;
-  // The average of strategies.light_samples light samples of the reflected direct radiance along
-  // wo, the environment's weighted against `strategies`. irradiance, if not null, receives
+  // The average of strategies.light_samples light samples of the reflected direct radiance
+  // along wo, the environment's weighted against `strategies`. irradiance, if not null, receives
   // the same samples' estimate of the irradiance over the geometric normal (no BSDF, no
   // weighting), shadows included, from every light but the environment.
   Rgb DirectLight(const Shading& at, const Strategies& strategies, uint32_t seed, Rgb* irradiance = nullptr) const;
@@ -262,8 +262,8 @@ class PhotonMappingIntegrator {
   LightSplit Gather(const Shading& at, const Strategies& strategies, uint32_t seed,
                     std::vector<PhotonNeighbour>& scratch) const;
   // Radiance a gather ray brings back (see the file comment); i indexes its stratified
-  // points; cone is the ray's (footprint.h); seed its specular choices'. escaped: the ray left the scene before any
-  // bounce.
+  // points; cone is the ray's (footprint.h); seed its specular choices'. escaped: the ray
+  // left the scene before any bounce.
   // medium: the one around the shading point, which the landing point's shadow ray crosses.
   // companion, if not null, receives what the ray's radiance would gain if the precomputed
   // irradiance it reads were its companion's (LandingIrradiance).

@@ -108,7 +108,8 @@ TEST(ShadingEffort, ALowerEffortIsUnbiasedAndNoisierByItsShare) {
     constexpr uint32_t kGroups = 100, kSize = 16;
     const Spread shared = Of(GroupMeans(data, integrator, ray, kGroups, kSize, effort, true));
     const Spread apart = Of(GroupMeans(data, integrator, ray, kGroups, kSize, effort, false));
-    std::printf("  16 samples at 1/16: one shared set: mean %.5f, variance %.3g; sets apart: mean %.5f, variance %.3g\n",
+    std::printf("  16 samples at 1/16: one shared set: mean %.5f, variance %.3g; sets apart: mean %.5f, "
+                "variance %.3g\n",
                 shared.mean, shared.variance, apart.mean, apart.variance);
     EXPECT_NEAR(shared.mean, full.mean, 4 * std::sqrt((full.variance / kSamples + shared.variance / kGroups)));
     EXPECT_LT(shared.variance, 0.75 * apart.variance) << "pixel " << pixel.x << ", " << pixel.y;

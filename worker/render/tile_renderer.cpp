@@ -193,9 +193,7 @@ class PixelRenderer {
         integrator_(integrator),
         plan_(plan),
         film_(data.width, data.height),
-        seed_(plan.seed),
         sampler_(plan.supersampled, plan.seed),
-        pilot_seed_(plan.pilot_seed),
         pilot_sampler_(kEdgePilots, plan.pilot_seed),
         tally_(tally) {}
   ~PixelRenderer() {
@@ -214,7 +212,7 @@ class PixelRenderer {
     double depth = 0;
     for (uint32_t j = 0; j < kEdgePilots; ++j) {
       pilot_sampler_.StartPixelSample(uint64_t(y) * uint64_t(data_.width) + uint64_t(x), j);
-      const SampleResult r = integrator_.Cues(Camera(x, y, j, pilot_seed_, pilot_sampler_).ray, pilot_sampler_);
+      const SampleResult r = integrator_.Cues(Camera(x, y, j, plan_.pilot_seed, pilot_sampler_).ray, pilot_sampler_);
       AddSurfaceCues(r, j == 0, cues);
       if (r.hit) {
         depth += r.depth;
@@ -225,16 +223,16 @@ class PixelRenderer {
     return cues;
   }
 
-  // Adds samples [from, to) of pixel (x, y), which draws total samples in the round, to sum,
-  // in sample order, and splats them if splats is not null. If cues is not null, sets its surface and mixed from the samples,
-  // adds the surface normals of those that hit to its normal, and adds their direct
-  // irradiance to irradiance.
+  // Adds samples [from, to) of pixel (x, y), which draws `total` samples in the round, to
+  // sum, in sample order, and splats them if splats is not null. If cues is not null, sets
+  // its surface and mixed from the samples, adds the surface normals of those that hit to
+  // its normal, and adds their irradiance from the lights to irradiance.
   void AddSamples(int x, int y, uint32_t from, uint32_t to, uint32_t total, Sums& sum, FilterSplats* splats,
                   SurfaceCues* cues = nullptr, Rgb* irradiance = nullptr) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     for (uint32_t s = from; s < to; ++s) {
       sampler_.StartPixelSample(pixel_index, s);
-      const auto [film, ray] = Camera(x, y, s, seed_, sampler_);
+      const auto [film, ray] = Camera(x, y, s, plan_.seed, sampler_);
       const SampleEffort effort = plan_.Effort(s, total, pixel_index);
       const SampleResult r = integrator_.Li(ray, sampler_, scratch_, effort);
       Count(r, effort.share);
@@ -259,11 +257,12 @@ class PixelRenderer {
   }
 
  private:
-  void Count(const SampleResult& r, float effort) {
+  // share: the sample's SampleEffort::share.
+  void Count(const SampleResult& r, float share) {
     ++counts_.samples;
     if (r.nonfinite) ++counts_.nonfinite;
-    // At a lower effort one shadow ray and one gather ray may both find nothing.
-    if (r.shaded && r.radiance.IsBlack() && effort == 1) ++counts_.zero;
+    // At a lower share one shadow ray and one gather ray may both find nothing.
+    if (r.shaded && r.radiance.IsBlack() && share == 1) ++counts_.zero;
   }
 
   // Sample s of pixel (x, y) in the set keyed by seed: its film position and camera ray,
@@ -284,9 +283,7 @@ class PixelRenderer {
   const PhotonMappingIntegrator& integrator_;
   const SamplePlan& plan_;
   FilmSampler film_;
-  uint64_t seed_;
   PixelSampler sampler_;
-  uint64_t pilot_seed_;
   PixelSampler pilot_sampler_;
   std::vector<PhotonNeighbour> scratch_;
   SampleTally& tally_;
