@@ -120,7 +120,7 @@ func Passes(s *pb.Scene) *pb.Plan {
 	case pb.AntialiasingMode_ANTIALIASING_MODE_FULL:
 		add(PassEdgeAA, true, "FULL: every pixel gets %d samples (the costly baseline edge antialiasing is measured against)", scene.EdgeSamples(s))
 	default:
-		add(PassEdgeAA, true, "%d samples on edge pixels (Sobel gradient of log-luminance above %s), %d elsewhere",
+		add(PassEdgeAA, true, "%d samples on edge pixels (Sobel gradient of log-luminance above %s), more where a light borders the edge, %d elsewhere",
 			scene.EdgeSamples(s), strconv.FormatFloat(scene.EdgeThreshold(s), 'g', -1, 64), scene.SamplesPerPixel(s))
 	}
 

@@ -14,6 +14,7 @@
 #include "image/reference_exr.h"
 #include "sampling/film_sampler.h"
 #include "sampling/pixel_sampler.h"
+#include "render/edge_detect.h"
 #include "render/integrator.h"
 #include "render/thin_bars_scene.h"
 #include "render/tile_renderer.h"
@@ -337,6 +338,48 @@ TEST(EdgeAntialiasing, SubPixelLightsKeepTheirTotalOverRounds) {
   // 400 rounds 0.11 of the expected 6.25: 0.08 is 4.5 of those.
   EXPECT_NEAR(total / kRounds / expected, 1.0, 0.08) << "lights' total " << total / kRounds << " of " << expected;
   EXPECT_GT(supersampled, kRounds * lights) << "edge anti-aliasing ran";
+}
+
+// Bright edges (edge_detect.h): a lamp of radiance 1 seen head-on against black, and an
+// unlit white quad farther back, each pixel 0.1 units at the lamp's depth (image x runs
+// along world -x). The lamp's outline runs through the middle of columns 34 and 40 and
+// rows 18 and 29; the quad's right edge through column 29 (x = 0.3 at depth 11).
+Scene LampAndQuad() {
+  constexpr double kDistance = 10, kPixel = 0.1;
+  const double fov = 2 * std::atan(kH * kPixel / 2 / kDistance) * 180 / std::numbers::pi;
+  pb::Scene s = MakeScene(kW, kH, {0, 0, -kDistance}, {0, 0, 0}, {0, 1, 0}, fov, 1);
+  s.mutable_indirect()->set_mode(pb::INDIRECT_MODE_PHOTON_MAP);
+  s.mutable_antialiasing()->set_edge_samples(12);
+  AddEmissive(s, "lamp", Rgb(1.0f));
+  AddLambert(s, "white", Rgb(0.8f));
+  AddQuad(s, "lamp", {-0.85, -0.55, 0}, {0, 1.1, 0}, {0.6, 0, 0});  // facing the camera
+  AddQuad(s, "white", {0.3, -0.8, 1}, {0, 1.6, 0}, {3.7, 0, 0});
+  return Scene::Build(s, NoBlobs());
+}
+
+TEST(EdgeAntialiasing, ALampsOutlineTakesItsContrastsSamplesAndAnUnlitEdgeTheEdgeSamples) {
+  const int samples = RenderChannelIndex("samples.Y");
+  const Image image = RenderTile(LampAndQuad(), nullptr, {0, 0, kW, kH});
+  const auto at = [&](int x, int y) { return image.pixel(x, y)[samples]; };
+  // The lamp against black: (1 + 1/256) / (1/256), over 4, square root 8: the cap.
+  for (int y = 19; y <= 28; ++y)
+    for (const int x : {34, 40}) {
+      ASSERT_EQ(at(x, y), 12.0f * kMaxEdgeSampleFactor) << x << ", " << y;
+      // Half covered; 96 stratified samples place the outline to within a few hundredths.
+      EXPECT_NEAR(image.pixel(x, y)[0], 0.5, 0.08) << x << ", " << y;
+    }
+  for (int x = 35; x <= 39; ++x)
+    for (const int y : {18, 29}) EXPECT_EQ(at(x, y), 12.0f * kMaxEdgeSampleFactor) << x << ", " << y;
+  // The unlit quad's edge is an edge (another surface) with nothing emitted beside it.
+  for (int y = 19; y <= 28; ++y) EXPECT_EQ(at(29, y), 12.0f) << "29, " << y;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x <= 31; ++x) EXPECT_LE(at(x, y), 12.0f) << x << ", " << y;
+}
+
+TEST(EdgeAntialiasing, BrightEdgesStitchBitForBitIntoTheWholeImage) {
+  const Scene scene = LampAndQuad();
+  ExpectTilesStitch(scene, {}, 16);
+  ExpectTilesStitch(scene, {.first_sample = 5}, 7);
 }
 
 TEST(EdgeAntialiasing, RefusesANonPositiveRadiusScale) {

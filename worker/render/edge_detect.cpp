@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace farm {
 namespace {
@@ -79,6 +80,23 @@ bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues* pi
   if (lines < 2) return false;
   // Each sum is twice the pixel's 1/depth on a plane, so half their mean stands for it.
   return high - low > kEdgeDepthStep * sum / (2 * lines);
+}
+
+std::uint32_t EdgeSampleFactor(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues& pilot) {
+  double bright = pilot.emitted, dark = std::numeric_limits<double>::infinity();
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (dx == 0 && dy == 0) continue;  // never the pixel's own samples
+      const SurfaceCues& n = grid.at(x + dx, y + dy);
+      bright = std::max(bright, double(n.emitted));
+      dark = std::min(dark, double(n.luminance));
+    }
+  const double floor = kEdgeLuminanceFloor;
+  // Non-finite cues (which the integrator never gives) take the plain edge's samples.
+  const double ratio = (bright + floor) / (std::max(0.0, dark) + floor);
+  if (!std::isfinite(ratio)) return 1;
+  const double factor = std::round(std::sqrt(ratio / kBrightEdgeRatio));
+  return std::uint32_t(std::clamp(factor, 1.0, double(kMaxEdgeSampleFactor)));
 }
 
 std::vector<std::uint8_t> DetectEdges(const LogLuminanceGrid& grid, const PixelRect& tile,

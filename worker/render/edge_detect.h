@@ -54,6 +54,22 @@
 // pixel's own base sample used to see: without it a feature smaller than a pixel that no
 // neighbour saw (a small highlight) kept one sample a round, unbiased and very noisy.
 //
+// Bright edges: an edge pixel's error is the contrast across the edge times how well its
+// samples place the edge, so in the linear image the edges of lights dominate: a light of
+// radiance 13 against a ceiling of 0.2 is 65 times the contrast of a shadow's edge, and
+// its outline, and its image in a mirror or in glass (a feature smaller than a pixel),
+// held most of the Cornell boxes' squared error after many rounds. An edge pixel whose
+// neighbourhood holds an emitter's light (what its neighbours' base samples or its pilot
+// saw emitted, directly or through specular bounces, SampleResult::emitted) takes
+// EdgeSampleFactor times edge_samples: the square root of the ratio of that light to the
+// darkest neighbour over kBrightEdgeRatio, rounded, from 1 to kMaxEdgeSampleFactor. An
+// edge that no light borders takes edge_samples. Samples spent in proportion to contrast
+// would minimise the squared error (docs/adaptive-sampling.md's law, the error of a
+// pixel's coverage falling as samples^-3/4 at a straight edge and samples^-1/2 at a
+// feature smaller than a pixel); the square root stays below it and the cap bounds what
+// a light's outline costs. The factor reads the same cues as the decision, never the
+// pixel's own samples, so the pixel stays unbiased.
+//
 // The decision for a pixel depends only on the eight base-pass neighbours around it,
 // mirrored at the image border (never at a tile border), and on its pilot (a pure function
 // of the round's seed and the pixel), so it is the same whichever tile the pixel is
@@ -74,6 +90,10 @@ inline constexpr float kEdgeLuminanceFloor = 1.0f / 256.0f;
 inline constexpr double kEdgeNormalCos = 0.9;
 // A tenth of the pixel's inverse depth.
 inline constexpr double kEdgeDepthStep = 0.1;
+// Bright edges (above): a light up to about 9 times its darkest neighbour's luminance
+// takes edge_samples, as any other edge; 16 times takes 2 times edge_samples, 64 times 4.
+inline constexpr double kBrightEdgeRatio = 4;
+inline constexpr std::uint32_t kMaxEdgeSampleFactor = 8;
 
 // log(luminance + floor) of a linear RGB value (Rec. 709 luminance).
 double EdgeLogLuminance(float r, float g, float b);
@@ -117,6 +137,8 @@ struct SurfaceCues {
   bool mixed = false;         // its base samples met different surfaces
   Vec3 normal;                // sum of the surface normals of the samples that hit (not unit)
   double inverse_depth = 0;   // 1 / mean depth of the samples that hit; 0 for none
+  float emitted = 0;          // the largest luminance of the light a sample saw emitted
+  float luminance = 0;        // of the base samples' mean radiance (not set for a pilot)
 };
 
 using SurfaceCueGrid = ApronGrid<SurfaceCues>;
@@ -127,6 +149,10 @@ double SobelGradient(const LogLuminanceGrid& grid, int x, int y);
 // Whether the surface, normal or depth cues of (x, y)'s eight neighbours, and of its pilot
 // if not null, make it an edge (see above).
 bool SurfaceEdge(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues* pilot = nullptr);
+
+// How many times edge_samples edge pixel (x, y) takes (bright edges, above), from its
+// eight neighbours' cues and its pilot's: 1 to kMaxEdgeSampleFactor.
+std::uint32_t EdgeSampleFactor(const SurfaceCueGrid& grid, int x, int y, const SurfaceCues& pilot);
 
 // One byte per pixel of `tile` (row-major): 1 where SobelGradient exceeds threshold. The grid
 // must cover the tile with its apron clipped to the image (ApronArea).

@@ -213,6 +213,60 @@ TEST(EdgeDetect, TheLightCueAddsItsEdges) {
   EXPECT_EQ(DetectEdges(surfaces, light, {0, 0, 6, 1}, 0.2), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0}));
 }
 
+// Bright edges: a light on one side of an edge multiplies its samples by the square root
+// of the light's ratio to the darkest neighbour over 4, rounded, from 1 to 8.
+SurfaceCues Lit(float luminance, float emitted) {
+  SurfaceCues c = Plane(0, 0);
+  c.luminance = luminance;
+  c.emitted = emitted;
+  return c;
+}
+
+// A 3 x 3 neighbourhood: the left column (x = 0) shows a light, the others a wall.
+SurfaceCueGrid LightBeside(float light, float wall) {
+  SurfaceCueGrid grid({0, 0, 3, 3});
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) grid.set(x, y, x == 0 ? Lit(light, light) : Lit(wall, 0));
+  return grid;
+}
+
+TEST(EdgeDetect, AnEdgeBesideALightTakesTheSquareRootOfItsContrastOverFourTimesTheSamples) {
+  const SurfaceCues pilot;  // saw no light
+  const auto factor = [&](float light, float wall) { return EdgeSampleFactor(LightBeside(light, wall), 1, 1, pilot); };
+  const float f = kEdgeLuminanceFloor;
+  // (light + floor) / (wall + floor) = 64: sqrt(16) = 4.
+  EXPECT_EQ(factor(64 * (0.2f + f) - f, 0.2f), 4u);
+  EXPECT_EQ(factor(16 * (0.2f + f) - f, 0.2f), 2u);
+  // Up to a ratio of 9 (sqrt(9 / 4) = 1.5) an edge takes edge_samples, as any other.
+  EXPECT_EQ(factor(8.9f * (0.2f + f) - f, 0.2f), 1u);
+  EXPECT_EQ(factor(9.1f * (0.2f + f) - f, 0.2f), 2u);
+  // However bright, at most kMaxEdgeSampleFactor; a black wall is the floor's black.
+  EXPECT_EQ(factor(1e6f, 0.2f), kMaxEdgeSampleFactor);
+  EXPECT_EQ(factor(13, 0), kMaxEdgeSampleFactor);
+}
+
+TEST(EdgeDetect, OnlyEmittedLightMakesABrightEdge) {
+  // The same neighbourhood, its bright side a white wall lit by the sun (luminance 50) that
+  // emits nothing: an ordinary edge.
+  SurfaceCueGrid grid = LightBeside(50, 0.2f);
+  for (int y = 0; y < 3; ++y) grid.set(0, y, Lit(50, 0));
+  EXPECT_EQ(EdgeSampleFactor(grid, 1, 1, SurfaceCues{}), 1u);
+}
+
+TEST(EdgeDetect, APilotThatSeesALightMakesABrightEdgeAndThePixelsOwnCuesNever) {
+  // A light in a mirror smaller than a pixel: no neighbour sees it, the pilot does.
+  SurfaceCueGrid grid = LightBeside(0.3f, 0.3f);
+  for (int y = 0; y < 3; ++y) grid.set(0, y, Lit(0.3f, 0));
+  EXPECT_EQ(EdgeSampleFactor(grid, 1, 1, SurfaceCues{}), 1u);
+  EXPECT_EQ(EdgeSampleFactor(grid, 1, 1, Lit(0, 12)), 3u);  // sqrt(40 / 4) = 3.2
+  // The pixel's own base samples (the centre) are never read: bright or dark, the same.
+  for (const SurfaceCues& own : {Lit(1e4f, 1e4f), Lit(0, 0)}) {
+    grid.set(1, 1, own);
+    EXPECT_EQ(EdgeSampleFactor(grid, 1, 1, SurfaceCues{}), 1u);
+    EXPECT_EQ(EdgeSampleFactor(grid, 1, 1, Lit(0, 12)), 3u);
+  }
+}
+
 TEST(EdgeDetect, TheApronGrowsTheTileByOnePixelInsideTheImage) {
   EXPECT_EQ(ApronArea({32, 32, 32, 32}, {100, 80}), (PixelRect{31, 31, 34, 34}));
   EXPECT_EQ(ApronArea({0, 0, 32, 32}, {100, 80}), (PixelRect{0, 0, 33, 33}));

@@ -412,9 +412,9 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     path = path.Continued(segment.TransmittanceTo(t_end));
   }
   if (!hit) {
-    if (!light) return;
     // The environment, seen directly (unless hidden) or through specular bounces, which
-    // only this path can reach (a delta BSDF): no other strategy shares it.
+    // only this path can reach (a delta BSDF): no other strategy shares it. Cues too (edge
+    // anti-aliasing weighs an edge by the emitted light on its bright side).
     if (scene_.environment && (depth > 0 || scene_.environment_visible)) {
       result.emitted += path.Carried(scene_.environment->Radiance(ray.direction));
       if (depth == 0) result.alpha = 1;  // the background is part of the picture
@@ -447,7 +447,7 @@ void PhotonMappingIntegrator::Bounce(const PathBranch& branch, int depth, const 
     result.surface_normal = Dot(hit->n, at.n) < 0 ? -hit->ns : hit->ns;
     result.depth = hit->t;
   }
-  if (light) result.emitted += path.Carried(Emitted(material, hit->n, wo));
+  result.emitted += path.Carried(Emitted(material, hit->n, wo));  // Cues too, as above
   if (light && can.reflects) {
     result.shaded = true;
     Rgb direct, caustic, indirect, bias;

@@ -185,10 +185,11 @@ class PhotonMappingIntegrator {
                   const SampleEffort& effort = {}) const;
 
   // Only what edge anti-aliasing reads of a camera ray (SampleResult's surface, hit,
-  // surface_normal and depth; render/edge_detect.h): the path walked as Li walks it, every
-  // branch of it, drawing the same dimensions and so making the same specular choices,
-  // with no light found along it. A small part of a sample's cost: a ray per specular
-  // bounce of each branch.
+  // surface_normal, depth and emitted; render/edge_detect.h): the path walked as Li walks
+  // it, every branch of it, drawing the same dimensions and so making the same specular
+  // choices, with no light found along it but what the surfaces it meets emit and the
+  // environment it escapes to (a light seen directly or in a mirror). A small part of a
+  // sample's cost: a ray per specular bounce of each branch.
   SampleResult Cues(const Ray& camera_ray, PixelSampler& sampler) const;
 
   // Whether indirect light comes from final gathering (FINAL_GATHER and a global map with
@@ -226,7 +227,7 @@ class PhotonMappingIntegrator {
 
   // One bounce of one branch of a camera path: adds what its hit emits and reflects to
   // result, and the branches that go on from it to next (two where glass splits it).
-  // With light false, only the cues and the branches (Cues).
+  // With light false, only the cues, the emitted light and the branches (Cues).
   void Bounce(const PathBranch& branch, int depth, const BounceDimensions& u, std::vector<PhotonNeighbour>& scratch,
               bool light, SampleResult& result, Branches& next) const;
   // Li, or with light false Cues.

@@ -25,16 +25,19 @@
 // Every pixel first gets samples_per_pixel camera samples (the base pass). With edge
 // anti-aliasing, the base pass also covers a one-pixel apron around the tile; the base
 // pass's surface ids, normals, depths and irradiance from the lights (render/edge_detect.h)
-// mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in all. FULL mode gives
-// every pixel that many; NONE gives none more.
+// mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in all, times
+// the bright-edge factor where a light borders the edge (EdgeSampleFactor). FULL mode gives
+// every pixel max(samples_per_pixel, edge_samples); NONE gives none more.
 //
 // Sample j of a pixel in a round is a pure function of (seed, round key, pixel, j). Its
 // film position is the film sampler's sample j of the pixel (sampling/film_sampler.h: one
 // sequence over the image, so that neighbouring pixels' samples are stratified together),
-// its other dimensions the pixel sampler's, whose permutation domain is the most samples a
-// pixel can take in the round (a scene constant, never a per-pixel choice). An edge pixel's
+// its other dimensions the pixel sampler's, whose permutation domain is the samples an edge
+// pixel takes in the round (a scene constant, never a per-pixel choice). An edge pixel's
 // first samples are therefore exactly its base samples, and the extra ones continue that
-// stratified set. A round
+// stratified set; a bright edge's samples past it are a set of their own, keyed apart,
+// whose domain is how many more the pixel takes (a pure function of its neighbours and
+// pilot, so sample j still depends only on the seed, the round, the pixel and j). A round
 // is keyed by RoundSettings::first_sample: round 1 (first_sample 0) uses the scene seed,
 // later rounds a seed hashed from (seed, first_sample), so any value distinct per round
 // draws a fresh, independent set (the image's rounds then have independent errors, which
@@ -123,11 +126,13 @@ void AddLight(const SampleResult& r, double* sum) {
 static_assert(kNormal == FilterSplats::kChannels, "the filtered channels are the light channels");
 
 // Adds a sample's surface cues to a pixel's (edge_detect.h): the first sample's surface
-// id, mixed when a later one's differs, and the surface normal of each that hit.
+// id, mixed when a later one's differs, the surface normal of each that hit, and the
+// brightest emitted light one saw.
 void AddSurfaceCues(const SampleResult& r, bool first, SurfaceCues& cues) {
   if (first) cues.surface = r.surface;
   else if (r.surface != cues.surface) cues.mixed = true;
   if (r.hit) cues.normal += r.surface_normal;
+  cues.emitted = std::max(cues.emitted, r.emitted.Luminance());
 }
 
 // The per-round sampling plan, the same for every pixel of the scene.
@@ -138,6 +143,7 @@ struct SamplePlan {
   bool supersample_all = false;
   uint64_t seed = 0;  // of this round's sample set
   uint64_t pilot_seed = 0;  // of its edge pilots: another set
+  uint64_t bright_seed = 0;  // of a bright edge's samples past supersampled: another set
   std::span<const uint32_t> allocated;  // adaptive sampling's per-pixel samples, or empty
   int width = 0;
 
@@ -161,6 +167,8 @@ struct SamplePlan {
     p.base = data.samples_per_pixel;
     p.seed = round.first_sample == 0 ? data.seed : Hash(data.seed, round.first_sample);
     p.pilot_seed = EdgePilotSeed(p.seed);
+    constexpr uint64_t kBrightKey = 0x627269676874;  // "bright"
+    p.bright_seed = Hash(p.seed, kBrightKey);
     p.width = data.width;
     if (!round.samples.empty()) {
       p.allocated = round.samples;
@@ -230,11 +238,16 @@ class PixelRenderer {
   void AddSamples(int x, int y, uint32_t from, uint32_t to, uint32_t total, Sums& sum, FilterSplats* splats,
                   SurfaceCues* cues = nullptr, Rgb* irradiance = nullptr) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
+    // A bright edge's samples past supersampled (render/edge_detect.h) are a stratified set
+    // of their own: the first supersampled of a larger set's shuffle would not be one.
+    PixelSampler bright(std::max(total, plan_.supersampled + 1) - plan_.supersampled, plan_.bright_seed);
     for (uint32_t s = from; s < to; ++s) {
-      sampler_.StartPixelSample(pixel_index, s);
-      const auto [film, ray] = Camera(x, y, s, plan_.seed, sampler_);
+      const bool past = s >= plan_.supersampled;
+      PixelSampler& sampler = past ? bright : sampler_;
+      sampler.StartPixelSample(pixel_index, past ? s - plan_.supersampled : s);
+      const auto [film, ray] = Camera(x, y, s, plan_.seed, sampler);
       const SampleEffort effort = plan_.Effort(s, total, pixel_index);
-      const SampleResult r = integrator_.Li(ray, sampler_, scratch_, effort);
+      const SampleResult r = integrator_.Li(ray, sampler, scratch_, effort);
       Count(r, effort.share);
       if (cues) {
         AddSurfaceCues(r, s == from, *cues);
@@ -412,6 +425,8 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
       light->set(x, y, EdgeLogLuminance(e.r, e.g, e.b));
       // 1 / the mean depth of the samples that hit.
       cues.inverse_depth = sum[kHits] > 0 && sum[kDepth] > 0 ? sum[kHits] / sum[kDepth] : 0.0;
+      cues.luminance = Rgb(float(sum[kBeauty]), float(sum[kBeauty + 1]), float(sum[kBeauty + 2])).Luminance() /
+                       float(first);
       surfaces->set(x, y, cues);
       if (source.Contains({x, y, 1, 1})) pilots->set(x, y, renderer.Pilot(x, y));
     }
@@ -434,14 +449,15 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
   if (plan.detect_edges) {
     const std::vector<std::uint8_t> edges =
         DetectEdges(*surfaces, *light, source, data.antialiasing.edge_threshold, &*pilots);
-    // Edge pixels continue where their base samples ended. They cluster along a few rows,
-    // so the work is split by edge pixel, not by row, to keep both threads busy.
+    // Edge pixels continue where their base samples ended, to edge_samples times their
+    // bright-edge factor. They cluster along a few rows, so the work is split by edge
+    // pixel, not by row, to keep both threads busy.
     std::vector<std::pair<int, int>> edge_pixels;
     for (int y = source.y; y < source.y_end(); ++y)
       for (int x = source.x; x < source.x_end(); ++x)
         if (edges[static_cast<std::size_t>(y - source.y) * source.width + (x - source.x)] != 0) {
           edge_pixels.emplace_back(x, y);
-          samples_at(x, y) = plan.supersampled;
+          samples_at(x, y) = plan.supersampled * EdgeSampleFactor(*surfaces, x, y, pilots->at(x, y));
         }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_pixels.size()),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -449,9 +465,9 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
                         for (std::size_t i = range.begin(); i < range.end(); ++i) {
                           if (stop.stop_requested()) return;
                           const auto [x, y] = edge_pixels[i];
-                          renderer.AddSamples(x, y, plan.base, plan.supersampled, plan.supersampled, sum_at(x, y),
-                                              splat);
-                          progress.Advance(plan.supersampled - plan.base);
+                          const uint32_t n = samples_at(x, y);
+                          renderer.AddSamples(x, y, plan.base, n, n, sum_at(x, y), splat);
+                          progress.Advance(n - plan.base);
                         }
                       });
     if (stop.stop_requested()) {
@@ -468,7 +484,7 @@ Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelR
       // Under edge anti-aliasing the pixels it left with the base samples are smooth.
       splats->Resolve(x, y, [&](int qx, int qy) {
         const std::uint32_t m = samples_at(qx, qy);
-        return FilterSplats::Source{m, !plan.detect_edges || m == plan.supersampled, sum_at(qx, qy).data()};
+        return FilterSplats::Source{m, !plan.detect_edges || m > plan.base, sum_at(qx, qy).data()};
       }, image.pixel(x, y));
     }
   report();

@@ -1272,10 +1272,14 @@ func (x *Sampling) GetSpectral() SpectralSampling {
 type Antialiasing struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Mode  AntialiasingMode       `protobuf:"varint,1,opt,name=mode,proto3,enum=renderfarm.v1.AntialiasingMode" json:"mode,omitempty"`
-	// Camera rays for an edge pixel (or every pixel in FULL mode). Those past
-	// samples_per_pixel share samples_per_pixel samples' worth of light samples and gather
-	// rays between them (they resolve what the pixel covers, not the light at each point):
-	// under final gathering an edge pixel costs a few smooth pixels, not edge_samples.
+	// Camera rays for an edge pixel (or every pixel in FULL mode). An edge that a light
+	// borders (what a neighbour or the pilot saw emitted, directly or through specular
+	// surfaces, over 9 times the darkest neighbour's luminance) takes up to 8 times as many,
+	// the square root of that ratio over 4 (render/edge_detect.h, "Bright edges"): its
+	// error is its contrast's. Those past samples_per_pixel share samples_per_pixel
+	// samples' worth of light samples and gather rays between them (they resolve what the
+	// pixel covers, not the light at each point): under final gathering an edge pixel costs
+	// a few smooth pixels, not edge_samples.
 	EdgeSamples uint32 `protobuf:"varint,2,opt,name=edge_samples,json=edgeSamples,proto3" json:"edge_samples,omitempty"`
 	// A pixel is a shadow's or a caustic's edge when the Sobel gradient of the
 	// log-luminance of its irradiance from the lights (direct and caustic) exceeds this.
