@@ -25,9 +25,9 @@
 // Every pixel first gets samples_per_pixel camera samples (the base pass). With edge
 // anti-aliasing, the base pass also covers a one-pixel apron around the tile; the base
 // pass's surface ids, normals, depths and irradiance from the lights (render/edge_detect.h)
-// mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in all, times
-// the bright-edge factor where a light borders the edge (EdgeSampleFactor). FULL mode gives
-// every pixel max(samples_per_pixel, edge_samples); NONE gives none more.
+// mark edge pixels, and those continue to max(samples_per_pixel, edge_samples) samples in
+// all, times the bright-edge factor where a light borders the edge (EdgeSampleFactor).
+// FULL mode gives every pixel max(samples_per_pixel, edge_samples); NONE gives none more.
 //
 // Sample j of a pixel in a round is a pure function of (seed, round key, pixel, j). Its
 // film position is the film sampler's sample j of the pixel (sampling/film_sampler.h: one
@@ -239,7 +239,8 @@ class PixelRenderer {
                   SurfaceCues* cues = nullptr, Rgb* irradiance = nullptr) {
     const uint64_t pixel_index = uint64_t(y) * uint64_t(data_.width) + uint64_t(x);
     // A bright edge's samples past supersampled (render/edge_detect.h) are a stratified set
-    // of their own: the first supersampled of a larger set's shuffle would not be one.
+    // of their own: the first samples of a larger set's shuffle are not stratified, and
+    // the base and edge samples must stay so.
     PixelSampler bright(std::max(total, plan_.supersampled + 1) - plan_.supersampled, plan_.bright_seed);
     for (uint32_t s = from; s < to; ++s) {
       const bool past = s >= plan_.supersampled;
@@ -376,7 +377,7 @@ std::uint64_t EdgePilotSeed(std::uint64_t round_seed) {
 }
 
 std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples) {
-  return std::min<std::uint32_t>(65536, std::max(64 * samples_per_pixel, edge_samples));
+  return std::min<std::uint32_t>(65536, std::max(64 * samples_per_pixel, edge_samples * kMaxEdgeSampleFactor));
 }
 
 Image RenderTile(const Scene& scene, const PhotonSnapshot* photons, const PixelRect& rect,

@@ -58,7 +58,9 @@ std::uint64_t EdgePilotSeed(std::uint64_t round_seed);
 inline constexpr std::uint32_t kEdgePilots = 4;
 
 // The most camera samples a pixel may draw in a round under adaptive sampling: 64 times
-// samples_per_pixel, and at least an edge pixel's, at most 65536.
+// samples_per_pixel, and at least a bright edge's (edge_samples times
+// kMaxEdgeSampleFactor, render/edge_detect.h: adaptive rounds give a light's image no fewer
+// than the rounds before them could), at most 65536.
 std::uint32_t AdaptiveMaxSamples(std::uint32_t samples_per_pixel, std::uint32_t edge_samples);
 
 // How a tile's camera samples came out, which the worker reports (TileSamples in
