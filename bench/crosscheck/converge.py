@@ -22,10 +22,10 @@ For scenes/cornell-box.json and scenes/cornell-caustics.json, each at SIZE x SIZ
               relative difference of the mean radiance in each region, per channel
   equal time  the farm and Mitsuba at about 3, 10 and 60 s of wall time (the farm's whole
               `farm render` command; Mitsuba's render call): the farm runs the number of
-              rounds its A- and B-round runs say fits (wall = start-up + rounds x round
-              time), Mitsuba the samples that fit in the wall time the farm actually took (its
-              cost per sample calibrated on this machine just before); both print the
-              time they took
+              rounds whose wall time its A- and B-round runs put nearest the budget (wall =
+              start-up + rounds x round time), Mitsuba the samples that fit in the wall
+              time the farm actually took (its cost per sample calibrated on this machine
+              just before); both print the time they took
 
 The reference's own noise (the RMSE of its two halves' difference, halved: that of their
 mean) is printed beside it, and every RMSE is printed less that noise (the reference's
@@ -107,6 +107,72 @@ def reference(cache, scene_path, work_dir, spp):
         mi.Bitmap(img.astype(np.float32)).write(str(path))
     meta.write_text(json.dumps({"spp": spp, "seconds": seconds}))
     return halves, False
+
+
+# refine_reference: the reference's noisiest pixels, those holding REFINE_SHARE of its
+# noise (at most REFINE_MOST), are rendered again at REFINE_FACTOR times the samples.
+REFINE_SHARE, REFINE_MOST, REFINE_FACTOR = 0.95, 128, 32
+
+
+def clusters(mask):
+    """Bounding boxes (x0, y0, width, height) of mask's groups of pixels, pixels within two
+    of each other grouped."""
+    h, w = mask.shape
+    seen = np.zeros_like(mask)
+    boxes = []
+    for y, x in zip(*np.nonzero(mask)):
+        if seen[y, x]:
+            continue
+        seen[y, x] = True
+        stack, members = [(y, x)], []
+        while stack:
+            cy, cx = stack.pop()
+            members.append((cy, cx))
+            for ny in range(max(0, cy - 2), min(h, cy + 3)):
+                for nx in range(max(0, cx - 2), min(w, cx + 3)):
+                    if mask[ny, nx] and not seen[ny, nx]:
+                        seen[ny, nx] = True
+                        stack.append((ny, nx))
+        ys, xs = zip(*members)
+        boxes.append((int(min(xs)), int(min(ys)), int(max(xs) - min(xs) + 1), int(max(ys) - min(ys) + 1)))
+    return boxes
+
+
+def refine_reference(cache, scene_path, work_dir, halves, spp, within=None):
+    """The reference's halves with the pixels that hold most of its own noise rendered again
+    at REFINE_FACTOR times spp (in windows about them, two halves of other seeds), cached
+    beside the reference, and the windows. A reference's noise sits in a few pixels (a
+    light's rim, its image in a mirror: 90% of a 64x64 Cornell box's in 11 pixels), the same
+    pixels where a farm image's error sits; once that error falls to the reference's noise,
+    subtracting the noise (it is independent of the image) no longer measures it: the two
+    meet in so few pixels that their cross term does not average out. within, a mask,
+    limits the choice to the pixels an error is measured over."""
+    h1, h2 = halves
+    noise = (((h1 - h2) / 2) ** 2).mean(axis=2)
+    if within is not None:
+        noise = np.where(within, noise, 0.0)
+    order = np.argsort(noise.ravel())[::-1]
+    held = np.cumsum(noise.ravel()[order]) / max(noise.sum(), 1e-300)
+    count = min(REFINE_MOST, int(np.searchsorted(held, REFINE_SHARE)) + 1)
+    chosen = np.zeros(noise.shape, dtype=bool)
+    chosen.ravel()[order[:count]] = True
+    windows = clusters(chosen)
+    key = hashlib.sha256(scene_path.read_bytes() + (HERE / "to_mitsuba.py").read_bytes() + f"{spp} {mi.__version__} "
+                         f"{REFINE_SHARE} {REFINE_MOST} {REFINE_FACTOR}".encode() +
+                         (b"" if within is None else np.packbits(within).tobytes())).hexdigest()[:16]
+    paths = [cache / f"{scene_path.stem}-{key}-refined-{half}.exr" for half in (1, 2)]
+    if all(p.exists() for p in paths):
+        return [np.array(mi.Bitmap(str(p)), dtype=np.float64)[..., :3] for p in paths], windows
+    refined = [h1.copy(), h2.copy()]
+    for x0, y0, w, h in windows:
+        for half, img in zip((1, 2), refined):
+            d, _ = to_mitsuba.mitsuba_scene(mi, scene_path, work_dir, spp * REFINE_FACTOR // 2, seed=200 + half)
+            d["sensor"]["film"].update({"crop_offset_x": int(x0), "crop_offset_y": int(y0),
+                                        "crop_width": int(w), "crop_height": int(h)})
+            img[y0:y0 + h, x0:x0 + w] = np.array(mi.render(mi.load_dict(d)), dtype=np.float64)[..., :3]
+    for img, path in zip(refined, paths):
+        mi.Bitmap(img.astype(np.float32)).write(str(path))
+    return refined, windows
 
 
 def point_triangle_distance(p, a, b, c):
@@ -273,19 +339,35 @@ def main():
         diff = np.abs(runs[many][0] - ref) * 8
         models.write_png(out / f"{name}-converge.png",
                          np.concatenate([preview(runs[many][0]), preview(ref), preview(diff)], axis=1))
-        per_round = (runs[many][1] - runs[few][1]) / (many - few)
-        startup = max(0.0, runs[few][1] - few * per_round)
+        timings = {r: runs[r][1] for r in (few, many)}
         mitsuba_cost = calibrate_mitsuba(base, out / name / "mitsuba")
-        for budget in [float(s) for s in args.seconds.split(",") if s]:
-            rounds = max(1, int((budget - startup) / per_round)) if per_round > 0 else 1
+        for budget in sorted(float(s) for s in args.seconds.split(",") if s):
+            rounds = rounds_for(budget, timings)
             path = sized_scene(src, out / name / f"time-{budget:g}", args.size, rounds)
             img, seconds = render_farm(build, path, out / name / f"time-{budget:g}")
+            timings[rounds] = seconds
             # Mitsuba gets the wall time the farm took, whatever the budget said.
             mimg, mseconds, spp = render_mitsuba_for(path, out / name / "mitsuba", seconds, mitsuba_cost)
             e_farm, e_mitsuba = error(img, ref, measured, noise), error(mimg, ref, measured, noise)
             print(f"  ~{budget:g} s: farm {rounds} rounds in {seconds:.1f} s RMSE {e_farm:.5f} "
                   f"({rmse(img, ref, measured):.5f}); Mitsuba {spp} spp in {mseconds:.1f} s RMSE {e_mitsuba:.5f} "
                   f"({rmse(mimg, ref, measured):.5f}); farm / Mitsuba {e_farm / max(e_mitsuba, 1e-12):.2f}")
+
+
+def rounds_for(budget, timings):
+    """The rounds whose wall time is nearest `budget` seconds, by linear interpolation
+    between the {rounds: seconds} the farm has taken so far (beyond them, the nearest two's
+    line): a round is the farm's step. A line through the 9- and 50-round runs alone puts
+    the start-up too high (later rounds are cheaper), and flooring it ran the ~10 s row in
+    6 s."""
+    points = sorted(timings.items())
+    if len(points) == 1:
+        (r, t), = points
+        return max(1, round(r * budget / t))
+    for (r0, t0), (r1, t1) in zip(points, points[1:]):
+        last = (r1, t1) == points[-1]
+        if budget <= t1 or last:
+            return max(1, round(r0 + (budget - t0) * (r1 - r0) / max(t1 - t0, 1e-9)))
 
 
 def calibrate_mitsuba(scene_path, work_dir):

@@ -11,7 +11,11 @@ and scenes/cornell-fog.json (the volume photon map) at SIZE x SIZE:
 
   reference  converge.py's Mitsuba reference at REFERENCE_SPP samples per pixel, in two
              halves of different seeds, cached in BUILD_DIR/bench-cache (the same cache
-             entries as converge.py's and fog.py's at this size); written as an OpenEXR
+             entries as converge.py's and fog.py's at this size), its noisiest pixels (95%
+             of its noise, at most 128) rendered again at 32 times the samples
+             (converge.refine_reference; cached too): the farm's error came to fall below
+             the reference's noise, in the same pixels (a light's rim), where subtracting
+             the noise no longer measured it; written as an OpenEXR
              that the scene names as progressive.reference, so that the farm measures its
              own RMSE against it every round
   farm       `farm render --report` (two workers) of ROUNDS progressive rounds for each
@@ -28,7 +32,7 @@ coverage, and the expectation over seeds round by round (the mean estimate, the 
 error, their ratio within 25% or not from round 3) with whether the mean estimate fell at
 every round. A missed target is a figure, not an error: the exit status is 0 unless a
 render fails. About 15 minutes at the defaults with the references cached (each took 4 to
-8 minutes to make here). docs/error-estimate.md has the figures of a run and what they
+8 minutes to make here, and their refinement 12 minutes for the three). docs/error-estimate.md has the figures of a run and what they
 mean."""
 
 import argparse
@@ -115,11 +119,16 @@ def main():
         src = root / "scenes" / f"{name}.json"
         base = converge.sized_scene(src, out / name, args.size, 1)
         (h1, h2), cached = converge.reference(build / "bench-cache", base, out / name / "mitsuba", args.reference_spp)
+        before = float(np.sqrt(np.mean((h1 - h2) ** 2)) / 2)
+        (h1, h2), windows = converge.refine_reference(build / "bench-cache", base, out / name / "mitsuba", (h1, h2),
+                                                      args.reference_spp)
         noise = float(np.sqrt(np.mean((h1 - h2) ** 2)) / 2)
         reference = out / name / "reference.exr"
         converge.mi.Bitmap(((h1 + h2) / 2).astype(np.float32)).write(str(reference))
         print(f"{name}: {args.size}x{args.size}, {args.rounds} rounds, seeds {args.seeds}; reference "
-              f"{args.reference_spp} spp ({'cached' if cached else 'made now'}), its own noise RMSE {noise:.5f}")
+              f"{args.reference_spp} spp ({'cached' if cached else 'made now'}), its own noise RMSE {before:.5f}, "
+              f"{noise:.5f} with its noisiest pixels at {converge.REFINE_FACTOR} times the samples (windows x, y, "
+              f"w, h: {', '.join(' '.join(str(v) for v in w) for w in windows)})")
         runs = {}
         for seed in seeds:
             rows = farm_rounds(build, src, out / name / f"seed-{seed}", args.size, args.rounds, seed, reference)
