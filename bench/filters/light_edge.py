@@ -153,7 +153,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build", type=Path)
     ap.add_argument("out", type=Path)
-    ap.add_argument("--mitsuba-spp", type=int, default=2048, help="Mitsuba samples per pixel (two halves)")
+    ap.add_argument("--mitsuba-spp", type=int, default=8192, help="Mitsuba samples per pixel (two halves)")
     args = ap.parse_args()
     build, out = args.build.resolve(), args.out.resolve()
     out.mkdir(parents=True, exist_ok=True)
