@@ -88,11 +88,17 @@ def render_mitsuba(scene_path, work_dir, spp, seed):
     return img, time.monotonic() - t0
 
 
+def cache_key(scene_path, settings, extra=b""):
+    """A cache entry's key: a digest of the scene file, the translation, Mitsuba's version
+    and the settings (a string) it was made with, and of extra bytes."""
+    return hashlib.sha256(scene_path.read_bytes() + (HERE / "to_mitsuba.py").read_bytes() +
+                          f"{settings} {mi.__version__}".encode() + extra).hexdigest()[:16]
+
+
 def reference(cache, scene_path, work_dir, spp):
     """The two halves of the reference, from the cache when the scene, the translation and
     spp are those it was made with."""
-    key = hashlib.sha256(scene_path.read_bytes() + (HERE / "to_mitsuba.py").read_bytes() +
-                         f"{spp} {mi.__version__}".encode()).hexdigest()[:16]
+    key = cache_key(scene_path, spp)
     paths = [cache / f"{scene_path.stem}-{key}-{half}.exr" for half in (1, 2)]
     meta = cache / f"{scene_path.stem}-{key}.json"
     if all(p.exists() for p in paths) and meta.exists():
@@ -157,9 +163,8 @@ def refine_reference(cache, scene_path, work_dir, halves, spp, within=None):
     chosen = np.zeros(noise.shape, dtype=bool)
     chosen.ravel()[order[:count]] = True
     windows = clusters(chosen)
-    key = hashlib.sha256(scene_path.read_bytes() + (HERE / "to_mitsuba.py").read_bytes() + f"{spp} {mi.__version__} "
-                         f"{REFINE_SHARE} {REFINE_MOST} {REFINE_FACTOR}".encode() +
-                         (b"" if within is None else np.packbits(within).tobytes())).hexdigest()[:16]
+    key = cache_key(scene_path, f"{spp} refined {REFINE_SHARE} {REFINE_MOST} {REFINE_FACTOR}",
+                    b"" if within is None else np.packbits(within).tobytes())
     paths = [cache / f"{scene_path.stem}-{key}-refined-{half}.exr" for half in (1, 2)]
     if all(p.exists() for p in paths):
         return [np.array(mi.Bitmap(str(p)), dtype=np.float64)[..., :3] for p in paths], windows
@@ -361,13 +366,9 @@ def rounds_for(budget, timings):
     the start-up too high (later rounds are cheaper), and flooring it ran the ~10 s row in
     6 s."""
     points = sorted(timings.items())
-    if len(points) == 1:
-        (r, t), = points
-        return max(1, round(r * budget / t))
-    for (r0, t0), (r1, t1) in zip(points, points[1:]):
-        last = (r1, t1) == points[-1]
-        if budget <= t1 or last:
-            return max(1, round(r0 + (budget - t0) * (r1 - r0) / max(t1 - t0, 1e-9)))
+    segments = list(zip(points, points[1:]))
+    (r0, t0), (r1, t1) = next((seg for seg in segments if budget <= seg[1][1]), segments[-1])
+    return max(1, round(r0 + (budget - t0) * (r1 - r0) / max(t1 - t0, 1e-9)))
 
 
 def calibrate_mitsuba(scene_path, work_dir):

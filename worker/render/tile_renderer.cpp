@@ -241,7 +241,7 @@ class PixelRenderer {
     // A bright edge's samples past supersampled (render/edge_detect.h) are a stratified set
     // of their own: the first samples of a larger set's shuffle are not stratified, and
     // the base and edge samples must stay so.
-    PixelSampler bright(std::max(total, plan_.supersampled + 1) - plan_.supersampled, plan_.bright_seed);
+    PixelSampler bright(total > plan_.supersampled ? total - plan_.supersampled : 1, plan_.bright_seed);
     for (uint32_t s = from; s < to; ++s) {
       const bool past = s >= plan_.supersampled;
       PixelSampler& sampler = past ? bright : sampler_;
