@@ -17,7 +17,9 @@ left out). Also printed: where the adaptive run's samples went, from the image's
 layer (samples.Y): the range a pixel, and the share the tenth of the pixels with the
 largest error against the reference drew; OUT_DIR/adaptive-samples.png shows the adaptive
 image beside its samples layer (log scale, black the fewest: docs/images/adaptive-samples.png
-is one). Target: uniform / adaptive at equal time >= 1.3;
+is one), OUT_DIR/uniform-samples.png the same of the uniform run, where edge anti-aliasing and
+the bright edges put the samples (docs/images/edge-samples.png). Target: uniform / adaptive at
+equal time >= 1.3;
 MISSED when below (not an error)."""
 
 import argparse
@@ -55,6 +57,12 @@ def samples_layer(exr):
     return a if a.ndim == 2 else a[..., 0]
 
 
+def log_grey(samples):
+    """A samples layer as an 8-bit grey RGB image on a log scale, black its fewest."""
+    shade = np.log(samples / samples.min()) / max(np.log(samples.max() / samples.min()), 1e-12)
+    return (np.repeat(shade[..., None], 3, axis=2) * 255 + 0.5).astype(np.uint8)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("build", type=Path)
@@ -87,16 +95,16 @@ def main():
         runs[name] = (img, seconds, converge.error(img, ref, measured, noise))
         print(f"  {name:8s} {seconds:6.1f} s: RMSE {runs[name][2]:.5f} ({converge.rmse(img, ref, measured):.5f} measured)")
 
-    samples = samples_layer(adaptive_path.parent / (adaptive_path.stem + ".exr"))
+    layers = {name: samples_layer(path.parent / (path.stem + ".exr"))
+              for name, path in (("uniform", uniform_path), ("adaptive", adaptive_path))}
+    for name, layer in layers.items():
+        models.write_png(out / f"{name}-samples.png", np.concatenate([preview(runs[name][0]), log_grey(layer)], axis=1))
+    samples = layers["adaptive"]
     err = np.where(measured, np.abs(runs["uniform"][0] - ref).mean(axis=2), -1).ravel()
     top = np.argsort(-err, kind="stable")[: max(1, int(measured.sum()) // 10)]
     print(f"  adaptive samples (layer samples.Y): {samples.min():.0f} to {samples.max():.0f} a pixel, mean "
           f"{samples.mean():.2f}; the 10% of pixels with the largest uniform-run error drew "
           f"{100 * samples.ravel()[top].sum() / samples.sum():.1f}% of them")
-
-    shade = np.log(samples / samples.min()) / max(np.log(samples.max() / samples.min()), 1e-12)
-    grey = (np.repeat(shade[..., None], 3, axis=2) * 255 + 0.5).astype(np.uint8)
-    models.write_png(out / "adaptive-samples.png", np.concatenate([preview(runs["adaptive"][0]), grey], axis=1))
 
     (u_img, u_s, u_e), (a_img, a_s, a_e) = runs["uniform"], runs["adaptive"]
     raw = u_e / max(a_e, 1e-12)
