@@ -10,6 +10,7 @@ import (
 	"text/tabwriter"
 
 	"photonfarm/client"
+	"photonfarm/contract/rules"
 	"photonfarm/contract/tasks"
 	pb "photonfarm/proto/renderfarm/v1"
 )
@@ -52,7 +53,7 @@ func printReport(w io.Writer, job *pb.Job) {
 	}
 	fmt.Fprintf(w, "job %s (%s): %s, %d rounds\n", printable(job.GetId()), printable(name), tasks.JobStateName(job.GetState()), len(job.GetRounds()))
 	var layers []string
-	for _, l := range tasks.MeasuredLayers {
+	for _, l := range rules.Keys(&pb.RoundMetrics{}, "layer_reference_rmse") {
 		for _, r := range job.GetRounds() {
 			if _, ok := r.GetLayerReferenceRmse()[l]; ok {
 				layers = append(layers, l)

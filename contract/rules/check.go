@@ -3,6 +3,7 @@ package rules
 import (
 	"fmt"
 	"math"
+	"slices"
 	"strconv"
 	"strings"
 	"sync"
@@ -105,14 +106,23 @@ func cachedRule(fd protoreflect.FieldDescriptor) *pb.FieldRule {
 func checkField(msg protoreflect.Message, fd protoreflect.FieldDescriptor, r *pb.FieldRule) *FieldError {
 	switch {
 	case fd.IsMap():
-		var err *FieldError
-		msg.Get(fd).Map().Range(func(k protoreflect.MapKey, v protoreflect.Value) bool {
-			if err = checkValue(fd.MapValue(), v, r); err != nil {
-				err = under("["+k.String()+"]", err)
-			}
-			return err == nil
+		// In key order, as the worker checks them: the first error is the same on both sides.
+		m := msg.Get(fd).Map()
+		var keys []protoreflect.MapKey
+		m.Range(func(k protoreflect.MapKey, _ protoreflect.Value) bool {
+			keys = append(keys, k)
+			return true
 		})
-		return err
+		slices.SortFunc(keys, func(a, b protoreflect.MapKey) int { return strings.Compare(a.String(), b.String()) })
+		for _, k := range keys {
+			if len(r.GetKeys()) > 0 && !slices.Contains(r.GetKeys(), k.String()) {
+				return under("["+k.String()+"]", fail("is not a key it may have (%s)", strings.Join(r.GetKeys(), ", ")))
+			}
+			if err := checkValue(fd.MapValue(), m.Get(k), r); err != nil {
+				return under("["+k.String()+"]", err)
+			}
+		}
+		return nil
 	case fd.IsList():
 		list := msg.Get(fd).List()
 		n := uint64(list.Len())

@@ -82,6 +82,13 @@ func TestCheckEachKindAndBound(t *testing.T) {
 		{"set member checked", &pb.Light{Kind: &pb.Light_Point{Point: &pb.PointLight{Position: scenetest.V(0, 0, 0)}}}, "point.intensity: missing"},
 		// Maps and proto3 optional fields (rules.proto: every double finite).
 		{"map value", &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"direct": 0.5, "caustic": nan}}, "layer_reference_rmse[caustic]: must be a finite number, got NaN"},
+		// Maps with keys: no other key; the entries in key order, so that the first error is
+		// the worker's too.
+		{"map key not declared", &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"direct": 0.5, "albedo": 0.1}},
+			"layer_reference_rmse[albedo]: is not a key it may have (direct, indirect, caustic, volume)"},
+		{"map entries in key order", &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"volume": nan, "bias": 0.1, "caustic": inf}},
+			"layer_reference_rmse[bias]: is not a key it may have (direct, indirect, caustic, volume)"},
+		{"map keys declared", &pb.RoundMetrics{LayerReferenceRmse: map[string]float64{"direct": 0.5, "indirect": 0.1, "caustic": 0, "volume": 2}}, ""},
 		{"optional double unset", &pb.RoundMetrics{}, ""},
 		{"optional double set", &pb.RoundMetrics{ErrorEstimate: proto.Float64(inf)}, "error_estimate: must be a finite number, got +Inf"},
 	}

@@ -2,6 +2,7 @@ package rules_test
 
 import (
 	"math"
+	"slices"
 	"testing"
 
 	"google.golang.org/protobuf/encoding/prototext"
@@ -78,5 +79,24 @@ func TestDefaultMinMax(t *testing.T) {
 				t.Errorf("got %v, want %v", got, tt.want)
 			}
 		})
+	}
+}
+
+func TestKeys(t *testing.T) {
+	if got, want := rules.Keys((*pb.RoundMetrics)(nil), "layer_reference_rmse"), []string{"direct", "indirect", "caustic", "volume"}; !slices.Equal(got, want) {
+		t.Errorf("Keys(RoundMetrics.layer_reference_rmse) = %q, want %q", got, want)
+	}
+	for _, tt := range []struct {
+		msg proto.Message
+		fld protoreflect.Name
+	}{{(*pb.Film)(nil), "width"}, {(*pb.Vec3)(nil), "x"}} {
+		func() {
+			defer func() {
+				if recover() == nil {
+					t.Errorf("Keys(%T, %s) did not panic: it declares no keys", tt.msg, tt.fld)
+				}
+			}()
+			rules.Keys(tt.msg, tt.fld)
+		}()
 	}
 }

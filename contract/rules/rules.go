@@ -94,6 +94,16 @@ func MaxItems(m proto.Message, name protoreflect.Name) uint64 {
 	return r.GetMaxItems()
 }
 
+// Keys returns the only keys map field name may have, in the order reports show them (its
+// rule's keys), and panics if it declares none.
+func Keys(m proto.Message, name protoreflect.Name) []string {
+	r := declared(m, name)
+	if len(r.GetKeys()) == 0 {
+		panic("rules: " + fieldName(m, name) + " declares no keys")
+	}
+	return r.GetKeys()
+}
+
 func declared(m proto.Message, name protoreflect.Name) *pb.FieldRule {
 	fd := m.ProtoReflect().Descriptor().Fields().ByName(name)
 	if fd == nil || Of(fd) == nil {

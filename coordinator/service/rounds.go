@@ -4,11 +4,10 @@ import (
 	"context"
 	"fmt"
 	"math"
-	"slices"
-	"strings"
 
 	"google.golang.org/protobuf/proto"
 
+	"photonfarm/contract/rules"
 	"photonfarm/contract/scene"
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
@@ -211,12 +210,12 @@ func checkMetrics(m *pb.RoundMetrics) error {
 		{"metrics.error_estimate_low", m.ErrorEstimateLow != nil, m.GetErrorEstimateLow()},
 		{"metrics.error_estimate_high", m.ErrorEstimateHigh != nil, m.GetErrorEstimateHigh()},
 	}
+	// The contract's rules first: the layers measured are layer_reference_rmse's keys.
+	if fe := rules.Check(m); fe != nil {
+		return errs.Field("metrics."+fe.Field, "%s", fe.Message)
+	}
 	for layer, v := range m.GetLayerReferenceRmse() {
-		field := fmt.Sprintf("metrics.layer_reference_rmse[%q]", layer)
-		if !slices.Contains(tasks.MeasuredLayers, layer) {
-			return errs.Field(field, "is not a measured layer (%s)", strings.Join(tasks.MeasuredLayers, ", "))
-		}
-		values = append(values, value{field, true, v})
+		values = append(values, value{fmt.Sprintf("metrics.layer_reference_rmse[%s]", layer), true, v})
 	}
 	if sp := m.GetSamples(); sp != nil {
 		values = append(values, value{"metrics.samples.mean", true, sp.GetMean()}, value{"metrics.samples.top_error_decile_share", sp.TopErrorDecileShare != nil, sp.GetTopErrorDecileShare()})

@@ -167,6 +167,12 @@ std::optional<FieldError> CheckMap(const gp::Message& msg, const FD& fd, std::st
   }
   std::sort(entries.begin(), entries.end());
   for (const auto& [key, entry] : entries) {
+    const auto& keys = r.keys();
+    if (!keys.empty() && std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      std::string allowed;
+      for (const std::string& k : keys) allowed += (allowed.empty() ? "" : ", ") + k;
+      return Error(Indexed(path, key), "is not a key it may have (" + allowed + ")");
+    }
     if (auto err = CheckValue(Value{*entry, *fd.message_type()->map_value()}, Indexed(path, key), r))
       return err;
   }
@@ -313,6 +319,13 @@ double Default(const gp::Descriptor& message, std::string_view field) {
 
 double Max(const gp::Descriptor& message, std::string_view field) {
   return DeclaredValue(message, field, &pb::FieldRule::has_lte, &pb::FieldRule::lte, "lte bound");
+}
+
+std::vector<std::string> Keys(const gp::Descriptor& message, std::string_view field) {
+  const pb::FieldRule& r = Declared(message, field);
+  if (r.keys().empty())
+    throw std::logic_error("contract: " + message.full_name() + "." + std::string(field) + " declares no keys");
+  return {r.keys().begin(), r.keys().end()};
 }
 
 }  // namespace farm::contract

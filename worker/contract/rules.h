@@ -4,7 +4,8 @@
 // descriptors: no limit or default of the contract is written in the worker's code.
 //
 // CheckRules(m) is contract/rules.Check (Go) line for line: fields in declaration order,
-// depth first; a map's values, a list's max_items then min_items and then its elements
+// depth first; a map's entries in the order of their keys (each key one of the rule's keys,
+// if it names any, then the value), a list's max_items then min_items and then its elements
 // (`shapes[2]`); an unset message is "missing" when required and skipped otherwise; of a
 // oneof only the member that is set; after a message's fields, each (one_required) oneof
 // with nothing set is refused at the message's path. Numbers: doubles finite and within
@@ -12,8 +13,7 @@
 // bounds; a Color or Vec3 field's bounds apply to its components that have no rule of
 // their own (`materials[0].lambert.reflectance.r`). Strings: required, max_bytes, digest.
 // Enums: a declared value. Messages are Go's, word for word: "must be in [8, 256] (0
-// selects 32), got 4". One difference: a map's values are checked in the order of their
-// keys (Go's order is random; the contract has no map a scene can carry).
+// selects 32), got 4".
 //
 // The accessors name a message type and one of its fields: Default<pb::Sampling>(
 // "light_samples") is 16, Max<pb::Indirect>("gather_rays") is 4096, and
@@ -28,6 +28,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include "renderfarm/v1/blob.pb.h"
 #include "renderfarm/v1/rules.pb.h"
@@ -74,6 +75,14 @@ double Default(std::string_view field) {
 template <class M>
 double Max(std::string_view field) {
   return Max(*M::descriptor(), field);
+}
+
+// The only keys a map field may have, in the order reports show them (its rule's keys).
+std::vector<std::string> Keys(const google::protobuf::Descriptor& message, std::string_view field);
+
+template <class M>
+std::vector<std::string> Keys(std::string_view field) {
+  return Keys(*M::descriptor(), field);
 }
 
 // `value`, or the field's default when value is 0 (an unset field), as the field's type.

@@ -124,6 +124,19 @@ TEST(CheckRules, MapValuesAreCheckedInKeyOrderUnderTheirKeys) {
   EXPECT_EQ(Refusal(m), "layer_reference_rmse[direct]: must be a finite number, got NaN");
 }
 
+TEST(CheckRules, AMapTakesOnlyItsRulesKeysInKeyOrderAsGoChecksThem) {
+  pb::RoundMetrics m;
+  (*m.mutable_layer_reference_rmse())["volume"] = NAN;
+  (*m.mutable_layer_reference_rmse())["caustic"] = INFINITY;
+  (*m.mutable_layer_reference_rmse())["bias"] = 0.1;
+  EXPECT_EQ(Refusal(m), "layer_reference_rmse[bias]: is not a key it may have (direct, indirect, caustic, volume)");
+  m.mutable_layer_reference_rmse()->erase("bias");
+  EXPECT_EQ(Refusal(m), "layer_reference_rmse[caustic]: must be a finite number, got +Inf");
+  pb::RoundMetrics declared;
+  for (const char* layer : {"direct", "indirect", "caustic", "volume"}) (*declared.mutable_layer_reference_rmse())[layer] = 1;
+  EXPECT_FALSE(CheckRules(declared));
+}
+
 TEST(Describe, SaysWhichNumbersARuleAllows) {
   pb::FieldRule r;
   r.set_gte(1);
@@ -148,6 +161,9 @@ TEST(Accessors, ReadDefaultsAndBoundsFromTheOptions) {
   EXPECT_THROW(Default<pb::Film>("width"), std::logic_error);   // no default_value
   EXPECT_THROW(Max<pb::Camera>("position"), std::logic_error);  // no lte
   EXPECT_THROW(Default<pb::Film>("widht"), std::logic_error);   // no such field
+  EXPECT_EQ(Keys<pb::RoundMetrics>("layer_reference_rmse"),
+            (std::vector<std::string>{"direct", "indirect", "caustic", "volume"}));
+  EXPECT_THROW(Keys<pb::Film>("width"), std::logic_error);  // no keys
 }
 
 TEST(Accessors, ReadTheSceneAndRpcLimits) {

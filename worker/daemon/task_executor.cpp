@@ -410,6 +410,7 @@ TaskResult TaskExecutor::Composite(const pb::LeaseTaskResponse& leased, std::sto
         download("the accumulation of round " + std::to_string(round - 1), spec.previous_accumulation());
   }
   if (spec.has_reference()) in.reference_exr = download("the reference image", spec.reference());
+  in.measured_layers = contract::Keys<pb::RoundMetrics>("layer_reference_rmse");
   in.samples_per_pixel = contract::OrDefault<pb::Sampling>(description.sampling().samples_per_pixel(), "samples_per_pixel");
   if (description.sampling().adaptive() == pb::ADAPTIVE_SAMPLING_ON) in.adaptive_max_samples = MaxSamplesOf(description);
   if (spec.has_sample_map()) in.sample_map = download("the sample map of round " + std::to_string(round), spec.sample_map());

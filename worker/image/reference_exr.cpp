@@ -38,11 +38,11 @@ std::optional<std::array<int, 3>> ChannelIndices(const Image& image, const std::
   return out;
 }
 
-// R, G, B, then the channels of every measured layer the header has all three of.
-std::vector<std::string> ReferenceChannels(const Imf::Header& header) {
+// R, G, B, then the channels of each of layers the header has all three of.
+std::vector<std::string> ReferenceChannels(const Imf::Header& header, std::span<const std::string> layers) {
   std::vector<std::string> channels;
   for (const std::string& name : RgbNames("")) channels.push_back(name);
-  for (std::string_view layer : kMeasuredLayers) {
+  for (std::string_view layer : layers) {
     const std::array<std::string, 3> names = RgbNames(layer);
     if (std::all_of(names.begin(), names.end(),
                     [&](const std::string& n) { return header.channels().findChannel(n) != nullptr; })) {
@@ -54,7 +54,7 @@ std::vector<std::string> ReferenceChannels(const Imf::Header& header) {
 
 }  // namespace
 
-Image ReadReferenceExr(std::string_view bytes, ImageSize size) {
+Image ReadReferenceExr(std::string_view bytes, ImageSize size, std::span<const std::string> layers) {
   const PixelRect whole{0, 0, size.width, size.height};
   Image image(whole, {});
   try {
@@ -62,7 +62,7 @@ Image ReadReferenceExr(std::string_view bytes, ImageSize size) {
     Imf::InputFile file(stream);
     const Imf::Header& header = file.header();
     RequireWholeImage(header, size, "reference image");
-    image = Image(whole, ReferenceChannels(header));
+    image = Image(whole, ReferenceChannels(header, layers));
     const std::size_t x_stride = sizeof(float) * image.channels().size();
     const std::size_t y_stride = x_stride * static_cast<std::size_t>(size.width);
     Imf::FrameBuffer fb;

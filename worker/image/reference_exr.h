@@ -3,8 +3,9 @@
 // A reference image to measure a render's error against: a converged render of the same
 // scene, supplied by the user (untrusted bytes).
 
-#include <array>
 #include <optional>
+#include <span>
+#include <string>
 #include <string_view>
 
 #include "image/image.h"
@@ -19,19 +20,15 @@ class ReferenceImageError : public ImageError {
   using ImageError::ImageError;
 };
 
-// The light components a render writes as layers ("direct.R" and so on) and whose error
-// is measured apart from the beauty's when the reference has them too: the beauty's error
-// is often dominated by one term (a bright emitter's edges), which hides how well another
-// (the indirect light) has converged. Go's contract/tasks MeasuredLayers is the same list
-// (a test there reads this line).
-inline constexpr std::array<std::string_view, 4> kMeasuredLayers = {"direct", "indirect", "caustic", "volume"};
-
 // Reads the R, G and B channels (any pixel type; converted to float) of a single-part
 // OpenEXR whose data and display windows are both the whole `size` image, and the R, G, B
-// of each kMeasuredLayers layer the file has all three of (the image's channels are R, G,
-// B, then those). Throws ReferenceImageError naming what is wrong: unreadable bytes, another size,
+// of each of `layers` ("direct" for direct.R, direct.G, direct.B) the file has all three
+// of (the image's channels are R, G, B, then those). The layers are the light components
+// whose error is measured apart from the beauty's (RoundInputs::measured_layers): the
+// beauty's error is often dominated by one term (a bright emitter's edges), which hides
+// how well another (the indirect light) has converged. Throws ReferenceImageError naming what is wrong: unreadable bytes, another size,
 // a missing beauty channel, a NaN or infinite value (with its pixel).
-Image ReadReferenceExr(std::string_view bytes, ImageSize size);
+Image ReadReferenceExr(std::string_view bytes, ImageSize size, std::span<const std::string> layers);
 
 // Root mean square of a - b over every pixel and the channels R, G, B of `layer` ("" for
 // the beauty, "indirect" for indirect.R, indirect.G, indirect.B). Nothing if either image

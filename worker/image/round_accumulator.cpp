@@ -237,7 +237,7 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs, Progress progress) {
   if (inputs.adaptive_max_samples && !counted) throw ImageError("adaptive sampling needs tiles with a samples.Y channel");
   // Read the reference before any work it could waste.
   std::optional<Image> reference;
-  if (inputs.reference_exr) reference = ReadReferenceExr(*inputs.reference_exr, inputs.size);
+  if (inputs.reference_exr) reference = ReadReferenceExr(*inputs.reference_exr, inputs.size, inputs.measured_layers);
 
   // One unit per step after the tiles, each of which takes a while on a big film.
   progress.Advance();  // Inputs read.
@@ -264,7 +264,7 @@ RoundOutputs AccumulateRound(const RoundInputs& inputs, Progress progress) {
   if (counted) out.samples = SpreadOf(accumulation, squared_errors);
   if (reference) {
     out.reference_rmse = LayerRmse(mean, *reference, "");
-    for (std::string_view layer : kMeasuredLayers) {
+    for (const std::string& layer : inputs.measured_layers) {
       if (const std::optional<double> rmse = LayerRmse(mean, *reference, layer))
         out.layer_reference_rmse.emplace(layer, *rmse);
     }

@@ -5,6 +5,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "image/composite.h"
 #include "image/error_estimate.h"
@@ -34,6 +35,11 @@ struct RoundInputs {
   std::optional<std::uint32_t> adaptive_max_samples = {};
   // The final EXR's metadata and the preview's tone mapping.
   OutputSettings output = {};
+  // The light layers ("indirect": indirect.R, G, B) whose error against reference_exr is
+  // measured apart from the beauty's where both images have them, in the order reports
+  // show them: the contract's keys of RoundMetrics.layer_reference_rmse (the executor
+  // reads them; the coordinator accepts no other).
+  std::vector<std::string> measured_layers = {};
 };
 
 // How the camera samples so far spread over pixels (RoundMetrics.samples in worker.proto).
@@ -57,7 +63,7 @@ struct RoundOutputs {
   std::optional<ErrorEstimate> error_estimate;
   // RMSE of the mean's beauty against reference_exr, when one was given.
   std::optional<double> reference_rmse;
-  // RMSE of each kMeasuredLayers layer (by name) that both the mean and reference_exr have.
+  // RMSE of each of measured_layers (by name) that both the mean and reference_exr have.
   std::map<std::string, double> layer_reference_rmse;
   // The next round's samples per pixel (RoundInputs::adaptive_max_samples).
   std::optional<std::string> sample_map;

@@ -177,12 +177,16 @@ TEST(RoundAccumulator, LayerReferenceRmseForEachLayerBothImagesHave) {
   const std::vector<EncodedTile> tiles = Tiles(value, kSize, channels);
   RoundInputs in{kSize, kTile, 1, tiles, std::nullopt,
                  EncodeTileExr(WholeImage(reference, ref_channels), kSize)};
+  in.measured_layers = {"direct", "indirect"};
   const RoundOutputs out = AccumulateRound(in);
   ASSERT_TRUE(out.reference_rmse.has_value());
   EXPECT_NEAR(*out.reference_rmse, 0.0, 1e-7);
   ASSERT_EQ(out.layer_reference_rmse.size(), 1u);
   ASSERT_TRUE(out.layer_reference_rmse.contains("indirect"));
   EXPECT_NEAR(out.layer_reference_rmse.at("indirect"), std::sqrt(0.25 / 3), 1e-6);
+  // Only the layers asked for: the reference has no direct layer, and indirect is not one.
+  in.measured_layers = {"direct"};
+  EXPECT_TRUE(AccumulateRound(in).layer_reference_rmse.empty());
 }
 
 TEST(RoundAccumulator, BytesAreDeterministicWhateverTheTileOrder) {

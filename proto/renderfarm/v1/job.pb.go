@@ -769,9 +769,9 @@ type RoundReport struct {
 	ErrorEstimate *float64 `protobuf:"fixed64,5,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the scene's reference image, if it names one.
 	ReferenceRmse *float64 `protobuf:"fixed64,6,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
-	// The RMSE of each light layer ("direct", "indirect", "caustic", "volume") against the reference's,
-	// when both have it: the beauty's error can be dominated by one term (a bright emitter's
-	// edges) and hide how far another has converged.
+	// The RMSE of each light layer against the reference's, when both have it (the layers
+	// RoundMetrics.layer_reference_rmse's rule names): the beauty's error can be dominated by
+	// one term (a bright emitter's edges) and hide how far another has converged.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,7,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
 	// Where the camera samples went (the composite's RoundMetrics.samples).
 	Samples *SampleSpread `protobuf:"bytes,8,opt,name=samples,proto3" json:"samples,omitempty"`

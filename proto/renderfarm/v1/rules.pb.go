@@ -239,7 +239,7 @@ func (FailureKind) EnumDescriptor() ([]byte, []int) {
 // SceneLimits.max_magnitude unless the field says otherwise; a field with default_value
 // takes that value when it is 0, and 0 is then accepted whatever the bounds. Color and
 // Vec3 fields: the bounds apply to each component. Repeated fields: min_items, max_items.
-// Strings: max_bytes, digest. Messages: required. Enums: a declared value.
+// Maps: keys. Strings: max_bytes, digest. Messages: required. Enums: a declared value.
 type FieldRule struct {
 	state protoimpl.MessageState `protogen:"open.v1"`
 	Gte   *float64               `protobuf:"fixed64,1,opt,name=gte,proto3,oneof" json:"gte,omitempty"`
@@ -257,7 +257,9 @@ type FieldRule struct {
 	Digest bool `protobuf:"varint,10,opt,name=digest,proto3" json:"digest,omitempty"`
 	// A rule that no bound expresses, checked by hand on both sides (and by the shared
 	// vectors in tests/vectors/scenes): shown in docs/limits.md.
-	Note          string `protobuf:"bytes,11,opt,name=note,proto3" json:"note,omitempty"`
+	Note string `protobuf:"bytes,11,opt,name=note,proto3" json:"note,omitempty"`
+	// A map with string keys: the only keys it may have, in the order reports show them.
+	Keys          []string `protobuf:"bytes,12,rep,name=keys,proto3" json:"keys,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -367,6 +369,13 @@ func (x *FieldRule) GetNote() string {
 		return x.Note
 	}
 	return ""
+}
+
+func (x *FieldRule) GetKeys() []string {
+	if x != nil {
+		return x.Keys
+	}
+	return nil
 }
 
 // Limits of a scene as a whole (an option of Scene).
@@ -968,7 +977,7 @@ var File_renderfarm_v1_rules_proto protoreflect.FileDescriptor
 
 const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\n" +
-	"\x19renderfarm/v1/rules.proto\x12\rrenderfarm.v1\x1a google/protobuf/descriptor.proto\"\x95\x03\n" +
+	"\x19renderfarm/v1/rules.proto\x12\rrenderfarm.v1\x1a google/protobuf/descriptor.proto\"\xa9\x03\n" +
 	"\tFieldRule\x12\x15\n" +
 	"\x03gte\x18\x01 \x01(\x01H\x00R\x03gte\x88\x01\x01\x12\x13\n" +
 	"\x02gt\x18\x02 \x01(\x01H\x01R\x02gt\x88\x01\x01\x12\x15\n" +
@@ -981,7 +990,8 @@ const file_renderfarm_v1_rules_proto_rawDesc = "" +
 	"\tmax_bytes\x18\t \x01(\x04H\aR\bmaxBytes\x88\x01\x01\x12\x16\n" +
 	"\x06digest\x18\n" +
 	" \x01(\bR\x06digest\x12\x12\n" +
-	"\x04note\x18\v \x01(\tR\x04noteB\x06\n" +
+	"\x04note\x18\v \x01(\tR\x04note\x12\x12\n" +
+	"\x04keys\x18\f \x03(\tR\x04keysB\x06\n" +
 	"\x04_gteB\x05\n" +
 	"\x03_gtB\x06\n" +
 	"\x04_lteB\x05\n" +

@@ -668,8 +668,9 @@ type RoundMetrics struct {
 	ErrorEstimate *float64 `protobuf:"fixed64,1,opt,name=error_estimate,json=errorEstimate,proto3,oneof" json:"error_estimate,omitempty"`
 	// RMSE against the reference image, if the composite was given one.
 	ReferenceRmse *float64 `protobuf:"fixed64,2,opt,name=reference_rmse,json=referenceRmse,proto3,oneof" json:"reference_rmse,omitempty"`
-	// RMSE of each light layer ("direct", "indirect", "caustic", "volume") that both the image and the
-	// reference have, against the reference's.
+	// RMSE of each light layer that both the image and the reference have, against the
+	// reference's. The layers measured are the rule's keys: the composite measures those, the
+	// coordinator accepts no other, reports show them in that order.
 	LayerReferenceRmse map[string]float64 `protobuf:"bytes,3,rep,name=layer_reference_rmse,json=layerReferenceRmse,proto3" json:"layer_reference_rmse,omitempty" protobuf_key:"bytes,1,opt,name=key" protobuf_val:"fixed64,2,opt,name=value"`
 	// Where the camera samples went (absent from a composite whose tiles have no samples
 	// layer).
@@ -1144,11 +1145,11 @@ const file_renderfarm_v1_worker_proto_rawDesc = "" +
 	"\vTileSamples\x12\x18\n" +
 	"\asamples\x18\x01 \x01(\x04R\asamples\x12\x1c\n" +
 	"\tnonfinite\x18\x02 \x01(\x04R\tnonfinite\x12\x12\n" +
-	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xd5\x04\n" +
+	"\x04zero\x18\x03 \x01(\x04R\x04zero\"\xff\x04\n" +
 	"\fRoundMetrics\x12*\n" +
 	"\x0eerror_estimate\x18\x01 \x01(\x01H\x00R\rerrorEstimate\x88\x01\x01\x12*\n" +
-	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12e\n" +
-	"\x14layer_reference_rmse\x18\x03 \x03(\v23.renderfarm.v1.RoundMetrics.LayerReferenceRmseEntryR\x12layerReferenceRmse\x125\n" +
+	"\x0ereference_rmse\x18\x02 \x01(\x01H\x01R\rreferenceRmse\x88\x01\x01\x12\x8e\x01\n" +
+	"\x14layer_reference_rmse\x18\x03 \x03(\v23.renderfarm.v1.RoundMetrics.LayerReferenceRmseEntryB'\x8a\xb5\x18#b\x06directb\bindirectb\acausticb\x06volumeR\x12layerReferenceRmse\x125\n" +
 	"\asamples\x18\x04 \x01(\v2\x1b.renderfarm.v1.SampleSpreadR\asamples\x123\n" +
 	"\x13error_estimate_bias\x18\x05 \x01(\x01H\x02R\x11errorEstimateBias\x88\x01\x01\x121\n" +
 	"\x12error_estimate_low\x18\x06 \x01(\x01H\x03R\x10errorEstimateLow\x88\x01\x01\x123\n" +
