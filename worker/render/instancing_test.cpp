@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <optional>
 #include <string>
 
 #include "photon/trace_photons.h"
@@ -156,6 +158,39 @@ TEST(Instancing, StoresTheMeshOnce) {
               kCopies, copies);
   EXPECT_LT(inst, single * 3 / 2);  // the mesh once, and a little per instance
   EXPECT_GT(copies, single * kCopies * 8 / 10);
+}
+
+// What a coverage probe reads of a hit (SceneData::IntersectFacing) is what Intersect
+// finds, to the bit, on every kind of shape: instances (one of them mirrored), mesh files,
+// a quad and a sphere, hit from rays in every direction.
+TEST(Instancing, IntersectFacingFindsIntersectsDistanceAndNormal) {
+  for (const bool instanced : {true, false}) {
+    pb::Scene s = Balls(kCopies, instanced);
+    AddSphere(s, "white", {0, 2, 1}, 0.4);
+    const Scene scene = Scene::Build(s, MapLoader({{kBall, BallObj(96, 48)}, {kLamp, kLampObj}, {kPlate, kPlateObj}}));
+    const SceneData& data = scene.data();
+    std::map<std::size_t, int> hits_by_kind;  // ShapeGeometry's index
+    for (int i = 0; i < 4000; ++i) {
+      // Origins over a box about the balls, directions over the sphere (golden spiral).
+      const float z = 1 - 2 * (i + 0.5f) / 4000, r = std::sqrt(1 - z * z), f = 2.39996323f * i;
+      const Vec3 origin(-3 + 6 * ((i * 37) % 101) / 100.0f, 0.05f + 2.5f * ((i * 53) % 97) / 96.0f,
+                        -3 + 6 * ((i * 71) % 89) / 88.0f);
+      const Ray ray{origin, Vec3(r * std::cos(f), z, r * std::sin(f)), 100};
+      const std::optional<SurfaceHit> full = data.Intersect(ray);
+      const std::optional<SceneData::FacingHit> facing = data.IntersectFacing(ray);
+      ASSERT_EQ(full.has_value(), facing.has_value()) << "ray " << i;
+      if (!full) continue;
+      EXPECT_EQ(full->t, facing->t) << "ray " << i;
+      EXPECT_EQ(full->n.x, facing->n.x) << "ray " << i;
+      EXPECT_EQ(full->n.y, facing->n.y) << "ray " << i;
+      EXPECT_EQ(full->n.z, facing->n.z) << "ray " << i;
+      ++hits_by_kind[data.shapes[std::size_t(full->shape)].geometry.index()];
+    }
+    // Spheres, quads and meshes, or instances, were each hit many times.
+    EXPECT_GT(hits_by_kind[0], 10) << "sphere";
+    EXPECT_GT(hits_by_kind[1], 100) << "quad";
+    EXPECT_GT(hits_by_kind[instanced ? 3 : 2], 100) << (instanced ? "instances" : "mesh files");
+  }
 }
 
 }  // namespace

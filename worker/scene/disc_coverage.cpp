@@ -28,7 +28,7 @@ float DiscCoverage(const SceneData& scene, const Vec3& p, const Vec3& n, float r
   const Vec3 lifted = p + n * (kLift * r);
   // A point on no surface the scene holds (an estimate over photons placed by hand) has no
   // coverage to measure: the whole disc is taken.
-  if (!scene.Intersect(Ray{lifted, -n, 2 * kLift * r})) return 1;
+  if (!scene.IntersectFacing(Ray{lifted, -n, 2 * kLift * r})) return 1;
   const uint64_t h = Hash(seed);
   float covered = 0, total = 0;
   for (uint32_t i = 0; i < kDiscCoverageProbes; ++i) {
@@ -39,7 +39,7 @@ float DiscCoverage(const SceneData& scene, const Vec3& p, const Vec3& n, float r
     total += w;
     const Vec3 above = lifted + frame.FromLocal(Vec3(d.x, d.y, 0)) * r;
     if (!scene.SegmentClear(lifted, above)) continue;  // a wall rises between p and the point
-    const std::optional<SurfaceHit> below = scene.Intersect(Ray{above, -n, (1 + kLift) * r});
+    const std::optional<SceneData::FacingHit> below = scene.IntersectFacing(Ray{above, -n, (1 + kLift) * r});
     if (!below || !(AbsDot(below->n, n) >= kMinNormalCosine)) continue;  // past the surface's rim
     covered += w;
   }

@@ -22,6 +22,22 @@ std::optional<SurfaceHit> SceneData::Intersect(const Ray& ray) const {
   return Refine(*raw, ray.At(raw->t));
 }
 
+std::optional<SceneData::FacingHit> SceneData::IntersectFacing(const Ray& ray) const {
+  const std::optional<RawHit> raw = accelerator.Intersect(ray);
+  if (!raw) return std::nullopt;
+  struct Visitor {
+    const RawHit& raw;
+    Vec3 point;
+    Vec3 operator()(const SphereShape& s) const { return SphereNormal(s, point); }
+    Vec3 operator()(const QuadShape& q) const { return q.normal; }
+    Vec3 operator()(const std::shared_ptr<const TriangleMesh>& m) const { return TriangleNormal(*m, nullptr, raw.primitive); }
+    Vec3 operator()(const InstanceShape& instance) const {
+      return TriangleNormal(*instance.mesh->parts[raw.part].triangles, &instance.placement, raw.primitive);
+    }
+  };
+  return FacingHit{raw->t, std::visit(Visitor{*raw, ray.At(raw->t)}, shapes[raw->shape].geometry)};
+}
+
 SurfaceHit SceneData::Refine(const RawHit& raw, const Vec3& point) const {
   SurfaceHit hit;
   hit.t = raw.t;

@@ -158,6 +158,14 @@ struct SceneData {
   Accelerator accelerator;
 
   std::optional<SurfaceHit> Intersect(const Ray& ray) const;
+  // The first hit along ray as Intersect finds it, with only its distance and geometric
+  // normal (the same t and n): for probes that ask which way a surface faces
+  // (disc_coverage.h), without the shading normal, texture coordinates and derivatives.
+  struct FacingHit {
+    float t = 0;
+    Vec3 n;
+  };
+  std::optional<FacingHit> IntersectFacing(const Ray& ray) const;
   // A hit Embree reported, refined; `point` is where it lies in the world (spheres and
   // quads take it; triangles project it onto their plane).
   SurfaceHit Refine(const RawHit& raw, const Vec3& point) const;

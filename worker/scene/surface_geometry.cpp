@@ -37,12 +37,41 @@ bool TriangleDerivatives(const Vec3 (&p)[3], const Vec2 (&uv)[3], Vec3& dpdu, Ve
   return IsFinite(dpdu) && IsFinite(dpdv) && LengthSquared(Cross(dpdu, dpdv)) > 0;
 }
 
+// The corners of triangle `triangle` in the world, and its front's unnormalised normal (a
+// mirror's corners run clockwise, and their front is the other side). Recomputed from our
+// own copy of the geometry, independent of Embree's Ng conventions.
+struct PlacedTriangle {
+  Vec3 p[3];
+  Vec3 scaled_normal;
+};
+PlacedTriangle Place(const TriangleMesh& m, const Placement* placement, uint32_t triangle) {
+  const std::size_t first = std::size_t(triangle) * 3;
+  PlacedTriangle t{{m.positions[m.indices[first]], m.positions[m.indices[first + 1]], m.positions[m.indices[first + 2]]},
+                   {}};
+  if (placement)
+    for (Vec3& corner : t.p) corner = placement->Point(corner);
+  t.scaled_normal = Cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+  if (placement && placement->mirrors) t.scaled_normal = -t.scaled_normal;
+  return t;
+}
+
+// The unit vector along v, +z where v is zero (a degenerate sliver's normal, a point at a
+// sphere's centre: any unit normal does).
+Vec3 UnitOr(const Vec3& v) {
+  const float len = Length(v);
+  return len > 0 ? v / len : Vec3(0, 0, 1);
+}
+
 }  // namespace
 
+Vec3 SphereNormal(const SphereShape& s, const Vec3& point) { return UnitOr(point - s.center); }
+
+Vec3 TriangleNormal(const TriangleMesh& m, const Placement* placement, uint32_t triangle) {
+  return UnitOr(Place(m, placement, triangle).scaled_normal);
+}
+
 void DescribeSphereHit(const SphereShape& s, const Vec3& point, SurfaceHit& hit) {
-  const Vec3 d = point - s.center;
-  const float len = Length(d);
-  hit.n = len > 0 ? d / len : Vec3(0, 0, 1);
+  hit.n = SphereNormal(s, point);
   hit.p = s.center + hit.n * s.radius;
   hit.ns = hit.n;
   // The direction n is (sin t sin f, cos t, -sin t cos f) at latitude t from +y and
@@ -86,23 +115,12 @@ void DescribeTriangleHit(const TriangleMesh& m, const Placement* placement, uint
                          const Vec3& point, SurfaceHit& hit) {
   const std::size_t first = std::size_t(triangle) * 3;
   const uint32_t v[3] = {m.indices[first], m.indices[first + 1], m.indices[first + 2]};
-  Vec3 p[3] = {m.positions[v[0]], m.positions[v[1]], m.positions[v[2]]};
-  if (placement)
-    for (Vec3& corner : p) corner = placement->Point(corner);
-  // Recomputed from our own copy of the geometry (independent of Embree's Ng conventions);
-  // a mirror's corners run clockwise, and their front is the other side.
-  Vec3 scaled = Cross(p[1] - p[0], p[2] - p[0]);
-  if (placement && placement->mirrors) scaled = -scaled;
-  const float len = Length(scaled);
-  if (len > 0) {
-    hit.n = scaled / len;
-    // o + t d carries the rounding error of the whole ray length, the projection only that
-    // of the primitive's coordinates.
-    hit.p = point - hit.n * Dot(point - p[0], hit.n);
-  } else {  // degenerate sliver: keep Embree's point, any unit normal
-    hit.n = Vec3(0, 0, 1);
-    hit.p = point;
-  }
+  const PlacedTriangle placed = Place(m, placement, triangle);
+  const Vec3(&p)[3] = placed.p;
+  hit.n = UnitOr(placed.scaled_normal);
+  // o + t d carries the rounding error of the whole ray length, the projection only that of
+  // the primitive's coordinates; a degenerate sliver keeps Embree's point.
+  hit.p = LengthSquared(placed.scaled_normal) > 0 ? point - hit.n * Dot(point - p[0], hit.n) : point;
 
   const float b0 = 1 - b.x - b.y;
   hit.ns = hit.n;

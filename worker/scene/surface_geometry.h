@@ -15,6 +15,13 @@ namespace farm {
 
 struct SurfaceHit;
 
+// The geometric normal (SurfaceHit::n) each Describe function gives, alone: what a probe
+// that only asks which way a surface faces needs (SceneData::IntersectFacing). A sphere's
+// points outward from its centre; a triangle's is its front's, the corners' cross product
+// turned for a mirroring placement, +z for a degenerate sliver.
+Vec3 SphereNormal(const SphereShape& sphere, const Vec3& point);
+Vec3 TriangleNormal(const TriangleMesh& mesh, const Placement* placement, uint32_t triangle);
+
 void DescribeSphereHit(const SphereShape& sphere, const Vec3& point, SurfaceHit& hit);
 void DescribeQuadHit(const QuadShape& quad, const Vec3& point, SurfaceHit& hit);
 // Triangle `triangle` of `mesh` at Embree's barycentric coordinates, placed in the world by
