@@ -133,7 +133,8 @@ TEST(CheckRules, AMapTakesOnlyItsRulesKeysInKeyOrderAsGoChecksThem) {
   m.mutable_layer_reference_rmse()->erase("bias");
   EXPECT_EQ(Refusal(m), "layer_reference_rmse[caustic]: must be a finite number, got +Inf");
   pb::RoundMetrics declared;
-  for (const char* layer : {"direct", "indirect", "caustic", "volume"}) (*declared.mutable_layer_reference_rmse())[layer] = 1;
+  for (const char* layer : {"direct", "indirect", "caustic", "volume"})
+    (*declared.mutable_layer_reference_rmse())[layer] = 1;
   EXPECT_FALSE(CheckRules(declared));
 }
 

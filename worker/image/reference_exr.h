@@ -26,8 +26,9 @@ class ReferenceImageError : public ImageError {
 // of (the image's channels are R, G, B, then those). The layers are the light components
 // whose error is measured apart from the beauty's (RoundInputs::measured_layers): the
 // beauty's error is often dominated by one term (a bright emitter's edges), which hides
-// how well another (the indirect light) has converged. Throws ReferenceImageError naming what is wrong: unreadable bytes, another size,
-// a missing beauty channel, a NaN or infinite value (with its pixel).
+// how well another (the indirect light) has converged. Throws ReferenceImageError naming
+// what is wrong: unreadable bytes, another size, a missing beauty channel, a NaN or
+// infinite value (with its pixel).
 Image ReadReferenceExr(std::string_view bytes, ImageSize size, std::span<const std::string> layers);
 
 // Root mean square of a - b over every pixel and the channels R, G, B of `layer` ("" for

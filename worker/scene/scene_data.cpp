@@ -30,7 +30,9 @@ std::optional<SceneData::FacingHit> SceneData::IntersectFacing(const Ray& ray) c
     Vec3 point;
     Vec3 operator()(const SphereShape& s) const { return SphereNormal(s, point); }
     Vec3 operator()(const QuadShape& q) const { return q.normal; }
-    Vec3 operator()(const std::shared_ptr<const TriangleMesh>& m) const { return TriangleNormal(*m, nullptr, raw.primitive); }
+    Vec3 operator()(const std::shared_ptr<const TriangleMesh>& m) const {
+      return TriangleNormal(*m, nullptr, raw.primitive);
+    }
     Vec3 operator()(const InstanceShape& instance) const {
       return TriangleNormal(*instance.mesh->parts[raw.part].triangles, &instance.placement, raw.primitive);
     }

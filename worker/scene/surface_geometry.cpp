@@ -46,8 +46,8 @@ struct PlacedTriangle {
 };
 PlacedTriangle Place(const TriangleMesh& m, const Placement* placement, uint32_t triangle) {
   const std::size_t first = std::size_t(triangle) * 3;
-  PlacedTriangle t{{m.positions[m.indices[first]], m.positions[m.indices[first + 1]], m.positions[m.indices[first + 2]]},
-                   {}};
+  PlacedTriangle t{};
+  for (int i = 0; i < 3; ++i) t.p[i] = m.positions[m.indices[first + std::size_t(i)]];
   if (placement)
     for (Vec3& corner : t.p) corner = placement->Point(corner);
   t.scaled_normal = Cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
