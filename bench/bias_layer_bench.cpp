@@ -53,7 +53,7 @@ void Measure(const std::string& path, int size, int repeats) {
   const double precompute = Since(start);
 
   farm::PhotonMaps maps;
-  maps.global = global.get();
+  maps.global = maps.irradiance = global.get();
   maps.caustic = caustic.get();
   maps.volume = volume.get();
   maps.global_estimate = farm::ToRadianceEstimate(data.photons.global_estimate);

@@ -59,7 +59,7 @@ Rounds Render(const farm::Scene& scene, const std::vector<int>& pixels, uint32_t
     auto caustic = farm::testing::TraceIntoMemory(scene, farm::PhotonMapKind::kCaustic, caustic_paths, r * caustic_paths);
     if (global) global->set_irradiance(farm::ComputeIrradiance(data, *global, caustic.get(), 0, global->size(), 1.0));
     farm::PhotonMaps maps;
-    maps.global = global.get();
+    maps.global = maps.irradiance = global.get();
     maps.caustic = caustic.get();
     maps.global_estimate = farm::ToRadianceEstimate(data.photons.global_estimate);
     maps.caustic_estimate = farm::ToRadianceEstimate(data.photons.caustic_estimate);

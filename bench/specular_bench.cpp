@@ -68,7 +68,7 @@ int main(int argc, char** argv) try {
   auto caustic = farm::testing::TraceIntoMemory(split, farm::PhotonMapKind::kCaustic, description.photons().caustic_photons());
   global->set_irradiance(farm::ComputeIrradiance(data, *global, caustic.get(), 0, global->size(), 1.0));
   farm::PhotonMaps maps;
-  maps.global = global.get();
+  maps.global = maps.irradiance = global.get();
   maps.caustic = caustic.get();
   maps.global_estimate = farm::ToRadianceEstimate(data.photons.global_estimate);
   maps.caustic_estimate = farm::ToRadianceEstimate(data.photons.caustic_estimate);

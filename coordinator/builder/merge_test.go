@@ -46,12 +46,9 @@ func (f *fixture) mergeTask(jobID string, done func(merge *pb.Task, job *pb.Job)
 	return merge, job
 }
 
+// irradianceShard is part i of a worker's irradiance that chose one site a part: site i.
 func irradianceShard(i int, spec *pb.PrecomputeIrradianceSpec) []byte {
-	irr := make([][3]float32, spec.GetPhotonCount())
-	for k := range irr {
-		irr[k] = [3]float32{float32(i + 1), float32(k), 0.25}
-	}
-	return photonmap.EncodeIrradianceShard(spec.GetFirstPhoton(), irr)
+	return photonmap.EncodeIrradianceShard(uint64(spec.GetPart()), [][3]float32{{float32(i + 1), float32(spec.GetParts()), 0.25}})
 }
 
 // The merge streams the snapshot with irradiance into the blob store as it makes it: what

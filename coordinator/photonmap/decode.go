@@ -31,8 +31,9 @@ type Map struct {
 // Snapshot is a decoded snapshot.
 type Snapshot struct {
 	Maps []Map
-	// Irradiance per global photon (RGB9E5 relative to IrradianceScale), in the global
-	// map's array order; nil when the snapshot has no irradiance section.
+	// Irradiance per irradiance site (RGB9E5 relative to IrradianceScale): the global map's
+	// first IrradianceSites(N) photons in array order; nil when the snapshot has no
+	// irradiance section.
 	Irradiance      []uint32
 	IrradianceScale float32
 }
@@ -131,8 +132,8 @@ func parseHead(data []byte, size uint64) (snapshotLayout, error) {
 			return l, bad("irradiance section without a global map")
 		}
 		switch {
-		case l.irrCount != l.maps[0].count:
-			return l, bad("irradiance_count %d, but the global map has %d photons", l.irrCount, l.maps[0].count)
+		case l.irrCount > l.maps[0].count || (l.irrCount == 0 && l.maps[0].count > 0):
+			return l, bad("irradiance_count %d, but the global map has %d photons (want 1 to all of them)", l.irrCount, l.maps[0].count)
 		case !(l.irrScale > 0) || math.IsInf(float64(l.irrScale), 0):
 			return l, bad("irradiance_scale %g", l.irrScale)
 		case l.irrOffset%mapAlignment != 0 || l.irrOffset < end || l.irrOffset > size:
@@ -146,28 +147,6 @@ func parseHead(data []byte, size uint64) (snapshotLayout, error) {
 		return l, bad("%d trailing bytes", size-end)
 	}
 	return l, nil
-}
-
-// MapInfo is what a snapshot's directory says of one of its maps.
-type MapInfo struct {
-	Kind    Kind
-	Photons uint64
-}
-
-// ReadMaps reads the header and directory at the start of r, a snapshot of size bytes,
-// checks them as Decode does (everything but the records, which it does not read) and
-// returns its maps in directory order. The coordinator uses it to learn how many photons
-// a built map holds without loading the snapshot.
-func ReadMaps(r io.Reader, size int64) ([]MapInfo, error) {
-	_, l, err := readHead(r, size)
-	if err != nil {
-		return nil, err
-	}
-	maps := make([]MapInfo, len(l.maps))
-	for i, m := range l.maps {
-		maps[i] = MapInfo{Kind: m.kind, Photons: m.count}
-	}
-	return maps, nil
 }
 
 // readHead reads the header and directory at the start of r, a snapshot of size bytes, and

@@ -82,15 +82,16 @@ func MergeIrradiance(snapshot []byte, shards [][]byte) ([]byte, error) {
 }
 
 // MergedSize is the size of a snapshot of snapshotSize bytes with an irradiance section
-// for its global map of globalPhotons photons.
-func MergedSize(snapshotSize int64, globalPhotons uint64) int64 {
-	return int64(alignUp(int(snapshotSize), mapAlignment)) + int64(globalPhotons)*irrRecordSize
+// of sites records.
+func MergedSize(snapshotSize int64, sites uint64) int64 {
+	return int64(alignUp(int(snapshotSize), mapAlignment)) + int64(sites)*irrRecordSize
 }
 
 // MergeIrradianceTo writes to w a snapshot of snapshotSize bytes with the precomputed
 // irradiance added (docs/photon-snapshot.md, "Irradiance section") and returns the bytes
-// written: shards, in plan order, must tile the global map's photons [0, N) exactly,
-// without gaps or overlaps. The result stores one RGB9E5 record per global photon relative
+// written: shards, in plan order, must tile the global map's irradiance sites [0, S)
+// without gaps or overlaps, S at most its N photons and at least one (the workers choose
+// S, docs/photon-snapshot.md). The result stores one RGB9E5 record per site relative
 // to the largest component of all shards, re-encoded in binary64 so that the same inputs
 // always give the same bytes. Shards are untrusted: a malformed one gives an
 // InvalidArgument error naming it ("irradiance_shards[2]: ..."); a snapshot that is
@@ -117,8 +118,7 @@ func MergeIrradianceTo(w io.Writer, snapshot Source, snapshotSize int64, shards 
 	if len(l.maps) == 0 || l.maps[0].kind != Global {
 		return 0, errs.Field("photon_snapshot", "has no global photon map to add irradiance to")
 	}
-	n := l.maps[0].count
-	scale, err := irradianceScale(shards, n)
+	scale, n, err := irradianceScale(shards, l.maps[0].count)
 	if err != nil {
 		return 0, err
 	}
@@ -174,25 +174,26 @@ func MergeIrradianceTo(w io.Writer, snapshot Source, snapshotSize int64, shards 
 }
 
 // irradianceScale reads the irradiance shards once, checking each whole and that they tile
-// the global map's n photons, and returns the largest component of all (1 if none is
-// positive).
-func irradianceScale(shards []Source, n uint64) (float32, error) {
+// the irradiance sites, a leading part of the global map's photons of at least one if it
+// has any, and returns the largest component of all (1 if none is positive) and how many
+// sites they cover.
+func irradianceScale(shards []Source, photons uint64) (float32, uint64, error) {
 	var next uint64
 	var scale float32
 	for i, src := range shards {
 		s, h, err := openIrradianceShard(i, src)
 		if err != nil {
-			return 0, err
+			return 0, 0, err
 		}
-		// A gap or an overlap means a shard is missing or repeated: some photons would
+		// A gap or an overlap means a shard is missing or repeated: some sites would
 		// keep no irradiance or two.
 		if h.first != next {
 			s.Close()
-			return 0, irrShardErr(i, "starts at photon %d, want %d (shards must tile [0, %d) in order)", h.first, next, n)
+			return 0, 0, irrShardErr(i, "starts at photon %d, want %d (shards must tile the sites [0, S) in order)", h.first, next)
 		}
-		if h.count > n-next {
+		if h.count > photons-next {
 			s.Close()
-			return 0, irrShardErr(i, "photons [%d, %d) run past the global map's %d", h.first, h.first+h.count, n)
+			return 0, 0, irrShardErr(i, "photons [%d, %d) run past the global map's %d", h.first, h.first+h.count, photons)
 		}
 		for {
 			v, err := nextIrradiance(i, s, h)
@@ -201,20 +202,20 @@ func irradianceScale(shards []Source, n uint64) (float32, error) {
 			}
 			if err != nil {
 				s.Close()
-				return 0, err
+				return 0, 0, err
 			}
 			scale = max(scale, v[0], v[1], v[2])
 		}
 		s.Close()
 		next += h.count
 	}
-	if next != n {
-		return 0, errs.Field("irradiance_shards", "cover photons [0, %d) of the global map's %d", next, n)
+	if next == 0 && photons > 0 {
+		return 0, 0, errs.Field("irradiance_shards", "cover no site of the global map's %d photons", photons)
 	}
 	if !(scale > 0) {
 		scale = 1
 	}
-	return scale, nil
+	return scale, next, nil
 }
 
 // EncodeIrradianceShard writes an IRRADIANCE SHARD as a worker does (the worker's encoder is

@@ -23,11 +23,12 @@ func randomIrradiance(r *rand.Rand, n int, scale float32) [][3]float32 {
 func irradianceCases() []testCase {
 	r := rand.New(rand.NewPCG(3, 4))
 	shards := append(splitShards(Global, uniformPhotons(r, 400), 200), splitShards(Caustic, uniformPhotons(r, 100))...)
+	// 127 irradiance sites of the 400 photons: the tree's top 7 levels.
 	irr := [][]byte{
-		EncodeIrradianceShard(0, randomIrradiance(r, 150, 10)),
-		EncodeIrradianceShard(150, nil),
-		EncodeIrradianceShard(150, make([][3]float32, 150)),
-		EncodeIrradianceShard(300, randomIrradiance(r, 100, 0.01)),
+		EncodeIrradianceShard(0, randomIrradiance(r, 50, 10)),
+		EncodeIrradianceShard(50, nil),
+		EncodeIrradianceShard(50, make([][3]float32, 50)),
+		EncodeIrradianceShard(100, randomIrradiance(r, 27, 0.01)),
 	}
 	return []testCase{{"irradiance", shards, irr}}
 }
@@ -44,16 +45,17 @@ func snapshotOf(t *testing.T, n int) []byte {
 	return snap
 }
 
-func TestMergeIrradianceStoresEveryPhotonsIrradianceInTreeOrder(t *testing.T) {
+func TestMergeIrradianceStoresEverySitesIrradianceInTreeOrder(t *testing.T) {
 	snap := snapshotOf(t, 300)
+	const sites = 63 // the tree's top 6 levels, as a worker might choose
 	r := rand.New(rand.NewPCG(7, 8))
-	a, b := randomIrradiance(r, 120, 4), randomIrradiance(r, 180, 0.5)
-	merged, err := MergeIrradiance(snap, [][]byte{EncodeIrradianceShard(0, a), EncodeIrradianceShard(120, b)})
+	a, b := randomIrradiance(r, 20, 4), randomIrradiance(r, sites-20, 0.5)
+	merged, err := MergeIrradiance(snap, [][]byte{EncodeIrradianceShard(0, a), EncodeIrradianceShard(20, b)})
 	if err != nil {
 		t.Fatal(err)
 	}
-	if len(merged)%4 != 0 || len(merged) < len(snap)+4*300 {
-		t.Fatalf("merged snapshot of %d bytes for %d + 1200", len(merged), len(snap))
+	if len(merged)%4 != 0 || len(merged) < len(snap)+4*sites {
+		t.Fatalf("merged snapshot of %d bytes for %d + 4 x %d", len(merged), len(snap), sites)
 	}
 	// The photon arrays are untouched.
 	if !bytes.Equal(merged[headerSize:len(snap)], snap[headerSize:]) {
@@ -78,14 +80,14 @@ func TestMergeIrradianceStoresEveryPhotonsIrradianceInTreeOrder(t *testing.T) {
 			}
 		}
 	}
-	again, err := MergeIrradiance(snap, [][]byte{EncodeIrradianceShard(0, a), EncodeIrradianceShard(120, b)})
+	again, err := MergeIrradiance(snap, [][]byte{EncodeIrradianceShard(0, a), EncodeIrradianceShard(20, b)})
 	if err != nil || !bytes.Equal(again, merged) {
 		t.Fatal("the same shards gave different bytes")
 	}
 }
 
 func TestMergeIrradianceRefusesMalformedInput(t *testing.T) {
-	snap := snapshotOf(t, 100)
+	snap := snapshotOf(t, 200) // shards of 63 irradiance sites
 	good := func(first uint64, n int) []byte { return EncodeIrradianceShard(first, make([][3]float32, n)) }
 	patch := func(b []byte, at int, p ...byte) []byte {
 		c := bytes.Clone(b)
@@ -94,7 +96,7 @@ func TestMergeIrradianceRefusesMalformedInput(t *testing.T) {
 	}
 	le32 := func(v uint32) []byte { return le.AppendUint32(nil, v) }
 	le64 := func(v uint64) []byte { return le.AppendUint64(nil, v) }
-	merged, err := MergeIrradiance(snap, [][]byte{good(0, 100)})
+	merged, err := MergeIrradiance(snap, [][]byte{good(0, 63)})
 	if err != nil {
 		t.Fatal(err)
 	}
@@ -102,7 +104,7 @@ func TestMergeIrradianceRefusesMalformedInput(t *testing.T) {
 	if err != nil {
 		t.Fatal(err)
 	}
-	tooBright := good(0, 100)
+	tooBright := good(0, 63)
 	copy(tooBright[irrShardHeaderSize:], le32(31<<27|511)) // 511 * 2^7 of the scale
 	tests := []struct {
 		name     string
@@ -110,25 +112,25 @@ func TestMergeIrradianceRefusesMalformedInput(t *testing.T) {
 		shards   [][]byte
 		want     string // in the message
 	}{
-		{"gap", snap, [][]byte{good(0, 50), good(60, 40)}, "irradiance_shards[1]: starts at photon 60, want 50"},
-		{"overlap", snap, [][]byte{good(0, 50), good(40, 60)}, "irradiance_shards[1]: starts at photon 40"},
-		{"out of order", snap, [][]byte{good(50, 50), good(0, 50)}, "irradiance_shards[0]: starts at photon 50, want 0"},
-		{"too few", snap, [][]byte{good(0, 99)}, "cover photons [0, 99)"},
-		{"none", snap, nil, "cover photons [0, 0)"},
-		{"too many", snap, [][]byte{good(0, 101)}, "run past the global map's 100"},
-		{"short", snap, [][]byte{good(0, 100)[:39]}, "shorter than the 40-byte header"},
-		{"magic", snap, [][]byte{patch(good(0, 100), 0, 'X')}, "bad magic"},
-		{"version", snap, [][]byte{patch(good(0, 100), 8, le32(2)...)}, "unsupported version 2"},
-		{"record size", snap, [][]byte{patch(good(0, 100), 12, le32(8)...)}, "record_size 8"},
-		{"count vs size", snap, [][]byte{patch(good(0, 100), 24, le64(1<<62)...)}, "run past the global map's 100"}, // caught by the header, before the records
-		{"truncated", snap, [][]byte{good(0, 100)[:40+4*100-1]}, "does not match"},
-		{"nan scale", snap, [][]byte{patch(good(0, 100), 32, le32(math.Float32bits(float32(math.NaN())))...)}, "irradiance_scale"},
-		{"zero scale", snap, [][]byte{patch(good(0, 100), 32, le32(0)...)}, "irradiance_scale"},
-		{"infinite scale", snap, [][]byte{patch(good(0, 100), 32, le32(math.Float32bits(float32(math.Inf(1))))...)}, "irradiance_scale"},
-		{"reserved", snap, [][]byte{patch(good(0, 100), 36, 1)}, "reserved"},
+		{"gap", snap, [][]byte{good(0, 30), good(40, 23)}, "irradiance_shards[1]: starts at photon 40, want 30"},
+		{"overlap", snap, [][]byte{good(0, 30), good(20, 43)}, "irradiance_shards[1]: starts at photon 20"},
+		{"out of order", snap, [][]byte{good(30, 33), good(0, 30)}, "irradiance_shards[0]: starts at photon 30, want 0"},
+		{"none", snap, nil, "cover no site of the global map's 200 photons"},
+		{"empty", snap, [][]byte{good(0, 0)}, "cover no site"},
+		{"too many", snap, [][]byte{good(0, 201)}, "run past the global map's 200"},
+		{"short", snap, [][]byte{good(0, 63)[:39]}, "shorter than the 40-byte header"},
+		{"magic", snap, [][]byte{patch(good(0, 63), 0, 'X')}, "bad magic"},
+		{"version", snap, [][]byte{patch(good(0, 63), 8, le32(2)...)}, "unsupported version 2"},
+		{"record size", snap, [][]byte{patch(good(0, 63), 12, le32(8)...)}, "record_size 8"},
+		{"count vs size", snap, [][]byte{patch(good(0, 63), 24, le64(1<<62)...)}, "run past the global map's 200"}, // caught by the header, before the records
+		{"truncated", snap, [][]byte{good(0, 63)[:40+4*63-1]}, "does not match"},
+		{"nan scale", snap, [][]byte{patch(good(0, 63), 32, le32(math.Float32bits(float32(math.NaN())))...)}, "irradiance_scale"},
+		{"zero scale", snap, [][]byte{patch(good(0, 63), 32, le32(0)...)}, "irradiance_scale"},
+		{"infinite scale", snap, [][]byte{patch(good(0, 63), 32, le32(math.Float32bits(float32(math.Inf(1))))...)}, "irradiance_scale"},
+		{"reserved", snap, [][]byte{patch(good(0, 63), 36, 1)}, "reserved"},
 		{"record above scale", snap, [][]byte{tooBright}, "above 1"},
-		{"bad snapshot", snap[:len(snap)-1], [][]byte{good(0, 100)}, "photon_snapshot"},
-		{"already merged", merged, [][]byte{good(0, 100)}, "already has an irradiance section"},
+		{"bad snapshot", snap[:len(snap)-1], [][]byte{good(0, 63)}, "photon_snapshot"},
+		{"already merged", merged, [][]byte{good(0, 63)}, "already has an irradiance section"},
 		{"no global map", noGlobal, [][]byte{good(0, 0)}, "no global photon map"},
 	}
 	for _, tc := range tests {
@@ -159,11 +161,12 @@ func TestDecodeRefusesAForgedIrradianceSection(t *testing.T) {
 		return c
 	}
 	for name, b := range map[string][]byte{
-		"count":             patch(irrCountAt, le.AppendUint32(nil, 11)),
-		"scale":             patch(irrScaleAt, le.AppendUint32(nil, 0)),
-		"offset misaligned": patch(irrOffsetAt, le.AppendUint64(nil, le.Uint64(merged[irrOffsetAt:])+4)),
-		"no section, count": patch(irrOffsetAt, le.AppendUint64(nil, 0)),
-		"truncated":         merged[:len(merged)-4],
+		"count past the map": patch(irrCountAt, le.AppendUint32(nil, 11)),
+		"count zero":         patch(irrCountAt, le.AppendUint32(nil, 0)),
+		"scale":              patch(irrScaleAt, le.AppendUint32(nil, 0)),
+		"offset misaligned":  patch(irrOffsetAt, le.AppendUint64(nil, le.Uint64(merged[irrOffsetAt:])+4)),
+		"no section, count":  patch(irrOffsetAt, le.AppendUint64(nil, 0)),
+		"truncated":          merged[:len(merged)-4],
 	} {
 		if _, err := Decode(b); err == nil {
 			t.Errorf("%s: accepted", name)

@@ -12,7 +12,6 @@ import (
 	"photonfarm/contract/tasks"
 	"photonfarm/coordinator/blobstore"
 	"photonfarm/coordinator/errs"
-	"photonfarm/coordinator/photonmap"
 	"photonfarm/coordinator/planner"
 	"photonfarm/coordinator/store"
 	pb "photonfarm/proto/renderfarm/v1"
@@ -97,11 +96,10 @@ func (s *Service) sampleMap(ctx context.Context, l *store.Leased) (*pb.Artifact,
 }
 
 // fillPrecompute gives precompute task i of the round's K (its place in its stage) its
-// share of the global map's n stored photons, [n·i/K, n·(i+1)/K), and the round's built
-// snapshot, the output of the build just before the stage. n is read from the snapshot's
-// header (docs/photon-snapshot.md).
+// part, i of K, of the global map's irradiance sites (how many the worker derives from the
+// snapshot and the round's estimate, docs/photon-snapshot.md) and the round's built
+// snapshot, the output of the build just before the stage, verified first.
 func (s *Service) fillPrecompute(ctx context.Context, l *store.Leased, spec *pb.PrecomputeIrradianceSpec) error {
-	i, k := uint64(l.Task.GetIndex()-l.StageStart), uint64(l.StageEnd-l.StageStart)
 	if l.StageStart == 0 {
 		return errs.E(errs.Internal, "precompute task %s has no build before it", l.Task.GetId())
 	}
@@ -109,13 +107,10 @@ func (s *Service) fillPrecompute(ctx context.Context, l *store.Leased, spec *pb.
 	if err != nil {
 		return err
 	}
-	n, err := s.globalPhotons(ctx, snap)
-	if err != nil {
+	if err := s.verifySnapshot(ctx, snap); err != nil {
 		return blobstore.Lost(fmt.Sprintf("the photon snapshot of round %d", max(l.Task.GetRound(), 1)), snap.GetDigest(), err)
 	}
-	first := n * i / k
-	spec.FirstPhoton = first
-	spec.PhotonCount = n*(i+1)/k - first
+	spec.Part, spec.Parts = l.Task.GetIndex()-l.StageStart, l.StageEnd-l.StageStart
 	spec.PhotonSnapshot = snap
 	return nil
 }
@@ -139,35 +134,19 @@ func (s *Service) fillMerge(ctx context.Context, l *store.Leased, spec *pb.Merge
 	return err
 }
 
-// globalPhotons reads the stored photon count of a snapshot's global map from its header
-// and directory (0 if it has none). The snapshot is verified whole first, once: the
-// ranges of every precompute task of the round follow from this count, and the answer is
-// remembered by digest (a blob never changes).
-func (s *Service) globalPhotons(ctx context.Context, snap *pb.Artifact) (uint64, error) {
+// verifySnapshot checks a snapshot whole before the round's precompute tasks fetch it:
+// damage found here fails the job naming it before any worker spends time on it. Once per
+// digest (a blob never changes).
+func (s *Service) verifySnapshot(ctx context.Context, snap *pb.Artifact) error {
 	d := snap.GetDigest()
-	if n, ok := s.photonCounts.get(d); ok {
-		return n, nil
+	if _, ok := s.verifiedSnapshots.get(d); ok {
+		return nil
 	}
 	if _, err := s.verifiedBlob(ctx, d); err != nil {
-		return 0, err
+		return err
 	}
-	r, info, err := s.cfg.Blobs.Open(ctx, d)
-	if err != nil {
-		return 0, err
-	}
-	defer r.Close()
-	maps, err := photonmap.ReadMaps(r, info.Size)
-	if err != nil {
-		return 0, errs.Wrap(errs.Internal, err, fmt.Sprintf("snapshot %s", d))
-	}
-	var n uint64
-	for _, m := range maps {
-		if m.Kind == photonmap.Global {
-			n = m.Photons
-		}
-	}
-	s.photonCounts.put(d, n)
-	return n, nil
+	s.verifiedSnapshots.put(d, struct{}{})
+	return nil
 }
 
 // scene returns the stored scene with this digest (defaults filled in at submit),

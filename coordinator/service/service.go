@@ -85,8 +85,8 @@ type Service struct {
 	blocked   blockedJobs
 	snapshots *cache[*pb.Artifact] // by job and round
 	scenes    *cache[*pb.Scene]    // by digest
-	// photonCounts holds the global photons of verified snapshots, by digest.
-	photonCounts *cache[uint64]
+	// verifiedSnapshots holds the digests of snapshots verified whole.
+	verifiedSnapshots *cache[struct{}]
 	// checked remembers the blobs that passed as a kind of file (checkedKey).
 	checked *cache[struct{}]
 	done    chan struct{}
@@ -111,16 +111,16 @@ func New(cfg Config) *Service {
 		cfg.HeartbeatInterval = cfg.LeaseDuration / 4
 	}
 	return &Service{
-		cfg:          cfg,
-		log:          cfg.Logger,
-		queued:       newNotifier(),
-		workers:      cfg.Workers,
-		blocked:      blockedJobs{ids: make(map[string]bool)},
-		snapshots:    newCache[*pb.Artifact](1024),
-		scenes:       newCache[*pb.Scene](64),
-		photonCounts: newCache[uint64](1024),
-		checked:      newCache[struct{}](4096),
-		done:         make(chan struct{}),
+		cfg:               cfg,
+		log:               cfg.Logger,
+		queued:            newNotifier(),
+		workers:           cfg.Workers,
+		blocked:           blockedJobs{ids: make(map[string]bool)},
+		snapshots:         newCache[*pb.Artifact](1024),
+		scenes:            newCache[*pb.Scene](64),
+		verifiedSnapshots: newCache[struct{}](1024),
+		checked:           newCache[struct{}](4096),
+		done:              make(chan struct{}),
 	}
 }
 

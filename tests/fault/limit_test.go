@@ -73,8 +73,12 @@ func (o fakeOutputs) of(t *testing.T, task *pb.Task) []*pb.Artifact {
 		e := spec.EmitPhotons
 		content = o.upload(t, photonmap.EncodeShard(photonmap.Kind(e.GetMap()), e.GetFirstPhoton(), e.GetPhotonCount(), nil))
 	case *pb.Task_PrecomputeIrradiance:
-		p := spec.PrecomputeIrradiance
-		content = o.upload(t, photonmap.EncodeIrradianceShard(p.GetFirstPhoton(), make([][3]float32, p.GetPhotonCount())))
+		// One site, the tree's root, in the first part; the others empty after it.
+		if spec.PrecomputeIrradiance.GetPart() == 0 {
+			content = o.upload(t, photonmap.EncodeIrradianceShard(0, [][3]float32{{1, 1, 1}}))
+		} else {
+			content = o.upload(t, photonmap.EncodeIrradianceShard(1, nil))
+		}
 	}
 	ph, _ := tasks.Phases.Of(task.GetPhase())
 	var names []string

@@ -200,8 +200,8 @@ std::string DescribeTask(const pb::Task& task) {
              std::to_string(task.composite().tiles_size()) + " tiles)";
     case pb::Task::kPrecomputeIrradiance: {
       const auto& p = task.precompute_irradiance();
-      return "precompute_irradiance (round " + std::to_string(task.round()) + ", photons " +
-             std::to_string(p.first_photon()) + "+" + std::to_string(p.photon_count()) + ")";
+      return "precompute_irradiance (round " + std::to_string(task.round()) + ", part " +
+             std::to_string(p.part() + 1) + " of " + std::to_string(p.parts()) + ")";
     }
     case pb::Task::kMergeIrradiance:
       return "merge_irradiance (" + std::to_string(task.merge_irradiance().irradiance_shards_size()) +
@@ -316,10 +316,12 @@ TaskResult TaskExecutor::PrecomputeIrradiance(const pb::LeaseTaskResponse& lease
   const PhotonSnapshot& photons =
       Photons(spec.photon_snapshot().digest(), SnapshotOfRound(leased.task()), stop, progress);
   ThrowIfStopped(stop);
-  const std::string shard = ComputeIrradianceShard(scene, photons, spec.first_photon(),
-                                                   spec.photon_count(),
-                                                   RadiusScaleOf(spec.radius_scale()), stop,
-                                                   progress);
+  if (spec.parts() == 0 || spec.part() >= spec.parts()) {
+    throw BadInputError("precompute_irradiance: part " + std::to_string(spec.part()) + " of " +
+                        std::to_string(spec.parts()) + " (want part < parts)");
+  }
+  const std::string shard = ComputeIrradianceShard(scene, photons, spec.part(), spec.parts(),
+                                                   RadiusScaleOf(spec.radius_scale()), stop, progress);
   ThrowIfStopped(stop);
   const std::string digest = blobs_.Upload(shard, stop, progress);
   return Outputs({MakeArtifact(pb::ARTIFACT_KIND_IRRADIANCE_SHARD, digest, shard.size())});

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -98,12 +99,18 @@ TEST(IrradianceSnapshotVectors, ReaderSeesTheMergedShardsBitForBit) {
     const PhotonSnapshot snap = PhotonSnapshot::Open(dir.path() / "snapshot.bin");
     const PhotonMap* global = snap.map(PhotonMapKind::kGlobal);
     ASSERT_NE(global, nullptr) << dir.path();
-    ASSERT_TRUE(global->has_irradiance());
-    ASSERT_EQ(global->size(), values.size());
+    // The irradiance is at the global map's first photons, a map of their own.
+    EXPECT_FALSE(global->has_irradiance());
+    const PhotonMap* sites = snap.irradiance_sites();
+    ASSERT_NE(sites, nullptr) << dir.path();
+    ASSERT_TRUE(sites->has_irradiance());
+    ASSERT_EQ(sites->size(), values.size());
+    ASSERT_LT(sites->size(), global->size());
     for (std::size_t i = 0; i < values.size(); ++i) {
       const double s = scale;
       const Rgb want = DecodeRgb9e5(EncodeRgb9e5(values[i].r / s, values[i].g / s, values[i].b / s)) * scale;
-      const Rgb got = global->irradiance(i);
+      ASSERT_EQ(sites->photon(i).position, global->photon(i).position);
+      const Rgb got = sites->irradiance(i);
       ASSERT_EQ(got.r, want.r) << dir.path() << " photon " << i;
       ASSERT_EQ(got.g, want.g) << dir.path() << " photon " << i;
       ASSERT_EQ(got.b, want.b) << dir.path() << " photon " << i;
@@ -113,6 +120,24 @@ TEST(IrradianceSnapshotVectors, ReaderSeesTheMergedShardsBitForBit) {
     }
   }
   EXPECT_GE(cases, 1);
+}
+
+// The sites are 1 to all of the global map's photons (the precompute picks how many:
+// farm::IrradianceSites); a forged count outside that range is refused, naming it.
+TEST(IrradianceSnapshotVectors, ReaderRefusesASiteCountOutsideTheGlobalMap) {
+  const std::string good = ReadFile(fs::path(PHOTON_SNAPSHOT_VECTORS) / "irradiance" / "snapshot.bin");
+  const PhotonSnapshot snap = PhotonSnapshot::FromBytes(good);
+  const auto photons = std::uint32_t(snap.map(PhotonMapKind::kGlobal)->size());
+  for (const std::uint32_t count : {0u, photons + 1}) {
+    std::string forged = good;
+    std::memcpy(forged.data() + 40, &count, 4);
+    try {
+      PhotonSnapshot::FromBytes(forged);
+      ADD_FAILURE() << "irradiance_count " << count << " accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("irradiance_count"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // A PhotonMap read in place from a snapshot's left-balanced kd-tree array of 20-byte
 // photons (docs/photon-snapshot.md). Holds a pointer into memory owned by the snapshot.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +29,12 @@ class KdPhotonMap final : public PhotonMap {
   void set_irradiance(const unsigned char* irradiance, float irradiance_scale) {
     irradiance_ = irradiance;
     irradiance_scale_ = irradiance_scale;
+  }
+
+  // The map of this one's first count photons in tree order (count at most size()): the top
+  // of the tree, itself a left-balanced kd-tree, sharing the records.
+  KdPhotonMap prefix(std::uint32_t count) const {
+    return KdPhotonMap(kind_, records_, std::min(count, count_), power_scale_, paths_emitted_);
   }
 
   std::size_t size() const override { return count_; }

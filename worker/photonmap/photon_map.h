@@ -49,9 +49,10 @@ class PhotonMap {
   virtual void NearestK(const Vec3& p, int k, float max_radius,
                         std::vector<PhotonNeighbour>& out) const = 0;
 
-  // Irradiance precomputed at each photon (Christensen 1999; only a global map merged with
-  // its irradiance shards has it): the light arriving at the photon's position on the side
-  // of its normal, in index order with photon(i).
+  // Irradiance precomputed at each photon (Christensen 1999; only the irradiance sites of a
+  // snapshot merged with its irradiance shards, PhotonSnapshot::irradiance_sites, and maps
+  // built in memory by tests have it): the light arriving at the photon's position on the
+  // side of its normal, in index order with photon(i).
   virtual bool has_irradiance() const { return false; }
   virtual Rgb irradiance(std::size_t /*index*/) const { return {}; }
 };

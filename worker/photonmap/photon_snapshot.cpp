@@ -71,6 +71,7 @@ struct SnapshotData {
   std::string owned;                  // FromBytes
   std::optional<MappedFile> mapped;   // Open
   std::optional<KdPhotonMap> maps[3]; // by kind - 1
+  std::optional<KdPhotonMap> sites;   // the global map's first irradiance_count photons
 };
 
 namespace {
@@ -138,7 +139,8 @@ void ParseSnapshot(std::string_view b, SnapshotData& data) {
     data.maps[kind - 1].emplace(static_cast<PhotonMapKind>(kind), records, count, scale, paths);
   }
   // The irradiance section (version 2): present when irradiance_offset is not zero, one
-  // 4-byte record per global photon after the last photon array.
+  // 4-byte record per irradiance site (the global map's first photons) after the last
+  // photon array.
   const auto irr_offset = byte_io::Load<std::uint64_t>(h + 32);
   const auto irr_count = byte_io::Load<std::uint32_t>(h + 40);
   const auto irr_scale = byte_io::Load<float>(h + 44);
@@ -147,9 +149,11 @@ void ParseSnapshot(std::string_view b, SnapshotData& data) {
   } else {
     if (!data.maps[0]) Fail("irradiance section without a global map");
     KdPhotonMap& global = *data.maps[0];
-    if (irr_count != global.size())
+    // How many sites is the precompute's choice (IrradianceSites); any leading part of a
+    // left-balanced tree is a kd-tree itself and is read correctly.
+    if ((irr_count == 0 && global.size() > 0) || irr_count > global.size())
       Fail("irradiance_count " + std::to_string(irr_count) + " but the global map has " +
-           std::to_string(global.size()) + " photons");
+           std::to_string(global.size()) + " photons (want 1 to all of them)");
     if (!(irr_scale > 0) || !std::isfinite(irr_scale))
       Fail("irradiance_scale must be finite and > 0");
     if (irr_offset % kAlignment != 0 || irr_offset < end || irr_offset > b.size())
@@ -157,7 +161,8 @@ void ParseSnapshot(std::string_view b, SnapshotData& data) {
            std::to_string(end));
     if (irr_count > (b.size() - irr_offset) / kIrradianceRecordSize)
       Fail("irradiance runs past the end");
-    global.set_irradiance(reinterpret_cast<const unsigned char*>(h + irr_offset), irr_scale);
+    KdPhotonMap& sites = data.sites.emplace(global.prefix(irr_count));
+    sites.set_irradiance(reinterpret_cast<const unsigned char*>(h + irr_offset), irr_scale);
     end = irr_offset + kIrradianceRecordSize * irr_count;
   }
   if (end != b.size()) Fail(std::to_string(b.size() - end) + " trailing bytes");
@@ -183,6 +188,10 @@ PhotonSnapshot PhotonSnapshot::FromBytes(std::string bytes) {
   // std::string storage comes from operator new: aligned for any fundamental type.
   ParseSnapshot(data->owned, *data);
   return PhotonSnapshot(std::move(data));
+}
+
+const PhotonMap* PhotonSnapshot::irradiance_sites() const {
+  return data_ && data_->sites ? &*data_->sites : nullptr;
 }
 
 const PhotonMap* PhotonSnapshot::map(PhotonMapKind kind) const {

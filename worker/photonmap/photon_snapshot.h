@@ -25,6 +25,11 @@ class PhotonSnapshot {
 
   // Null when the job has no map of that kind.
   const PhotonMap* map(PhotonMapKind kind) const;
+  // The global map's photons that carry precomputed irradiance, as a map of their own
+  // whose photon i is the global map's photon i: the first irradiance_count photons of its
+  // tree, a kd-tree by themselves (docs/photon-snapshot.md). Null without an irradiance
+  // section.
+  const PhotonMap* irradiance_sites() const;
 
  private:
   explicit PhotonSnapshot(std::unique_ptr<SnapshotData> data);

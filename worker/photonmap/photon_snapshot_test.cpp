@@ -136,6 +136,7 @@ TEST(PhotonSnapshotVectors, DecodedPhotonsEqualTheShardPhotons) {
   EXPECT_GE(volume_maps, 2);
 }
 
+// Every map, and the irradiance sites: the top of the global map's tree searched alone.
 TEST(PhotonSnapshotVectors, NearestKEqualsBruteForce) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1.2f, 1.2f);
@@ -143,8 +144,9 @@ TEST(PhotonSnapshotVectors, NearestKEqualsBruteForce) {
   for (const VectorCase& c : LoadVectors()) {
     SCOPED_TRACE(c.name);
     PhotonSnapshot snap = PhotonSnapshot::Open(c.snapshot);
-    for (PhotonMapKind kind : kPhotonMapKinds) {
-      const PhotonMap* map = snap.map(kind);
+    std::vector<const PhotonMap*> maps{snap.irradiance_sites()};
+    for (PhotonMapKind kind : kPhotonMapKinds) maps.push_back(snap.map(kind));
+    for (const PhotonMap* map : maps) {
       if (!map) continue;
       for (int query = 0; query < 200; ++query) {
         Vec3 q(u(rng), u(rng), u(rng));

@@ -322,8 +322,8 @@ PhotonMappingIntegrator::PhotonMappingIntegrator(const SceneData& scene, const P
   lookup_radius_ = maps_.global_estimate.max_radius;
   // Without precomputed irradiance (a job planned before the precompute phase existed, or
   // a map too small to need one) the global map is seen directly rather than not at all.
-  final_gather_ = scene.indirect.mode == IndirectMode::kFinalGather && maps_.global &&
-                  maps_.global->has_irradiance();
+  final_gather_ = scene.indirect.mode == IndirectMode::kFinalGather && maps_.global && maps_.irradiance &&
+                  maps_.irradiance->has_irradiance();
   // A lone point or sun light gives every shadow ray the same answer: one is enough.
   single_delta_light_ = scene.lights.size() == 1 && IsDeltaLight(scene.lights.front());
   hittable_lights_ = std::any_of(scene.lights.begin(), scene.lights.end(),
@@ -681,9 +681,9 @@ Rgb PhotonMappingIntegrator::LandingIrradiance(const Shading& at, float u_light,
     return scene_.FrontsSeeEachOther(at.hit.p, at.n, photon.position, photon.normal);
   };
   const std::optional<std::uint32_t> photon =
-      NearestIrradiancePhoton(*maps_.global, at.hit.p, at.n, lookup_radius_, visible, scratch);
+      NearestIrradiancePhoton(*maps_.irradiance, at.hit.p, at.n, lookup_radius_, visible, scratch);
   if (!photon) return e;
-  const Rgb precomputed = maps_.global->irradiance(*photon);
+  const Rgb precomputed = maps_.irradiance->irradiance(*photon);
   e += precomputed;
   // Against the stored value: its rounding (RGB9E5, to nearest) adds noise to the
   // difference, not bias.

@@ -152,6 +152,10 @@ struct PhotonMaps {
   const PhotonMap* global = nullptr;
   const PhotonMap* caustic = nullptr;
   const PhotonMap* volume = nullptr;
+  // The global map's photons that carry precomputed irradiance, as a map whose photon i is
+  // the global map's photon i (PhotonSnapshot::irradiance_sites; in tests, often the global
+  // map itself): what final gathering reads. Null: no final gathering.
+  const PhotonMap* irradiance = nullptr;
   RadianceEstimateSettings global_estimate;
   RadianceEstimateSettings caustic_estimate;
   RadianceEstimateSettings volume_estimate;

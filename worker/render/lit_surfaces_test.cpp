@@ -59,7 +59,7 @@ Outcome RenderOneRound(const std::string& name, int size, uint64_t paths) {
   if (!data.specular_targets.empty()) caustic = TraceIntoMemory(scene, PhotonMapKind::kCaustic, paths);
   global->set_irradiance(ComputeIrradiance(data, *global, caustic.get(), 0, global->size(), 1.0));
   PhotonMaps maps;
-  maps.global = global.get();
+  maps.global = maps.irradiance = global.get();
   maps.caustic = caustic.get();
   maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
   maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);

@@ -79,7 +79,7 @@ TEST(ShadingEffort, ALowerEffortIsUnbiasedAndNoisierByItsShare) {
   auto global = TraceIntoMemory(scene, PhotonMapKind::kGlobal, 50'000);
   global->set_irradiance(ComputeIrradiance(data, *global, nullptr, 0, global->size(), 1.0));
   PhotonMaps maps;
-  maps.global = global.get();
+  maps.global = maps.irradiance = global.get();
   maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
   const PhotonMappingIntegrator integrator(data, maps);
   ASSERT_TRUE(integrator.final_gathering());

@@ -12,10 +12,11 @@
 namespace farm::testing {
 
 // The maps of a tile that has `global` (may be null) and no caustic map, estimated as the
-// scene says.
+// scene says; final gathering reads global's own irradiance, if it has some, at every photon.
 inline PhotonMaps MapsOf(const SceneData& data, const PhotonMap* global) {
   PhotonMaps maps;
   maps.global = global;
+  if (global && global->has_irradiance()) maps.irradiance = global;
   maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
   maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);
   return maps;

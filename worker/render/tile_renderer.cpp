@@ -99,6 +99,7 @@ PhotonMaps MapsOf(const SceneData& data, const PhotonSnapshot* photons) {
     maps.global = photons->map(PhotonMapKind::kGlobal);
     maps.caustic = photons->map(PhotonMapKind::kCaustic);
     maps.volume = photons->map(PhotonMapKind::kVolume);
+    maps.irradiance = photons->irradiance_sites();
   }
   maps.global_estimate = ToRadianceEstimate(data.photons.global_estimate);
   maps.caustic_estimate = ToRadianceEstimate(data.photons.caustic_estimate);

@@ -1516,13 +1516,17 @@ func (x *RenderTileSpec) GetSampleMap() *Artifact {
 // Compute irradiance at global-map photons [first_photon, first_photon + photon_count) (in
 // the snapshot's tree order) and upload it as "irradiance.shard".
 type PrecomputeIrradianceSpec struct {
-	state       protoimpl.MessageState `protogen:"open.v1"`
-	FirstPhoton uint64                 `protobuf:"varint,1,opt,name=first_photon,json=firstPhoton,proto3" json:"first_photon,omitempty"`
-	PhotonCount uint64                 `protobuf:"varint,2,opt,name=photon_count,json=photonCount,proto3" json:"photon_count,omitempty"`
+	state protoimpl.MessageState `protogen:"open.v1"`
 	// Filled in when the task is leased: the round's "photons.snapshot".
 	PhotonSnapshot *Artifact `protobuf:"bytes,3,opt,name=photon_snapshot,json=photonSnapshot,proto3" json:"photon_snapshot,omitempty"`
 	// This round's search radii are the scene's times this (as in RenderTileSpec).
-	RadiusScale   float64 `protobuf:"fixed64,4,opt,name=radius_scale,json=radiusScale,proto3" json:"radius_scale,omitempty"`
+	RadiusScale float64 `protobuf:"fixed64,4,opt,name=radius_scale,json=radiusScale,proto3" json:"radius_scale,omitempty"`
+	// This task computes part `part` of `parts` (its place among the round's precompute
+	// tasks, filled in when leased) of the global map's irradiance sites, whose number the
+	// worker derives from the snapshot and the round's estimate: sites [S·part/parts,
+	// S·(part+1)/parts).
+	Part          uint32 `protobuf:"varint,5,opt,name=part,proto3" json:"part,omitempty"`
+	Parts         uint32 `protobuf:"varint,6,opt,name=parts,proto3" json:"parts,omitempty"`
 	unknownFields protoimpl.UnknownFields
 	sizeCache     protoimpl.SizeCache
 }
@@ -1557,20 +1561,6 @@ func (*PrecomputeIrradianceSpec) Descriptor() ([]byte, []int) {
 	return file_renderfarm_v1_job_proto_rawDescGZIP(), []int{11}
 }
 
-func (x *PrecomputeIrradianceSpec) GetFirstPhoton() uint64 {
-	if x != nil {
-		return x.FirstPhoton
-	}
-	return 0
-}
-
-func (x *PrecomputeIrradianceSpec) GetPhotonCount() uint64 {
-	if x != nil {
-		return x.PhotonCount
-	}
-	return 0
-}
-
 func (x *PrecomputeIrradianceSpec) GetPhotonSnapshot() *Artifact {
 	if x != nil {
 		return x.PhotonSnapshot
@@ -1581,6 +1571,20 @@ func (x *PrecomputeIrradianceSpec) GetPhotonSnapshot() *Artifact {
 func (x *PrecomputeIrradianceSpec) GetRadiusScale() float64 {
 	if x != nil {
 		return x.RadiusScale
+	}
+	return 0
+}
+
+func (x *PrecomputeIrradianceSpec) GetPart() uint32 {
+	if x != nil {
+		return x.Part
+	}
+	return 0
+}
+
+func (x *PrecomputeIrradianceSpec) GetParts() uint32 {
+	if x != nil {
+		return x.Parts
 	}
 	return 0
 }
@@ -3485,12 +3489,12 @@ const file_renderfarm_v1_job_proto_rawDesc = "" +
 	"\fradius_scale\x18\x03 \x01(\x01R\vradiusScale\x12!\n" +
 	"\ffirst_sample\x18\x04 \x01(\rR\vfirstSample\x126\n" +
 	"\n" +
-	"sample_map\x18\x05 \x01(\v2\x17.renderfarm.v1.ArtifactR\tsampleMap\"\xc5\x01\n" +
-	"\x18PrecomputeIrradianceSpec\x12!\n" +
-	"\ffirst_photon\x18\x01 \x01(\x04R\vfirstPhoton\x12!\n" +
-	"\fphoton_count\x18\x02 \x01(\x04R\vphotonCount\x12@\n" +
+	"sample_map\x18\x05 \x01(\v2\x17.renderfarm.v1.ArtifactR\tsampleMap\"\xd1\x01\n" +
+	"\x18PrecomputeIrradianceSpec\x12@\n" +
 	"\x0fphoton_snapshot\x18\x03 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12!\n" +
-	"\fradius_scale\x18\x04 \x01(\x01R\vradiusScale\"\x9d\x01\n" +
+	"\fradius_scale\x18\x04 \x01(\x01R\vradiusScale\x12\x12\n" +
+	"\x04part\x18\x05 \x01(\rR\x04part\x12\x14\n" +
+	"\x05parts\x18\x06 \x01(\rR\x05partsJ\x04\b\x01\x10\x02J\x04\b\x02\x10\x03R\ffirst_photonR\fphoton_count\"\x9d\x01\n" +
 	"\x13MergeIrradianceSpec\x12@\n" +
 	"\x0fphoton_snapshot\x18\x01 \x01(\v2\x17.renderfarm.v1.ArtifactR\x0ephotonSnapshot\x12D\n" +
 	"\x11irradiance_shards\x18\x02 \x03(\v2\x17.renderfarm.v1.ArtifactR\x10irradianceShards\"\xac\x01\n" +
