@@ -72,7 +72,7 @@ func Passes(s *pb.Scene) *pb.Plan {
 		add(PassPrecompute, false, "indirect.mode is PHOTON_MAP")
 		add(PassFinalGather, false, "indirect.mode is PHOTON_MAP: the global map's radiance estimate is seen directly")
 	default:
-		add(PassPrecompute, true, "irradiance at the global map's irradiance sites (a site to every eighth of the photons an estimate gathers) in %d shards per round, merged into the snapshot", PrecomputeShards(s))
+		add(PassPrecompute, true, "irradiance at the global map's irradiance sites (a site to every sixteenth of the photons an estimate gathers) in %d shards per round, merged into the snapshot", PrecomputeShards(s))
 		add(PassFinalGather, true, "%d gather rays at a camera path's first diffuse hit, %d after a glossy bounce",
 			scene.GatherRays(s), scene.SecondaryGatherRays(s))
 	}

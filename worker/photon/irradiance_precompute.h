@@ -15,11 +15,12 @@
 
 namespace farm {
 
-// A site stands for at most 1/kSiteNeighbourShare of the photons of an estimate at it: the
-// read of the site nearest to a point stays within 0.2% of unbiased there (sites a larger
-// share of k: the nearest site sits where the photons are denser than it counts for, +2%
-// at k/5, +11% at k/2; IrradiancePrecompute.SitesReadByTheNearestGiveTheirDensity).
-inline constexpr std::uint64_t kSiteNeighbourShare = 8;
+// A site stands for at most 1/kSiteNeighbourShare of the photons of an estimate at it:
+// the read of the site nearest to a point is then unbiased within 0.1%, what 8 x 40,000
+// reads resolve. With a larger share the nearest site sits where the photons are denser
+// than its estimate counts for: +0.1% to +0.8% at k/7, +2.4% at k/3, +11% at k/2
+// (IrradiancePrecompute.SitesReadByTheNearestGiveTheirDensity).
+inline constexpr std::uint64_t kSiteNeighbourShare = 16;
 
 // How many of a global map's photons carry precomputed irradiance in a round whose
 // estimates at them gather `neighbours` photons: the first ones in tree order, which are
@@ -28,7 +29,7 @@ inline constexpr std::uint64_t kSiteNeighbourShare = 8;
 // with a site to every neighbours / kSiteNeighbourShare photons or fewer, all of them at
 // most. A node of the tree is the median of its subtree, so the sites spread over the
 // surfaces as the photons do (Christensen's subset): with the default 100 neighbours one
-// photon in 6 to 12 in the first round, more as the rounds shrink k, every photon from 8.
+// photon in 3 to 6 in the first round, more as the rounds shrink k, every photon from 16.
 // The precompute, whose searches and coverage probes were a third of a round, runs at the
 // sites alone.
 std::uint64_t IrradianceSites(std::uint64_t photons, int neighbours);
@@ -42,12 +43,12 @@ int GatheredNeighbours(const PhotonMap& global, const RadianceEstimateSettings& 
 
 // Part `part` of `parts` of the irradiance at the global map's sites (IrradianceSites of
 // its photons and GatheredNeighbours of the round's global estimate: sites
-// [S part / parts, S (part + 1) / parts)), in the snapshot's tree order (Christensen 1999), as irradiance-shard bytes
-// (docs/photon-snapshot.md); the coordinator merges the parts into the snapshot so that
-// final gathering reads one precomputed value per gather ray instead of a k-nearest
-// estimate. radius_scale shrinks the search radius as in RoundSettings. Deterministic.
-// progress advances as in ComputeIrradiance. Throws std::invalid_argument unless part <
-// parts.
+// [S part / parts, S (part + 1) / parts)), in the snapshot's tree order (Christensen
+// 1999), as irradiance-shard bytes (docs/photon-snapshot.md); the coordinator merges the
+// parts into the snapshot so that final gathering reads one precomputed value per gather
+// ray instead of a k-nearest estimate. radius_scale shrinks the search radius as in
+// RoundSettings. Deterministic. progress advances as in ComputeIrradiance. Throws
+// std::invalid_argument unless part < parts.
 std::string ComputeIrradianceShard(const Scene& scene, const PhotonSnapshot& photons, std::uint32_t part,
                                    std::uint32_t parts, double radius_scale, std::stop_token stop = {},
                                    Progress progress = {});
