@@ -30,7 +30,11 @@ otherwise (from round 3: the target is "every round after the second"), and whet
 interval holds the actual error. Then per scene: the rounds that passed, the interval's
 coverage, and the expectation over seeds round by round (the mean estimate, the RMS actual
 error, their ratio within 25% or not from round 3) with whether the mean estimate fell at
-every round. A missed target is a figure, not an error: the exit status is 0 unless a
+every round. With 8 seeds or more (`--seeds 1,...,24 --rounds 4 --only cornell-box`), at
+the last round: the mean of the estimate's squares over the actual errors', its noise part
+over the variance of the seeds' images about their mean (both 1 for an estimate right in
+expectation), and the spread of one job's ratio with the actual error's and the estimate's
+own (docs/error-estimate.md, "How far one job's ratio strays"). A missed target is a figure, not an error: the exit status is 0 unless a
 render fails. About 15 minutes at the defaults with the references cached (each took 4 to
 8 minutes to make here, and their refinement 12 minutes for the three). docs/error-estimate.md has the figures of a run and what they
 mean."""
@@ -50,9 +54,11 @@ print = functools.partial(print, flush=True)  # noqa: A001  (a long run shows wh
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import converge  # noqa: E402  (sets Mitsuba's variant)
+from run import read_rgb  # noqa: E402
 
 SCENES = ("cornell-box", "cornell-caustics", "cornell-fog")
 TOLERANCE = 0.25
+SPREAD_SEEDS = 8  # from this many seeds, spread() says how far one job's ratio strays and why
 FIRST_JUDGED = 3  # "every round after the second"
 
 # A row of `farm report`'s table: round, seconds, photons, samples/px, estimated error,
@@ -146,6 +152,8 @@ def main():
                 print(f"          {r:5d}  {est:.5f}  {span}  {bias or 0:.5f}  {actual:.5f}  {ratio:5.2f}  {verdict}, "
                       f"interval {held}")
         summarize(runs, noise)
+        if len(seeds) >= SPREAD_SEEDS:
+            spread(runs, noise, [read_rgb(out / name / f"seed-{s}" / f"{name}.exr") for s in seeds])
 
 
 def summarize(runs, noise):
@@ -183,6 +191,24 @@ def summarize(runs, noise):
           f"{expected_judged} rounds{'' if expected_passed == expected_judged else '  MISSED'}")
     falls = all(b < a for a, b in zip(means, means[1:]))
     print(f"  the mean estimate {'fell at every round' if falls else 'did not fall at every round  MISSED'}")
+
+
+def spread(runs, noise, images):
+    """With many seeds, at the last round: whether the estimate is right in expectation (the
+    mean of its squares against the actual errors'; its noise part against the variance of
+    the seeds' images about their mean) and how far one job's ratio strays, split into the
+    actual error's own spread and the estimate's."""
+    last = min(max(rows) for rows in runs.values())
+    est, bias, actual = (np.array(v) for v in zip(*[(rows[last][0], rows[last][2] or 0.0,
+                                                     actual_error(rows[last][3], noise)) for rows in runs.values()]))
+    variance = float(np.var(np.array(images, dtype=np.float64), axis=0, ddof=1).mean())
+    logs = {"ratio": np.log(est / actual), "actual": np.log(actual), "estimate": np.log(est)}
+    print(f"  {len(images)} seeds at round {last}: mean estimate^2 / mean actual^2 "
+          f"{np.mean(est ** 2) / np.mean(actual ** 2):.3f}; noise part^2 / the images' variance across seeds "
+          f"{np.mean(est ** 2 - bias ** 2) / variance:.3f}; standard deviation of the log of the ratio "
+          f"{logs['ratio'].std():.3f}, of the actual error {logs['actual'].std():.3f}, of the estimate "
+          f"{logs['estimate'].std():.3f}; within {100 * TOLERANCE:.0f}%: "
+          f"{int(np.sum(np.abs(est / actual - 1) <= TOLERANCE))} of {len(images)}")
 
 
 if __name__ == "__main__":
