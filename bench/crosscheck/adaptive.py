@@ -20,7 +20,23 @@ image beside its samples layer (log scale, black the fewest: docs/images/adaptiv
 is one), OUT_DIR/uniform-samples.png the same of the uniform run, where edge anti-aliasing and
 the bright edges put the samples (docs/images/edge-samples.png). Target: uniform / adaptive at
 equal time >= 1.3;
-MISSED when below (not an error)."""
+MISSED when below (not an error).
+
+With --bound SEEDS it also prints what any per-pixel allocation of camera samples could gain
+on the scene (about SEEDS x 110 s more): SEEDS jobs like the uniform run but for their
+seeds (1..SEEDS) give each measured pixel's variance v across jobs, and with its samples n
+(the samples layer) a sample's variance v n. Drawing the same total in proportion to the
+square root of that (the allocation that minimises the summed variance) would leave the
+noise ((sum sqrt(v n))^2 / sum n) / (pixels); the ratio of the uniform noise to that, the
+allocation's gain at equal samples (printed as RMSE, its square root), is an upper bound for
+camera samples as costly as uniform's and whose variance falls as 1 / n (it does not where a
+round's photon maps make the noise, which no camera sample of the round averages out). It is
+printed twice: "known", the gain with every job's variance (an overestimate: the variances'
+own noise looks like variation the allocation could exploit), and "estimated", the
+allocation taken from half the jobs (smoothed over 3x3 pixels as the allocator does) judged
+by the other half, both ways. The farm's bias against the reference (the jobs' mean less it,
+less both's noise) is no sampling's to reduce: the RMSE ratio is at most sqrt((noise +
+bias^2) / (noise / gain + bias^2))."""
 
 import argparse
 import json
@@ -70,6 +86,8 @@ def main():
     ap.add_argument("--size", type=int, default=128)
     ap.add_argument("--rounds", type=int, default=16)
     ap.add_argument("--reference-spp", type=int, default=16384)
+    ap.add_argument("--bound", type=int, default=0, metavar="SEEDS",
+                    help="also print the gain bound of any per-pixel allocation, from SEEDS uniform jobs")
     args = ap.parse_args()
     build, out = args.build.resolve(), args.out.resolve()
     src = HERE.parent.parent / "scenes" / "cornell-caustics.json"
@@ -106,6 +124,9 @@ def main():
           f"{samples.mean():.2f}; the 10% of pixels with the largest uniform-run error drew "
           f"{100 * samples.ravel()[top].sum() / samples.sum():.1f}% of them")
 
+    if args.bound:
+        allocation_bound(build, src, out / "bound", args, (h1, h2), measured)
+
     (u_img, u_s, u_e), (a_img, a_s, a_e) = runs["uniform"], runs["adaptive"]
     raw = u_e / max(a_e, 1e-12)
     equal_time = u_e / max(a_e * np.sqrt(a_s / u_s), 1e-12)
@@ -113,6 +134,47 @@ def main():
     print(f"  uniform / adaptive RMSE: {raw:.2f} as measured, {equal_time:.2f} at equal time "
           f"(times {u_s:.1f} s / {a_s:.1f} s; target >= {TARGET}){verdict}")
 
+
+def smoothed(a):
+    """a's mean over each pixel's 3x3 neighbourhood (edge pixels repeated)."""
+    return np.lib.stride_tricks.sliding_window_view(np.pad(a, 1, mode="edge"), (3, 3)).mean(axis=(2, 3))
+
+
+def noise_gain(sample_variance, pixel_variance, samples, mask):
+    """Uniform noise / the noise left when the same samples are drawn in proportion to the
+    square root of sample_variance, the pixels' variance being pixel_variance at samples."""
+    share = np.sqrt(np.maximum(sample_variance, 0.0))[mask]
+    allocated = share / max(share.sum(), 1e-300) * samples[mask].sum()
+    left = pixel_variance[mask] * samples[mask] / np.maximum(allocated, 1e-300)
+    return pixel_variance[mask].mean() / left.mean()
+
+
+def allocation_bound(build, src, out, args, halves, measured):
+    """Print the most any per-pixel allocation of camera samples could gain (--bound)."""
+    images, samples = [], []
+    for seed in range(1, args.bound + 1):
+        path = converge.sized_scene(src, out / f"seed-{seed}", args.size, args.rounds)
+        scene = json.loads(path.read_text())
+        scene["sampling"] = dict(scene.get("sampling", {}), seed=str(seed))
+        path.write_text(json.dumps(scene, indent=1))
+        images.append(converge.render_farm(build, path, path.parent)[0])
+        samples.append(samples_layer(path.parent / (path.stem + ".exr")))
+    images, n = np.array(images), np.mean(samples, axis=0)
+    variance = lambda imgs: imgs.var(axis=0, ddof=1).mean(axis=2)  # noqa: E731
+    v = variance(images)
+    known = noise_gain(v * n, v, n, measured)
+    a, b = variance(images[0::2]), variance(images[1::2])
+    estimated = 2 / (1 / noise_gain(smoothed(a) * n, b, n, measured) + 1 / noise_gain(smoothed(b) * n, a, n, measured))
+    ref_noise = ((halves[0] - halves[1]) ** 2 / 4).mean(axis=2)
+    ref = (halves[0] + halves[1]) / 2
+    bias2 = float(np.mean((((images.mean(axis=0) - ref) ** 2).mean(axis=2) - v / len(images) - ref_noise)[measured]))
+    noise = float(v[measured].mean())
+    ratio = lambda gain: np.sqrt((noise + max(bias2, 0)) / (noise / gain + max(bias2, 0)))  # noqa: E731
+    print(f"  what any per-pixel allocation of camera samples could gain ({args.bound} uniform jobs "
+          f"of {args.rounds} rounds): noise RMSE at equal samples {np.sqrt(known):.2f} times lower with the pixels' variance known, "
+          f"{np.sqrt(estimated):.2f} with it estimated from half the jobs; with the farm's bias (RMSE "
+          f"{np.sqrt(max(bias2, 0)):.5f}), uniform / adaptive RMSE is at most "
+          f"{ratio(known):.2f} known, {ratio(estimated):.2f} estimated (target {TARGET})")
 
 if __name__ == "__main__":
     main()
