@@ -169,14 +169,8 @@ SeenBall SeenBall::Probe(const SceneData& scene, const Vec3& x, float r, Vec2 u)
   return ball;
 }
 
-bool SeenBall::Sees(const Vec3& offset) const {
-  int nearest = 0;
-  float best = -2;
-  for (int i = 0; i < kVolumeProbes; ++i) {
-    const float c = Dot(directions[i], offset);
-    if (c > best) best = c, nearest = i;
-  }
-  return LengthSquared(offset) <= depths[nearest] * depths[nearest];
+bool SeenBall::Sees(const SceneData& scene, const Vec3& x, const Vec3& offset) const {
+  return fraction >= 1 || scene.SegmentClear(x, x + offset);
 }
 
 double SeenBall::Integral(const Vec3& x, const std::function<float(const Vec3&)>& f) const {
@@ -216,7 +210,7 @@ Rgb VolumeInScatter(const SceneData& scene, const MediumSegment& segment, const 
   for (std::size_t i = 0; i < scratch.size(); ++i) {
     if (i == farthest) continue;
     const DecodedPhoton p = volume.photon(scratch[i].index);
-    if (seen.fraction < 1 && !seen.Sees(p.position - x)) continue;
+    if (!seen.Sees(scene, x, p.position - x)) continue;
     sum += p.power * HenyeyGreenstein(-ray.direction, p.wi, segment.medium->g());
   }
   return std::visit(Overloaded{[&](const HomogeneousMedium&) -> Rgb {
