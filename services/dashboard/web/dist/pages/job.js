@@ -78,6 +78,9 @@ export function jobPage(id) {
     const cancelButton = h("button", { type: "button", class: "button button--danger", "data-testid": "cancel-button" }, "Cancel job");
     const requeueButton = h("button", { type: "button", class: "button", hidden: true, "data-testid": "requeue-button" }, "Requeue");
     const deleteButton = h("button", { type: "button", class: "button button--danger", "data-testid": "delete-button" }, "Delete job");
+    // Hidden until the job is loaded, so that what a button asks ("Cancel the job NAME?") and
+    // whether it applies (an ended job has no cancel) are the job's, never a guess from its id.
+    const actions = h("div", { class: "page__actions", hidden: true }, priorityForm, cancelButton, requeueButton, deleteButton);
     const notice = h("div", { class: "notice-area" });
     // Why a failed job failed, at the top of the page: the failure kind's label and the error.
     const failureKind = h("strong", { class: "banner__kind", "data-testid": "failure-kind" });
@@ -276,7 +279,7 @@ export function jobPage(id) {
     const tasksCard = h("section", { class: "card", "aria-labelledby": "card-tasks" }, h("div", { class: "card__header" }, h("h2", { id: "card-tasks", class: "card__title" }, "Tasks"), h("div", { class: "filters" }, h("label", { for: "task-state-filter", class: "visually-hidden" }, "Filter by state"), stateSelect, h("label", { for: "task-phase-filter", class: "visually-hidden" }, "Filter by phase"), phaseSelect)), tableInfo, h("div", { class: "table-wrap" }, taskTable.element), h("div", { class: "table-more" }, moreButton), taskLog.element);
     const body = h("div", { class: "job__body", hidden: true }, stats, h("div", { class: "job__grid" }, h("div", { class: "job__main" }, finalCard, card("Image so far", mosaic.element), card("Error against time", chart.element)), h("div", { class: "job__side" }, card("Phases", phases.element), card("Plan", plan), card("Blocked workers", blocked))), tasksCard);
     const missing = h("div", { class: "card empty-state", hidden: true });
-    const element = h("section", { class: "page job", "aria-labelledby": "job-title" }, h("nav", { class: "breadcrumb", "aria-label": "Breadcrumb" }, h("a", { href: "#/" }, "Jobs"), h("span", { "aria-hidden": "true" }, " / "), h("span", null, id)), h("div", { class: "page__header" }, h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine), h("div", { class: "page__actions" }, priorityForm, cancelButton, requeueButton, deleteButton)), failureBanner, notice, missing, body);
+    const element = h("section", { class: "page job", "aria-labelledby": "job-title" }, h("nav", { class: "breadcrumb", "aria-label": "Breadcrumb" }, h("a", { href: "#/" }, "Jobs"), h("span", { "aria-hidden": "true" }, " / "), h("span", null, id)), h("div", { class: "page__header" }, h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine), actions), failureBanner, notice, missing, body);
     title.id = "job-title-text";
     // ---- state updates
     function applyJob(j) {
@@ -356,6 +359,7 @@ export function jobPage(id) {
     function renderJob(j) {
         const ended = jobEnded(j);
         const name = j.displayName || "(unnamed scene)";
+        actions.hidden = false;
         setText(title, name);
         document.title = `${name} · Photon farm`;
         updateBadge(stateBadge, jobStateLabel(j.state), enumKey(j.state, "JOB_STATE_"));

@@ -107,6 +107,9 @@ export function jobPage(id: string): Page {
   const cancelButton = h("button", { type: "button", class: "button button--danger", "data-testid": "cancel-button" }, "Cancel job");
   const requeueButton = h("button", { type: "button", class: "button", hidden: true, "data-testid": "requeue-button" }, "Requeue");
   const deleteButton = h("button", { type: "button", class: "button button--danger", "data-testid": "delete-button" }, "Delete job");
+  // Hidden until the job is loaded, so that what a button asks ("Cancel the job NAME?") and
+  // whether it applies (an ended job has no cancel) are the job's, never a guess from its id.
+  const actions = h("div", { class: "page__actions", hidden: true }, priorityForm, cancelButton, requeueButton, deleteButton);
   const notice = h("div", { class: "notice-area" });
   // Why a failed job failed, at the top of the page: the failure kind's label and the error.
   const failureKind = h("strong", { class: "banner__kind", "data-testid": "failure-kind" });
@@ -372,7 +375,7 @@ export function jobPage(id: string): Page {
       "div",
       { class: "page__header" },
       h("div", { class: "job__heading" }, h("div", { class: "job__title-row", id: "job-title" }, title, stateBadge), idLine),
-      h("div", { class: "page__actions" }, priorityForm, cancelButton, requeueButton, deleteButton),
+      actions,
     ),
     failureBanner,
     notice,
@@ -456,6 +459,7 @@ export function jobPage(id: string): Page {
   function renderJob(j: Job): void {
     const ended = jobEnded(j);
     const name = j.displayName || "(unnamed scene)";
+    actions.hidden = false;
     setText(title, name);
     document.title = `${name} · Photon farm`;
     updateBadge(stateBadge, jobStateLabel(j.state), enumKey(j.state, "JOB_STATE_"));
